@@ -1,0 +1,87 @@
+#pragma once
+/// \file frame.h
+/// The plain values that travel from the solver to every consumer (HDF5 store, renderer, GUI).
+/// No pointers into solver state; copyable; no dependencies beyond the standard library.
+/// Units are SI unless a scene says otherwise; positions are in the world frame W.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ff {
+
+/// A named scalar quantity with its unit, e.g. {"hub_angle", "deg", "hub angle"}.
+struct Quantity {
+  std::string name;   ///< machine name, also the HDF5 data set name
+  std::string unit;   ///< unit for axis labels, e.g. "m", "deg", "rad/s", "" for none
+  std::string label;  ///< human label for plots and legends
+};
+
+/// Geometry that stays constant for a run: what is drawn, in the reference configuration.
+struct FrameMesh {
+  std::vector<double> reference_points;  ///< 3*n world coordinates p_WP of the n drawn points
+  std::vector<std::int32_t> lines;       ///< 2*k point indices: line segments
+  std::vector<std::int32_t> triangles;   ///< 3*k point indices
+  std::vector<std::int32_t> quads;       ///< 4*k point indices
+  std::size_t point_count() const { return reference_points.size() / 3; }
+};
+
+/// Newton statistics of the step that produced a frame.
+struct StepStats {
+  double dt = 0.0;                 ///< step size used (time for dynamics, load for statics)
+  std::int32_t iterations = 0;     ///< Newton iterations in this step
+  std::int32_t jacobian_updates = 0;  ///< iteration-matrix factorizations in this step
+  double residual_norm = 0.0;      ///< final residual norm
+  double increment_norm = 0.0;     ///< final increment norm
+  bool converged = true;
+};
+
+/// Constant description of a run, published once before the first frame.
+struct RunInfo {
+  std::string scene_name;                 ///< e.g. "hub_beam_efg_tau1"
+  std::string scene_path;                 ///< path the scene was read from
+  std::string scene_text;                 ///< full scene file text (results are self-contained)
+  std::vector<std::string> effects;       ///< effects the model evaluates, e.g. {"inertia", ...}
+  std::vector<std::pair<std::string, std::string>> settings;  ///< solver/model settings, key -> value
+  std::string time_unit = "s";            ///< unit of Frame::time
+  FrameMesh mesh;
+  std::vector<Quantity> probes;           ///< scalar probes, in the order of Frame::probes
+  std::vector<Quantity> fields;           ///< per-point fields, in the order of Frame::fields
+};
+
+/// One published state of the model.
+struct Frame {
+  std::int64_t step = 0;          ///< solver step that produced it (0 = initial state)
+  double time = 0.0;              ///< simulated time (pseudo-time for statics)
+  double load_factor = 0.0;       ///< load factor lambda (statics); 0 where meaningless
+  std::vector<double> points;     ///< 3*n current world positions of the mesh points
+  std::vector<double> base_points;  ///< 3*n positions of the undeformed body carried by its
+                                    ///< rigid motion (points - base_points = elastic deformation)
+  std::vector<double> probes;     ///< values in the order of RunInfo::probes
+  std::vector<std::vector<double>> fields;  ///< per-point values in the order of RunInfo::fields
+  StepStats stats;
+};
+
+/// How a run ended.
+enum class RunStatus { completed, diverged, interrupted, failed };
+
+inline const char* to_string(RunStatus s) {
+  switch (s) {
+    case RunStatus::completed: return "completed";
+    case RunStatus::diverged: return "diverged";
+    case RunStatus::interrupted: return "interrupted";
+    case RunStatus::failed: return "failed";
+  }
+  return "failed";
+}
+
+/// Final word of a run: status, why, and where it stopped.
+struct RunOutcome {
+  RunStatus status = RunStatus::completed;
+  std::string reason;        ///< empty when completed; otherwise a sentence saying why
+  double stop_time = 0.0;    ///< simulated time of the last converged frame
+  std::int64_t steps = 0;    ///< converged steps
+  double wall_time_s = 0.0;
+};
+
+}  // namespace ff
