@@ -1,0 +1,343 @@
+#include "core/hubbeam/hub_beam_system.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/solve/gauss.h"
+
+namespace ff::hubbeam {
+
+using Eigen::MatrixXd;
+using Eigen::RowVectorXd;
+using Eigen::VectorXd;
+
+std::vector<std::string> HubBeamEffects::names() const {
+  std::vector<std::string> n{"inertia", "bending"};
+  if (axial) n.push_back("axial");
+  if (first_order_coupling) n.push_back("first_order_coupling");
+  if (hub_torque) n.push_back("hub_torque");
+  return n;
+}
+
+FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis) {
+  const int n = basis.node_count();
+  const double rho_a = p.density * p.area, ea = p.youngs_modulus * p.area,
+               ei = p.youngs_modulus * p.second_moment, a = p.hub_radius, len = p.length;
+  FullMatrices f;
+  f.m1 = f.k1 = MatrixXd::Zero(n, n);
+  f.m2 = f.k2 = f.d1 = MatrixXd::Zero(2 * n, 2 * n);
+  f.r = MatrixXd::Zero(n, 2 * n);
+  f.u11 = RowVectorXd::Zero(n);
+  f.u12 = RowVectorXd::Zero(2 * n);
+  ShapeRows s = basis.make_rows();
+  for (const QuadraturePoint& q : basis.quadrature()) {
+    basis.evaluate(q.x, s);
+    const double w = q.weight;
+    f.m1.noalias() += (rho_a * w) * s.n1.transpose() * s.n1;  // eq. (7)
+    f.k1.noalias() += (ea * w) * s.dn1.transpose() * s.dn1;  // eq. (8)
+    f.m2.noalias() += (rho_a * w) * s.n2.transpose() * s.n2;
+    f.k2.noalias() += (ei * w) * s.ddn2.transpose() * s.ddn2;
+    f.r.noalias() += (rho_a * w) * s.n1.transpose() * s.n2;
+    f.u11 += (rho_a * (a + q.x) * w) * s.n1;
+    f.u12 += (rho_a * (a + q.x) * w) * s.n2;
+    // eq. (9): inner integral of (a + x) from s to L done in closed form
+    const double lever = a * (len - q.x) + 0.5 * (len * len - q.x * q.x);
+    f.d1.noalias() += (rho_a * lever * w) * s.dn2.transpose() * s.dn2;
+  }
+  return f;
+}
+
+MatrixXd coupling_shape_matrix(const BeamBasis& basis, double x, int cells, int gauss) {
+  const int n = basis.node_count();
+  MatrixXd s_mat = MatrixXd::Zero(2 * n, 2 * n);
+  if (x <= 0.0) return s_mat;
+  const GaussRule rule = gauss_legendre(gauss);
+  ShapeRows s = basis.make_rows();
+  const double h = x / cells;
+  for (int c = 0; c < cells; ++c)
+    for (std::size_t g = 0; g < rule.points.size(); ++g) {
+      basis.evaluate(h * (c + 0.5 * (rule.points[g] + 1.0)), s);
+      s_mat.noalias() += (0.5 * h * rule.weights[g]) * s.dn2.transpose() * s.dn2;  // eq. (4)
+    }
+  return s_mat;
+}
+
+namespace {
+// free DoFs: the root node (index 0) is clamped; q2 = [v_1..v_N, theta_1..theta_N]
+std::vector<int> free_axial(int n) {
+  std::vector<int> idx;
+  for (int i = 1; i < n; ++i) idx.push_back(i);
+  return idx;
+}
+std::vector<int> free_transverse(int n) {
+  std::vector<int> idx;
+  for (int i = 1; i < n; ++i) idx.push_back(i);
+  for (int i = 1; i < n; ++i) idx.push_back(n + i);
+  return idx;
+}
+MatrixXd pick(const MatrixXd& m, const std::vector<int>& rows, const std::vector<int>& cols) {
+  MatrixXd out(rows.size(), cols.size());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t j = 0; j < cols.size(); ++j) out(i, j) = m(rows[i], cols[j]);
+  return out;
+}
+RowVectorXd pick(const RowVectorXd& v, const std::vector<int>& cols) {
+  RowVectorXd out(cols.size());
+  for (std::size_t j = 0; j < cols.size(); ++j) out[j] = v[cols[j]];
+  return out;
+}
+}  // namespace
+
+HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& effects,
+                             std::unique_ptr<BeamBasis> basis, double validity_deflection_ratio)
+    : p_(params), fx_(effects), basis_(std::move(basis)), validity_ratio_(validity_deflection_ratio) {
+  const int n = basis_->node_count();
+  const std::vector<int> ia = free_axial(n), it = free_transverse(n);
+  const FullMatrices f = assemble_full(p_, *basis_);
+  n1_ = fx_.axial ? static_cast<int>(ia.size()) : 0;
+  n2_ = static_cast<int>(it.size());
+  const std::vector<int> ia_used = fx_.axial ? ia : std::vector<int>{};
+  m_.m1 = pick(f.m1, ia_used, ia_used);
+  m_.k1 = pick(f.k1, ia_used, ia_used);
+  m_.r = pick(f.r, ia_used, it);
+  m_.u11 = pick(f.u11, ia_used);
+  m_.m2 = pick(f.m2, it, it);
+  m_.k2 = pick(f.k2, it, it);
+  m_.u12 = pick(f.u12, it);
+  m_.d1 = fx_.first_order_coupling ? pick(f.d1, it, it) : MatrixXd::Zero(n2_, n2_);
+  const double rho_a = p_.density * p_.area, a = p_.hub_radius;
+  m_.jb = rho_a * (std::pow(a + p_.length, 3) - std::pow(a, 3)) / 3.0;  // eq. (8)
+  m_.s_tip = pick(coupling_shape_matrix(*basis_, p_.length), it, it);
+  ShapeRows s = basis_->make_rows();
+  basis_->evaluate(p_.length, s);
+  m_.n1_tip = pick(s.n1, ia_used);
+  m_.n2_tip = pick(s.n2, it);
+
+  // drawing samples (precomputed so fill_frame is a few small products)
+  const int samples = 61;
+  draw_x_.resize(samples);
+  draw_n1_.resize(samples, n1_);
+  draw_n2_.resize(samples, n2_);
+  for (int k = 0; k < samples; ++k) {
+    draw_x_[k] = p_.length * k / (samples - 1);
+    basis_->evaluate(draw_x_[k], s);
+    draw_n1_.row(k) = pick(s.n1, ia_used);
+    draw_n2_.row(k) = pick(s.n2, it);
+    if (fx_.first_order_coupling)
+      draw_s_.push_back(pick(coupling_shape_matrix(*basis_, draw_x_[k], 4, 4), it, it));
+  }
+}
+
+double HubBeamSystem::torque(double t) const {
+  if (!fx_.hub_torque || t < 0.0 || t > p_.torque_period) return 0.0;
+  return p_.torque_amplitude * std::sin(2.0 * M_PI * t / p_.torque_period);  // eq. (10)
+}
+
+void HubBeamSystem::residual(const VectorXd& x, const VectorXd& v, const VectorXd& a, double t,
+                             VectorXd& r) const {
+  r.resize(size());
+  const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
+  const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
+  const auto aq1 = a.segment(1, n1_), aq2 = a.segment(1 + n1_, n2_);
+  const double w = v[0], dw = a[0];
+  const VectorXd m1q1 = m_.m1 * q1, m2q2 = m_.m2 * q2, d1q2 = m_.d1 * q2, rq2 = m_.r * q2;
+  const VectorXd rtq1 = m_.r.transpose() * q1;
+  // eq. (6)
+  const double mtt = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(d1q2) + q1.dot(m1q1) +
+                     q2.dot(m2q2);
+  // eq. (11)
+  r[0] = mtt * dw - rq2.dot(aq1) + (m_.u12.transpose() + rtq1).dot(aq2) +
+         2.0 * w * (m1q1.dot(dq1) + m2q2.dot(dq2) + m_.u11.dot(dq1) - d1q2.dot(dq2)) - torque(t);
+  // eq. (12)
+  r.segment(1, n1_) = m_.m1 * aq1 - rq2 * dw - 2.0 * w * (m_.r * dq2) + m_.k1 * q1 - (w * w) * m1q1 -
+                      (w * w) * m_.u11.transpose();
+  // eq. (13)
+  r.segment(1 + n1_, n2_) = m_.m2 * aq2 + (m_.u12.transpose() + rtq1) * dw +
+                            2.0 * w * (m_.r.transpose() * dq1) + m_.k2 * q2 + (w * w) * (d1q2 - m2q2);
+}
+
+void HubBeamSystem::jacobians(const VectorXd& x, const VectorXd& v, const VectorXd& a, MatrixXd& A,
+                              MatrixXd& C, MatrixXd& K) const {
+  const int n = size(), o1 = 1, o2 = 1 + n1_;
+  A = MatrixXd::Zero(n, n);
+  C = MatrixXd::Zero(n, n);
+  K = MatrixXd::Zero(n, n);
+  const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
+  const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
+  const auto aq1 = a.segment(1, n1_), aq2 = a.segment(1 + n1_, n2_);
+  const double w = v[0], dw = a[0];
+  const VectorXd m1q1 = m_.m1 * q1, m2q2 = m_.m2 * q2, d1q2 = m_.d1 * q2, rq2 = m_.r * q2;
+  const VectorXd rtq1 = m_.r.transpose() * q1;
+  const MatrixXd m2d1 = m_.m2 - m_.d1;
+  // eq. (15)
+  A(0, 0) = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(d1q2) + q1.dot(m1q1) + q2.dot(m2q2);
+  A.block(0, o1, 1, n1_) = -rq2.transpose();
+  A.block(0, o2, 1, n2_) = m_.u12 + rtq1.transpose();
+  A.block(o1, 0, n1_, 1) = -rq2;
+  A.block(o1, o1, n1_, n1_) = m_.m1;
+  A.block(o2, 0, n2_, 1) = m_.u12.transpose() + rtq1;
+  A.block(o2, o2, n2_, n2_) = m_.m2;
+  // eq. (16)
+  C(0, 0) = 2.0 * (m1q1.dot(dq1) + m2q2.dot(dq2) + m_.u11.dot(dq1) - d1q2.dot(dq2));
+  C.block(0, o1, 1, n1_) = 2.0 * w * (m1q1.transpose() + m_.u11);
+  C.block(0, o2, 1, n2_) = 2.0 * w * (m2d1 * q2).transpose();
+  C.block(o1, 0, n1_, 1) = -2.0 * (m_.r * dq2) - 2.0 * w * (m1q1 + m_.u11.transpose());
+  C.block(o1, o2, n1_, n2_) = -2.0 * w * m_.r;
+  C.block(o2, 0, n2_, 1) = 2.0 * (m_.r.transpose() * dq1) - 2.0 * w * (m2d1 * q2);
+  C.block(o2, o1, n2_, n1_) = 2.0 * w * m_.r.transpose();
+  // eq. (17)
+  K.block(0, o1, 1, n1_) = dw * (2.0 * m_.u11 + 2.0 * m1q1.transpose()) + (m_.r * aq2).transpose() +
+                           2.0 * w * (m_.m1 * dq1).transpose();
+  K.block(0, o2, 1, n2_) = dw * 2.0 * (m2d1 * q2).transpose() - (m_.r.transpose() * aq1).transpose() +
+                           2.0 * w * (m2d1 * dq2).transpose();
+  K.block(o1, o1, n1_, n1_) = m_.k1 - (w * w) * m_.m1;
+  K.block(o1, o2, n1_, n2_) = -dw * m_.r;
+  K.block(o2, o1, n2_, n1_) = dw * m_.r.transpose();
+  K.block(o2, o2, n2_, n2_) = m_.k2 - (w * w) * m2d1;
+}
+
+void HubBeamSystem::iteration_matrix(const VectorXd& x, const VectorXd& v, const VectorXd& a,
+                                     double /*t*/, double ca, double cv, double cx, MatrixXd& j) const {
+  MatrixXd A, C, K;
+  jacobians(x, v, a, A, C, K);
+  j = ca * A + cv * C + cx * K;  // eq. (26)
+}
+
+std::string HubBeamSystem::check_state(const VectorXd& x, const VectorXd& v) const {
+  if (!x.allFinite() || !v.allFinite()) return "the state became non-finite";
+  const double tip = tip_transverse(x);
+  if (std::abs(tip) > validity_ratio_ * p_.length) {
+    std::ostringstream msg;
+    msg << "tip deflection " << tip << " m exceeds " << validity_ratio_
+        << " x beam length: the response grew without bound (small-deformation model no longer valid)";
+    return msg.str();
+  }
+  return {};
+}
+
+double HubBeamSystem::kinetic_energy(const VectorXd& x, const VectorXd& v) const {
+  const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
+  const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
+  const double w = v[0];
+  const double mtt = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(m_.d1 * q2) +
+                     q1.dot(m_.m1 * q1) + q2.dot(m_.m2 * q2);
+  // eq. (5)
+  return 0.5 * mtt * w * w + w * (m_.u12.dot(dq2) + q1.dot(m_.r * dq2) - q2.dot(m_.r.transpose() * dq1)) +
+         0.5 * dq1.dot(m_.m1 * dq1) + 0.5 * dq2.dot(m_.m2 * dq2);
+}
+
+double HubBeamSystem::potential_energy(const VectorXd& x) const {
+  const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
+  return 0.5 * q1.dot(m_.k1 * q1) + 0.5 * q2.dot(m_.k2 * q2);
+}
+
+double HubBeamSystem::angular_momentum(const VectorXd& x, const VectorXd& v) const {
+  const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
+  const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
+  const double mtt = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(m_.d1 * q2) +
+                     q1.dot(m_.m1 * q1) + q2.dot(m_.m2 * q2);
+  // eq. (14)
+  return mtt * v[0] + m_.u12.dot(dq2) + q1.dot(m_.r * dq2) - q2.dot(m_.r.transpose() * dq1);
+}
+
+double HubBeamSystem::tip_transverse(const VectorXd& x) const {
+  return m_.n2_tip.dot(x.segment(1 + n1_, n2_));
+}
+
+double HubBeamSystem::tip_axial(const VectorXd& x) const {
+  const auto q2 = x.segment(1 + n1_, n2_);
+  double u = n1_ > 0 ? m_.n1_tip.dot(x.segment(1, n1_)) : 0.0;
+  if (fx_.first_order_coupling) u -= 0.5 * q2.dot(m_.s_tip * q2);  // eq. (4), wc(L)
+  return u;
+}
+
+ModalResult HubBeamSystem::modal_analysis() const {
+  // eq. (28)
+  const int n = size();
+  VectorXd zero = VectorXd::Zero(n);
+  MatrixXd A, C, K;
+  jacobians(zero, zero, zero, A, C, K);
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(K, A);
+  ModalResult out;
+  for (int i = 0; i < n; ++i) {
+    const double lam = std::max(0.0, es.eigenvalues()[i]);
+    out.frequencies_hz.push_back(std::sqrt(lam) / (2.0 * M_PI));
+  }
+  return out;
+}
+
+FrameMesh HubBeamSystem::mesh() const {
+  FrameMesh m;
+  auto add = [&](double px, double py) {
+    m.reference_points.insert(m.reference_points.end(), {px, py, 0.0});
+  };
+  // hub disc: centre + rim, triangle fan
+  add(0.0, 0.0);
+  for (int k = 0; k < kHubSegments; ++k) {
+    const double phi = 2.0 * M_PI * k / kHubSegments;
+    add(p_.hub_radius * std::cos(phi), p_.hub_radius * std::sin(phi));
+  }
+  for (int k = 0; k < kHubSegments; ++k)
+    m.triangles.insert(m.triangles.end(), {0, 1 + k, 1 + (k + 1) % kHubSegments});
+  // beam centre line
+  const int first = 1 + kHubSegments;
+  for (double xb : draw_x_) add(p_.hub_radius + xb, 0.0);
+  for (int k = 0; k + 1 < static_cast<int>(draw_x_.size()); ++k)
+    m.lines.insert(m.lines.end(), {first + k, first + k + 1});
+  return m;
+}
+
+std::vector<Quantity> HubBeamSystem::probes() const {
+  return {{"hub_angle", "deg", "hub angle"},
+          {"hub_rate", "rad/s", "hub angular rate"},
+          {"tip_transverse", "m", "tip transverse displacement"},
+          {"tip_axial", "m", "tip axial displacement"},
+          {"torque", "N m", "hub torque"},
+          {"energy", "J", "total energy"},
+          {"angular_momentum", "kg m^2/s", "angular momentum about the hub axis"}};
+}
+
+std::vector<Quantity> HubBeamSystem::fields() const {
+  return {{"deflection", "m", "elastic displacement"}, {"transverse", "m", "transverse displacement"}};
+}
+
+void HubBeamSystem::fill_frame(const VectorXd& x, const VectorXd& v, double t, Frame& frame) const {
+  const double th = x[0], c = std::cos(th), s = std::sin(th);
+  const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
+  const int hub_points = 1 + kHubSegments, beam_points = static_cast<int>(draw_x_.size());
+  const int total = hub_points + beam_points;
+  frame.points.resize(3 * total);
+  frame.base_points.resize(3 * total);
+  frame.fields.assign(2, std::vector<double>(total, 0.0));
+  const FrameMesh ref = mesh();
+  for (int k = 0; k < hub_points; ++k) {
+    const double px = ref.reference_points[3 * k], py = ref.reference_points[3 * k + 1];
+    const double wx = c * px - s * py, wy = s * px + c * py;
+    frame.points[3 * k] = frame.base_points[3 * k] = wx;
+    frame.points[3 * k + 1] = frame.base_points[3 * k + 1] = wy;
+    frame.points[3 * k + 2] = frame.base_points[3 * k + 2] = 0.0;
+  }
+  for (int k = 0; k < beam_points; ++k) {
+    const double w1 = n1_ > 0 ? draw_n1_.row(k).dot(q1) : 0.0;
+    const double w2 = draw_n2_.row(k).dot(q2);
+    const double wc = fx_.first_order_coupling ? -0.5 * q2.dot(draw_s_[k] * q2) : 0.0;
+    const double rx = p_.hub_radius + draw_x_[k] + w1 + wc, ry = w2;  // eq. (1)
+    const double bx = p_.hub_radius + draw_x_[k];
+    const int i = hub_points + k;
+    frame.points[3 * i] = c * rx - s * ry;
+    frame.points[3 * i + 1] = s * rx + c * ry;
+    frame.points[3 * i + 2] = 0.0;
+    frame.base_points[3 * i] = c * bx;
+    frame.base_points[3 * i + 1] = s * bx;
+    frame.base_points[3 * i + 2] = 0.0;
+    frame.fields[0][i] = std::hypot(w1 + wc, w2);
+    frame.fields[1][i] = w2;
+  }
+  frame.time = t;
+  frame.probes = {th * 180.0 / M_PI,     v[0],   tip_transverse(x), tip_axial(x),
+                  torque(t),             kinetic_energy(x, v) + potential_energy(x),
+                  angular_momentum(x, v)};
+}
+
+}  // namespace ff::hubbeam

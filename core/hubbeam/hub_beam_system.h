@@ -1,0 +1,112 @@
+#pragma once
+/// \file hub_beam_system.h
+/// Rotating hub + flexible beam (seed 004), equations (11)-(17) of hub_beam.md.
+/// State layout x = [theta | q1 free | q2 free]: hub angle [rad], axial nodal displacements of
+/// nodes 2..N [m] (absent when the "axial" effect is off), then deflections v_2..v_N [m] and
+/// slopes theta_2..theta_N [rad]. The root node is clamped to the hub.
+
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/frame/frame.h"
+#include "core/hubbeam/beam_basis.h"
+#include "core/solve/second_order_system.h"
+
+namespace ff::hubbeam {
+
+struct HubBeamParams {
+  double hub_radius = 0.05;        ///< a [m]
+  double hub_inertia = 0.3;        ///< J_H [kg m^2]
+  double length = 1.8;             ///< L [m]
+  double area = 2.5e-4;            ///< A [m^2]
+  double density = 2.7667e3;       ///< rho [kg/m^3]
+  double youngs_modulus = 6.8952e10;  ///< E [Pa]
+  double second_moment = 1.3021e-10;  ///< I [m^4]
+  double torque_amplitude = 1.0;   ///< tau0 [N m]
+  double torque_period = 2.0;      ///< T [s]
+};
+
+/// Which contributions the model evaluates (the scene's "effects"); nothing else is computed.
+struct HubBeamEffects {
+  bool axial = true;                 ///< axial stretch DoFs q1 (K1, M1, R, U11 terms)
+  bool first_order_coupling = true;  ///< w_c and the D1 dynamic-stiffening terms (else zero-order)
+  bool hub_torque = true;            ///< driving torque tau(t), eq. (10)
+  std::vector<std::string> names() const;
+};
+
+/// Constant matrices of eqs. (7)-(9), restricted to the free DoFs.
+struct HubBeamMatrices {
+  Eigen::MatrixXd m1, k1, m2, k2, r, d1;   ///< R is (n1 x n2)
+  Eigen::RowVectorXd u11, u12;
+  double jb = 0.0;                         ///< J_b [kg m^2]
+  Eigen::MatrixXd s_tip;                   ///< S(L) of eq. (4), free q2 DoFs
+  Eigen::RowVectorXd n1_tip, n2_tip;       ///< N1(L), N2(L) on free DoFs
+};
+
+/// Assembles eqs. (7)-(9) on the full DoFs by the basis' quadrature (D1 by the swapped form (9)).
+struct FullMatrices {
+  Eigen::MatrixXd m1, k1, m2, k2, r, d1;
+  Eigen::RowVectorXd u11, u12;
+};
+FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis);
+/// S(x) of eq. (4) by Gauss quadrature over [0, x] with `cells` sub-intervals (full DoFs).
+Eigen::MatrixXd coupling_shape_matrix(const BeamBasis& basis, double x, int cells = 16, int gauss = 6);
+
+struct ModalResult {
+  std::vector<double> frequencies_hz;  ///< ascending; the first is the rigid hub mode (~0)
+};
+
+class HubBeamSystem final : public SecondOrderSystem {
+ public:
+  HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& effects,
+                std::unique_ptr<BeamBasis> basis, double validity_deflection_ratio = 1.0);
+
+  int size() const override { return 1 + n1_ + n2_; }
+  void residual(const Eigen::VectorXd& x, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
+                double t, Eigen::VectorXd& r) const override;
+  void iteration_matrix(const Eigen::VectorXd& x, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
+                        double t, double ca, double cv, double cx, Eigen::MatrixXd& j) const override;
+  std::string check_state(const Eigen::VectorXd& x, const Eigen::VectorXd& v) const override;
+
+  /// Separate partial derivatives A = dr/da, C = dr/dv, K = dr/dx, eqs. (15)-(17).
+  void jacobians(const Eigen::VectorXd& x, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
+                 Eigen::MatrixXd& A, Eigen::MatrixXd& C, Eigen::MatrixXd& K) const;
+
+  double torque(double t) const;                                            ///< eq. (10) [N m]
+  double kinetic_energy(const Eigen::VectorXd& x, const Eigen::VectorXd& v) const;  ///< eq. (5) [J]
+  double potential_energy(const Eigen::VectorXd& x) const;                  ///< [J]
+  double angular_momentum(const Eigen::VectorXd& x, const Eigen::VectorXd& v) const;  ///< eq. (14)
+  double tip_transverse(const Eigen::VectorXd& x) const;  ///< w2(L) [m], floating frame
+  double tip_axial(const Eigen::VectorXd& x) const;       ///< w1(L) + wc(L) [m]
+  ModalResult modal_analysis() const;                     ///< eq. (28)
+
+  // drawing: hub disc (triangles) + beam centre line (segments) in the z = 0 plane
+  FrameMesh mesh() const;
+  std::vector<Quantity> probes() const;
+  std::vector<Quantity> fields() const;
+  void fill_frame(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t, Frame& frame) const;
+
+  const HubBeamMatrices& matrices() const { return m_; }
+  const HubBeamParams& params() const { return p_; }
+  const HubBeamEffects& effects() const { return fx_; }
+  const BeamBasis& basis() const { return *basis_; }
+  int axial_dofs() const { return n1_; }
+  int transverse_dofs() const { return n2_; }
+
+ private:
+  HubBeamParams p_;
+  HubBeamEffects fx_;
+  std::unique_ptr<BeamBasis> basis_;
+  double validity_ratio_;
+  int n1_ = 0, n2_ = 0;
+  HubBeamMatrices m_;
+  // drawing samples along the beam
+  std::vector<double> draw_x_;
+  Eigen::MatrixXd draw_n1_, draw_n2_;         ///< rows N1(x_k), N2(x_k) on free DoFs
+  std::vector<Eigen::MatrixXd> draw_s_;       ///< S(x_k) on free q2 DoFs (first-order only)
+  static constexpr int kHubSegments = 48;
+};
+
+}  // namespace ff::hubbeam
