@@ -1,6 +1,7 @@
 #include "core/hubbeam/hub_beam_system.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -114,6 +115,12 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
   m_.n1_tip = pick(s.n1, ia_used);
   m_.n2_tip = pick(s.n2, it);
 
+  // eq. (29): K2 phi = w^2 (M2 - D1) phi; the smallest positive w is the critical speed
+  {
+    Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(m_.m2 - m_.d1, m_.k2, Eigen::EigenvaluesOnly);
+    const double mu = es.eigenvalues().maxCoeff();
+    critical_speed_ = mu > 0 ? 1.0 / std::sqrt(mu) : std::numeric_limits<double>::infinity();
+  }
   // drawing samples (precomputed so fill_frame is a few small products)
   const int samples = 61;
   draw_x_.resize(samples);

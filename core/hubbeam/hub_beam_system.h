@@ -81,6 +81,9 @@ class HubBeamSystem final : public SecondOrderSystem {
   double tip_transverse(const Eigen::VectorXd& x) const;  ///< w2(L) [m], floating frame
   double tip_axial(const Eigen::VectorXd& x) const;       ///< w1(L) + wc(L) [m]
   ModalResult modal_analysis() const;                     ///< eq. (28)
+  /// Hub rate above which K2 + w^2 (D1 - M2) loses definiteness, eq. (29) [rad/s]; +inf when it
+  /// never does (the first-order model: D1 outweighs M2).
+  double critical_speed() const { return critical_speed_; }
 
   // drawing: hub disc (triangles) + beam centre line (segments) in the z = 0 plane
   FrameMesh mesh() const;
@@ -100,6 +103,7 @@ class HubBeamSystem final : public SecondOrderSystem {
   HubBeamEffects fx_;
   std::unique_ptr<BeamBasis> basis_;
   double validity_ratio_;
+  double critical_speed_ = 0.0;
   int n1_ = 0, n2_ = 0;
   HubBeamMatrices m_;
   // drawing samples along the beam

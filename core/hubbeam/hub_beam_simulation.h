@@ -1,0 +1,49 @@
+#pragma once
+/// \file hub_beam_simulation.h
+/// The hub-beam system integrated by Newmark, publishing Frames and computing the metrics
+/// the seed reports (hub_beam.md; README "Hub-beam metrics").
+
+#include <memory>
+
+#include "core/hubbeam/hub_beam_system.h"
+#include "core/model/simulation.h"
+#include "core/solve/newmark.h"
+
+namespace ff::hubbeam {
+
+struct HubBeamRunSettings {
+  double dt = 0.05;        ///< time step [s]
+  double t_end = 10.0;     ///< end time [s]
+  NewmarkSettings newmark;
+};
+
+/// Metrics from a sampled history (free functions so tests can check them on known signals).
+/// Mean of y over t >= t0 (trapezoidal).
+double time_mean_after(const std::vector<double>& t, const std::vector<double>& y, double t0);
+/// Dominant frequency of y over t >= t0 from mean-crossings (linear interpolation) [Hz]; NaN if < 3 crossings.
+double crossing_frequency(const std::vector<double>& t, const std::vector<double>& y, double t0);
+/// Linear interpolation of y at time tq; NaN outside the samples.
+double sample_at(const std::vector<double>& t, const std::vector<double>& y, double tq);
+
+/// Largest |rate| on [0, h] of the cubic Hermite interpolant through (v0, a0), (v1, a1) (eq. 30).
+double peak_rate(double v0, double a0, double v1, double a1, double h);
+
+class HubBeamSimulation final : public Simulation {
+ public:
+  HubBeamSimulation(std::unique_ptr<HubBeamSystem> system, HubBeamRunSettings settings, RunInfo info);
+  const RunInfo& info() const override { return info_; }
+  RunOutcome run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) override;
+  Metrics metrics() const override;
+  SolverTotals totals() const override { return totals_; }
+  double end_time() const override { return s_.t_end; }
+  const HubBeamSystem& system() const { return *sys_; }
+
+ private:
+  std::unique_ptr<HubBeamSystem> sys_;
+  HubBeamRunSettings s_;
+  RunInfo info_;
+  SolverTotals totals_;
+  std::vector<double> t_, angle_deg_, tip_v_, tip_u_, energy_, momentum_;
+};
+
+}  // namespace ff::hubbeam

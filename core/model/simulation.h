@@ -1,0 +1,37 @@
+#pragma once
+/// \file simulation.h
+/// What the app's worker thread drives: a model plus its integrator, publishing Frames.
+/// Implementations own all solver state; consumers only ever see copies (Frames).
+
+#include <atomic>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/frame/frame.h"
+
+namespace ff {
+
+using Metrics = std::vector<std::pair<std::string, double>>;
+
+struct SolverTotals {
+  long long steps = 0;
+  long long newton_iterations = 0;
+  long long jacobian_updates = 0;
+};
+
+class Simulation {
+ public:
+  virtual ~Simulation() = default;
+  virtual const RunInfo& info() const = 0;
+  /// Runs until the end time, a divergence, or `stop` becoming true. Publishes the initial state
+  /// and every converged step. Never throws for numerical trouble: that is the outcome.
+  virtual RunOutcome run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) = 0;
+  /// Metrics of what was computed so far (name -> number), e.g. after run() returns.
+  virtual Metrics metrics() const = 0;
+  virtual SolverTotals totals() const = 0;
+  virtual double end_time() const = 0;  ///< for progress and ETA
+};
+
+}  // namespace ff
