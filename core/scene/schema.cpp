@@ -1,0 +1,343 @@
+#include "core/scene/schema.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "core/scene/schema_text.h"
+
+namespace ff::scene {
+
+// ---- ranges ---------------------------------------------------------------------------------
+
+bool Range::contains(double x) const {
+  if (std::isnan(x)) return false;
+  if (min && (min_inclusive ? x < *min : x <= *min)) return false;
+  if (max && (max_inclusive ? x > *max : x >= *max)) return false;
+  return true;
+}
+
+std::string Range::text() const {
+  if (min && max)
+    return std::string(min_inclusive ? "[" : "(") + text::number(*min) + ", " +
+           text::number(*max) + (max_inclusive ? "]" : ")");
+  if (min) return std::string(min_inclusive ? ">= " : "> ") + text::number(*min);
+  if (max) return std::string(max_inclusive ? "<= " : "< ") + text::number(*max);
+  return "any";
+}
+
+bool IntRange::contains(long long x) const {
+  return (!min || x >= *min) && (!max || x <= *max);
+}
+
+std::string IntRange::text() const {
+  if (min && max) {
+    std::string s = "[";
+    s += std::to_string(*min);
+    s += ", ";
+    s += std::to_string(*max);
+    return s + "]";
+  }
+  if (min) return ">= " + std::to_string(*min);
+  if (max) return "<= " + std::to_string(*max);
+  return "any";
+}
+
+// ---- declarations ---------------------------------------------------------------------------
+
+namespace {
+
+std::string parent_of(std::string_view path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string_view::npos ? std::string() : std::string(path.substr(0, dot));
+}
+
+std::string leaf_of(std::string_view path) {
+  const auto dot = path.rfind('.');
+  return std::string(dot == std::string_view::npos ? path : path.substr(dot + 1));
+}
+
+bool is_bare_key(std::string_view s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+}
+
+[[noreturn]] void bad_declaration(const std::string& path, const std::string& why) {
+  throw std::logic_error("scene schema: '" + path + "': " + why);
+}
+
+void check_range(const std::string& path, const Range& r) {
+  if ((r.min && !std::isfinite(*r.min)) || (r.max && !std::isfinite(*r.max)))
+    bad_declaration(path, "range bounds must be finite (leave a bound unset instead)");
+  if (r.min && r.max && *r.min > *r.max) bad_declaration(path, "range min > max");
+}
+
+}  // namespace
+
+void Schema::check_new_path(const std::string& path, const std::string& doc) const {
+  if (path.empty()) bad_declaration(path, "empty path");
+  std::size_t start = 0;
+  while (true) {
+    const auto dot = path.find('.', start);
+    const auto seg = std::string_view(path).substr(start, dot == std::string::npos
+                                                              ? std::string::npos
+                                                              : dot - start);
+    if (!is_bare_key(seg))
+      bad_declaration(path, "each path segment must be a TOML bare key [A-Za-z0-9_-]+");
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  if (find_table(path) || find_key(path)) bad_declaration(path, "declared twice");
+  if (!find_table(parent_of(path)))
+    bad_declaration(path, "its table '" + parent_of(path) + "' is not declared (declare it first)");
+  if (doc.empty()) bad_declaration(path, "every table and key needs a one-line doc");
+}
+
+Schema& Schema::table(std::string path, std::string doc, bool required) {
+  check_new_path(path, doc);
+  tables_.push_back(TableSpec{std::move(path), std::move(doc), required});
+  return *this;
+}
+
+Schema& Schema::add_key(KeySpec spec) {
+  check_new_path(spec.path, spec.doc);
+  const std::string& p = spec.path;
+  check_range(p, spec.range);
+  if (spec.int_range.min && spec.int_range.max && *spec.int_range.min > *spec.int_range.max)
+    bad_declaration(p, "range min > max");
+  if (spec.min_len > spec.max_len) bad_declaration(p, "min_len > max_len");
+  if (spec.kind == Kind::Choice && spec.choices.empty()) bad_declaration(p, "no choices");
+  for (std::size_t i = 0; i < spec.choices.size(); ++i)
+    if (std::find(spec.choices.begin(), spec.choices.begin() + i, spec.choices[i]) !=
+        spec.choices.begin() + i)
+      bad_declaration(p, "choice '" + spec.choices[i] + "' listed twice");
+
+  // a default must itself be valid input
+  const auto allowed = [&](const std::string& s) {
+    return spec.choices.empty() ||
+           std::find(spec.choices.begin(), spec.choices.end(), s) != spec.choices.end();
+  };
+  const Value& d = spec.default_value;
+  if (const double* x = std::get_if<double>(&d); x && (!std::isfinite(*x) || !spec.range.contains(*x)))
+    bad_declaration(p, "default " + text::number(*x) + " is outside " + spec.range.text());
+  if (const long long* n = std::get_if<long long>(&d); n && !spec.int_range.contains(*n))
+    bad_declaration(p, "default " + std::to_string(*n) + " is outside " + spec.int_range.text());
+  if (const std::string* s = std::get_if<std::string>(&d); s && !allowed(*s))
+    bad_declaration(p, "default '" + *s + "' is not one of the choices");
+  if (const auto* xs = std::get_if<std::vector<double>>(&d)) {
+    if (xs->size() < spec.min_len || xs->size() > spec.max_len)
+      bad_declaration(p, "default has a length outside the allowed lengths");
+    for (double x : *xs)
+      if (!std::isfinite(x) || !spec.range.contains(x))
+        bad_declaration(p, "default element " + text::number(x) + " is outside " + spec.range.text());
+  }
+  if (const auto* ss = std::get_if<std::vector<std::string>>(&d)) {
+    if (ss->size() < spec.min_len || ss->size() > spec.max_len)
+      bad_declaration(p, "default has a length outside the allowed lengths");
+    for (const auto& s : *ss)
+      if (!allowed(s)) bad_declaration(p, "default element '" + s + "' is not allowed");
+  }
+  keys_.push_back(std::move(spec));
+  return *this;
+}
+
+Schema& Schema::number(std::string path, std::string doc, std::optional<double> default_value,
+                       Range range, std::string unit) {
+  KeySpec k;
+  k.path = std::move(path);
+  k.doc = std::move(doc);
+  k.kind = Kind::Number;
+  if (default_value) k.default_value = *default_value;
+  k.range = range;
+  k.unit = std::move(unit);
+  return add_key(std::move(k));
+}
+
+Schema& Schema::integer(std::string path, std::string doc,
+                        std::optional<long long> default_value, IntRange range) {
+  KeySpec k;
+  k.path = std::move(path);
+  k.doc = std::move(doc);
+  k.kind = Kind::Integer;
+  if (default_value) k.default_value = *default_value;
+  k.int_range = range;
+  return add_key(std::move(k));
+}
+
+Schema& Schema::boolean(std::string path, std::string doc, std::optional<bool> default_value) {
+  KeySpec k;
+  k.path = std::move(path);
+  k.doc = std::move(doc);
+  k.kind = Kind::Boolean;
+  if (default_value) k.default_value = *default_value;
+  return add_key(std::move(k));
+}
+
+Schema& Schema::string(std::string path, std::string doc,
+                       std::optional<std::string> default_value) {
+  KeySpec k;
+  k.path = std::move(path);
+  k.doc = std::move(doc);
+  k.kind = Kind::String;
+  if (default_value) k.default_value = std::move(*default_value);
+  return add_key(std::move(k));
+}
+
+Schema& Schema::choice(std::string path, std::string doc, std::vector<std::string> choices,
+                       std::optional<std::string> default_value) {
+  KeySpec k;
+  k.path = std::move(path);
+  k.doc = std::move(doc);
+  k.kind = Kind::Choice;
+  if (default_value) k.default_value = std::move(*default_value);
+  k.choices = std::move(choices);
+  return add_key(std::move(k));
+}
+
+Schema& Schema::number_list(std::string path, std::string doc,
+                            std::optional<std::vector<double>> default_value, Range each,
+                            std::size_t min_len, std::size_t max_len, std::string unit) {
+  KeySpec k;
+  k.path = std::move(path);
+  k.doc = std::move(doc);
+  k.kind = Kind::NumberList;
+  if (default_value) k.default_value = std::move(*default_value);
+  k.range = each;
+  k.min_len = min_len;
+  k.max_len = max_len;
+  k.unit = std::move(unit);
+  return add_key(std::move(k));
+}
+
+Schema& Schema::string_list(std::string path, std::string doc,
+                            std::optional<std::vector<std::string>> default_value,
+                            std::vector<std::string> allowed) {
+  KeySpec k;
+  k.path = std::move(path);
+  k.doc = std::move(doc);
+  k.kind = Kind::StringList;
+  if (default_value) k.default_value = std::move(*default_value);
+  k.choices = std::move(allowed);
+  return add_key(std::move(k));
+}
+
+// ---- lookup ---------------------------------------------------------------------------------
+
+const Schema::TableSpec* Schema::find_table(std::string_view path) const {
+  for (const auto& t : tables_)
+    if (t.path == path) return &t;
+  return nullptr;
+}
+
+const Schema::KeySpec* Schema::find_key(std::string_view path) const {
+  for (const auto& k : keys_)
+    if (k.path == path) return &k;
+  return nullptr;
+}
+
+std::vector<std::string> Schema::children(std::string_view table_path) const {
+  std::vector<std::string> out;
+  for (const auto& t : tables_)
+    if (!t.path.empty() && parent_of(t.path) == table_path) out.push_back(leaf_of(t.path));
+  for (const auto& k : keys_)
+    if (parent_of(k.path) == table_path) out.push_back(leaf_of(k.path));
+  return out;
+}
+
+// ---- markdown reference ---------------------------------------------------------------------
+
+namespace {
+
+std::string cell(std::string s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '|') out += "\\|";
+    else if (c == '\n') out += ' ';
+    else out += c;
+  }
+  return out;
+}
+
+std::string code_list(const std::vector<std::string>& items) {
+  std::vector<std::string> parts;
+  for (const auto& s : items) parts.push_back("`" + s + "`");
+  return text::join(parts, ", ");
+}
+
+std::string length_text(std::size_t lo, std::size_t hi) {
+  if (lo == hi) return "length " + std::to_string(lo);
+  if (hi == SIZE_MAX) return lo == 0 ? "" : "length >= " + std::to_string(lo);
+  return "length " + std::to_string(lo) + " to " + std::to_string(hi);
+}
+
+std::string type_text(const Schema::KeySpec& k) {
+  std::string unit = k.unit.empty() ? "" : " [" + k.unit + "]";
+  switch (k.kind) {
+    case Kind::Number: return "number" + unit;
+    case Kind::Integer: return "integer";
+    case Kind::Boolean: return "boolean";
+    case Kind::String: return "string";
+    case Kind::Choice: return "choice";
+    case Kind::NumberList: return "list of numbers" + unit;
+    case Kind::StringList: return "list of strings";
+  }
+  return "";
+}
+
+std::string allowed_text(const Schema::KeySpec& k) {
+  switch (k.kind) {
+    case Kind::Number: return k.range.text();
+    case Kind::Integer: return k.int_range.text();
+    case Kind::Boolean: return "`true`, `false`";
+    case Kind::String: return "any";
+    case Kind::Choice: return code_list(k.choices);
+    case Kind::NumberList:
+    case Kind::StringList: {
+      std::vector<std::string> parts;
+      if (auto len = length_text(k.min_len, k.max_len); !len.empty()) parts.push_back(len);
+      if (k.kind == Kind::NumberList && !k.range.unbounded())
+        parts.push_back("each " + k.range.text());
+      if (k.kind == Kind::StringList && !k.choices.empty())
+        parts.push_back("each one of " + code_list(k.choices));
+      return parts.empty() ? "any" : text::join(parts, "; ");
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string Schema::markdown_reference() const {
+  std::string out;
+  for (const auto& t : tables_) {
+    std::vector<const KeySpec*> keys;
+    for (const auto& k : keys_)
+      if (parent_of(k.path) == t.path) keys.push_back(&k);
+    if (t.path.empty() && keys.empty()) continue;
+
+    out += t.path.empty() ? "### Top level\n\n" : "### `[" + t.path + "]`\n\n";
+    if (!t.path.empty())
+      out += cell(t.doc) + (t.required ? " (required table)" : " (optional table)") + "\n\n";
+    if (keys.empty()) {
+      out += "No keys of its own.\n\n";
+      continue;
+    }
+    out += "| key | type | default | allowed | meaning |\n";
+    out += "|---|---|---|---|---|\n";
+    for (const KeySpec* k : keys) {
+      std::string def = "**required**";
+      if (!k->required()) {
+        def = "`";
+        def += text::toml_value(k->default_value);
+        def += "`";
+      }
+      out += "| `" + k->path + "` | " + cell(type_text(*k)) + " | " + cell(def) + " | " +
+             cell(allowed_text(*k)) + " | " + cell(k->doc) + " |\n";
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace ff::scene

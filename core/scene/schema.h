@@ -1,0 +1,237 @@
+#pragma once
+/// \file schema.h
+/// Scene-file validation: one declared Schema of every key a scene may hold, checked against a
+/// TOML text plus command-line overrides (`--set solver.dt=0.01`), giving a Document of
+/// validated values with defaults filled in. The same Schema renders the markdown reference of
+/// keys for the README, so code, messages and docs cannot drift apart.
+///
+/// Contract:
+///  - Bad *input* (the scene file or an override) never crashes and never silently defaults:
+///    validate() collects every Issue (file, line, column, key, what was expected and what was
+///    given) and throws one SceneError. The caller prints what() and exits non-zero.
+///  - Bad *programming* (a malformed declaration, a default outside its own range, a lookup of
+///    an undeclared path or with the wrong type) throws std::logic_error.
+///
+/// Paths are dotted TOML bare keys ("solver.dt"); the root table is the empty path "".
+/// Every key lives in a declared table; tables nest (declare "model" before "model.beam").
+/// A key without a default is required whenever its table is present in the input; a required
+/// table is required whenever its parent is present (the root always is).
+///
+/// Example:
+/// \code
+///   Schema s;
+///   s.table("solver", "time integration", /*required=*/true)
+///    .number("solver.dt", "time step", std::nullopt, Range::positive(), "s")
+///    .choice("solver.kind", "integrator", {"hht", "newmark"}, "hht");
+///   Document d = validate_file(s, "scene.toml", {"solver.dt=0.01"});
+///   double dt = d.number("solver.dt");
+/// \endcode
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace ff::scene {
+
+/// One problem found in the input.
+struct Issue {
+  std::string file;     ///< scene file name, or "--set key=value" for an override
+  int line = 0;         ///< 1-based; 0 when no line applies (missing table, override)
+  int column = 0;       ///< 1-based; 0 when no column applies
+  std::string key;      ///< dotted path of the offending key; empty for syntax errors
+  std::string message;  ///< what was expected and what was given
+
+  /// "file:line:column: key 'solver.dt': expected a number > 0, got -0.5"
+  /// (":line:column" left out when line is 0, "key '...': " left out when key is empty).
+  std::string to_string() const;
+};
+
+/// Thrown by validate() when the input has any issue; what() lists all, one per line.
+class SceneError : public std::runtime_error {
+ public:
+  explicit SceneError(std::vector<Issue> issues);
+  std::vector<Issue> issues;
+};
+
+/// Allowed interval of a floating-point number; unset bounds are open-ended.
+/// Rendered as "> 0", ">= 2", "<= 5", "(0, 1]" etc. in messages and in the reference.
+struct Range {
+  std::optional<double> min, max;
+  bool min_inclusive = true;
+  bool max_inclusive = true;
+
+  static Range positive() { return greater_than(0.0); }     ///< > 0
+  static Range non_negative() { return at_least(0.0); }     ///< >= 0
+  static Range at_least(double lo) { return {lo, std::nullopt, true, true}; }
+  static Range greater_than(double lo) { return {lo, std::nullopt, false, true}; }
+  static Range at_most(double hi) { return {std::nullopt, hi, true, true}; }
+  static Range less_than(double hi) { return {std::nullopt, hi, true, false}; }
+  static Range closed(double lo, double hi) { return {lo, hi, true, true}; }        ///< [lo, hi]
+  static Range open(double lo, double hi) { return {lo, hi, false, false}; }        ///< (lo, hi)
+  static Range left_open(double lo, double hi) { return {lo, hi, false, true}; }    ///< (lo, hi]
+  static Range right_open(double lo, double hi) { return {lo, hi, true, false}; }   ///< [lo, hi)
+
+  bool contains(double x) const;
+  bool unbounded() const { return !min && !max; }
+  /// "> 0", "(0, 1]", ... ; "any" when unbounded.
+  std::string text() const;
+};
+
+/// Allowed interval of an integer, both bounds inclusive; unset bounds are open-ended.
+struct IntRange {
+  std::optional<long long> min, max;
+
+  static IntRange at_least(long long lo) { return {lo, std::nullopt}; }
+  static IntRange at_most(long long hi) { return {std::nullopt, hi}; }
+  static IntRange closed(long long lo, long long hi) { return {lo, hi}; }
+
+  bool contains(long long x) const;
+  bool unbounded() const { return !min && !max; }
+  /// ">= 1", "[1, 10]", ... ; "any" when unbounded.
+  std::string text() const;
+};
+
+/// Kinds of declared keys.
+enum class Kind { Number, Integer, Boolean, String, Choice, NumberList, StringList };
+
+/// A validated (or default) value. monostate = no value (absent key of an absent table).
+using Value = std::variant<std::monostate, double, long long, bool, std::string,
+                           std::vector<double>, std::vector<std::string>>;
+
+/// The declared set of tables and keys.
+class Schema {
+ public:
+  struct TableSpec {
+    std::string path;
+    std::string doc;
+    bool required = false;
+  };
+  struct KeySpec {
+    std::string path;
+    std::string doc;
+    Kind kind = Kind::Number;
+    Value default_value;                  ///< monostate = required
+    Range range;                          ///< Number, and each element of NumberList
+    IntRange int_range;                   ///< Integer
+    std::string unit;                     ///< Number / NumberList, "" for none
+    std::vector<std::string> choices;     ///< Choice; StringList allowed values (empty = any)
+    std::size_t min_len = 0;              ///< lists
+    std::size_t max_len = SIZE_MAX;       ///< lists
+    bool required() const { return std::holds_alternative<std::monostate>(default_value); }
+  };
+
+  /// A table; `doc` is its one-line meaning. Its parent table must be declared first.
+  Schema& table(std::string path, std::string doc, bool required = false);
+  /// A floating-point number (integers in the input are accepted and converted). Non-finite
+  /// values (inf, nan) are always refused.
+  Schema& number(std::string path, std::string doc, std::optional<double> default_value,
+                 Range range = {}, std::string unit = "");
+  /// An integer (a floating-point value in the input is refused, even 2.0).
+  Schema& integer(std::string path, std::string doc, std::optional<long long> default_value,
+                  IntRange range = {});
+  Schema& boolean(std::string path, std::string doc, std::optional<bool> default_value);
+  Schema& string(std::string path, std::string doc, std::optional<std::string> default_value);
+  /// A string that must be one of `choices` (read it back with Document::string()).
+  Schema& choice(std::string path, std::string doc, std::vector<std::string> choices,
+                 std::optional<std::string> default_value);
+  /// An array of numbers, each within `each`, with min_len <= length <= max_len.
+  Schema& number_list(std::string path, std::string doc,
+                      std::optional<std::vector<double>> default_value, Range each = {},
+                      std::size_t min_len = 0, std::size_t max_len = SIZE_MAX,
+                      std::string unit = "");
+  /// An array of strings, each one of `allowed` (empty = any string).
+  Schema& string_list(std::string path, std::string doc,
+                      std::optional<std::vector<std::string>> default_value,
+                      std::vector<std::string> allowed = {});
+
+  /// Markdown reference of every table and key, in declaration order, one section per table:
+  /// | key | type | default | allowed | meaning |
+  std::string markdown_reference() const;
+
+  const std::vector<TableSpec>& tables() const { return tables_; }
+  const std::vector<KeySpec>& keys() const { return keys_; }
+  /// nullptr when `path` is not a declared table / key. The root "" is always a table.
+  const TableSpec* find_table(std::string_view path) const;
+  const KeySpec* find_key(std::string_view path) const;
+  /// Names (last path segment) of the tables and keys declared directly inside `table_path`.
+  std::vector<std::string> children(std::string_view table_path) const;
+
+ private:
+  Schema& add_key(KeySpec spec);
+  void check_new_path(const std::string& path, const std::string& doc) const;
+
+  std::vector<TableSpec> tables_{TableSpec{"", "top level", true}};
+  std::vector<KeySpec> keys_;
+};
+
+/// Validated values of one scene, defaults filled in. Independent of the Schema's lifetime.
+/// Every lookup of an undeclared path, of a key with the wrong accessor (number() on an
+/// integer key), or of a required key whose table is absent throws std::logic_error.
+class Document {
+ public:
+  double number(const std::string& path) const;
+  long long integer(const std::string& path) const;
+  bool boolean(const std::string& path) const;
+  const std::string& string(const std::string& path) const;  ///< string and choice keys
+  std::vector<double> numbers(const std::string& path) const;
+  std::vector<std::string> strings(const std::string& path) const;
+
+  /// The key was given in the file or by --set (not just defaulted).
+  bool present(const std::string& path) const;
+  /// The table was given in the file (header, dotted key or inline) or by a --set inside it.
+  /// The root "" is always present.
+  bool table_present(const std::string& path) const;
+  /// "file:line:col", "--set key=value", "default", or "absent" (optional table not given).
+  std::string where(const std::string& path) const;
+  /// An Issue located where `path` got its value (file:line:column, the --set argument, or the
+  /// file with no line for a default), for checks across keys made after validation, e.g.
+  /// `throw SceneError({doc.issue("solver.t_end", "must exceed solver.dt")})`.
+  Issue issue(const std::string& path, std::string message) const;
+  /// The value as TOML text ("0.01", "\"efg\"", "[1.0, 2.0]"); "" when absent.
+  /// Meant for logging the effective settings (RunInfo::settings).
+  std::string value_text(const std::string& path) const;
+  /// Every declared key path, in declaration order.
+  const std::vector<std::string>& key_paths() const { return order_; }
+
+  const std::string& text() const { return text_; }            ///< original file text
+  const std::string& file_name() const { return file_name_; }  ///< as given to validate()
+
+ private:
+  friend class DocumentBuilder;
+  struct Entry {
+    Kind kind = Kind::Number;
+    Value value;
+    bool present = false;
+    std::string where = "absent";
+    std::string file;  ///< file name or "--set ..." when present
+    int line = 0, column = 0;
+  };
+  const Entry& entry(const std::string& path, std::initializer_list<Kind> kinds,
+                     const char* accessor) const;
+
+  std::map<std::string, Entry, std::less<>> entries_;
+  std::map<std::string, bool, std::less<>> tables_;
+  std::vector<std::string> order_;
+  std::string text_;
+  std::string file_name_;
+};
+
+/// Parses `text` as TOML (syntax errors reported with file:line:column), applies `overrides`
+/// ("key=value"; value parsed as a TOML value such as 0.01, true, "str", [1, 2]; a bare word
+/// that is not valid TOML is taken as a string, so `model.kind=efg` works), validates
+/// everything against `schema`, and throws SceneError listing ALL issues if there is any.
+/// An override replaces the file's value; its issues name "--set key=value" as the file.
+Document validate(const Schema& schema, std::string_view text, const std::string& file_name,
+                  const std::vector<std::string>& overrides = {});
+
+/// validate() on the contents of `path`; an unreadable file is a SceneError naming it.
+Document validate_file(const Schema& schema, const std::string& path,
+                       const std::vector<std::string>& overrides = {});
+
+}  // namespace ff::scene

@@ -1,0 +1,518 @@
+// validate(): TOML text + overrides -> Document, or one SceneError listing every issue.
+//
+// Order of work: parse the file, walk it against the schema (unknown keys, wrong types, ranges),
+// apply the --set overrides (each validated like a file value, replacing it), then fill defaults
+// and report missing required tables and keys. Issues are sorted by file position at the end.
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "core/scene/schema.h"
+#include "core/scene/schema_text.h"
+
+namespace ff::scene {
+
+namespace {
+
+std::string parent_of(std::string_view path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string_view::npos ? std::string() : std::string(path.substr(0, dot));
+}
+
+std::string join_path(const std::string& table, std::string_view leaf) {
+  return table.empty() ? std::string(leaf) : table + "." + std::string(leaf);
+}
+
+bool is_bare_key(std::string_view s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+}
+
+std::string trim(std::string_view s) {
+  const auto first = s.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return "";
+  const auto last = s.find_last_not_of(" \t\r\n");
+  return std::string(s.substr(first, last - first + 1));
+}
+
+/// "a string ("abc")", "an integer (3)", "a list ([1, 2])", ... : what the input holds.
+std::string describe(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::string:
+      return "a string (" + text::quoted(text::clip(n.as_string()->get(), 40)) + ")";
+    case toml::node_type::integer:
+      return "an integer (" + std::to_string(n.as_integer()->get()) + ")";
+    case toml::node_type::floating_point:
+      return "a floating-point number (" + text::toml_number(n.as_floating_point()->get()) + ")";
+    case toml::node_type::boolean:
+      return std::string("a boolean (") + (n.as_boolean()->get() ? "true" : "false") + ")";
+    case toml::node_type::array: {
+      std::ostringstream os;
+      os << *n.as_array();
+      return "a list (" + text::clip(os.str(), 40) + ")";
+    }
+    case toml::node_type::table: return "a table";
+    case toml::node_type::date: return "a date";
+    case toml::node_type::time: return "a time";
+    case toml::node_type::date_time: return "a date-time";
+    case toml::node_type::none: break;
+  }
+  return "nothing";
+}
+
+/// The value itself, for out-of-range messages: "-0.5", "0", "'fe'".
+std::string bare(const toml::node& n) {
+  if (auto* i = n.as_integer()) return std::to_string(i->get());
+  if (auto* f = n.as_floating_point()) return text::number(f->get());
+  if (auto* s = n.as_string()) return "'" + text::clip(s->get(), 40) + "'";
+  return describe(n);
+}
+
+std::string with_range(const std::string& noun, const std::string& range_text, bool both_bounds) {
+  if (range_text == "any") return noun;
+  return noun + (both_bounds ? " in " : " ") + range_text;
+}
+
+std::string number_phrase(const Range& r) {
+  return with_range("a number", r.text(), r.min && r.max);
+}
+
+std::string integer_phrase(const IntRange& r) {
+  return with_range("an integer", r.text(), r.min && r.max);
+}
+
+std::string one_of(const std::vector<std::string>& choices) {
+  return "one of " + text::join(choices, ", ");
+}
+
+std::string list_phrase(const Schema::KeySpec& k) {
+  std::string s = k.kind == Kind::NumberList ? "a list of numbers" : "a list of strings";
+  if (k.min_len == k.max_len)
+    s += " (length " + std::to_string(k.min_len) + ")";
+  else if (k.max_len != SIZE_MAX)
+    s += " (length " + std::to_string(k.min_len) + " to " + std::to_string(k.max_len) + ")";
+  else if (k.min_len > 0)
+    s += " (length >= " + std::to_string(k.min_len) + ")";
+  if (k.kind == Kind::NumberList && !k.range.unbounded()) s += ", each " + k.range.text();
+  if (k.kind == Kind::StringList && !k.choices.empty()) s += ", each " + one_of(k.choices);
+  return s;
+}
+
+std::optional<double> as_number(const toml::node& n) {
+  if (auto* i = n.as_integer()) return static_cast<double>(i->get());
+  if (auto* f = n.as_floating_point()) return f->get();
+  return std::nullopt;
+}
+
+}  // namespace
+
+/// Builds one Document; friend of Document. Internal to this file.
+class DocumentBuilder {
+ public:
+  DocumentBuilder(const Schema& schema, std::string_view text, const std::string& file_name,
+                  const std::vector<std::string>& overrides)
+      : schema_(schema), text_(text), file_(file_name), overrides_(overrides) {
+    doc_.text_ = std::string(text);
+    doc_.file_name_ = file_name;
+    for (const auto& t : schema.tables()) doc_.tables_[t.path] = t.path.empty();
+    for (const auto& k : schema.keys()) {
+      doc_.entries_[k.path].kind = k.kind;
+      doc_.order_.push_back(k.path);
+    }
+  }
+
+  Document run() {
+    bool parsed = false;
+    try {
+      toml::table root = toml::parse(text_, file_);
+      parsed = true;
+      walk(root, "");
+    } catch (const toml::parse_error& e) {
+      const auto& at = e.source().begin;
+      add({file_, static_cast<int>(at.line), static_cast<int>(at.column), "",
+           "TOML syntax error: " + std::string(e.description())});
+    }
+    for (const auto& arg : overrides_) apply_override(arg);
+    // after a syntax error the file's content is unknown: "missing" would be noise
+    if (parsed) fill_defaults_and_check_required();
+    if (!ranked_.empty()) throw SceneError(sorted_issues());
+    return std::move(doc_);
+  }
+
+ private:
+  // where an issue or a value comes from: the file (positions from toml++) or one --set
+  struct Origin {
+    std::string file;
+    bool in_file = true;
+  };
+
+  struct Ranked {
+    Issue issue;
+    int group;  // 0 file with line, 1 file without line, 2 override
+    std::size_t seq;
+  };
+
+  void add(Issue issue, int group = -1) {
+    if (group < 0) group = issue.line > 0 ? 0 : 1;
+    ranked_.push_back({std::move(issue), group, ranked_.size()});
+  }
+
+  void add_at(const Origin& o, const toml::source_region& src, const std::string& key,
+              std::string message) {
+    if (o.in_file)
+      add({o.file, static_cast<int>(src.begin.line), static_cast<int>(src.begin.column), key,
+           std::move(message)});
+    else
+      add({o.file, 0, 0, key, std::move(message)}, 2);
+  }
+
+  std::vector<Issue> sorted_issues() {
+    std::stable_sort(ranked_.begin(), ranked_.end(), [](const Ranked& a, const Ranked& b) {
+      if (a.group != b.group) return a.group < b.group;
+      if (a.group == 0 && a.issue.line != b.issue.line) return a.issue.line < b.issue.line;
+      if (a.group == 0 && a.issue.column != b.issue.column) return a.issue.column < b.issue.column;
+      return a.seq < b.seq;
+    });
+    std::vector<Issue> out;
+    for (auto& r : ranked_) out.push_back(std::move(r.issue));
+    return out;
+  }
+
+  static std::string position(const std::string& file, const toml::source_region& src) {
+    return file + ":" + std::to_string(src.begin.line) + ":" + std::to_string(src.begin.column);
+  }
+
+  // ---- unknown keys ---------------------------------------------------------------------------
+
+  /// "unknown key 'solver.dtt' (did you mean 'solver.dt'?)"; `table` is the declared table the
+  /// unknown `name` was found in, `rest` any further path segments (overrides only).
+  std::string unknown_message(const std::string& table, const std::string& name,
+                              const std::string& rest) const {
+    const std::string shown = join_path(table, name) + (rest.empty() ? "" : "." + rest);
+    std::string msg = "unknown key '" + shown + "'";
+
+    std::string best = text::closest(name, schema_.children(table));
+    if (!best.empty()) {
+      std::string guess = join_path(table, best);
+      if (!rest.empty() && (schema_.find_key(guess + "." + rest) || schema_.find_table(guess + "." + rest)))
+        guess += "." + rest;
+      return msg + " (did you mean '" + guess + "'?)";
+    }
+    // the right name in the wrong table: 'dt' at top level when it belongs in [solver]
+    if (rest.empty()) {
+      for (const auto& k : schema_.keys())
+        if (k.path.size() > name.size() && k.path.ends_with("." + name))
+          return msg + " (did you mean '" + k.path + "'?)";
+    }
+    auto names = schema_.children(table);
+    if (!names.empty() && names.size() <= 12)
+      msg += table.empty() ? "; top-level keys are: " + text::join(names, ", ")
+                           : "; keys in [" + table + "] are: " + text::join(names, ", ");
+    return msg;
+  }
+
+  // ---- the file -------------------------------------------------------------------------------
+
+  void walk(const toml::table& table, const std::string& path) {
+    const Origin origin{file_, true};
+    for (auto&& [k, node] : table) {
+      const std::string name(k.str());
+      if (!is_bare_key(name)) {
+        // a quoted key such as "solver.dt" = 1 must not pose as the dotted path
+        add_at(origin, k.source(), join_path(path, text::quoted(name)),
+               "unknown key '" + join_path(path, text::quoted(name)) +
+                   "' (scene keys are plain names: letters, digits, '_' and '-')");
+        continue;
+      }
+      const std::string full = join_path(path, name);
+      if (const auto* t = schema_.find_table(full)) {
+        if (const auto* sub = node.as_table()) {
+          doc_.tables_[full] = true;
+          table_source_[full] = sub->source();
+          walk(*sub, full);
+        } else {
+          add_at(origin, node.source(), full,
+                 "expected a table [" + full + "] (" + t->doc + "), got " + describe(node));
+          invalid_.insert(full);
+        }
+      } else if (const auto* spec = schema_.find_key(full)) {
+        Value v = check(*spec, node, origin);
+        if (std::holds_alternative<std::monostate>(v)) {
+          invalid_.insert(full);
+        } else {
+          auto& e = doc_.entries_[full];
+          e.value = std::move(v);
+          e.present = true;
+          e.where = position(file_, node.source());
+          e.file = file_;
+          e.line = static_cast<int>(node.source().begin.line);
+          e.column = static_cast<int>(node.source().begin.column);
+        }
+      } else {
+        add_at(origin, k.source(), full, unknown_message(path, name, ""));
+      }
+    }
+  }
+
+  // ---- one value against its declaration; monostate after reporting an issue -----------------
+
+  Value check(const Schema::KeySpec& k, const toml::node& n, const Origin& o) {
+    const auto fail = [&](const toml::node& at, std::string msg) -> Value {
+      add_at(o, at.source(), k.path, std::move(msg));
+      return std::monostate{};
+    };
+    switch (k.kind) {
+      case Kind::Number: {
+        const std::string want = number_phrase(k.range);
+        auto x = as_number(n);
+        if (!x) return fail(n, "expected " + want + ", got " + describe(n));
+        if (!std::isfinite(*x)) return fail(n, "expected a finite number, got " + bare(n));
+        if (!k.range.contains(*x)) return fail(n, "expected " + want + ", got " + bare(n));
+        return *x;
+      }
+      case Kind::Integer: {
+        const std::string want = integer_phrase(k.int_range);
+        if (auto* f = n.as_floating_point()) {
+          const double x = f->get();
+          std::string hint = std::isfinite(x) && x == std::floor(x)
+                                 ? " (write it without a decimal point)" : "";
+          return fail(n, "expected " + want + ", got " + describe(n) + hint);
+        }
+        auto* i = n.as_integer();
+        if (!i) return fail(n, "expected " + want + ", got " + describe(n));
+        if (!k.int_range.contains(i->get())) return fail(n, "expected " + want + ", got " + bare(n));
+        return static_cast<long long>(i->get());
+      }
+      case Kind::Boolean: {
+        auto* b = n.as_boolean();
+        if (!b) return fail(n, "expected " + text::kind_noun(k.kind) + ", got " + describe(n));
+        return b->get();
+      }
+      case Kind::String: {
+        auto* s = n.as_string();
+        if (!s) return fail(n, "expected a string, got " + describe(n));
+        return s->get();
+      }
+      case Kind::Choice: {
+        auto* s = n.as_string();
+        if (!s) return fail(n, "expected " + one_of(k.choices) + ", got " + describe(n));
+        if (auto msg = choice_problem(k.choices, s->get()); !msg.empty()) return fail(n, msg);
+        return s->get();
+      }
+      case Kind::NumberList:
+      case Kind::StringList: return check_list(k, n, o, fail);
+    }
+    return std::monostate{};
+  }
+
+  /// "" when `s` is allowed, else "expected one of a, b, got 'c'" with a suggestion if close.
+  static std::string choice_problem(const std::vector<std::string>& choices, const std::string& s) {
+    if (choices.empty() || std::find(choices.begin(), choices.end(), s) != choices.end()) return "";
+    std::string msg = "expected " + one_of(choices) + ", got '" + text::clip(s, 40) + "'";
+    if (auto best = text::closest(s, choices); !best.empty()) msg += " (did you mean '" + best + "'?)";
+    return msg;
+  }
+
+  template <class Fail>
+  Value check_list(const Schema::KeySpec& k, const toml::node& n, const Origin& o, Fail fail) {
+    const std::string want = list_phrase(k);
+    auto* arr = n.as_array();
+    if (!arr) return fail(n, "expected " + want + ", got " + describe(n));
+    if (arr->size() < k.min_len || arr->size() > k.max_len)
+      return fail(n, "expected " + want + ", got " + std::to_string(arr->size()) +
+                         (arr->size() == 1 ? " element" : " elements"));
+    bool ok = true;
+    std::vector<double> numbers;
+    std::vector<std::string> strings;
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      const toml::node& el = *arr->get(i);
+      const std::string prefix = "element [" + std::to_string(i) + "]: ";
+      if (k.kind == Kind::NumberList) {
+        const std::string el_want = number_phrase(k.range);
+        auto x = as_number(el);
+        std::string msg;
+        if (!x) msg = "expected " + el_want + ", got " + describe(el);
+        else if (!std::isfinite(*x)) msg = "expected a finite number, got " + bare(el);
+        else if (!k.range.contains(*x)) msg = "expected " + el_want + ", got " + bare(el);
+        if (!msg.empty()) {
+          fail(el, prefix + msg);
+          ok = false;
+        } else {
+          numbers.push_back(*x);
+        }
+      } else {
+        auto* s = el.as_string();
+        std::string msg = s ? choice_problem(k.choices, s->get())
+                            : "expected a string, got " + describe(el);
+        if (!msg.empty()) {
+          fail(el, prefix + msg);
+          ok = false;
+        } else {
+          strings.push_back(s->get());
+        }
+      }
+    }
+    if (!ok) return std::monostate{};
+    if (k.kind == Kind::NumberList) return numbers;
+    return strings;
+  }
+
+  // ---- overrides ------------------------------------------------------------------------------
+
+  void apply_override(const std::string& arg) {
+    const Origin o{"--set " + arg, false};
+    const auto issue = [&](const std::string& key, std::string msg) {
+      add({o.file, 0, 0, key, std::move(msg)}, 2);
+    };
+    const auto eq = arg.find('=');
+    if (eq == std::string::npos) {
+      const std::string key = trim(arg);
+      if (schema_.find_key(key))
+        issue(key, "missing '=value': write --set " + key + "=VALUE");
+      else
+        issue("", "expected the form key=value (for example --set solver.dt=0.01), got '" +
+                      text::clip(arg, 60) + "' with no '='");
+      return;
+    }
+    const std::string key = trim(std::string_view(arg).substr(0, eq));
+    const std::string value = trim(std::string_view(arg).substr(eq + 1));
+    if (key.empty()) {
+      issue("", "expected the form key=value, but the key before '=' is empty");
+      return;
+    }
+    if (schema_.find_table(key)) {
+      const auto names = schema_.children(key);
+      issue(key, "'" + key + "' is a table; --set needs a key inside it" +
+                     (names.empty() ? std::string() : ", such as '" + key + "." + names.front() + "'"));
+      return;
+    }
+    const auto* spec = schema_.find_key(key);
+    if (!spec) {
+      // find the deepest declared table on the path; the next segment is the unknown one
+      std::string table;
+      std::string rest = key;
+      while (true) {
+        const auto dot = rest.find('.');
+        if (dot == std::string::npos) break;
+        const std::string next = join_path(table, rest.substr(0, dot));
+        if (!schema_.find_table(next)) break;
+        table = next;
+        rest = rest.substr(dot + 1);
+      }
+      const auto dot = rest.find('.');
+      const std::string name = rest.substr(0, dot);
+      const std::string tail = dot == std::string::npos ? "" : rest.substr(dot + 1);
+      issue(key, unknown_message(table, name, tail));
+      return;
+    }
+
+    // an empty value is only meaningful for a plain string
+    if (value.empty() && spec->kind != Kind::String) {
+      issue(key, "no value after '=': write --set " + key + "=VALUE, VALUE being " +
+                     text::kind_noun(spec->kind));
+      return;
+    }
+    // the value is TOML (0.01, true, "s", [1, 2]); a bare word that is not TOML is a string
+    std::optional<toml::table> parsed;
+    try {
+      toml::table t = toml::parse("v = " + value, o.file);
+      if (t.size() == 1 && t.contains("v")) parsed = std::move(t);
+    } catch (const toml::parse_error& e) {
+      if (!value.empty() && std::string_view("[{\"'").find(value.front()) != std::string_view::npos) {
+        issue(key, "value " + text::clip(value, 40) + " is not valid TOML: " +
+                       std::string(e.description()));
+        return;
+      }
+    }
+    // for a plain string or a choice the raw text is meant (--set model.name=2024), unless quoted
+    const bool wants_string = spec->kind == Kind::String || spec->kind == Kind::Choice;
+    if (parsed && wants_string && !parsed->get("v")->is_string()) parsed.reset();
+    toml::table fallback;
+    if (!parsed) {
+      fallback.insert("v", value);
+      parsed = std::move(fallback);
+    }
+    Value v = check(*spec, *parsed->get("v"), o);
+    if (std::holds_alternative<std::monostate>(v)) {
+      invalid_.insert(key);
+      return;
+    }
+    auto& e = doc_.entries_[key];
+    e.value = std::move(v);
+    e.present = true;
+    e.where = o.file;
+    e.file = o.file;
+    e.line = e.column = 0;
+    invalid_.erase(key);
+    for (std::string t = parent_of(key); !t.empty(); t = parent_of(t)) doc_.tables_[t] = true;
+  }
+
+  // ---- defaults and required ------------------------------------------------------------------
+
+  void fill_defaults_and_check_required() {
+    for (const auto& t : schema_.tables()) {
+      if (t.path.empty() || !t.required || doc_.tables_[t.path] || invalid_.count(t.path)) continue;
+      if (!doc_.tables_[parent_of(t.path)]) continue;  // optional parent absent
+      add({file_, 0, 0, t.path,
+           "missing required table [" + t.path + "] (meaning: " + t.doc + ")"});
+    }
+    for (const auto& k : schema_.keys()) {
+      auto& e = doc_.entries_[k.path];
+      if (e.present || invalid_.count(k.path)) continue;
+      if (!k.required()) {
+        e.value = k.default_value;
+        e.where = "default";
+        continue;
+      }
+      const std::string table = parent_of(k.path);
+      if (!doc_.tables_[table] || invalid_.count(table)) continue;  // absent: table_present() says so
+      int line = 0, column = 0;
+      if (auto it = table_source_.find(table); it != table_source_.end()) {
+        line = static_cast<int>(it->second.begin.line);
+        column = static_cast<int>(it->second.begin.column);
+      }
+      add({file_, line, column, k.path,
+           "missing required key '" + k.path + "' (meaning: " + k.doc + ")"});
+    }
+  }
+
+  const Schema& schema_;
+  std::string_view text_;
+  const std::string& file_;
+  const std::vector<std::string>& overrides_;
+  Document doc_;
+  std::vector<Ranked> ranked_;
+  std::set<std::string> invalid_;  // given but refused: do not also report as missing
+  std::map<std::string, toml::source_region> table_source_;
+};
+
+Document validate(const Schema& schema, std::string_view text, const std::string& file_name,
+                  const std::vector<std::string>& overrides) {
+  return DocumentBuilder(schema, text, file_name, overrides).run();
+}
+
+Document validate_file(const Schema& schema, const std::string& path,
+                       const std::vector<std::string>& overrides) {
+  const auto cannot = [&](const std::string& why) {
+    return SceneError({Issue{path, 0, 0, "", "cannot read scene file: " + why}});
+  };
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw cannot("it is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw cannot(std::strerror(errno));
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  if (in.bad()) throw cannot("read error");
+  return validate(schema, buf.str(), path, overrides);
+}
+
+}  // namespace ff::scene
