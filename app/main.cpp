@@ -1,1 +1,135 @@
-int main() { return 0; }
+// flexframe: command-line entry point. Verbs: run, check, scenes, compare, bench, study.
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "app/bench.h"
+#include "app/compare.h"
+#include "app/run_session.h"
+#include "app/study.h"
+#include "core/scene/scene.h"
+
+namespace {
+std::atomic<bool> g_stop{false};
+
+extern "C" void on_sigint(int) {
+  if (g_stop.exchange(true)) {  // second Ctrl-C: leave at once
+    std::signal(SIGINT, SIG_DFL);
+    std::raise(SIGINT);
+  }
+}
+
+void print_result(const ff::app::RunResult& r) {
+  std::printf("%s: %s at t = %g after %lld steps (%lld Newton iterations) in %.2f s wall\n", r.scene_name.c_str(),
+              ff::to_string(r.outcome.status), r.outcome.stop_time, static_cast<long long>(r.totals.steps),
+              static_cast<long long>(r.totals.newton_iterations), r.outcome.wall_time_s);
+  if (!r.outcome.reason.empty()) std::printf("  reason: %s\n", r.outcome.reason.c_str());
+  for (const auto& [k, v] : r.metrics) std::printf("  %-30s %.6g\n", k.c_str(), v);
+  std::printf("  outputs: %s/{results.h5, summary.json, frames/ (%d PNG), plots/}\n", r.out_dir.c_str(),
+              r.frames_rendered);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"FlexFrame: flexible multibody dynamics with a headless renderer"};
+  app.require_subcommand(1);
+
+  // run
+  ff::app::RunOptions run_opt;
+  std::string run_scene;
+  bool no_frames = false, no_plots = false, quiet = false;
+  CLI::App* run = app.add_subcommand("run", "run a scene headlessly: results.h5, frames/, plots/, summary.json");
+  run->add_option("scene", run_scene, "scene file or bundled scene name (default: " + ff::app::default_scene() + ")");
+  run->add_option("--out", run_opt.out_dir, "output folder (default: out/<scene name>)");
+  run->add_option("--set", run_opt.overrides, "override a scene key, e.g. --set solver.dt=0.01")->take_all();
+  run->add_option("--frame-every", run_opt.frame_every, "render every n-th step")->check(CLI::PositiveNumber);
+  run->add_option("--width", run_opt.width, "frame width in pixels")->check(CLI::Range(64, 8192));
+  run->add_option("--height", run_opt.height, "frame height in pixels")->check(CLI::Range(64, 8192));
+  run->add_flag("--no-frames", no_frames, "skip PNG frames");
+  run->add_flag("--no-plots", no_plots, "skip plots");
+  run->add_flag("--quiet", quiet, "no progress line");
+
+  // check
+  std::string check_scene;
+  std::vector<std::string> check_overrides;
+  CLI::App* check = app.add_subcommand("check", "validate a scene without running it");
+  check->add_option("scene", check_scene, "scene file or bundled scene name")->required();
+  check->add_option("--set", check_overrides, "override a scene key")->take_all();
+
+  // scenes
+  bool reference = false;
+  CLI::App* scenes = app.add_subcommand("scenes", "list bundled scenes, or print the scene key reference");
+  scenes->add_flag("--reference", reference, "print every scene key as a markdown table");
+
+  // compare
+  std::vector<std::string> compare_inputs;
+  std::string compare_out = "out/compare";
+  CLI::App* compare = app.add_subcommand("compare", "overlay the probes of several runs (results.h5 or run folders)");
+  compare->add_option("runs", compare_inputs, "results.h5 files or run folders")->required()->expected(1, -1);
+  compare->add_option("--out", compare_out, "output folder for the overlay plots");
+
+  // bench
+  ff::app::BenchOptions bench_opt;
+  CLI::App* bench = app.add_subcommand("bench", "measure steps/s of the bundled hub-beam scenes, EFG/FEM cost, frames/s");
+  bench->add_option("--repeat", bench_opt.repeat, "repetitions per measurement (median is reported)")
+      ->check(CLI::Range(1, 1000));
+  bench->add_option("--out", bench_opt.out_file, "also write the results as JSON to this file");
+
+  // study
+  ff::app::StudyOptions study_opt;
+  CLI::App* study = app.add_subcommand("study", "run variants of a scene: error vs wall time table and plot");
+  study->add_option("scene", study_opt.scene, "scene file or bundled scene name")->required();
+  study->add_option("--vary", study_opt.vary, "KEY=V1,V2,... (each --vary is one table, varied alone)")
+      ->required()->take_all();
+  study->add_option("--baseline", study_opt.baseline, "scene whose run defines relative time and the reference value");
+  study->add_option("--metric", study_opt.metric, "summary metric compared to the reference")->required();
+  study->add_option("--repeat", study_opt.repeat, "timing repetitions (median)")->check(CLI::Range(1, 1000));
+  study->add_option("--out", study_opt.out_dir, "output folder (study.csv, study.md, study.png)");
+
+  CLI11_PARSE(app, argc, argv);
+  std::signal(SIGINT, on_sigint);
+  std::signal(SIGTERM, on_sigint);
+
+  try {
+    if (*run) {
+      run_opt.scene_path = ff::app::resolve_scene(run_scene.empty() ? ff::app::default_scene() : run_scene);
+      run_opt.frames = !no_frames;
+      run_opt.plots = !no_plots;
+      run_opt.progress = !quiet;
+      const ff::app::RunResult r = ff::app::run_scene(run_opt, g_stop);
+      print_result(r);
+      return ff::app::exit_code(r.outcome);
+    }
+    if (*check) {
+      std::printf("%s\n", ff::scene::check_scene(ff::app::resolve_scene(check_scene), check_overrides).c_str());
+      return 0;
+    }
+    if (*scenes) {
+      if (reference) {
+        std::printf("%s", ff::scene::scene_schema().markdown_reference().c_str());
+      } else {
+        std::printf("bundled scenes in %s:\n", ff::app::scene_dir().c_str());
+        for (const std::string& s : ff::app::bundled_scenes()) std::printf("  %s\n", s.c_str());
+      }
+      return 0;
+    }
+    if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
+    if (*bench) return ff::app::run_bench(bench_opt, g_stop);
+    if (*study) {
+      study_opt.scene = ff::app::resolve_scene(study_opt.scene);
+      if (!study_opt.baseline.empty()) study_opt.baseline = ff::app::resolve_scene(study_opt.baseline);
+      return ff::app::run_study(study_opt, g_stop);
+    }
+  } catch (const ff::scene::SceneError& e) {
+    std::fprintf(stderr, "error: invalid scene\n%s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

@@ -155,16 +155,20 @@ Metrics HubBeamSimulation::metrics() const {
   for (double v : tip_v_) vmax = std::max(vmax, std::abs(v));
   if (!tip_u_.empty()) add("tip_axial_max_m", umax);
   if (!tip_v_.empty()) add("tip_transverse_max_m", vmax);
-  // drifts over the torque-free part, where energy and angular momentum are conserved (eq. 14)
-  auto drift = [&](const std::vector<double>& y) {
-    double lo = 1e300, hi = -1e300, sum = 0.0;
-    int count = 0;
+  // drifts over the torque-free part, where energy and angular momentum are conserved (eq. 14):
+  // (max - min) after T, relative to the mean energy after T and to the peak |momentum| of the run
+  // (the seed's torque has zero impulse, so the momentum after T is ~0 and cannot be the scale)
+  auto spread_after_T = [&](const std::vector<double>& y) {
+    double lo = 1e300, hi = -1e300;
     for (std::size_t i = 0; i < t_.size(); ++i)
-      if (t_[i] >= T - 1e-12) lo = std::min(lo, y[i]), hi = std::max(hi, y[i]), sum += std::abs(y[i]), ++count;
-    return count > 1 && sum > 0 ? (hi - lo) / (sum / count) : std::numeric_limits<double>::quiet_NaN();
+      if (t_[i] >= T - 1e-12) lo = std::min(lo, y[i]), hi = std::max(hi, y[i]);
+    return hi >= lo ? hi - lo : std::numeric_limits<double>::quiet_NaN();
   };
-  add("energy_drift_rel", drift(energy_));
-  add("angular_momentum_drift_rel", drift(momentum_));
+  double p_peak = 0.0;
+  for (double p : momentum_) p_peak = std::max(p_peak, std::abs(p));
+  const double e_mean = time_mean_after(t_, energy_, T);
+  add("energy_drift_rel", std::abs(e_mean) > 0 ? spread_after_T(energy_) / std::abs(e_mean) : NAN);
+  add("angular_momentum_drift_rel", p_peak > 0 ? spread_after_T(momentum_) / p_peak : NAN);
   const ModalResult modal = sys_->modal_analysis();
   if (modal.frequencies_hz.size() > 1) add("modal_frequency_hz", modal.frequencies_hz[1]);
   add("beam_inertia_kg_m2", sys_->matrices().jb);

@@ -1,0 +1,89 @@
+#include "app/bench.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "app/json_writer.h"
+#include "app/run_session.h"
+#include "app/timed_run.h"
+#include "core/scene/scene.h"
+#include "render/frame_renderer.h"
+#include "render/graphics_context.h"
+
+namespace fs = std::filesystem;
+
+namespace ff::app {
+
+namespace {
+// headless frames per second of the default scene at the default frame size
+double frames_per_second(int frames, std::string* backend) {
+  scene::LoadedScene s = scene::load_scene(resolve_scene(default_scene()));
+  std::vector<Frame> captured;
+  std::atomic<bool> stop{false};
+  s.simulation->run([&](Frame&& f) { if (static_cast<int>(captured.size()) < frames) captured.push_back(std::move(f)); },
+                    stop);
+  std::string err;
+  auto gc = render::GraphicsContext::create(&err);
+  if (!gc) return 0.0;
+  *backend = gc->backend() + " / " + gc->gl_renderer();
+  render::FrameStyle style;
+  style.width = s.output.width;
+  style.height = s.output.height;
+  style.color_field = s.output.color_field == "none" ? "" : s.output.color_field;
+  style.title = s.name;
+  render::FrameRenderer renderer(*gc, s.simulation->info(), style);
+  const fs::path dir = fs::temp_directory_path() / "flexframe_bench_frames";
+  fs::create_directories(dir);
+  renderer.render_png(captured.front(), (dir / "warmup.png").string(), &err);  // first frame builds shaders
+  const auto t0 = std::chrono::steady_clock::now();
+  int n = 0;
+  for (const Frame& f : captured)
+    if (renderer.render_png(f, (dir / ("f" + std::to_string(n) + ".png")).string(), &err)) ++n;
+  const double s_elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  fs::remove_all(dir);
+  return n / s_elapsed;
+}
+}  // namespace
+
+int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
+  std::printf("| scene | status | steps | set-up [ms] | stepping [ms] | steps/s |\n|---|---|---|---|---|---|\n");
+  JsonObject scenes;
+  double efg_total[2] = {0, 0}, fem_total[2] = {0, 0}, efg_run[2] = {0, 0}, fem_run[2] = {0, 0};
+  for (const std::string& name : bundled_scenes()) {
+    if (name.rfind("hub_beam", 0) != 0 || stop) continue;
+    const TimedRun r = timed_run_median(resolve_scene(name), {}, opt.repeat, stop);
+    const double sps = r.totals.steps / r.run_s;
+    std::printf("| %s | %s | %lld | %.2f | %.2f | %.0f |\n", name.c_str(), to_string(r.outcome.status),
+                static_cast<long long>(r.totals.steps), 1e3 * r.setup_s, 1e3 * r.run_s, sps);
+    std::fflush(stdout);
+    JsonObject o;
+    o.add("status", to_string(r.outcome.status)).add("steps", static_cast<long long>(r.totals.steps))
+        .add("setup_s", r.setup_s).add("run_s", r.run_s).add("steps_per_second", sps);
+    scenes.add(name, o);
+    const int k = name.find("tau7") != std::string::npos ? 1 : 0;
+    if (name == "hub_beam_efg_tau1" || name == "hub_beam_efg_tau7") efg_total[k] = r.total_s(), efg_run[k] = r.run_s;
+    if (name == "hub_beam_fem_tau1" || name == "hub_beam_fem_tau7") fem_total[k] = r.total_s(), fem_run[k] = r.run_s;
+  }
+  std::printf("\n| ratio (same run) | tau0 = 1 | tau0 = 7 |\n|---|---|---|\n");
+  std::printf("| EFG / FEM wall time, set-up + stepping | %.3f | %.3f |\n", efg_total[0] / fem_total[0],
+              efg_total[1] / fem_total[1]);
+  std::printf("| EFG / FEM wall time, stepping only | %.3f | %.3f |\n", efg_run[0] / fem_run[0], efg_run[1] / fem_run[1]);
+  std::string backend;
+  const double fps = stop ? 0.0 : frames_per_second(60, &backend);
+  std::printf("\nheadless frames/s at the default size (960x720, %s): %.1f\n", backend.c_str(), fps);
+  if (!opt.out_file.empty()) {
+    JsonObject root;
+    root.add("repeat", opt.repeat).add("scenes", scenes)
+        .add("efg_over_fem_total_tau1", efg_total[0] / fem_total[0])
+        .add("efg_over_fem_total_tau7", efg_total[1] / fem_total[1])
+        .add("efg_over_fem_stepping_tau1", efg_run[0] / fem_run[0])
+        .add("efg_over_fem_stepping_tau7", efg_run[1] / fem_run[1])
+        .add("frames_per_second", fps).add("render_backend", backend);
+    std::ofstream(opt.out_file) << root.str() << "\n";
+  }
+  return stop ? 130 : 0;
+}
+
+}  // namespace ff::app

@@ -1,0 +1,36 @@
+#include "app/compare.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "app/io/results.h"
+#include "app/plots.h"
+
+namespace fs = std::filesystem;
+
+namespace ff::app {
+
+int compare_runs(const std::vector<std::string>& inputs, const std::string& out_dir) {
+  std::vector<LabelledRun> runs;
+  for (const std::string& in : inputs) {
+    const std::string path = fs::is_directory(in) ? (fs::path(in) / "results.h5").string() : in;
+    std::string err;
+    auto reader = io::ResultReader::open(path, &err);
+    if (!reader) throw std::runtime_error(err);
+    LabelledRun r;
+    r.info = reader->info();
+    r.label = r.info.scene_name;
+    r.history.time = reader->times();
+    for (const Quantity& q : r.info.probes) r.history.probes.push_back(reader->probe_series(q.name));
+    runs.push_back(std::move(r));
+  }
+  fs::create_directories(fs::path(out_dir) / "plots");
+  std::string err;
+  const auto files = write_overlay_plots(runs, (fs::path(out_dir) / "plots").string(), &err);
+  if (files.empty()) throw std::runtime_error("no overlay plot written: " + err);
+  std::printf("overlay of %zu runs: %zu plots in %s/plots\n", runs.size(), files.size(), out_dir.c_str());
+  return 0;
+}
+
+}  // namespace ff::app

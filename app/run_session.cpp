@@ -1,0 +1,255 @@
+#include "app/run_session.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "app/channel.h"
+#include "app/io/results.h"
+#include "app/json_writer.h"
+#include "app/plots.h"
+#include "core/scene/scene.h"
+#include "render/frame_renderer.h"
+#include "render/graphics_context.h"
+
+namespace fs = std::filesystem;
+
+namespace ff::app {
+
+namespace {
+constexpr std::size_t kStoreChannelCapacity = 256;  // frames the solver may run ahead of the store
+constexpr std::size_t kRenderChannelCapacity = 8;   // frames queued for PNG output
+
+std::string format_duration(double s) {
+  if (!std::isfinite(s) || s < 0) return "--:--";
+  const long t = std::lround(s);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%ld:%02ld", t / 60, t % 60);
+  return buf;
+}
+}  // namespace
+
+std::string scene_dir() {
+  // next to the build tree first (build/flexframe -> ../assets/scenes), then the source tree
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path candidate = exe.parent_path().parent_path() / "assets" / "scenes";
+    if (fs::is_directory(candidate)) return candidate.string();
+  }
+  return std::string(FF_ASSET_DIR) + "/scenes";
+}
+
+std::vector<std::string> bundled_scenes() {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(scene_dir()))
+    if (e.path().extension() == ".toml") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string default_scene() { return "hub_beam_efg_tau1"; }
+
+std::string resolve_scene(const std::string& name) {
+  if (fs::is_regular_file(name)) return name;
+  const fs::path bundled = fs::path(scene_dir()) / (name + ".toml");
+  if (fs::is_regular_file(bundled)) return bundled.string();
+  std::string msg = "no scene file '" + name + "' and no bundled scene of that name in " + scene_dir() +
+                    " (bundled:";
+  for (const std::string& s : bundled_scenes()) msg += " " + s;
+  throw std::runtime_error(msg + ")");
+}
+
+int exit_code(const RunOutcome& o) {
+  switch (o.status) {
+    case RunStatus::completed: return 0;
+    case RunStatus::diverged: return 3;
+    case RunStatus::interrupted: return 130;
+    case RunStatus::failed: return 1;
+  }
+  return 1;
+}
+
+RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
+  scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides);
+  Simulation& sim = *scene.simulation;
+  const RunInfo info = sim.info();
+  scene::OutputSettings out = scene.output;
+  if (opt.frame_every) out.frame_every = *opt.frame_every;
+  if (opt.width) out.width = *opt.width;
+  if (opt.height) out.height = *opt.height;
+  const bool want_frames = opt.frames && out.frames;
+
+  RunResult result;
+  result.scene_name = scene.name;
+  result.out_dir = opt.out_dir.empty() ? (fs::path("out") / scene.name).string() : opt.out_dir;
+  const fs::path dir(result.out_dir), frames_dir = dir / "frames", plots_dir = dir / "plots";
+  std::error_code ec;
+  fs::create_directories(frames_dir, ec);
+  fs::create_directories(plots_dir, ec);
+  if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output folder " + dir.string());
+  // stale frames of an earlier run would be mistaken for this one
+  for (const auto& e : fs::directory_iterator(frames_dir))
+    if (e.path().extension() == ".png") fs::remove(e.path(), ec);
+
+  std::string err;
+  const std::string h5_path = (dir / "results.h5").string();
+  std::unique_ptr<io::ResultWriter> writer = io::ResultWriter::create(h5_path, info, &err);
+  if (!writer) throw std::runtime_error(err);
+  writer->set_attribute("flexframe_version", FF_VERSION);
+  writer->set_attribute("git_commit", FF_GIT_COMMIT);
+  writer->set_attribute("build_type", FF_BUILD_TYPE);
+
+  BoundedChannel<Frame> store_ch(kStoreChannelCapacity);
+  BoundedChannel<Frame> render_ch(kRenderChannelCapacity);
+  std::atomic<double> progress_time{0.0};
+  std::atomic<long long> progress_steps{0};
+  std::atomic<bool> solver_done{false};
+  std::mutex history_mutex;
+  PlotHistory history;  // probe time series for the plots
+  std::string store_error, render_error, render_backend, gl_renderer;
+
+  // store thread: every frame to HDF5, every n-th to the renderer
+  std::thread store([&] {
+    long long index = 0;
+    while (std::optional<Frame> f = store_ch.pop()) {
+      std::string e;
+      if (store_error.empty() && !writer->append(*f, &e)) store_error = e;
+      {
+        std::lock_guard lock(history_mutex);
+        history.add(*f);
+      }
+      progress_time = f->time;
+      progress_steps = f->step;
+      if (want_frames && index % out.frame_every == 0) render_ch.push(std::move(*f));
+      ++index;
+    }
+    render_ch.close();
+  });
+
+  // render thread: owns its GL context
+  std::thread render([&] {
+    std::unique_ptr<render::GraphicsContext> gc;
+    std::unique_ptr<render::FrameRenderer> renderer;
+    int n = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    while (std::optional<Frame> f = render_ch.pop()) {
+      if (!render_error.empty()) continue;  // keep draining so the solver never blocks
+      if (!gc) {
+        gc = render::GraphicsContext::create(&render_error);
+        if (!gc) continue;
+        render_backend = gc->backend();
+        gl_renderer = gc->gl_renderer();
+        render::FrameStyle style;
+        style.width = out.width;
+        style.height = out.height;
+        style.deformation_scale = out.deformation_scale;
+        style.color_field = out.color_field == "none" ? "" : out.color_field;
+        style.title = scene.name;
+        renderer = std::make_unique<render::FrameRenderer>(*gc, info, style);
+        if (!renderer->ok()) {
+          render_error = renderer->error();
+          continue;
+        }
+      }
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%05d.png", n);
+      if (!renderer->render_png(*f, (frames_dir / name).string(), &render_error)) continue;
+      ++n;
+    }
+    result.frames_rendered = n;
+    result.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  });
+
+  // solver on the worker thread
+  RunOutcome outcome;
+  std::thread worker([&] {
+    try {
+      outcome = sim.run([&](Frame&& f) { store_ch.push(std::move(f)); }, stop);
+    } catch (const std::exception& e) {
+      outcome.status = RunStatus::failed;
+      outcome.reason = std::string("solver error: ") + e.what();
+    }
+    store_ch.close();
+    solver_done = true;
+  });
+
+  // progress on this thread
+  const bool tty = isatty(STDERR_FILENO);
+  const auto wall0 = std::chrono::steady_clock::now();
+  auto last_print = wall0;
+  const double t_end = sim.end_time();
+  while (!solver_done) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const auto now = std::chrono::steady_clock::now();
+    const double since = std::chrono::duration<double>(now - last_print).count();
+    if (!opt.progress || since < (tty ? 0.25 : 2.0)) continue;
+    last_print = now;
+    const double wall = std::chrono::duration<double>(now - wall0).count();
+    const double t = progress_time, rate = progress_steps / std::max(wall, 1e-9);
+    const double eta = t > 0 ? wall * (t_end - t) / t : NAN;
+    std::fprintf(stderr, "%s%s: t = %.3f / %.3f %s | %lld steps | %.0f steps/s | ETA %s%s", tty ? "\r" : "",
+                 scene.name.c_str(), t, t_end, info.time_unit.c_str(), static_cast<long long>(progress_steps), rate,
+                 format_duration(eta).c_str(), tty ? "   " : "\n");
+  }
+  worker.join();
+  store.join();
+  render.join();
+  if (opt.progress && tty) std::fprintf(stderr, "\n");
+
+  result.outcome = outcome;
+  result.metrics = sim.metrics();
+  result.totals = sim.totals();
+  if (!render_backend.empty()) {
+    writer->set_attribute("render_backend", render_backend);
+    writer->set_attribute("gl_renderer", gl_renderer);
+  }
+  if (!writer->finish(outcome, result.metrics, &err) && store_error.empty()) store_error = err;
+  writer.reset();
+  if (!store_error.empty()) std::fprintf(stderr, "warning: results.h5: %s\n", store_error.c_str());
+  if (!render_error.empty()) std::fprintf(stderr, "warning: frames not rendered: %s\n", render_error.c_str());
+
+  std::vector<std::string> plot_files;
+  if (opt.plots && out.plots) {
+    std::string plot_error;
+    plot_files = write_run_plots(info, history, plots_dir.string(), &plot_error);
+    if (!plot_error.empty()) std::fprintf(stderr, "warning: plots: %s\n", plot_error.c_str());
+  }
+
+  // summary.json: what scripts and benchmarks read
+  JsonObject metrics;
+  for (const auto& [k, v] : result.metrics) metrics.add(k, v);
+  JsonObject outputs;
+  outputs.add("results", "results.h5").add("frames_dir", "frames").add("frames", result.frames_rendered)
+      .add("plots", plot_files);
+  JsonObject render_info;
+  render_info.add("backend", render_backend).add("gl_renderer", gl_renderer)
+      .add("frames_per_second", result.render_seconds > 0 ? result.frames_rendered / result.render_seconds : 0.0);
+  JsonObject summary;
+  summary.add("scene", scene.name)
+      .add("scene_path", scene.path)
+      .add("status", to_string(outcome.status))
+      .add("reason", outcome.reason)
+      .add("stop_time", outcome.stop_time)
+      .add("time_unit", info.time_unit)
+      .add("wall_time_s", outcome.wall_time_s)
+      .add("steps", static_cast<long long>(result.totals.steps))
+      .add("newton_iterations", static_cast<long long>(result.totals.newton_iterations))
+      .add("jacobian_updates", static_cast<long long>(result.totals.jacobian_updates))
+      .add("steps_per_second", outcome.wall_time_s > 0 ? result.totals.steps / outcome.wall_time_s : 0.0)
+      .add("effects", info.effects)
+      .add("metrics", metrics)
+      .add("outputs", outputs)
+      .add("render", render_info);
+  std::ofstream(dir / "summary.json") << summary.str() << "\n";
+  return result;
+}
+
+}  // namespace ff::app

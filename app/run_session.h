@@ -1,0 +1,52 @@
+#pragma once
+/// \file run_session.h
+/// One headless run: the solver on a worker thread publishes Frames into a bounded channel;
+/// a store thread writes every frame to results.h5 and forwards every n-th frame to a render
+/// thread writing PNGs; the calling thread shows progress. Plots and summary.json at the end.
+
+#include <atomic>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/model/simulation.h"
+
+namespace ff::app {
+
+struct RunOptions {
+  std::string scene_path;
+  std::string out_dir;                     ///< "" = out/<scene name>
+  std::vector<std::string> overrides;      ///< --set key=value
+  std::optional<int> frame_every, width, height;
+  bool frames = true;                      ///< PNG frames (also subject to output.frames)
+  bool plots = true;
+  bool progress = true;
+};
+
+struct RunResult {
+  RunOutcome outcome;
+  Metrics metrics;
+  SolverTotals totals;
+  std::string out_dir;
+  std::string scene_name;
+  int frames_rendered = 0;
+  double render_seconds = 0.0;   ///< wall time spent rendering frames (render thread)
+};
+
+/// Runs a scene. Throws ff::scene::SceneError for bad input (before anything is written) and
+/// std::runtime_error for output problems (unwritable directory, HDF5 failure).
+RunResult run_scene(const RunOptions& options, const std::atomic<bool>& stop);
+
+/// Exit code for an outcome: 0 completed, 3 diverged, 130 interrupted, 1 failed.
+int exit_code(const RunOutcome& outcome);
+
+/// Resolves "hub_beam_efg_tau1" or a path to a scene file; throws std::runtime_error naming
+/// what was tried.
+std::string resolve_scene(const std::string& name_or_path);
+/// The bundled scene folder.
+std::string scene_dir();
+std::vector<std::string> bundled_scenes();
+/// The scene `flexframe run` uses when none is given.
+std::string default_scene();
+
+}  // namespace ff::app

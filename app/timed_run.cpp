@@ -1,0 +1,59 @@
+#include "app/timed_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/scene/scene.h"
+
+namespace ff::app {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? NAN : v[v.size() / 2];
+}
+}  // namespace
+
+TimedRun timed_run(const std::string& scene_path, const std::vector<std::string>& overrides,
+                   const std::atomic<bool>& stop) {
+  TimedRun r;
+  auto t0 = std::chrono::steady_clock::now();
+  scene::LoadedScene s = scene::load_scene(scene_path, overrides);
+  r.setup_s = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  r.outcome = s.simulation->run([](Frame&&) {}, stop);
+  r.run_s = seconds_since(t0);
+  r.metrics = s.simulation->metrics();
+  r.totals = s.simulation->totals();
+  return r;
+}
+
+TimedRun timed_run_median(const std::string& scene_path, const std::vector<std::string>& overrides, int repeat,
+                          const std::atomic<bool>& stop) {
+  TimedRun first;
+  std::vector<double> setup, run, total;
+  for (int i = 0; i < std::max(1, repeat) && !stop; ++i) {
+    TimedRun r = timed_run(scene_path, overrides, stop);
+    if (i == 0) first = r;
+    setup.push_back(r.setup_s);
+    run.push_back(r.run_s);
+    total.push_back(r.total_s());
+  }
+  // keep setup + run == median total by scaling the split of the median run
+  const double t = median(total), s = median(setup), u = median(run);
+  first.setup_s = t * s / std::max(s + u, 1e-300);
+  first.run_s = t - first.setup_s;
+  return first;
+}
+
+double metric(const Metrics& m, const std::string& name) {
+  for (const auto& [k, v] : m)
+    if (k == name) return v;
+  return NAN;
+}
+
+}  // namespace ff::app

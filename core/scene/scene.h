@@ -1,0 +1,42 @@
+#pragma once
+/// \file scene.h
+/// Scene file -> validated Document -> Simulation + output settings. Bad input throws
+/// ff::scene::SceneError naming file, line, key and what was expected.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/model/simulation.h"
+#include "core/scene/schema.h"
+
+namespace ff::scene {
+
+/// How a run is shown; plain numbers the app hands to the renderer.
+struct OutputSettings {
+  bool frames = true;            ///< write PNG frames
+  int frame_every = 1;           ///< render every n-th published frame
+  int width = 960, height = 720;
+  double deformation_scale = 1.0;
+  std::string color_field = "deflection";  ///< a field name, or "none"
+  bool plots = true;
+};
+
+struct LoadedScene {
+  std::string name;
+  std::string path;
+  std::unique_ptr<Simulation> simulation;
+  OutputSettings output;
+};
+
+/// The schema of every scene key (also rendered into README's scene reference).
+const Schema& scene_schema();
+
+/// Reads, validates and builds a scene. `overrides` are "key=value" from --set.
+LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// Validation only (for `flexframe check`): also builds the model, so numerical set-up errors
+/// (e.g. an EFG support too small for its basis) are found too. Returns a one-line description.
+std::string check_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+}  // namespace ff::scene
