@@ -1,0 +1,482 @@
+#include "render/frame_renderer.h"
+
+#include <vtkActor.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkColorTransferFunction.h>
+#include <vtkDoubleArray.h>
+#include <vtkLookupTable.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkScalarBarActor.h>
+#include <vtkTextActor.h>
+#include <vtkTextProperty.h>
+#include <vtkTubeFilter.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/frame_layout.h"
+#include "render/render_surface.h"
+#include "render/text_style.h"
+
+namespace ff::render {
+namespace {
+
+// colours (RGB in [0, 1])
+constexpr double kBodyColor[3] = {0.22, 0.42, 0.69};   // uniform colour without a field
+constexpr double kGhostColor[3] = {0.74, 0.74, 0.76};  // undeformed body
+constexpr double kEdgeColor[3] = {0.20, 0.22, 0.26};
+constexpr double kGhostSurfaceOpacity = 0.30;
+constexpr double kGhostTubeFraction = 0.55;  // ghost tube radius / body tube radius
+constexpr int kTubeSides = 20;
+constexpr double kMinEdgePixels = 14.0;  // draw element edges when elements are this large
+
+// 'cool to warm' (Moreland's end colours, blue 0.230 0.299 0.754 -> red 0.706 0.016 0.150)
+// with a mid grey of lightness ~0.8 instead of the usual near-white, so the middle of the range
+// stays visible on a white background; interpolated in CIELAB for even steps
+void fill_cool_to_warm(vtkLookupTable* lut) {
+  vtkNew<vtkColorTransferFunction> ctf;
+  ctf->SetColorSpaceToLab();
+  ctf->AddRGBPoint(0.0, 0.230, 0.299, 0.754);
+  ctf->AddRGBPoint(0.5, 0.780, 0.780, 0.800);
+  ctf->AddRGBPoint(1.0, 0.706, 0.016, 0.150);
+  constexpr int n = 256;
+  lut->SetNumberOfTableValues(n);
+  for (int i = 0; i < n; ++i) {
+    double rgb[3];
+    ctf->GetColor(static_cast<double>(i) / (n - 1), rgb);
+    lut->SetTableValue(i, rgb[0], rgb[1], rgb[2], 1.0);
+  }
+  lut->Build();
+}
+
+void style_body(vtkProperty* p) {
+  p->SetColor(kBodyColor[0], kBodyColor[1], kBodyColor[2]);
+  p->SetAmbient(0.15);
+  p->SetDiffuse(0.85);
+  p->SetSpecular(0.25);
+  p->SetSpecularPower(30.0);
+}
+
+}  // namespace
+
+struct FrameRenderer::Impl {
+  GraphicsContext& gc;
+  FrameStyle style;
+  std::string time_unit;
+  std::size_t n = 0;
+  int field = -1;
+  std::string error;
+
+  ViewFit fit;
+  Camera camera;
+  double tube_radius = 0;
+  bool have_lines = false, have_surfaces = false;
+  bool range_fixed = false;  // a caller range or an automatic range has been chosen
+  std::array<double, 2> range{0, 0};
+
+  std::unique_ptr<RenderSurface> surface;
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkPoints> points, base_points;
+  vtkNew<vtkDoubleArray> scalars;
+  vtkNew<vtkPolyData> lines, surfaces, ghost_lines, ghost_surfaces;
+  vtkNew<vtkTubeFilter> tubes, ghost_tubes;
+  vtkNew<vtkPolyDataNormals> normals;
+  vtkNew<vtkPolyDataMapper> line_mapper, surface_mapper, ghost_line_mapper, ghost_surface_mapper;
+  vtkNew<vtkActor> line_actor, surface_actor, ghost_line_actor, ghost_surface_actor;
+  vtkNew<vtkLookupTable> lut;
+  vtkNew<vtkScalarBarActor> bar;
+  vtkNew<vtkTextActor> bar_title, title, status;
+
+  Impl(GraphicsContext& g, FrameStyle s) : gc(g), style(std::move(s)) {}
+  bool build(const RunInfo& info);
+  void build_overlay(const RunInfo& info);
+  bool update(const Frame& frame, std::string* why);
+  void update_range(const std::vector<double>& values);
+  void set_bar_labels();
+  // layout of the overlay, in pixels
+  double margin_px() const { return std::round(0.018 * style.height); }
+  double title_px() const { return std::max(12.0, std::round(style.height / 28.0)); }
+  double text_px() const { return std::max(10.0, std::round(style.height / 36.0)); }
+  int bar_strip_px() const { return static_cast<int>(std::lround(0.15 * style.width)); }
+  ~Impl() {
+    // the window goes first: it frees the GL objects of everything drawn while its context
+    // exists, then the VTK objects below are destroyed without touching GL
+    surface.reset();
+  }
+};
+
+bool FrameRenderer::Impl::build(const RunInfo& info) {
+  const FrameMesh& mesh = info.mesh;
+  n = mesh.point_count();
+  time_unit = info.time_unit;
+  if (mesh.reference_points.size() != 3 * n) {
+    error = "mesh reference_points size is not a multiple of 3";
+    return false;
+  }
+  if (style.width < 16 || style.height < 16) {
+    error = "image size must be at least 16x16 pixels";
+    return false;
+  }
+  auto check_cells = [&](const std::vector<std::int32_t>& c, std::size_t per, const char* what) {
+    if (c.size() % per != 0) {
+      error = std::string("mesh ") + what + " size is not a multiple of " + std::to_string(per);
+      return false;
+    }
+    for (std::int32_t v : c) {
+      if (v < 0 || static_cast<std::size_t>(v) >= n) {
+        error = std::string("mesh ") + what + " refer to point " + std::to_string(v) + " of " +
+                std::to_string(n);
+        return false;
+      }
+    }
+    return true;
+  };
+  if (!check_cells(mesh.lines, 2, "lines") || !check_cells(mesh.triangles, 3, "triangles") ||
+      !check_cells(mesh.quads, 4, "quads"))
+    return false;
+  if (!style.color_field.empty()) {
+    for (std::size_t i = 0; i < info.fields.size(); ++i)
+      if (info.fields[i].name == style.color_field) field = static_cast<int>(i);
+    if (field < 0) {
+      error = "color_field '" + style.color_field + "' is not one of the run's fields";
+      return false;
+    }
+  }
+  if (style.color_max > style.color_min) {
+    range = {style.color_min, style.color_max};
+    range_fixed = true;
+  }
+
+  surface = std::make_unique<RenderSurface>(gc, style.width, style.height);
+  if (!surface->ok()) {
+    error = surface->error();
+    return false;
+  }
+
+  // camera: fitted to the reference mesh once, so motion shows between frames
+  fit = fit_view(mesh, style.width, style.height, style.camera.parallel,
+                 field >= 0 ? bar_strip_px() : 0);
+  camera = style.camera.automatic ? fit.camera : style.camera;
+  if (!(camera.parallel_scale > 0)) camera.parallel_scale = fit.camera.parallel_scale;
+  tube_radius = style.line_radius > 0 ? style.line_radius : automatic_line_radius(camera, fit.radius);
+
+  // geometry: bodies share `points`, ghosts share `base_points`; topology is set once
+  points->SetDataTypeToDouble();
+  base_points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(n));
+  base_points->SetNumberOfPoints(static_cast<vtkIdType>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    points->SetPoint(static_cast<vtkIdType>(i), &mesh.reference_points[3 * i]);
+    base_points->SetPoint(static_cast<vtkIdType>(i), &mesh.reference_points[3 * i]);
+  }
+  scalars->SetName("field");
+  scalars->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  scalars->FillValue(0.0);
+
+  vtkNew<vtkCellArray> line_cells, surface_cells;
+  for (const auto& chain : chain_polylines(mesh.lines)) {
+    line_cells->InsertNextCell(static_cast<vtkIdType>(chain.size()));
+    for (std::int32_t v : chain) line_cells->InsertCellPoint(v);
+  }
+  for (std::size_t t = 0; t + 2 < mesh.triangles.size(); t += 3) {
+    const vtkIdType ids[3] = {mesh.triangles[t], mesh.triangles[t + 1], mesh.triangles[t + 2]};
+    surface_cells->InsertNextCell(3, ids);
+  }
+  for (std::size_t q = 0; q + 3 < mesh.quads.size(); q += 4) {
+    const vtkIdType ids[4] = {mesh.quads[q], mesh.quads[q + 1], mesh.quads[q + 2],
+                              mesh.quads[q + 3]};
+    surface_cells->InsertNextCell(4, ids);
+  }
+  have_lines = line_cells->GetNumberOfCells() > 0;
+  have_surfaces = surface_cells->GetNumberOfCells() > 0;
+
+  lines->SetPoints(points);
+  lines->SetLines(line_cells);
+  surfaces->SetPoints(points);
+  surfaces->SetPolys(surface_cells);
+  ghost_lines->SetPoints(base_points);
+  ghost_lines->SetLines(line_cells);
+  ghost_surfaces->SetPoints(base_points);
+  ghost_surfaces->SetPolys(surface_cells);
+  if (field >= 0) {
+    lines->GetPointData()->SetScalars(scalars);
+    surfaces->GetPointData()->SetScalars(scalars);
+  }
+
+  fill_cool_to_warm(lut);
+  lut->SetTableRange(range_fixed ? range[0] : 0.0, range_fixed ? range[1] : 1.0);
+  for (vtkPolyDataMapper* m : {line_mapper.Get(), surface_mapper.Get()}) {
+    m->SetLookupTable(lut);
+    m->UseLookupTableScalarRangeOn();
+    m->SetScalarModeToUsePointData();
+    m->SetScalarVisibility(field >= 0);
+    m->InterpolateScalarsBeforeMappingOn();
+  }
+
+  if (have_lines) {
+    tubes->SetInputData(lines);
+    tubes->SetRadius(tube_radius);
+    tubes->SetNumberOfSides(kTubeSides);
+    tubes->CappingOn();
+    line_mapper->SetInputConnection(tubes->GetOutputPort());
+    line_actor->SetMapper(line_mapper);
+    style_body(line_actor->GetProperty());
+    renderer->AddActor(line_actor);
+  }
+  if (have_surfaces) {
+    normals->SetInputData(surfaces);
+    normals->ComputePointNormalsOn();
+    normals->SplittingOff();
+    normals->ConsistencyOn();
+    surface_mapper->SetInputConnection(normals->GetOutputPort());
+    surface_actor->SetMapper(surface_mapper);
+    style_body(surface_actor->GetProperty());
+    // element edges only when elements are large enough on screen to read them
+    double edge_sum = 0;
+    std::size_t edge_count = 0;
+    auto add_edges = [&](const std::vector<std::int32_t>& c, std::size_t per) {
+      for (std::size_t e = 0; e + per - 1 < c.size(); e += per) {
+        for (std::size_t k = 0; k < per; ++k) {
+          const double* a = &mesh.reference_points[3 * c[e + k]];
+          const double* b = &mesh.reference_points[3 * c[e + (k + 1) % per]];
+          edge_sum += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                                (a[2] - b[2]) * (a[2] - b[2]));
+          ++edge_count;
+        }
+      }
+    };
+    add_edges(mesh.triangles, 3);
+    add_edges(mesh.quads, 4);
+    const double pixel = 2.0 * camera.parallel_scale / style.height;
+    if (edge_count > 0 && edge_sum / edge_count > kMinEdgePixels * pixel) {
+      surface_actor->GetProperty()->EdgeVisibilityOn();
+      surface_actor->GetProperty()->SetEdgeColor(kEdgeColor[0], kEdgeColor[1], kEdgeColor[2]);
+    }
+    renderer->AddActor(surface_actor);
+  }
+  if (style.show_base) {
+    if (have_lines) {
+      ghost_tubes->SetInputData(ghost_lines);
+      ghost_tubes->SetRadius(kGhostTubeFraction * tube_radius);
+      ghost_tubes->SetNumberOfSides(kTubeSides / 2);
+      ghost_tubes->CappingOn();
+      ghost_line_mapper->SetInputConnection(ghost_tubes->GetOutputPort());
+      ghost_line_mapper->ScalarVisibilityOff();
+      ghost_line_actor->SetMapper(ghost_line_mapper);
+      ghost_line_actor->GetProperty()->SetColor(kGhostColor[0], kGhostColor[1], kGhostColor[2]);
+      ghost_line_actor->GetProperty()->SetAmbient(0.4);
+      ghost_line_actor->GetProperty()->SetDiffuse(0.6);
+      renderer->AddActor(ghost_line_actor);
+    }
+    if (have_surfaces) {
+      ghost_surface_mapper->SetInputData(ghost_surfaces);
+      ghost_surface_mapper->ScalarVisibilityOff();
+      // pushed behind coincident body surfaces (rigid parts) so it never shows through them
+      ghost_surface_mapper->SetRelativeCoincidentTopologyPolygonOffsetParameters(2.0, 20.0);
+      ghost_surface_actor->SetMapper(ghost_surface_mapper);
+      ghost_surface_actor->GetProperty()->SetColor(kGhostColor[0], kGhostColor[1], kGhostColor[2]);
+      ghost_surface_actor->GetProperty()->SetOpacity(kGhostSurfaceOpacity);
+      renderer->AddActor(ghost_surface_actor);
+    }
+  }
+
+  vtkCamera* cam = renderer->GetActiveCamera();
+  cam->SetFocalPoint(camera.focal_point.data());
+  cam->SetPosition(camera.position.data());
+  cam->SetViewUp(camera.view_up.data());
+  cam->SetParallelProjection(camera.parallel);
+  cam->SetParallelScale(camera.parallel_scale);
+  cam->SetViewAngle(30.0);
+
+  renderer->SetBackground(style.background[0], style.background[1], style.background[2]);
+  renderer->SetUseFXAA(style.antialias);
+  build_overlay(info);
+  surface->window()->AddRenderer(renderer);
+  return true;
+}
+
+void FrameRenderer::Impl::build_overlay(const RunInfo& info) {
+  const double w = style.width, h = style.height;
+  const double ink[3] = {0.10, 0.10, 0.12};
+  const double m = margin_px();
+
+  // top left: title, then time / load factor / deformation scale, one per line
+  double y = h - m;
+  if (!style.title.empty()) {
+    title->SetInput(style.title.c_str());
+    set_text_style(title->GetTextProperty(), title_px(), ink, true);
+    title->GetTextProperty()->SetVerticalJustificationToTop();
+    title->GetPositionCoordinate()->SetCoordinateSystemToViewport();
+    title->GetPositionCoordinate()->SetValue(m, y);
+    renderer->AddActor2D(title);
+    y -= std::round(1.5 * title_px());
+  }
+  set_text_style(status->GetTextProperty(), text_px(), ink, false);
+  status->GetTextProperty()->SetVerticalJustificationToTop();
+  status->GetTextProperty()->SetLineSpacing(1.15);
+  status->GetPositionCoordinate()->SetCoordinateSystemToViewport();
+  status->GetPositionCoordinate()->SetValue(m, y);
+  renderer->AddActor2D(status);
+
+  if (field < 0) return;
+  // right strip: the field title (right-aligned; the bar's own title would be squeezed to
+  // the bar width), the bar below it with its labels to the right
+  bar_title->SetInput(quantity_title(info.fields[static_cast<std::size_t>(field)]).c_str());
+  set_text_style(bar_title->GetTextProperty(), text_px(), ink, true);
+  bar_title->GetTextProperty()->SetJustificationToRight();
+  bar_title->GetTextProperty()->SetVerticalJustificationToTop();
+  bar_title->GetPositionCoordinate()->SetCoordinateSystemToViewport();
+  bar_title->GetPositionCoordinate()->SetValue(w - m, h - m);
+  renderer->AddActor2D(bar_title);
+
+  const double strip = bar_strip_px();
+  const double x0 = w - strip + m, y0 = 0.12 * h;
+  const double top = h - m - 1.8 * text_px();
+  bar->SetLookupTable(lut);
+  bar->SetMaximumNumberOfColors(256);
+  bar->SetOrientationToVertical();
+  bar->UseCustomLabelsOn();
+  set_bar_labels();
+  bar->SetTextPositionToSucceedScalarBar();
+  bar->UnconstrainedFontSizeOn();
+  bar->SetBarRatio(std::min(0.5, 0.045 * h / (strip - 2 * m)));
+  set_text_style(bar->GetLabelTextProperty(), std::round(0.85 * text_px()), ink, false);
+  bar->GetPositionCoordinate()->SetCoordinateSystemToViewport();
+  bar->GetPositionCoordinate()->SetValue(x0, y0);
+  bar->GetPosition2Coordinate()->SetCoordinateSystemToViewport();
+  bar->GetPosition2Coordinate()->SetValue(strip - 2 * m, top - y0);
+  renderer->AddActor2D(bar);
+}
+
+void FrameRenderer::Impl::update_range(const std::vector<double>& values) {
+  double lo = 0, hi = 0;
+  bool any = false;
+  for (double v : values) {
+    if (!std::isfinite(v)) continue;
+    lo = any ? std::min(lo, v) : v;
+    hi = any ? std::max(hi, v) : v;
+    any = true;
+  }
+  if (!any) return;
+  if (range_fixed) {
+    if (style.color_max > style.color_min) return;  // the caller's range is kept as given
+    if (lo >= range[0] && hi <= range[1]) return;
+    range = round_range(std::min(lo, range[0]), std::max(hi, range[1]));
+  } else if (hi > lo) {
+    range = round_range(lo, hi);
+    range_fixed = true;
+  } else {
+    // a constant field (often the initial state): a provisional range around it
+    const double pad = lo != 0.0 ? 0.1 * std::fabs(lo) : 1.0;
+    range = {lo - pad, lo + pad};
+  }
+  lut->SetTableRange(range[0], range[1]);
+  set_bar_labels();
+}
+
+void FrameRenderer::Impl::set_bar_labels() {
+  const double lo = lut->GetTableRange()[0], hi = lut->GetTableRange()[1];
+  const Ticks ticks = color_bar_ticks(lo, hi);
+  vtkNew<vtkDoubleArray> values;
+  for (double v : ticks.values) values->InsertNextValue(v);
+  bar->SetCustomLabels(values);
+  bar->SetLabelFormat(ticks.format.c_str());
+}
+
+bool FrameRenderer::Impl::update(const Frame& frame, std::string* why) {
+  if (frame.points.size() != 3 * n) {
+    *why = "frame has " + std::to_string(frame.points.size()) + " point coordinates, mesh needs " +
+           std::to_string(3 * n);
+    return false;
+  }
+  const bool have_base = !frame.base_points.empty();
+  if (have_base && frame.base_points.size() != 3 * n) {
+    *why = "frame base_points size does not match the mesh";
+    return false;
+  }
+  const std::vector<double>* values = nullptr;
+  if (field >= 0) {
+    if (frame.fields.size() <= static_cast<std::size_t>(field) ||
+        frame.fields[static_cast<std::size_t>(field)].size() != n) {
+      *why = "frame lacks per-point values of field '" + style.color_field + "'";
+      return false;
+    }
+    values = &frame.fields[static_cast<std::size_t>(field)];
+  }
+  const double s = style.deformation_scale;
+  for (std::size_t i = 0; i < n; ++i) {
+    double p[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+      const double x = frame.points[3 * i + k];
+      b[k] = have_base ? frame.base_points[3 * i + k] : x;
+      p[k] = b[k] + s * (x - b[k]);
+      if (!std::isfinite(p[k]) || !std::isfinite(b[k])) {
+        *why = "frame has a non-finite position at point " + std::to_string(i);
+        return false;
+      }
+    }
+    points->SetPoint(static_cast<vtkIdType>(i), p);
+    base_points->SetPoint(static_cast<vtkIdType>(i), b);
+  }
+  points->Modified();
+  base_points->Modified();
+  if (values != nullptr) {
+    for (std::size_t i = 0; i < n; ++i) scalars->SetValue(static_cast<vtkIdType>(i), (*values)[i]);
+    scalars->Modified();
+    update_range(*values);
+  }
+  for (vtkPolyData* pd : {lines.Get(), surfaces.Get(), ghost_lines.Get(), ghost_surfaces.Get()})
+    pd->Modified();
+  ghost_line_actor->SetVisibility(have_base);
+  ghost_surface_actor->SetVisibility(have_base);
+
+  RunInfo meta;
+  meta.time_unit = time_unit;
+  status->SetInput(status_line(meta, frame, s).c_str());
+  renderer->ResetCameraClippingRange();
+  return true;
+}
+
+FrameRenderer::FrameRenderer(GraphicsContext& gc, const RunInfo& info, FrameStyle style) {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  impl_ = std::make_unique<Impl>(gc, std::move(style));
+  if (!impl_->build(info) && impl_->error.empty()) impl_->error = "renderer setup failed";
+}
+
+FrameRenderer::~FrameRenderer() {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  impl_.reset();
+}
+
+bool FrameRenderer::ok() const { return impl_->error.empty(); }
+const std::string& FrameRenderer::error() const { return impl_->error; }
+
+bool FrameRenderer::render_png(const Frame& frame, const std::string& png_path,
+                               std::string* error) {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  std::string why;
+  if (!impl_->error.empty()) {
+    why = impl_->error;
+  } else if (impl_->update(frame, &why) && impl_->surface->render_to_png(png_path, &why)) {
+    return true;
+  }
+  if (error) *error = why;
+  return false;
+}
+
+std::array<double, 2> FrameRenderer::color_range() const {
+  return impl_->field >= 0 ? impl_->range : std::array<double, 2>{0, 0};
+}
+
+Camera FrameRenderer::camera() const { return impl_->camera; }
+
+}  // namespace ff::render

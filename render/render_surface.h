@@ -1,0 +1,68 @@
+#pragma once
+/// \file render_surface.h
+/// Internal to render/ (exposes VTK): the state behind GraphicsContext and an off-screen VTK
+/// render window bound to it, with PNG read-back. Used by frame_renderer.cpp and plot.cpp.
+
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkRenderWindow.h>
+#include <vtkSmartPointer.h>
+#include <vtkWindowToImageFilter.h>
+
+#include <string>
+
+#include "render/egl_headless.h"
+#include "render/graphics_context.h"
+
+namespace ff::render {
+
+struct GraphicsContext::Impl {
+  Backend backend = Backend::egl_surfaceless;
+  egl::Display egl;  ///< valid for Backend::egl_surfaceless (one reference held)
+  std::string gl_renderer;
+  std::string gl_version;
+  ~Impl();
+};
+
+/// An off-screen VTK render window of a fixed size on the context's backend.
+///  - egl-surfaceless: a vtkGenericOpenGLRenderWindow on its own EGL context; VTK's
+///    make-current / is-current requests are answered by observers, so VTK can make it
+///    current whenever it needs to (render, read-back, release of GL resources).
+///  - x11: VTK's own X11 window class with off-screen rendering on.
+/// The caller holds vtk_mutex() around every method, constructor and destructor included.
+class RenderSurface {
+ public:
+  /// What VTK's make-current / is-current observers act on (egl-surfaceless only).
+  struct EglTarget {
+    egl::Display display;
+    void* context = nullptr;
+  };
+
+  RenderSurface(GraphicsContext& gc, int width, int height);
+  ~RenderSurface();
+  RenderSurface(const RenderSurface&) = delete;
+  RenderSurface& operator=(const RenderSurface&) = delete;
+
+  /// False when the window could not be set up; error() says why.
+  bool ok() const { return ok_; }
+  const std::string& error() const { return error_; }
+
+  vtkRenderWindow* window() { return window_; }
+  void make_current();
+
+  /// Renders the window and writes its colour buffer (RGB) as PNG. Errors raised by VTK
+  /// during the call (e.g. an unwritable path) make it fail with their text in *error.
+  bool render_to_png(const std::string& path, std::string* error);
+
+ private:
+  GraphicsContext::Impl& gc_;
+  EglTarget egl_;
+  vtkSmartPointer<vtkRenderWindow> window_;
+  vtkNew<vtkWindowToImageFilter> grab_;
+  vtkNew<vtkPNGWriter> writer_;
+  unsigned long observer_tags_[2] = {0, 0};
+  bool ok_ = false;
+  std::string error_;
+};
+
+}  // namespace ff::render

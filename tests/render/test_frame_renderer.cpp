@@ -1,0 +1,263 @@
+// FrameRenderer end to end: synthetic hub-beam frames rendered headless to PNG, read back,
+// and checked where the beam must be and where nothing may be.
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <numbers>
+#include <thread>
+
+#include "render/frame_renderer.h"
+#include "render/graphics_context.h"
+#include "render_test_support.h"
+
+namespace ff::render {
+namespace {
+
+using test::any_near;
+using test::is_background;
+using test::is_ink;
+
+class FrameRendererTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    unsetenv("DISPLAY");  // the headless path is the one under test
+    std::string err;
+    gc_ = GraphicsContext::create(&err);
+    ASSERT_NE(gc_, nullptr) << err;
+    info_ = test::hub_beam_run();
+  }
+  FrameStyle field_style() const {
+    FrameStyle s;
+    s.color_field = "axial_strain";
+    s.title = info_.scene_name;
+    return s;
+  }
+  std::unique_ptr<GraphicsContext> gc_;
+  RunInfo info_;
+};
+
+// count of beam sample points (x from 0.25 m to tip - 0.1 m, along direction angle) drawn
+int beam_hits(const test::Image& img, const Camera& cam, double angle) {
+  int hits = 0;
+  for (int k = 0; k < 20; ++k) {
+    const double r = 0.25 + (test::kBeamLength - 0.2) * k / 19.0;
+    const auto px = test::to_pixel(cam, img.width, img.height, r * std::cos(angle), r * std::sin(angle));
+    hits += any_near(img, px[0], px[1], 1, is_ink);
+  }
+  return hits;
+}
+
+// count of samples in a 1.0 m x 0.4 m block centred at distance 0.9 m, 0.6 m off the beam
+// axis (on the +90° side), that are exact background
+int clear_hits(const test::Image& img, const Camera& cam, double angle, int* total) {
+  int clear = 0;
+  *total = 0;
+  const double c = std::cos(angle), s = std::sin(angle);
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 5; ++j) {
+      const double along = 0.4 + 1.0 * i / 9.0, across = 0.4 + 0.4 * j / 4.0;
+      const auto px = test::to_pixel(cam, img.width, img.height, c * along - s * across,
+                                     s * along + c * across);
+      clear += is_background(img.at(px[0], px[1]));
+      ++*total;
+    }
+  return clear;
+}
+
+TEST_F(FrameRendererTest, BeamIsDrawnWhereItIsAndNothingElsewhere) {
+  FrameRenderer renderer(*gc_, info_, field_style());
+  ASSERT_TRUE(renderer.ok()) << renderer.error();
+  const std::string path = test::out_dir() + "/hub_beam_0deg.png";
+  std::string err;
+  ASSERT_TRUE(renderer.render_png(test::hub_beam_frame(info_, 0.0, 0.02, 1.25), path, &err)) << err;
+
+  const test::Image img = test::read_png(path);
+  ASSERT_EQ(img.width, 960);
+  ASSERT_EQ(img.height, 720);
+  const Camera cam = renderer.camera();
+  // fitted to the circle swept by the beam about the origin, looking down -z, centred in
+  // the area left of the colour-bar strip (15 % of the width)
+  EXPECT_NEAR(cam.focal_point[1], 0.0, 1e-12);
+  EXPECT_NEAR(cam.parallel_scale, 1.1 * (test::kHubRadius + test::kBeamLength), 1e-9);
+  EXPECT_NEAR(test::to_pixel(cam, 960, 720, 0.0, 0.0)[0], (960 - 144) / 2, 1);
+
+  EXPECT_EQ(beam_hits(img, cam, 0.0), 20) << "beam not drawn along +x";
+  int total = 0;
+  EXPECT_EQ(clear_hits(img, cam, 0.0, &total), total) << "something drawn above the beam";
+  // nothing along -x, where the beam is not
+  EXPECT_EQ(beam_hits(img, cam, std::numbers::pi), 0);
+  // the hub disc is drawn at the origin
+  const auto o = test::to_pixel(cam, img.width, img.height, 0.0, 0.0);
+  EXPECT_TRUE(is_ink(img.at(o[0], o[1])));
+}
+
+TEST_F(FrameRendererTest, RotatedBeamMovesInTheImage) {
+  FrameRenderer renderer(*gc_, info_, field_style());
+  ASSERT_TRUE(renderer.ok()) << renderer.error();
+  const std::string p0 = test::out_dir() + "/rotation_0deg.png";
+  const std::string p90 = test::out_dir() + "/rotation_90deg.png";
+  std::string err;
+  ASSERT_TRUE(renderer.render_png(test::hub_beam_frame(info_, 0.0, 0.0, 0.0), p0, &err)) << err;
+  ASSERT_TRUE(renderer.render_png(test::hub_beam_frame(info_, std::numbers::pi / 2, 0.0, 0.5), p90, &err))
+      << err;
+  const test::Image a = test::read_png(p0), b = test::read_png(p90);
+  const Camera cam = renderer.camera();
+  EXPECT_EQ(beam_hits(a, cam, 0.0), 20);
+  EXPECT_EQ(beam_hits(a, cam, std::numbers::pi / 2), 0);
+  EXPECT_EQ(beam_hits(b, cam, 0.0), 0) << "beam still drawn along +x after a 90° rotation";
+  EXPECT_EQ(beam_hits(b, cam, std::numbers::pi / 2), 20) << "beam not drawn along +y";
+  int total = 0;
+  EXPECT_EQ(clear_hits(b, cam, std::numbers::pi / 2, &total), total);
+}
+
+TEST_F(FrameRendererTest, FieldColoursBeamAndShowsColourBarAndText) {
+  FrameRenderer renderer(*gc_, info_, field_style());
+  const std::string path = test::out_dir() + "/field_and_overlay.png";
+  std::string err;
+  ASSERT_TRUE(renderer.render_png(test::hub_beam_frame(info_, 0.3, 0.05, 1.25, 0.5), path, &err))
+      << err;
+  const test::Image img = test::read_png(path);
+  const Camera cam = renderer.camera();
+  // root (strain 1e-3 -> warm) and tip (0 -> cool) differ in colour: red vs blue dominance
+  auto px_at = [&](double r) {
+    const double a = 0.3;
+    const double v = 0.05 * std::pow((r - test::kHubRadius) / test::kBeamLength, 2);
+    return test::to_pixel(cam, img.width, img.height, r * std::cos(a) - v * std::sin(a),
+                          r * std::sin(a) + v * std::cos(a));
+  };
+  const auto root = px_at(0.15), tip = px_at(1.75);
+  const auto& cr = img.at(root[0], root[1]);
+  const auto& ct = img.at(tip[0], tip[1]);
+  EXPECT_GT(int(cr[0]) - int(cr[2]), 60) << "root not warm";
+  EXPECT_GT(int(ct[2]) - int(ct[0]), 60) << "tip not cool";
+  // automatic range: round numbers around [0, 1e-3]
+  EXPECT_DOUBLE_EQ(renderer.color_range()[0], 0.0);
+  EXPECT_NEAR(renderer.color_range()[1], 1e-3, 1e-15);
+
+  // colour bar in the right margin: both ends of the map present
+  int warm = 0, cool = 0;
+  for (int r = 0; r < img.height; ++r)
+    for (int c = static_cast<int>(0.8 * img.width); c < img.width; ++c) {
+      const auto& p = img.at(c, r);
+      warm += p[0] > 150 && p[2] < 80;
+      cool += p[2] > 150 && p[0] < 100;
+    }
+  EXPECT_GT(warm, 200);
+  EXPECT_GT(cool, 200);
+  // text in the top-left corner: dark glyph pixels
+  int dark = 0;
+  for (int r = 0; r < img.height / 8; ++r)
+    for (int c = 0; c < img.width / 3; ++c) {
+      const auto& p = img.at(c, r);
+      dark += p[0] < 80 && p[1] < 80 && p[2] < 80;
+    }
+  EXPECT_GT(dark, 300) << "no title/time overlay";
+}
+
+TEST_F(FrameRendererTest, DeformationScaleMagnifiesElasticPartOnly) {
+  FrameStyle s1 = field_style(), s5 = field_style();
+  s5.deformation_scale = 5.0;
+  FrameRenderer r1(*gc_, info_, s1), r5(*gc_, info_, s5);
+  const Frame f = test::hub_beam_frame(info_, 0.0, 0.06, 2.0);
+  const std::string p1 = test::out_dir() + "/deformation_x1.png";
+  const std::string p5 = test::out_dir() + "/deformation_x5.png";
+  std::string err;
+  ASSERT_TRUE(r1.render_png(f, p1, &err)) << err;
+  ASSERT_TRUE(r5.render_png(f, p5, &err)) << err;
+  const test::Image a = test::read_png(p1), b = test::read_png(p5);
+  const Camera cam = r1.camera();
+  // tip drawn at y = 0.06 (x1) and 0.30 (x5)
+  const double tip_x = test::kHubRadius + test::kBeamLength - 0.05;
+  const auto near_tip5 = test::to_pixel(cam, a.width, a.height, tip_x, 5 * 0.06 * 0.945);
+  const auto near_tip1 = test::to_pixel(cam, a.width, a.height, tip_x, 0.06 * 0.945);
+  EXPECT_TRUE(is_background(a.at(near_tip5[0], near_tip5[1])));
+  EXPECT_TRUE(is_ink(b.at(near_tip5[0], near_tip5[1])));
+  EXPECT_TRUE(is_ink(a.at(near_tip1[0], near_tip1[1])));
+  // the ghost (undeformed, rigidly moved) beam shows along y = 0 near the tip at x5
+  const auto ghost = test::to_pixel(cam, b.width, b.height, tip_x, 0.0);
+  EXPECT_TRUE(any_near(b, ghost[0], ghost[1], 1, [](const auto& p) {
+    return !is_background(p) && std::abs(int(p[0]) - int(p[2])) < 20;  // grey
+  }));
+}
+
+TEST_F(FrameRendererTest, SameFrameGivesSameBytes) {
+  FrameRenderer renderer(*gc_, info_, field_style());
+  const Frame f = test::hub_beam_frame(info_, 0.7, 0.03, 0.25);
+  const std::string a = test::out_dir() + "/repeat_a.png", b = test::out_dir() + "/repeat_b.png";
+  std::string err;
+  ASSERT_TRUE(renderer.render_png(f, a, &err)) << err;
+  // a different frame in between must not leave traces
+  ASSERT_TRUE(renderer.render_png(test::hub_beam_frame(info_, 2.0, 0.1, 0.5), b, &err)) << err;
+  ASSERT_TRUE(renderer.render_png(f, b, &err)) << err;
+  const std::string ba = test::file_bytes(a), bb = test::file_bytes(b);
+  ASSERT_GT(ba.size(), 1000u);
+  EXPECT_TRUE(ba == bb);
+}
+
+TEST_F(FrameRendererTest, WorkerThreadGivesSameBytesAsMainThread) {
+  const Frame f = test::hub_beam_frame(info_, -2.5, 0.04, 3.0);
+  const std::string main_png = test::out_dir() + "/thread_main.png";
+  const std::string worker_png = test::out_dir() + "/thread_worker.png";
+  std::string err;
+  {
+    FrameRenderer renderer(*gc_, info_, field_style());
+    ASSERT_TRUE(renderer.render_png(f, main_png, &err)) << err;
+  }
+  bool worker_ok = false;
+  std::string worker_err, worker_backend;
+  std::thread worker([&] {
+    auto gc = GraphicsContext::create(&worker_err);
+    if (!gc) return;
+    worker_backend = gc->backend();
+    FrameRenderer renderer(*gc, info_, field_style());
+    worker_ok = renderer.render_png(f, worker_png, &worker_err);
+  });
+  worker.join();
+  ASSERT_TRUE(worker_ok) << worker_err;
+  EXPECT_EQ(worker_backend, "egl-surfaceless");
+  const std::string a = test::file_bytes(main_png), b = test::file_bytes(worker_png);
+  ASSERT_GT(a.size(), 1000u);
+  EXPECT_TRUE(a == b);
+}
+
+TEST_F(FrameRendererTest, BadInputIsReportedNotCrashed) {
+  std::string err;
+  {
+    FrameStyle s = field_style();
+    s.color_field = "no_such_field";
+    FrameRenderer r(*gc_, info_, s);
+    EXPECT_FALSE(r.ok());
+    EXPECT_FALSE(r.render_png(test::hub_beam_frame(info_, 0, 0, 0), test::out_dir() + "/x.png", &err));
+    EXPECT_NE(err.find("no_such_field"), std::string::npos) << err;
+  }
+  {
+    RunInfo bad = info_;
+    bad.mesh.lines.push_back(0);
+    bad.mesh.lines.push_back(9999);
+    FrameRenderer r(*gc_, bad, FrameStyle{});
+    EXPECT_FALSE(r.ok());
+  }
+  FrameRenderer r(*gc_, info_, field_style());
+  Frame short_frame = test::hub_beam_frame(info_, 0, 0, 0);
+  short_frame.points.resize(6);
+  EXPECT_FALSE(r.render_png(short_frame, test::out_dir() + "/short.png", &err));
+  Frame nan_frame = test::hub_beam_frame(info_, 0, 0, 0);
+  nan_frame.points[3 * 30 + 1] = std::nan("");
+  EXPECT_FALSE(r.render_png(nan_frame, test::out_dir() + "/nan.png", &err));
+  EXPECT_NE(err.find("non-finite"), std::string::npos) << err;
+  testing::internal::CaptureStderr();
+  const bool wrote = r.render_png(test::hub_beam_frame(info_, 0, 0, 0),
+                                  test::out_dir() + "/no_such_dir/frame.png", &err);
+  const std::string stderr_text = testing::internal::GetCapturedStderr();
+  EXPECT_FALSE(wrote);
+  EXPECT_NE(err.find("no_such_dir"), std::string::npos) << err;
+  // a real VTK error still reaches the user
+  EXPECT_NE(stderr_text.find("[vtk]"), std::string::npos) << stderr_text;
+  // and the renderer keeps working afterwards
+  EXPECT_TRUE(r.render_png(test::hub_beam_frame(info_, 0, 0, 0), test::out_dir() + "/after_error.png", &err))
+      << err;
+}
+
+}  // namespace
+}  // namespace ff::render

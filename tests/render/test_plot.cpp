@@ -1,0 +1,127 @@
+// write_plot_png: a two-series chart is written at the requested size and shows both curves.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include "render/graphics_context.h"
+#include "render/plot.h"
+#include "render_test_support.h"
+
+namespace ff::render {
+namespace {
+
+class PlotTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    unsetenv("DISPLAY");
+    std::string err;
+    gc_ = GraphicsContext::create(&err);
+    ASSERT_NE(gc_, nullptr) << err;
+  }
+  std::unique_ptr<GraphicsContext> gc_;
+};
+
+PlotSpec two_series() {
+  PlotSpec spec;
+  spec.title = "hub angle";
+  spec.x_label = "time [s]";
+  spec.y_label = axis_title({"hub_angle", "deg", "hub angle"});
+  PlotSeries sim{"simulation", {}, {}, false}, ref{"reference", {}, {}, true};
+  for (int i = 0; i <= 200; ++i) {
+    const double t = 0.075 * i;
+    sim.x.push_back(t);
+    sim.y.push_back(180.0 * std::sin(0.4 * t) * std::exp(-0.05 * t));
+  }
+  for (int i = 0; i <= 15; ++i) {
+    const double t = 1.0 * i;
+    ref.x.push_back(t);
+    ref.y.push_back(180.0 * std::sin(0.4 * t) * std::exp(-0.05 * t) + 3.0);
+  }
+  spec.series = {sim, ref};
+  return spec;
+}
+
+// pixels close to an RGB colour (0..1)
+int count_near(const test::Image& img, double r, double g, double b, int tol) {
+  int n = 0;
+  for (const auto& p : img.rgb)
+    n += std::abs(p[0] - int(255 * r)) <= tol && std::abs(p[1] - int(255 * g)) <= tol &&
+         std::abs(p[2] - int(255 * b)) <= tol;
+  return n;
+}
+
+TEST_F(PlotTest, TwoSeriesChartIsWrittenAtSizeAndNotBlank) {
+  const std::string path = test::out_dir() + "/plot_two_series.png";
+  std::filesystem::remove(path);
+  std::string err;
+  ASSERT_TRUE(write_plot_png(*gc_, two_series(), path, &err)) << err;
+  const test::Image img = test::read_png(path);
+  ASSERT_EQ(img.width, 900);
+  ASSERT_EQ(img.height, 600);
+  int ink = 0, white = 0;
+  for (const auto& p : img.rgb) {
+    ink += test::is_ink(p);
+    white += test::is_background(p);
+  }
+  EXPECT_GT(ink, 2000) << "chart looks blank";
+  EXPECT_GT(white, img.width * img.height / 2) << "background is not white";
+  // both series drawn in their own colours (first two palette entries)
+  EXPECT_GT(count_near(img, 0.122, 0.467, 0.706, 40), 300) << "first series missing";
+  EXPECT_GT(count_near(img, 0.890, 0.420, 0.055, 40), 100) << "second series missing";
+}
+
+TEST_F(PlotTest, LogAxesAndCustomSize) {
+  PlotSpec spec;
+  spec.title = "convergence";
+  spec.x_label = "iteration";
+  spec.y_label = "residual norm";
+  spec.log_y = true;
+  spec.width = 640;
+  spec.height = 480;
+  PlotSeries s{"residual", {}, {}, false};
+  for (int i = 0; i < 8; ++i) {
+    s.x.push_back(i);
+    s.y.push_back(std::pow(10.0, -2.0 * i));
+  }
+  s.x.push_back(8);
+  s.y.push_back(0.0);  // not drawable on a log axis: left out
+  spec.series = {s};
+  const std::string path = test::out_dir() + "/plot_log.png";
+  std::string err;
+  ASSERT_TRUE(write_plot_png(*gc_, spec, path, &err)) << err;
+  const test::Image img = test::read_png(path);
+  ASSERT_EQ(img.width, 640);
+  ASSERT_EQ(img.height, 480);
+  // on the log axis the decay is a diagonal: the curve's colour appears in the upper-left and
+  // lower-right quarters (a chart that ignored the log scale draws it along the top edge)
+  auto curve_pixels = [&](int c0, int c1, int r0, int r1) {
+    int n = 0;
+    for (int r = r0; r < r1; ++r)
+      for (int c = c0; c < c1; ++c) {
+        const auto& p = img.at(c, r);
+        n += p[2] > 120 && p[0] < 90 && p[2] - p[0] > 60;
+      }
+    return n;
+  };
+  EXPECT_GT(curve_pixels(80, 320, 60, 240), 50) << "no curve in the upper-left quarter";
+  EXPECT_GT(curve_pixels(320, 630, 240, 430), 50) << "no curve in the lower-right quarter";
+}
+
+TEST_F(PlotTest, UnusableSpecsAreErrors) {
+  std::string err;
+  PlotSpec empty;
+  EXPECT_FALSE(write_plot_png(*gc_, empty, test::out_dir() + "/plot_empty.png", &err));
+  PlotSpec mismatch = two_series();
+  mismatch.series[1].y.pop_back();
+  EXPECT_FALSE(write_plot_png(*gc_, mismatch, test::out_dir() + "/plot_bad.png", &err));
+  EXPECT_NE(err.find("reference"), std::string::npos) << err;
+  PlotSpec nan_only;
+  nan_only.series = {{"nan", {std::nan("")}, {1.0}, false}};
+  EXPECT_FALSE(write_plot_png(*gc_, nan_only, test::out_dir() + "/plot_nan.png", &err));
+}
+
+}  // namespace
+}  // namespace ff::render
