@@ -64,6 +64,8 @@ MatrixXd coupling_shape_matrix(const BeamBasis& basis, double x, int cells, int 
   return s_mat;
 }
 
+FrameMesh build_mesh(double hub_radius, const std::vector<double>& draw_x, int hub_segments);
+
 namespace {
 // free DoFs: the root node (index 0) is clamped; q2 = [v_1..v_N, theta_1..theta_N]
 std::vector<int> free_axial(int n) {
@@ -108,6 +110,7 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
   m_.u12 = pick(f.u12, it);
   m_.d1 = fx_.first_order_coupling ? pick(f.d1, it, it) : MatrixXd::Zero(n2_, n2_);
   const double rho_a = p_.density * p_.area, a = p_.hub_radius;
+  m2_minus_d1_ = m_.m2 - m_.d1;
   m_.jb = rho_a * (std::pow(a + p_.length, 3) - std::pow(a, 3)) / 3.0;  // eq. (8)
   m_.s_tip = pick(coupling_shape_matrix(*basis_, p_.length), it, it);
   ShapeRows s = basis_->make_rows();
@@ -126,14 +129,23 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
   draw_x_.resize(samples);
   draw_n1_.resize(samples, n1_);
   draw_n2_.resize(samples, n2_);
+  const GaussRule rule = gauss_legendre(3);
+  MatrixXd s_acc = MatrixXd::Zero(2 * n, 2 * n);  // S(x_k) accumulated interval by interval (display only)
   for (int k = 0; k < samples; ++k) {
     draw_x_[k] = p_.length * k / (samples - 1);
+    if (fx_.first_order_coupling && k > 0) {
+      const double h = draw_x_[k] - draw_x_[k - 1];
+      for (std::size_t g = 0; g < rule.points.size(); ++g) {
+        basis_->evaluate(draw_x_[k - 1] + 0.5 * h * (rule.points[g] + 1.0), s);
+        s_acc.noalias() += (0.5 * h * rule.weights[g]) * s.dn2.transpose() * s.dn2;
+      }
+    }
     basis_->evaluate(draw_x_[k], s);
     draw_n1_.row(k) = pick(s.n1, ia_used);
     draw_n2_.row(k) = pick(s.n2, it);
-    if (fx_.first_order_coupling)
-      draw_s_.push_back(pick(coupling_shape_matrix(*basis_, draw_x_[k], 4, 4), it, it));
+    if (fx_.first_order_coupling) draw_s_.push_back(pick(s_acc, it, it));
   }
+  mesh_ = build_mesh(p_.hub_radius, draw_x_, kHubSegments);
 }
 
 double HubBeamSystem::torque(double t) const {
@@ -167,16 +179,16 @@ void HubBeamSystem::residual(const VectorXd& x, const VectorXd& v, const VectorX
 void HubBeamSystem::jacobians(const VectorXd& x, const VectorXd& v, const VectorXd& a, MatrixXd& A,
                               MatrixXd& C, MatrixXd& K) const {
   const int n = size(), o1 = 1, o2 = 1 + n1_;
-  A = MatrixXd::Zero(n, n);
-  C = MatrixXd::Zero(n, n);
-  K = MatrixXd::Zero(n, n);
+  A.setZero(n, n);
+  C.setZero(n, n);
+  K.setZero(n, n);
   const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
   const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
   const auto aq1 = a.segment(1, n1_), aq2 = a.segment(1 + n1_, n2_);
   const double w = v[0], dw = a[0];
   const VectorXd m1q1 = m_.m1 * q1, m2q2 = m_.m2 * q2, d1q2 = m_.d1 * q2, rq2 = m_.r * q2;
   const VectorXd rtq1 = m_.r.transpose() * q1;
-  const MatrixXd m2d1 = m_.m2 - m_.d1;
+  const MatrixXd& m2d1 = m2_minus_d1_;
   // eq. (15)
   A(0, 0) = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(d1q2) + q1.dot(m1q1) + q2.dot(m2q2);
   A.block(0, o1, 1, n1_) = -rq2.transpose();
@@ -206,9 +218,10 @@ void HubBeamSystem::jacobians(const VectorXd& x, const VectorXd& v, const Vector
 
 void HubBeamSystem::iteration_matrix(const VectorXd& x, const VectorXd& v, const VectorXd& a,
                                      double /*t*/, double ca, double cv, double cx, MatrixXd& j) const {
-  MatrixXd A, C, K;
-  jacobians(x, v, a, A, C, K);
-  j = ca * A + cv * C + cx * K;  // eq. (26)
+  jacobians(x, v, a, work_a_, work_c_, work_k_);
+  j.noalias() = ca * work_a_;  // eq. (26)
+  j.noalias() += cv * work_c_;
+  j.noalias() += cx * work_k_;
 }
 
 std::string HubBeamSystem::check_state(const VectorXd& x, const VectorXd& v) const {
@@ -274,23 +287,25 @@ ModalResult HubBeamSystem::modal_analysis() const {
   return out;
 }
 
-FrameMesh HubBeamSystem::mesh() const {
+FrameMesh HubBeamSystem::mesh() const { return mesh_; }
+
+FrameMesh build_mesh(double hub_radius, const std::vector<double>& draw_x, int hub_segments) {
   FrameMesh m;
   auto add = [&](double px, double py) {
     m.reference_points.insert(m.reference_points.end(), {px, py, 0.0});
   };
   // hub disc: centre + rim, triangle fan
   add(0.0, 0.0);
-  for (int k = 0; k < kHubSegments; ++k) {
-    const double phi = 2.0 * M_PI * k / kHubSegments;
-    add(p_.hub_radius * std::cos(phi), p_.hub_radius * std::sin(phi));
+  for (int k = 0; k < hub_segments; ++k) {
+    const double phi = 2.0 * M_PI * k / hub_segments;
+    add(hub_radius * std::cos(phi), hub_radius * std::sin(phi));
   }
-  for (int k = 0; k < kHubSegments; ++k)
-    m.triangles.insert(m.triangles.end(), {0, 1 + k, 1 + (k + 1) % kHubSegments});
+  for (int k = 0; k < hub_segments; ++k)
+    m.triangles.insert(m.triangles.end(), {0, 1 + k, 1 + (k + 1) % hub_segments});
   // beam centre line
-  const int first = 1 + kHubSegments;
-  for (double xb : draw_x_) add(p_.hub_radius + xb, 0.0);
-  for (int k = 0; k + 1 < static_cast<int>(draw_x_.size()); ++k)
+  const int first = 1 + hub_segments;
+  for (double xb : draw_x) add(hub_radius + xb, 0.0);
+  for (int k = 0; k + 1 < static_cast<int>(draw_x.size()); ++k)
     m.lines.insert(m.lines.end(), {first + k, first + k + 1});
   return m;
 }
@@ -317,7 +332,7 @@ void HubBeamSystem::fill_frame(const VectorXd& x, const VectorXd& v, double t, F
   frame.points.resize(3 * total);
   frame.base_points.resize(3 * total);
   frame.fields.assign(2, std::vector<double>(total, 0.0));
-  const FrameMesh ref = mesh();
+  const FrameMesh& ref = mesh_;
   for (int k = 0; k < hub_points; ++k) {
     const double px = ref.reference_points[3 * k], py = ref.reference_points[3 * k + 1];
     const double wx = c * px - s * py, wy = s * px + c * py;

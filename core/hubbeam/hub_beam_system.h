@@ -106,10 +106,13 @@ class HubBeamSystem final : public SecondOrderSystem {
   double critical_speed_ = 0.0;
   int n1_ = 0, n2_ = 0;
   HubBeamMatrices m_;
+  Eigen::MatrixXd m2_minus_d1_;               ///< M2 - D1, constant
+  mutable Eigen::MatrixXd work_a_, work_c_, work_k_;  ///< iteration-matrix workspace (sized once)
   // drawing samples along the beam
   std::vector<double> draw_x_;
   Eigen::MatrixXd draw_n1_, draw_n2_;         ///< rows N1(x_k), N2(x_k) on free DoFs
   std::vector<Eigen::MatrixXd> draw_s_;       ///< S(x_k) on free q2 DoFs (first-order only)
+  FrameMesh mesh_;                            ///< reference drawing, built once
   static constexpr int kHubSegments = 48;
 };
 
