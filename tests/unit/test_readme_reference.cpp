@@ -1,0 +1,20 @@
+// README's scene reference is generated from the schema; this keeps the two from drifting.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "core/scene/scene.h"
+
+TEST(Readme, SceneReferenceMatchesSchema) {
+  std::ifstream in(std::string(FF_SOURCE_DIR) + "/README.md");
+  ASSERT_TRUE(in) << "README.md not found";
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str(), begin = "<!-- scene-reference:begin -->\n", end = "<!-- scene-reference:end -->";
+  const auto b = text.find(begin), e = text.find(end);
+  ASSERT_NE(b, std::string::npos);
+  ASSERT_NE(e, std::string::npos);
+  EXPECT_EQ(text.substr(b + begin.size(), e - b - begin.size()), ff::scene::scene_schema().markdown_reference())
+      << "regenerate with: flexframe scenes --reference";
+}
