@@ -34,7 +34,7 @@ namespace {
 constexpr double kBodyColor[3] = {0.22, 0.42, 0.69};   // uniform colour without a field
 constexpr double kGhostColor[3] = {0.74, 0.74, 0.76};  // undeformed body
 constexpr double kEdgeColor[3] = {0.20, 0.22, 0.26};
-constexpr double kGhostSurfaceOpacity = 0.30;
+constexpr double kGhostSurfaceOpacity = 0.20;
 constexpr double kGhostTubeFraction = 0.55;  // ghost tube radius / body tube radius
 constexpr int kTubeSides = 20;
 constexpr double kMinEdgePixels = 14.0;  // draw element edges when elements are this large

@@ -6,10 +6,14 @@
 /// What a frame shows:
 ///  - line cells (beams) as tubes of radius FrameStyle::line_radius (world units), joined
 ///    into polylines so bends are smooth;
-///  - triangles and quads as lit, shaded surfaces with thin element edges;
+///  - triangles and quads as lit, shaded surfaces, with thin element edges when elements are
+///    at least ~14 px across in the image;
 ///  - with FrameStyle::show_base, a faint grey ghost of Frame::base_points (the undeformed
-///    body carried by its rigid motion), drawn behind the deformed body;
-///  - a colour bar titled "label [unit]" when a field is chosen ('cool to warm' map);
+///    body carried by its rigid motion): thin grey tubes inside/behind the beams, translucent
+///    surfaces pushed behind coincident body surfaces; hidden when a frame has no base_points;
+///  - a colour bar titled "label [unit]" when a field is chosen ('cool to warm' map with a
+///    mid grey, round tick values) in a strip at the right (15 % of the width); the
+///    automatic camera centres the body in the area left of it;
 ///  - top-left text: the title, then "t = 1.250 s", "λ = 0.500" (when the load factor is
 ///    non-zero) and "deformation ×5" (when deformation_scale != 1).
 /// Positions are world coordinates p_W in the run's length unit; colours are RGB in [0, 1].

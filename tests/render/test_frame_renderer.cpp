@@ -221,6 +221,110 @@ TEST_F(FrameRendererTest, WorkerThreadGivesSameBytesAsMainThread) {
   EXPECT_TRUE(a == b);
 }
 
+// a hemispherical shell of quads (radius 10, pole up +z) with a field varying with height
+RunInfo hemisphere_run(int rings, int sectors) {
+  RunInfo info;
+  info.scene_name = std::string("hemisphere");
+  info.fields = {{"w", "mm", "radial displacement"}};
+  auto& p = info.mesh.reference_points;
+  for (int i = 0; i <= rings; ++i) {
+    const double phi = 0.5 * std::numbers::pi * i / rings;  // from the equator to the pole
+    for (int j = 0; j < sectors; ++j) {
+      const double th = 2 * std::numbers::pi * j / sectors;
+      p.insert(p.end(), {10 * std::cos(phi) * std::cos(th), 10 * std::cos(phi) * std::sin(th),
+                         10 * std::sin(phi)});
+    }
+  }
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      const int a = i * sectors + j, b = i * sectors + (j + 1) % sectors;
+      info.mesh.quads.insert(info.mesh.quads.end(), {a, b, b + sectors, a + sectors});
+    }
+  return info;
+}
+
+Frame hemisphere_frame(const RunInfo& info, double squash) {
+  Frame f;
+  f.time = 1.0;
+  f.base_points = info.mesh.reference_points;
+  f.points = f.base_points;
+  std::vector<double> w(info.mesh.point_count());
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const double z = f.base_points[3 * i + 2];
+    w[i] = -squash * z / 10.0;
+    f.points[3 * i + 2] = z * (1.0 - squash / 10.0);
+  }
+  f.fields = {w};
+  return f;
+}
+
+TEST_F(FrameRendererTest, ShellIsShadedInAnIsometricView) {
+  const RunInfo info = hemisphere_run(8, 24);
+  FrameStyle style;
+  style.color_field = "w";
+  style.title = "hemisphere";
+  FrameRenderer renderer(*gc_, info, style);
+  ASSERT_TRUE(renderer.ok()) << renderer.error();
+  const std::string path = test::out_dir() + "/hemisphere.png";
+  std::string err;
+  ASSERT_TRUE(renderer.render_png(hemisphere_frame(info, 2.0), path, &err)) << err;
+  const test::Image img = test::read_png(path);
+  const Camera cam = renderer.camera();
+  // isometric: the eye is above (+z) and to the side
+  EXPECT_GT(cam.position[2] - cam.focal_point[2], 0);
+  // the shell covers the middle of the drawing area; the bottom corners stay empty
+  const int mid_col = (img.width - 144) / 2, mid_row = img.height / 2;
+  EXPECT_TRUE(is_ink(img.at(mid_col, mid_row)));
+  EXPECT_TRUE(is_background(img.at(5, img.height - 5)));
+  EXPECT_TRUE(is_background(img.at(img.width / 2, img.height - 5)));
+  // shaded: not one flat colour over the shell
+  int distinct = 0;
+  std::array<std::uint8_t, 3> last{};
+  for (int c = mid_col - 150; c <= mid_col + 150; c += 10) {
+    const auto& p = img.at(c, mid_row);
+    distinct += p != last;
+    last = p;
+  }
+  EXPECT_GT(distinct, 10);
+}
+
+TEST_F(FrameRendererTest, AutomaticColourRangeIsKeptAndOnlyWidened) {
+  FrameRenderer renderer(*gc_, info_, field_style());
+  const std::string path = test::out_dir() + "/range.png";
+  std::string err;
+  Frame f = test::hub_beam_frame(info_, 0, 0, 0);
+  auto scale_field = [&](double s) {
+    Frame g = test::hub_beam_frame(info_, 0, 0, 0);
+    for (double& v : g.fields[0]) v *= s;
+    return g;
+  };
+  // a zero field first (the initial state): provisional range, not kept
+  ASSERT_TRUE(renderer.render_png(scale_field(0.0), path, &err)) << err;
+  EXPECT_LT(renderer.color_range()[0], 0.0);
+  // the first varying field chooses it: [0, 1e-3]
+  ASSERT_TRUE(renderer.render_png(scale_field(1.0), path, &err)) << err;
+  EXPECT_NEAR(renderer.color_range()[0], 0.0, 1e-18);
+  EXPECT_NEAR(renderer.color_range()[1], 1e-3, 1e-15);
+  // smaller values: unchanged (no flicker)
+  ASSERT_TRUE(renderer.render_png(scale_field(0.3), path, &err)) << err;
+  EXPECT_NEAR(renderer.color_range()[1], 1e-3, 1e-15);
+  // larger values: widened to round numbers, never saturated
+  ASSERT_TRUE(renderer.render_png(scale_field(2.3), path, &err)) << err;
+  EXPECT_NEAR(renderer.color_range()[0], 0.0, 1e-18);
+  EXPECT_NEAR(renderer.color_range()[1], 3e-3, 1e-15);
+  ASSERT_TRUE(renderer.render_png(scale_field(1.0), path, &err)) << err;
+  EXPECT_NEAR(renderer.color_range()[1], 3e-3, 1e-15);
+
+  // a range given by the caller is used as is
+  FrameStyle fixed = field_style();
+  fixed.color_min = -1e-3;
+  fixed.color_max = 5e-4;
+  FrameRenderer given(*gc_, info_, fixed);
+  ASSERT_TRUE(given.render_png(scale_field(2.3), path, &err)) << err;
+  EXPECT_DOUBLE_EQ(given.color_range()[0], -1e-3);
+  EXPECT_DOUBLE_EQ(given.color_range()[1], 5e-4);
+}
+
 TEST_F(FrameRendererTest, BadInputIsReportedNotCrashed) {
   std::string err;
   {
