@@ -1,0 +1,572 @@
+/// \file result_writer.cpp
+/// ResultWriter: RunInfo once, then frames staged in memory and written in blocks, each
+/// block ending with a two-step H5Fflush (see results.h for why, results_layout.md for what).
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <chrono>
+#include <limits>
+#include <set>
+
+#include "app/io/frame_checksum.h"
+#include "app/io/h5_util.h"
+#include "app/io/results.h"
+#include "app/io/results_names.h"
+
+namespace ff::io {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+static_assert(std::endian::native == std::endian::little, "checksums hash little-endian rows");
+
+// frame-indexed data sets are chunked along the frame axis: ~256 KiB chunks for per-point
+// data, 1024 frames (8 KiB) for scalar series
+constexpr std::size_t kChunkBytes = 256 * 1024;
+constexpr hsize_t kMaxChunkFrames = 256;
+constexpr hsize_t kScalarChunkFrames = 1024;
+
+/// One extendible data set of shape (frames, frame_shape...) and its staged rows.
+struct Column {
+  std::string name;                  // path, for messages
+  h5::Handle dset;
+  std::vector<hsize_t> frame_shape;  // shape of one frame's row
+  hid_t mem_type = H5I_INVALID_HID;  // not owned
+  std::size_t row_bytes = 0;
+  std::vector<unsigned char> staged;
+
+  void stage(const void* row) {
+    auto* b = static_cast<const unsigned char*>(row);
+    staged.insert(staged.end(), b, b + row_bytes);
+  }
+};
+
+Column make_column(hid_t loc, const std::string& name, hid_t file_type, hid_t mem_type,
+                   std::size_t element_bytes, const std::vector<hsize_t>& frame_shape,
+                   const std::string& description, const std::string& unit, const void* fill) {
+  Column c;
+  c.name = name;
+  c.frame_shape = frame_shape;
+  c.mem_type = mem_type;
+  std::size_t elements = 1;
+  for (hsize_t d : frame_shape) elements *= static_cast<std::size_t>(d);
+  c.row_bytes = elements * element_bytes;
+
+  std::vector<hsize_t> dims{0}, max_dims{H5S_UNLIMITED}, chunk;
+  hsize_t chunk_frames = kScalarChunkFrames;
+  if (!frame_shape.empty()) {
+    std::size_t row = std::max<std::size_t>(c.row_bytes, 1);
+    chunk_frames = std::clamp<hsize_t>(kChunkBytes / row, 1, kMaxChunkFrames);
+  }
+  chunk.push_back(chunk_frames);
+  for (hsize_t d : frame_shape) {
+    dims.push_back(d);
+    // a zero extent (mesh without points) cannot be chunked as fixed: leave it open
+    max_dims.push_back(d == 0 ? H5S_UNLIMITED : d);
+    chunk.push_back(std::max<hsize_t>(d, 1));
+  }
+  const std::string what = "create data set '" + name + "'";
+  h5::Handle space(h5::check_id(
+      H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max_dims.data()), what));
+  h5::Handle dcpl(h5::check_id(H5Pcreate(H5P_DATASET_CREATE), what));
+  h5::check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), what);
+  h5::check(H5Pset_obj_track_times(dcpl.get(), 0), what);
+  // rows past frames_written (never announced) read as NaN / -1, not as plausible zeros
+  if (fill) h5::check(H5Pset_fill_value(dcpl.get(), mem_type, fill), what);
+  c.dset = h5::Handle(h5::check_id(
+      H5Dcreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+      what));
+  if (!description.empty()) h5::write_attr_string(c.dset.get(), "description", description);
+  h5::write_attr_string(c.dset.get(), "unit", unit);
+  return c;
+}
+
+// a name that becomes an HDF5 link: non-empty, no '/', not "." or "..", unique
+std::string check_names(const std::vector<Quantity>& quantities, const char* kind) {
+  std::set<std::string> seen;
+  for (const auto& q : quantities) {
+    if (q.name.empty()) return std::string(kind) + " with an empty name";
+    if (q.name.find('/') != std::string::npos || q.name == "." || q.name == "..") {
+      return std::string(kind) + " name '" + q.name + "' is not a valid data set name (contains '/')";
+    }
+    if (!seen.insert(q.name).second) return std::string(kind) + " name '" + q.name + "' is repeated";
+  }
+  return {};
+}
+
+std::string check_indices(const std::vector<std::int32_t>& indices, std::size_t per_cell,
+                          std::size_t point_count, const char* kind) {
+  if (indices.size() % per_cell != 0) {
+    return std::string("mesh ") + kind + " has " + std::to_string(indices.size()) +
+           " indices, not a multiple of " + std::to_string(per_cell);
+  }
+  for (std::int32_t i : indices) {
+    if (i < 0 || static_cast<std::size_t>(i) >= point_count) {
+      return std::string("mesh ") + kind + " refer to point " + std::to_string(i) + " of " +
+             std::to_string(point_count);
+    }
+  }
+  return {};
+}
+
+std::string validate(const RunInfo& info) {
+  const FrameMesh& m = info.mesh;
+  if (m.reference_points.size() % 3 != 0) {
+    return "mesh has " + std::to_string(m.reference_points.size()) +
+           " reference coordinates, not a multiple of 3";
+  }
+  std::size_t n = m.point_count();
+  for (const std::string& e : {check_indices(m.lines, 2, n, "lines"),
+                               check_indices(m.triangles, 3, n, "triangles"),
+                               check_indices(m.quads, 4, n, "quads"),
+                               check_names(info.probes, "probe"), check_names(info.fields, "field")}) {
+    if (!e.empty()) return e;
+  }
+  for (const auto& [key, value] : info.settings) {
+    if (key.empty()) return "a setting has an empty key";
+  }
+  return {};
+}
+
+// H5Fcreate(H5F_ACC_TRUNC) truncates before it takes HDF5's flock, so a second run started
+// on the same path would wipe the live file of the first. Probe the lock first.
+std::string locked_by_another_process(const std::string& path) {
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return {};  // absent (or unreadable: H5Fcreate will say why)
+  std::string why;
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    if (errno == EWOULDBLOCK) {
+      why = "the file is open in another process (is a run still writing it?); not overwritten";
+    }
+  } else {
+    ::flock(fd, LOCK_UN);
+  }
+  ::close(fd);
+  return why;
+}
+
+}  // namespace
+
+struct ResultWriter::Impl {
+  std::string path;
+  h5::Handle file;  // first member: released last
+  h5::Handle bool_type;
+  h5::Handle frames_group, outcome_group, metrics_group, attributes_group;
+
+  // fixed columns, then one per probe, one per field, and the checksum last
+  enum : std::size_t { kTime, kStep, kLoad, kDt, kIter, kJac, kRes, kInc, kConv, kPoints, kBase,
+                       kFixed };
+  std::size_t checksum_column = 0;
+  std::vector<Column> columns;
+  std::size_t point_count = 0, probe_count = 0, field_count = 0;
+
+  std::size_t frames_written = 0, frames_staged = 0;
+  std::vector<std::pair<std::string, std::string>> staged_attributes;
+  double last_staged_time = 0.0, last_written_time = 0.0;
+  std::int64_t last_staged_step = 0, last_written_step = 0;
+  Clock::time_point created = Clock::now(), last_flush = Clock::now();
+  bool closed = false;
+
+  std::string prefix() const { return "results file '" + path + "': "; }
+
+  void write_run_info(const RunInfo& info);
+  void create_frame_columns(const RunInfo& info);
+  void write_unfinished_outcome();
+  void write_progress();
+  void flush_or_throw();
+  void close_or_throw();
+};
+
+void ResultWriter::Impl::write_run_info(const RunInfo& info) {
+  hid_t f = file.get();
+  h5::write_attr_string(f, "format", names::kFormat);
+  h5::write_attr_int64(f, "format_version", names::kFormatVersion);
+
+  h5::Handle run = h5::create_group(f, names::kRun, false);
+  h5::write_attr_string(run.get(), "scene_name", info.scene_name);
+  h5::write_attr_string(run.get(), "scene_path", info.scene_path);
+  h5::write_attr_string(run.get(), "time_unit", info.time_unit);
+  h5::write_attr_strings(run.get(), "effects", info.effects);
+  h5::write_string_dataset(f, names::kSceneText, info.scene_text);
+  h5::Handle settings = h5::create_group(f, names::kSettings, true);
+  for (const auto& [key, value] : info.settings) h5::write_attr_string(settings.get(), key, value);
+
+  const FrameMesh& m = info.mesh;
+  h5::Handle mesh = h5::create_group(f, names::kMesh, false);
+  h5::write_attr_int64(mesh.get(), "point_count", static_cast<std::int64_t>(m.point_count()));
+  h5::write_fixed_dataset(mesh.get(), "reference_points", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                          {m.point_count(), 3}, m.reference_points.data());
+  h5::write_fixed_dataset(mesh.get(), "lines", H5T_STD_I32LE, H5T_NATIVE_INT32,
+                          {m.lines.size() / 2, 2}, m.lines.data());
+  h5::write_fixed_dataset(mesh.get(), "triangles", H5T_STD_I32LE, H5T_NATIVE_INT32,
+                          {m.triangles.size() / 3, 3}, m.triangles.data());
+  h5::write_fixed_dataset(mesh.get(), "quads", H5T_STD_I32LE, H5T_NATIVE_INT32,
+                          {m.quads.size() / 4, 4}, m.quads.data());
+
+  outcome_group = h5::create_group(f, names::kOutcome, true);
+  metrics_group = h5::create_group(f, names::kMetrics, true);
+  attributes_group = h5::create_group(f, names::kAttributes, true);
+  create_frame_columns(info);
+  write_unfinished_outcome();
+}
+
+void ResultWriter::Impl::create_frame_columns(const RunInfo& info) {
+  hid_t f = file.get();
+  point_count = info.mesh.point_count();
+  probe_count = info.probes.size();
+  field_count = info.fields.size();
+  bool_type = h5::bool_type();
+
+  frames_group = h5::create_group(f, names::kFrames, false);
+  h5::write_attr_int64(frames_group.get(), names::kFramesWritten, 0);
+  h5::Handle stats = h5::create_group(f, names::kStats, false);
+  h5::Handle probes = h5::create_group(f, names::kProbes, false);
+  h5::Handle fields = h5::create_group(f, names::kFields, false);
+
+  const std::string& tu = info.time_unit;
+  const hsize_t n = point_count;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::int64_t minus_one_64 = -1;
+  const std::int32_t minus_one_32 = -1;
+  auto add = [&](hid_t loc, const std::string& name, hid_t file_type, hid_t mem_type,
+                 std::size_t bytes, std::vector<hsize_t> shape, const std::string& description,
+                 const std::string& unit) {
+    const void* fill = mem_type == H5T_NATIVE_DOUBLE  ? static_cast<const void*>(&nan)
+                       : mem_type == H5T_NATIVE_INT64 ? static_cast<const void*>(&minus_one_64)
+                       : mem_type == H5T_NATIVE_INT32 ? static_cast<const void*>(&minus_one_32)
+                                                      : nullptr;
+    columns.push_back(
+        make_column(loc, name, file_type, mem_type, bytes, shape, description, unit, fill));
+  };
+  hid_t fr = frames_group.get(), st = stats.get();
+  add(fr, "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {},
+      "simulated time (pseudo-time for statics)", tu);
+  add(fr, "step", H5T_STD_I64LE, H5T_NATIVE_INT64, 8, {}, "solver step (0 = initial state)", "");
+  add(fr, "load_factor", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {},
+      "load factor lambda (statics), 0 where meaningless", "");
+  add(st, "dt", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {},
+      "step size used (time for dynamics, load for statics)", tu);
+  add(st, "iterations", H5T_STD_I32LE, H5T_NATIVE_INT32, 4, {}, "Newton iterations", "");
+  add(st, "jacobian_updates", H5T_STD_I32LE, H5T_NATIVE_INT32, 4, {},
+      "iteration-matrix factorizations", "");
+  add(st, "residual_norm", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {}, "final residual norm", "");
+  add(st, "increment_norm", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {}, "final increment norm", "");
+  add(st, "converged", bool_type.get(), bool_type.get(), 1, {}, "step converged", "");
+  add(fr, "points", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {n, 3},
+      "current world positions of the mesh points", "");
+  add(fr, "base_points", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {n, 3},
+      "undeformed body carried by its rigid motion (points - base_points = deformation)", "");
+
+  std::vector<std::string> order;
+  for (const Quantity& q : info.probes) {
+    add(probes.get(), q.name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {}, "", q.unit);
+    h5::write_attr_string(columns.back().dset.get(), "label", q.label);
+    order.push_back(q.name);
+  }
+  h5::write_attr_strings(probes.get(), "names", order);
+  order.clear();
+  for (const Quantity& q : info.fields) {
+    add(fields.get(), q.name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {n}, "", q.unit);
+    h5::write_attr_string(columns.back().dset.get(), "label", q.label);
+    order.push_back(q.name);
+  }
+  h5::write_attr_strings(fields.get(), "names", order);
+  checksum_column = columns.size();
+  add(fr, "checksum", H5T_STD_U64LE, H5T_NATIVE_UINT64, 8, {},
+      "FNV-1a 64 of the frame's rows of all other frame data sets (see results_layout.md)", "");
+}
+
+// written once by create(): what a reader sees unless finish() runs
+void ResultWriter::Impl::write_unfinished_outcome() {
+  hid_t o = outcome_group.get();
+  h5::write_attr_string(o, "status", to_string(RunStatus::interrupted));
+  h5::write_attr_string(o, "reason", std::string(names::kUnfinished) +
+                                         "; /frames/frames_written tells how many frames were saved");
+  h5::write_attr_double(o, "stop_time", 0.0);
+  h5::write_attr_int64(o, "steps", 0);
+  h5::write_attr_double(o, "wall_time_s", 0.0);
+  h5::write_attr_int64(o, "finished", 0);
+}
+
+// rewritten by every flush: fixed-size numbers only, overwritten in place
+void ResultWriter::Impl::write_progress() {
+  h5::write_attr_int64(frames_group.get(), names::kFramesWritten,
+                       static_cast<std::int64_t>(frames_written));
+  hid_t o = outcome_group.get();
+  h5::write_attr_double(o, "stop_time", last_written_time);
+  h5::write_attr_int64(o, "steps", last_written_step);
+  h5::write_attr_double(o, "wall_time_s",
+                        std::chrono::duration<double>(Clock::now() - created).count());
+}
+
+void ResultWriter::Impl::flush_or_throw() {
+  if (closed) throw h5::Failure("the file is already closed");
+  if (frames_staged > 0) {
+    const hsize_t first = frames_written, count = frames_staged, total = first + count;
+    for (Column& c : columns) {
+      const std::string what = "write " + std::to_string(count) + " frames to '" + c.name + "'";
+      std::vector<hsize_t> dims{total}, start{first}, shape{count};
+      for (hsize_t d : c.frame_shape) {
+        dims.push_back(d);
+        start.push_back(0);
+        shape.push_back(d);
+      }
+      // extents are absolute, so a retry after a failed flush is harmless
+      h5::check(H5Dset_extent(c.dset.get(), dims.data()), what);
+      if (c.row_bytes == 0) continue;
+      h5::Handle fspace(h5::check_id(H5Dget_space(c.dset.get()), what));
+      h5::check(H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start.data(), nullptr,
+                                    shape.data(), nullptr),
+                what);
+      h5::Handle mspace(h5::check_id(
+          H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), what));
+      h5::check(H5Dwrite(c.dset.get(), c.mem_type, mspace.get(), fspace.get(), H5P_DEFAULT,
+                         c.staged.data()),
+                what);
+    }
+  }
+  for (const auto& [key, value] : staged_attributes) {
+    h5::write_attr_string(attributes_group.get(), key, value);
+  }
+  // phase 1 makes the data durable; only then does phase 2 announce it in frames_written.
+  // HDF5 (without SWMR) writes metadata in no particular order inside one H5Fflush, so a
+  // kill during a single combined flush could leave frames_written ahead of the data.
+  h5::check(H5Fflush(file.get(), H5F_SCOPE_LOCAL), "flush frame data");
+  const std::size_t total = frames_written + frames_staged;
+  std::size_t saved_written = frames_written;
+  double saved_time = last_written_time;
+  std::int64_t saved_step = last_written_step;
+  frames_written = total;
+  if (frames_staged > 0) {
+    last_written_time = last_staged_time;
+    last_written_step = last_staged_step;
+  }
+  try {
+    write_progress();
+    h5::check(H5Fflush(file.get(), H5F_SCOPE_LOCAL), "flush frames_written");
+  } catch (...) {
+    frames_written = saved_written;
+    last_written_time = saved_time;
+    last_written_step = saved_step;
+    throw;
+  }
+  for (Column& c : columns) c.staged.clear();
+  frames_staged = 0;
+  staged_attributes.clear();
+  last_flush = Clock::now();
+}
+
+void ResultWriter::Impl::close_or_throw() {
+  if (closed) return;
+  closed = true;
+  columns.clear();
+  frames_group.reset();
+  outcome_group.reset();
+  metrics_group.reset();
+  attributes_group.reset();
+  bool_type.reset();
+  h5::check(H5Fclose(file.release()), "close");
+}
+
+ResultWriter::ResultWriter(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+std::unique_ptr<ResultWriter> ResultWriter::create(const std::string& path, const RunInfo& info,
+                                                   std::string* error) {
+  h5::Quiet quiet;
+  auto impl = std::make_unique<Impl>();
+  impl->path = path;
+  const std::string prefix = "cannot create results file '" + path + "': ";
+  if (std::string why = validate(info); !why.empty()) {
+    if (error) *error = prefix + why;
+    return nullptr;
+  }
+  if (std::string why = locked_by_another_process(path); !why.empty()) {
+    if (error) *error = prefix + why;
+    return nullptr;
+  }
+  try {
+    h5::Handle fapl(h5::check_id(H5Pcreate(H5P_FILE_ACCESS), "file access properties"));
+    // lock against a second writer, but work on file systems without flock
+#if H5_VERSION_GE(1, 10, 7)
+    h5::check(H5Pset_file_locking(fapl.get(), 1, 1), "file access properties");
+#endif
+    impl->file = h5::Handle(
+        h5::check_id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), ""));
+    impl->write_run_info(info);
+    h5::check(H5Fflush(impl->file.get(), H5F_SCOPE_LOCAL), "flush");
+  } catch (const h5::Failure& e) {
+    if (error) *error = prefix + e.what();
+    impl->closed = true;  // handles are released by ~Impl
+    return nullptr;
+  }
+  impl->created = impl->last_flush = Clock::now();
+  return std::unique_ptr<ResultWriter>(new ResultWriter(std::move(impl)));
+}
+
+bool ResultWriter::append(const Frame& frame, std::string* error) {
+  Impl& m = *impl_;
+  auto bad = [&](const std::string& why) {
+    if (error) *error = m.prefix() + why;
+    return false;
+  };
+  if (m.closed) return bad("append after finish()");
+  const std::string at = "frame of step " + std::to_string(frame.step) + ": ";
+  const std::size_t n = m.point_count;
+  if (frame.points.size() != 3 * n) {
+    return bad(at + "points has " + std::to_string(frame.points.size()) + " values, expected 3 x " +
+               std::to_string(n));
+  }
+  if (frame.base_points.size() != 3 * n) {
+    return bad(at + "base_points has " + std::to_string(frame.base_points.size()) +
+               " values, expected 3 x " + std::to_string(n));
+  }
+  if (frame.probes.size() != m.probe_count) {
+    return bad(at + std::to_string(frame.probes.size()) + " probe values, expected " +
+               std::to_string(m.probe_count));
+  }
+  if (frame.fields.size() != m.field_count) {
+    return bad(at + std::to_string(frame.fields.size()) + " fields, expected " +
+               std::to_string(m.field_count));
+  }
+  for (std::size_t k = 0; k < m.field_count; ++k) {
+    if (frame.fields[k].size() != n) {
+      return bad(at + "field '" + m.columns[Impl::kFixed + m.probe_count + k].name + "' has " +
+                 std::to_string(frame.fields[k].size()) + " values, expected " + std::to_string(n));
+    }
+  }
+
+  const StepStats& s = frame.stats;
+  const std::int8_t converged = s.converged ? 1 : 0;
+  auto& c = m.columns;
+  // columns in their creation order, which is also the checksum order
+  std::uint64_t checksum = kFnvOffset;
+  auto stage = [&](std::size_t column, const void* row) {
+    c[column].stage(row);
+    checksum = fnv1a(checksum, row, c[column].row_bytes);
+  };
+  stage(Impl::kTime, &frame.time);
+  stage(Impl::kStep, &frame.step);
+  stage(Impl::kLoad, &frame.load_factor);
+  stage(Impl::kDt, &s.dt);
+  stage(Impl::kIter, &s.iterations);
+  stage(Impl::kJac, &s.jacobian_updates);
+  stage(Impl::kRes, &s.residual_norm);
+  stage(Impl::kInc, &s.increment_norm);
+  stage(Impl::kConv, &converged);
+  stage(Impl::kPoints, frame.points.data());
+  stage(Impl::kBase, frame.base_points.data());
+  for (std::size_t k = 0; k < m.probe_count; ++k) stage(Impl::kFixed + k, &frame.probes[k]);
+  for (std::size_t k = 0; k < m.field_count; ++k) {
+    stage(Impl::kFixed + m.probe_count + k, frame.fields[k].data());
+  }
+  c[m.checksum_column].stage(&checksum);
+  ++m.frames_staged;
+  m.last_staged_time = frame.time;
+  m.last_staged_step = frame.step;
+
+  const double since_flush_s = std::chrono::duration<double>(Clock::now() - m.last_flush).count();
+  if (m.frames_staged >= kFlushFrames || since_flush_s >= kFlushSeconds) {
+    std::string why;
+    if (!flush(&why)) {
+      if (error) *error = why + " (the frame is kept in memory and retried at the next flush)";
+      return false;
+    }
+  }
+  return true;
+}
+
+void ResultWriter::set_attribute(const std::string& key, const std::string& value) {
+  if (key.empty()) return;
+  for (auto& [k, v] : impl_->staged_attributes) {
+    if (k == key) {
+      v = value;
+      return;
+    }
+  }
+  impl_->staged_attributes.emplace_back(key, value);
+}
+
+bool ResultWriter::flush(std::string* error) {
+  h5::Quiet quiet;
+  try {
+    impl_->flush_or_throw();
+  } catch (const h5::Failure& e) {
+    if (error) *error = impl_->prefix() + e.what();
+    return false;
+  }
+  return true;
+}
+
+bool ResultWriter::finish(const RunOutcome& outcome,
+                          const std::vector<std::pair<std::string, double>>& metrics,
+                          std::string* error) {
+  h5::Quiet quiet;
+  Impl& m = *impl_;
+  if (m.closed) {
+    if (error) *error = m.prefix() + "finish() after the file was closed";
+    return false;
+  }
+  std::string skipped;
+  try {
+    m.flush_or_throw();
+    for (const auto& [name, value] : metrics) {
+      if (name.empty()) {
+        skipped = "a metric with an empty name was not stored";
+        continue;
+      }
+      h5::write_attr_double(m.metrics_group.get(), name, value);
+    }
+    hid_t o = m.outcome_group.get();
+    h5::write_attr_string(o, "status", to_string(outcome.status));
+    h5::write_attr_string(o, "reason", outcome.reason);
+    h5::write_attr_double(o, "stop_time", outcome.stop_time);
+    h5::write_attr_int64(o, "steps", outcome.steps);
+    h5::write_attr_double(o, "wall_time_s", outcome.wall_time_s);
+    // "finished" goes last, after everything it vouches for is on disk
+    h5::check(H5Fflush(m.file.get(), H5F_SCOPE_LOCAL), "flush the outcome");
+    h5::write_attr_int64(o, "finished", 1);
+    m.close_or_throw();
+  } catch (const h5::Failure& e) {
+    if (error) *error = m.prefix() + e.what();
+    try {
+      m.close_or_throw();
+    } catch (const h5::Failure&) {
+    }
+    return false;
+  }
+  if (!skipped.empty()) {
+    if (error) *error = m.prefix() + skipped;
+    return false;
+  }
+  return true;
+}
+
+std::size_t ResultWriter::frames_appended() const {
+  return impl_->frames_written + impl_->frames_staged;
+}
+
+std::size_t ResultWriter::frames_flushed() const { return impl_->frames_written; }
+
+const std::string& ResultWriter::path() const { return impl_->path; }
+
+ResultWriter::~ResultWriter() {
+  if (!impl_ || impl_->closed) return;
+  h5::Quiet quiet;
+  // best effort: what was flushed stays readable even if this fails
+  try {
+    impl_->flush_or_throw();
+  } catch (const h5::Failure&) {
+  }
+  try {
+    impl_->close_or_throw();
+  } catch (const h5::Failure&) {
+  }
+}
+
+}  // namespace ff::io

@@ -1,0 +1,119 @@
+#pragma once
+/// \file results.h
+/// The HDF5 result store: results.h5 written during a run, read back for replay and plots.
+/// The file layout (groups, data sets, shapes, attributes, units) is documented in
+/// results_layout.md beside this header. This header does not include hdf5.h.
+///
+/// Crash safety: frames are staged in memory and written in blocks; every block ends with
+/// H5Fflush of the data, then of `frames_written`, so a process that is killed or stops
+/// without finish() leaves a file that opens and holds every frame up to the last flush.
+/// Between flushes the writer does not touch the file. A kill *during* a flush can, rarely,
+/// damage earlier rows (HDF5 without SWMR does not order its metadata writes); every frame
+/// carries a checksum and the reader drops frames that fail it in unfinished files.
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/frame/frame.h"
+
+namespace ff::io {
+
+/// Writes one run to an HDF5 file. Not copyable; use from one thread at a time.
+class ResultWriter {
+ public:
+  /// Frames staged in memory before append() writes them (see flush()).
+  static constexpr std::size_t kFlushFrames = 50;
+  /// Wall time after which append() writes the staged frames even if fewer than kFlushFrames.
+  static constexpr double kFlushSeconds = 1.0;
+
+  /// Creates (or truncates) `path` and writes the constant run description: scene name, path
+  /// and text, effects, settings, time unit, mesh, probe and field names/units/labels.
+  /// Refuses (without truncating) a file that another process has open.
+  /// Returns nullptr and sets *error (naming the path and the HDF5 reason) on failure,
+  /// including invalid names (probe/field names must be unique, non-empty, without '/').
+  static std::unique_ptr<ResultWriter> create(const std::string& path, const RunInfo& info,
+                                              std::string* error);
+
+  /// Stores `frame` (every frame is kept). Sizes must match the RunInfo: 3n points and
+  /// base_points, one value per probe, one n-vector per field; otherwise nothing is stored
+  /// and false is returned. Writes the staged frames to the file when kFlushFrames are staged
+  /// or kFlushSeconds have passed since the last flush.
+  bool append(const Frame& frame, std::string* error);
+
+  /// Records a free-form string attribute (render backend, GL renderer, git hash, build
+  /// flags ...), written at the next flush. A repeated key keeps the last value; an empty key
+  /// is ignored.
+  void set_attribute(const std::string& key, const std::string& value);
+
+  /// Writes the staged frames and attributes, updates `frames_written` and the provisional
+  /// outcome, and calls H5Fflush. After it returns true, a killed process loses nothing.
+  bool flush(std::string* error);
+
+  /// Flushes, writes the outcome (status, reason, stop_time, steps, wall_time_s) and the
+  /// metrics (name -> number, a repeated name keeps the last value), and closes the file.
+  /// Any later call fails.
+  bool finish(const RunOutcome& outcome,
+              const std::vector<std::pair<std::string, double>>& metrics, std::string* error);
+
+  /// Number of frames appended so far (written or staged).
+  std::size_t frames_appended() const;
+  /// Number of frames known to be in the file (as of the last successful flush).
+  std::size_t frames_flushed() const;
+  const std::string& path() const;
+
+  /// Without finish(): flushes and closes; the file then reads as RunStatus::interrupted.
+  ~ResultWriter();
+  ResultWriter(const ResultWriter&) = delete;
+  ResultWriter& operator=(const ResultWriter&) = delete;
+
+ private:
+  struct Impl;
+  explicit ResultWriter(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Reads a results file written by ResultWriter (finished, interrupted or killed).
+/// Everything constant (info, outcome, metrics, attributes) is read by open(); frame data is
+/// read on demand. The data accessors throw std::runtime_error if the file becomes unreadable
+/// after open() (deleted, truncated); frame(i) throws std::out_of_range for i >= frame_count().
+/// Const methods may be called from several threads (the HDF5 library is thread-safe).
+class ResultReader {
+ public:
+  /// Returns nullptr and sets *error (naming the path and the reason) if the file does not
+  /// exist, is not HDF5, is not a FlexFrame results file, or another process is writing it.
+  /// A file whose writer did not finish is verified frame by frame (checksums), which reads
+  /// the whole file once.
+  static std::unique_ptr<ResultReader> open(const std::string& path, std::string* error);
+
+  const RunInfo& info() const;
+  /// Complete frames in the file (frames_written of the last flush).
+  std::size_t frame_count() const;
+  /// Full frame i: step, time, load factor, points, base_points, probes, fields, stats.
+  Frame frame(std::size_t i) const;
+  /// Frame times, frame_count() values.
+  std::vector<double> times() const;
+  /// frame_count() values of the probe called `name`; empty if there is no such probe.
+  std::vector<double> probe_series(const std::string& name) const;
+  /// The Newton statistics of every frame (the convergence table), frame_count() rows.
+  std::vector<StepStats> stats() const;
+  /// A file whose writer never finished reads as RunStatus::interrupted with reason
+  /// "the writer did not finish (process stopped?); N frames were saved".
+  RunOutcome outcome() const;
+  std::vector<std::pair<std::string, double>> metrics() const;
+  std::vector<std::pair<std::string, std::string>> attributes() const;
+  const std::string& path() const;
+
+  ~ResultReader();
+  ResultReader(const ResultReader&) = delete;
+  ResultReader& operator=(const ResultReader&) = delete;
+
+ private:
+  struct Impl;
+  explicit ResultReader(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ff::io

@@ -1,0 +1,30 @@
+#pragma once
+/// \file results_names.h
+/// Names of the groups, data sets and attributes of results.h5, shared by writer and reader.
+/// results_layout.md documents them for users; change both together (and kFormatVersion).
+
+#include <cstdint>
+
+namespace ff::io::names {
+
+inline constexpr const char* kFormat = "flexframe-results";  ///< root attribute "format"
+inline constexpr std::int64_t kFormatVersion = 1;            ///< root attribute "format_version"
+
+inline constexpr const char* kRun = "/run";
+inline constexpr const char* kSettings = "/run/settings";
+inline constexpr const char* kSceneText = "/run/scene_text";
+inline constexpr const char* kMesh = "/mesh";
+inline constexpr const char* kFrames = "/frames";
+inline constexpr const char* kStats = "/frames/stats";
+inline constexpr const char* kProbes = "/frames/probes";
+inline constexpr const char* kFields = "/frames/fields";
+inline constexpr const char* kOutcome = "/outcome";
+inline constexpr const char* kMetrics = "/metrics";
+inline constexpr const char* kAttributes = "/attributes";
+
+inline constexpr const char* kFramesWritten = "frames_written";
+
+/// Reason stored (and reported by the reader) while the writer has not finished.
+inline constexpr const char* kUnfinished = "the writer did not finish (process stopped?)";
+
+}  // namespace ff::io::names

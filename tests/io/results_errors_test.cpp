@@ -1,0 +1,168 @@
+// Failures are messages, not crashes: missing, foreign, truncated and locked files, bad
+// RunInfo names, unwritable paths.
+
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "app/io/results.h"
+#include "results_test_data.h"
+
+namespace ff::io {
+namespace {
+
+using test::make_frame;
+using test::make_info;
+using test::out_path;
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+TEST(ResultStoreErrors, OpenMissingFile) {
+  const std::string path = out_path("does_not_exist.h5");
+  std::string error;
+  EXPECT_EQ(ResultReader::open(path, &error), nullptr);
+  EXPECT_TRUE(contains(error, path)) << error;
+  EXPECT_TRUE(contains(error, "no such file")) << error;
+  EXPECT_EQ(ResultReader::open(path, nullptr), nullptr);  // a null error pointer is fine too
+}
+
+TEST(ResultStoreErrors, OpenDirectory) {
+  std::string error;
+  const std::string dir = std::filesystem::path(out_path("x")).parent_path().string();
+  EXPECT_EQ(ResultReader::open(dir, &error), nullptr);
+  EXPECT_TRUE(contains(error, "directory")) << error;
+}
+
+TEST(ResultStoreErrors, OpenTextFile) {
+  const std::string path = out_path("not_hdf5.h5");
+  std::ofstream(path) << "time,x\n0,1\n";
+  std::string error;
+  EXPECT_EQ(ResultReader::open(path, &error), nullptr);
+  EXPECT_TRUE(contains(error, path)) << error;
+  EXPECT_TRUE(contains(error, "not an HDF5 file")) << error;
+}
+
+TEST(ResultStoreErrors, OpenEmptyFile) {
+  const std::string path = out_path("empty.h5");
+  std::ofstream{path};
+  std::string error;
+  EXPECT_EQ(ResultReader::open(path, &error), nullptr);
+  EXPECT_TRUE(contains(error, "not an HDF5 file")) << error;
+}
+
+TEST(ResultStoreErrors, OpenForeignHdf5File) {
+  const std::string path = out_path("foreign.h5");
+  hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  hid_t g = H5Gcreate2(f, "/data", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Gclose(g);
+  H5Fclose(f);
+  std::string error;
+  EXPECT_EQ(ResultReader::open(path, &error), nullptr);
+  EXPECT_TRUE(contains(error, "not a FlexFrame results file")) << error;
+}
+
+TEST(ResultStoreErrors, OpenTruncatedFile) {
+  const std::string good = out_path("to_truncate.h5");
+  const RunInfo info = make_info();
+  std::string error;
+  {
+    auto w = ResultWriter::create(good, info, &error);
+    ASSERT_TRUE(w) << error;
+    for (int i = 0; i < 200; ++i) ASSERT_TRUE(w->append(make_frame(info, i), &error));
+    ASSERT_TRUE(w->finish({}, {}, &error)) << error;
+  }
+  const std::string bad = out_path("truncated.h5");
+  auto size = std::filesystem::file_size(good);
+  std::filesystem::copy_file(good, bad);
+  std::filesystem::resize_file(bad, size / 2);
+  auto r = ResultReader::open(bad, &error);
+  EXPECT_EQ(r, nullptr);  // HDF5 checks the end of file against its superblock
+  EXPECT_TRUE(contains(error, bad)) << error;
+  EXPECT_GT(error.size(), bad.size() + 30) << "the message should carry the HDF5 reason: " << error;
+}
+
+TEST(ResultStoreErrors, CreateInMissingDirectory) {
+  const std::string path = out_path("no_such_dir") + "/sub/results.h5";
+  std::string error;
+  EXPECT_EQ(ResultWriter::create(path, make_info(), &error), nullptr);
+  EXPECT_TRUE(contains(error, path)) << error;
+  EXPECT_TRUE(contains(error, "No such file or directory")) << error;
+}
+
+TEST(ResultStoreErrors, CreateWhileAnotherWriterHoldsTheFile) {
+  const std::string path = out_path("locked.h5");
+  std::string error;
+  auto first = ResultWriter::create(path, make_info(), &error);
+  ASSERT_TRUE(first) << error;
+  // a second writer on the same file would corrupt it: HDF5 refuses
+  EXPECT_EQ(ResultWriter::create(path, make_info(), &error), nullptr);
+  EXPECT_TRUE(contains(error, path)) << error;
+  ASSERT_TRUE(first->finish({}, {}, &error)) << error;
+}
+
+// starting a second run on the path of a live one must fail without truncating the live file
+TEST(ResultStoreErrors, CreateOverAFileAnotherProcessWritesLeavesItIntact) {
+  const std::string path = out_path("live_elsewhere.h5");
+  const RunInfo info = make_info();
+  int ready[2], go[2];
+  ASSERT_EQ(pipe(ready), 0);
+  ASSERT_EQ(pipe(go), 0);
+  pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    std::string e;
+    auto w = ResultWriter::create(path, info, &e);
+    if (!w) _exit(2);
+    for (int i = 0; i < 60; ++i) w->append(make_frame(info, i), &e);
+    char c = 1;
+    if (write(ready[1], &c, 1) != 1 || read(go[0], &c, 1) != 1) _exit(3);
+    for (int i = 60; i < 80; ++i) w->append(make_frame(info, i), &e);
+    _exit(w->finish({}, {}, &e) ? 0 : 4);
+  }
+  char c = 0;
+  ASSERT_EQ(read(ready[0], &c, 1), 1);
+  std::string error;
+  EXPECT_EQ(ResultWriter::create(path, make_info(3, 0, 0), &error), nullptr);
+  EXPECT_TRUE(contains(error, "another process")) << error;
+  EXPECT_EQ(ResultReader::open(path, &error), nullptr);  // HDF5's lock also keeps readers out
+  EXPECT_TRUE(contains(error, "another process")) << error;
+  ASSERT_EQ(write(go[1], &c, 1), 1);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  for (int fd : {ready[0], ready[1], go[0], go[1]}) close(fd);
+  auto r = ResultReader::open(path, &error);
+  ASSERT_TRUE(r) << error;
+  EXPECT_EQ(r->frame_count(), 80u);
+  EXPECT_EQ(r->outcome().status, RunStatus::completed);
+}
+
+TEST(ResultStoreErrors, CreateRejectsBadNames) {
+  const std::string path = out_path("bad_names.h5");
+  std::string error;
+  RunInfo info = make_info();
+  info.probes[1].name = "tip/x";
+  EXPECT_EQ(ResultWriter::create(path, info, &error), nullptr);
+  EXPECT_TRUE(contains(error, "'tip/x'")) << error;
+  info = make_info();
+  info.fields[1].name = info.fields[0].name;
+  EXPECT_EQ(ResultWriter::create(path, info, &error), nullptr);
+  EXPECT_TRUE(contains(error, "repeated")) << error;
+  info = make_info();
+  info.probes[0].name.clear();
+  EXPECT_EQ(ResultWriter::create(path, info, &error), nullptr);
+  EXPECT_TRUE(contains(error, "empty name")) << error;
+  info = make_info();
+  info.mesh.quads.push_back(1000);
+  EXPECT_EQ(ResultWriter::create(path, info, &error), nullptr);
+  EXPECT_TRUE(contains(error, "quads")) << error;
+}
+
+}  // namespace
+}  // namespace ff::io
