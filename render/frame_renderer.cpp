@@ -71,7 +71,7 @@ void style_body(vtkProperty* p) {
 struct FrameRenderer::Impl {
   GraphicsContext& gc;
   FrameStyle style;
-  std::string time_unit;
+  RunInfo status_info;  // only time_unit: what the status line needs
   std::size_t n = 0;
   int field = -1;
   std::string error;
@@ -117,7 +117,7 @@ struct FrameRenderer::Impl {
 bool FrameRenderer::Impl::build(const RunInfo& info) {
   const FrameMesh& mesh = info.mesh;
   n = mesh.point_count();
-  time_unit = info.time_unit;
+  status_info.time_unit = info.time_unit;
   if (mesh.reference_points.size() != 3 * n) {
     error = "mesh reference_points size is not a multiple of 3";
     return false;
@@ -439,9 +439,7 @@ bool FrameRenderer::Impl::update(const Frame& frame, std::string* why) {
   ghost_line_actor->SetVisibility(have_base);
   ghost_surface_actor->SetVisibility(have_base);
 
-  RunInfo meta;
-  meta.time_unit = time_unit;
-  status->SetInput(status_line(meta, frame, s).c_str());
+  status->SetInput(status_line(status_info, frame, s).c_str());
   renderer->ResetCameraClippingRange();
   return true;
 }

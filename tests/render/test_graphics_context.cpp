@@ -82,7 +82,9 @@ TEST(GraphicsContext, GlewMessageDoesNotReachTheUser) {
   std::printf("GLEW messages filtered: %zu\n", suppressed_glew_messages());
   // removed at the root by glew_shim.cpp, not just filtered (unless the shim is switched off)
   const char* off = std::getenv("FF_RENDER_NO_GLEW_SHIM");
-  if (off == nullptr || off[0] == '\0' || off[0] == '0') EXPECT_EQ(suppressed_glew_messages(), 0u);
+  if (off == nullptr || off[0] == '\0' || off[0] == '0') {
+    EXPECT_EQ(suppressed_glew_messages(), 0u);
+  }
 }
 
 TEST(GraphicsContext, SeveralContextsAndRenderersCoexist) {
