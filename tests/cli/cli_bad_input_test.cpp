@@ -1,0 +1,209 @@
+// Bad input: `flexframe check` and `flexframe run` reject a broken scene or --set with exit code 2,
+// say where (file:line: or the --set), which key and what was expected, and write nothing.
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "cli_support.h"
+
+namespace ff::cli::test {
+namespace {
+
+// A small valid scene; the cases below replace single lines, so line numbers stay put.
+const std::vector<std::string> kBase = {
+    "# scene for the cli bad-input tests",                        // 1
+    "[scene]",                                                    // 2
+    "name = \"cli_bad\"",                                         // 3
+    "model = \"hub_beam\"",                                       // 4
+    "effects = [\"inertia\", \"bending\", \"axial\", \"hub_torque\"]",  // 5
+    "",                                                           // 6
+    "[beam]",                                                     // 7
+    "length = 1.8",                                               // 8
+    "",                                                           // 9
+    "[discretization]",                                           // 10
+    "method = \"efg\"",                                           // 11
+    "",                                                           // 12
+    "[efg]",                                                      // 13
+    "scale = 2.5",                                                // 14
+    "",                                                           // 15
+    "[solver]",                                                   // 16
+    "dt = 0.05",                                                  // 17
+    "t_end = 1.0",                                                // 18
+    "newmark_beta = 0.25",                                        // 19
+    "newmark_gamma = 0.5",                                        // 20
+};
+
+struct BadCase {
+  std::string name;
+  std::map<int, std::string> edits;     ///< 1-based line -> replacement text
+  std::vector<std::string> overrides;   ///< --set values
+  int exit_code = 2;
+  std::string where;                    ///< "bad.toml" or "--set solver.dtt=0.1"
+  int line = 0;                         ///< expected line in `where`; 0: no line (a --set, a missing table)
+  std::string key;                      ///< expected key, "" for none (syntax error)
+  std::vector<std::string> fragments;   ///< parts of the expectation that must appear in stderr
+};
+
+std::ostream& operator<<(std::ostream& o, const BadCase& c) { return o << c.name; }
+
+std::string scene_text(const BadCase& c) {
+  std::string text;
+  for (std::size_t i = 0; i < kBase.size(); ++i) {
+    const auto e = c.edits.find(static_cast<int>(i) + 1);
+    text += (e != c.edits.end() ? e->second : kBase[i]) + "\n";
+  }
+  return text;
+}
+
+std::vector<BadCase> bad_cases() {
+  return {
+      // sanity: the base scene and the boundary values are accepted, so the errors below come
+      // from the edits alone
+      {"base_scene_is_valid", {}, {}, 0, "", 0, "", {"cli_bad: valid"}},
+      {"efg_scale_10_is_valid", {{14, "scale = 10.0"}}, {}, 0, "", 0, "", {"cli_bad: valid"}},
+      {"newmark_beta_gamma_half_is_valid", {{19, "newmark_beta = 0.3"}, {20, "newmark_gamma = 0.6"}}, {}, 0, "", 0,
+       "", {"cli_bad: valid"}},
+
+      {"unknown_key_with_suggestion", {{8, "lenght = 1.8"}}, {}, 2, "bad.toml", 8, "beam.lenght",
+       {"unknown key", "did you mean 'beam.length'"}},
+      {"wrong_type", {{8, "length = \"long\""}}, {}, 2, "bad.toml", 8, "beam.length", {"expected a number", "string"}},
+      {"negative_length", {{8, "length = -1.8"}}, {}, 2, "bad.toml", 8, "beam.length", {"> 0", "-1.8"}},
+      {"dt_zero", {{17, "dt = 0"}}, {}, 2, "bad.toml", 17, "solver.dt", {"> 0", "got 0"}},
+      {"dt_negative", {{17, "dt = -0.01"}}, {}, 2, "bad.toml", 17, "solver.dt", {"> 0", "-0.01"}},
+      {"efg_scale_1", {{14, "scale = 1.0"}}, {}, 2, "bad.toml", 14, "efg.scale", {"(1, 10]"}},
+      {"efg_scale_above_10", {{14, "scale = 10.5"}}, {}, 2, "bad.toml", 14, "efg.scale", {"(1, 10]", "10.5"}},
+      // a missing key is reported at its table's header
+      {"missing_solver_dt", {{17, "# no dt"}}, {}, 2, "bad.toml", 16, "solver.dt", {"missing required key"}},
+      // a missing table has no line to point at
+      {"missing_solver_table", {{16, "#"}, {17, "#"}, {18, "#"}, {19, "#"}, {20, "#"}}, {}, 2, "bad.toml", 0,
+       "solver", {"missing required table [solver]"}},
+      {"bad_choice", {{11, "method = \"fe\""}}, {}, 2, "bad.toml", 11, "discretization.method",
+       {"expected one of efg, fem", "'fe'", "did you mean 'fem'"}},
+      {"unknown_effect", {{5, "effects = [\"inertia\", \"bending\", \"axial\", \"hub_torqe\"]"}}, {}, 2, "bad.toml", 5,
+       "scene.effects", {"hub_torqe", "did you mean 'hub_torque'"}},
+      {"missing_effect_bending", {{5, "effects = [\"inertia\", \"axial\", \"hub_torque\"]"}}, {}, 2, "bad.toml", 5,
+       "scene.effects", {"needs the effect 'bending'"}},
+      {"toml_syntax_error", {{18, "t_end = = 1.0"}}, {}, 2, "bad.toml", 18, "", {"TOML syntax error"}},
+      {"newmark_beta_below_gamma_half", {{19, "newmark_beta = 0.2"}}, {}, 2, "bad.toml", 19, "solver.newmark_beta",
+       {"beta >= gamma / 2"}},
+      // the issue belongs to beta's line even when gamma's value makes beta too small
+      {"newmark_gamma_raises_bound", {{19, "newmark_beta = 0.3"}, {20, "newmark_gamma = 0.8"}}, {}, 2, "bad.toml", 19,
+       "solver.newmark_beta", {"beta >= gamma / 2", "0.4"}},
+
+      {"set_unknown_key", {}, {"solver.dtt=0.1"}, 2, "--set solver.dtt=0.1", 0, "solver.dtt",
+       {"unknown key", "did you mean 'solver.dt'"}},
+      {"set_wrong_type", {}, {"solver.dt=abc"}, 2, "--set solver.dt=abc", 0, "solver.dt", {"expected a number"}},
+      {"set_out_of_range", {}, {"efg.scale=0.5"}, 2, "--set efg.scale=0.5", 0, "efg.scale", {"(1, 10]"}},
+      {"set_without_equals", {}, {"solver.dt"}, 2, "--set solver.dt", 0, "solver.dt", {"missing '=value'"}},
+  };
+}
+
+class CliBadInput : public ::testing::TestWithParam<BadCase> {};
+
+// Each case through `check` and `run`, both from an empty working folder that must stay empty
+// (run also gets an --out folder there that must not appear).
+TEST_P(CliBadInput, RejectedWithLocationKeyAndExpectation) {
+  const BadCase& c = GetParam();
+  const std::string dir = fresh_test_dir();
+  const std::string scene = dir + "/bad.toml";
+  write_text(scene, scene_text(c));
+  const std::string cwd = dir + "/cwd";
+  fs::create_directories(cwd);
+  const std::string out = cwd + "/out";
+
+  std::vector<std::string> set_args;
+  for (const std::string& o : c.overrides) set_args.insert(set_args.end(), {"--set", o});
+  std::vector<std::string> check_args{"check", scene};
+  check_args.insert(check_args.end(), set_args.begin(), set_args.end());
+  // (no extra --set here: it would create a missing [solver] table and change the message)
+  std::vector<std::string> run_args{"run", scene, "--out", out, "--no-frames", "--no-plots", "--quiet"};
+  run_args.insert(run_args.end(), set_args.begin(), set_args.end());
+
+  for (const auto& [verb, args] : {std::pair{"check", check_args}, std::pair{"run", run_args}}) {
+    SCOPED_TRACE(std::string("flexframe ") + verb);
+    const ProcResult r = run_flexframe(args, dir + "/" + verb, cwd);
+    ASSERT_EQ(r.signal, 0) << r.describe();
+    EXPECT_EQ(r.exit_code, c.exit_code) << r.describe();
+    if (c.exit_code == 0) {
+      if (std::string(verb) == "check") {
+        for (const std::string& f : c.fragments) EXPECT_NE(r.out.find(f), std::string::npos) << r.describe();
+      }
+      continue;
+    }
+    if (c.line > 0) {
+      const std::string at = c.where + ":" + std::to_string(c.line) + ":";
+      EXPECT_NE(r.err.find(at), std::string::npos) << "stderr lacks '" << at << "'\n" << r.describe();
+    } else {
+      EXPECT_NE(r.err.find(c.where), std::string::npos) << "stderr lacks '" << c.where << "'\n" << r.describe();
+    }
+    if (!c.key.empty()) {
+      EXPECT_NE(r.err.find("'" + c.key + "'"), std::string::npos) << "stderr lacks the key\n" << r.describe();
+    }
+    for (const std::string& f : c.fragments)
+      EXPECT_NE(r.err.find(f), std::string::npos) << "stderr lacks '" << f << "'\n" << r.describe();
+    EXPECT_EQ(r.out.find("valid;"), std::string::npos) << r.describe();
+    EXPECT_TRUE(tree(cwd).empty()) << "bad input created files: " << ::testing::PrintToString(tree(cwd));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, CliBadInput, ::testing::ValuesIn(bad_cases()),
+                         [](const ::testing::TestParamInfo<BadCase>& i) { return i.param.name; });
+
+TEST(CliBadInputFile, NonExistentSceneIsNamed) {
+  const std::string dir = fresh_test_dir();
+  const std::string cwd = dir + "/cwd";
+  fs::create_directories(cwd);
+  const std::string missing = dir + "/does_not_exist.toml";
+  for (const auto& args : {std::vector<std::string>{"check", missing},
+                           std::vector<std::string>{"run", missing, "--out", cwd + "/out", "--quiet"}}) {
+    SCOPED_TRACE("flexframe " + args[0]);
+    const ProcResult r = run_flexframe(args, dir + "/" + args[0], cwd);
+    EXPECT_EQ(r.exit_code, 2) << r.describe();
+    EXPECT_NE(r.err.find("does_not_exist.toml"), std::string::npos) << r.describe();
+    EXPECT_TRUE(tree(cwd).empty()) << ::testing::PrintToString(tree(cwd));
+  }
+}
+
+// Command-line usage errors (no verb, unknown option, option value out of range) are rejected
+// and write nothing.
+TEST(CliBadInputFile, UsageErrorsAreRejected) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  const std::vector<std::vector<std::string>> cases = {
+      {},
+      {"run", "hub_beam_fem_tau1", "--bogus", "--out", out},
+      {"run", "hub_beam_fem_tau1", "--frame-every", "0", "--out", out},
+      {"run", "hub_beam_fem_tau1", "--width", "10", "--out", out},
+      {"check"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    SCOPED_TRACE(::testing::PrintToString(cases[i]));
+    const ProcResult r = run_flexframe(cases[i], dir + "/usage" + std::to_string(i));
+    EXPECT_EQ(r.signal, 0) << r.describe();
+    EXPECT_NE(r.exit_code, 0) << r.describe();
+    EXPECT_FALSE(r.err.empty()) << r.describe();
+    EXPECT_FALSE(fs::exists(out)) << r.describe();
+  }
+}
+
+// KNOWN BUG (reported, not fixed here): usage errors exit with CLI11's own codes (105 value out
+// of range, 106 missing subcommand/argument, 109 unknown option) instead of the documented 2 for
+// bad input. Enable once main.cpp maps CLI::ParseError to 2 (--help must stay 0).
+TEST(CliBadInputFile, DISABLED_UsageErrorsExitWith2) {
+  const std::string dir = fresh_test_dir();
+  const std::vector<std::vector<std::string>> cases = {
+      {"run", "hub_beam_fem_tau1", "--bogus", "--out", dir + "/out"},
+      {"run", "hub_beam_fem_tau1", "--frame-every", "0", "--out", dir + "/out"},
+      {"check"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const ProcResult r = run_flexframe(cases[i], dir + "/usage" + std::to_string(i));
+    EXPECT_EQ(r.exit_code, 2) << ::testing::PrintToString(cases[i]) << "\n" << r.describe();
+  }
+  const ProcResult help = run_flexframe({"run", "--help"}, dir + "/help");
+  EXPECT_EQ(help.exit_code, 0) << help.describe();
+}
+
+}  // namespace
+}  // namespace ff::cli::test

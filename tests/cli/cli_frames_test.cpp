@@ -1,0 +1,93 @@
+// The frames show the beam: a short EFG run rendered at 320x240 every 5th step. The hub sits
+// near the image centre (the colour bar strip on the right shifts it a little left) and the
+// undeformed beam extends right along +x, so the centre row's right half is drawn; the left
+// side away from the title is background. The plots folder is filled too.
+
+#include <gtest/gtest.h>
+
+#include "cli_support.h"
+
+namespace ff::cli::test {
+namespace {
+
+constexpr int kWidth = 320, kHeight = 240;
+
+bool is_background(const std::array<std::uint8_t, 3>& p) { return p[0] >= 245 && p[1] >= 245 && p[2] >= 245; }
+
+/// Pixels in [x0, x1) x [y0, y1) (top row = 0) that are not background.
+int drawn_pixels(const Image& img, int x0, int x1, int y0, int y1) {
+  int n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) n += !is_background(img.at(x, y));
+  return n;
+}
+
+TEST(CliFrames, FramesShowTheBeamAndPlotsAreWritten) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  const ProcResult r = run_flexframe({"run", "hub_beam_efg_tau1", "--out", out, "--quiet", "--set", "solver.t_end=0.5",
+                                      "--frame-every", "5", "--width", std::to_string(kWidth), "--height",
+                                      std::to_string(kHeight)},
+                                     dir + "/run");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.describe();
+
+  // 11 frames (t = 0, 0.05, ..., 0.5), every 5th rendered: 0, 5, 10
+  for (int i = 0; i < 3; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/frames/frame_%05d.png", i);
+    EXPECT_TRUE(fs::is_regular_file(out + name)) << name;
+  }
+  EXPECT_FALSE(fs::exists(out + "/frames/frame_00003.png"));
+  std::string err;
+  const std::optional<Json> s = read_summary(out, &err);
+  ASSERT_TRUE(s) << err;
+  const Json* outputs = s->get("outputs");
+  ASSERT_TRUE(outputs);
+  ASSERT_TRUE(outputs->get("frames"));
+  EXPECT_EQ(outputs->get("frames")->number, 3);
+
+  const Image img = read_png(out + "/frames/frame_00000.png");
+  ASSERT_EQ(img.width, kWidth);
+  ASSERT_EQ(img.height, kHeight);
+  // the beam: along the centre row (+-3 px), from the image centre to 70 % of the width, most
+  // columns carry a drawn pixel
+  int columns = 0, drawn_columns = 0;
+  for (int x = kWidth / 2; x < kWidth * 7 / 10; ++x, ++columns)
+    drawn_columns += drawn_pixels(img, x, x + 1, kHeight / 2 - 3, kHeight / 2 + 4) > 0;
+  EXPECT_GE(drawn_columns, columns * 9 / 10) << drawn_columns << " of " << columns << " columns show the beam";
+  // a wider band above and below the beam (away from the colour bar) is empty at t = 0
+  EXPECT_EQ(drawn_pixels(img, kWidth / 2, kWidth * 7 / 10, kHeight / 4, kHeight / 2 - 10), 0);
+  EXPECT_EQ(drawn_pixels(img, kWidth / 2, kWidth * 7 / 10, kHeight / 2 + 10, kHeight * 3 / 4), 0);
+  // background: the top-left quarter below the title and the time line, the bottom-left region
+  EXPECT_EQ(drawn_pixels(img, 0, kWidth * 7 / 20, kHeight / 5, kHeight / 2 - 10), 0)
+      << "top-left quarter is not background";
+  EXPECT_EQ(drawn_pixels(img, 0, kWidth * 7 / 20, kHeight * 3 / 5, kHeight), 0) << "bottom-left is not background";
+  // the title is drawn (top-left corner)
+  EXPECT_GT(drawn_pixels(img, 0, kWidth / 2, 0, kHeight / 10), 0) << "no title";
+
+  // the last frame (t = 0.5 s) shows the beam too, bent but still right of the hub
+  const Image last = read_png(out + "/frames/frame_00002.png");
+  ASSERT_EQ(last.width, kWidth);
+  EXPECT_GT(drawn_pixels(last, kWidth / 2, kWidth * 7 / 10, kHeight / 4, kHeight * 3 / 4), 0);
+
+  // plots
+  const Json* plots = outputs->get("plots");
+  ASSERT_TRUE(plots && plots->kind == Json::Kind::array);
+  std::vector<std::string> listed;
+  for (const Json& p : plots->array) listed.push_back(p.string);
+  for (const char* p : {"hub_angle", "hub_rate", "tip_transverse", "tip_axial", "energy"}) {
+    const std::string rel = std::string("plots/") + p + ".png";
+    EXPECT_TRUE(fs::is_regular_file(out + "/" + rel)) << rel;
+    EXPECT_NE(std::find(listed.begin(), listed.end(), rel), listed.end()) << rel << " not in summary.json";
+  }
+  for (const std::string& rel : listed) {
+    ASSERT_TRUE(fs::is_regular_file(out + "/" + rel)) << rel;
+    const Image plot = read_png(out + "/" + rel);
+    EXPECT_GT(plot.width, 0) << rel << " is not a PNG";
+    EXPECT_GT(drawn_pixels(plot, 0, plot.width, 0, plot.height), 0) << rel << " is blank";
+  }
+}
+
+}  // namespace
+}  // namespace ff::cli::test
