@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
   run->add_option("scene", run_scene, "scene file or bundled scene name (default: " + ff::app::default_scene() + ")");
   run->add_option("--out", run_opt.out_dir, "output folder (default: out/<scene name>)");
   run->add_option("--set", run_opt.overrides, "override a scene key, e.g. --set solver.dt=0.01")->take_all();
-  run->add_option("--frame-every", run_opt.frame_every, "render every n-th step")->check(CLI::PositiveNumber);
+  run->add_option("--frame-every", run_opt.frame_every, "render every n-th step")->check(CLI::Range(1, 1000000));
   run->add_option("--width", run_opt.width, "frame width in pixels")->check(CLI::Range(64, 8192));
   run->add_option("--height", run_opt.height, "frame height in pixels")->check(CLI::Range(64, 8192));
   run->add_flag("--no-frames", no_frames, "skip PNG frames");
@@ -90,7 +90,13 @@ int main(int argc, char** argv) {
   study->add_option("--repeat", study_opt.repeat, "timing repetitions (median)")->check(CLI::Range(1, 1000));
   study->add_option("--out", study_opt.out_dir, "output folder (study.csv, study.md, study.png)");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version are not errors; every other usage error is bad input (exit 2)
+    const int code = app.exit(e);
+    return e.get_exit_code() == 0 ? code : 2;
+  }
   std::signal(SIGINT, on_sigint);
   std::signal(SIGTERM, on_sigint);
 
@@ -127,9 +133,12 @@ int main(int argc, char** argv) {
   } catch (const ff::scene::SceneError& e) {
     std::fprintf(stderr, "error: invalid scene\n%s\n", e.what());
     return 2;
-  } catch (const std::exception& e) {
+  } catch (const ff::app::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;
+  } catch (const std::exception& e) {  // output folder, HDF5 file, ...: the run failed
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
   }
   return 0;
 }

@@ -64,7 +64,7 @@ std::string resolve_scene(const std::string& name) {
   std::string msg = "no scene file '" + name + "' and no bundled scene of that name in " + scene_dir() +
                     " (bundled:";
   for (const std::string& s : bundled_scenes()) msg += " " + s;
-  throw std::runtime_error(msg + ")");
+  throw InputError(msg + ")");
 }
 
 int exit_code(const RunOutcome& o) {

@@ -6,12 +6,18 @@
 
 #include <atomic>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/model/simulation.h"
 
 namespace ff::app {
+
+/// Bad input that is not a scene-file problem: an unknown scene name, a malformed --vary.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 struct RunOptions {
   std::string scene_path;
@@ -40,7 +46,7 @@ RunResult run_scene(const RunOptions& options, const std::atomic<bool>& stop);
 /// Exit code for an outcome: 0 completed, 3 diverged, 130 interrupted, 1 failed.
 int exit_code(const RunOutcome& outcome);
 
-/// Resolves "hub_beam_efg_tau1" or a path to a scene file; throws std::runtime_error naming
+/// Resolves "hub_beam_efg_tau1" or a path to a scene file; throws InputError naming
 /// what was tried.
 std::string resolve_scene(const std::string& name_or_path);
 /// The bundled scene folder.

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/run_session.h"
 #include "app/timed_run.h"
 #include "render/graphics_context.h"
 #include "render/plot.h"
@@ -45,7 +46,7 @@ int run_study(const StudyOptions& opt, const std::atomic<bool>& stop) {
   std::vector<Row> rows;
   for (const std::string& spec : opt.vary) {
     const auto eq = spec.find('=');
-    if (eq == std::string::npos) throw std::runtime_error("--vary needs KEY=V1,V2,..., got '" + spec + "'");
+    if (eq == std::string::npos) throw InputError("--vary needs KEY=V1,V2,..., got '" + spec + "'");
     const std::string key = spec.substr(0, eq);
     for (const std::string& value : split(spec.substr(eq + 1), ',')) {
       if (stop) break;
