@@ -148,6 +148,13 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
   mesh_ = build_mesh(p_.hub_radius, draw_x_, kHubSegments);
 }
 
+double HubBeamSystem::hub_axis_inertia(const VectorXd& x) const {
+  const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
+  // eq. (6)
+  return p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(m_.d1 * q2) + q1.dot(m_.m1 * q1) +
+         q2.dot(m_.m2 * q2);
+}
+
 double HubBeamSystem::torque(double t) const {
   if (!fx_.hub_torque || t < 0.0 || t > p_.torque_period) return 0.0;
   return p_.torque_amplitude * std::sin(2.0 * M_PI * t / p_.torque_period);  // eq. (10)
@@ -162,9 +169,7 @@ void HubBeamSystem::residual(const VectorXd& x, const VectorXd& v, const VectorX
   const double w = v[0], dw = a[0];
   const VectorXd m1q1 = m_.m1 * q1, m2q2 = m_.m2 * q2, d1q2 = m_.d1 * q2, rq2 = m_.r * q2;
   const VectorXd rtq1 = m_.r.transpose() * q1;
-  // eq. (6)
-  const double mtt = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(d1q2) + q1.dot(m1q1) +
-                     q2.dot(m2q2);
+  const double mtt = hub_axis_inertia(x);
   // eq. (11)
   r[0] = mtt * dw - rq2.dot(aq1) + (m_.u12.transpose() + rtq1).dot(aq2) +
          2.0 * w * (m1q1.dot(dq1) + m2q2.dot(dq2) + m_.u11.dot(dq1) - d1q2.dot(dq2)) - torque(t);
@@ -190,7 +195,7 @@ void HubBeamSystem::jacobians(const VectorXd& x, const VectorXd& v, const Vector
   const VectorXd rtq1 = m_.r.transpose() * q1;
   const MatrixXd& m2d1 = m2_minus_d1_;
   // eq. (15)
-  A(0, 0) = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(d1q2) + q1.dot(m1q1) + q2.dot(m2q2);
+  A(0, 0) = hub_axis_inertia(x);
   A.block(0, o1, 1, n1_) = -rq2.transpose();
   A.block(0, o2, 1, n2_) = m_.u12 + rtq1.transpose();
   A.block(o1, 0, n1_, 1) = -rq2;
@@ -240,10 +245,8 @@ double HubBeamSystem::kinetic_energy(const VectorXd& x, const VectorXd& v) const
   const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
   const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
   const double w = v[0];
-  const double mtt = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(m_.d1 * q2) +
-                     q1.dot(m_.m1 * q1) + q2.dot(m_.m2 * q2);
   // eq. (5)
-  return 0.5 * mtt * w * w + w * (m_.u12.dot(dq2) + q1.dot(m_.r * dq2) - q2.dot(m_.r.transpose() * dq1)) +
+  return 0.5 * hub_axis_inertia(x) * w * w + w * (m_.u12.dot(dq2) + q1.dot(m_.r * dq2) - q2.dot(m_.r.transpose() * dq1)) +
          0.5 * dq1.dot(m_.m1 * dq1) + 0.5 * dq2.dot(m_.m2 * dq2);
 }
 
@@ -255,10 +258,8 @@ double HubBeamSystem::potential_energy(const VectorXd& x) const {
 double HubBeamSystem::angular_momentum(const VectorXd& x, const VectorXd& v) const {
   const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
   const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
-  const double mtt = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(m_.d1 * q2) +
-                     q1.dot(m_.m1 * q1) + q2.dot(m_.m2 * q2);
   // eq. (14)
-  return mtt * v[0] + m_.u12.dot(dq2) + q1.dot(m_.r * dq2) - q2.dot(m_.r.transpose() * dq1);
+  return hub_axis_inertia(x) * v[0] + m_.u12.dot(dq2) + q1.dot(m_.r * dq2) - q2.dot(m_.r.transpose() * dq1);
 }
 
 double HubBeamSystem::tip_transverse(const VectorXd& x) const {

@@ -91,6 +91,9 @@ class HubBeamSystem final : public SecondOrderSystem {
   std::vector<Quantity> fields() const;
   void fill_frame(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t, Frame& frame) const;
 
+  /// M_theta_theta of eq. (6): hub + beam inertia about the axis in the deformed state.
+  double hub_axis_inertia(const Eigen::VectorXd& x) const;
+
   const HubBeamMatrices& matrices() const { return m_; }
   const HubBeamParams& params() const { return p_; }
   const HubBeamEffects& effects() const { return fx_; }
