@@ -1,0 +1,212 @@
+#include "core/shell/shell_model.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace ff::shell {
+
+namespace {
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+Mat3 skew(const Vec3& a) {
+  Mat3 m;
+  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return m;
+}
+Mat3 exp_so3(const Vec3& th) {
+  const double a = th.norm();
+  return a < 1e-300 ? Mat3::Identity() : Eigen::AngleAxisd(a, th / a).toRotationMatrix();
+}
+// the rotation taking unit a to unit b about their common normal
+Mat3 align(const Vec3& a, const Vec3& b) {
+  const Vec3 axis = a.cross(b);
+  const double s = axis.norm(), c = a.dot(b);
+  return s < 1e-14 ? Mat3::Identity() : exp_so3(axis / s * std::atan2(s, c));
+}
+}  // namespace
+
+ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
+  mesh::ShellMesh& m = spec_.mesh;
+  const int nn = m.node_count();
+  six_.assign(nn, spec_.options.drilling ? 1 : 0);
+  for (int i = 0; i < nn && i < static_cast<int>(m.fold.size()); ++i)
+    if (m.fold[i]) six_[i] = 1;
+  std::vector<unsigned> fixed(nn, 0u);  // slot mask, bits 0-5
+  auto node_name = [](int i) { return "node " + std::to_string(i); };
+
+  // symmetry planes: translation along the normal and rotations off the normal are restrained
+  for (const auto& [node, axis] : spec_.symmetry) {
+    const Vec3 n = Vec3::Unit(axis);
+    fixed[node] |= 1u << axis;
+    if (six_[node]) {
+      for (int k = 0; k < 3; ++k)
+        if (k != axis) fixed[node] |= 1u << (3 + k);
+    } else {
+      Mat3& R0 = m.frames[node];
+      const Vec3 e3 = R0.col(2);
+      if (std::abs(n.dot(e3)) > 1e-6)
+        throw std::invalid_argument(node_name(node) + " lies on a symmetry plane its director crosses (normal . "
+                                    "director = " + std::to_string(n.dot(e3)) + "); a symmetry plane must contain the director");
+      R0 << n, e3.cross(n), e3;  // e1 = plane normal: the exact restraint is then theta_2 = 0
+      fixed[node] |= 1u << 4;
+    }
+  }
+  for (const auto& [node, mask] : spec_.restraints) {
+    fixed[node] |= mask & kAllTranslations;
+    const unsigned rot = (mask & kAllRotations) >> 3;
+    if (!rot) continue;
+    if (six_[node]) {
+      fixed[node] |= rot << 3;
+    } else if (rot == 7) {
+      fixed[node] |= (1u << 3) | (1u << 4);
+    } else {
+      throw std::invalid_argument(node_name(node) + " has 5 DoFs (no drilling effect): a restraint on rotation about "
+                                  "a single global axis cannot be exact there; clamp all rotations, use a symmetry "
+                                  "plane, or enable the drilling effect (6 DoFs)");
+    }
+  }
+  eq_.assign(6 * nn, -1);
+  for (int i = 0; i < nn; ++i)
+    for (int s = 0; s < (six_[i] ? 6 : 5); ++s)
+      if (!(fixed[i] & (1u << s))) {
+        eq_[6 * i + s] = static_cast<int>(free_.size());
+        free_.push_back({i, s});
+      }
+
+  poses_.resize(nn);
+  for (int i = 0; i < nn; ++i) poses_[i] = {m.frames[i], m.points[i]};
+  saved_ = poses_;
+  elements_.reserve(m.quad_count());
+  for (int q = 0; q < m.quad_count(); ++q) {
+    Element e;
+    e.nodes = m.quads[q];
+    ElementPoses ref;
+    for (int c = 0; c < 4; ++c) {
+      const int I = e.nodes[c];
+      const Vec3 nc = q < static_cast<int>(m.corner_normals.size()) ? m.corner_normals[q][c] : m.normals[I];
+      // a fold corner has its own director; C maps node-local increments to corner-local ones
+      const Mat3 Rc = align(m.frames[I].col(2), nc.normalized()) * m.frames[I];
+      e.corner[c] = m.frames[I].transpose() * Rc;
+      ref[c] = {Rc, m.points[I]};
+    }
+    e.el = std::make_unique<CbShellElement>(ref, spec_.section, spec_.options);
+    elements_.push_back(std::move(e));
+  }
+  Vec3 lo = m.points.front(), hi = lo;
+  for (const Vec3& p : m.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  rotation_scale_ = 0.1 * (hi - lo).norm();
+}
+
+void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix<double>* K, Eigen::VectorXd* load) {
+  const int n = size(), nn = static_cast<int>(poses_.size());
+  r.setZero(n);
+  if (load) load->setZero(n);
+  std::vector<Eigen::Triplet<double>> trip;
+  if (K) trip.reserve(elements_.size() * 24 * 24);
+  std::vector<Vec6> node_force(nn, Vec6::Zero());  // node-local internal force
+  // A_I maps node-local 6-vectors to solver rows (global translations; global or local rotations)
+  auto A = [&](int I) {
+    Mat6 a = Mat6::Zero();
+    a.topLeftCorner<3, 3>() = poses_[I].R;
+    a.bottomRightCorner<3, 3>() = six_[I] ? poses_[I].R : Mat3::Identity();
+    return a;
+  };
+  auto add = [&](int I, int si, int J, int sj, double v) {
+    const int a = eq_[6 * I + si], b = eq_[6 * J + sj];
+    if (a >= 0 && b >= 0 && v != 0.0) trip.emplace_back(a, b, v);
+  };
+  Vec24 F;
+  Mat24 Ke;
+  for (const Element& e : elements_) {
+    ElementPoses cur;
+    for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].x};
+    e.el->evaluate(cur, F, K ? &Ke : nullptr);
+    std::array<Mat6, 4> AC;  // solver rows from corner-local: A_I blockdiag(C, C)
+    for (int c = 0; c < 4; ++c) {
+      Mat6 CC = Mat6::Zero();
+      CC.topLeftCorner<3, 3>() = e.corner[c];
+      CC.bottomRightCorner<3, 3>() = e.corner[c];
+      const Vec6 fn = CC * F.segment<6>(6 * c);
+      node_force[e.nodes[c]] += fn;
+      AC[c] = A(e.nodes[c]) * CC;
+    }
+    if (!K) continue;
+    for (int c = 0; c < 4; ++c)
+      for (int d = 0; d < 4; ++d) {
+        const Mat6 blk = AC[c] * Ke.block<6, 6>(6 * c, 6 * d) * AC[d].transpose();
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j) add(e.nodes[c], i, e.nodes[d], j, blk(i, j));
+      }
+  }
+  for (int I = 0; I < nn; ++I) {
+    const Vec6 g = A(I) * node_force[I];
+    for (int s = 0; s < 6; ++s)
+      if (eq_[6 * I + s] >= 0) r[eq_[6 * I + s]] += g[s];
+    if (!K) continue;
+    // the rotating basis of A_I along the node's own rotation increment
+    const Mat3& R = poses_[I].R;
+    if (six_[I]) {
+      const Mat3 tu = -skew(R * node_force[I].head<3>()), tt = -skew(R * node_force[I].tail<3>());
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) add(I, i, I, 3 + j, tu(i, j)), add(I, 3 + i, I, 3 + j, tt(i, j));
+    } else {
+      const Mat3 tu = -R * skew(node_force[I].head<3>());
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 2; ++j) add(I, i, I, 3 + j, tu(i, j));
+    }
+  }
+  // external loads: r -= lambda f_ext
+  for (const NodalLoad& l : spec_.loads) {
+    const int I = l.node;
+    const Mat3& R = poses_[I].R;
+    Vec6 f = Vec6::Zero();
+    f.head<3>() = l.follower ? Vec3(R * l.force) : l.force;
+    if (six_[I]) {
+      f.tail<3>() = l.follower ? Vec3(R * l.moment) : l.moment;
+    } else {
+      f.tail<3>() = l.follower ? l.moment : Vec3(R.transpose() * l.moment);
+      f[5] = 0.0;
+    }
+    for (int s = 0; s < 6; ++s) {
+      const int a = eq_[6 * I + s];
+      if (a < 0) continue;
+      r[a] -= lambda * f[s];
+      if (load) (*load)[a] += f[s];
+    }
+    if (!K) continue;
+    if (l.follower) {
+      const Mat3 tf = six_[I] ? Mat3(lambda * skew(R * l.force)) : Mat3(lambda * R * skew(l.force));
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < (six_[I] ? 3 : 2); ++j) add(I, i, I, 3 + j, tf(i, j));
+      if (six_[I]) {
+        const Mat3 tm = lambda * skew(R * l.moment);
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
+      }
+    } else if (!six_[I]) {
+      // local components of a fixed global moment turn with the node
+      const Mat3 tm = -lambda * skew(R.transpose() * l.moment);
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
+    }
+  }
+  if (K) {
+    K->resize(n, n);
+    K->setFromTriplets(trip.begin(), trip.end());
+  }
+}
+
+void ShellModel::update(const Eigen::VectorXd& delta) {
+  const int nn = static_cast<int>(poses_.size());
+  std::vector<Vec6> d(nn, Vec6::Zero());
+  for (int k = 0; k < size(); ++k) d[free_[k].node][free_[k].slot] += delta[k];
+  for (int I = 0; I < nn; ++I) {
+    poses_[I].x += d[I].head<3>();
+    if (six_[I]) poses_[I].R = exp_so3(d[I].tail<3>()) * poses_[I].R;
+    else poses_[I].R = poses_[I].R * exp_so3(Vec3(d[I][3], d[I][4], 0.0));
+  }
+}
+
+}  // namespace ff::shell

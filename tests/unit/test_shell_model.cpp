@@ -1,0 +1,126 @@
+// Shell model assembly (core/shell/shell_model.h): the assembled tangent is the derivative of the
+// assembled residual along the solver's own update() (global translations, global 6-DoF rotations,
+// local 5-DoF rotations), with restraints, a symmetry plane, fixed and follower loads.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/shell/shell_model.h"
+
+using namespace ff::shell;
+
+namespace {
+// nx x ny quads on a cylindrical patch (radius R, axis y) or a flat plate (R = 0)
+ff::mesh::ShellMesh patch(int nx, int ny, double R) {
+  ff::mesh::ShellMesh m;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const double s = 1.0 * i / nx - 0.5, y = 0.8 * j / ny;
+      if (R > 0) {
+        const Vec3 n(std::sin(s / R), 0, std::cos(s / R));
+        m.points.push_back(R * n + Vec3(0, y, -R));
+        m.normals.push_back(n);
+      } else {
+        m.points.emplace_back(s, y, 0);
+        m.normals.push_back(Vec3::UnitZ());
+      }
+    }
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int a = j * (nx + 1) + i;
+      m.quads.push_back({a, a + 1, a + nx + 2, a + nx + 1});
+    }
+  for (const Vec3& n : m.normals) m.frames.push_back(ff::mesh::frame_from_normal(n, Vec3::UnitX()));
+  m.fold.assign(m.points.size(), 0);
+  return m;
+}
+
+ShellModelSpec spec(bool drilling, double R) {
+  ShellModelSpec s;
+  s.mesh = patch(3, 2, R);
+  s.section = {1.0e4, 0.3, 0.02, 5.0 / 6.0};
+  s.options.drilling = drilling;
+  s.options.drilling_factor = 0.1;
+  // clamp the edge y = 0 except a node on the symmetry plane x = 0... here: clamp nodes 0 and 3
+  s.restraints = {{0, kClamped}, {3, kClamped}, {1, kUz}};
+  s.symmetry = {{2, 0}};  // node 2 sits at x = 0 (nx = 3: x = -0.5, -1/6, 1/6, 0.5 -> no; use plane normal y)
+  s.symmetry = {{1, 1}};  // node 1 on y = 0: plane normal y contains the director
+  s.loads = {{11, Vec3(0.1, 0.2, -0.3), Vec3::Zero(), false},
+             {10, Vec3(0.05, 0.0, 0.2), Vec3(0.01, -0.02, 0.0), true},
+             {9, Vec3::Zero(), Vec3(0.0, 0.03, 0.01), false}};
+  return s;
+}
+
+Eigen::VectorXd unit(int n, int k, double h) {
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+  d[k] = h;
+  return d;
+}
+}  // namespace
+
+class ShellModelTangent : public ::testing::TestWithParam<std::tuple<bool, double>> {};
+
+TEST_P(ShellModelTangent, MatchesCentralDifferencesOfTheResidual) {
+  const auto [drilling, R] = GetParam();
+  ShellModel model(spec(drilling, R));
+  const int n = model.size();
+  // a large deformed state reached through the solver's own update
+  std::mt19937 g(11);
+  std::uniform_real_distribution<double> u(-0.15, 0.15);
+  Eigen::VectorXd d(n);
+  for (int k = 0; k < n; ++k) d[k] = u(g);
+  model.update(d);
+  const double lambda = 0.7;
+  Eigen::VectorXd r, rp, rm;
+  Eigen::SparseMatrix<double> K;
+  model.evaluate(lambda, r, &K, nullptr);
+  const Eigen::MatrixXd Kd = Eigen::MatrixXd(K);
+  Eigen::MatrixXd Kfd(n, n);
+  const double h = 1e-6;
+  for (int k = 0; k < n; ++k) {
+    model.save_state();
+    model.update(unit(n, k, h));
+    model.evaluate(lambda, rp, nullptr, nullptr);
+    model.restore_state();
+    model.update(unit(n, k, -h));
+    model.evaluate(lambda, rm, nullptr, nullptr);
+    model.restore_state();
+    Kfd.col(k) = (rp - rm) / (2 * h);
+  }
+  const double scale = Kd.cwiseAbs().maxCoeff();
+  EXPECT_LT((Kd - Kfd).cwiseAbs().maxCoeff(), 2e-6 * scale) << "drilling " << drilling << " R " << R;
+  // the load vector is dr/dlambda with the sign of the convention r = f_int - lambda f_ref
+  Eigen::VectorXd load, r2;
+  model.evaluate(lambda, r, nullptr, &load);
+  model.evaluate(lambda + 1e-3, r2, nullptr, nullptr);
+  EXPECT_LT(((r2 - r) / 1e-3 + load).cwiseAbs().maxCoeff(), 1e-9 * (1 + load.cwiseAbs().maxCoeff()));
+}
+
+INSTANTIATE_TEST_SUITE_P(FiveAndSixDofs, ShellModelTangent,
+                         ::testing::Combine(::testing::Bool(), ::testing::Values(0.0, 1.5)));
+
+TEST(ShellModel, RestraintsAreExactAndCounted) {
+  ShellModel five(spec(false, 1.5)), six(spec(true, 1.5));
+  // 12 nodes; 5-DoF: 60 - clamped 2x5 - uz 1 - symmetry (u_y, theta_2) 2 = 47
+  EXPECT_EQ(five.size(), 12 * 5 - 10 - 1 - 2);
+  // 6-DoF: 72 - 12 - 1 - symmetry (u_y, r_x, r_z) 3 = 56
+  EXPECT_EQ(six.size(), 12 * 6 - 12 - 1 - 3);
+  // whatever the update, restrained global components stay at zero
+  for (ShellModel* m : {&five, &six}) {
+    Eigen::VectorXd d = Eigen::VectorXd::Constant(m->size(), 0.2);
+    m->update(d);
+    EXPECT_EQ(m->node_displacement(0).norm(), 0.0);
+    EXPECT_EQ(m->node_displacement(1).z(), 0.0);
+    EXPECT_EQ(m->node_displacement(1).y(), 0.0);
+    // symmetry: the director of node 1 stays in the plane y = 0 (rotation only about y's normal)
+    EXPECT_NEAR(m->poses()[1].R.col(2).y(), 0.0, 1e-14);
+  }
+}
+
+TEST(ShellModel, SingleAxisRotationRestraintOnFiveDofNodeIsRefused) {
+  ShellModelSpec s = spec(false, 0.0);
+  s.restraints.push_back({5, kRx});
+  EXPECT_THROW(ShellModel{s}, std::invalid_argument);
+  s.options.drilling = true;
+  EXPECT_NO_THROW(ShellModel{s});
+}
