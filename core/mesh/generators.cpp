@@ -1,0 +1,379 @@
+#include "core/mesh/generators.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace ff::mesh {
+
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument(what); }
+
+void require_counts(const std::string& who, int n1, int n2) {
+  if (n1 < 1 || n2 < 1)
+    fail(who + ": element counts must be at least 1 (got " + std::to_string(n1) + " x " + std::to_string(n2) + ")");
+}
+
+void require_positive(const std::string& who, const char* what, double v) {
+  if (!(v > 0.0) || !std::isfinite(v)) fail(who + ": " + what + " must be positive and finite (got " + std::to_string(v) + ")");
+}
+
+void require_range(const std::string& who, const char* what, double a, double b) {
+  if (!std::isfinite(a) || !std::isfinite(b) || a == b)
+    fail(who + ": " + what + " range [" + std::to_string(a) + ", " + std::to_string(b) + "] is empty");
+}
+
+void require_angle_span(const std::string& who, const char* what, double a, double b) {
+  require_range(who, what, a, b);
+  if (std::abs(b - a) > kTwoPi * (1 + 1e-12))
+    fail(who + ": " + what + " range [" + std::to_string(a) + ", " + std::to_string(b) + "] exceeds 2 pi");
+}
+
+Vec3 unit(const std::string& who, const char* what, const Vec3& v) {
+  const double n = v.norm();
+  if (!(n > 0.0) || !std::isfinite(n)) fail(who + ": " + what + " must be a non-zero finite vector");
+  return v / n;
+}
+
+// component of `radial` orthogonal to the unit `axis`, normalized
+Vec3 orthogonal_unit(const std::string& who, const Vec3& axis, const Vec3& radial) {
+  const Vec3 r = radial - radial.dot(axis) * axis;
+  if (r.norm() < 1e-9 * std::max(1.0, radial.norm()))
+    fail(who + ": the phi = 0 direction is parallel to the axis; choose a radial0 orthogonal to it");
+  return r.normalized();
+}
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
+
+// hash grid over cells of size `cell` for the coincident-node search
+struct CellKey {
+  std::int64_t i, j, k;
+  bool operator==(const CellKey&) const = default;
+};
+struct CellHash {
+  std::size_t operator()(const CellKey& c) const {
+    std::uint64_t h = static_cast<std::uint64_t>(c.i) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<std::uint64_t>(c.j) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+    h ^= static_cast<std::uint64_t>(c.k) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
+    return static_cast<std::size_t>(h);
+  }
+};
+std::int64_t cell_of(double x, double cell) {
+  const double c = std::floor(x / cell);
+  return static_cast<std::int64_t>(std::clamp(c, -4e18, 4e18));
+}
+
+}  // namespace
+
+ShellMesh parametric_patch(const std::string& name, const std::string& description, int nu, int nv,
+                           const SurfaceMap& map) {
+  require_counts("patch '" + name + "'", nu, nv);
+  ShellMesh m;
+  const std::size_t nn = static_cast<std::size_t>(nu + 1) * (nv + 1);
+  m.points.reserve(nn);
+  m.normals.reserve(nn);
+  for (int j = 0; j <= nv; ++j)
+    for (int i = 0; i <= nu; ++i) {
+      const SurfacePoint p = map(static_cast<double>(i) / nu, static_cast<double>(j) / nv);
+      const double len = p.n.norm();
+      if (!p.x.allFinite() || !(len > 0.0) || !std::isfinite(len))
+        fail("patch '" + name + "': the surface map gives no finite point/normal at node (" + std::to_string(i) + ", " +
+             std::to_string(j) + ")");
+      m.points.push_back(p.x);
+      m.normals.push_back(p.n / len);
+    }
+  auto id = [nu](int i, int j) { return j * (nu + 1) + i; };
+  // counter-clockwise about the normal: decide once from the central quad's x_u x x_v
+  const int ic = nu / 2, jc = nv / 2;
+  const std::array<int, 4> c0{id(ic, jc), id(ic + 1, jc), id(ic + 1, jc + 1), id(ic, jc + 1)};
+  const Vec3 g = (m.points[c0[2]] - m.points[c0[0]]).cross(m.points[c0[3]] - m.points[c0[1]]);
+  Vec3 nsum = Vec3::Zero();
+  for (int k : c0) nsum += m.normals[k];
+  const bool reverse = g.dot(nsum) < 0;
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      if (reverse) m.quads.push_back({id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)});
+      else m.quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  Patch p;
+  p.name = name;
+  p.description = description;
+  p.nu = nu;
+  p.nv = nv;
+  p.grid.resize(nn);
+  for (std::size_t k = 0; k < nn; ++k) p.grid[k] = static_cast<int>(k);
+  p.first_quad = 0;
+  p.quad_count = m.quad_count();
+  m.patches.push_back(std::move(p));
+  m.quad_patch.assign(m.quads.size(), 0);
+  m.fold.assign(m.points.size(), 0);
+  corner_normals_from_nodes(m);
+  compute_frames(m);
+  // a closed patch (360 degree cylinder, full annulus) merges its seam here
+  return assemble({m});
+}
+
+ShellMesh rectangular_plate(const RectangularPlate& s, int n_a, int n_b, const std::string& name) {
+  const std::string who = "rectangular plate '" + name + "'";
+  require_positive(who, "length a", s.a);
+  require_positive(who, "width b", s.b);
+  const Vec3 ea = unit(who, "e_a", s.e_a), eb = unit(who, "e_b", s.e_b);
+  if (std::abs(ea.dot(eb)) > 1e-9) fail(who + ": e_a and e_b must be orthogonal");
+  const Vec3 n = ea.cross(eb);
+  const Vec3 o = s.origin;
+  const double a = s.a, b = s.b;
+  return parametric_patch(name, "plate " + fmt(a) + " x " + fmt(b), n_a, n_b, [=](double u, double v) {
+    return SurfacePoint{o + (u * a) * ea + (v * b) * eb, n};
+  });
+}
+
+ShellMesh rectangular_plate(double a, double b, int n_a, int n_b, const std::string& name) {
+  RectangularPlate s;
+  s.a = a;
+  s.b = b;
+  return rectangular_plate(s, n_a, n_b, name);
+}
+
+ShellMesh cylindrical_patch(const CylinderPatch& s, int n_phi, int n_axial, const std::string& name) {
+  const std::string who = "cylindrical patch '" + name + "'";
+  require_positive(who, "radius", s.radius);
+  require_angle_span(who, "phi", s.phi0, s.phi1);
+  require_range(who, "axial", s.s0, s.s1);
+  const Vec3 ax = unit(who, "axis", s.axis);
+  const Vec3 r0 = orthogonal_unit(who, ax, s.radial0);
+  const Vec3 et = ax.cross(r0);
+  const double R = s.radius, p0 = s.phi0, dp = s.phi1 - s.phi0, z0 = s.s0, dz = s.s1 - s.s0;
+  const double sign = s.outward ? 1.0 : -1.0;
+  const Vec3 o = s.origin;
+  const std::string d = "cylinder R=" + fmt(R) + ", phi in [" + fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad, axial in [" +
+                        fmt(s.s0) + ", " + fmt(s.s1) + "]";
+  return parametric_patch(name, d, n_phi, n_axial, [=](double u, double v) {
+    const double phi = p0 + u * dp;
+    const Vec3 radial = std::cos(phi) * r0 + std::sin(phi) * et;
+    return SurfacePoint{o + (z0 + v * dz) * ax + R * radial, sign * radial};
+  });
+}
+
+ShellMesh spherical_patch(const SpherePatch& s, int n_theta, int n_phi, const std::string& name) {
+  const std::string who = "spherical patch '" + name + "'";
+  require_positive(who, "radius", s.radius);
+  require_range(who, "theta", s.theta0, s.theta1);
+  require_angle_span(who, "phi", s.phi0, s.phi1);
+  const double tmin = std::min(s.theta0, s.theta1), tmax = std::max(s.theta0, s.theta1);
+  if (tmin <= 1e-9 || tmax >= std::numbers::pi - 1e-9)
+    fail(who + ": theta range [" + fmt(s.theta0) + ", " + fmt(s.theta1) +
+         "] touches a pole, where quads collapse to triangles; leave a polar hole (0 < theta < pi)");
+  const Vec3 pole = unit(who, "pole", s.pole);
+  const Vec3 r0 = orthogonal_unit(who, pole, s.radial0);
+  const Vec3 et = pole.cross(r0);
+  const double R = s.radius, t0 = s.theta0, dt = s.theta1 - s.theta0, p0 = s.phi0, dp = s.phi1 - s.phi0;
+  const double sign = s.outward ? 1.0 : -1.0;
+  const Vec3 c = s.center;
+  const std::string d = "sphere R=" + fmt(R) + ", theta in [" + fmt(s.theta0) + ", " + fmt(s.theta1) +
+                        "] rad, phi in [" + fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad";
+  return parametric_patch(name, d, n_theta, n_phi, [=](double u, double v) {
+    const double th = t0 + u * dt, ph = p0 + v * dp;
+    const Vec3 radial = std::sin(th) * (std::cos(ph) * r0 + std::sin(ph) * et) + std::cos(th) * pole;
+    return SurfacePoint{c + R * radial, sign * radial};
+  });
+}
+
+ShellMesh annular_sector(const AnnularSector& s, int n_r, int n_phi, const std::string& name) {
+  const std::string who = "annular sector '" + name + "'";
+  require_positive(who, "inner radius", s.r_inner);
+  require_positive(who, "outer radius", s.r_outer);
+  require_range(who, "radius", s.r_inner, s.r_outer);
+  require_angle_span(who, "phi", s.phi0, s.phi1);
+  const Vec3 ax = unit(who, "axis", s.axis);
+  const Vec3 r0 = orthogonal_unit(who, ax, s.radial0);
+  const Vec3 et = ax.cross(r0);
+  const double ra = s.r_inner, dr = s.r_outer - s.r_inner, p0 = s.phi0, dp = s.phi1 - s.phi0;
+  const Vec3 c = s.center;
+  const std::string d = "annular sector r in [" + fmt(s.r_inner) + ", " + fmt(s.r_outer) + "], phi in [" +
+                        fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad";
+  return parametric_patch(name, d, n_r, n_phi, [=](double u, double v) {
+    const double r = ra + u * dr, ph = p0 + v * dp;
+    return SurfacePoint{c + r * (std::cos(ph) * r0 + std::sin(ph) * et), ax};
+  });
+}
+
+ShellMesh assemble(const std::vector<ShellMesh>& parts, const AssemblyOptions& options) {
+  // tolerance relative to the finest part
+  double h = std::numeric_limits<double>::infinity();
+  for (const auto& p : parts)
+    if (!p.quads.empty()) h = std::min(h, min_edge_length(p));
+  const double tol = std::isfinite(h) ? options.merge_tolerance * h : 0.0;
+  const double cell = tol > 0 ? tol : 1.0;
+
+  ShellMesh out;
+  std::vector<int> offsets;
+  std::vector<Vec3> all_points, all_normals;
+  std::vector<std::uint8_t> all_fold;
+  for (const auto& p : parts) {
+    offsets.push_back(static_cast<int>(all_points.size()));
+    for (int i = 0; i < p.node_count(); ++i) {
+      all_points.push_back(p.points[i]);
+      all_normals.push_back(p.normals.at(i));
+      all_fold.push_back(i < static_cast<int>(p.fold.size()) ? p.fold[i] : 0);
+    }
+  }
+
+  // first occurrence wins: new id in order of first appearance
+  std::unordered_map<CellKey, std::vector<int>, CellHash> grid;
+  std::vector<int> new_id(all_points.size(), -1);
+  for (std::size_t i = 0; i < all_points.size(); ++i) {
+    const Vec3& x = all_points[i];
+    const CellKey c{cell_of(x.x(), cell), cell_of(x.y(), cell), cell_of(x.z(), cell)};
+    int found = -1;
+    for (int di = -1; di <= 1 && found < 0; ++di)
+      for (int dj = -1; dj <= 1 && found < 0; ++dj)
+        for (int dk = -1; dk <= 1 && found < 0; ++dk) {
+          auto it = grid.find({c.i + di, c.j + dj, c.k + dk});
+          if (it == grid.end()) continue;
+          for (int r : it->second)
+            if ((out.points[r] - x).norm() <= tol) {
+              found = r;
+              break;
+            }
+        }
+    if (found >= 0) {
+      new_id[i] = found;
+      if (all_fold[i] || angle_between(out.normals[found], all_normals[i]) > options.fold_angle) out.fold[found] = 1;
+    } else {
+      new_id[i] = out.node_count();
+      out.points.push_back(x);
+      out.normals.push_back(all_normals[i]);
+      out.fold.push_back(all_fold[i]);
+      grid[c].push_back(new_id[i]);
+    }
+  }
+
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const ShellMesh& p = parts[k];
+    const int off = offsets[k];
+    const int patch_off = static_cast<int>(out.patches.size());
+    const int quad_off = out.quad_count();
+    for (int q = 0; q < p.quad_count(); ++q) {
+      std::array<int, 4> c{};
+      std::array<Vec3, 4> d;
+      for (int l = 0; l < 4; ++l) {
+        c[l] = new_id[off + p.quads[q][l]];
+        d[l] = q < static_cast<int>(p.corner_normals.size()) ? p.corner_normals[q][l] : p.normals[p.quads[q][l]];
+      }
+      out.quads.push_back(c);
+      out.corner_normals.push_back(d);
+      out.quad_patch.push_back(patch_off + (q < static_cast<int>(p.quad_patch.size()) ? p.quad_patch[q] : 0));
+    }
+    std::vector<Patch> patches = p.patches;
+    if (patches.empty()) {
+      Patch whole;
+      whole.name = "part" + std::to_string(k);
+      whole.quad_count = p.quad_count();
+      patches.push_back(whole);
+    }
+    for (Patch pp : patches) {
+      for (int& g : pp.grid) g = new_id[off + g];
+      pp.first_quad += quad_off;
+      // unique names: "name", "name_2", "name_3", ...
+      std::string base = pp.name, name = base;
+      for (int n = 2; std::find(names.begin(), names.end(), name) != names.end(); ++n) name = base + "_" + std::to_string(n);
+      pp.name = name;
+      names.push_back(name);
+      out.patches.push_back(std::move(pp));
+    }
+  }
+  compute_frames(out, options.frame_reference);
+  return out;
+}
+
+// ---- benchmarks -----------------------------------------------------------------------------
+
+ShellMesh cantilever_strip(int n_length, int n_width) {
+  return rectangular_plate(bench::kStripLength, bench::kStripWidth, n_length, n_width, "strip");
+}
+
+ShellMesh hemisphere_quarter(int n_theta, int n_phi) {
+  SpherePatch s;
+  s.radius = bench::kHemisphereRadius;
+  s.theta0 = bench::kHemisphereHole;
+  s.theta1 = std::numbers::pi / 2;
+  s.phi0 = 0;
+  s.phi1 = std::numbers::pi / 2;
+  return spherical_patch(s, n_theta, n_phi, "hemisphere");
+}
+
+ShellMesh open_cylinder_octant(int n_phi, int n_axial) {
+  CylinderPatch s;
+  s.radius = bench::kCylinderRadius;
+  s.axis = Vec3::UnitZ();
+  s.radial0 = Vec3::UnitX();
+  s.phi0 = 0;
+  s.phi1 = std::numbers::pi / 2;
+  s.s0 = 0;
+  s.s1 = bench::kCylinderLength / 2;
+  return cylindrical_patch(s, n_phi, n_axial, "cylinder");
+}
+
+ShellMesh hinged_roof_quarter(int n_arc, int n_axial) {
+  CylinderPatch s;
+  s.radius = bench::kRoofRadius;
+  s.origin = Vec3(0, 0, -bench::kRoofRadius);
+  s.axis = Vec3::UnitX();
+  s.radial0 = Vec3::UnitZ();
+  // axis x r0 = -y, so phi in [-theta, 0] runs from y = R sin(theta) to the crown y = 0
+  s.phi0 = -bench::kRoofHalfAngle;
+  s.phi1 = 0;
+  s.s0 = 0;
+  s.s1 = bench::kRoofHalfLength;
+  return cylindrical_patch(s, n_arc, n_axial, "roof");
+}
+
+ShellMesh l_plate_simo_fox_rifai(int n_arm, int n_width) {
+  const double L = bench::kLPlateLeg, w = bench::kLPlateWidth;
+  RectangularPlate arm1;
+  arm1.a = L - w;
+  arm1.b = w;
+  RectangularPlate corner;
+  corner.a = w;
+  corner.b = w;
+  corner.origin = Vec3(L - w, 0, 0);
+  RectangularPlate arm2;  // along +y; e_a x e_b = y x (-x) = +z keeps the normal
+  arm2.a = L - w;
+  arm2.b = w;
+  arm2.origin = Vec3(L, w, 0);
+  arm2.e_a = Vec3::UnitY();
+  arm2.e_b = -Vec3::UnitX();
+  return assemble({rectangular_plate(arm1, n_arm, n_width, "arm1"), rectangular_plate(corner, n_width, n_width, "corner"),
+                   rectangular_plate(arm2, n_arm, n_width, "arm2")});
+}
+
+ShellMesh right_angle_folded_plate(double a, double b, double width, int n_a, int n_b, int n_width) {
+  RectangularPlate leg1;
+  leg1.a = a;
+  leg1.b = width;
+  RectangularPlate leg2;  // e_a x e_b = z x y = -x: the director turns continuously over the fold
+  leg2.a = b;
+  leg2.b = width;
+  leg2.origin = Vec3(a, 0, 0);
+  leg2.e_a = Vec3::UnitZ();
+  leg2.e_b = Vec3::UnitY();
+  return assemble({rectangular_plate(leg1, n_a, n_width, "leg1"), rectangular_plate(leg2, n_b, n_width, "leg2")});
+}
+
+}  // namespace ff::mesh

@@ -1,0 +1,135 @@
+#pragma once
+/// \file shell_mesh.h
+/// The reference (undeformed) mid-surface mesh of a shell: nodes, 4-node quads, directors and
+/// initial nodal frames. Plain value type; everything is in the world frame W and in the
+/// length unit of the scene. Generators (generators.h) and the assimp importer
+/// (app/io/mesh_import.h) produce it; the shell element and the Model consume it.
+///
+/// Conventions (see also core/mesh/README.md):
+/// - quads[q] = {a, b, c, d} runs counter-clockwise about the director: the geometric normal
+///   (x_c - x_a) x (x_d - x_b) points to the same side as the corner directors.
+/// - normals[I] is the unit director of node I. Analytic generators store the exact surface
+///   normal; imported meshes store the area-weighted average of the adjacent quad normals.
+/// - corner_normals[q][k] is the director that quad q uses at its corner k. It equals
+///   normals[quads[q][k]] everywhere except at fold nodes.
+/// - Fold nodes (fold[I] != 0) sit on an edge where patches meet at a kink (e.g. a 90 deg fold).
+///   There the director is not unique: normals[I] is the normal of the first patch that
+///   contributed the node, and each quad keeps its own director in corner_normals. The element
+///   code must give fold nodes 6 DoF (drilling included) and rotate every corner director with
+///   the node rotation: d_qk = R_I * R0_I^T * corner_normals[q][k].
+/// - frames[I] = R0_I = [e1 e2 e3] maps node-frame components to W; e3 = normals[I],
+///   e1 = the frame reference direction projected onto the tangent plane (falls back to the
+///   global axis least aligned with the normal when the reference is nearly parallel to it),
+///   e2 = e3 x e1.
+
+#include <Eigen/Dense>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ff::mesh {
+
+/// A structured (parametric) piece of the mesh: a (nu+1) x (nv+1) node grid.
+struct Patch {
+  std::string name;         ///< e.g. "plate", "leg1"; unique within a mesh
+  std::string description;  ///< geometry in words, e.g. "cylinder R=4.953 ..."
+  int nu = 0;               ///< elements along the first parameter u (0: not structured)
+  int nv = 0;               ///< elements along the second parameter v
+  std::vector<int> grid;    ///< node ids, grid[j*(nu+1)+i] at (u_i, v_j); empty if unstructured
+  int first_quad = 0;       ///< quads [first_quad, first_quad+quad_count) belong to this patch
+  int quad_count = 0;
+
+  bool structured() const { return nu > 0 && nv > 0 && !grid.empty(); }
+  int node(int i, int j) const { return grid[static_cast<std::size_t>(j) * (nu + 1) + i]; }
+};
+
+struct ShellMesh {
+  std::vector<Eigen::Vector3d> points;                        ///< p_WI, reference positions
+  std::vector<std::array<int, 4>> quads;                      ///< CCW about the director
+  std::vector<Eigen::Vector3d> normals;                       ///< unit director per node
+  std::vector<std::array<Eigen::Vector3d, 4>> corner_normals; ///< director per quad corner
+  std::vector<Eigen::Matrix3d> frames;                        ///< R0_I = [e1 e2 e3] per node
+  std::vector<std::uint8_t> fold;                             ///< 1 at fold nodes (6 DoF)
+  std::vector<int> quad_patch;                                ///< patch index per quad
+  std::vector<Patch> patches;
+  Eigen::Vector3d frame_reference = Eigen::Vector3d::UnitX();  ///< reference for e1
+
+  int node_count() const { return static_cast<int>(points.size()); }
+  int quad_count() const { return static_cast<int>(quads.size()); }
+  int fold_count() const;
+  /// Index of the patch called `name`, or -1.
+  int find_patch(const std::string& name) const;
+};
+
+// ---- geometry of one quad (bilinear interpolation of its four corners) ----
+
+/// Area of the bilinear surface of quad q (2x2 Gauss integration of |x_xi x x_eta|).
+double quad_area(const ShellMesh& mesh, int q);
+/// Unit geometric normal of quad q at its centre, (x_c - x_a) x (x_d - x_b) normalized.
+Eigen::Vector3d quad_normal(const ShellMesh& mesh, int q);
+/// Sum of quad_area over all quads.
+double total_area(const ShellMesh& mesh);
+/// Shortest quad edge length (0 for a mesh without quads).
+double min_edge_length(const ShellMesh& mesh);
+/// Longest quad edge length.
+double max_edge_length(const ShellMesh& mesh);
+
+// ---- derived data ----
+
+/// normals[I] = normalized sum over adjacent quads of the quad's vector area; corner_normals
+/// are set to the node normals and fold flags cleared. For imported (faceted) meshes.
+void compute_area_weighted_normals(ShellMesh& mesh);
+/// Fills corner_normals from the node normals (no folds).
+void corner_normals_from_nodes(ShellMesh& mesh);
+/// One initial frame for a unit normal n: e3 = n, e1 = reference projected onto the tangent
+/// plane (or the fallback axis when |reference x n| < 1e-3 |reference|), e2 = e3 x e1.
+Eigen::Matrix3d frame_from_normal(const Eigen::Vector3d& n, const Eigen::Vector3d& reference);
+/// frames[I] = frame_from_normal(normals[I], reference); stores reference in frame_reference.
+void compute_frames(ShellMesh& mesh, const Eigen::Vector3d& reference = Eigen::Vector3d::UnitX());
+/// Resizes fold / quad_patch and adds a single unstructured patch if there is none, so a mesh
+/// built from points + quads + normals satisfies the layout validate() expects.
+void complete_layout(ShellMesh& mesh, const std::string& patch_name = "surface");
+
+/// Flips quads so that every interior edge is traversed in opposite directions by its two
+/// quads (breadth-first from quad 0 of every connected piece). Returns false and explains in
+/// *why when the surface is not orientable or has non-manifold edges. Does not touch normals.
+bool orient_consistently(ShellMesh& mesh, std::string* why = nullptr);
+
+// ---- validation ----
+
+enum class IssueKind {
+  layout,                    ///< array sizes disagree, index out of range, repeated corner
+  non_finite,                ///< NaN/inf coordinate or normal
+  bad_normal,                ///< normal not of unit length
+  degenerate_quad,           ///< (near) zero area or (near) zero-length edge
+  inverted_quad,             ///< a corner turns clockwise about the corner director
+  normal_mismatch,           ///< quad geometric normal opposes a corner director
+  unused_node,               ///< node referenced by no quad
+  duplicate_quad,            ///< two quads on the same four nodes
+  inconsistent_orientation,  ///< an interior edge traversed in the same direction twice
+  non_manifold_edge,         ///< an edge shared by more than two quads
+  bad_frame,                 ///< frame not orthonormal / e3 != normal
+};
+
+const char* to_string(IssueKind kind);
+
+struct MeshIssue {
+  IssueKind kind;
+  std::string message;  ///< complete sentence naming the quad/node/edge
+  int quad = -1;
+  int node = -1;
+};
+
+struct MeshCheck {
+  std::vector<MeshIssue> issues;
+  bool ok() const { return issues.empty(); }
+  int count(IssueKind kind) const;
+  /// Up to max_lines messages, one per line, then "... and N more".
+  std::string summary(int max_lines = 10) const;
+};
+
+/// Checks the invariants documented above. Relative tolerances are scaled by the longest edge.
+MeshCheck validate(const ShellMesh& mesh);
+
+}  // namespace ff::mesh
