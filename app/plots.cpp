@@ -26,17 +26,31 @@ std::vector<std::string> write_overlay_plots(const std::vector<LabelledRun>& run
   std::unique_ptr<render::GraphicsContext> gc = render::GraphicsContext::create(error);
   if (!gc) return written;
   const RunInfo& first = runs.front().info;
+  auto probe_index = [](const RunInfo& info, const std::string& name) {
+    for (std::size_t k = 0; k < info.probes.size(); ++k)
+      if (info.probes[k].name == name) return static_cast<int>(k);
+    return -1;
+  };
+  // statics plot against a load probe, dynamics against time
+  const int xi = first.plot_x_probe.empty() ? -1 : probe_index(first, first.plot_x_probe);
   for (std::size_t p = 0; p < first.probes.size(); ++p) {
     const Quantity& q = first.probes[p];
+    if (static_cast<int>(p) == xi || q.name == "lambda") continue;
     render::PlotSpec spec;
     spec.title = q.label + (runs.size() == 1 ? " — " + first.scene_name : "");
-    spec.x_label = "time [" + first.time_unit + "]";
+    spec.x_label = xi >= 0 ? render::axis_title(first.probes[xi])
+                           : "time" + (first.time_unit.empty() ? std::string() : " [" + first.time_unit + "]");
     spec.y_label = render::axis_title(q);
     for (const LabelledRun& r : runs) {
       // match probes by name: runs of different models may order them differently
-      for (std::size_t k = 0; k < r.info.probes.size(); ++k)
-        if (r.info.probes[k].name == q.name && k < r.history.probes.size())
-          spec.series.push_back({r.label, r.history.time, r.history.probes[k], false});
+      const int k = probe_index(r.info, q.name);
+      const int kx = r.info.plot_x_probe.empty() ? -1 : probe_index(r.info, r.info.plot_x_probe);
+      if (k < 0 || k >= static_cast<int>(r.history.probes.size())) continue;
+      const std::vector<double>& x = kx >= 0 ? r.history.probes[kx] : r.history.time;
+      spec.series.push_back({r.label, x, r.history.probes[k], false});
+      for (const ReferenceSeries& ref : r.info.references)
+        if (ref.y_probe == q.name && (xi < 0 || ref.x_probe == first.probes[xi].name))
+          spec.series.push_back({ref.label, ref.x, ref.y, true});
     }
     if (spec.series.empty()) continue;
     const std::string file = q.name + ".png";

@@ -36,6 +36,14 @@ struct StepStats {
   bool converged = true;
 };
 
+/// Reference data a plot overlays as markers: y(x) where x and y name probes of this run
+/// (e.g. x = "load", y = "disp_outward"), with where the numbers come from.
+struct ReferenceSeries {
+  std::string x_probe, y_probe;
+  std::string label;                ///< legend, e.g. "Sze et al. 2004 (ABAQUS S4R)"
+  std::vector<double> x, y;
+};
+
 /// Constant description of a run, published once before the first frame.
 struct RunInfo {
   std::string scene_name;                 ///< e.g. "hub_beam_efg_tau1"
@@ -47,6 +55,8 @@ struct RunInfo {
   FrameMesh mesh;
   std::vector<Quantity> probes;           ///< scalar probes, in the order of Frame::probes
   std::vector<Quantity> fields;           ///< per-point fields, in the order of Frame::fields
+  std::string plot_x_probe;               ///< probe on the plots' x axis; "" = time
+  std::vector<ReferenceSeries> references;  ///< reference curves overlaid on the plots
 };
 
 /// One published state of the model.

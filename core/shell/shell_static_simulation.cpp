@@ -1,0 +1,142 @@
+#include "core/shell/shell_static_simulation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace ff::shell {
+
+ShellStaticSimulation::ShellStaticSimulation(ShellModelSpec spec, ShellStaticSettings settings, RunInfo info)
+    : s_(std::move(settings)), info_(std::move(info)) {
+  model_ = std::make_unique<ShellModel>(std::move(spec));
+  const mesh::ShellMesh& m = model_->spec().mesh;
+  info_.time_unit = "";
+  info_.mesh.reference_points.clear();
+  for (const Vec3& p : m.points) info_.mesh.reference_points.insert(info_.mesh.reference_points.end(), {p.x(), p.y(), p.z()});
+  for (const auto& q : m.quads) info_.mesh.quads.insert(info_.mesh.quads.end(), q.begin(), q.end());
+  info_.probes = {{"lambda", "", "load factor"}, {"load", s_.load_unit, s_.load_label}};
+  for (const ShellProbe& p : s_.probes) info_.probes.push_back({p.name, "", p.label});
+  info_.fields = {{"displacement", "", "displacement magnitude"}};
+  info_.plot_x_probe = "load";
+  values_.resize(s_.probes.size());
+}
+
+double ShellStaticSimulation::end_time() const {
+  return s_.arc_length ? s_.arc.lambda_max : s_.load_control.lambda_end;
+}
+
+Frame ShellStaticSimulation::make_frame(int step, double lambda) const {
+  Frame f;
+  f.step = step;
+  f.time = lambda;
+  f.load_factor = lambda;
+  const auto& poses = model_->poses();
+  const auto& ref = model_->spec().mesh.points;
+  f.points.reserve(3 * poses.size());
+  f.fields.assign(1, std::vector<double>(poses.size()));
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    f.points.insert(f.points.end(), {poses[i].x.x(), poses[i].x.y(), poses[i].x.z()});
+    f.base_points.insert(f.base_points.end(), {ref[i].x(), ref[i].y(), ref[i].z()});
+    f.fields[0][i] = (poses[i].x - ref[i]).norm();
+  }
+  f.probes = {lambda, lambda * s_.load_scale};
+  for (const ShellProbe& p : s_.probes) f.probes.push_back(p.direction.dot(model_->node_displacement(p.node)));
+  return f;
+}
+
+RunOutcome ShellStaticSimulation::run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  auto record = [&](Frame&& f) {
+    loads_.push_back(f.probes[1]);
+    for (std::size_t k = 0; k < s_.probes.size(); ++k) values_[k].push_back(f.probes[2 + k]);
+    publish(std::move(f));
+  };
+  record(make_frame(0, 0.0));
+  StaticStepCallback on_step = [&](const StaticStepInfo& st) {
+    Frame f = make_frame(st.step, st.lambda);
+    f.stats.dt = st.dlambda;
+    f.stats.iterations = st.iterations;
+    f.stats.jacobian_updates = st.factorizations;
+    f.stats.residual_norm = st.residual_norm;
+    f.stats.increment_norm = st.increment_norm;
+    f.stats.converged = true;
+    ++totals_.steps;
+    record(std::move(f));
+  };
+  StaticResult r;
+  if (s_.arc_length) {
+    ArcLengthSettings a = s_.arc;
+    a.on_step = on_step;
+    a.stop = &stop;
+    r = solve_arc_length(*model_, a);
+  } else {
+    LoadControlSettings l = s_.load_control;
+    l.on_step = on_step;
+    l.stop = &stop;
+    r = solve_load_control(*model_, l);
+  }
+  totals_.newton_iterations = r.iterations;
+  totals_.jacobian_updates = r.factorizations;
+  RunOutcome out;
+  out.status = r.status == StaticStatus::completed     ? RunStatus::completed
+               : r.status == StaticStatus::interrupted ? RunStatus::interrupted
+                                                       : RunStatus::diverged;
+  out.reason = r.status == StaticStatus::completed ? std::string() : r.reason;
+  out.stop_time = r.lambda;
+  out.steps = r.steps;
+  out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return out;
+}
+
+Metrics ShellStaticSimulation::metrics() const {
+  Metrics m;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // first local maximum of the load along the path
+  int limit = -1;
+  for (std::size_t i = 1; i + 1 < loads_.size(); ++i)
+    if (loads_[i] > loads_[i - 1] && loads_[i] >= loads_[i + 1]) {
+      limit = static_cast<int>(i);
+      break;
+    }
+  auto probe_index = [&](const std::string& name) {
+    for (std::size_t k = 0; k < s_.probes.size(); ++k)
+      if (s_.probes[k].name == name) return static_cast<int>(k);
+    return -1;
+  };
+  for (const ShellMetric& mt : s_.metrics) {
+    const int k = probe_index(mt.probe);
+    double v = nan;
+    switch (mt.kind) {
+      case ShellMetric::Kind::at_load:
+        // first crossing of the requested load along the path, linear in between
+        for (std::size_t i = 1; k >= 0 && i < loads_.size(); ++i)
+          if ((loads_[i - 1] - mt.load) * (loads_[i] - mt.load) <= 0 && loads_[i] != loads_[i - 1]) {
+            const double t = (mt.load - loads_[i - 1]) / (loads_[i] - loads_[i - 1]);
+            v = values_[k][i - 1] + t * (values_[k][i] - values_[k][i - 1]);
+            break;
+          }
+        break;
+      case ShellMetric::Kind::final_value:
+        if (k >= 0 && !values_[k].empty()) v = values_[k].back();
+        break;
+      case ShellMetric::Kind::first_limit_load:
+        if (limit >= 0) v = loads_[limit];
+        break;
+      case ShellMetric::Kind::at_first_limit:
+        if (limit >= 0 && k >= 0) v = values_[k][limit];
+        break;
+      case ShellMetric::Kind::min_load_after_limit:
+        if (limit >= 0) v = *std::min_element(loads_.begin() + limit, loads_.end());
+        break;
+      case ShellMetric::Kind::max_abs:
+        if (k >= 0)
+          for (double x : values_[k]) v = std::isnan(v) ? std::abs(x) : std::max(v, std::abs(x));
+        break;
+    }
+    if (std::isfinite(v)) m.emplace_back(mt.name, v);
+  }
+  return m;
+}
+
+}  // namespace ff::shell

@@ -1,0 +1,64 @@
+#pragma once
+/// \file shell_static_simulation.h
+/// Nonlinear statics of a shell model: load control (Newton with cut-backs) or arc-length path
+/// following, one Frame per converged step (Frame::time and load_factor = lambda), probes of
+/// node displacements against the load, and the metrics a scene asks for.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/model/simulation.h"
+#include "core/shell/shell_model.h"
+#include "core/solve/static_arclength.h"
+#include "core/solve/static_newton.h"
+
+namespace ff::shell {
+
+/// A scalar displacement probe: direction . u(node) (global direction, unit or not).
+struct ShellProbe {
+  std::string name, label;
+  int node = -1;
+  Vec3 direction = Vec3::UnitZ();
+};
+
+/// A metric of the load path (summary.json "metrics").
+struct ShellMetric {
+  enum class Kind { at_load, final_value, first_limit_load, at_first_limit, min_load_after_limit, max_abs };
+  std::string name;
+  Kind kind = Kind::final_value;
+  std::string probe;       ///< probe name (unused for the load-only kinds)
+  double load = 0.0;       ///< at_load: the load where the probe is read (interpolated along the path)
+};
+
+struct ShellStaticSettings {
+  bool arc_length = false;
+  LoadControlSettings load_control;
+  ArcLengthSettings arc;
+  double load_scale = 1.0;        ///< load = lambda * load_scale (the scene's reference load)
+  std::string load_label = "load", load_unit;
+  std::vector<ShellProbe> probes;
+  std::vector<ShellMetric> metrics;
+};
+
+class ShellStaticSimulation final : public Simulation {
+ public:
+  ShellStaticSimulation(ShellModelSpec spec, ShellStaticSettings settings, RunInfo info);
+  const RunInfo& info() const override { return info_; }
+  RunOutcome run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) override;
+  Metrics metrics() const override;
+  SolverTotals totals() const override { return totals_; }
+  double end_time() const override;  ///< lambda at the end
+  const ShellModel& model() const { return *model_; }
+
+ private:
+  Frame make_frame(int step, double lambda) const;
+  std::unique_ptr<ShellModel> model_;
+  ShellStaticSettings s_;
+  RunInfo info_;
+  SolverTotals totals_;
+  std::vector<double> loads_;                 // load per published frame
+  std::vector<std::vector<double>> values_;   // [probe][frame]
+};
+
+}  // namespace ff::shell
