@@ -96,7 +96,26 @@ void Schema::check_new_path(const std::string& path, const std::string& doc) con
 
 Schema& Schema::table(std::string path, std::string doc, bool required) {
   check_new_path(path, doc);
+  if (find_array(parent_of(path)))
+    bad_declaration(path, "tables inside an array of tables [[" + parent_of(path) +
+                              "]] are not supported (elements hold plain keys only)");
   tables_.push_back(TableSpec{std::move(path), std::move(doc), required});
+  return *this;
+}
+
+Schema& Schema::table_array(std::string path, std::string doc, std::size_t min_count,
+                            std::size_t max_count) {
+  check_new_path(path, doc);
+  if (find_array(parent_of(path)))
+    bad_declaration(path, "arrays of tables inside an array of tables [[" + parent_of(path) +
+                              "]] are not supported (elements hold plain keys only)");
+  if (max_count == 0) bad_declaration(path, "max_count 0 allows no element at all");
+  if (min_count > max_count) bad_declaration(path, "min_count > max_count");
+  TableSpec t{std::move(path), std::move(doc), min_count > 0};
+  t.array = true;
+  t.min_count = min_count;
+  t.max_count = max_count;
+  tables_.push_back(std::move(t));
   return *this;
 }
 
@@ -236,6 +255,16 @@ const Schema::KeySpec* Schema::find_key(std::string_view path) const {
   return nullptr;
 }
 
+const Schema::TableSpec* Schema::find_array(std::string_view path) const {
+  const TableSpec* t = find_table(path);
+  return t && t->array ? t : nullptr;
+}
+
+std::string Schema::array_of(std::string_view key_path) const {
+  const std::string parent = parent_of(key_path);
+  return find_array(parent) ? parent : std::string();
+}
+
 std::vector<std::string> Schema::children(std::string_view table_path) const {
   std::vector<std::string> out;
   for (const auto& t : tables_)
@@ -306,6 +335,13 @@ std::string allowed_text(const Schema::KeySpec& k) {
   return "";
 }
 
+/// "0 or more", "exactly 2", "1 to 3".
+std::string count_text(const Schema::TableSpec& t) {
+  if (t.min_count == t.max_count) return "exactly " + std::to_string(t.min_count);
+  if (t.max_count == SIZE_MAX) return std::to_string(t.min_count) + " or more";
+  return std::to_string(t.min_count) + " to " + std::to_string(t.max_count);
+}
+
 }  // namespace
 
 std::string Schema::markdown_reference() const {
@@ -316,9 +352,14 @@ std::string Schema::markdown_reference() const {
       if (parent_of(k.path) == t.path) keys.push_back(&k);
     if (t.path.empty() && keys.empty()) continue;
 
-    out += t.path.empty() ? "### Top level\n\n" : "### `[" + t.path + "]`\n\n";
-    if (!t.path.empty())
-      out += cell(t.doc) + (t.required ? " (required table)" : " (optional table)") + "\n\n";
+    if (t.array) {
+      out += "### [[" + t.path + "]] (array of tables, " + count_text(t) + ")\n\n";
+      out += cell(t.doc) + " (write one `[[" + t.path + "]]` table per element)\n\n";
+    } else {
+      out += t.path.empty() ? "### Top level\n\n" : "### `[" + t.path + "]`\n\n";
+      if (!t.path.empty())
+        out += cell(t.doc) + (t.required ? " (required table)" : " (optional table)") + "\n\n";
+    }
     if (keys.empty()) {
       out += "No keys of its own.\n\n";
       continue;

@@ -17,6 +17,16 @@
 /// A key without a default is required whenever its table is present in the input; a required
 /// table is required whenever its parent is present (the root always is).
 ///
+/// Arrays of tables: table_array("bc", ...) declares that `[[bc]]` may appear any number of times
+/// (within min_count..max_count, checked whenever the parent table is present), written either as
+/// `[[bc]]` headers or as an inline array of inline tables `bc = [{ type = "fix" }, ...]`.
+/// Keys of an element are declared with the array's path as prefix ("bc.type"); defaults and
+/// required keys apply to each element. Issues name the element: key 'bc[2].type'. Elements hold
+/// plain keys only: tables nested in an element are neither declarable nor accepted. Read the
+/// values with the indexed accessors (`doc.count("bc")`, `doc.string("bc.type", i)`); the
+/// non-indexed accessors refuse keys of arrays and vice versa. `--set bc[1].type=fix` changes a key
+/// of an element the file already has.
+///
 /// Example:
 /// \code
 ///   Schema s;
@@ -110,7 +120,10 @@ class Schema {
   struct TableSpec {
     std::string path;
     std::string doc;
-    bool required = false;
+    bool required = false;                ///< plain tables; arrays use min_count instead
+    bool array = false;                   ///< an array of tables [[path]] (see table_array)
+    std::size_t min_count = 0;            ///< arrays: allowed number of elements
+    std::size_t max_count = SIZE_MAX;
   };
   struct KeySpec {
     std::string path;
@@ -127,7 +140,13 @@ class Schema {
   };
 
   /// A table; `doc` is its one-line meaning. Its parent table must be declared first.
+  /// Tables cannot be declared inside an array of tables.
   Schema& table(std::string path, std::string doc, bool required = false);
+  /// An array of tables `[[path]]` with min_count <= number of elements <= max_count (checked when
+  /// its parent table is present; min_count >= 1 makes it required). Its parent must be a declared
+  /// plain table; declare its keys afterwards as "path.key".
+  Schema& table_array(std::string path, std::string doc, std::size_t min_count = 0,
+                      std::size_t max_count = SIZE_MAX);
   /// A floating-point number (integers in the input are accepted and converted). Non-finite
   /// values (inf, nan) are always refused.
   Schema& number(std::string path, std::string doc, std::optional<double> default_value,
@@ -152,14 +171,22 @@ class Schema {
 
   /// Markdown reference of every table and key, in declaration order, one section per table:
   /// | key | type | default | allowed | meaning |
+  /// Arrays of tables get a section "### [[bc]] (array of tables, 0 or more)" with their keys.
   std::string markdown_reference() const;
 
+  /// Plain tables and arrays of tables (TableSpec::array), in declaration order.
   const std::vector<TableSpec>& tables() const { return tables_; }
   const std::vector<KeySpec>& keys() const { return keys_; }
-  /// nullptr when `path` is not a declared table / key. The root "" is always a table.
+  /// nullptr when `path` is not a declared table (plain or array) / key. The root "" is always a
+  /// table.
   const TableSpec* find_table(std::string_view path) const;
   const KeySpec* find_key(std::string_view path) const;
-  /// Names (last path segment) of the tables and keys declared directly inside `table_path`.
+  /// nullptr unless `path` is a declared array of tables.
+  const TableSpec* find_array(std::string_view path) const;
+  /// The array of tables a key belongs to ("bc" for "bc.type"); "" for a key outside arrays.
+  std::string array_of(std::string_view key_path) const;
+  /// Names (last path segment) of the tables, arrays and keys declared directly inside
+  /// `table_path` (a table or an array).
   std::vector<std::string> children(std::string_view table_path) const;
 
  private:
@@ -173,6 +200,9 @@ class Schema {
 /// Validated values of one scene, defaults filled in. Independent of the Schema's lifetime.
 /// Every lookup of an undeclared path, of a key with the wrong accessor (number() on an
 /// integer key), or of a required key whose table is absent throws std::logic_error.
+/// Keys of an array of tables are read only with the indexed overloads, `index` counting the
+/// elements from 0 in file order; a non-indexed lookup of such a key, an indexed lookup of a key
+/// outside arrays, or an index >= count() throws std::logic_error.
 class Document {
  public:
   double number(const std::string& path) const;
@@ -196,8 +226,31 @@ class Document {
   /// The value as TOML text ("0.01", "\"efg\"", "[1.0, 2.0]"); "" when absent.
   /// Meant for logging the effective settings (RunInfo::settings).
   std::string value_text(const std::string& path) const;
-  /// Every declared key path, in declaration order.
+  /// Every declared key path outside arrays of tables, in declaration order.
   const std::vector<std::string>& key_paths() const { return order_; }
+
+  // ---- arrays of tables -----------------------------------------------------------------------
+
+  /// Number of elements of the array of tables `array_path` (0 when absent).
+  std::size_t count(const std::string& array_path) const;
+  double number(const std::string& path, std::size_t index) const;
+  long long integer(const std::string& path, std::size_t index) const;
+  bool boolean(const std::string& path, std::size_t index) const;
+  const std::string& string(const std::string& path, std::size_t index) const;
+  std::vector<double> numbers(const std::string& path, std::size_t index) const;
+  std::vector<std::string> strings(const std::string& path, std::size_t index) const;
+  /// The key was given in element `index` (file or --set), not just defaulted.
+  bool present(const std::string& path, std::size_t index) const;
+  /// "file:line:col", "--set bc[1].type=fix" or "default".
+  std::string where(const std::string& path, std::size_t index) const;
+  /// An Issue with key "bc[index].type", located at the key's value, its --set argument, or (for
+  /// a defaulted key) the element's header line.
+  Issue issue(const std::string& path, std::size_t index, std::string message) const;
+  std::string value_text(const std::string& path, std::size_t index) const;
+  /// Every declared array of tables, in declaration order.
+  const std::vector<std::string>& array_paths() const { return array_order_; }
+  /// The declared key paths of one array ("bc.type", ...), in declaration order.
+  std::vector<std::string> element_key_paths(const std::string& array_path) const;
 
   const std::string& text() const { return text_; }            ///< original file text
   const std::string& file_name() const { return file_name_; }  ///< as given to validate()
@@ -211,13 +264,29 @@ class Document {
     std::string where = "absent";
     std::string file;  ///< file name or "--set ..." when present
     int line = 0, column = 0;
+    std::string array;  ///< the array of tables holding this key; "" outside arrays
+  };
+  /// One element of an array of tables: where it starts and its keys' values.
+  struct Element {
+    std::string file;
+    int line = 0, column = 0;
+    std::map<std::string, Entry, std::less<>> entries;
+  };
+  struct Array {
+    std::vector<Element> elements;
+    std::vector<std::string> keys;  ///< declared key paths, in declaration order
   };
   const Entry& entry(const std::string& path, std::initializer_list<Kind> kinds,
                      const char* accessor) const;
+  const Element& element(const std::string& path, std::size_t index, const char* accessor) const;
+  const Entry& entry(const std::string& path, std::size_t index, std::initializer_list<Kind> kinds,
+                     const char* accessor) const;
 
-  std::map<std::string, Entry, std::less<>> entries_;
+  std::map<std::string, Entry, std::less<>> entries_;  ///< every key; element keys as templates
   std::map<std::string, bool, std::less<>> tables_;
+  std::map<std::string, Array, std::less<>> arrays_;
   std::vector<std::string> order_;
+  std::vector<std::string> array_order_;
   std::string text_;
   std::string file_name_;
 };
@@ -227,6 +296,8 @@ class Document {
 /// that is not valid TOML is taken as a string, so `model.kind=efg` works), validates
 /// everything against `schema`, and throws SceneError listing ALL issues if there is any.
 /// An override replaces the file's value; its issues name "--set key=value" as the file.
+/// `--set bc[1].type=fix` sets a key of element 1 of the array of tables [[bc]], which the file
+/// must already have; a whole array cannot be set.
 Document validate(const Schema& schema, std::string_view text, const std::string& file_name,
                   const std::vector<std::string>& overrides = {});
 

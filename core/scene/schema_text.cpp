@@ -117,6 +117,18 @@ std::string closest(std::string_view word, const std::vector<std::string>& candi
       best_d = d;
     }
   }
+  if (!best.empty()) return best;
+  // a word cut short is a plausible typo too ('clamp' for 'clamped'): at least 3 letters and
+  // at least half of the candidate; the shortest such candidate wins
+  if (word.size() < 3) return best;
+  auto lower = [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); };
+  for (const auto& c : candidates) {
+    if (c.size() <= word.size() || 2 * word.size() < c.size()) continue;
+    if (!std::equal(word.begin(), word.end(), c.begin(),
+                    [&](char x, char y) { return lower(x) == lower(y); }))
+      continue;
+    if (best.empty() || c.size() < best.size()) best = c;
+  }
   return best;
 }
 

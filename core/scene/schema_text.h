@@ -27,7 +27,9 @@ std::string toml_value(const Value& v);
 /// Optimal-string-alignment distance (insertions, deletions, substitutions, adjacent
 /// transpositions), case-insensitive.
 std::size_t edit_distance(std::string_view a, std::string_view b);
-/// The candidate closest to `word` if it is close enough to be a plausible typo, else "".
+/// The candidate closest to `word` if it is close enough to be a plausible typo; failing that,
+/// the shortest candidate that `word` begins (a word cut short: 'clamp' for 'clamped'; `word` at
+/// least 3 letters and at least half the candidate); else "".
 std::string closest(std::string_view word, const std::vector<std::string>& candidates);
 
 /// "a number", "an integer", "a boolean (true or false)", "a string", ...

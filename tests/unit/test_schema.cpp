@@ -524,5 +524,429 @@ TEST(Schema, MarkdownReferenceListsEveryTableAndKey) {
   EXPECT_LT(md.find("[model]"), md.find("[model.beam]"));
 }
 
+// ---- arrays of tables -----------------------------------------------------------------------
+
+Schema array_schema() {
+  Schema s;
+  s.table("solver", "time integration", true)
+      .number("solver.dt", "time step", std::nullopt, Range::positive(), "s")
+      .table_array("bc", "boundary conditions")
+      .choice("bc.type", "kind of support", {"clamped", "hinged", "symmetry", "fix"}, std::nullopt)
+      .string("bc.nodes", "node set", std::nullopt)
+      .number("bc.value", "prescribed value", 0.0, Range::non_negative())
+      .integer("bc.order", "derivative order", 1, IntRange::closed(1, 3))
+      .boolean("bc.active", "applied at all", true)
+      .number_list("bc.point", "reference point", std::vector<double>{0, 0, 0}, {}, 3, 3, "m")
+      .string_list("bc.dofs", "restrained dofs", std::vector<std::string>{"x", "y", "z"},
+                   {"x", "y", "z", "rx", "ry", "rz"})
+      .table_array("load", "applied loads", 1, 2)
+      .number("load.magnitude", "load magnitude", std::nullopt, Range::positive(), "N")
+      .table("model", "the body", false)
+      .string("model.name", "label", "body")
+      .table_array("model.layers", "laminate layers", 0, 3)
+      .number("model.layers.thickness", "layer thickness", 0.001, Range::positive(), "m");
+  return s;
+}
+
+const char* kValidArrays =
+    "[solver]\n"            // 1
+    "dt = 0.01\n"           // 2
+    "\n"                    // 3
+    "[[bc]]\n"              // 4
+    "type = \"clamped\"\n"  // 5
+    "nodes = \"root\"\n"    // 6
+    "\n"                    // 7
+    "[[bc]]\n"              // 8
+    "type = \"hinged\"\n"   // 9
+    "nodes = \"tip\"\n"     // 10
+    "value = 2.5\n"         // 11
+    "point = [1, 2, 3]\n"   // 12
+    "\n"                    // 13
+    "[[load]]\n"            // 14
+    "magnitude = 10\n";     // 15
+
+std::vector<Issue> array_issues(std::string_view text, const std::vector<std::string>& overrides = {}) {
+  try {
+    validate(array_schema(), text, "scene.toml", overrides);
+  } catch (const SceneError& e) {
+    return e.issues;
+  }
+  return {};
+}
+
+TEST(SchemaArrays, ValidArraysWithDefaultsPerElement) {
+  const Document d = validate(array_schema(), kValidArrays, "scene.toml");
+  ASSERT_EQ(d.count("bc"), 2u);
+  EXPECT_EQ(d.count("load"), 1u);
+  EXPECT_EQ(d.count("model.layers"), 0u);
+  EXPECT_FALSE(d.table_present("model"));
+
+  EXPECT_EQ(d.string("bc.type", 0), "clamped");
+  EXPECT_EQ(d.string("bc.type", 1), "hinged");
+  EXPECT_EQ(d.string("bc.nodes", 1), "tip");
+  EXPECT_DOUBLE_EQ(d.number("bc.value", 0), 0.0);  // default in element 0
+  EXPECT_DOUBLE_EQ(d.number("bc.value", 1), 2.5);  // given in element 1
+  EXPECT_EQ(d.integer("bc.order", 1), 1);
+  EXPECT_TRUE(d.boolean("bc.active", 0));
+  EXPECT_EQ(d.numbers("bc.point", 0), (std::vector<double>{0, 0, 0}));
+  EXPECT_EQ(d.numbers("bc.point", 1), (std::vector<double>{1, 2, 3}));
+  EXPECT_EQ(d.strings("bc.dofs", 1), (std::vector<std::string>{"x", "y", "z"}));
+  EXPECT_DOUBLE_EQ(d.number("load.magnitude", 0), 10.0);
+
+  EXPECT_FALSE(d.present("bc.value", 0));
+  EXPECT_TRUE(d.present("bc.value", 1));
+  EXPECT_EQ(d.where("bc.type", 0), "scene.toml:5:8");
+  EXPECT_EQ(d.where("bc.type", 1), "scene.toml:9:8");
+  EXPECT_EQ(d.where("bc.point", 1), "scene.toml:12:9");
+  EXPECT_EQ(d.where("bc.value", 0), "default");
+  EXPECT_EQ(d.where("load.magnitude", 0), "scene.toml:15:13");
+  EXPECT_EQ(d.value_text("bc.point", 1), "[1.0, 2.0, 3.0]");
+  EXPECT_EQ(d.value_text("bc.type", 0), "\"clamped\"");
+
+  // issues for checks across keys: at the key, or at the element's header when defaulted
+  EXPECT_EQ(d.issue("bc.type", 1, "clashes with bc[0]").to_string(),
+            "scene.toml:9:8: key 'bc[1].type': clashes with bc[0]");
+  EXPECT_EQ(d.issue("bc.value", 0, "too small").to_string(),
+            "scene.toml:4:1: key 'bc[0].value': too small");
+  EXPECT_EQ(d.issue("bc.value", 1, "x").line, 11);
+
+  // key_paths() stays the plain keys, so logging every setting with value_text() still works
+  for (const auto& k : d.key_paths()) EXPECT_NO_THROW(d.value_text(k)) << k;
+  EXPECT_EQ(d.key_paths(), (std::vector<std::string>{"solver.dt", "model.name"}));
+  EXPECT_EQ(d.array_paths(), (std::vector<std::string>{"bc", "load", "model.layers"}));
+  EXPECT_EQ(d.element_key_paths("load"), (std::vector<std::string>{"load.magnitude"}));
+  EXPECT_EQ(d.element_key_paths("bc").size(), 7u);
+}
+
+TEST(SchemaArrays, ArrayInsideATableAndMaxCountReached) {
+  const Document d = validate(array_schema(),
+                              std::string(kValidArrays) +
+                                  "[[load]]\nmagnitude = 2\n"  // 16, 17
+                                  "[model]\n"                  // 18
+                                  "[[model.layers]]\n"         // 19
+                                  "[[model.layers]]\n"         // 20
+                                  "thickness = 0.5\n",         // 21
+                              "scene.toml");
+  EXPECT_EQ(d.count("load"), 2u);
+  EXPECT_DOUBLE_EQ(d.number("load.magnitude", 1), 2.0);
+  EXPECT_TRUE(d.table_present("model"));
+  ASSERT_EQ(d.count("model.layers"), 2u);
+  EXPECT_DOUBLE_EQ(d.number("model.layers.thickness", 0), 0.001);
+  EXPECT_DOUBLE_EQ(d.number("model.layers.thickness", 1), 0.5);
+  EXPECT_EQ(d.issue("model.layers.thickness", 0, "x").line, 19);
+  EXPECT_EQ(d.where("model.layers.thickness", 1), "scene.toml:21:13");
+}
+
+TEST(SchemaArrays, InlineArrayOfInlineTables) {
+  const char* text =
+      "solver.dt = 0.1\n"                                        // 1
+      "load = [{ magnitude = 1.5 }]\n"                           // 2
+      "bc = [\n"                                                 // 3
+      "  { type = \"fix\", nodes = \"a\" },\n"                   // 4
+      "  { type = \"symmetry\", nodes = \"b\", value = 1 },\n"   // 5
+      "]\n";
+  const Document d = validate(array_schema(), text, "scene.toml");
+  ASSERT_EQ(d.count("bc"), 2u);
+  EXPECT_EQ(d.string("bc.type", 0), "fix");
+  EXPECT_EQ(d.string("bc.type", 1), "symmetry");
+  EXPECT_DOUBLE_EQ(d.number("bc.value", 1), 1.0);
+  EXPECT_EQ(d.where("bc.type", 1), "scene.toml:5:12");
+  EXPECT_EQ(d.issue("bc.value", 0, "x").to_string(), "scene.toml:4:3: key 'bc[0].value': x");
+  EXPECT_DOUBLE_EQ(d.number("load.magnitude", 0), 1.5);
+  // an empty array is zero elements
+  EXPECT_EQ(validate(array_schema(), std::string(text) + "model.layers = []\n", "scene.toml").count("model.layers"), 0u);
+}
+
+TEST(SchemaArrays, LookupMistakesAreLogicErrors) {
+  const Document d = validate(array_schema(), kValidArrays, "scene.toml");
+  EXPECT_THROW(d.number("bc.value"), std::logic_error);      // array key without index
+  EXPECT_THROW(d.string("bc.type"), std::logic_error);
+  EXPECT_THROW(d.present("bc.type"), std::logic_error);
+  EXPECT_THROW(d.where("bc.type"), std::logic_error);
+  EXPECT_THROW(d.value_text("bc.type"), std::logic_error);
+  EXPECT_THROW(d.issue("bc.type", "x"), std::logic_error);
+  EXPECT_THROW(d.number("bc.value", 2), std::logic_error);   // past the end
+  EXPECT_THROW(d.where("bc.value", 2), std::logic_error);
+  EXPECT_THROW(d.issue("bc.value", 2, "x"), std::logic_error);
+  EXPECT_THROW(d.number("model.layers.thickness", 0), std::logic_error);  // no elements
+  EXPECT_THROW(d.number("solver.dt", 0), std::logic_error);  // index on a plain key
+  EXPECT_THROW(d.integer("bc.value", 0), std::logic_error);  // wrong accessor
+  EXPECT_THROW(d.number("bc.nope", 0), std::logic_error);
+  EXPECT_THROW(d.count("solver"), std::logic_error);
+  EXPECT_THROW(d.count("bc.type"), std::logic_error);
+  EXPECT_THROW(d.table_present("bc"), std::logic_error);
+  try {
+    d.number("bc.value");
+    FAIL();
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("[[bc]]"), std::string::npos) << e.what();
+  }
+}
+
+const BadCase kBadArrayCases[] = {
+    {"bad_choice_in_element_2",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n"
+     "[[bc]]\ntype = \"fix\"\nnodes = \"a\"\n"
+     "[[bc]]\ntype = \"fix\"\nnodes = \"b\"\n"
+     "[[bc]]\ntype = \"clamp\"\nnodes = \"c\"\n",
+     12, "bc[2].type", "expected one of clamped, hinged, symmetry, fix, got 'clamp' (did you mean 'clamped'?)"},
+    {"unknown_key_in_element_2",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n"
+     "[[bc]]\ntype = \"fix\"\nnodes = \"a\"\n"
+     "[[bc]]\ntype = \"fix\"\nnodes = \"b\"\n"
+     "[[bc]]\ntype = \"fix\"\nnodes = \"c\"\nvaleu = 2\n",
+     14, "bc[2].valeu", "unknown key 'bc[2].valeu' (did you mean 'bc[2].value'?)"},
+    {"unknown_key_lists_element_keys",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n[[bc]]\ntype = \"fix\"\nnodes = \"a\"\nxyz = 1\n", 8,
+     "bc[0].xyz", "unknown key 'bc[0].xyz'; keys in [[bc]] are: type, nodes, value, order, active, point, dofs"},
+    {"wrong_type_in_element",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n[[bc]]\ntype = \"fix\"\nnodes = \"a\"\n"
+     "[[bc]]\ntype = \"fix\"\nnodes = \"b\"\nvalue = \"big\"\n",
+     11, "bc[1].value", "expected a number >= 0, got a string (\"big\")"},
+    {"float_for_integer_in_element",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n[[bc]]\ntype = \"fix\"\nnodes = \"a\"\norder = 2.0\n", 8,
+     "bc[0].order", "expected an integer in [1, 3], got a floating-point number (2.0) (write it without a decimal point)"},
+    {"list_in_element",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n[[bc]]\ntype = \"fix\"\nnodes = \"a\"\ndofs = [\"x\", \"rq\"]\n", 8,
+     "bc[0].dofs", "element [1]: expected one of x, y, z, rx, ry, rz, got 'rq'"},
+    {"missing_required_key_in_one_element",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n[[bc]]\ntype = \"fix\"\nnodes = \"a\"\n\n[[bc]]\ntype = \"fix\"\n",
+     9, "bc[1].nodes", "missing required key 'bc[1].nodes' (meaning: node set)"},
+    {"count_below_min", "[solver]\ndt = 0.1\n", 0, "load", "expected at least 1 [[load]] table, got 0"},
+    {"count_above_max",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n[[load]]\nmagnitude = 2\n[[load]]\nmagnitude = 3\n", 7,
+     "load", "expected at most 2 [[load]] tables, got 3"},
+    {"count_above_max_in_table",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n[model]\n"
+     "[[model.layers]]\n[[model.layers]]\n[[model.layers]]\n[[model.layers]]\n",
+     9, "model.layers", "expected at most 3 [[model.layers]] tables, got 4"},
+    {"plain_table_for_array",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n[bc]\ntype = \"fix\"\nnodes = \"a\"\n", 5, "bc",
+     "expected an array of tables [[bc]] (boundary conditions), got a single table [bc]; write each element "
+     "under its own [[bc]] header"},
+    {"inline_table_for_array",
+     "solver.dt = 0.1\nload = { magnitude = 1 }\n[[bc]]\ntype = \"fix\"\nnodes = \"a\"\n", 2, "load",
+     "expected an array of tables [[load]] (applied loads), got a single table [load]"},
+    {"scalar_for_array", "bc = 3\n[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n", 1, "bc",
+     "expected an array of tables [[bc]] (boundary conditions), got an integer (3)"},
+    {"array_for_plain_table", "[[solver]]\ndt = 0.1\n[[load]]\nmagnitude = 1\n", 1, "solver",
+     "expected a table [solver] (time integration), got an array of tables [[solver]]; [solver] is a single "
+     "table: write its header once, as [solver]"},
+    {"scalar_element", "bc = [{ type = \"fix\", nodes = \"a\" }, 2]\n[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n",
+     1, "bc[1]", "expected each element of [[bc]] to be a table { ... }, got an integer (2)"},
+    {"nested_table_in_element",
+     "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n[[bc]]\ntype = \"fix\"\nnodes = \"a\"\n[bc.extra]\nx = 1\n", 8,
+     "bc[0].extra", "nested table 'bc[0].extra' is not allowed: [[bc]] elements hold plain keys only"},
+    {"inline_nested_table_in_element",
+     "bc = [{ type = \"fix\", nodes = \"a\", at = { x = 1 } }]\n[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n",
+     1, "bc[0].at", "nested table 'bc[0].at' is not allowed"},
+    {"bad_value_in_inline_element",
+     "load = [{ magnitude = 1 },\n  { magnitude = -1 }]\n[solver]\ndt = 0.1\n", 2, "load[1].magnitude",
+     "expected a number > 0, got -1"},
+    {"unknown_array_typo", "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n[[bcs]]\ntype = \"fix\"\n", 5, "bcs",
+     "unknown key 'bcs' (did you mean 'bc'?)"},
+    {"element_key_outside_its_array", "nodes = \"a\"\n[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n", 1,
+     "nodes", "unknown key 'nodes' (did you mean 'nodes' in a [[bc]] table?)"},
+};
+
+class BadArrayInput : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BadArrayInput, ReportsLineKeyAndMessage) {
+  const BadCase& c = GetParam();
+  const auto issues = array_issues(c.text);
+  EXPECT_TRUE(has_issue(issues, "scene.toml", c.line, c.key, c.fragment))
+      << "wanted scene.toml:" << c.line << " key '" << c.key << "' containing \"" << c.fragment
+      << "\"\ngot:\n"
+      << dump(issues);
+  EXPECT_EQ(issues.size(), 1u) << dump(issues);
+}
+
+INSTANTIATE_TEST_SUITE_P(Schema, BadArrayInput, ::testing::ValuesIn(kBadArrayCases),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(SchemaArrays, MessagesAsAWhole) {
+  try {
+    validate(array_schema(),
+             "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n"
+             "[[bc]]\ntype = \"fix\"\nnodes = \"a\"\n[[bc]]\nnodes = \"b\"\n[[bc]]\ntype = \"clamp\"\nnodes = \"c\"\n",
+             "scene.toml");
+    FAIL() << "no SceneError";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "scene.toml:8:1: key 'bc[1].type': missing required key 'bc[1].type' (meaning: kind of support)\n"
+              "scene.toml:11:8: key 'bc[2].type': expected one of clamped, hinged, symmetry, fix, got 'clamp' "
+              "(did you mean 'clamped'?)");
+  }
+  try {
+    validate(array_schema(), "[solver]\ndt = 0.1\n", "scene.toml");
+    FAIL() << "no SceneError";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "scene.toml: key 'load': expected at least 1 [[load]] table, got 0");
+  }
+  // exact counts, and a count below the minimum with elements given points at the first one
+  Schema s;
+  s.table_array("pair", "two of them", 2, 2).number("pair.x", "x", 0.0);
+  try {
+    validate(s, "\n[[pair]]\n", "scene.toml");
+    FAIL() << "no SceneError";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "scene.toml:2:1: key 'pair': expected exactly 2 [[pair]] tables, got 1");
+  }
+  // an absent optional parent table: its arrays are not counted
+  Schema t;
+  t.table("opt", "optional").table_array("opt.items", "items", 1).number("opt.items.x", "x", 0.0);
+  EXPECT_EQ(validate(t, "", "scene.toml").count("opt.items"), 0u);
+  EXPECT_THROW(validate(t, "[opt]\n", "scene.toml"), SceneError);
+}
+
+TEST(SchemaArrays, ErrorsInOneElementDoNotLeakIntoOthers) {
+  const auto issues = array_issues(
+      "[solver]\ndt = 0.1\n[[load]]\nmagnitude = 1\n"
+      "[[bc]]\ntype = \"fix\"\nnodes = 3\n"  // 5-7: wrong type, not also "missing"
+      "[[bc]]\ntype = \"fix\"\n");          // 8-9: missing nodes
+  ASSERT_EQ(issues.size(), 2u) << dump(issues);
+  EXPECT_EQ(issues[0].key, "bc[0].nodes");
+  EXPECT_EQ(issues[0].line, 7);
+  EXPECT_NE(issues[0].message.find("expected a string"), std::string::npos);
+  EXPECT_EQ(issues[1].key, "bc[1].nodes");
+  EXPECT_EQ(issues[1].line, 8);
+}
+
+TEST(SchemaArrays, OverridesIntoAnElement) {
+  const Document d = validate(array_schema(), kValidArrays, "scene.toml",
+                              {"bc[1].value=3", "bc[0].type=fix", "bc[0].point=[4, 5, 6]", "load[0].magnitude=7"});
+  EXPECT_DOUBLE_EQ(d.number("bc.value", 1), 3.0);
+  EXPECT_EQ(d.where("bc.value", 1), "--set bc[1].value=3");
+  EXPECT_TRUE(d.present("bc.value", 1));
+  EXPECT_DOUBLE_EQ(d.number("bc.value", 0), 0.0);  // the other element keeps its default
+  EXPECT_FALSE(d.present("bc.value", 0));
+  EXPECT_EQ(d.string("bc.type", 0), "fix");
+  EXPECT_EQ(d.string("bc.type", 1), "hinged");
+  EXPECT_EQ(d.numbers("bc.point", 0), (std::vector<double>{4, 5, 6}));
+  EXPECT_DOUBLE_EQ(d.number("load.magnitude", 0), 7.0);
+  EXPECT_EQ(d.issue("bc.value", 1, "x").to_string(), "--set bc[1].value=3: key 'bc[1].value': x");
+  EXPECT_EQ(d.count("bc"), 2u);
+  // an override supplies a required key the element lacks
+  const Document fixed = validate(array_schema(), std::string(kValidArrays) + "[[bc]]\ntype = \"fix\"\n",
+                                  "scene.toml", {"bc[2].nodes=n"});
+  EXPECT_EQ(fixed.string("bc.nodes", 2), "n");
+  EXPECT_EQ(fixed.where("bc.nodes", 2), "--set bc[2].nodes=n");
+  EXPECT_EQ(fixed.issue("bc.value", 2, "x").line, 16);
+}
+
+const OverrideCase kBadArrayOverrides[] = {
+    {"index_past_end", "bc[2].value=3", "bc[2].value",
+     "index 2 is past the end: scene.toml has 2 [[bc]] tables, bc[0] to bc[1]; --set can only change a key of "
+     "an element the file has"},
+    {"index_into_one_element", "load[1].magnitude=3", "load[1].magnitude",
+     "index 1 is past the end: scene.toml has 1 [[load]] table, load[0];"},
+    {"index_into_absent_array", "model.layers[0].thickness=1", "model.layers[0].thickness",
+     "index 0 is past the end: scene.toml has no [[model.layers]] table"},
+    {"huge_index", "bc[123456789012345678901234567890].value=1", "bc[123456789012345678901234567890].value",
+     "index 123456789012345678901234567890 is past the end"},
+    {"unknown_key_in_element", "bc[1].valeu=3", "bc[1].valeu", "unknown key 'bc[1].valeu' (did you mean 'bc[1].value'?)"},
+    {"unknown_key_lists_keys", "bc[0].xyz=3", "bc[0].xyz", "keys in [[bc]] are: type, nodes"},
+    {"deeper_path_in_element", "bc[0].value.x=3", "bc[0].value.x", "'bc[0].value' is a number, it has no key 'x'"},
+    {"bad_value_in_element", "bc[1].value=-1", "bc[1].value", "expected a number >= 0, got -1"},
+    {"bad_choice_in_element", "bc[0].type=clamp", "bc[0].type",
+     "expected one of clamped, hinged, symmetry, fix, got 'clamp' (did you mean 'clamped'?)"},
+    {"empty_value_in_element", "bc[0].value=", "bc[0].value", "no value after '=': write --set bc[0].value=VALUE"},
+    {"no_index", "bc.value=3", "bc.value",
+     "'bc.value' is a key of the array of tables [[bc]]; name the element: --set bc[INDEX].value=VALUE"},
+    {"no_index_unknown_key", "bc.valeu=3", "bc.valeu", "name the element: --set bc[INDEX].valeu=VALUE"},
+    {"whole_array", "bc=[]", "bc", "'bc' is an array of tables [[bc]]; --set cannot replace a whole array"},
+    {"whole_element", "bc[0]={}", "bc[0]", "--set cannot replace a whole element bc[0]"},
+    {"bad_index", "bc[x].value=1", "bc[x].value", "expected --set bc[INDEX].KEY=VALUE"},
+    {"negative_index", "bc[-1].value=1", "bc[-1].value", "expected --set bc[INDEX].KEY=VALUE"},
+    {"unclosed_index", "bc[0.value=1", "bc[0.value", "expected --set bc[INDEX].KEY=VALUE"},
+    {"index_on_plain_table", "solver[0].dt=1", "solver[0].dt",
+     "'solver' is a table, not an array of tables: write --set solver.KEY=VALUE, without an index"},
+    {"unknown_array", "bcc[0].type=fix", "bcc[0].type", "unknown key 'bcc' (did you mean 'bc'?)"},
+};
+
+class BadArrayOverride : public ::testing::TestWithParam<OverrideCase> {};
+
+TEST_P(BadArrayOverride, NamesTheSetArgument) {
+  const OverrideCase& c = GetParam();
+  const auto issues = array_issues(kValidArrays, {c.arg});
+  EXPECT_TRUE(has_issue(issues, std::string("--set ") + c.arg, 0, c.key, c.fragment))
+      << "wanted '--set " << c.arg << "' key '" << c.key << "' containing \"" << c.fragment
+      << "\"\ngot:\n"
+      << dump(issues);
+  EXPECT_EQ(issues.size(), 1u) << dump(issues);
+}
+
+INSTANTIATE_TEST_SUITE_P(Schema, BadArrayOverride, ::testing::ValuesIn(kBadArrayOverrides),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(SchemaArrays, ElementOverrideAfterSyntaxErrorChecksOnlyTheValue) {
+  // the file's elements are unknown: no "past the end", but the value itself is still checked
+  auto issues = array_issues("[[bc]\n", {"bc[5].value=1"});
+  ASSERT_EQ(issues.size(), 1u) << dump(issues);
+  EXPECT_NE(issues[0].message.find("TOML syntax error"), std::string::npos);
+  issues = array_issues("[[bc]\n", {"bc[5].value=-1"});
+  ASSERT_EQ(issues.size(), 2u) << dump(issues);
+  EXPECT_EQ(issues[1].key, "bc[5].value");
+}
+
+TEST(SchemaArrays, MarkdownReferenceHasASectionPerArray) {
+  const std::string md = array_schema().markdown_reference();
+  const auto bc = md.find("### [[bc]] (array of tables, 0 or more)\n");
+  const auto load = md.find("### [[load]] (array of tables, 1 to 2)\n");
+  const auto layers = md.find("### [[model.layers]] (array of tables, 0 to 3)\n");
+  ASSERT_NE(bc, std::string::npos) << md;
+  ASSERT_NE(load, std::string::npos) << md;
+  ASSERT_NE(layers, std::string::npos) << md;
+  EXPECT_LT(md.find("### `[solver]`"), bc);
+  EXPECT_LT(bc, load);
+  EXPECT_LT(load, md.find("### `[model]`"));
+  EXPECT_LT(md.find("### `[model]`"), layers);
+  const auto type_row = md.find("| `bc.type` | choice | **required** | `clamped`, `hinged`, `symmetry`, `fix` | kind of support |");
+  EXPECT_NE(type_row, std::string::npos) << md;
+  EXPECT_GT(type_row, bc);
+  EXPECT_LT(type_row, load);  // inside the [[bc]] section
+  EXPECT_NE(md.find("| `bc.point` | list of numbers [m] | `[0.0, 0.0, 0.0]` | length 3 | reference point |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("boundary conditions (write one `[[bc]]` table per element)"), std::string::npos) << md;
+  const auto mag = md.find("| `load.magnitude` |");
+  EXPECT_GT(mag, load);
+  EXPECT_LT(mag, md.find("### `[model]`"));
+  // arrays are not listed as plain tables
+  EXPECT_EQ(md.find("### `[bc]`"), std::string::npos);
+  Schema exact;
+  exact.table_array("pair", "two", 2, 2).number("pair.x", "x", 0.0);
+  EXPECT_NE(exact.markdown_reference().find("### [[pair]] (array of tables, exactly 2)"), std::string::npos);
+}
+
+TEST(SchemaArrays, BadDeclarationsAreLogicErrors) {
+  Schema s;
+  s.table_array("bc", "supports");
+  EXPECT_THROW(s.table_array("bc", "twice"), std::logic_error);
+  EXPECT_THROW(s.table("bc", "array and table"), std::logic_error);
+  EXPECT_THROW(s.table("bc.sub", "table in an array"), std::logic_error);
+  EXPECT_THROW(s.table_array("bc.sub", "array in an array"), std::logic_error);
+  EXPECT_THROW(s.table_array("nope.items", "undeclared parent"), std::logic_error);
+  EXPECT_THROW(s.table_array("few", "min > max", 3, 2), std::logic_error);
+  EXPECT_THROW(s.table_array("none", "max 0", 0, 0), std::logic_error);
+  EXPECT_THROW(s.table_array("undocumented", ""), std::logic_error);
+  EXPECT_THROW(s.number("bc.x", "default out of range", -1.0, Range::positive()), std::logic_error);
+  s.number("bc.x", "fine", 1.0);
+  EXPECT_EQ(s.array_of("bc.x"), "bc");
+  EXPECT_EQ(s.find_array("bc")->min_count, 0u);
+  EXPECT_EQ(s.find_array("bc.x"), nullptr);
+  s.table("plain", "a table");
+  EXPECT_EQ(s.find_array("plain"), nullptr);
+  s.number("plain.y", "fine", 1.0);
+  EXPECT_EQ(s.array_of("plain.y"), "");
+}
+
+TEST(SchemaArrays, SuggestionForAWordCutShort) {
+  EXPECT_EQ(text::closest("clamp", {"clamped", "hinged", "symmetry", "fix"}), "clamped");
+  EXPECT_EQ(text::closest("sym", {"clamped", "hinged", "symmetry", "fix"}), "");  // too short a part
+  EXPECT_EQ(text::closest("ab", {"abc"}), "abc");  // one edit: the usual rule
+  EXPECT_EQ(text::closest("hin", {"hinged"}), "hinged");
+}
+
 }  // namespace
 }  // namespace ff::scene
