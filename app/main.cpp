@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
     }
     if (*scenes) {
       if (reference) {
-        std::printf("%s", ff::scene::scene_schema().markdown_reference().c_str());
+        std::printf("%s", ff::scene::scene_reference_markdown().c_str());
       } else {
         std::printf("bundled scenes in %s:\n", ff::app::scene_dir().c_str());
         for (const std::string& s : ff::app::bundled_scenes()) std::printf("  %s\n", s.c_str());

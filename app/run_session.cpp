@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +35,28 @@ std::string format_duration(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%ld:%02ld", t / 60, t % 60);
   return buf;
+}
+// a fixed camera from the scene's output.view keys (the renderer fits automatically otherwise)
+render::Camera scene_camera(const FrameMesh& mesh, const scene::OutputSettings& out) {
+  const auto& p = mesh.reference_points;
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (std::size_t i = 0; i < p.size(); ++i) lo[i % 3] = std::min(lo[i % 3], p[i]), hi[i % 3] = std::max(hi[i % 3], p[i]);
+  std::array<double, 3> c{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  if (out.view_center.size() == 3) c = {out.view_center[0], out.view_center[1], out.view_center[2]};
+  const double r = 0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                   (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  std::array<double, 3> dir{1, -1, 1}, up{0, 0, 1};
+  if (out.view == "front") dir = {0, -1, 0};
+  if (out.view == "top") dir = {0, 0, 1}, up = {0, 1, 0};
+  const double n = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]), dist = 10.0 * std::max(r, 1e-9);
+  render::Camera cam;
+  cam.automatic = false;
+  cam.parallel = true;
+  cam.focal_point = c;
+  cam.position = {c[0] + dist * dir[0] / n, c[1] + dist * dir[1] / n, c[2] + dist * dir[2] / n};
+  cam.view_up = up;
+  cam.parallel_scale = out.view_radius > 0 ? out.view_radius : 1.1 * r;
+  return cam;
 }
 }  // namespace
 
@@ -153,6 +177,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
         style.deformation_scale = out.deformation_scale;
         style.color_field = out.color_field == "none" ? "" : out.color_field;
         style.title = scene.name;
+        if (out.view != "auto") style.camera = scene_camera(info.mesh, out);
         renderer = std::make_unique<render::FrameRenderer>(*gc, info, style);
         if (!renderer->ok()) {
           render_error = renderer->error();

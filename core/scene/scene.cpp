@@ -3,17 +3,22 @@
 #include <algorithm>
 #include <sstream>
 
+#include <fstream>
+#include <sstream>
+#include <toml++/toml.h>
+
 #include "core/hubbeam/hub_beam_simulation.h"
+#include "core/scene/shell_scene.h"
 
 namespace ff::scene {
 
-const Schema& scene_schema() {
+const Schema& hub_beam_schema() {
   static const Schema schema = [] {
     Schema s;
     s.table("scene", "what this scene is and which effects it simulates", true)
         .string("scene.name", "scene name; also the default output folder out/<name>", std::nullopt)
         .string("scene.description", "one line shown in summaries", std::string{})
-        .choice("scene.model", "model family", {"hub_beam"}, std::nullopt)
+        .choice("scene.model", "model family", {"hub_beam", "shell_static"}, std::nullopt)
         .string_list("scene.effects",
                      "effects to simulate; nothing else is evaluated. hub_beam needs inertia and bending; "
                      "axial adds the stretch DoFs, first_order_coupling the foreshortening w_c and its "
@@ -167,8 +172,49 @@ OutputSettings read_output(const Document& d) {
 
 }  // namespace
 
+namespace {
+// the model named in the file picks the schema; anything unreadable falls back to the hub-beam
+// schema, whose validation then reports the problem with its location
+std::string peek_model(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  try {
+    const toml::table t = toml::parse(ss.str(), path);
+    return t["scene"]["model"].value<std::string>().value_or("hub_beam");
+  } catch (const toml::parse_error&) {
+    return "hub_beam";
+  }
+}
+}  // namespace
+
+std::string scene_reference_markdown() {
+  return "## model = \"hub_beam\"\n\n" + hub_beam_schema().markdown_reference() + "\n## model = \"shell_static\"\n\n" +
+         shell_static_schema().markdown_reference();
+}
+
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  const Document d = validate_file(scene_schema(), path, overrides);
+  if (peek_model(path) == "shell_static") {
+    const Document d = validate_file(shell_static_schema(), path, overrides);
+    LoadedScene s;
+    s.name = d.string("scene.name");
+    s.path = path;
+    s.output.frames = d.boolean("output.frames");
+    s.output.frame_every = static_cast<int>(d.integer("output.frame_every"));
+    s.output.width = static_cast<int>(d.integer("output.width"));
+    s.output.height = static_cast<int>(d.integer("output.height"));
+    s.output.deformation_scale = d.number("output.deformation_scale");
+    s.output.color_field = d.string("output.color_field");
+    s.output.plots = d.boolean("output.plots");
+    s.output.view = d.string("output.view");
+    s.output.view_center = d.numbers("output.view_center");
+    s.output.view_radius = d.number("output.view_radius");
+    if (!s.output.view_center.empty() && s.output.view_center.size() != 3)
+      throw SceneError({d.issue("output.view_center", "expected [] or three coordinates")});
+    s.simulation = build_shell_static(d, path);
+    return s;
+  }
+  const Document d = validate_file(hub_beam_schema(), path, overrides);
   LoadedScene s;
   s.name = d.string("scene.name");
   s.path = path;

@@ -20,6 +20,9 @@ struct OutputSettings {
   double deformation_scale = 1.0;
   std::string color_field = "deflection";  ///< a field name, or "none"
   bool plots = true;
+  std::string view = "auto";               ///< auto (renderer fits), iso, front (along +y), top (along -z)
+  std::vector<double> view_center;         ///< empty = centre of the reference bounding box
+  double view_radius = 0.0;                ///< half height of the view in world units; 0 = fit
 };
 
 struct LoadedScene {
@@ -29,8 +32,10 @@ struct LoadedScene {
   OutputSettings output;
 };
 
-/// The schema of every scene key (also rendered into README's scene reference).
-const Schema& scene_schema();
+/// The schema of hub-beam scenes (model = "hub_beam").
+const Schema& hub_beam_schema();
+/// Markdown reference of every scene key of every model (README's scene reference).
+std::string scene_reference_markdown();
 
 /// Reads, validates and builds a scene. `overrides` are "key=value" from --set.
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});

@@ -67,6 +67,13 @@ RunOutcome ShellStaticSimulation::run(const std::function<void(Frame&&)>& publis
   StaticResult r;
   if (s_.arc_length) {
     ArcLengthSettings a = s_.arc;
+    for (const ShellProbe& p : s_.probes)
+      if (p.name == s_.monitor_probe) {
+        int axis = 0;
+        p.direction.cwiseAbs().maxCoeff(&axis);
+        a.monitor_dof = model_->equation(p.node, axis);
+        a.displacement_limit = s_.displacement_limit;
+      }
     a.on_step = on_step;
     a.stop = &stop;
     r = solve_arc_length(*model_, a);

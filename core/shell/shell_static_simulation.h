@@ -4,6 +4,7 @@
 /// following, one Frame per converged step (Frame::time and load_factor = lambda), probes of
 /// node displacements against the load, and the metrics a scene asks for.
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +40,8 @@ struct ShellStaticSettings {
   std::string load_label = "load", load_unit;
   std::vector<ShellProbe> probes;
   std::vector<ShellMetric> metrics;
+  std::string monitor_probe;      ///< arc length: probe whose |value| ends the run at displacement_limit
+  double displacement_limit = std::numeric_limits<double>::infinity();
 };
 
 class ShellStaticSimulation final : public Simulation {

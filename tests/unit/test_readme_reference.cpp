@@ -15,6 +15,6 @@ TEST(Readme, SceneReferenceMatchesSchema) {
   const auto b = text.find(begin), e = text.find(end);
   ASSERT_NE(b, std::string::npos);
   ASSERT_NE(e, std::string::npos);
-  EXPECT_EQ(text.substr(b + begin.size(), e - b - begin.size()), ff::scene::scene_schema().markdown_reference())
+  EXPECT_EQ(text.substr(b + begin.size(), e - b - begin.size()), ff::scene::scene_reference_markdown())
       << "regenerate with: flexframe scenes --reference";
 }

@@ -1,0 +1,322 @@
+#include "core/scene/shell_scene.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "core/mesh/generators.h"
+#include "core/mesh/node_sets.h"
+#include "core/scene/reference_csv.h"
+#include "core/shell/shell_static_simulation.h"
+
+namespace ff::scene {
+
+namespace fs = std::filesystem;
+
+namespace {
+const std::vector<std::string> kSelect = {"nearest", "plane", "box", "sphere", "patch_edge", "all"};
+
+void selector_keys(Schema& s, const std::string& t) {
+  s.choice(t + ".select", "how nodes are chosen", kSelect, "nearest")
+      .number_list(t + ".point", "nearest/plane/sphere: a point", std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number_list(t + ".normal", "plane: its normal", std::vector<double>{1, 0, 0}, {}, 3, 3)
+      .number_list(t + ".box_min", "box: lower corner", std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number_list(t + ".box_max", "box: upper corner", std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number(t + ".radius", "sphere: radius", 0.0, Range::non_negative())
+      .string(t + ".patch", "patch_edge: patch name", std::string("surface"))
+      .choice(t + ".edge", "patch_edge: which edge", {"u=0", "u=1", "v=0", "v=1"}, "u=0")
+      .number(t + ".tolerance", "plane/box/sphere tolerance; 0 = automatic (1e-3 x shortest edge)", 0.0,
+              Range::non_negative());
+}
+
+Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+}  // namespace
+
+const Schema& shell_static_schema() {
+  static const Schema schema = [] {
+    Schema s;
+    s.table("scene", "what this scene is and which effects it simulates", true)
+        .string("scene.name", "scene name; also the default output folder out/<name>", std::nullopt)
+        .string("scene.description", "one line shown in summaries", std::string{})
+        .choice("scene.model", "model family", {"hub_beam", "shell_static"}, std::nullopt)
+        .string_list("scene.effects",
+                     "effects to simulate: elastic (required), hr (assumed membrane stress), ans (assumed "
+                     "transverse shear), drilling (6 DoF per node, Fox-Simo penalty)",
+                     std::nullopt, {"elastic", "hr", "ans", "drilling"});
+    s.table("mesh", "the shell mesh", true)
+        .choice("mesh.generator", "a parametric benchmark geometry, a plate, or a quad mesh file",
+                {"cantilever_strip", "hemisphere_quarter", "open_cylinder_octant", "hinged_roof_quarter",
+                 "l_plate", "rectangular_plate", "file"},
+                std::nullopt)
+        .integer("mesh.n1", "elements along the first direction (length / polar / arc / leg)", 16, IntRange::closed(1, 1024))
+        .integer("mesh.n2", "elements along the second direction (width / azimuth / axial)", 16, IntRange::closed(1, 1024))
+        .number("mesh.length", "rectangular_plate: length along x", 1.0, Range::positive())
+        .number("mesh.width", "rectangular_plate: width along y", 1.0, Range::positive())
+        .string("mesh.file", "generator = file: OBJ or PLY quad mesh, relative to the scene file", std::string{});
+    s.table("material", "St. Venant-Kirchhoff, plane stress", true)
+        .number("material.youngs_modulus", "E", std::nullopt, Range::positive())
+        .number("material.poisson_ratio", "nu", 0.3, Range::right_open(0.0, 0.5))
+        .number("material.thickness", "h0", std::nullopt, Range::positive())
+        .number("material.shear_factor", "transverse shear correction factor", 5.0 / 6.0, Range::left_open(0.0, 1.0));
+    s.table("drilling", "drilling penalty (effect drilling)")
+        .number("drilling.factor", "c in gamma = c G h0", 1e-3, Range::left_open(0.0, 1e3));
+    s.table_array("bc", "boundary conditions on node sets", 0, 64)
+        .choice("bc.type", "clamped (all DoFs), hinged (translations), symmetry (plane through the nodes), "
+                "fix (listed global DoFs)", {"clamped", "hinged", "symmetry", "fix"}, std::nullopt)
+        .string_list("bc.fix", "type = fix: global DoFs", std::vector<std::string>{}, {"ux", "uy", "uz", "rx", "ry", "rz"});
+    selector_keys(s, "bc");
+    s.table_array("load", "loads at lambda = 1 on node sets", 1, 64)
+        .choice("load.type", "point force or moment; several nodes share the total by tributary length",
+                {"force", "moment"}, std::nullopt)
+        .number_list("load.total", "total vector at lambda = 1 (global components)", std::nullopt, {}, 3, 3)
+        .boolean("load.follower", "turn with the nodes (components then in the node frame)", false);
+    selector_keys(s, "load");
+    s.table_array("probe", "node displacements recorded along the path (direction . u)", 1, 32)
+        .string("probe.name", "probe name (also the plot file name)", std::nullopt)
+        .string("probe.label", "plot label", std::string{})
+        .number_list("probe.direction", "global direction the displacement is projected on", std::nullopt, {}, 3, 3);
+    selector_keys(s, "probe");
+    s.table_array("metric", "numbers written to summary.json", 0, 32)
+        .string("metric.name", "metric name", std::nullopt)
+        .choice("metric.kind", "how it is read from the path",
+                {"at_load", "final", "first_limit_load", "at_first_limit", "min_load_after_limit", "max_abs"},
+                std::nullopt)
+        .string("metric.probe", "probe it reads", std::string{})
+        .number("metric.load", "at_load: the load", 0.0);
+    s.table_array("reference", "reference curves drawn on the load-path plots", 0, 16)
+        .string("reference.file", "CSV file relative to the scene file", std::nullopt)
+        .string("reference.x_column", "column giving the load (or load ratio)", std::nullopt)
+        .number("reference.x_scale", "load = x_scale x column value", 1.0)
+        .string("reference.y_column", "column giving the displacement", std::nullopt)
+        .number("reference.y_scale", "probe value = y_scale x column value", 1.0)
+        .string("reference.probe", "probe the curve belongs to", std::nullopt)
+        .string("reference.label", "legend", std::string("reference"));
+    s.table("solver", "nonlinear statics", true)
+        .choice("solver.method", "load_control (Newton with cut-backs) or arc_length", {"load_control", "arc_length"},
+                "load_control")
+        .number("solver.load_scale", "load reported per unit lambda (for plots and metrics)", 1.0)
+        .string("solver.load_label", "name of the load on plots", std::string("load"))
+        .number("solver.lambda_end", "load factor to reach", 1.0, Range::positive())
+        .number("solver.initial_step", "first load step (load control) or load increment (arc length)", 0.05,
+                Range::left_open(0.0, 1.0))
+        .number("solver.max_step", "largest load step (load control)", 0.1, Range::left_open(0.0, 1.0))
+        .number("solver.min_step", "smallest load step before giving up", 1e-5, Range::left_open(0.0, 1.0))
+        .number("solver.tolerance", "relative residual and increment tolerance", 1e-8, Range::left_open(0.0, 1e-2))
+        .integer("solver.max_iterations", "Newton corrections per attempt", 25, IntRange::closed(2, 500))
+        .boolean("solver.stop_at_limit_point",
+                 "load control: refuse iterates that change the sign of det K (a limit point lies ahead)", true)
+        .choice("solver.arc_method", "arc-length constraint", {"crisfield", "lam_morley"}, "crisfield")
+        .integer("solver.desired_iterations", "arc length adapts to reach this many corrections", 4, IntRange::closed(1, 50))
+        .integer("solver.max_steps", "arc length: step budget", 400, IntRange::closed(1, 100000))
+        .string("solver.monitor_probe", "arc length: probe whose displacement limit ends the run", std::string{})
+        .number("solver.displacement_limit", "arc length: stop when |monitor probe| reaches this", 1e300, Range::positive());
+    s.table("output", "what a run writes besides results.h5")
+        .boolean("output.frames", "write PNG frames", true)
+        .integer("output.frame_every", "render every n-th step", 1, IntRange::closed(1, 1000000))
+        .integer("output.width", "frame width", 960, IntRange::closed(64, 8192))
+        .integer("output.height", "frame height", 720, IntRange::closed(64, 8192))
+        .number("output.deformation_scale", "drawn deformation = scale x true deformation", 1.0,
+                Range::left_open(0.0, 1e6))
+        .choice("output.color_field", "field that colours the body", {"displacement", "none"}, "displacement")
+        .boolean("output.plots", "write plots/*.png at the end", true)
+        .choice("output.view", "camera: iso, front (looking along +y, z up), top (looking down z)",
+                {"iso", "front", "top"}, "iso")
+        .number_list("output.view_center", "point the camera looks at; [] = centre of the mesh", std::vector<double>{},
+                     {}, 0, 3)
+        .number("output.view_radius", "half height of the view in length units; 0 = fit the mesh", 0.0,
+                Range::non_negative());
+    return s;
+  }();
+  return schema;
+}
+
+namespace {
+mesh::NodeSelector selector(const Document& d, const std::string& t, std::size_t i) {
+  const std::string kind = d.string(t + ".select", i);
+  const double tol = d.number(t + ".tolerance", i) > 0 ? d.number(t + ".tolerance", i) : mesh::kAutoTolerance;
+  if (kind == "nearest") return mesh::NodeSelector::nearest(vec(d.numbers(t + ".point", i)));
+  if (kind == "plane") return mesh::NodeSelector::plane(vec(d.numbers(t + ".point", i)), vec(d.numbers(t + ".normal", i)), tol);
+  if (kind == "box") return mesh::NodeSelector::box(vec(d.numbers(t + ".box_min", i)), vec(d.numbers(t + ".box_max", i)), tol);
+  if (kind == "sphere") return mesh::NodeSelector::sphere(vec(d.numbers(t + ".point", i)), d.number(t + ".radius", i), tol);
+  if (kind == "patch_edge")
+    return mesh::NodeSelector::patch_edge(d.string(t + ".patch", i), *mesh::parse_patch_edge(d.string(t + ".edge", i)));
+  return mesh::NodeSelector::all();
+}
+
+std::vector<int> nodes(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
+  const mesh::NodeSelector sel = selector(d, t, i);
+  const std::vector<int> ids = sel.select(m);
+  if (ids.empty())
+    throw SceneError({d.issue(t + ".select", i, mesh::empty_selection_message(t + "[" + std::to_string(i) + "]", sel, m))});
+  return ids;
+}
+
+// share a total among nodes by tributary length along the line they lie on (trapezoid rule)
+std::vector<double> tributary_weights(const mesh::ShellMesh& m, const std::vector<int>& ids) {
+  if (ids.size() == 1) return {1.0};
+  Eigen::Vector3d lo = m.points[ids[0]], hi = lo;
+  for (int i : ids) lo = lo.cwiseMin(m.points[i]), hi = hi.cwiseMax(m.points[i]);
+  const Eigen::Vector3d dir = (hi - lo).normalized();
+  std::vector<std::pair<double, int>> s;
+  for (std::size_t k = 0; k < ids.size(); ++k) s.emplace_back(dir.dot(m.points[ids[k]] - lo), static_cast<int>(k));
+  std::sort(s.begin(), s.end());
+  std::vector<double> w(ids.size(), 0.0);
+  double total = 0.0;
+  for (std::size_t k = 0; k + 1 < s.size(); ++k) {
+    const double h = s[k + 1].first - s[k].first;
+    w[s[k].second] += 0.5 * h;
+    w[s[k + 1].second] += 0.5 * h;
+    total += h;
+  }
+  for (double& x : w) x = total > 0 ? x / total : 1.0 / ids.size();
+  return w;
+}
+}  // namespace
+
+std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path) {
+  using namespace ff::shell;
+  const std::vector<std::string> fx = d.strings("scene.effects");
+  auto has = [&](const char* e) { return std::find(fx.begin(), fx.end(), e) != fx.end(); };
+  if (!has("elastic")) throw SceneError({d.issue("scene.effects", "a shell_static scene needs the effect 'elastic'")});
+
+  ShellModelSpec spec;
+  const std::string gen = d.string("mesh.generator");
+  const int n1 = static_cast<int>(d.integer("mesh.n1")), n2 = static_cast<int>(d.integer("mesh.n2"));
+  try {
+    if (gen == "cantilever_strip") spec.mesh = mesh::cantilever_strip(n1, n2);
+    else if (gen == "hemisphere_quarter") spec.mesh = mesh::hemisphere_quarter(n1, n2);
+    else if (gen == "open_cylinder_octant") spec.mesh = mesh::open_cylinder_octant(n1, n2);
+    else if (gen == "hinged_roof_quarter") spec.mesh = mesh::hinged_roof_quarter(n1, n2);
+    else if (gen == "l_plate") spec.mesh = mesh::l_plate_simo_fox_rifai(n1, n2);
+    else if (gen == "rectangular_plate") spec.mesh = mesh::rectangular_plate(d.number("mesh.length"), d.number("mesh.width"), n1, n2);
+    else throw SceneError({d.issue("mesh.generator", "generator = file is read by the app (mesh import); not available here")});
+  } catch (const std::invalid_argument& e) {
+    throw SceneError({d.issue("mesh.generator", e.what())});
+  }
+  spec.section = {d.number("material.youngs_modulus"), d.number("material.poisson_ratio"),
+                  d.number("material.thickness"), d.number("material.shear_factor")};
+  spec.options.hr = has("hr");
+  spec.options.ans = has("ans");
+  spec.options.drilling = has("drilling");
+  spec.options.drilling_factor = d.number("drilling.factor");
+  const mesh::ShellMesh& m = spec.mesh;
+
+  for (std::size_t i = 0; i < d.count("bc"); ++i) {
+    const std::string type = d.string("bc.type", i);
+    const std::vector<int> ids = nodes(d, m, "bc", i);
+    if (type == "symmetry") {
+      if (d.string("bc.select", i) != "plane")
+        throw SceneError({d.issue("bc.select", i, "a symmetry condition needs select = \"plane\"")});
+      const Eigen::Vector3d n = vec(d.numbers("bc.normal", i)).normalized();
+      int axis = -1;
+      for (int k = 0; k < 3; ++k)
+        if (std::abs(std::abs(n[k]) - 1.0) < 1e-12) axis = k;
+      if (axis < 0) throw SceneError({d.issue("bc.normal", i, "symmetry planes must be normal to x, y or z")});
+      for (int id : ids) spec.symmetry.push_back({id, axis});
+      continue;
+    }
+    unsigned mask = type == "clamped" ? kClamped : type == "hinged" ? kAllTranslations : 0u;
+    if (type == "fix") {
+      const std::vector<std::string> dofs = d.strings("bc.fix", i);
+      if (dofs.empty()) throw SceneError({d.issue("bc.fix", i, "type = \"fix\" needs the DoFs to fix, e.g. [\"uz\"]")});
+      const char* names[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+      for (const std::string& s : dofs)
+        for (int k = 0; k < 6; ++k)
+          if (s == names[k]) mask |= 1u << k;
+    }
+    for (int id : ids) spec.restraints.push_back({id, mask});
+  }
+  for (std::size_t i = 0; i < d.count("load"); ++i) {
+    const std::vector<int> ids = nodes(d, m, "load", i);
+    const std::vector<double> w = tributary_weights(m, ids);
+    const Eigen::Vector3d total = vec(d.numbers("load.total", i));
+    const bool moment = d.string("load.type", i) == "moment";
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      NodalLoad l;
+      l.node = ids[k];
+      (moment ? l.moment : l.force) = w[k] * total;
+      l.follower = d.boolean("load.follower", i);
+      spec.loads.push_back(l);
+    }
+  }
+  ShellStaticSettings st;
+  st.load_scale = d.number("solver.load_scale");
+  st.load_label = d.string("solver.load_label");
+  for (std::size_t i = 0; i < d.count("probe"); ++i) {
+    const std::vector<int> ids = nodes(d, m, "probe", i);
+    const std::string name = d.string("probe.name", i), label = d.string("probe.label", i);
+    st.probes.push_back({name, label.empty() ? name : label, ids.front(), vec(d.numbers("probe.direction", i))});
+  }
+  auto has_probe = [&](const std::string& n) {
+    return std::any_of(st.probes.begin(), st.probes.end(), [&](const ShellProbe& p) { return p.name == n; });
+  };
+  for (std::size_t i = 0; i < d.count("metric"); ++i) {
+    static const std::pair<const char*, ShellMetric::Kind> kinds[] = {
+        {"at_load", ShellMetric::Kind::at_load}, {"final", ShellMetric::Kind::final_value},
+        {"first_limit_load", ShellMetric::Kind::first_limit_load}, {"at_first_limit", ShellMetric::Kind::at_first_limit},
+        {"min_load_after_limit", ShellMetric::Kind::min_load_after_limit}, {"max_abs", ShellMetric::Kind::max_abs}};
+    ShellMetric mt;
+    mt.name = d.string("metric.name", i);
+    for (const auto& [k, v] : kinds)
+      if (d.string("metric.kind", i) == k) mt.kind = v;
+    mt.probe = d.string("metric.probe", i);
+    mt.load = d.number("metric.load", i);
+    const bool needs_probe = mt.kind != ShellMetric::Kind::first_limit_load && mt.kind != ShellMetric::Kind::min_load_after_limit;
+    if (needs_probe && !has_probe(mt.probe))
+      throw SceneError({d.issue("metric.probe", i, "no probe named '" + mt.probe + "'")});
+    st.metrics.push_back(mt);
+  }
+  RunInfo info;
+  info.scene_name = d.string("scene.name");
+  info.scene_path = path;
+  info.scene_text = d.text();
+  info.effects = fx;
+  for (const std::string& k : d.key_paths()) {
+    const std::string v = d.value_text(k);
+    if (!v.empty()) info.settings.emplace_back(k, v);
+  }
+  for (std::size_t i = 0; i < d.count("reference"); ++i) {
+    const std::string probe = d.string("reference.probe", i);
+    if (!has_probe(probe)) throw SceneError({d.issue("reference.probe", i, "no probe named '" + probe + "'")});
+    const std::string file = (fs::path(path).parent_path() / d.string("reference.file", i)).string();
+    try {
+      const ReferenceTable t = read_reference_csv(file);
+      ReferenceSeries r{"load", probe, d.string("reference.label", i), t.column(d.string("reference.x_column", i)),
+                        t.column(d.string("reference.y_column", i))};
+      for (double& x : r.x) x *= d.number("reference.x_scale", i);
+      for (double& y : r.y) y *= d.number("reference.y_scale", i);
+      info.references.push_back(std::move(r));
+    } catch (const std::runtime_error& e) {
+      throw SceneError({d.issue("reference.file", i, e.what())});
+    }
+  }
+  // solver
+  StaticConvergence conv;
+  conv.residual_tolerance = conv.increment_tolerance = d.number("solver.tolerance");
+  conv.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
+  st.arc_length = d.string("solver.method") == "arc_length";
+  st.load_control.lambda_end = d.number("solver.lambda_end");
+  st.load_control.initial_step = d.number("solver.initial_step");
+  st.load_control.max_step = d.number("solver.max_step");
+  st.load_control.min_step = d.number("solver.min_step");
+  st.load_control.convergence = conv;
+  st.load_control.hold_determinant_sign = d.boolean("solver.stop_at_limit_point");
+  st.arc.method = d.string("solver.arc_method") == "lam_morley" ? ArcLengthMethod::lam_morley : ArcLengthMethod::crisfield;
+  st.arc.initial_load_increment = d.number("solver.initial_step");
+  st.arc.lambda_max = d.number("solver.lambda_end");
+  st.arc.desired_iterations = static_cast<int>(d.integer("solver.desired_iterations"));
+  st.arc.max_steps = static_cast<int>(d.integer("solver.max_steps"));
+  st.arc.convergence = conv;
+  st.monitor_probe = d.string("solver.monitor_probe");
+  st.displacement_limit = d.number("solver.displacement_limit");
+  if (!st.monitor_probe.empty() && !has_probe(st.monitor_probe))
+    throw SceneError({d.issue("solver.monitor_probe", "no probe named '" + st.monitor_probe + "'")});
+  std::unique_ptr<ShellStaticSimulation> sim;
+  try {
+    sim = std::make_unique<ShellStaticSimulation>(std::move(spec), st, std::move(info));
+  } catch (const std::invalid_argument& e) {
+    throw SceneError({d.issue("bc.type", 0, e.what())});
+  }
+  return sim;
+}
+
+}  // namespace ff::scene

@@ -1,0 +1,16 @@
+#pragma once
+/// Scene keys and model building for model = "shell_static" (CB shell statics).
+#include <memory>
+#include <string>
+
+#include "core/model/simulation.h"
+#include "core/scene/schema.h"
+
+namespace ff::scene {
+
+const Schema& shell_static_schema();
+/// Builds the simulation; throws SceneError located at the offending key (empty node sets,
+/// impossible restraints, bad reference columns ...).
+std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path);
+
+}  // namespace ff::scene
