@@ -96,6 +96,17 @@ RunOutcome ShellStaticSimulation::run(const std::function<void(Frame&&)>& publis
   return out;
 }
 
+namespace {
+// the limit point between path samples i-1, i, i+1: parabola through the loads over the path
+// parameter t = -1, 0, 1, its vertex t*, and y read from the parabola through y at the same t*
+double vertex(const std::vector<double>& load, int i, const std::vector<double>& y) {
+  const double a = 0.5 * (load[i - 1] + load[i + 1]) - load[i], b = 0.5 * (load[i + 1] - load[i - 1]);
+  const double t = a < 0 ? std::clamp(-b / (2 * a), -1.0, 1.0) : 0.0;
+  const double ay = 0.5 * (y[i - 1] + y[i + 1]) - y[i], by = 0.5 * (y[i + 1] - y[i - 1]);
+  return y[i] + by * t + ay * t * t;
+}
+}  // namespace
+
 Metrics ShellStaticSimulation::metrics() const {
   Metrics m;
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -128,10 +139,10 @@ Metrics ShellStaticSimulation::metrics() const {
         if (k >= 0 && !values_[k].empty()) v = values_[k].back();
         break;
       case ShellMetric::Kind::first_limit_load:
-        if (limit >= 0) v = loads_[limit];
+        if (limit >= 0) v = vertex(loads_, limit, loads_);
         break;
       case ShellMetric::Kind::at_first_limit:
-        if (limit >= 0 && k >= 0) v = values_[k][limit];
+        if (limit >= 0 && k >= 0) v = vertex(loads_, limit, values_[k]);
         break;
       case ShellMetric::Kind::min_load_after_limit:
         if (limit >= 0) v = *std::min_element(loads_.begin() + limit, loads_.end());
