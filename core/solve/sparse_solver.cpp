@@ -1,0 +1,357 @@
+#include "core/solve/sparse_solver.h"
+
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#ifdef FF_HAVE_SUITESPARSE
+#include <Eigen/CholmodSupport>
+#include <Eigen/UmfPackSupport>
+#endif
+
+namespace ff {
+
+namespace {
+
+using Code = LinearStatus::Code;
+
+LinearStatus fail(Code code, int dof, std::string message) {
+  LinearStatus s;
+  s.code = code;
+  s.dof = dof;
+  s.message = std::move(message);
+  return s;
+}
+
+// the column holding the first NaN/Inf value, -1 when all are finite
+int first_non_finite_column(const SparseMatrixD& k) {
+  for (int j = 0; j < k.outerSize(); ++j)
+    for (int p = k.outerIndexPtr()[j]; p < k.outerIndexPtr()[j + 1]; ++p)
+      if (!std::isfinite(k.valuePtr()[p])) return j;
+  return -1;
+}
+
+// a column where K and Kᵀ differ by more than a round-off bound, -1 when symmetric
+int first_asymmetric_column(const SparseMatrixD& k) {
+  const SparseMatrixD t = k.transpose();
+  const double bound = 1e-10 * std::max(1e-300, k.coeffs().cwiseAbs().maxCoeff());
+  const SparseMatrixD d = k - t;
+  for (int j = 0; j < d.outerSize(); ++j)
+    for (SparseMatrixD::InnerIterator it(d, j); it; ++it)
+      if (std::abs(it.value()) > bound) return j;
+  return -1;
+}
+
+std::string singular_message(int dof) {
+  std::ostringstream m;
+  m << "singular matrix: zero pivot";
+  if (dof >= 0) m << " for unknown (DoF) " << dof;
+  m << " (unconstrained rigid-body mode, missing support, or an exact limit/bifurcation point)";
+  return m.str();
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+class SparseLinearSolver::Impl {
+ public:
+  virtual ~Impl() = default;
+  virtual LinearStatus analyze(const SparseMatrixD& a) = 0;
+  virtual LinearStatus factorize(const SparseMatrixD& a) = 0;
+  /// false when the library reports a failure during the solve
+  virtual bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
+  /// sign of det K of the current factorization (+1, −1), 0 when zero or unknown
+  virtual int determinant_sign() = 0;
+};
+
+namespace {
+
+// Eigen::SparseLU, COLAMD column ordering, partial pivoting (threshold 1)
+class SparseLuImpl final : public SparseLinearSolver::Impl {
+ public:
+  LinearStatus analyze(const SparseMatrixD& a) override {
+    lu_.analyzePattern(a);
+    return {};
+  }
+  LinearStatus factorize(const SparseMatrixD& a) override {
+    lu_.factorize(a);
+    if (lu_.info() == Eigen::Success) return {};
+    // SparseLU reports "... ZERO COLUMN AT <j+1>" with j in the column-permuted numbering
+    const std::string msg = lu_.lastErrorMessage();
+    const auto pos = msg.find_last_of(' ');
+    int dof = -1;
+    if (msg.find("ZERO COLUMN") != std::string::npos && pos != std::string::npos) {
+      const int jcol = std::atoi(msg.c_str() + pos + 1) - 1;
+      const auto& perm = lu_.colsPermutation().indices();
+      for (int i = 0; i < perm.size(); ++i)
+        if (perm[i] == jcol) dof = i;
+      return fail(Code::singular, dof, singular_message(dof));
+    }
+    return fail(Code::backend_error, -1, "SparseLU: " + msg);
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    x = lu_.solve(b);
+    return lu_.info() == Eigen::Success;
+  }
+  int determinant_sign() override { return static_cast<int>(lu_.signDeterminant()); }
+
+ private:
+  Eigen::SparseLU<SparseMatrixD, Eigen::COLAMDOrdering<int>> lu_;
+};
+
+// Eigen::SimplicialLDLT with AMD: symmetric (lower triangle read), no pivoting
+class SimplicialLdltImpl final : public SparseLinearSolver::Impl {
+ public:
+  LinearStatus analyze(const SparseMatrixD& a) override {
+    ldlt_.analyzePattern(a);
+    return {};
+  }
+  LinearStatus factorize(const SparseMatrixD& a) override {
+    ldlt_.factorize(a);
+    if (ldlt_.info() == Eigen::Success) return {};
+    // D(k,k) = 0 stops the factorization at k; the entries before k are non-zero
+    const Eigen::VectorXd d = ldlt_.vectorD();
+    int dof = -1;
+    for (int k = 0; k < d.size(); ++k)
+      if (d[k] == 0.0) {
+        dof = ldlt_.permutationPinv().indices()[k];
+        break;
+      }
+    return fail(Code::singular, dof, singular_message(dof));
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    x = ldlt_.solve(b);
+    return ldlt_.info() == Eigen::Success;
+  }
+  int determinant_sign() override {  // P K Pᵀ = L D Lᵀ
+    int sign = 1;
+    for (double d : ldlt_.vectorD()) {
+      if (d == 0.0) return 0;
+      if (d < 0.0) sign = -sign;
+    }
+    return sign;
+  }
+
+ private:
+  Eigen::SimplicialLDLT<SparseMatrixD, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_;
+};
+
+#ifdef FF_HAVE_SUITESPARSE
+// Eigen's UmfPackLU keeps a reference to the factorized matrix and hands it to umfpack_solve, so
+// the wrapper owns that copy. Iterative refinement is off: it made each solve ~5× slower
+// (static_solvers.md §7) and the Newton iteration around every solve refines anyway.
+class UmfpackImpl final : public SparseLinearSolver::Impl {
+  struct Lu : Eigen::UmfPackLU<SparseMatrixD> {
+    int det_sign() const {
+      double mantissa = 0.0, exponent = 0.0;
+      if (umfpack_di_get_determinant(&mantissa, &exponent, m_numeric, nullptr) < 0) return 0;
+      return mantissa > 0.0 ? 1 : (mantissa < 0.0 ? -1 : 0);
+    }
+  };
+
+ public:
+  UmfpackImpl() { lu_.umfpackControl()(UMFPACK_IRSTEP) = 0; }
+  LinearStatus analyze(const SparseMatrixD& a) override {
+    a_ = a;
+    lu_.analyzePattern(a_);
+    if (lu_.info() != Eigen::Success)
+      return fail(Code::backend_error, -1, "UMFPACK symbolic analysis failed");
+    return {};
+  }
+  LinearStatus factorize(const SparseMatrixD& a) override {
+    std::copy(a.valuePtr(), a.valuePtr() + a.nonZeros(), a_.valuePtr());
+    lu_.factorize(a_);
+    if (lu_.info() == Eigen::Success) return {};
+    const int code = lu_.umfpackFactorizeReturncode();
+    if (code == UMFPACK_WARNING_singular_matrix) {
+      // P R A Q = L U: a zero U(k,k) marks column Q(k) of A as dependent
+      const auto& u = lu_.matrixU();
+      const auto& q = lu_.permutationQ();
+      int dof = -1;
+      for (int k = 0; k < u.outerSize() && dof < 0; ++k) {
+        double ukk = 0.0;
+        for (SparseMatrixD::InnerIterator it(u, k); it; ++it)
+          if (it.row() == k) ukk = it.value();
+        if (ukk == 0.0) dof = q[k];
+      }
+      return fail(Code::singular, dof, singular_message(dof));
+    }
+    return fail(Code::backend_error, -1, "UMFPACK numeric factorization failed (status " + std::to_string(code) + ")");
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    x = lu_.solve(b);
+    return lu_.info() == Eigen::Success;
+  }
+  int determinant_sign() override { return lu_.det_sign(); }
+
+ private:
+  SparseMatrixD a_;
+  Lu lu_;
+};
+
+// CHOLMOD supernodal LLᵀ (reads the lower triangle)
+class CholmodImpl final : public SparseLinearSolver::Impl {
+  // exposes the factor's `minor` (first failed column) and permutation
+  struct Llt : Eigen::CholmodSupernodalLLT<SparseMatrixD, Eigen::Lower> {
+    int failed_dof() const {
+      if (!m_cholmodFactor || m_cholmodFactor->minor >= m_cholmodFactor->n) return -1;
+      const int k = static_cast<int>(m_cholmodFactor->minor);
+      const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
+      return perm ? perm[k] : k;
+    }
+  };
+
+ public:
+  CholmodImpl() { llt_.cholmod().print = 0; }  // failures come back as statuses, not stderr lines
+  LinearStatus analyze(const SparseMatrixD& a) override {
+    llt_.analyzePattern(a);
+    if (llt_.cholmod().status < CHOLMOD_OK)
+      return fail(Code::backend_error, -1, "CHOLMOD analysis failed (status " + std::to_string(llt_.cholmod().status) + ")");
+    return {};
+  }
+  LinearStatus factorize(const SparseMatrixD& a) override {
+    llt_.factorize(a);
+    if (llt_.info() == Eigen::Success) return {};
+    const int dof = llt_.failed_dof();
+    std::ostringstream m;
+    m << "matrix not positive definite (CHOLMOD LLT failed";
+    if (dof >= 0) m << " at DoF " << dof;
+    m << "): an indefinite tangent past a limit or bifurcation point needs an LU backend";
+    return fail(Code::not_positive_definite, dof, m.str());
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    x = llt_.solve(b);
+    return llt_.info() == Eigen::Success;
+  }
+  int determinant_sign() override { return 1; }  // factorized, so positive definite
+
+ private:
+  Llt llt_;
+};
+#endif
+
+std::unique_ptr<SparseLinearSolver::Impl> make_impl(LinearBackend backend) {
+  switch (backend) {
+    case LinearBackend::sparse_lu: return std::make_unique<SparseLuImpl>();
+    case LinearBackend::simplicial_ldlt: return std::make_unique<SimplicialLdltImpl>();
+#ifdef FF_HAVE_SUITESPARSE
+    case LinearBackend::umfpack: return std::make_unique<UmfpackImpl>();
+    case LinearBackend::cholmod_llt: return std::make_unique<CholmodImpl>();
+#else
+    case LinearBackend::umfpack:
+    case LinearBackend::cholmod_llt: return nullptr;
+#endif
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+LinearBackend default_linear_backend() {
+  return linear_backend_available(LinearBackend::umfpack) ? LinearBackend::umfpack : LinearBackend::sparse_lu;
+}
+
+bool linear_backend_available(LinearBackend backend) {
+#ifdef FF_HAVE_SUITESPARSE
+  (void)backend;
+  return true;
+#else
+  return backend == LinearBackend::sparse_lu || backend == LinearBackend::simplicial_ldlt;
+#endif
+}
+
+bool linear_backend_is_symmetric(LinearBackend backend) {
+  return backend == LinearBackend::cholmod_llt || backend == LinearBackend::simplicial_ldlt;
+}
+
+std::string_view to_string(LinearBackend backend) {
+  switch (backend) {
+    case LinearBackend::umfpack: return "umfpack";
+    case LinearBackend::sparse_lu: return "sparse_lu";
+    case LinearBackend::cholmod_llt: return "cholmod_llt";
+    case LinearBackend::simplicial_ldlt: return "simplicial_ldlt";
+  }
+  return "unknown";
+}
+
+std::vector<LinearBackend> all_linear_backends() {
+  return {LinearBackend::umfpack, LinearBackend::sparse_lu, LinearBackend::cholmod_llt,
+          LinearBackend::simplicial_ldlt};
+}
+
+std::optional<LinearBackend> parse_linear_backend(std::string_view name) {
+  for (LinearBackend b : all_linear_backends())
+    if (to_string(b) == name) return b;
+  return std::nullopt;
+}
+
+SparseLinearSolver::SparseLinearSolver(LinearBackend backend) : backend_(backend), impl_(make_impl(backend)) {}
+SparseLinearSolver::~SparseLinearSolver() = default;
+SparseLinearSolver::SparseLinearSolver(SparseLinearSolver&&) noexcept = default;
+SparseLinearSolver& SparseLinearSolver::operator=(SparseLinearSolver&&) noexcept = default;
+
+bool SparseLinearSolver::same_pattern(const SparseMatrixD& k) const {
+  if (!analyzed_ || k.rows() != n_ || k.cols() != n_ || !k.isCompressed()) return false;
+  const auto nnz = static_cast<std::size_t>(k.nonZeros());
+  return nnz == inner_.size() &&
+         std::memcmp(k.outerIndexPtr(), outer_.data(), outer_.size() * sizeof(int)) == 0 &&
+         std::memcmp(k.innerIndexPtr(), inner_.data(), nnz * sizeof(int)) == 0;
+}
+
+LinearStatus SparseLinearSolver::analyze(const SparseMatrixD& pattern) {
+  analyzed_ = factorized_ = false;
+  if (!impl_)
+    return fail(Code::unavailable, -1,
+                "linear backend '" + std::string(to_string(backend_)) + "' is not compiled in (needs SuiteSparse)");
+  if (pattern.rows() != pattern.cols() || pattern.rows() == 0)
+    return fail(Code::invalid_input, -1, "matrix must be square and non-empty");
+  if (!pattern.isCompressed()) return fail(Code::invalid_input, -1, "matrix must be compressed (makeCompressed())");
+  LinearStatus s = impl_->analyze(pattern);
+  if (!s) return s;
+  n_ = static_cast<int>(pattern.rows());
+  outer_.assign(pattern.outerIndexPtr(), pattern.outerIndexPtr() + n_ + 1);
+  inner_.assign(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros());
+  analyzed_ = true;
+  ++analyses_;
+  return s;
+}
+
+LinearStatus SparseLinearSolver::factorize(const SparseMatrixD& k) {
+  factorized_ = false;
+  if (!same_pattern(k)) {
+    LinearStatus s = analyze(k);
+    if (!s) return s;
+  }
+  if (const int j = first_non_finite_column(k); j >= 0)
+    return fail(Code::non_finite_matrix, j, "matrix has a NaN/Inf entry in column (DoF) " + std::to_string(j));
+  if (linear_backend_is_symmetric(backend_))
+    if (const int j = first_asymmetric_column(k); j >= 0)
+      return fail(Code::not_symmetric, j,
+                  "matrix is not symmetric (column " + std::to_string(j) + "); backend '" +
+                      std::string(to_string(backend_)) + "' reads one triangle only: use umfpack or sparse_lu");
+  LinearStatus s = impl_->factorize(k);
+  if (!s) return s;
+  factorized_ = true;
+  ++factorizations_;
+  return s;
+}
+
+int SparseLinearSolver::determinant_sign() const { return factorized_ ? impl_->determinant_sign() : 0; }
+
+LinearStatus SparseLinearSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  if (!factorized_) return fail(Code::invalid_input, -1, "solve() without a successful factorize()");
+  if (b.size() != n_) return fail(Code::invalid_input, -1, "right-hand side has the wrong size");
+  if (!impl_->solve(b, x)) return fail(Code::backend_error, -1, "the backend's solve failed");
+  for (int i = 0; i < x.size(); ++i)
+    if (!std::isfinite(x[i]))
+      return fail(Code::non_finite_solution, i,
+                  "non-finite solution at DoF " + std::to_string(i) + " (numerically singular matrix)");
+  return {};
+}
+
+}  // namespace ff

@@ -1,0 +1,97 @@
+#pragma once
+/// \file sparse_solver.h
+/// Sparse direct solver for K x = b with K square, sparse and in general non-symmetric (tangent
+/// stiffness with follower loads or drilling penalties). One object per linear system: analyze()
+/// once per sparsity pattern, factorize() per Newton iteration, solve() per right-hand side.
+/// Every failure (singular pivot with its DoF, non-finite entries or solution, indefinite matrix for
+/// a Cholesky backend, missing backend) is returned as a LinearStatus, never thrown or aborted.
+/// Backend choice and its benchmark: core/solve/static_solvers.md §4.
+
+#include <Eigen/SparseCore>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ff {
+
+using SparseMatrixD = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+enum class LinearBackend {
+  umfpack,         ///< SuiteSparse UMFPACK (multifrontal LU, AMD/COLAMD), via Eigen::UmfPackLU
+  sparse_lu,       ///< Eigen::SparseLU with COLAMD ordering (supernodal LU, no external library)
+  cholmod_llt,     ///< CHOLMOD supernodal LLᵀ: symmetric positive definite only (fails past a limit point)
+  simplicial_ldlt  ///< Eigen::SimplicialLDLT (AMD): symmetric, no pivoting; for symmetric indefinite use LU
+};
+
+/// The backend the static solvers use unless a scene says otherwise: UMFPACK when SuiteSparse was
+/// found at configure time, otherwise Eigen's SparseLU (static_solvers.md §4 gives the measurements).
+LinearBackend default_linear_backend();
+/// Compiled in (UMFPACK and CHOLMOD need SuiteSparse at configure time).
+bool linear_backend_available(LinearBackend backend);
+/// True for the Cholesky-type backends, which read only one triangle and need K = Kᵀ.
+bool linear_backend_is_symmetric(LinearBackend backend);
+/// Scene-file name: "umfpack", "sparse_lu", "cholmod_llt", "simplicial_ldlt".
+std::string_view to_string(LinearBackend backend);
+std::optional<LinearBackend> parse_linear_backend(std::string_view name);
+std::vector<LinearBackend> all_linear_backends();
+
+struct LinearStatus {
+  enum class Code {
+    ok,
+    unavailable,             ///< backend not compiled in
+    invalid_input,           ///< not square, size mismatch, factorize()/solve() out of order
+    non_finite_matrix,       ///< NaN/Inf entry in K (dof = its column)
+    not_symmetric,           ///< K ≠ Kᵀ given to a symmetric backend (dof = a column where it differs)
+    singular,                ///< zero pivot (dof = the unknown whose column is dependent, when known)
+    not_positive_definite,   ///< Cholesky failed (dof = the column where it failed, when known)
+    non_finite_solution,     ///< NaN/Inf in x (dof = its index)
+    backend_error            ///< anything else the library reported
+  };
+  Code code = Code::ok;
+  int dof = -1;           ///< row/column index of the offending unknown, -1 when unknown
+  std::string message;    ///< one line for logs and result files
+  bool ok() const { return code == Code::ok; }
+  explicit operator bool() const { return ok(); }
+};
+
+class SparseLinearSolver {
+ public:
+  explicit SparseLinearSolver(LinearBackend backend = default_linear_backend());
+  ~SparseLinearSolver();
+  SparseLinearSolver(SparseLinearSolver&&) noexcept;
+  SparseLinearSolver& operator=(SparseLinearSolver&&) noexcept;
+
+  LinearBackend backend() const { return backend_; }
+  /// Ordering and symbolic factorization of the pattern of `pattern` (values ignored). Needs a
+  /// compressed column-major matrix.
+  LinearStatus analyze(const SparseMatrixD& pattern);
+  /// Numeric factorization. Re-analyzes by itself when K's pattern differs from the analyzed one
+  /// (compared index by index, O(nnz)), so callers may simply call factorize() every iteration.
+  LinearStatus factorize(const SparseMatrixD& k);
+  /// x = K⁻¹ b with the last successful factorization.
+  LinearStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+
+  /// Sign of det K for the last factorization: +1 or −1, 0 when singular or not factorized. Its
+  /// change along a load path marks a limit or bifurcation point (FORMULATION §8). O(n).
+  int determinant_sign() const;
+
+  bool factorized() const { return factorized_; }
+  int rows() const { return n_; }
+  int analyses() const { return analyses_; }            ///< symbolic factorizations so far
+  int factorizations() const { return factorizations_; }  ///< numeric factorizations so far
+
+  class Impl;  ///< one per backend (sparse_solver.cpp)
+
+ private:
+  bool same_pattern(const SparseMatrixD& k) const;
+  LinearBackend backend_;
+  std::unique_ptr<Impl> impl_;
+  int n_ = 0;
+  bool analyzed_ = false, factorized_ = false;
+  int analyses_ = 0, factorizations_ = 0;
+  std::vector<int> outer_, inner_;  // analyzed pattern
+};
+
+}  // namespace ff

@@ -1,0 +1,436 @@
+#include "core/solve/static_arclength.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ff {
+
+namespace {
+
+std::string check_settings(const ArcLengthSettings& s, int n) {
+  if (!(std::isfinite(s.lambda_start) && std::isfinite(s.initial_load_increment) && std::isfinite(s.arc_length) &&
+        std::isfinite(s.psi) && !std::isnan(s.lambda_max) && !std::isnan(s.displacement_limit)))
+    return "non-finite arc-length setting";
+  if (s.arc_length <= 0.0 && s.initial_load_increment == 0.0)
+    return "arc-length needs arc_length > 0 or a non-zero initial_load_increment";
+  if (s.psi < 0.0) return "psi must be >= 0";
+  if (!(s.lam_morley_a0_cap >= 1.0)) return "lam_morley_a0_cap must be >= 1";
+  if (!(s.min_arc_length_ratio > 0.0 && s.min_arc_length_ratio <= 1.0 && s.max_arc_length_ratio >= 1.0))
+    return "arc-length bounds must satisfy 0 < min_arc_length_ratio <= 1 <= max_arc_length_ratio";
+  if (s.desired_iterations < 1 || s.max_growth < 1.0) return "desired_iterations >= 1 and max_growth >= 1 required";
+  if (s.monitor_dof >= n) return "monitor_dof is not a DoF of the problem";
+  if (std::isfinite(s.displacement_limit) && s.monitor_dof < 0) return "a displacement limit needs monitor_dof";
+  if (s.convergence.max_iterations < 1 || s.max_steps < 1) return "max_iterations and max_steps must be >= 1";
+  return {};
+}
+
+/// Outcome of one attempt at an arc-length step, from the last converged state.
+struct Attempt {
+  bool converged = false;
+  bool interrupted = false;
+  int iterations = 0;
+  int factorizations = 0;
+  double residual_norm = 0.0;
+  double increment_norm = 0.0;
+  std::string failure;
+};
+
+class PathFollower {
+ public:
+  PathFollower(StaticProblem& problem, const ArcLengthSettings& s)
+      : s_(s), k_(problem, s.convergence), n_(problem.size()) {}
+  StaticResult run();
+
+ private:
+  Attempt crisfield_step(double dl);
+  Attempt lam_morley_step(double dl);
+  bool load_tangent(double lambda, Eigen::VectorXd& dq_f);  // δq_f = K⁻¹ f_ref at the current state
+  bool start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor, Attempt& a);
+  double monitored() const;
+
+  const ArcLengthSettings& s_;
+  StaticKernel k_;
+  int n_;
+  double lambda_ = 0.0;            // last converged load factor
+  Eigen::VectorXd dq_;             // increment of the step being attempted (Σ of the applied δ)
+  double dlambda_ = 0.0;           // its load increment
+  Eigen::VectorXd dq_prev_;        // increment of the last converged step
+  double dlambda_prev_ = 0.0;
+  bool has_previous_ = false;
+  Eigen::VectorXd u_total_;        // Σ of all converged increments (displacement for eq. 19, monitor)
+  double a0_ = 0.0;                // Lam–Morley load scaling A0 (eqs. 19–20)
+  double a0_origin_ = 0.0;         // A0 at the start (eq. 20), the base of the cap on eq. (19)
+};
+
+bool PathFollower::load_tangent(double lambda, Eigen::VectorXd& dq_f) {
+  const bool full = s_.convergence.tangent == TangentPolicy::every_iteration;
+  if (!k_.evaluated_at(lambda) && !k_.evaluate(lambda, full)) return false;
+  if (k_.wants_new_tangent(0, 0.0, 0.0) && !k_.refresh_tangent(lambda)) return false;
+  return k_.solve(k_.load(), dq_f);
+}
+
+double PathFollower::monitored() const {
+  if (s_.monitor_dof < 0) return std::numeric_limits<double>::quiet_NaN();
+  const std::optional<double> u = k_.problem().displacement(s_.monitor_dof);
+  return u ? *u : u_total_[s_.monitor_dof];
+}
+
+// common head of a corrector iteration: stop flag, convergence budget, divergence, tangent policy
+bool PathFollower::start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor,
+                                   Attempt& a) {
+  if (k >= s_.convergence.max_iterations) {
+    a.failure = "no convergence in " + std::to_string(k) + " iterations near λ = " + fmt(lambda) + " (residual " +
+                fmt(rn) + " vs limit " + fmt(k_.residual_limit()) + ", increment " + fmt(a.increment_norm) + ")";
+    return false;
+  }
+  if (std::string why = monitor.check(k, rn, k_.residual_limit()); !why.empty()) {
+    a.failure = "diverging near λ = " + fmt(lambda) + ": " + why;
+    return false;
+  }
+  if (k_.wants_new_tangent(k, rn, previous) && !k_.refresh_tangent(lambda)) {
+    a.failure = k_.failure() + " (iteration " + std::to_string(k) + ")";
+    return false;
+  }
+  return true;
+}
+
+// Crisfield (1981): tangent predictor (eq. 9), exact quadratic corrector (eqs. 10–11)
+Attempt PathFollower::crisfield_step(double dl) {
+  Attempt a;
+  const int f0 = k_.factorizations();
+  const double psi2 = s_.psi * s_.psi;
+  Eigen::VectorXd dq_f(n_), dq_r(n_), delta(n_), rhs;
+  dq_.setZero(n_);
+
+  // predictor: along K⁻¹f, oriented by the previous step (eq. 9); the secant when K is singular
+  if (load_tangent(lambda_, dq_f)) {
+    const double ff = psi2 * k_.dot_r(k_.load(), k_.load());
+    double sign = s_.initial_load_increment < 0.0 ? -1.0 : 1.0;
+    if (has_previous_) {
+      const double orient = k_.dot_u(dq_prev_, dq_f);
+      sign = orient != 0.0 ? (orient > 0.0 ? 1.0 : -1.0) : (dlambda_prev_ >= 0.0 ? 1.0 : -1.0);
+    }
+    dlambda_ = sign * dl / std::sqrt(k_.dot_u(dq_f, dq_f) + ff);
+    dq_ = dlambda_ * dq_f;
+  } else if (has_previous_) {
+    const double mu = dl / std::sqrt(k_.dot_u(dq_prev_, dq_prev_) +
+                                     psi2 * k_.dot_r(k_.load(), k_.load()) * dlambda_prev_ * dlambda_prev_);
+    dq_ = mu * dq_prev_;
+    dlambda_ = mu * dlambda_prev_;
+  } else {
+    a.failure = "predictor: " + k_.failure();
+    return a;
+  }
+  k_.update(dq_);
+
+  DivergenceMonitor monitor(s_.convergence);
+  double previous = std::numeric_limits<double>::infinity();
+  const bool full = s_.convergence.tangent == TangentPolicy::every_iteration;
+  for (int k = 0;; ++k) {
+    const double lambda = lambda_ + dlambda_;
+    if (stop_requested(s_.stop)) {
+      a.interrupted = true;
+      break;
+    }
+    if (!k_.evaluate(lambda, full)) {
+      a.failure = k_.failure();
+      break;
+    }
+    a.residual_norm = k_.norm_r(k_.residual());
+    if (k > 0 && k_.converged(a.residual_norm, a.increment_norm, k_.norm_u(dq_))) {
+      a.converged = true;
+      break;
+    }
+    if (!start_iteration(k, lambda, a.residual_norm, previous, monitor, a)) break;
+    rhs = -k_.residual();
+    if (!k_.solve(rhs, dq_r) || !k_.solve(k_.load(), dq_f)) {
+      a.failure = k_.failure();
+      break;
+    }
+    // eq. (10): ||Δq + δq_r + δλ δq_f||² + ψ²||f||²(Δλ + δλ)² = Δl²
+    const double ff = psi2 * k_.dot_r(k_.load(), k_.load());
+    const Eigen::VectorXd base = dq_ + dq_r;
+    const double qa = k_.dot_u(dq_f, dq_f) + ff;
+    const double qb = 2.0 * (k_.dot_u(base, dq_f) + ff * dlambda_);
+    const double qc = k_.dot_u(base, base) + ff * dlambda_ * dlambda_ - dl * dl;
+    const double disc = qb * qb - 4.0 * qa * qc;
+    if (!(disc >= 0.0)) {
+      a.failure = "the arc-length constraint has complex roots near λ = " + fmt(lambda) + " (Δl = " + fmt(dl) +
+                  " too long for the local curvature of the path)";
+      break;
+    }
+    // numerically stable roots, then eq. (11): the one continuing the step's direction
+    const double sq = std::sqrt(disc);
+    const double q = -0.5 * (qb + (qb >= 0.0 ? sq : -sq));
+    const double r1 = q / qa, r2 = q != 0.0 ? qc / q : -r1;
+    auto alignment = [&](double x) { return k_.dot_u(base + x * dq_f, dq_); };
+    const double x = alignment(r1) >= alignment(r2) ? r1 : r2;
+    delta = dq_r + x * dq_f;
+    k_.update(delta);
+    dq_ += delta;
+    dlambda_ += x;
+    a.increment_norm = k_.norm_u(delta);
+    a.iterations = k + 1;
+    previous = a.residual_norm;
+  }
+  a.factorizations = k_.factorizations() - f0;
+  return a;
+}
+
+// Lam & Morley (1992): secant predictor (eq. 18), residual split (eq. 14), corrector (eqs. 15–17)
+Attempt PathFollower::lam_morley_step(double dl) {
+  Attempt a;
+  const int f0 = k_.factorizations();
+  Eigen::VectorXd dq_f(n_), dq_h(n_), delta(n_), rhs, r_perp;
+  if (has_previous_) {
+    const double mu = dl / std::sqrt(k_.dot_u(dq_prev_, dq_prev_) + a0_ * dlambda_prev_ * dlambda_prev_);
+    dq_ = mu * dq_prev_;
+    dlambda_ = mu * dlambda_prev_;
+  } else {
+    if (!load_tangent(lambda_, dq_f)) {
+      a.failure = "predictor: " + k_.failure();
+      return a;
+    }
+    const double sign = s_.initial_load_increment < 0.0 ? -1.0 : 1.0;
+    dlambda_ = sign * dl / std::sqrt(k_.dot_u(dq_f, dq_f) + a0_);
+    dq_ = dlambda_ * dq_f;
+  }
+  k_.update(dq_);
+
+  DivergenceMonitor monitor(s_.convergence);
+  double previous = std::numeric_limits<double>::infinity();
+  const bool full = s_.convergence.tangent == TangentPolicy::every_iteration;
+  for (int k = 0;; ++k) {
+    const double lambda = lambda_ + dlambda_;
+    if (stop_requested(s_.stop)) {
+      a.interrupted = true;
+      break;
+    }
+    if (!k_.evaluate(lambda, full)) {
+      a.failure = k_.failure();
+      break;
+    }
+    // eq. (14): the load-parallel part of r is a load-factor error g, the rest h = r − g f
+    const Eigen::VectorXd& f = k_.load();
+    const double ff = k_.dot_r(f, f);
+    const double g = ff > 0.0 ? k_.dot_r(k_.residual(), f) / ff : 0.0;
+    r_perp = k_.residual() - g * f;
+    a.residual_norm = k_.norm_r(r_perp);
+    if (k > 0 && k_.converged(a.residual_norm, a.increment_norm, k_.norm_u(dq_))) {
+      dlambda_ += g;  // λ that leaves only h: r(q, λ + g) = h
+      a.converged = true;
+      break;
+    }
+    if (!start_iteration(k, lambda, a.residual_norm, previous, monitor, a)) break;
+    rhs = -r_perp;
+    if (!k_.solve(k_.load(), dq_f) || !k_.solve(rhs, dq_h)) {
+      a.failure = k_.failure();
+      break;
+    }
+    // eq. (15): ||Δq + η δq_h + x δq_f||² + A0 (Δλ + g + x)² = Δl²
+    const double s = dlambda_ + g;
+    const double qa = a0_ + k_.dot_u(dq_f, dq_f);
+    auto coefficients = [&](double eta, double& qb, double& qc) {
+      const Eigen::VectorXd v = dq_ + eta * dq_h;
+      qb = a0_ * s + k_.dot_u(dq_f, v);
+      qc = a0_ * s * s + k_.dot_u(v, v) - dl * dl;
+      return qb * qb - qa * qc;
+    };
+    double eta = 1.0, qb = 0.0, qc = 0.0;
+    double disc = coefficients(eta, qb, qc);
+    if (!(disc >= 0.0)) {
+      // eq. (16): real roots need η in [η1, η2]; take the end nearest to 1, 5 % inside
+      const double fh = k_.dot_u(dq_f, dq_h), fd = k_.dot_u(dq_f, dq_);
+      const double ea = qa * k_.dot_u(dq_h, dq_h) - fh * fh;
+      const double eb = qa * k_.dot_u(dq_, dq_h) - (a0_ * s + fd) * fh;
+      const double ec = qa * (k_.dot_u(dq_, dq_) - dl * dl) - (2.0 * a0_ * s + fd) * fd + a0_ * s * s * k_.dot_u(dq_f, dq_f);
+      const double edisc = eb * eb - ea * ec;
+      if (ea > 0.0 && edisc >= 0.0) {
+        const double e1 = (-eb - std::sqrt(edisc)) / ea, e2 = (-eb + std::sqrt(edisc)) / ea;
+        const double ksi = 0.05 * (e2 - e1);
+        eta = e2 < 1.0 ? e2 - ksi : e1 + ksi;
+        disc = std::max(0.0, coefficients(eta, qb, qc));
+      } else {
+        // eq. (17): take the full correction, read λ off the equilibrium there, scale back to Δl
+        const Eigen::VectorXd dq_cr = dq_ + dq_h;
+        k_.update(dq_h);
+        if (!k_.evaluate(lambda, false)) {
+          a.failure = k_.failure();
+          break;
+        }
+        const Eigen::VectorXd f_int = k_.residual() + lambda * k_.load();
+        const double fl = k_.dot_r(k_.load(), k_.load());
+        const double dlambda_cr = (fl > 0.0 ? k_.dot_r(f_int, k_.load()) / fl : lambda) - lambda_;
+        const double mu = dl / std::sqrt(k_.dot_u(dq_cr, dq_cr) + a0_ * dlambda_cr * dlambda_cr);
+        k_.restore();
+        delta = mu * dq_cr;
+        k_.update(delta);
+        a.increment_norm = k_.norm_u(delta - dq_);
+        dq_ = delta;
+        dlambda_ = mu * dlambda_cr;
+        a.iterations = k + 1;
+        previous = a.residual_norm;
+        continue;
+      }
+    }
+    const double sq = std::sqrt(disc);
+    const Eigen::VectorXd base = dq_ + eta * dq_h;
+    auto alignment = [&](double x) { return k_.dot_u(base + x * dq_f, dq_); };
+    const double x1 = (-qb - sq) / qa, x2 = (-qb + sq) / qa;
+    const double x = alignment(x1) >= alignment(x2) ? x1 : x2;
+    delta = eta * dq_h + x * dq_f;
+    k_.update(delta);
+    dq_ += delta;
+    dlambda_ = s + x;
+    a.increment_norm = k_.norm_u(delta);
+    a.iterations = k + 1;
+    previous = a.residual_norm;
+  }
+  a.factorizations = k_.factorizations() - f0;
+  return a;
+}
+
+StaticResult PathFollower::run() {
+  StaticResult res;
+  lambda_ = s_.lambda_start;
+  res.lambda = lambda_;
+  auto finish = [&](StaticStatus status, StaticStop stop, std::string reason) {
+    res.status = status;
+    res.stop = stop;
+    res.reason = std::move(reason);
+    res.lambda = lambda_;
+    res.factorizations = k_.factorizations();
+    return res;
+  };
+  if (std::string why = check_settings(s_, n_); !why.empty())
+    return finish(StaticStatus::diverged, StaticStop::invalid_settings, why);
+  if (lambda_ >= s_.lambda_max)
+    return finish(StaticStatus::completed, StaticStop::lambda_reached, "λ_start is already at λ_max");
+
+  dq_.setZero(n_);
+  dq_prev_.setZero(n_);
+  u_total_.setZero(n_);
+  k_.save();
+
+  // the first Δl from the initial load increment along the initial tangent (eq. 12)
+  Eigen::VectorXd dq_f(n_);
+  if (!load_tangent(lambda_, dq_f))
+    return finish(StaticStatus::diverged, StaticStop::step_too_small, "initial tangent: " + k_.failure());
+  const double qf = k_.dot_u(dq_f, dq_f);
+  double dl0 = 0.0;
+  if (s_.method == ArcLengthMethod::crisfield) {
+    dl0 = std::abs(s_.initial_load_increment) * std::sqrt(qf + s_.psi * s_.psi * k_.dot_r(k_.load(), k_.load()));
+  } else {
+    a0_ = a0_origin_ = qf;  // eq. (20) at the origin
+    dl0 = std::abs(s_.initial_load_increment) * std::sqrt(2.0 * a0_);
+  }
+  if (s_.arc_length > 0.0) dl0 = s_.arc_length;
+  const double dl_min = s_.min_arc_length_ratio * dl0, dl_max = s_.max_arc_length_ratio * dl0;
+  double dl = dl0;
+  int attempts = 1;
+  bool landing_failed = false;
+
+  while (true) {
+    if (stop_requested(s_.stop))
+      return finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+    Attempt a = s_.method == ArcLengthMethod::crisfield ? crisfield_step(dl) : lam_morley_step(dl);
+    res.iterations += a.iterations;
+    if (a.interrupted) {
+      k_.restore();
+      return finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+    }
+    if (!a.converged) {
+      k_.restore();
+      k_.invalidate_factorization();
+      ++res.cutbacks;
+      ++attempts;
+      dl *= 0.5;
+      if (dl < dl_min)
+        return finish(StaticStatus::diverged, StaticStop::step_too_small,
+                      "arc-length stopped at λ = " + fmt(lambda_) + ": Δl cut below its minimum " + fmt(dl_min) +
+                          "; last attempt: " + a.failure);
+      continue;
+    }
+
+    // land exactly on λ_max: Newton at fixed λ_max from the interpolated increment (eq. 21)
+    bool final_step = false;
+    if (s_.land_on_lambda_max && !landing_failed && lambda_ < s_.lambda_max && lambda_ + dlambda_ > s_.lambda_max) {
+      const double t = (s_.lambda_max - lambda_) / dlambda_;
+      Eigen::VectorXd landing = t * dq_;
+      k_.restore();
+      k_.update(landing);
+      const NewtonOutcome out = newton_at_fixed_load(k_, s_.lambda_max, landing, s_.stop, false);
+      res.iterations += out.iterations;
+      if (!out.converged) {
+        // take the arc-length step again and stop just past λ_max
+        k_.restore();
+        k_.invalidate_factorization();
+        landing_failed = true;
+        continue;
+      }
+      dq_ = landing;
+      dlambda_ = s_.lambda_max - lambda_;
+      a.iterations = out.iterations;
+      a.factorizations = out.factorizations;
+      a.residual_norm = out.residual_norm;
+      a.increment_norm = out.increment_norm;
+      final_step = true;
+    }
+
+    // accept
+    lambda_ += dlambda_;
+    k_.save();
+    u_total_ += dq_;
+    ++res.steps;
+    if (has_previous_ && dlambda_ * dlambda_prev_ < 0.0) ++res.limit_points;
+    if (s_.on_step) {
+      StaticStepInfo info;
+      info.step = res.steps;
+      info.lambda = lambda_;
+      info.dlambda = dlambda_;
+      info.arc_length = dl;
+      info.iterations = a.iterations;
+      info.attempts = attempts;
+      info.factorizations = a.factorizations;
+      info.tangent_refactored = a.factorizations > 0;
+      info.residual_norm = a.residual_norm;
+      info.increment_norm = a.increment_norm;
+      info.step_norm = k_.norm_u(dq_);
+      info.monitored = monitored();
+      s_.on_step(info);
+    }
+    if (final_step || lambda_ >= s_.lambda_max)
+      return finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_max = " + fmt(s_.lambda_max) +
+                                                                            (final_step ? "" : " (overshot, landing failed)"));
+    if (s_.monitor_dof >= 0 && std::abs(monitored()) >= s_.displacement_limit)
+      return finish(StaticStatus::completed, StaticStop::displacement_limit,
+                    "displacement of DoF " + std::to_string(s_.monitor_dof) + " reached " + fmt(monitored()) +
+                        " (limit " + fmt(s_.displacement_limit) + ") at λ = " + fmt(lambda_));
+    if (res.steps >= s_.max_steps)
+      return finish(StaticStatus::completed, StaticStop::max_steps,
+                    std::to_string(s_.max_steps) + " steps done, at λ = " + fmt(lambda_));
+
+    // eq. (13): Δl for the next step from this step's iteration count (no growth after a cut-back)
+    double factor = std::sqrt(static_cast<double>(s_.desired_iterations) / std::max(1, a.iterations));
+    factor = std::min(factor, attempts > 1 ? 1.0 : s_.max_growth);
+    dl = std::clamp(dl * factor, dl_min, dl_max);
+    dq_prev_ = dq_;
+    dlambda_prev_ = dlambda_;
+    has_previous_ = true;
+    attempts = 1;
+    landing_failed = false;
+    // eq. (19): A0 = ||q||²/λ² at the converged point, capped where λ passes close to zero
+    if (s_.method == ArcLengthMethod::lam_morley) {
+      const double cap = s_.lam_morley_a0_cap * a0_origin_;
+      a0_ = lambda_ != 0.0 ? std::min(cap, k_.dot_u(u_total_, u_total_) / (lambda_ * lambda_)) : cap;
+    }
+  }
+}
+
+}  // namespace
+
+StaticResult solve_arc_length(StaticProblem& problem, const ArcLengthSettings& settings) {
+  return PathFollower(problem, settings).run();
+}
+
+}  // namespace ff

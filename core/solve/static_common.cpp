@@ -1,0 +1,217 @@
+#include "core/solve/static_common.h"
+
+#include <cstdio>
+
+namespace ff {
+
+std::string_view to_string(StaticStatus status) {
+  switch (status) {
+    case StaticStatus::completed: return "completed";
+    case StaticStatus::diverged: return "diverged";
+    case StaticStatus::interrupted: return "interrupted";
+  }
+  return "unknown";
+}
+
+std::string_view to_string(StaticStop stop) {
+  switch (stop) {
+    case StaticStop::none: return "none";
+    case StaticStop::lambda_reached: return "lambda_reached";
+    case StaticStop::displacement_limit: return "displacement_limit";
+    case StaticStop::max_steps: return "max_steps";
+    case StaticStop::step_too_small: return "step_too_small";
+    case StaticStop::invalid_settings: return "invalid_settings";
+    case StaticStop::stop_requested: return "stop_requested";
+  }
+  return "unknown";
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+bool stop_requested(const std::atomic<bool>* stop) { return stop && stop->load(std::memory_order_relaxed); }
+
+StaticKernel::StaticKernel(StaticProblem& problem, const StaticConvergence& convergence)
+    : p_(problem), c_(convergence), n_(problem.size()), linear_(convergence.linear_backend) {
+  w2_.resize(n_);
+  for (int i = 0; i < n_; ++i) {
+    const double s = p_.dof_scale(i);
+    w2_[i] = s * s;
+  }
+  iw2_ = w2_.cwiseInverse();
+  r_.setZero(n_);
+  f_.setZero(n_);
+}
+
+double StaticKernel::dot_u(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+  return (a.array() * b.array() * w2_.array()).sum();
+}
+
+double StaticKernel::dot_r(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+  return (a.array() * b.array() * iw2_.array()).sum();
+}
+
+bool StaticKernel::evaluate(double lambda, bool with_tangent) {
+  p_.evaluate(lambda, r_, with_tangent ? &k_ : nullptr, &f_);
+  evaluated_ = true;
+  evaluated_lambda_ = lambda;
+  if (with_tangent) {
+    tangent_current_ = true;
+    tangent_lambda_ = lambda;
+  }
+  if (r_.size() != n_ || f_.size() != n_) {
+    failure_ = "the problem returned vectors of the wrong size";
+    return false;
+  }
+  if (!r_.allFinite()) {
+    failure_ = "non-finite residual at λ = " + fmt(lambda);
+    return false;
+  }
+  if (!f_.allFinite()) {
+    failure_ = "non-finite load vector at λ = " + fmt(lambda);
+    return false;
+  }
+  return true;
+}
+
+bool StaticKernel::refresh_tangent(double lambda) {
+  if (!(tangent_current_ && tangent_lambda_ == lambda) && !evaluate(lambda, true)) return false;
+  k_.makeCompressed();
+  const LinearStatus s = linear_.factorize(k_);
+  if (!s) {
+    factorized_ = false;
+    failure_ = "tangent factorization failed: " + s.message;
+    return false;
+  }
+  factorized_ = true;
+  ++factorizations_;
+  return true;
+}
+
+bool StaticKernel::wants_new_tangent(int k, double residual_norm, double previous_residual_norm) {
+  const bool fresh = c_.tangent == TangentPolicy::every_iteration || !factorized_ ||
+                     (k > 0 && residual_norm > c_.refactor_contraction * previous_residual_norm) ||
+                     iterations_on_factorization_ >= c_.refactor_iterations;
+  iterations_on_factorization_ = fresh ? 1 : iterations_on_factorization_ + 1;
+  return fresh;
+}
+
+bool StaticKernel::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  const LinearStatus s = linear_.solve(b, x);
+  if (!s) {
+    failure_ = "linear solve failed: " + s.message;
+    return false;
+  }
+  return true;
+}
+
+void StaticKernel::update(const Eigen::VectorXd& delta) {
+  p_.update(delta);
+  tangent_current_ = evaluated_ = false;
+}
+
+void StaticKernel::save() { p_.save_state(); }
+
+void StaticKernel::restore() {
+  p_.restore_state();
+  tangent_current_ = evaluated_ = false;
+}
+
+double StaticKernel::residual_limit() const { return c_.residual_tolerance * norm_r(f_) + c_.residual_floor; }
+
+bool StaticKernel::converged(double residual_norm, double increment_norm, double step_norm) const {
+  return residual_norm <= residual_limit() &&
+         increment_norm <= c_.increment_tolerance * step_norm + c_.increment_floor;
+}
+
+std::string DivergenceMonitor::check(int k, double rn, double converged_level) {
+  std::string why;
+  // residuals already below the convergence limit neither diverge nor count as increases
+  if (rn <= converged_level) {
+    smallest_ = std::min(smallest_, converged_level);
+    previous_ = converged_level;
+    increases_ = 0;
+    return why;
+  }
+  if (k > 0 && rn > c_.divergence_ratio * smallest_)
+    why = "residual grew to " + fmt(rn) + ", more than " + fmt(c_.divergence_ratio) + "× its smallest value " +
+          fmt(smallest_) + " in this attempt";
+  increases_ = rn > previous_ ? increases_ + 1 : 0;
+  if (why.empty() && increases_ >= c_.max_residual_increases)
+    why = "residual increased in " + std::to_string(increases_) + " consecutive iterations (now " + fmt(rn) + ")";
+  smallest_ = std::min(smallest_, rn);
+  previous_ = rn;
+  return why;
+}
+
+// eq. (6): K δ = −r at fixed λ, until eqs. (3)–(4) hold
+NewtonOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::VectorXd& step,
+                                   const std::atomic<bool>* stop, bool hold_determinant_sign) {
+  const StaticConvergence& c = kernel.convergence();
+  NewtonOutcome out;
+  DivergenceMonitor monitor(c);
+  Eigen::VectorXd delta(kernel.size()), rhs;
+  double previous = std::numeric_limits<double>::infinity();
+  const int start_factorizations = kernel.factorizations();
+  int start_sign = kernel.determinant_sign();  // of a factorization kept from before, if any
+  for (int k = 0;; ++k) {
+    if (stop_requested(stop)) {
+      out.interrupted = true;
+      out.failure = "stop requested";
+      break;
+    }
+    const bool full = c.tangent == TangentPolicy::every_iteration;
+    if (!kernel.evaluate(lambda, full)) {
+      out.failure = kernel.failure() + " (iteration " + std::to_string(k) + ")";
+      break;
+    }
+    out.residual_norm = kernel.norm_r(kernel.residual());
+    // at least one correction, so that both criteria are measured
+    if (k > 0 && kernel.converged(out.residual_norm, out.increment_norm, kernel.norm_u(step))) {
+      out.converged = true;
+      break;
+    }
+    if (k >= c.max_iterations) {
+      out.failure = "no convergence in " + std::to_string(c.max_iterations) + " iterations at λ = " + fmt(lambda) +
+                    " (residual " + fmt(out.residual_norm) + " vs limit " + fmt(kernel.residual_limit()) +
+                    ", increment " + fmt(out.increment_norm) + ")";
+      break;
+    }
+    if (std::string why = monitor.check(k, out.residual_norm, kernel.residual_limit()); !why.empty()) {
+      out.failure = "diverging at λ = " + fmt(lambda) + ": " + why;
+      break;
+    }
+    if (kernel.wants_new_tangent(k, out.residual_norm, previous)) {
+      if (!kernel.refresh_tangent(lambda)) {
+        out.failure = kernel.failure() + " (iteration " + std::to_string(k) + ", λ = " + fmt(lambda) + ")";
+        break;
+      }
+      // eq. (7): a stable path keeps the sign of det K; iterates across a limit point change it
+      const int sign = kernel.determinant_sign();
+      if (start_sign == 0) start_sign = sign;
+      if (hold_determinant_sign && sign != start_sign) {
+        out.failure = "det K changed sign at iteration " + std::to_string(k) + " for λ = " + fmt(lambda) +
+                      " (the iterates crossed a limit or bifurcation point)";
+        break;
+      }
+    }
+    rhs = -kernel.residual();
+    if (!kernel.solve(rhs, delta)) {
+      out.failure = kernel.failure();
+      break;
+    }
+    kernel.update(delta);
+    step += delta;
+    out.increment_norm = kernel.norm_u(delta);
+    if (k == 0) out.first_increment_norm = out.increment_norm;
+    out.iterations = k + 1;
+    previous = out.residual_norm;
+  }
+  out.factorizations = kernel.factorizations() - start_factorizations;
+  return out;
+}
+
+}  // namespace ff

@@ -1,0 +1,190 @@
+#pragma once
+/// \file static_common.h
+/// Settings, step reports and results shared by the static solvers (load-control Newton,
+/// arc-length), and the kernel both drive: weighted norms, the tangent-update policy, linear
+/// solves and the Newton iteration at fixed load. Equations: core/solve/static_solvers.md.
+
+#include <atomic>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+#include <string_view>
+
+#include "core/solve/sparse_solver.h"
+#include "core/solve/static_problem.h"
+
+namespace ff {
+
+enum class StaticStatus {
+  completed,   ///< reached the requested end (λ_end, λ_max, displacement limit, step budget of arc-length)
+  diverged,    ///< could not continue: `reason` says why, the state is the last converged step
+  interrupted  ///< the stop flag was raised; the state is the last converged step
+};
+
+/// Machine-readable cause of the end of a run (the sentence is StaticResult::reason).
+enum class StaticStop {
+  none,
+  lambda_reached,      ///< λ_end (load control) or λ_max (arc-length)
+  displacement_limit,  ///< |u| of the monitored DoF reached its limit (arc-length)
+  max_steps,           ///< the step budget is used up
+  step_too_small,      ///< cut-backs exhausted: Δλ or Δl fell below its minimum (last failure in reason)
+  invalid_settings,
+  stop_requested
+};
+
+std::string_view to_string(StaticStatus status);
+std::string_view to_string(StaticStop stop);
+
+enum class TangentPolicy {
+  every_iteration,  ///< full Newton: evaluate and factorize K at every iteration
+  modified          ///< keep the last factorization (across steps too) while the residual contracts
+};
+
+/// Convergence and divergence rules of one Newton iteration sequence (static_solvers.md eqs. 3–5).
+struct StaticConvergence {
+  double residual_tolerance = 1e-8;   ///< ε_r: ||r||_r ≤ ε_r ||f_ref||_r + residual_floor
+  double residual_floor = 0.0;        ///< absolute residual floor (force units)
+  double increment_tolerance = 1e-8;  ///< ε_u: ||δ||_u ≤ ε_u ||Δq_step||_u + increment_floor
+  double increment_floor = 1e-14;     ///< absolute increment floor (length units)
+  int max_iterations = 25;            ///< corrections per attempt
+  double divergence_ratio = 1e6;      ///< ||r|| above this × its smallest value in the attempt: diverging
+  int max_residual_increases = 5;     ///< that many consecutive residual increases: diverging
+  TangentPolicy tangent = TangentPolicy::every_iteration;
+  double refactor_contraction = 0.5;  ///< modified Newton refactors when ||r_k|| > this × ||r_{k−1}||
+  int refactor_iterations = 4;        ///< ... or after this many iterations on one factorization
+  LinearBackend linear_backend = default_linear_backend();
+};
+
+/// Published after every converged step (the app turns it into a Frame and a convergence-log row).
+struct StaticStepInfo {
+  int step = 0;                  ///< converged steps so far (1 for the first)
+  double lambda = 0.0;           ///< load factor of the converged state
+  double dlambda = 0.0;          ///< its increment over the previous step
+  double arc_length = 0.0;       ///< Δl of the step (arc-length), 0 for load control
+  int iterations = 0;            ///< corrections in the accepted attempt
+  int attempts = 1;              ///< 1 + cut-backs spent on this step
+  int factorizations = 0;        ///< tangent factorizations in the accepted attempt
+  bool tangent_refactored = false;
+  double residual_norm = 0.0;    ///< ||r||_r at acceptance
+  double increment_norm = 0.0;   ///< ||δ||_u of the last correction
+  double step_norm = 0.0;        ///< ||Δq||_u of the whole step
+  double monitored = std::numeric_limits<double>::quiet_NaN();  ///< displacement of the monitored DoF
+};
+using StaticStepCallback = std::function<void(const StaticStepInfo&)>;
+
+struct StaticResult {
+  StaticStatus status = StaticStatus::completed;
+  StaticStop stop = StaticStop::none;
+  std::string reason;     ///< one sentence: what ended the run and, on divergence, the last failure
+  double lambda = 0.0;    ///< load factor of the final (last converged) state
+  int steps = 0;          ///< converged steps
+  int iterations = 0;     ///< corrections over all attempts, rejected ones included
+  int factorizations = 0; ///< tangent factorizations over all attempts
+  int cutbacks = 0;       ///< rejected attempts
+  int limit_points = 0;   ///< sign changes of Δλ between consecutive steps (arc-length)
+};
+
+/// Shared numerics of one solve() call. Owns the residual, load, tangent and linear solver; every
+/// state change goes through it so it knows whether the held tangent belongs to the current state.
+class StaticKernel {
+ public:
+  StaticKernel(StaticProblem& problem, const StaticConvergence& convergence);
+
+  StaticProblem& problem() { return p_; }
+  const StaticProblem& problem() const { return p_; }
+  const StaticConvergence& convergence() const { return c_; }
+  int size() const { return n_; }
+
+  // weighted norms (static_solvers.md eq. 2): displacement-like u, force-like r
+  double dot_u(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
+  double norm_u(const Eigen::VectorXd& v) const { return std::sqrt(dot_u(v, v)); }
+  double dot_r(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
+  double norm_r(const Eigen::VectorXd& v) const { return std::sqrt(dot_r(v, v)); }
+
+  /// r and f_ref (and K when with_tangent) at the current state; false with failure() set when
+  /// anything is non-finite.
+  bool evaluate(double lambda, bool with_tangent);
+  /// r and f_ref belong to the current state and λ (no update()/restore() since evaluate(λ)).
+  bool evaluated_at(double lambda) const { return evaluated_ && evaluated_lambda_ == lambda; }
+  /// evaluate(with_tangent) unless K already belongs to the current state, then factorize it.
+  bool refresh_tangent(double lambda);
+  /// Decides from the policy whether this iteration refactors (k: correction index from 0).
+  bool wants_new_tangent(int k, double residual_norm, double previous_residual_norm);
+  /// x = K⁻¹ b with the held factorization; false with failure() set on any problem.
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+
+  void update(const Eigen::VectorXd& delta);
+  void save();
+  void restore();
+  /// forget the factorization (after a rejected attempt: never retry with the tangent that failed)
+  void invalidate_factorization() { factorized_ = false; }
+
+  bool converged(double residual_norm, double increment_norm, double step_norm) const;
+  double residual_limit() const;  ///< right-hand side of the residual criterion at the held f_ref
+
+  const Eigen::VectorXd& residual() const { return r_; }
+  const Eigen::VectorXd& load() const { return f_; }
+  const std::string& failure() const { return failure_; }
+  void set_failure(std::string why) { failure_ = std::move(why); }
+  int factorizations() const { return factorizations_; }  ///< since construction
+  /// sign of det K of the held factorization (0 when none or singular)
+  int determinant_sign() const { return factorized_ ? linear_.determinant_sign() : 0; }
+
+ private:
+  StaticProblem& p_;
+  StaticConvergence c_;
+  int n_;
+  Eigen::VectorXd w2_, iw2_;  // s_i², 1/s_i²
+  Eigen::VectorXd r_, f_;
+  SparseMatrixD k_;
+  SparseLinearSolver linear_;
+  bool tangent_current_ = false;  // k_ was evaluated at the current state, at λ = tangent_lambda_
+  double tangent_lambda_ = 0.0;
+  bool evaluated_ = false;  // r_, f_ were evaluated at the current state, at λ = evaluated_lambda_
+  double evaluated_lambda_ = 0.0;
+  bool factorized_ = false;
+  int factorizations_ = 0;
+  int iterations_on_factorization_ = 0;
+  std::string failure_;
+};
+
+/// Outcome of one Newton sequence (an attempt at a step).
+struct NewtonOutcome {
+  bool converged = false;
+  bool interrupted = false;
+  int iterations = 0;
+  int factorizations = 0;
+  double residual_norm = 0.0;
+  double increment_norm = 0.0;        ///< ||δ||_u of the last correction
+  double first_increment_norm = 0.0;  ///< ||δ||_u of the first correction (the linearized step)
+  std::string failure;
+};
+
+/// Newton iterations at fixed λ from the current state (eq. 6). `step` holds the increment of the
+/// step so far on entry (zero, or a predictor already applied) and the whole increment on return.
+/// With hold_determinant_sign, a factorization whose det K sign differs from the first one of the
+/// attempt ends it (eq. 7: the iterates crossed a limit or bifurcation point).
+NewtonOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::VectorXd& step,
+                                   const std::atomic<bool>* stop, bool hold_determinant_sign);
+
+/// Residual-growth and non-finite checks shared by the Newton and arc-length correctors.
+class DivergenceMonitor {
+ public:
+  explicit DivergenceMonitor(const StaticConvergence& c) : c_(c) {}
+  /// empty when fine, otherwise why the iteration is diverging; residuals at or below
+  /// converged_level (the residual criterion) are never a divergence
+  std::string check(int k, double residual_norm, double converged_level);
+
+ private:
+  const StaticConvergence& c_;
+  double smallest_ = std::numeric_limits<double>::infinity();
+  double previous_ = std::numeric_limits<double>::infinity();
+  int increases_ = 0;
+};
+
+bool stop_requested(const std::atomic<bool>* stop);
+/// "1.234e-05" style number for reasons and logs
+std::string fmt(double v);
+
+}  // namespace ff

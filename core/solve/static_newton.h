@@ -1,0 +1,38 @@
+#pragma once
+/// \file static_newton.h
+/// Load control: λ goes from λ_start to λ_end in steps, Newton at each fixed λ, automatic
+/// cut-back (halve Δλ, restore the last converged state) and growth after easy steps.
+/// Equations and rules: core/solve/static_solvers.md §2. Cannot pass limit points: it stops there
+/// with status diverged and a reason naming the load reached (use static_arclength.h to go on).
+
+#include "core/solve/static_common.h"
+
+namespace ff {
+
+struct LoadControlSettings {
+  double lambda_start = 0.0;  ///< the state passed in is taken as converged at λ_start
+  double lambda_end = 1.0;    ///< may be below λ_start (unloading)
+  double initial_step = 0.1;  ///< |Δλ| of the first attempt
+  double min_step = 1e-6;     ///< a cut-back below this ends the run (diverged, step_too_small)
+  double max_step = 0.25;     ///< |Δλ| never grows beyond this
+  double growth_factor = 1.5; ///< |Δλ| ← min(growth·|Δλ|, max_step) after an easy step
+  int easy_iterations = 4;    ///< a step converged in at most this many corrections, without cut-back, is easy
+  /// Snap-through guard (eq. 8): a converged step whose increment ||Δq|| exceeds this multiple of
+  /// its first, linearized correction ||K0⁻¹(Δλ f − r0)|| jumped to a distant branch past a limit
+  /// point (on the stable branch the ratio is ≤ 2 near a fold); it is rejected like a failed
+  /// attempt. 0 disables the guard.
+  double max_increment_ratio = 10.0;
+  /// Limit-point guard (eq. 7): reject an attempt whose iterates change the sign of det K (they
+  /// left the stable branch). Off lets load control follow a path through a bifurcation point.
+  bool hold_determinant_sign = true;
+  int max_steps = 100000;
+  StaticConvergence convergence;
+  StaticStepCallback on_step;              ///< after every converged step
+  const std::atomic<bool>* stop = nullptr; ///< raised by another thread: return after restoring the last converged state
+};
+
+/// Runs load control on `problem` from its current state. On return the problem holds the last
+/// converged state (λ = result.lambda).
+StaticResult solve_load_control(StaticProblem& problem, const LoadControlSettings& settings);
+
+}  // namespace ff
