@@ -8,6 +8,7 @@
 #include <toml++/toml.h>
 
 #include "core/hubbeam/hub_beam_simulation.h"
+#include "core/scene/scene_common.h"
 #include "core/scene/shell_scene.h"
 
 namespace ff::scene {
@@ -15,15 +16,11 @@ namespace ff::scene {
 const Schema& hub_beam_schema() {
   static const Schema schema = [] {
     Schema s;
-    s.table("scene", "what this scene is and which effects it simulates", true)
-        .string("scene.name", "scene name; also the default output folder out/<name>", std::nullopt)
-        .string("scene.description", "one line shown in summaries", std::string{})
-        .choice("scene.model", "model family", {"hub_beam", "shell_static"}, std::nullopt)
-        .string_list("scene.effects",
-                     "effects to simulate; nothing else is evaluated. hub_beam needs inertia and bending; "
-                     "axial adds the stretch DoFs, first_order_coupling the foreshortening w_c and its "
-                     "dynamic stiffening (without it: the zero-order model), hub_torque the drive",
-                     std::nullopt, {"inertia", "bending", "axial", "first_order_coupling", "hub_torque"});
+    declare_scene_table(s,
+                        "effects to simulate; nothing else is evaluated. hub_beam needs inertia and bending; "
+                        "axial adds the stretch DoFs, first_order_coupling the foreshortening w_c and its "
+                        "dynamic stiffening (without it: the zero-order model), hub_torque the drive",
+                        {"inertia", "bending", "axial", "first_order_coupling", "hub_torque"});
     s.table("hub", "rigid hub (hub_beam)")
         .number("hub.radius", "hub radius a", 0.05, Range::non_negative(), "m")
         .number("hub.inertia", "hub moment of inertia J_H about its axis", 0.3, Range::positive(), "kg m^2");
@@ -65,16 +62,7 @@ const Schema& hub_beam_schema() {
                  IntRange::closed(0, 20))
         .number("solver.max_tip_deflection_ratio",
                 "stop as diverged when |tip deflection| exceeds this multiple of L", 1.0, Range::left_open(0.0, 100.0));
-    s.table("output", "what a run writes besides results.h5")
-        .boolean("output.frames", "write PNG frames", true)
-        .integer("output.frame_every", "render every n-th step", 1, IntRange::closed(1, 1000000))
-        .integer("output.width", "frame width", 960, IntRange::closed(64, 8192))
-        .integer("output.height", "frame height", 720, IntRange::closed(64, 8192))
-        .number("output.deformation_scale", "drawn deformation = scale x true deformation", 1.0,
-                Range::left_open(0.0, 1e6))
-        .choice("output.color_field", "field that colours the body", {"deflection", "transverse", "none"},
-                "deflection")
-        .boolean("output.plots", "write plots/*.png at the end", true);
+    declare_output_keys(s, {"deflection", "transverse"}, false);
     return s;
   }();
   return schema;
@@ -148,27 +136,10 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
 
   auto system = std::make_unique<HubBeamSystem>(p, fx, std::move(basis), d.number("solver.max_tip_deflection_ratio"));
   RunInfo info;
-  info.scene_name = d.string("scene.name");
-  info.scene_path = path;
-  info.scene_text = d.text();
-  for (const std::string& k : d.key_paths()) {
-    const std::string v = d.value_text(k);
-    if (!v.empty()) info.settings.emplace_back(k, v);
-  }
+  describe_run(d, path, info);
   return std::make_unique<HubBeamSimulation>(std::move(system), rs, std::move(info));
 }
 
-OutputSettings read_output(const Document& d) {
-  OutputSettings o;
-  o.frames = d.boolean("output.frames");
-  o.frame_every = static_cast<int>(d.integer("output.frame_every"));
-  o.width = static_cast<int>(d.integer("output.width"));
-  o.height = static_cast<int>(d.integer("output.height"));
-  o.deformation_scale = d.number("output.deformation_scale");
-  o.color_field = d.string("output.color_field");
-  o.plots = d.boolean("output.plots");
-  return o;
-}
 
 }  // namespace
 
@@ -199,18 +170,7 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
     LoadedScene s;
     s.name = d.string("scene.name");
     s.path = path;
-    s.output.frames = d.boolean("output.frames");
-    s.output.frame_every = static_cast<int>(d.integer("output.frame_every"));
-    s.output.width = static_cast<int>(d.integer("output.width"));
-    s.output.height = static_cast<int>(d.integer("output.height"));
-    s.output.deformation_scale = d.number("output.deformation_scale");
-    s.output.color_field = d.string("output.color_field");
-    s.output.plots = d.boolean("output.plots");
-    s.output.view = d.string("output.view");
-    s.output.view_center = d.numbers("output.view_center");
-    s.output.view_radius = d.number("output.view_radius");
-    if (!s.output.view_center.empty() && s.output.view_center.size() != 3)
-      throw SceneError({d.issue("output.view_center", "expected [] or three coordinates")});
+    s.output = read_output(d, true);
     s.simulation = build_shell_static(d, path);
     return s;
   }
@@ -218,7 +178,7 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
   LoadedScene s;
   s.name = d.string("scene.name");
   s.path = path;
-  s.output = read_output(d);
+  s.output = read_output(d, false);
   s.simulation = build_hub_beam(d, path);
   return s;
 }

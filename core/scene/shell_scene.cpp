@@ -6,6 +6,7 @@
 #include "core/mesh/generators.h"
 #include "core/mesh/node_sets.h"
 #include "core/scene/reference_csv.h"
+#include "core/scene/scene_common.h"
 #include "core/shell/shell_static_simulation.h"
 
 namespace ff::scene {
@@ -34,14 +35,10 @@ Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0],
 const Schema& shell_static_schema() {
   static const Schema schema = [] {
     Schema s;
-    s.table("scene", "what this scene is and which effects it simulates", true)
-        .string("scene.name", "scene name; also the default output folder out/<name>", std::nullopt)
-        .string("scene.description", "one line shown in summaries", std::string{})
-        .choice("scene.model", "model family", {"hub_beam", "shell_static"}, std::nullopt)
-        .string_list("scene.effects",
-                     "effects to simulate: elastic (required), hr (assumed membrane stress), ans (assumed "
-                     "transverse shear), drilling (6 DoF per node, Fox-Simo penalty)",
-                     std::nullopt, {"elastic", "hr", "ans", "drilling"});
+    declare_scene_table(s,
+                        "effects to simulate: elastic (required), hr (assumed membrane stress), ans (assumed "
+                        "transverse shear), drilling (6 DoF per node, Fox-Simo penalty)",
+                        {"elastic", "hr", "ans", "drilling"});
     s.table("mesh", "the shell mesh", true)
         .choice("mesh.generator", "a parametric benchmark geometry, a plate, or a quad mesh file",
                 {"cantilever_strip", "hemisphere_quarter", "open_cylinder_octant", "hinged_roof_quarter",
@@ -109,21 +106,7 @@ const Schema& shell_static_schema() {
         .integer("solver.max_steps", "arc length: step budget", 400, IntRange::closed(1, 100000))
         .string("solver.monitor_probe", "arc length: probe whose displacement limit ends the run", std::string{})
         .number("solver.displacement_limit", "arc length: stop when |monitor probe| reaches this", 1e300, Range::positive());
-    s.table("output", "what a run writes besides results.h5")
-        .boolean("output.frames", "write PNG frames", true)
-        .integer("output.frame_every", "render every n-th step", 1, IntRange::closed(1, 1000000))
-        .integer("output.width", "frame width", 960, IntRange::closed(64, 8192))
-        .integer("output.height", "frame height", 720, IntRange::closed(64, 8192))
-        .number("output.deformation_scale", "drawn deformation = scale x true deformation", 1.0,
-                Range::left_open(0.0, 1e6))
-        .choice("output.color_field", "field that colours the body", {"displacement", "none"}, "displacement")
-        .boolean("output.plots", "write plots/*.png at the end", true)
-        .choice("output.view", "camera: iso, front (looking along +y, z up), top (looking down z)",
-                {"iso", "front", "top"}, "iso")
-        .number_list("output.view_center", "point the camera looks at; [] = centre of the mesh", std::vector<double>{},
-                     {}, 0, 3)
-        .number("output.view_radius", "half height of the view in length units; 0 = fit the mesh", 0.0,
-                Range::non_negative());
+    declare_output_keys(s, {"displacement"}, true);
     return s;
   }();
   return schema;
@@ -266,14 +249,8 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     st.metrics.push_back(mt);
   }
   RunInfo info;
-  info.scene_name = d.string("scene.name");
-  info.scene_path = path;
-  info.scene_text = d.text();
+  describe_run(d, path, info);
   info.effects = fx;
-  for (const std::string& k : d.key_paths()) {
-    const std::string v = d.value_text(k);
-    if (!v.empty()) info.settings.emplace_back(k, v);
-  }
   for (std::size_t i = 0; i < d.count("reference"); ++i) {
     const std::string probe = d.string("reference.probe", i);
     if (!has_probe(probe)) throw SceneError({d.issue("reference.probe", i, "no probe named '" + probe + "'")});

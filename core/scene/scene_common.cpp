@@ -1,0 +1,63 @@
+#include "core/scene/scene_common.h"
+
+namespace ff::scene {
+
+void declare_scene_table(Schema& s, const std::string& effects_doc, std::vector<std::string> effects) {
+  s.table("scene", "what this scene is and which effects it simulates", true)
+      .string("scene.name", "scene name; also the default output folder out/<name>", std::nullopt)
+      .string("scene.description", "one line shown in summaries", std::string{})
+      .choice("scene.model", "model family", {"hub_beam", "shell_static"}, std::nullopt)
+      .string_list("scene.effects", effects_doc, std::nullopt, std::move(effects));
+}
+
+void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool camera_keys) {
+  const std::string first = color_fields.front();
+  color_fields.push_back("none");
+  s.table("output", "what a run writes besides results.h5")
+      .boolean("output.frames", "write PNG frames", true)
+      .integer("output.frame_every", "render every n-th step", 1, IntRange::closed(1, 1000000))
+      .integer("output.width", "frame width", 960, IntRange::closed(64, 8192))
+      .integer("output.height", "frame height", 720, IntRange::closed(64, 8192))
+      .number("output.deformation_scale", "drawn deformation = scale x true deformation", 1.0,
+              Range::left_open(0.0, 1e6))
+      .choice("output.color_field", "field that colours the body", color_fields, first)
+      .boolean("output.plots", "write plots/*.png at the end", true);
+  if (!camera_keys) return;
+  s.choice("output.view", "camera: iso, front (looking along +y, z up), top (looking down z)", {"iso", "front", "top"},
+           "iso")
+      .number_list("output.view_center", "point the camera looks at; [] = centre of the mesh", std::vector<double>{}, {},
+                   0, 3)
+      .number("output.view_radius", "half height of the view in length units; 0 = fit the mesh", 0.0,
+              Range::non_negative());
+}
+
+OutputSettings read_output(const Document& d, bool camera_keys) {
+  OutputSettings o;
+  o.frames = d.boolean("output.frames");
+  o.frame_every = static_cast<int>(d.integer("output.frame_every"));
+  o.width = static_cast<int>(d.integer("output.width"));
+  o.height = static_cast<int>(d.integer("output.height"));
+  o.deformation_scale = d.number("output.deformation_scale");
+  o.color_field = d.string("output.color_field");
+  o.plots = d.boolean("output.plots");
+  if (camera_keys) {
+    o.view = d.string("output.view");
+    o.view_center = d.numbers("output.view_center");
+    o.view_radius = d.number("output.view_radius");
+    if (!o.view_center.empty() && o.view_center.size() != 3)
+      throw SceneError({d.issue("output.view_center", "expected [] or three coordinates")});
+  }
+  return o;
+}
+
+void describe_run(const Document& d, const std::string& path, RunInfo& info) {
+  info.scene_name = d.string("scene.name");
+  info.scene_path = path;
+  info.scene_text = d.text();
+  for (const std::string& k : d.key_paths()) {
+    const std::string v = d.value_text(k);
+    if (!v.empty()) info.settings.emplace_back(k, v);
+  }
+}
+
+}  // namespace ff::scene
