@@ -71,11 +71,12 @@ struct CbShellElement::Strains {
 
 namespace {
 // one covariant component (i, j) with its variations, eqs. (3)-(5)
+// (M only when a tangent is wanted: it feeds the geometric stiffness alone)
 void covariant_component(const Eigen::Matrix<double, 8, 3>& dN, const Vec3 g[3], int i, int j, double ref,
-                         double& e, Eigen::Matrix<double, 1, 24>& b, Mat8& M) {
+                         double& e, Eigen::Matrix<double, 1, 24>& b, Mat8* M) {
   e = 0.5 * (g[i].dot(g[j]) - ref);
   for (int A = 0; A < 8; ++A) b.segment<3>(3 * A) = 0.5 * (dN(A, i) * g[j] + dN(A, j) * g[i]).transpose();
-  M.noalias() = 0.5 * (dN.col(i) * dN.col(j).transpose() + dN.col(j) * dN.col(i).transpose());
+  if (M) M->noalias() = 0.5 * (dN.col(i) * dN.col(j).transpose() + dN.col(j) * dN.col(i).transpose());
 }
 }  // namespace
 
@@ -180,12 +181,12 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
     }
 }
 
-void CbShellElement::solid_point(const SolidPoint& p, const std::array<Vec3, 8>& xs, Strains& s) const {
+void CbShellElement::solid_point(const SolidPoint& p, const std::array<Vec3, 8>& xs, Strains& s, bool second) const {
   Vec3 g[3];
   base_vectors(p.dN, xs, g);
   for (int c = 0; c < 6; ++c) {
     Eigen::Matrix<double, 1, 24> b;
-    covariant_component(p.dN, g, kPair[c][0], kPair[c][1], p.ref_metric[c], s.e[c], b, s.M[c]);
+    covariant_component(p.dN, g, kPair[c][0], kPair[c][1], p.ref_metric[c], s.e[c], b, second ? &s.M[c] : nullptr);
     s.B.row(c) = b;
   }
   if (!opt_.ans) return;
@@ -195,8 +196,7 @@ void CbShellElement::solid_point(const SolidPoint& p, const std::array<Vec3, 8>&
   s.e[kEtaZeta] = s.e[kXiZeta] = 0.0;
   s.B.row(kEtaZeta).setZero();
   s.B.row(kXiZeta).setZero();
-  s.M[kEtaZeta].setZero();
-  s.M[kXiZeta].setZero();
+  if (second) s.M[kEtaZeta].setZero(), s.M[kXiZeta].setZero();
   for (int t = 0; t < 4; ++t) {
     const TyingPoint& tpnt = tying_[p.layer][t];
     const int comp = (t == 0 || t == 2) ? kEtaZeta : kXiZeta;
@@ -205,10 +205,10 @@ void CbShellElement::solid_point(const SolidPoint& p, const std::array<Vec3, 8>&
     double e;
     Eigen::Matrix<double, 1, 24> b;
     Mat8 M;
-    covariant_component(tpnt.dN, gt, kPair[comp][0], kPair[comp][1], tpnt.ref_value, e, b, M);
+    covariant_component(tpnt.dN, gt, kPair[comp][0], kPair[comp][1], tpnt.ref_value, e, b, second ? &M : nullptr);
     s.e[comp] += w[t] * e;
     s.B.row(comp) += w[t] * b;
-    s.M[comp] += w[t] * M;
+    if (second) s.M[comp] += w[t] * M;
   }
 }
 
@@ -226,7 +226,7 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& f, Mat24* K) 
   for (int k = 0; k < kPoints; ++k) {
     const SolidPoint& p = pts_[k];
     Strains& s = st[k];
-    solid_point(p, xs, s);
+    solid_point(p, xs, s, K != nullptr);
     const Eigen::Matrix<double, 5, 1> eps = p.Q * s.e;
     const Eigen::Matrix<double, 5, 24> B = p.Q * s.B;
     // transverse shear: displacement based (with ANS strains when on)

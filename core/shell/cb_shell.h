@@ -73,7 +73,7 @@ class CbShellElement {
   };
 
   struct Strains;  // per-point strains and variations (cpp)
-  void solid_point(const SolidPoint& p, const std::array<Vec3, 8>& xs, Strains& s) const;
+  void solid_point(const SolidPoint& p, const std::array<Vec3, 8>& xs, Strains& s, bool second) const;
   double solid_terms(const ElementPoses& cur, Vec24& f_slave, Mat24* K_slave) const;
   double drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* K) const;
 

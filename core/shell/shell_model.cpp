@@ -1,5 +1,6 @@
 #include "core/shell/shell_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -97,14 +98,61 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   Vec3 lo = m.points.front(), hi = lo;
   for (const Vec3& p : m.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   rotation_scale_ = 0.1 * (hi - lo).norm();
+  build_pattern();
+}
+
+int ShellModel::value_index(int row, int col) const {
+  const int* inner = pattern_.innerIndexPtr();
+  const int* begin = inner + pattern_.outerIndexPtr()[col];
+  const int* end = inner + pattern_.outerIndexPtr()[col + 1];
+  const int* it = std::lower_bound(begin, end, row);
+  return (it != end && *it == row) ? static_cast<int>(it - inner) : -1;
+}
+
+void ShellModel::build_pattern() {
+  const int n = size(), nn = static_cast<int>(poses_.size());
+  std::vector<Eigen::Triplet<double>> trip;
+  for (const Element& e : elements_)
+    for (int c = 0; c < 4; ++c)
+      for (int d = 0; d < 4; ++d)
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j) {
+            const int a = eq_[6 * e.nodes[c] + i], b = eq_[6 * e.nodes[d] + j];
+            if (a >= 0 && b >= 0) trip.emplace_back(a, b, 1.0);
+          }
+  for (int I = 0; I < nn; ++I)  // node blocks (rotating-basis and load terms)
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) {
+        const int a = eq_[6 * I + i], b = eq_[6 * I + j];
+        if (a >= 0 && b >= 0) trip.emplace_back(a, b, 1.0);
+      }
+  pattern_.resize(n, n);
+  pattern_.setFromTriplets(trip.begin(), trip.end());
+  pattern_.makeCompressed();
+  scatter_.resize(elements_.size());
+  for (std::size_t k = 0; k < elements_.size(); ++k) {
+    const Element& e = elements_[k];
+    for (int c = 0; c < 4; ++c)
+      for (int d = 0; d < 4; ++d)
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j) {
+            const int a = eq_[6 * e.nodes[c] + i], b = eq_[6 * e.nodes[d] + j];
+            scatter_[k][(6 * c + i) * 24 + 6 * d + j] = (a >= 0 && b >= 0) ? value_index(a, b) : -1;
+          }
+  }
+  el_force_.resize(elements_.size());
+  el_tangent_.resize(elements_.size());
 }
 
 void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix<double>* K, Eigen::VectorXd* load) {
   const int n = size(), nn = static_cast<int>(poses_.size());
   r.setZero(n);
   if (load) load->setZero(n);
-  std::vector<Eigen::Triplet<double>> trip;
-  if (K) trip.reserve(elements_.size() * 24 * 24);
+  if (K) {
+    *K = pattern_;
+    std::fill(K->valuePtr(), K->valuePtr() + K->nonZeros(), 0.0);
+  }
+  double* values = K ? K->valuePtr() : nullptr;
   std::vector<Vec6> node_force(nn, Vec6::Zero());  // node-local internal force
   // A_I maps node-local 6-vectors to solver rows (global translations; global or local rotations)
   auto A = [&](int I) {
@@ -115,29 +163,39 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   };
   auto add = [&](int I, int si, int J, int sj, double v) {
     const int a = eq_[6 * I + si], b = eq_[6 * J + sj];
-    if (a >= 0 && b >= 0 && v != 0.0) trip.emplace_back(a, b, v);
+    if (a >= 0 && b >= 0 && v != 0.0) values[value_index(a, b)] += v;
   };
-  Vec24 F;
-  Mat24 Ke;
-  for (const Element& e : elements_) {
+  // elements in parallel (each writes only its own buffers), then a serial scatter
+  const int ne = static_cast<int>(elements_.size());
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < ne; ++k) {
+    const Element& e = elements_[k];
     ElementPoses cur;
     for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].x};
-    e.el->evaluate(cur, F, K ? &Ke : nullptr);
+    e.el->evaluate(cur, el_force_[k], K ? &el_tangent_[k] : nullptr);
+  }
+  for (int k = 0; k < ne; ++k) {
+    const Element& e = elements_[k];
+    const Vec24& F = el_force_[k];
     std::array<Mat6, 4> AC;  // solver rows from corner-local: A_I blockdiag(C, C)
     for (int c = 0; c < 4; ++c) {
       Mat6 CC = Mat6::Zero();
       CC.topLeftCorner<3, 3>() = e.corner[c];
       CC.bottomRightCorner<3, 3>() = e.corner[c];
-      const Vec6 fn = CC * F.segment<6>(6 * c);
-      node_force[e.nodes[c]] += fn;
+      node_force[e.nodes[c]] += CC * F.segment<6>(6 * c);
       AC[c] = A(e.nodes[c]) * CC;
     }
     if (!K) continue;
+    const Mat24& Ke = el_tangent_[k];
+    const std::array<int, 576>& idx = scatter_[k];
     for (int c = 0; c < 4; ++c)
       for (int d = 0; d < 4; ++d) {
         const Mat6 blk = AC[c] * Ke.block<6, 6>(6 * c, 6 * d) * AC[d].transpose();
         for (int i = 0; i < 6; ++i)
-          for (int j = 0; j < 6; ++j) add(e.nodes[c], i, e.nodes[d], j, blk(i, j));
+          for (int j = 0; j < 6; ++j) {
+            const int v = idx[(6 * c + i) * 24 + 6 * d + j];
+            if (v >= 0) values[v] += blk(i, j);
+          }
       }
   }
   for (int I = 0; I < nn; ++I) {
@@ -191,10 +249,6 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 2; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
     }
-  }
-  if (K) {
-    K->resize(n, n);
-    K->setFromTriplets(trip.begin(), trip.end());
   }
 }
 

@@ -76,6 +76,14 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<Dof> free_;
   std::vector<Element> elements_;
   double rotation_scale_ = 1.0;
+  // tangent pattern built once; per element the value index of each (corner dof, corner dof)
+  // entry (-1 when restrained), so assembly is a scatter-add without triplets
+  Eigen::SparseMatrix<double> pattern_;
+  std::vector<std::array<int, 576>> scatter_;
+  std::vector<Vec24> el_force_;   // per-element results of the parallel element loop
+  std::vector<Mat24> el_tangent_;
+  void build_pattern();
+  int value_index(int row, int col) const;
 };
 
 }  // namespace ff::shell
