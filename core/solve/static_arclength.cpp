@@ -24,17 +24,6 @@ std::string check_settings(const ArcLengthSettings& s, int n) {
   return {};
 }
 
-/// Outcome of one attempt at an arc-length step, from the last converged state.
-struct Attempt {
-  bool converged = false;
-  bool interrupted = false;
-  int iterations = 0;
-  int factorizations = 0;
-  double residual_norm = 0.0;
-  double increment_norm = 0.0;
-  std::string failure;
-};
-
 class PathFollower {
  public:
   PathFollower(StaticProblem& problem, const ArcLengthSettings& s)
@@ -42,10 +31,10 @@ class PathFollower {
   StaticResult run();
 
  private:
-  Attempt crisfield_step(double dl);
-  Attempt lam_morley_step(double dl);
+  AttemptOutcome crisfield_step(double dl);
+  AttemptOutcome lam_morley_step(double dl);
   bool load_tangent(double lambda, Eigen::VectorXd& dq_f);  // δq_f = K⁻¹ f_ref at the current state
-  bool start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor, Attempt& a);
+  bool start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor, AttemptOutcome& a);
   double monitored() const;
 
   const ArcLengthSettings& s_;
@@ -77,7 +66,7 @@ double PathFollower::monitored() const {
 
 // common head of a corrector iteration: stop flag, convergence budget, divergence, tangent policy
 bool PathFollower::start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor,
-                                   Attempt& a) {
+                                   AttemptOutcome& a) {
   if (k >= s_.convergence.max_iterations) {
     a.failure = "no convergence in " + std::to_string(k) + " iterations near λ = " + fmt(lambda) + " (residual " +
                 fmt(rn) + " vs limit " + fmt(k_.residual_limit()) + ", increment " + fmt(a.increment_norm) + ")";
@@ -95,8 +84,8 @@ bool PathFollower::start_iteration(int k, double lambda, double rn, double previ
 }
 
 // Crisfield (1981): tangent predictor (eq. 9), exact quadratic corrector (eqs. 10–11)
-Attempt PathFollower::crisfield_step(double dl) {
-  Attempt a;
+AttemptOutcome PathFollower::crisfield_step(double dl) {
+  AttemptOutcome a;
   const int f0 = k_.factorizations();
   const double psi2 = s_.psi * s_.psi;
   Eigen::VectorXd dq_f(n_), dq_r(n_), delta(n_), rhs;
@@ -178,8 +167,8 @@ Attempt PathFollower::crisfield_step(double dl) {
 }
 
 // Lam & Morley (1992): secant predictor (eq. 18), residual split (eq. 14), corrector (eqs. 15–17)
-Attempt PathFollower::lam_morley_step(double dl) {
-  Attempt a;
+AttemptOutcome PathFollower::lam_morley_step(double dl) {
+  AttemptOutcome a;
   const int f0 = k_.factorizations();
   Eigen::VectorXd dq_f(n_), dq_h(n_), delta(n_), rhs, r_perp;
   if (has_previous_) {
@@ -333,7 +322,7 @@ StaticResult PathFollower::run() {
   while (true) {
     if (stop_requested(s_.stop))
       return finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
-    Attempt a = s_.method == ArcLengthMethod::crisfield ? crisfield_step(dl) : lam_morley_step(dl);
+    AttemptOutcome a = s_.method == ArcLengthMethod::crisfield ? crisfield_step(dl) : lam_morley_step(dl);
     res.iterations += a.iterations;
     if (a.interrupted) {
       k_.restore();
@@ -359,7 +348,7 @@ StaticResult PathFollower::run() {
       Eigen::VectorXd landing = t * dq_;
       k_.restore();
       k_.update(landing);
-      const NewtonOutcome out = newton_at_fixed_load(k_, s_.lambda_max, landing, s_.stop, false);
+      const AttemptOutcome out = newton_at_fixed_load(k_, s_.lambda_max, landing, s_.stop, false);
       res.iterations += out.iterations;
       if (!out.converged) {
         // take the arc-length step again and stop just past λ_max
@@ -370,10 +359,7 @@ StaticResult PathFollower::run() {
       }
       dq_ = landing;
       dlambda_ = s_.lambda_max - lambda_;
-      a.iterations = out.iterations;
-      a.factorizations = out.factorizations;
-      a.residual_norm = out.residual_norm;
-      a.increment_norm = out.increment_norm;
+      a = out;
       final_step = true;
     }
 
@@ -384,18 +370,8 @@ StaticResult PathFollower::run() {
     ++res.steps;
     if (has_previous_ && dlambda_ * dlambda_prev_ < 0.0) ++res.limit_points;
     if (s_.on_step) {
-      StaticStepInfo info;
-      info.step = res.steps;
-      info.lambda = lambda_;
-      info.dlambda = dlambda_;
+      StaticStepInfo info = step_info(a, res.steps, lambda_, dlambda_, attempts, k_.norm_u(dq_));
       info.arc_length = dl;
-      info.iterations = a.iterations;
-      info.attempts = attempts;
-      info.factorizations = a.factorizations;
-      info.tangent_refactored = a.factorizations > 0;
-      info.residual_norm = a.residual_norm;
-      info.increment_norm = a.increment_norm;
-      info.step_norm = k_.norm_u(dq_);
       info.monitored = monitored();
       s_.on_step(info);
     }

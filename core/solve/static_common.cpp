@@ -32,6 +32,22 @@ std::string fmt(double v) {
   return buf;
 }
 
+StaticStepInfo step_info(const AttemptOutcome& outcome, int step, double lambda, double dlambda, int attempts,
+                         double step_norm) {
+  StaticStepInfo info;
+  info.step = step;
+  info.lambda = lambda;
+  info.dlambda = dlambda;
+  info.iterations = outcome.iterations;
+  info.attempts = attempts;
+  info.factorizations = outcome.factorizations;
+  info.tangent_refactored = outcome.factorizations > 0;
+  info.residual_norm = outcome.residual_norm;
+  info.increment_norm = outcome.increment_norm;
+  info.step_norm = step_norm;
+  return info;
+}
+
 bool stop_requested(const std::atomic<bool>* stop) { return stop && stop->load(std::memory_order_relaxed); }
 
 StaticKernel::StaticKernel(StaticProblem& problem, const StaticConvergence& convergence)
@@ -148,10 +164,10 @@ std::string DivergenceMonitor::check(int k, double rn, double converged_level) {
 }
 
 // eq. (6): K δ = −r at fixed λ, until eqs. (3)–(4) hold
-NewtonOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::VectorXd& step,
+AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::VectorXd& step,
                                    const std::atomic<bool>* stop, bool hold_determinant_sign) {
   const StaticConvergence& c = kernel.convergence();
-  NewtonOutcome out;
+  AttemptOutcome out;
   DivergenceMonitor monitor(c);
   Eigen::VectorXd delta(kernel.size()), rhs;
   double previous = std::numeric_limits<double>::infinity();
@@ -193,6 +209,7 @@ NewtonOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::V
       const int sign = kernel.determinant_sign();
       if (start_sign == 0) start_sign = sign;
       if (hold_determinant_sign && sign != start_sign) {
+        out.crossed_limit = true;
         out.failure = "det K changed sign at iteration " + std::to_string(k) + " for λ = " + fmt(lambda) +
                       " (the iterates crossed a limit or bifurcation point)";
         break;

@@ -149,10 +149,11 @@ class StaticKernel {
   std::string failure_;
 };
 
-/// Outcome of one Newton sequence (an attempt at a step).
-struct NewtonOutcome {
+/// Outcome of one attempt at a step (a Newton or arc-length corrector sequence).
+struct AttemptOutcome {
   bool converged = false;
   bool interrupted = false;
+  bool crossed_limit = false;  ///< failed by guard (7) or (8): the load path has a limit point here
   int iterations = 0;
   int factorizations = 0;
   double residual_norm = 0.0;
@@ -165,7 +166,7 @@ struct NewtonOutcome {
 /// step so far on entry (zero, or a predictor already applied) and the whole increment on return.
 /// With hold_determinant_sign, a factorization whose det K sign differs from the first one of the
 /// attempt ends it (eq. 7: the iterates crossed a limit or bifurcation point).
-NewtonOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::VectorXd& step,
+AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::VectorXd& step,
                                    const std::atomic<bool>* stop, bool hold_determinant_sign);
 
 /// Residual-growth and non-finite checks shared by the Newton and arc-length correctors.
@@ -182,6 +183,10 @@ class DivergenceMonitor {
   double previous_ = std::numeric_limits<double>::infinity();
   int increases_ = 0;
 };
+
+/// The report of a converged step (arc_length and monitored left for the caller).
+StaticStepInfo step_info(const AttemptOutcome& outcome, int step, double lambda, double dlambda, int attempts,
+                         double step_norm);
 
 bool stop_requested(const std::atomic<bool>* stop);
 /// "1.234e-05" style number for reasons and logs

@@ -35,7 +35,6 @@ StaticResult solve_load_control(StaticProblem& problem, const LoadControlSetting
   double lambda = s.lambda_start;
   double h = s.initial_step;
   int attempts = 1;
-  std::string last_failure;
   Eigen::VectorXd step(kernel.size());
   kernel.save();
 
@@ -63,13 +62,14 @@ StaticResult solve_load_control(StaticProblem& problem, const LoadControlSetting
     const double dlambda = last ? s.lambda_end - lambda : direction * h;
     const double target = last ? s.lambda_end : lambda + dlambda;
     step.setZero();
-    NewtonOutcome out = newton_at_fixed_load(kernel, target, step, s.stop, s.hold_determinant_sign);
+    AttemptOutcome out = newton_at_fixed_load(kernel, target, step, s.stop, s.hold_determinant_sign);
     res.iterations += out.iterations;
     const double step_norm = kernel.norm_u(step);
 
     // eq. (8): a converged increment far beyond its linearization jumped over a limit point
     if (out.converged && s.max_increment_ratio > 0.0 && step_norm > s.max_increment_ratio * out.first_increment_norm) {
       out.converged = false;
+      out.crossed_limit = true;
       out.failure = "converged to a distant state at λ = " + fmt(target) + ": the step is " +
                     fmt(step_norm / out.first_increment_norm) +
                     "× its linearized first correction (snap-through past a limit point)";
@@ -84,13 +84,13 @@ StaticResult solve_load_control(StaticProblem& problem, const LoadControlSetting
       kernel.invalidate_factorization();
       ++res.cutbacks;
       ++attempts;
-      last_failure = out.failure;
       h = 0.5 * std::abs(dlambda);
       if (h < s.min_step)
         return finish(StaticStatus::diverged, StaticStop::step_too_small,
-                      "load control stopped at λ = " + fmt(lambda) + ": no load step ≥ min_step = " + fmt(s.min_step) +
-                          " converges from there (a limit point of the load path? arc-length can pass it); "
-                          "last attempt: " + last_failure);
+                      (out.crossed_limit ? "limit point of the load path at λ = " + fmt(lambda) +
+                                               ": load control cannot pass it (arc-length can); "
+                                         : "load control stopped at λ = " + fmt(lambda) + ": ") +
+                          "no load step ≥ min_step = " + fmt(s.min_step) + " converges; last attempt: " + out.failure);
       continue;
     }
 
@@ -98,20 +98,7 @@ StaticResult solve_load_control(StaticProblem& problem, const LoadControlSetting
     kernel.save();
     ++res.steps;
     res.lambda = lambda;
-    if (s.on_step) {
-      StaticStepInfo info;
-      info.step = res.steps;
-      info.lambda = lambda;
-      info.dlambda = dlambda;
-      info.iterations = out.iterations;
-      info.attempts = attempts;
-      info.factorizations = out.factorizations;
-      info.tangent_refactored = out.factorizations > 0;
-      info.residual_norm = out.residual_norm;
-      info.increment_norm = out.increment_norm;
-      info.step_norm = step_norm;
-      s.on_step(info);
-    }
+    if (s.on_step) s.on_step(step_info(out, res.steps, lambda, dlambda, attempts, step_norm));
     // growth after an easy step (never right after a cut-back)
     h = std::abs(dlambda);
     if (attempts == 1 && out.iterations <= s.easy_iterations) h = std::min(s.growth_factor * h, s.max_step);
