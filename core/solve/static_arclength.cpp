@@ -34,6 +34,7 @@ class PathFollower {
   AttemptOutcome crisfield_step(double dl);
   AttemptOutcome lam_morley_step(double dl);
   bool load_tangent(double lambda, Eigen::VectorXd& dq_f);  // δq_f = K⁻¹ f_ref at the current state
+  bool evaluate_iterate(double lambda, AttemptOutcome& a);
   bool start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor, AttemptOutcome& a);
   double monitored() const;
 
@@ -64,7 +65,20 @@ double PathFollower::monitored() const {
   return u ? *u : u_total_[s_.monitor_dof];
 }
 
-// common head of a corrector iteration: stop flag, convergence budget, divergence, tangent policy
+// stop flag and evaluation at the current iterate (K too under full Newton); false ends the attempt
+bool PathFollower::evaluate_iterate(double lambda, AttemptOutcome& a) {
+  if (stop_requested(s_.stop)) {
+    a.interrupted = true;
+    return false;
+  }
+  if (!k_.evaluate(lambda, s_.convergence.tangent == TangentPolicy::every_iteration)) {
+    a.failure = k_.failure();
+    return false;
+  }
+  return true;
+}
+
+// after the convergence test: iteration budget, divergence, tangent policy
 bool PathFollower::start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor,
                                    AttemptOutcome& a) {
   if (k >= s_.convergence.max_iterations) {
@@ -114,17 +128,9 @@ AttemptOutcome PathFollower::crisfield_step(double dl) {
 
   DivergenceMonitor monitor(s_.convergence);
   double previous = std::numeric_limits<double>::infinity();
-  const bool full = s_.convergence.tangent == TangentPolicy::every_iteration;
   for (int k = 0;; ++k) {
     const double lambda = lambda_ + dlambda_;
-    if (stop_requested(s_.stop)) {
-      a.interrupted = true;
-      break;
-    }
-    if (!k_.evaluate(lambda, full)) {
-      a.failure = k_.failure();
-      break;
-    }
+    if (!evaluate_iterate(lambda, a)) break;
     a.residual_norm = k_.norm_r(k_.residual());
     if (k > 0 && k_.converged(a.residual_norm, a.increment_norm, k_.norm_u(dq_))) {
       a.converged = true;
@@ -188,17 +194,9 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
 
   DivergenceMonitor monitor(s_.convergence);
   double previous = std::numeric_limits<double>::infinity();
-  const bool full = s_.convergence.tangent == TangentPolicy::every_iteration;
   for (int k = 0;; ++k) {
     const double lambda = lambda_ + dlambda_;
-    if (stop_requested(s_.stop)) {
-      a.interrupted = true;
-      break;
-    }
-    if (!k_.evaluate(lambda, full)) {
-      a.failure = k_.failure();
-      break;
-    }
+    if (!evaluate_iterate(lambda, a)) break;
     // eq. (14): the load-parallel part of r is a load-factor error g, the rest h = r − g f
     const Eigen::VectorXd& f = k_.load();
     const double ff = k_.dot_r(f, f);
