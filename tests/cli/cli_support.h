@@ -8,11 +8,6 @@
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include <vtkImageData.h>
-#include <vtkNew.h>
-#include <vtkPNGReader.h>
-#include <vtkPointData.h>
-#include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
 #include <array>
@@ -32,6 +27,8 @@
 #include <thread>
 #include <utility>
 #include <vector>
+
+#include "tests/render/render_test_support.h"
 
 namespace ff::cli::test {
 
@@ -410,37 +407,9 @@ inline double summary_number(const Json& s, const std::string& key) {
   return v && v->is_number() ? v->number : std::nan("");
 }
 
-// ---- PNG read-back --------------------------------------------------------------------------
+// ---- PNG read-back: the render tests' reader (same decoding, one copy) -----------------------
 
-struct Image {
-  int width = 0, height = 0;
-  std::vector<std::array<std::uint8_t, 3>> rgb;  ///< row-major, top row first
-  const std::array<std::uint8_t, 3>& at(int x, int y) const {
-    return rgb[static_cast<std::size_t>(y) * width + x];
-  }
-};
-
-inline Image read_png(const std::string& path) {
-  Image img;
-  vtkNew<vtkPNGReader> reader;
-  if (!reader->CanReadFile(path.c_str())) return img;
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  vtkImageData* data = reader->GetOutput();
-  int dims[3];
-  data->GetDimensions(dims);
-  auto* scalars = vtkUnsignedCharArray::SafeDownCast(data->GetPointData()->GetScalars());
-  if (scalars == nullptr) return img;
-  const int comps = scalars->GetNumberOfComponents();
-  img.width = dims[0];
-  img.height = dims[1];
-  img.rgb.resize(static_cast<std::size_t>(dims[0]) * dims[1]);
-  for (int r = 0; r < dims[1]; ++r)  // VTK images start at the bottom row
-    for (int c = 0; c < dims[0]; ++c)
-      for (int k = 0; k < 3; ++k)
-        img.rgb[static_cast<std::size_t>(dims[1] - 1 - r) * dims[0] + c][k] =
-            scalars->GetValue((static_cast<vtkIdType>(r) * dims[0] + c) * comps + std::min(k, comps - 1));
-  return img;
-}
+using ff::render::test::Image;
+using ff::render::test::read_png;
 
 }  // namespace ff::cli::test

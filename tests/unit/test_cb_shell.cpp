@@ -72,6 +72,15 @@ struct Case {
   bool curved;
 };
 
+ShellOptions options(const Case& c) {
+  ShellOptions o;
+  o.hr = c.hr;
+  o.ans = c.ans;
+  o.drilling = c.drilling;
+  o.drilling_factor = 0.1;
+  return o;
+}
+
 std::string name(const Case& c) {
   return std::string(c.hr ? "hr" : "nohr") + (c.ans ? "_ans" : "_noans") + (c.drilling ? "_6dof" : "_5dof") +
          (c.curved ? "_curved" : "_flat");
@@ -83,12 +92,7 @@ class CbShellConsistency : public ::testing::TestWithParam<Case> {};
 TEST_P(CbShellConsistency, ForceIsEnergyGradientAndTangentIsForceDerivative) {
   const Case c = GetParam();
   const ElementPoses ref = c.curved ? curved() : flat_distorted();
-  ShellOptions o;
-  o.hr = c.hr;
-  o.ans = c.ans;
-  o.drilling = c.drilling;
-  o.drilling_factor = 0.1;
-  const CbShellElement el(ref, section(), o);
+  const CbShellElement el(ref, section(), options(c));
   for (unsigned seed : {1u, 2u}) {
     const ElementPoses cur = deformed(ref, seed);
     Vec24 F;
@@ -114,12 +118,7 @@ TEST_P(CbShellConsistency, ForceIsEnergyGradientAndTangentIsForceDerivative) {
 TEST_P(CbShellConsistency, RigidMotionInvariance) {
   const Case c = GetParam();
   const ElementPoses ref = c.curved ? curved() : flat_distorted();
-  ShellOptions o;
-  o.hr = c.hr;
-  o.ans = c.ans;
-  o.drilling = c.drilling;
-  o.drilling_factor = 0.1;
-  const CbShellElement el(ref, section(), o);
+  const CbShellElement el(ref, section(), options(c));
   // a rigid motion of the reference gives zero force
   ElementPoses rigid = ref;
   const Mat3 Q = rot(Vec3(2.1, 0.4, -1.3));
