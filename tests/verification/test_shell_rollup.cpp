@@ -1,66 +1,39 @@
 // Cantilever strip rolled up by an end moment (seed 000 example 1; Sze, Liu & Lo 2004 §3.2).
 // Analytic pure bending: t = M L / (E I), u/L = sin(t)/t - 1, w/L = (1 - cos t)/t; at M_max = 2 pi EI/L
-// the strip closes into a circle. Paper's data: L = 12, B = 1, h = 0.1, E = 6.825e7, nu = 0, mesh 20x2.
+// the strip closes into a circle. Runs the bundled scene assets/scenes/cantilever_rollup.toml (L = 12,
+// B = 1, h = 0.1, E = 6.825e7, nu = 0, 20x2) with mesh and effect overrides.
 #include <gtest/gtest.h>
 
-#include <Eigen/SparseLU>
 #include <cmath>
 
-#include "core/shell/shell_model.h"
-
-using namespace ff::shell;
+#include "core/scene/scene.h"
 
 namespace {
-constexpr double kL = 12, kB = 1, kH = 0.1, kE = 6.825e7;
+constexpr double kL = 12;
 
 struct Tip {
   double u_half, w_half, u_full, w_full;  // tip mid-node displacement / L at M_max/2 and M_max
 };
 
 Tip roll_up(int nx, bool hr, bool ans, bool drilling) {
-  const int ny = 2;
-  ShellModelSpec s;
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) {
-      s.mesh.points.emplace_back(kL * i / nx, kB * j / ny, 0);
-      s.mesh.normals.push_back(Vec3::UnitZ());
-      s.mesh.frames.push_back(Mat3::Identity());
-    }
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int a = j * (nx + 1) + i;
-      s.mesh.quads.push_back({a, a + 1, a + nx + 2, a + nx + 1});
-    }
-  s.mesh.fold.assign(s.mesh.points.size(), 0);
-  s.section = {kE, 0.0, kH, 5.0 / 6.0};
-  s.options.hr = hr;
-  s.options.ans = ans;
-  s.options.drilling = drilling;
-  const double EI = kE * kB * kH * kH * kH / 12, Mmax = 2 * M_PI * EI / kL;
-  for (int j = 0; j <= ny; ++j) s.restraints.push_back({j * (nx + 1), kClamped});
-  // consistent edge moment: 1/4, 1/2, 1/4 of M on the free-edge nodes, about -y (rolls toward +z)
-  for (int j = 0; j <= ny; ++j)
-    s.loads.push_back({j * (nx + 1) + nx, Vec3::Zero(), Vec3(0, -(j == 1 ? 0.5 : 0.25) * Mmax, 0), false});
-  ShellModel m(s);
-  const int tip = (nx + 1) + nx;
-  Eigen::VectorXd r;
-  Eigen::SparseMatrix<double> K;
-  Tip out{};
-  const int steps = 20;
-  for (int k = 1; k <= steps; ++k) {
-    const double lam = double(k) / steps;
-    for (int it = 0; it < 30; ++it) {
-      m.evaluate(lam, r, &K, nullptr);
-      Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(K);
-      const Eigen::VectorXd d = lu.solve(-r);
-      m.update(d);
-      if (d.norm() < 1e-10) break;
-    }
-    const Vec3 u = m.node_displacement(tip) / kL;
-    if (k == steps / 2) out.u_half = u.x(), out.w_half = u.z();
-    if (k == steps) out.u_full = u.x(), out.w_full = u.z();
+  std::string effects = "scene.effects=[\"elastic\"";
+  if (hr) effects += ",\"hr\"";
+  if (ans) effects += ",\"ans\"";
+  if (drilling) effects += ",\"drilling\"";
+  effects += "]";
+  ff::scene::LoadedScene s = ff::scene::load_scene(std::string(FF_SOURCE_DIR) + "/assets/scenes/cantilever_rollup.toml",
+                                                   {"mesh.n1=" + std::to_string(nx), effects});
+  std::atomic<bool> stop{false};
+  const ff::RunOutcome o = s.simulation->run([](ff::Frame&&) {}, stop);
+  EXPECT_EQ(o.status, ff::RunStatus::completed) << o.reason;
+  Tip t{NAN, NAN, NAN, NAN};
+  for (const auto& [k, v] : s.simulation->metrics()) {
+    if (k == "tip_u_half") t.u_half = v / kL;
+    if (k == "tip_w_half") t.w_half = v / kL;
+    if (k == "tip_u_full") t.u_full = v / kL;
+    if (k == "tip_w_full") t.w_full = v / kL;
   }
-  return out;
+  return t;
 }
 
 const double kUHalf = std::sin(M_PI) / M_PI - 1, kWHalf = (1 - std::cos(M_PI)) / M_PI;  // -1, 2/pi
