@@ -1,0 +1,184 @@
+#include "core/shell/cb_shell_inertia.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace ff::shell {
+
+namespace {
+constexpr double kXiNode[4] = {-1.0, 1.0, 1.0, -1.0};
+constexpr double kEtaNode[4] = {-1.0, -1.0, 1.0, 1.0};
+
+Mat3 skew(const Vec3& a) {
+  Mat3 m;
+  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return m;
+}
+double side(int A) { return A < 4 ? 1.0 : -1.0; }  // slave A: master A % 4, top (+) or bottom (-)
+
+// Ť_A^T X Ť_B for Ť = [I, -s h2 ẽ3] (D1): the 6x6 block [[X, -t h2 X ẽ3], [s h2 ẽ3 X, -s t h2² ẽ3 X ẽ3]]
+Eigen::Matrix<double, 6, 6> sandwich(const Mat3& X, double sh, double th, const Mat3& e3x) {
+  Eigen::Matrix<double, 6, 6> b;
+  b.topLeftCorner<3, 3>() = X;
+  b.topRightCorner<3, 3>() = -th * X * e3x;
+  b.bottomLeftCorner<3, 3>() = sh * e3x * X;
+  b.bottomRightCorner<3, 3>() = -sh * th * e3x * X * e3x;
+  return b;
+}
+// Ť_A^T Y for a 3x6 Y: rows [Y; s h2 ẽ3 Y]
+Eigen::Matrix<double, 6, 6> left(const Eigen::Matrix<double, 3, 6>& Y, double sh, const Mat3& e3x) {
+  Eigen::Matrix<double, 6, 6> b;
+  b.topRows<3>() = Y;
+  b.bottomRows<3>() = sh * e3x * Y;
+  return b;
+}
+}  // namespace
+
+CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, double density) : half_h_(0.5 * thickness) {
+  if (!(thickness > 0) || !(density > 0))
+    throw std::invalid_argument("CB shell inertia needs a positive thickness and density");
+  Vec3 X[8];
+  for (int A = 0; A < 8; ++A) X[A] = ref[A % 4].x + side(A) * half_h_ * ref[A % 4].R.col(2);  // (S1)
+  // (D3) with 3x3x3 Gauss points: N_A N_B det J has degree <= 4 per direction
+  const double gp[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
+  const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  m_.setZero();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) {
+        const double xi = gp[i], eta = gp[j], zeta = gp[k];
+        Eigen::Matrix<double, 8, 1> N;
+        Vec3 G[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+        for (int A = 0; A < 8; ++A) {
+          const int I = A % 4;
+          const double s = side(A), a = kXiNode[I], b = kEtaNode[I];
+          const double nq = 0.25 * (1 + a * xi) * (1 + b * eta), nz = 0.5 * (1 + s * zeta);
+          N[A] = nq * nz;
+          G[0] += 0.25 * a * (1 + b * eta) * nz * X[A];
+          G[1] += 0.25 * b * (1 + a * xi) * nz * X[A];
+          G[2] += nq * 0.5 * s * X[A];
+        }
+        const double detJ = std::abs(G[0].dot(G[1].cross(G[2])));
+        m_.noalias() += (density * gw[i] * gw[j] * gw[k] * detJ) * (N * N.transpose());
+      }
+  slave_mass_ = m_.rowwise().sum();
+}
+
+void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, const ElementRates& a, Vec24& F,
+                              const InertiaJacobians& jac) const {
+  const Vec3 e3 = Vec3::UnitZ();
+  const Mat3 e3x = skew(e3);
+  Vec3 w[8], b[8], acc[8];
+  for (int A = 0; A < 8; ++A) {
+    const int I = A % 4;
+    const double sh = side(A) * half_h_;
+    const Vec3 om = v[I].tail<3>();
+    w[A] = v[I].head<3>() + sh * om.cross(e3);                                    // (D1)
+    b[A] = a[I].head<3>() + sh * Vec3(a[I].tail<3>()).cross(e3) + om.cross(w[A]);  // (D2)
+    acc[A] = cur[I].R * b[A];
+  }
+  F.setZero();
+  Vec3 phi[8];
+  for (int A = 0; A < 8; ++A) {
+    const int I = A % 4;
+    Vec3 f = Vec3::Zero();
+    for (int B = 0; B < 8; ++B) f += m_(A, B) * acc[B];
+    phi[A] = cur[I].R.transpose() * f;                        // (D4)
+    F.segment<3>(6 * I) += phi[A];
+    F.segment<3>(6 * I + 3) += side(A) * half_h_ * e3.cross(phi[A]);
+  }
+  if (!jac.mass && !jac.gyroscopic && !jac.stiffness) return;
+  if (jac.mass) jac.mass->setZero();
+  if (jac.gyroscopic) jac.gyroscopic->setZero();
+  if (jac.stiffness) jac.stiffness->setZero();
+  for (int I = 0; I < 4; ++I)
+    for (int J = 0; J < 4; ++J) {
+      const Mat3 Q = cur[I].R.transpose() * cur[J].R;  // R_I^T R_J
+      const Vec3 omJ = v[J].tail<3>();
+      for (int si = 0; si < 2; ++si)
+        for (int sj = 0; sj < 2; ++sj) {
+          const int A = I + 4 * si, B = J + 4 * sj;
+          const double mAB = m_(A, B), shA = side(A) * half_h_, shB = side(B) * half_h_;
+          if (jac.mass) jac.mass->block<6, 6>(6 * I, 6 * J) += mAB * sandwich(Q, shA, shB, e3x);  // (D5)
+          if (jac.gyroscopic) {                                                                   // (D6)
+            Eigen::Matrix<double, 3, 6> G;
+            G.leftCols<3>() = Q * skew(omJ);
+            G.rightCols<3>() = Q * (-skew(w[B]) - shB * skew(omJ) * e3x);
+            jac.gyroscopic->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
+          }
+          if (jac.stiffness) {                                                                    // (D7)
+            Eigen::Matrix<double, 3, 6> G = Eigen::Matrix<double, 3, 6>::Zero();
+            G.rightCols<3>() = -Q * skew(b[B]);
+            jac.stiffness->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
+          }
+        }
+    }
+  if (jac.stiffness)
+    for (int A = 0; A < 8; ++A) {  // D term of (D7): the local components of f_A turn with R_I
+      const int I = A % 4;
+      const Mat3 px = skew(phi[A]);
+      jac.stiffness->block<3, 3>(6 * I, 6 * I + 3) += px;
+      jac.stiffness->block<3, 3>(6 * I + 3, 6 * I + 3) += side(A) * half_h_ * e3x * px;
+    }
+}
+
+void CbShellInertia::gravity(const ElementPoses& cur, const Vec3& g, Vec24& F, Mat24* dF) const {
+  const Vec3 e3 = Vec3::UnitZ();
+  const Mat3 e3x = skew(e3);
+  F.setZero();
+  if (dF) dF->setZero();
+  for (int A = 0; A < 8; ++A) {  // (D8)
+    const int I = A % 4;
+    const double sh = side(A) * half_h_;
+    const Vec3 phi = cur[I].R.transpose() * (slave_mass_[A] * g);
+    F.segment<3>(6 * I) += phi;
+    F.segment<3>(6 * I + 3) += sh * e3.cross(phi);
+    if (!dF) continue;
+    const Mat3 px = skew(phi);
+    dF->block<3, 3>(6 * I, 6 * I + 3) += px;
+    dF->block<3, 3>(6 * I + 3, 6 * I + 3) += sh * e3x * px;
+  }
+}
+
+namespace {
+void slave_states(const ElementPoses& cur, const ElementRates& v, double h2, Vec3 x[8], Vec3 xd[8]) {
+  const Vec3 e3 = Vec3::UnitZ();
+  for (int A = 0; A < 8; ++A) {
+    const int I = A % 4;
+    const double sh = side(A) * h2;
+    x[A] = cur[I].x + sh * cur[I].R.col(2);
+    xd[A] = cur[I].R * (v[I].head<3>() + sh * Vec3(v[I].tail<3>()).cross(e3));  // (D1)
+  }
+}
+}  // namespace
+
+double CbShellInertia::kinetic_energy(const ElementPoses& cur, const ElementRates& v) const {
+  Vec3 x[8], xd[8];
+  slave_states(cur, v, half_h_, x, xd);
+  double t = 0.0;
+  for (int A = 0; A < 8; ++A)
+    for (int B = 0; B < 8; ++B) t += m_(A, B) * xd[A].dot(xd[B]);
+  return 0.5 * t;
+}
+
+void CbShellInertia::add_momenta(const ElementPoses& cur, const ElementRates& v, Vec3& p, Vec3& L) const {
+  Vec3 x[8], xd[8];
+  slave_states(cur, v, half_h_, x, xd);
+  for (int A = 0; A < 8; ++A) {
+    Vec3 pa = Vec3::Zero();
+    for (int B = 0; B < 8; ++B) pa += m_(A, B) * xd[B];
+    p += pa;
+    L += x[A].cross(pa);  // (D15)
+  }
+}
+
+double CbShellInertia::gravity_potential(const ElementPoses& cur, const Vec3& g) const {
+  double u = 0.0;
+  for (int A = 0; A < 8; ++A) {
+    const int I = A % 4;
+    u -= slave_mass_[A] * g.dot(cur[I].x + side(A) * half_h_ * cur[I].R.col(2));
+  }
+  return u;
+}
+
+}  // namespace ff::shell

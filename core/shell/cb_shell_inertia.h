@@ -1,0 +1,50 @@
+#pragma once
+/// \file cb_shell_inertia.h
+/// Inertia and gravity of the CB shell element on SE(3) local frames (cb_shell_dynamics.md
+/// §1-§4). Rates are body velocities V_I = [v_I; ω_I] and their time derivatives, 6 per node in
+/// the node order of cb_shell.h; a 5-DoF node passes ω_I·e3 = 0. Forces and matrices use the
+/// same local increments as CbShellElement (x ← x + R δu, R ← R exp(δθ~)).
+
+#include <array>
+
+#include "core/shell/cb_shell.h"
+
+namespace ff::shell {
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using ElementRates = std::array<Vec6, 4>;
+
+/// Optional outputs of CbShellInertia::evaluate: ∂F/∂V̇ (D5), ∂F/∂V (D6), ∂F/∂q (D7).
+struct InertiaJacobians {
+  Mat24* mass = nullptr;
+  Mat24* gyroscopic = nullptr;
+  Mat24* stiffness = nullptr;
+};
+
+class CbShellInertia {
+ public:
+  /// Consistent mass m_AB of the solid (D3) on the reference geometry.
+  CbShellInertia(const ElementPoses& reference, double thickness, double density);
+
+  /// Inertia force F (D4) for velocities `v` and accelerations `a` (local, per node), with the
+  /// Jacobians that are asked for.
+  void evaluate(const ElementPoses& current, const ElementRates& v, const ElementRates& a, Vec24& force,
+                const InertiaJacobians& jac = {}) const;
+  /// Generalized gravity force F^g (D8) and, if asked, its derivative ∂F^g/∂q.
+  void gravity(const ElementPoses& current, const Vec3& g, Vec24& force, Mat24* dforce_dq) const;
+
+  double kinetic_energy(const ElementPoses& current, const ElementRates& v) const;  ///< (D15)
+  /// Linear momentum p and angular momentum L about the origin (D15), added to the arguments.
+  void add_momenta(const ElementPoses& current, const ElementRates& v, Vec3& p, Vec3& L) const;
+  /// −Σ f^g_A · x_A (D8).
+  double gravity_potential(const ElementPoses& current, const Vec3& g) const;
+  double mass() const { return slave_mass_.sum(); }
+  const Eigen::Matrix<double, 8, 8>& slave_mass() const { return m_; }
+
+ private:
+  double half_h_;
+  Eigen::Matrix<double, 8, 8> m_;       // m_AB (D3); slave A = master A % 4, side + for A < 4
+  Eigen::Matrix<double, 8, 1> slave_mass_;  // row sums: Σ_B m_AB
+};
+
+}  // namespace ff::shell
