@@ -1,0 +1,402 @@
+#include "core/shell/multibody_model.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "core/lie/se3.h"
+
+namespace ff::shell {
+
+namespace {
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Clock = std::chrono::steady_clock;
+
+Mat3 skew(const Vec3& a) { return ff::lie::hat(a); }
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// the rotation taking unit a to unit b about their common normal (fold corners, as in shell_model)
+Mat3 align(const Vec3& a, const Vec3& b) {
+  const Vec3 axis = a.cross(b);
+  const double s = axis.norm(), c = a.dot(b);
+  return s < 1e-14 ? Mat3::Identity() : Mat3(Eigen::AngleAxisd(std::atan2(s, c), axis / s).toRotationMatrix());
+}
+}  // namespace
+
+struct MultibodyModel::Element {
+  int body;
+  std::array<int, 4> nodes;         // model-wide node ids
+  std::array<Mat3, 4> corner;       // C = R0_I^T R0_corner (identity unless a fold corner)
+  bool plain;                       // all corners identity
+  std::unique_ptr<CbShellElement> elastic;
+  std::unique_ptr<CbShellInertia> inertia;
+};
+
+MultibodyModel::~MultibodyModel() = default;
+
+MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
+  // nodes: every shell body's mesh nodes, then one node per rigid body
+  for (const ShellBodySpec& b : spec_.shells) {
+    shell_offset_.push_back(static_cast<int>(reference_.size()));
+    const mesh::ShellMesh& m = b.mesh;
+    if (m.quad_count() == 0) throw std::invalid_argument("shell body '" + b.name + "' has no elements");
+    if (!(b.density > 0)) throw std::invalid_argument("shell body '" + b.name + "' needs a positive density");
+    for (int i = 0; i < m.node_count(); ++i) {
+      reference_.push_back({m.frames[i], m.points[i]});
+      six_.push_back(b.options.drilling || (i < static_cast<int>(m.fold.size()) && m.fold[i]) ? 1 : 0);
+    }
+  }
+  rigid_offset_ = static_cast<int>(reference_.size());
+  for (const RigidBodySpec& r : spec_.rigid) {
+    if (!(r.mass > 0)) throw std::invalid_argument("rigid body '" + r.name + "' needs a positive mass");
+    Eigen::SelfAdjointEigenSolver<Mat3> es(0.5 * (r.inertia + r.inertia.transpose()));
+    if (es.eigenvalues().minCoeff() <= 0)
+      throw std::invalid_argument("rigid body '" + r.name + "' needs a positive definite inertia tensor");
+    reference_.push_back(r.pose);
+    six_.push_back(1);
+  }
+  const int nn = static_cast<int>(reference_.size());
+  auto check_node = [&](int id, const char* what) {
+    if (id < 0 || id >= nn) throw std::invalid_argument(std::string(what) + ": node " + std::to_string(id) + " does not exist");
+  };
+  for (const PositionConstraint& c : spec_.positions) {
+    check_node(c.a, "position constraint");
+    if (c.b >= 0) check_node(c.b, "position constraint");
+  }
+  for (const PerpendicularConstraint& c : spec_.perpendiculars) {
+    check_node(c.a, "rotation constraint");
+    if (c.b >= 0) check_node(c.b, "rotation constraint");
+    for (int id : {c.a, c.b})
+      if (id >= 0 && !six_[id])
+        throw std::invalid_argument("a rotational joint row acts on node " + std::to_string(id) +
+                                    ", which has 5 DoFs (no drilling): its frame's spin about the director is not "
+                                    "a physical rotation. Enable the drilling effect for that shell, join rigid "
+                                    "bodies, or use a revolute joint along an edge (positions only)");
+  }
+  eq_.assign(6 * nn, -1);
+  for (int i = 0; i < nn; ++i)
+    for (int s = 0; s < (six_[i] ? 6 : 5); ++s) eq_[6 * i + s] = n_++;
+  m_ = 3 * static_cast<int>(spec_.positions.size()) + static_cast<int>(spec_.perpendiculars.size());
+
+  for (int b = 0; b < static_cast<int>(spec_.shells.size()); ++b) {
+    const ShellBodySpec& body = spec_.shells[b];
+    const mesh::ShellMesh& m = body.mesh;
+    for (int q = 0; q < m.quad_count(); ++q) {
+      Element e;
+      e.body = b;
+      e.plain = true;
+      ElementPoses ref;
+      for (int c = 0; c < 4; ++c) {
+        const int I = m.quads[q][c];
+        e.nodes[c] = shell_offset_[b] + I;
+        const Vec3 nc = q < static_cast<int>(m.corner_normals.size()) ? m.corner_normals[q][c] : m.normals[I];
+        const Mat3 Rc = align(m.frames[I].col(2), nc.normalized()) * m.frames[I];
+        e.corner[c] = m.frames[I].transpose() * Rc;
+        e.plain = e.plain && (e.corner[c] - Mat3::Identity()).norm() < 1e-14;
+        ref[c] = {Rc, m.points[I]};
+      }
+      e.elastic = std::make_unique<CbShellElement>(ref, body.section, body.options);
+      e.inertia = std::make_unique<CbShellInertia>(ref, body.section.thickness, body.density);
+      elements_.push_back(std::move(e));
+    }
+  }
+  poses_ = committed_ = reference_;
+  build_pattern();
+}
+
+int MultibodyModel::value_index(int row, int col) const {
+  const int* inner = pattern_.innerIndexPtr();
+  const int* begin = inner + pattern_.outerIndexPtr()[col];
+  const int* end = inner + pattern_.outerIndexPtr()[col + 1];
+  const int* it = std::lower_bound(begin, end, row);
+  return (it != end && *it == row) ? static_cast<int>(it - inner) : -1;
+}
+
+void MultibodyModel::build_pattern() {
+  std::vector<Eigen::Triplet<double>> t;
+  auto block = [&](int I, int J) {
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j)
+        if (eq_[6 * I + i] >= 0 && eq_[6 * J + j] >= 0) t.emplace_back(eq_[6 * I + i], eq_[6 * J + j], 1.0);
+  };
+  for (const Element& e : elements_)
+    for (int c = 0; c < 4; ++c)
+      for (int d = 0; d < 4; ++d) block(e.nodes[c], e.nodes[d]);
+  for (int I = 0; I < node_count(); ++I) block(I, I);  // rigid bodies, constraint-force terms
+  for (const PerpendicularConstraint& c : spec_.perpendiculars)
+    if (c.b >= 0) block(c.a, c.b), block(c.b, c.a);
+  pattern_.resize(n_, n_);
+  pattern_.setFromTriplets(t.begin(), t.end());
+  pattern_.makeCompressed();
+  scatter_.resize(elements_.size());
+  for (std::size_t k = 0; k < elements_.size(); ++k)
+    for (int c = 0; c < 4; ++c)
+      for (int d = 0; d < 4; ++d)
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j) {
+            const int a = eq_[6 * elements_[k].nodes[c] + i], b = eq_[6 * elements_[k].nodes[d] + j];
+            scatter_[k][(6 * c + i) * 24 + 6 * d + j] = (a >= 0 && b >= 0) ? value_index(a, b) : -1;
+          }
+  results_.resize(elements_.size());
+  // B: 3 rows per position constraint on the translations, 1 row per perpendicularity on rotations
+  t.clear();
+  int row = 0;
+  for (const PositionConstraint& c : spec_.positions) {
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j) {
+        t.emplace_back(row + k, eq_[6 * c.a + j], 1.0);
+        if (c.b >= 0) t.emplace_back(row + k, eq_[6 * c.b + j], 1.0);
+      }
+    row += 3;
+  }
+  for (const PerpendicularConstraint& c : spec_.perpendiculars) {
+    for (int j = 3; j < 6; ++j) {
+      t.emplace_back(row, eq_[6 * c.a + j], 1.0);
+      if (c.b >= 0) t.emplace_back(row, eq_[6 * c.b + j], 1.0);
+    }
+    ++row;
+  }
+  b_pattern_.resize(m_, n_);
+  b_pattern_.setFromTriplets(t.begin(), t.end());
+  b_pattern_.makeCompressed();
+}
+
+Vec6 MultibodyModel::node_vector(const Eigen::VectorXd& x, int node) const {
+  Vec6 out = Vec6::Zero();
+  for (int s = 0; s < 6; ++s)
+    if (eq_[6 * node + s] >= 0) out[s] = x[eq_[6 * node + s]];
+  return out;
+}
+
+void MultibodyModel::configure(const Eigen::VectorXd& step) {
+  for (int I = 0; I < node_count(); ++I) {  // H = H_n exp(step_I) on SE(3) (generalized_alpha.md (G3))
+    const ff::lie::Pose H = ff::lie::Pose{committed_[I].R, committed_[I].x} * ff::lie::exp_se3(node_vector(step, I));
+    poses_[I] = {H.R, H.x};
+  }
+}
+
+void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot,
+                              const Eigen::VectorXd& lambda, Eigen::VectorXd& r, Eigen::VectorXd& phi,
+                              const IterationWeights* w, SparseMatrixD* S, SparseMatrixD* B) {
+  const bool tangent = w && S;
+  r.setZero(n_);
+  phi.setZero(m_);
+  if (tangent) {
+    *S = pattern_;
+    std::fill(S->valuePtr(), S->valuePtr() + S->nonZeros(), 0.0);
+  }
+  double* values = tangent ? S->valuePtr() : nullptr;
+  auto add = [&](int I, int si, int J, int sj, double x) {
+    const int a = eq_[6 * I + si], b = eq_[6 * J + sj];
+    if (a >= 0 && b >= 0) values[value_index(a, b)] += x;
+  };
+  auto add_block = [&](int I, int oi, int J, int oj, const Mat3& blk) {
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) add(I, oi + i, J, oj + j, blk(i, j));
+  };
+
+  // ---- shell elements: elastic (S15-S17), inertia (D4-D7), gravity (D8), in parallel ----
+  const int ne = static_cast<int>(elements_.size());
+  double t_el = 0, t_in = 0, t_gr = 0;
+  const bool gravity = spec_.gravity;
+#pragma omp parallel for schedule(static) reduction(+ : t_el, t_in, t_gr)
+  for (int k = 0; k < ne; ++k) {
+    const Element& e = elements_[k];
+    ElementPoses cur;
+    ElementRates vel, acc;
+    for (int c = 0; c < 4; ++c) {
+      const int I = e.nodes[c];
+      cur[c] = {poses_[I].R * e.corner[c], poses_[I].x};
+      vel[c] = node_vector(v, I);
+      acc[c] = node_vector(vdot, I);
+      if (!e.plain) {  // corner-local rates: blockdiag(Cᵀ, Cᵀ) of the node's
+        vel[c].head<3>() = e.corner[c].transpose() * vel[c].head<3>();
+        vel[c].tail<3>() = e.corner[c].transpose() * vel[c].tail<3>();
+        acc[c].head<3>() = e.corner[c].transpose() * acc[c].head<3>();
+        acc[c].tail<3>() = e.corner[c].transpose() * acc[c].tail<3>();
+      }
+    }
+    ElementResult& out = results_[k];
+    Vec24 f;
+    Mat24 K, M, C, Kin;
+    auto t0 = Clock::now();
+    e.elastic->evaluate(cur, out.r, tangent ? &K : nullptr);
+    auto t1 = Clock::now();
+    e.inertia->evaluate(cur, vel, acc, f, tangent ? InertiaJacobians{&M, &C, &Kin} : InertiaJacobians{});
+    out.r += f;
+    if (tangent) out.S = w->stiffness * (K + Kin) + w->mass * M + w->damping * C;
+    auto t2 = Clock::now();
+    t_el += std::chrono::duration<double>(t1 - t0).count();
+    t_in += std::chrono::duration<double>(t2 - t1).count();
+    if (gravity) {
+      e.inertia->gravity(cur, spec_.g, f, tangent ? &K : nullptr);
+      out.r -= f;
+      if (tangent) out.S -= w->stiffness * K;
+      t_gr += std::chrono::duration<double>(Clock::now() - t2).count();
+    }
+  }
+  elastic_.evaluations += ne, elastic_.seconds += t_el;
+  inertia_.evaluations += ne, inertia_.seconds += t_in;
+  if (gravity) gravity_.evaluations += ne, gravity_.seconds += t_gr;
+  for (int k = 0; k < ne; ++k) {
+    const Element& e = elements_[k];
+    Vec24 F = results_[k].r;
+    if (!e.plain)
+      for (int c = 0; c < 4; ++c) {
+        F.segment<3>(6 * c) = e.corner[c] * F.segment<3>(6 * c);
+        F.segment<3>(6 * c + 3) = e.corner[c] * F.segment<3>(6 * c + 3);
+      }
+    for (int c = 0; c < 4; ++c)
+      for (int s = 0; s < 6; ++s) {
+        const int a = eq_[6 * e.nodes[c] + s];
+        if (a >= 0) r[a] += F[6 * c + s];
+      }
+    if (!tangent) continue;
+    Mat24 Ke = results_[k].S;
+    if (!e.plain) {
+      Mat24 T = Mat24::Zero();
+      for (int c = 0; c < 4; ++c) {
+        T.block<3, 3>(6 * c, 6 * c) = e.corner[c];
+        T.block<3, 3>(6 * c + 3, 6 * c + 3) = e.corner[c];
+      }
+      Ke = T * Ke * T.transpose();
+    }
+    const std::array<int, 576>& idx = scatter_[k];
+    for (int i = 0; i < 24; ++i)
+      for (int j = 0; j < 24; ++j) {
+        const int p = idx[i * 24 + j];
+        if (p >= 0) values[p] += Ke(i, j);
+      }
+  }
+
+  // ---- rigid bodies (D9), (D10) ----
+  auto t_rigid = Clock::now();
+  for (int rb = 0; rb < static_cast<int>(spec_.rigid.size()); ++rb) {
+    const RigidBodySpec& body = spec_.rigid[rb];
+    const int I = rigid_node(rb);
+    const Vec6 V = node_vector(v, I), A = node_vector(vdot, I);
+    const Vec3 vel = V.head<3>(), om = V.tail<3>();
+    const Mat3& J = body.inertia;
+    Vec6 F;
+    F.head<3>() = body.mass * (A.head<3>() + om.cross(vel));
+    F.tail<3>() = J * A.tail<3>() + om.cross(J * om);
+    const Vec3 Fg = body.mass * (poses_[I].R.transpose() * spec_.g);
+    if (spec_.gravity) F.head<3>() -= Fg;
+    for (int s = 0; s < 6; ++s) r[eq_[6 * I + s]] += F[s];
+    if (!tangent) continue;
+    add_block(I, 0, I, 0, w->mass * body.mass * Mat3::Identity() + w->damping * body.mass * skew(om));
+    add_block(I, 0, I, 3, -w->damping * body.mass * skew(vel));
+    add_block(I, 3, I, 3, w->mass * J + w->damping * (skew(om) * J - skew(J * om)));
+    if (spec_.gravity) add_block(I, 0, I, 3, -w->stiffness * skew(Fg));
+  }
+  if (!spec_.rigid.empty()) rigid_.evaluations += 1, rigid_.seconds += seconds_since(t_rigid);
+
+  // ---- joints: Φ, Bᵀλ and its variation (D11)-(D13) ----
+  if (m_ == 0) {
+    if (B) *B = b_pattern_;
+    return;
+  }
+  auto t_joint = Clock::now();
+  if (B) {
+    *B = b_pattern_;
+    std::fill(B->valuePtr(), B->valuePtr() + B->nonZeros(), 0.0);
+  }
+  auto bset = [&](int row, int I, int slot, double x) {
+    if (B && eq_[6 * I + slot] >= 0) B->coeffRef(row, eq_[6 * I + slot]) += x;
+  };
+  int row = 0;
+  for (const PositionConstraint& c : spec_.positions) {
+    const Vec3 lam = lambda.segment<3>(row);
+    const Mat3& Ra = poses_[c.a].R;
+    phi.segment<3>(row) = poses_[c.a].x - (c.b >= 0 ? poses_[c.b].x : c.target);
+    const Vec3 fa = Ra.transpose() * lam;  // Bᵀλ on node a (local)
+    for (int j = 0; j < 3; ++j) r[eq_[6 * c.a + j]] += fa[j];
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j) bset(row + k, c.a, j, Ra(k, j));
+    if (tangent) add_block(c.a, 0, c.a, 3, w->stiffness * skew(fa));
+    if (c.b >= 0) {
+      const Mat3& Rb = poses_[c.b].R;
+      const Vec3 fb = -(Rb.transpose() * lam);
+      for (int j = 0; j < 3; ++j) r[eq_[6 * c.b + j]] += fb[j];
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j) bset(row + k, c.b, j, -Rb(k, j));
+      if (tangent) add_block(c.b, 0, c.b, 3, w->stiffness * skew(fb));
+    }
+    row += 3;
+  }
+  for (const PerpendicularConstraint& c : spec_.perpendiculars) {
+    const double lam = lambda[row];
+    const Mat3& Ra = poses_[c.a].R;
+    const Vec3 a = Ra * c.a_local;
+    const Vec3 p = c.b >= 0 ? Vec3(poses_[c.b].R * c.b_vector) : c.b_vector;
+    phi[row] = a.dot(p);
+    const Vec3 pa = Ra.transpose() * p;
+    const Vec3 ga = c.a_local.cross(pa);  // ∂Φ/∂θ_a (D13)
+    for (int j = 0; j < 3; ++j) r[eq_[6 * c.a + 3 + j]] += lam * ga[j], bset(row, c.a, 3 + j, ga[j]);
+    if (tangent) add_block(c.a, 3, c.a, 3, w->stiffness * lam * skew(c.a_local) * skew(pa));
+    if (c.b >= 0) {
+      const Mat3& Rb = poses_[c.b].R;
+      const Vec3 ab = Rb.transpose() * a;
+      const Vec3 gb = c.b_vector.cross(ab);  // ∂Φ/∂θ_b
+      for (int j = 0; j < 3; ++j) r[eq_[6 * c.b + 3 + j]] += lam * gb[j], bset(row, c.b, 3 + j, gb[j]);
+      if (tangent) {
+        add_block(c.b, 3, c.b, 3, w->stiffness * lam * skew(c.b_vector) * skew(ab));
+        add_block(c.a, 3, c.b, 3, -w->stiffness * lam * skew(c.a_local) * Ra.transpose() * Rb * skew(c.b_vector));
+        add_block(c.b, 3, c.a, 3, -w->stiffness * lam * skew(c.b_vector) * Rb.transpose() * Ra * skew(c.a_local));
+      }
+    }
+    ++row;
+  }
+  joints_.evaluations += 1, joints_.seconds += seconds_since(t_joint);
+}
+
+MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
+  MotionSummary s;
+  for (const Element& e : elements_) {
+    ElementPoses cur;
+    ElementRates vel;
+    for (int c = 0; c < 4; ++c) {
+      const int I = e.nodes[c];
+      cur[c] = {poses_[I].R * e.corner[c], poses_[I].x};
+      vel[c] = node_vector(v, I);
+      vel[c].head<3>() = e.corner[c].transpose() * vel[c].head<3>();
+      vel[c].tail<3>() = e.corner[c].transpose() * vel[c].tail<3>();
+    }
+    s.kinetic += e.inertia->kinetic_energy(cur, vel);
+    s.strain += e.elastic->energy(cur);
+    if (spec_.gravity) s.gravity_potential += e.inertia->gravity_potential(cur, spec_.g);
+    e.inertia->add_momenta(cur, vel, s.linear_momentum, s.angular_momentum);
+  }
+  for (int rb = 0; rb < static_cast<int>(spec_.rigid.size()); ++rb) {
+    const RigidBodySpec& body = spec_.rigid[rb];
+    const int I = rigid_node(rb);
+    const Vec6 V = node_vector(v, I);
+    const Vec3 vel = V.head<3>(), om = V.tail<3>();
+    s.kinetic += 0.5 * (body.mass * vel.squaredNorm() + om.dot(body.inertia * om));
+    const Vec3 p = body.mass * (poses_[I].R * vel);
+    s.linear_momentum += p;
+    s.angular_momentum += poses_[I].x.cross(p) + poses_[I].R * (body.inertia * om);
+    if (spec_.gravity) s.gravity_potential -= body.mass * spec_.g.dot(poses_[I].x);
+  }
+  return s;
+}
+
+double MultibodyModel::total_mass() const {
+  double m = 0;
+  for (const Element& e : elements_) m += e.inertia->mass();
+  for (const RigidBodySpec& r : spec_.rigid) m += r.mass;
+  return m;
+}
+
+std::vector<std::pair<std::string, EffectCounter>> MultibodyModel::effect_stats() const {
+  std::vector<std::pair<std::string, EffectCounter>> out;
+  if (elastic_.evaluations) out.push_back({"elastic", elastic_});
+  if (inertia_.evaluations) out.push_back({"inertia", inertia_});
+  if (gravity_.evaluations) out.push_back({"gravity", gravity_});
+  if (rigid_.evaluations) out.push_back({"rigid_body", rigid_});
+  if (joints_.evaluations) out.push_back({"joints", joints_});
+  return out;
+}
+
+}  // namespace ff::shell

@@ -1,0 +1,38 @@
+#pragma once
+/// \file dynamic_problem.h
+/// What the Lie-group generalized-α integrator (generalized_alpha.h) needs from a model: a
+/// configuration on a Lie group moved by local increments, velocities in the Lie algebra (plain
+/// vectors of the same size), the residual of the equations of motion with Lagrange multipliers
+/// and the holonomic constraints Φ(q) = 0 (index 3). Derivation: core/solve/generalized_alpha.md.
+
+#include <Eigen/Core>
+
+#include "core/solve/sparse_solver.h"
+
+namespace ff {
+
+/// Weights of the iteration matrix S = mass·M + damping·C + stiffness·K (generalized_alpha.md (G6)).
+struct IterationWeights {
+  double mass = 1.0;
+  double damping = 0.0;
+  double stiffness = 1.0;
+};
+
+class DynamicProblem {
+ public:
+  virtual ~DynamicProblem() = default;
+  virtual int size() const = 0;              ///< n: velocity unknowns (local increments)
+  virtual int constraint_count() const = 0;  ///< m: rows of Φ
+  /// q ← q_n ∘ exp(step), step = n local increments (the configuration at the end of a step).
+  virtual void configure(const Eigen::VectorXd& step) = 0;
+  virtual void commit() = 0;    ///< q_n ← q (the step is accepted)
+  virtual void rollback() = 0;  ///< q ← q_n
+  /// Residual r = F_inertia(q, v, v̇) + F_int(q) − F_ext(q, t) + Bᵀλ (size n) and Φ(q) (size m).
+  /// With `w` non-null also S (n × n, the same sparsity pattern on every call) and B = ∂Φ/∂q
+  /// (m × n, constant pattern).
+  virtual void evaluate(double t, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda,
+                        Eigen::VectorXd& r, Eigen::VectorXd& phi, const IterationWeights* w, SparseMatrixD* S,
+                        SparseMatrixD* B) = 0;
+};
+
+}  // namespace ff

@@ -1,0 +1,225 @@
+#include "core/solve/generalized_alpha.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace ff {
+
+namespace {
+int value_index(const SparseMatrixD& A, int row, int col) {
+  const int* inner = A.innerIndexPtr();
+  const int* begin = inner + A.outerIndexPtr()[col];
+  const int* end = inner + A.outerIndexPtr()[col + 1];
+  const int* it = std::lower_bound(begin, end, row);
+  return (it != end && *it == row) ? static_cast<int>(it - inner) : -1;
+}
+bool finite(const Eigen::VectorXd& x) { return x.allFinite(); }
+}  // namespace
+
+GeneralizedAlpha::GeneralizedAlpha(DynamicProblem& problem, GeneralizedAlphaSettings settings)
+    : p_(problem), s_(settings), solver_(settings.backend) {
+  const double r = std::clamp(s_.rho_inf, 0.0, 1.0);  // (G2)
+  am_ = (2 * r - 1) / (r + 1);
+  af_ = r / (r + 1);
+  gamma_ = 0.5 + af_ - am_;
+  beta_ = 0.25 * (gamma_ + 0.5) * (gamma_ + 0.5);
+  const int n = p_.size(), m = p_.constraint_count();
+  v_.setZero(n);
+  vdot_.setZero(n);
+  a_.setZero(n);
+  lambda_.setZero(m);
+}
+
+void GeneralizedAlpha::build_augmented_pattern() {
+  const int n = p_.size(), m = p_.constraint_count();
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(S_.nonZeros() + 2 * B_.nonZeros());
+  for (int c = 0; c < S_.outerSize(); ++c)
+    for (SparseMatrixD::InnerIterator it(S_, c); it; ++it) t.emplace_back(static_cast<int>(it.row()), c, 1.0);
+  for (int c = 0; c < B_.outerSize(); ++c)
+    for (SparseMatrixD::InnerIterator it(B_, c); it; ++it) {
+      t.emplace_back(n + static_cast<int>(it.row()), c, 1.0);
+      t.emplace_back(c, n + static_cast<int>(it.row()), 1.0);
+    }
+  A_.resize(n + m, n + m);
+  A_.setFromTriplets(t.begin(), t.end());
+  A_.makeCompressed();
+  s_map_.clear();
+  b_map_.clear();
+  bt_map_.clear();
+  for (int c = 0; c < S_.outerSize(); ++c)
+    for (SparseMatrixD::InnerIterator it(S_, c); it; ++it) s_map_.push_back(value_index(A_, static_cast<int>(it.row()), c));
+  for (int c = 0; c < B_.outerSize(); ++c)
+    for (SparseMatrixD::InnerIterator it(B_, c); it; ++it) {
+      b_map_.push_back(value_index(A_, n + static_cast<int>(it.row()), c));
+      bt_map_.push_back(value_index(A_, c, n + static_cast<int>(it.row())));
+    }
+}
+
+// A = [S kBᵀ; kB 0] (G7) from the current S_ and B_, then its factorization
+bool GeneralizedAlpha::update_matrix(double, double, const Eigen::VectorXd&, const Eigen::VectorXd&, std::string& why) {
+  if (static_cast<int>(s_map_.size()) != S_.nonZeros() || static_cast<int>(b_map_.size()) != B_.nonZeros() ||
+      A_.rows() != p_.size() + p_.constraint_count())
+    build_augmented_pattern();
+  double* a = A_.valuePtr();
+  std::fill(a, a + A_.nonZeros(), 0.0);
+  for (std::size_t i = 0; i < s_map_.size(); ++i) a[s_map_[i]] += S_.valuePtr()[i];
+  for (std::size_t i = 0; i < b_map_.size(); ++i) {
+    a[b_map_[i]] += k_ * B_.valuePtr()[i];
+    a[bt_map_[i]] += k_ * B_.valuePtr()[i];
+  }
+  const LinearStatus st = solver_.factorize(A_);
+  if (!st) {
+    why = "iteration matrix: " + st.message;
+    return false;
+  }
+  have_matrix_ = true;
+  ++nou_;
+  return true;
+}
+
+std::string GeneralizedAlpha::initialize(double t0, const Eigen::VectorXd& v0) {
+  t_ = t0;
+  v_ = v0;
+  const int n = p_.size(), m = p_.constraint_count();
+  Eigen::VectorXd r, phi, zero_n = Eigen::VectorXd::Zero(n), zero_m = Eigen::VectorXd::Zero(m);
+  p_.configure(zero_n);
+  const IterationWeights mass_only{1.0, 0.0, 0.0};
+  p_.evaluate(t0, v_, zero_n, zero_m, r, phi, &mass_only, &S_, &B_);
+  if (!finite(r)) return "the initial state gives a non-finite residual";
+  // [M Bᵀ; B 0][v̇0; λ0] = [−g; 0] with unit row scale, then the counters start from zero
+  k_ = 1.0;
+  std::string why;
+  if (!update_matrix(0, t0, v_, zero_n, why)) return "initial accelerations: " + why;
+  nou_ = 0;
+  Eigen::VectorXd rhs(n + m), x;
+  rhs << -r, Eigen::VectorXd::Zero(m);
+  const LinearStatus st = solver_.solve(rhs, x);
+  if (!st) return "initial accelerations: " + st.message;
+  vdot_ = x.head(n);
+  a_ = vdot_;
+  lambda_ = x.tail(m);
+  have_matrix_ = false;  // the mass-only matrix is not an iteration matrix
+  k_ = 0.0;
+  return {};
+}
+
+GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
+  const int n = p_.size(), m = p_.constraint_count();
+  const double bp = (1 - am_) / (h * h * beta_ * (1 - af_)), gp = gamma_ / (h * beta_);  // (G6)
+  const IterationWeights w{bp, gp, 1.0};
+  // predictor (§3)
+  Eigen::VectorXd vd = Eigen::VectorXd::Zero(n);
+  const Eigen::VectorXd a1 = (af_ * vdot_ - am_ * a_) / (1 - am_);
+  Eigen::VectorXd v1 = v_ + h * (1 - gamma_) * a_ + h * gamma_ * a1;                   // (G4)
+  Eigen::VectorXd x = h * (v_ + h * (0.5 - beta_) * a_ + h * beta_ * a1);               // (G3)
+  Eigen::VectorXd lam = lambda_, r, phi, rhs(n + m), dx;
+  Attempt out{false, 0, 0, 0.0, 0.0, {}};
+  if (have_matrix_ && std::abs(matrix_h_ - h) > 1e-12 * h) force_full = true;  // β', γ' changed
+  for (int it = 1; it <= s_.max_iterations; ++it) {
+    p_.configure(x);
+    const bool update = force_full || !have_matrix_ || s_.policy == MatrixPolicy::full ||
+                        (s_.policy == MatrixPolicy::nni && it >= s_.nni_threshold);
+    p_.evaluate(t_ + h, v1, vd, lam, r, phi, update ? &w : nullptr, update ? &S_ : nullptr, update ? &B_ : nullptr);
+    out.residual_norm = std::sqrt(r.squaredNorm() + phi.squaredNorm());
+    if (!finite(r) || !finite(phi)) {
+      out.failure = "non-finite residual at iteration " + std::to_string(it);
+      return out;
+    }
+    if (update) {
+      if (k_ == 0.0) {  // (G7): constraint rows scaled to the mean |S_ii| of the first matrix
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i) sum += std::abs(S_.coeff(i, i));
+        k_ = n > 0 && sum > 0 ? sum / n : 1.0;
+      }
+      std::string why;
+      if (!update_matrix(h, t_ + h, v1, vd, why)) {
+        out.failure = why;
+        return out;
+      }
+      matrix_h_ = h;
+      ++out.updates;
+    }
+    rhs << -r, -k_ * phi;
+    const LinearStatus st = solver_.solve(rhs, dx);
+    ++out.iterations;
+    if (!st) {
+      out.failure = "linear solve: " + st.message;
+      return out;
+    }
+    const auto dq = dx.head(n);
+    x += dq;
+    v1 += gp * dq;
+    vd += bp * dq;
+    lam += k_ * dx.tail(m);
+    out.increment_norm = dq.norm();
+    if (!std::isfinite(out.increment_norm)) {
+      out.failure = "non-finite Newton correction at iteration " + std::to_string(it);
+      return out;
+    }
+    if (out.increment_norm < s_.tolerance) {
+      p_.configure(x);
+      p_.commit();
+      t_ += h;
+      a_ = a1 + (1 - af_) / (1 - am_) * vd;  // (G5)
+      v_ = v1;
+      vdot_ = vd;
+      lambda_ = lam;
+      out.converged = true;
+      return out;
+    }
+  }
+  out.failure = "no convergence in " + std::to_string(s_.max_iterations) + " iterations (|dx| = " +
+                std::to_string(out.increment_norm) + ")";
+  return out;
+}
+
+AlphaStepReport GeneralizedAlpha::step(double h) {
+  AlphaStepReport rep;
+  auto account = [&](const Attempt& a) {
+    rep.iterations += a.iterations;
+    rep.updates += a.updates;
+    rep.increment_norm = a.increment_norm;
+    rep.residual_norm = a.residual_norm;
+    noi_ += a.iterations;
+  };
+  Attempt a = attempt(h, false);
+  account(a);
+  if (!a.converged && s_.policy != MatrixPolicy::full) {  // stale matrix: once more with fresh ones
+    p_.rollback();
+    ++rep.fallbacks;
+    a = attempt(h, true);
+    account(a);
+  }
+  if (a.converged) {
+    rep.converged = true;
+    return rep;
+  }
+  p_.rollback();
+  // cut-backs: two half steps, recursively, up to max_cutbacks halvings
+  std::string failure = a.failure;
+  const GeneralizedAlphaSettings saved = s_;
+  if (s_.max_cutbacks > 0) {
+    --s_.max_cutbacks;
+    AlphaStepReport first = step(0.5 * h), second;
+    if (first.converged) second = step(0.5 * h);
+    s_.max_cutbacks = saved.max_cutbacks;
+    rep.iterations += first.iterations + second.iterations;
+    rep.updates += first.updates + second.updates;
+    rep.fallbacks += first.fallbacks + second.fallbacks;
+    rep.cutbacks += 1 + first.cutbacks + second.cutbacks;
+    if (first.converged && second.converged) {
+      rep.converged = true;
+      rep.increment_norm = second.increment_norm;
+      rep.residual_norm = second.residual_norm;
+      return rep;
+    }
+    // a converged first half stays: the run stops at the last state that converged
+    failure = first.converged ? second.failure : first.failure;
+  }
+  rep.failure = "step at t = " + std::to_string(t_) + " with h = " + std::to_string(h) + ": " + failure;
+  return rep;
+}
+
+}  // namespace ff
