@@ -189,6 +189,7 @@ AlphaStepReport GeneralizedAlpha::step(double h) {
   if (!a.converged && s_.policy != MatrixPolicy::full) {  // stale matrix: once more with fresh ones
     p_.rollback();
     ++rep.fallbacks;
+    ++fallbacks_;
     a = attempt(h, true);
     account(a);
   }

@@ -52,6 +52,7 @@ class GeneralizedAlpha {
   const Eigen::VectorXd& multipliers() const { return lambda_; }
   long long total_iterations() const { return noi_; }
   long long total_updates() const { return nou_; }
+  long long total_fallbacks() const { return fallbacks_; }  ///< stale-matrix steps redone with updates
   const GeneralizedAlphaSettings& settings() const { return s_; }
 
  private:
@@ -76,7 +77,7 @@ class GeneralizedAlpha {
   std::vector<int> s_map_, b_map_, bt_map_;  // value positions of S, B, Bᵀ inside A
   SparseLinearSolver solver_;
   bool have_matrix_ = false;
-  long long noi_ = 0, nou_ = 0;
+  long long noi_ = 0, nou_ = 0, fallbacks_ = 0;
 };
 
 }  // namespace ff
