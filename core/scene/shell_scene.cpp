@@ -5,6 +5,7 @@
 
 #include "core/mesh/generators.h"
 #include "core/mesh/node_sets.h"
+#include "core/scene/node_selection.h"
 #include "core/scene/reference_csv.h"
 #include "core/scene/scene_common.h"
 #include "core/shell/shell_static_simulation.h"
@@ -14,21 +15,6 @@ namespace ff::scene {
 namespace fs = std::filesystem;
 
 namespace {
-const std::vector<std::string> kSelect = {"nearest", "plane", "box", "sphere", "patch_edge", "all"};
-
-void selector_keys(Schema& s, const std::string& t) {
-  s.choice(t + ".select", "how nodes are chosen", kSelect, "nearest")
-      .number_list(t + ".point", "nearest/plane/sphere: a point", std::vector<double>{0, 0, 0}, {}, 3, 3)
-      .number_list(t + ".normal", "plane: its normal", std::vector<double>{1, 0, 0}, {}, 3, 3)
-      .number_list(t + ".box_min", "box: lower corner", std::vector<double>{0, 0, 0}, {}, 3, 3)
-      .number_list(t + ".box_max", "box: upper corner", std::vector<double>{0, 0, 0}, {}, 3, 3)
-      .number(t + ".radius", "sphere: radius", 0.0, Range::non_negative())
-      .string(t + ".patch", "patch_edge: patch name", std::string("surface"))
-      .choice(t + ".edge", "patch_edge: which edge", {"u=0", "u=1", "v=0", "v=1"}, "u=0")
-      .number(t + ".tolerance", "plane/box/sphere tolerance; 0 = automatic (1e-3 x shortest edge)", 0.0,
-              Range::non_negative());
-}
-
 Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 }  // namespace
 
@@ -60,18 +46,18 @@ const Schema& shell_static_schema() {
         .choice("bc.type", "clamped (all DoFs), hinged (translations), symmetry (plane through the nodes), "
                 "fix (listed global DoFs)", {"clamped", "hinged", "symmetry", "fix"}, std::nullopt)
         .string_list("bc.fix", "type = fix: global DoFs", std::vector<std::string>{}, {"ux", "uy", "uz", "rx", "ry", "rz"});
-    selector_keys(s, "bc");
+    declare_selector_keys(s, "bc");
     s.table_array("load", "loads at lambda = 1 on node sets", 1, 64)
         .choice("load.type", "point force or moment; several nodes share the total by tributary length",
                 {"force", "moment"}, std::nullopt)
         .number_list("load.total", "total vector at lambda = 1 (global components)", std::nullopt, {}, 3, 3)
         .boolean("load.follower", "turn with the nodes (components then in the node frame)", false);
-    selector_keys(s, "load");
+    declare_selector_keys(s, "load");
     s.table_array("probe", "node displacements recorded along the path (direction . u)", 1, 32)
         .string("probe.name", "probe name (also the plot file name)", std::nullopt)
         .string("probe.label", "plot label", std::string{})
         .number_list("probe.direction", "global direction the displacement is projected on", std::nullopt, {}, 3, 3);
-    selector_keys(s, "probe");
+    declare_selector_keys(s, "probe");
     s.table_array("metric", "numbers written to summary.json", 0, 32)
         .string("metric.name", "metric name", std::nullopt)
         .choice("metric.kind", "how it is read from the path",
@@ -112,49 +98,6 @@ const Schema& shell_static_schema() {
   return schema;
 }
 
-namespace {
-mesh::NodeSelector selector(const Document& d, const std::string& t, std::size_t i) {
-  const std::string kind = d.string(t + ".select", i);
-  const double tol = d.number(t + ".tolerance", i) > 0 ? d.number(t + ".tolerance", i) : mesh::kAutoTolerance;
-  if (kind == "nearest") return mesh::NodeSelector::nearest(vec(d.numbers(t + ".point", i)));
-  if (kind == "plane") return mesh::NodeSelector::plane(vec(d.numbers(t + ".point", i)), vec(d.numbers(t + ".normal", i)), tol);
-  if (kind == "box") return mesh::NodeSelector::box(vec(d.numbers(t + ".box_min", i)), vec(d.numbers(t + ".box_max", i)), tol);
-  if (kind == "sphere") return mesh::NodeSelector::sphere(vec(d.numbers(t + ".point", i)), d.number(t + ".radius", i), tol);
-  if (kind == "patch_edge")
-    return mesh::NodeSelector::patch_edge(d.string(t + ".patch", i), *mesh::parse_patch_edge(d.string(t + ".edge", i)));
-  return mesh::NodeSelector::all();
-}
-
-std::vector<int> nodes(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
-  const mesh::NodeSelector sel = selector(d, t, i);
-  const std::vector<int> ids = sel.select(m);
-  if (ids.empty())
-    throw SceneError({d.issue(t + ".select", i, mesh::empty_selection_message(t + "[" + std::to_string(i) + "]", sel, m))});
-  return ids;
-}
-
-// share a total among nodes by tributary length along the line they lie on (trapezoid rule)
-std::vector<double> tributary_weights(const mesh::ShellMesh& m, const std::vector<int>& ids) {
-  if (ids.size() == 1) return {1.0};
-  Eigen::Vector3d lo = m.points[ids[0]], hi = lo;
-  for (int i : ids) lo = lo.cwiseMin(m.points[i]), hi = hi.cwiseMax(m.points[i]);
-  const Eigen::Vector3d dir = (hi - lo).normalized();
-  std::vector<std::pair<double, int>> s;
-  for (std::size_t k = 0; k < ids.size(); ++k) s.emplace_back(dir.dot(m.points[ids[k]] - lo), static_cast<int>(k));
-  std::sort(s.begin(), s.end());
-  std::vector<double> w(ids.size(), 0.0);
-  double total = 0.0;
-  for (std::size_t k = 0; k + 1 < s.size(); ++k) {
-    const double h = s[k + 1].first - s[k].first;
-    w[s[k].second] += 0.5 * h;
-    w[s[k + 1].second] += 0.5 * h;
-    total += h;
-  }
-  for (double& x : w) x = total > 0 ? x / total : 1.0 / ids.size();
-  return w;
-}
-}  // namespace
-
 std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path) {
   using namespace ff::shell;
   const std::vector<std::string> fx = d.strings("scene.effects");
@@ -185,7 +128,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
 
   for (std::size_t i = 0; i < d.count("bc"); ++i) {
     const std::string type = d.string("bc.type", i);
-    const std::vector<int> ids = nodes(d, m, "bc", i);
+    const std::vector<int> ids = select_nodes(d, m, "bc", i);
     if (type == "symmetry") {
       if (d.string("bc.select", i) != "plane")
         throw SceneError({d.issue("bc.select", i, "a symmetry condition needs select = \"plane\"")});
@@ -209,7 +152,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     for (int id : ids) spec.restraints.push_back({id, mask});
   }
   for (std::size_t i = 0; i < d.count("load"); ++i) {
-    const std::vector<int> ids = nodes(d, m, "load", i);
+    const std::vector<int> ids = select_nodes(d, m, "load", i);
     const std::vector<double> w = tributary_weights(m, ids);
     const Eigen::Vector3d total = vec(d.numbers("load.total", i));
     const bool moment = d.string("load.type", i) == "moment";
@@ -225,7 +168,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   st.load_scale = d.number("solver.load_scale");
   st.load_label = d.string("solver.load_label");
   for (std::size_t i = 0; i < d.count("probe"); ++i) {
-    const std::vector<int> ids = nodes(d, m, "probe", i);
+    const std::vector<int> ids = select_nodes(d, m, "probe", i);
     const std::string name = d.string("probe.name", i), label = d.string("probe.label", i);
     st.probes.push_back({name, label.empty() ? name : label, ids.front(), vec(d.numbers("probe.direction", i))});
   }

@@ -1,0 +1,68 @@
+#include "core/scene/node_selection.h"
+
+#include <algorithm>
+
+#include "core/mesh/node_sets.h"
+
+namespace ff::scene {
+
+namespace {
+const std::vector<std::string> kSelect = {"nearest", "plane", "box", "sphere", "patch_edge", "all"};
+
+Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+
+mesh::NodeSelector selector(const Document& d, const std::string& t, std::size_t i) {
+  const std::string kind = d.string(t + ".select", i);
+  const double tol = d.number(t + ".tolerance", i) > 0 ? d.number(t + ".tolerance", i) : mesh::kAutoTolerance;
+  if (kind == "nearest") return mesh::NodeSelector::nearest(vec(d.numbers(t + ".point", i)));
+  if (kind == "plane") return mesh::NodeSelector::plane(vec(d.numbers(t + ".point", i)), vec(d.numbers(t + ".normal", i)), tol);
+  if (kind == "box") return mesh::NodeSelector::box(vec(d.numbers(t + ".box_min", i)), vec(d.numbers(t + ".box_max", i)), tol);
+  if (kind == "sphere") return mesh::NodeSelector::sphere(vec(d.numbers(t + ".point", i)), d.number(t + ".radius", i), tol);
+  if (kind == "patch_edge")
+    return mesh::NodeSelector::patch_edge(d.string(t + ".patch", i), *mesh::parse_patch_edge(d.string(t + ".edge", i)));
+  return mesh::NodeSelector::all();
+}
+}  // namespace
+
+void declare_selector_keys(Schema& s, const std::string& t) {
+  s.choice(t + ".select", "how nodes are chosen", kSelect, "nearest")
+      .number_list(t + ".point", "nearest/plane/sphere: a point", std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number_list(t + ".normal", "plane: its normal", std::vector<double>{1, 0, 0}, {}, 3, 3)
+      .number_list(t + ".box_min", "box: lower corner", std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number_list(t + ".box_max", "box: upper corner", std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number(t + ".radius", "sphere: radius", 0.0, Range::non_negative())
+      .string(t + ".patch", "patch_edge: patch name", std::string("surface"))
+      .choice(t + ".edge", "patch_edge: which edge", {"u=0", "u=1", "v=0", "v=1"}, "u=0")
+      .number(t + ".tolerance", "plane/box/sphere tolerance; 0 = automatic (1e-3 x shortest edge)", 0.0,
+              Range::non_negative());
+}
+
+std::vector<int> select_nodes(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
+  const mesh::NodeSelector sel = selector(d, t, i);
+  const std::vector<int> ids = sel.select(m);
+  if (ids.empty())
+    throw SceneError({d.issue(t + ".select", i, mesh::empty_selection_message(t + "[" + std::to_string(i) + "]", sel, m))});
+  return ids;
+}
+
+std::vector<double> tributary_weights(const mesh::ShellMesh& m, const std::vector<int>& ids) {
+  if (ids.size() == 1) return {1.0};
+  Eigen::Vector3d lo = m.points[ids[0]], hi = lo;
+  for (int i : ids) lo = lo.cwiseMin(m.points[i]), hi = hi.cwiseMax(m.points[i]);
+  const Eigen::Vector3d dir = (hi - lo).normalized();
+  std::vector<std::pair<double, int>> s;
+  for (std::size_t k = 0; k < ids.size(); ++k) s.emplace_back(dir.dot(m.points[ids[k]] - lo), static_cast<int>(k));
+  std::sort(s.begin(), s.end());
+  std::vector<double> w(ids.size(), 0.0);
+  double total = 0.0;
+  for (std::size_t k = 0; k + 1 < s.size(); ++k) {
+    const double h = s[k + 1].first - s[k].first;
+    w[s[k].second] += 0.5 * h;
+    w[s[k + 1].second] += 0.5 * h;
+    total += h;
+  }
+  for (double& x : w) x = total > 0 ? x / total : 1.0 / ids.size();
+  return w;
+}
+
+}  // namespace ff::scene
