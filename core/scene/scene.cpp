@@ -8,6 +8,7 @@
 #include <toml++/toml.h>
 
 #include "core/hubbeam/hub_beam_simulation.h"
+#include "core/scene/shell_dynamic_scene.h"
 #include "core/scene/scene_common.h"
 #include "core/scene/shell_scene.h"
 
@@ -161,17 +162,20 @@ std::string peek_model(const std::string& path) {
 
 std::string scene_reference_markdown() {
   return "## model = \"hub_beam\"\n\n" + hub_beam_schema().markdown_reference() + "\n## model = \"shell_static\"\n\n" +
-         shell_static_schema().markdown_reference();
+         shell_static_schema().markdown_reference() + "\n## model = \"shell_dynamic\"\n\n" +
+         shell_dynamic_schema().markdown_reference();
 }
 
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  if (peek_model(path) == "shell_static") {
-    const Document d = validate_file(shell_static_schema(), path, overrides);
+  const std::string model = peek_model(path);
+  if (model == "shell_static" || model == "shell_dynamic") {
+    const bool statics = model == "shell_static";
+    const Document d = validate_file(statics ? shell_static_schema() : shell_dynamic_schema(), path, overrides);
     LoadedScene s;
     s.name = d.string("scene.name");
     s.path = path;
     s.output = read_output(d, true);
-    s.simulation = build_shell_static(d, path);
+    s.simulation = statics ? build_shell_static(d, path) : build_shell_dynamic(d, path);
     return s;
   }
   const Document d = validate_file(hub_beam_schema(), path, overrides);

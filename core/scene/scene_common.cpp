@@ -6,7 +6,7 @@ void declare_scene_table(Schema& s, const std::string& effects_doc, std::vector<
   s.table("scene", "what this scene is and which effects it simulates", true)
       .string("scene.name", "scene name; also the default output folder out/<name>", std::nullopt)
       .string("scene.description", "one line shown in summaries", std::string{})
-      .choice("scene.model", "model family", {"hub_beam", "shell_static"}, std::nullopt)
+      .choice("scene.model", "model family", {"hub_beam", "shell_static", "shell_dynamic"}, std::nullopt)
       .string_list("scene.effects", effects_doc, std::nullopt, std::move(effects));
 }
 

@@ -382,6 +382,17 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
   return s;
 }
 
+double MultibodyModel::constraint_violation() const {
+  double worst = 0.0;
+  for (const PositionConstraint& c : spec_.positions)
+    worst = std::max(worst, (poses_[c.a].x - (c.b >= 0 ? poses_[c.b].x : c.target)).cwiseAbs().maxCoeff());
+  for (const PerpendicularConstraint& c : spec_.perpendiculars) {
+    const Vec3 p = c.b >= 0 ? Vec3(poses_[c.b].R * c.b_vector) : c.b_vector;
+    worst = std::max(worst, std::abs((poses_[c.a].R * c.a_local).dot(p)));
+  }
+  return worst;
+}
+
 double MultibodyModel::total_mass() const {
   double m = 0;
   for (const Element& e : elements_) m += e.inertia->mass();

@@ -93,6 +93,8 @@ class MultibodyModel final : public ff::DynamicProblem {
   Vec3 node_displacement(int node) const { return poses_[node].x - reference_[node].x; }
   Vec3 node_velocity(const Eigen::VectorXd& v, int node) const { return poses_[node].R * node_vector(v, node).head<3>(); }
   MotionSummary summary(const Eigen::VectorXd& v) const;
+  /// Largest |Φ_i| of the current configuration (length units for positions, cosines for axes).
+  double constraint_violation() const;
   const MultibodySpec& spec() const { return spec_; }
   double total_mass() const;
   /// Effects that ran with their counters: "elastic", "inertia", "gravity", "joints", "rigid_body".
