@@ -345,18 +345,19 @@ ShellMesh hinged_roof_quarter(int n_arc, int n_axial) {
 }
 
 ShellMesh l_plate_simo_fox_rifai(int n_arm, int n_width) {
-  const double L = bench::kLPlateLeg, w = bench::kLPlateWidth;
+  // centre lines 240 long to the centre of the corner square: each arm is 240 - w/2 long
+  const double L = bench::kLPlateLeg, w = bench::kLPlateWidth, arm = L - w / 2;
   RectangularPlate arm1;
-  arm1.a = L - w;
+  arm1.a = arm;
   arm1.b = w;
   RectangularPlate corner;
   corner.a = w;
   corner.b = w;
-  corner.origin = Vec3(L - w, 0, 0);
+  corner.origin = Vec3(arm, 0, 0);
   RectangularPlate arm2;  // along +y; e_a x e_b = y x (-x) = +z keeps the normal
-  arm2.a = L - w;
+  arm2.a = arm;
   arm2.b = w;
-  arm2.origin = Vec3(L, w, 0);
+  arm2.origin = Vec3(arm + w, w, 0);
   arm2.e_a = Vec3::UnitY();
   arm2.e_b = -Vec3::UnitX();
   return assemble({rectangular_plate(arm1, n_arm, n_width, "arm1"), rectangular_plate(corner, n_width, n_width, "corner"),

@@ -117,7 +117,7 @@ inline constexpr double kCylinderLength = 10.35, kCylinderRadius = 4.953;
 inline constexpr double kRoofRadius = 2540.0;
 inline constexpr double kRoofHalfLength = 254.0;  ///< "L" of Sze et al.: the roof is 2L = 508 long
 inline constexpr double kRoofHalfAngle = 0.1;     ///< "theta": the roof spans 2 theta = 0.2 rad
-inline constexpr double kLPlateLeg = 240.0, kLPlateWidth = 30.0;
+inline constexpr double kLPlateLeg = 240.0, kLPlateWidth = 30.0;  // centre-line leg, strip width
 }  // namespace bench
 
 /// Example 1, end-moment roll-up: strip 12 x 1 in z = 0, x in [0, 12] (clamped at x = 0,
@@ -146,12 +146,14 @@ ShellMesh open_cylinder_octant(int n_phi, int n_axial);
 /// v = x (v=0 at x = 0). Normal outward (+z at the crown).
 ShellMesh hinged_roof_quarter(int n_arc, int n_axial);
 
-/// Example 5 as in Simo, Fox & Rifai (1990, lateral buckling of a right-angle frame): a FLAT
-/// L-shaped plate in z = 0 whose legs are 240 long (to the outer corner) and 30 wide, i.e. the
-/// L's plane is the plate's plane, so there is no fold. Patches "arm1" (x in [0, 210],
-/// y in [0, 30], clamped end x = 0), "corner" ([210, 240] x [0, 30]) and "arm2"
-/// (x in [210, 240], y in [30, 240], loaded end y = 240). Arms have n_arm x n_width
-/// elements, the corner n_width x n_width. Normal +z.
+/// Example 5, the right-angle frame of Argyris et al. (1979) modelled as a FLAT L-shaped plate
+/// (seed 000 §5.5 after Simo, Fox & Rifai 1990): two strips of width 30 whose CENTRE LINES are
+/// 240 long, measured from the clamped end / loaded end to the centre of the 30 x 30 corner
+/// square, as in the beam data of the benchmark (L = 240, section 30 x 0.6). The L lies in the
+/// plate's plane z = 0, so there is no fold. Patches "arm1" (x in [0, 225], y in [0, 30], clamped
+/// end x = 0), "corner" ([225, 255] x [0, 30]) and "arm2" (x in [225, 255], y in [30, 255],
+/// loaded end y = 255 with its mid-point at (240, 255, 0)). Arms have n_arm x n_width elements,
+/// the corner n_width x n_width. Normal +z.
 ShellMesh l_plate_simo_fox_rifai(int n_arm, int n_width);
 
 /// Two rectangular plates meeting at a 90 deg fold (a right-angle bent strip): "leg1" in

@@ -333,9 +333,15 @@ TEST(MeshBenchmarks, FlatLPlateOfSimoFoxRifai) {
   EXPECT_EQ(m.node_count(), 2 * (na + 1) * (nw + 1) + (nw + 1) * (nw + 1) - 2 * (nw + 1));
   EXPECT_EQ(m.quad_count(), 2 * na * nw + nw * nw);
   EXPECT_EQ(m.fold_count(), 0);  // the L lies in the plate's plane
-  EXPECT_NEAR(total_area(m), 2 * 240 * 30 - 30 * 30, 1e-9);
+  // centre lines 240 from each end to the centre of the corner square (240, 15)
+  EXPECT_NEAR(total_area(m), 2 * 225 * 30 + 30 * 30, 1e-9);
   EXPECT_EQ(patch_edge_nodes(m, "arm1", PatchEdge::u_min), nodes_on_plane(m, Vector3d::Zero(), Vector3d::UnitX()));
-  EXPECT_EQ(patch_edge_nodes(m, "arm2", PatchEdge::u_max), nodes_on_plane(m, Vector3d(0, 240, 0), Vector3d::UnitY()));
+  EXPECT_EQ(patch_edge_nodes(m, "arm2", PatchEdge::u_max), nodes_on_plane(m, Vector3d(0, 255, 0), Vector3d::UnitY()));
+  for (const Vector3d& p : m.points) {
+    EXPECT_GE(p.x(), -1e-12);
+    EXPECT_LE(p.x(), 255 + 1e-12);
+    EXPECT_LE(p.y(), 255 + 1e-12);
+  }
   for (int i = 0; i < m.node_count(); ++i) EXPECT_EQ(m.normals[i], Vector3d::UnitZ());
   expect_valid(m);
 }
