@@ -251,6 +251,12 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   // summary.json: what scripts and benchmarks read
   JsonObject metrics;
   for (const auto& [k, v] : result.metrics) metrics.add(k, v);
+  JsonObject effect_stats;  // only the effects that ran
+  for (const EffectStat& e : sim.effect_stats()) {
+    JsonObject one;
+    one.add("evaluations", e.evaluations).add("time_s", e.seconds);
+    effect_stats.add(e.effect, one);
+  }
   JsonObject outputs;
   outputs.add("results", "results.h5").add("frames_dir", "frames").add("frames", result.frames_rendered)
       .add("plots", plot_files);
@@ -271,6 +277,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       .add("steps_per_second", outcome.wall_time_s > 0 ? result.totals.steps / outcome.wall_time_s : 0.0)
       .add("effects", info.effects)
       .add("metrics", metrics)
+      .add("effect_stats", effect_stats)
       .add("outputs", outputs)
       .add("render", render_info);
   std::ofstream(dir / "summary.json") << summary.str() << "\n";

@@ -15,6 +15,13 @@ namespace ff {
 
 using Metrics = std::vector<std::pair<std::string, double>>;
 
+/// What one effect (elastic, inertia, gravity, joints ...) cost: evaluations and seconds spent.
+struct EffectStat {
+  std::string effect;
+  long long evaluations = 0;
+  double seconds = 0.0;
+};
+
 struct SolverTotals {
   long long steps = 0;
   long long newton_iterations = 0;
@@ -32,6 +39,9 @@ class Simulation {
   virtual Metrics metrics() const = 0;
   virtual SolverTotals totals() const = 0;
   virtual double end_time() const = 0;  ///< for progress and ETA
+  /// Effects that were evaluated, with their counts and times (summary.json "effect_stats");
+  /// empty where a model does not count them.
+  virtual std::vector<EffectStat> effect_stats() const { return {}; }
 };
 
 }  // namespace ff

@@ -139,6 +139,12 @@ RunOutcome ShellDynamicSimulation::run(const std::function<void(Frame&&)>& publi
   return finish(RunStatus::completed, {});
 }
 
+std::vector<EffectStat> ShellDynamicSimulation::effect_stats() const {
+  std::vector<EffectStat> out;
+  for (const auto& [name, c] : model_->effect_stats()) out.push_back({name, c.evaluations, c.seconds});
+  return out;
+}
+
 Metrics ShellDynamicSimulation::metrics() const {
   Metrics m;
   auto index = [&](const std::string& name) {

@@ -55,6 +55,7 @@ class ShellDynamicSimulation final : public Simulation {
   Metrics metrics() const override;
   SolverTotals totals() const override { return totals_; }
   double end_time() const override { return s_.end_time; }
+  std::vector<EffectStat> effect_stats() const override;
   const MultibodyModel& model() const { return *model_; }
   /// Largest |Φ| seen after a converged step (constraint violation), in length units.
   double max_constraint_violation() const { return max_violation_; }
