@@ -17,9 +17,9 @@ namespace fs = std::filesystem;
 namespace ff::app {
 
 namespace {
-// headless frames per second of the default scene at the default frame size
+// headless frames per second of the hub-beam paper scene at the default frame size
 double frames_per_second(int frames, std::string* backend) {
-  scene::LoadedScene s = scene::load_scene(resolve_scene(default_scene()));
+  scene::LoadedScene s = scene::load_scene(resolve_scene("hub_beam_efg_tau1"));
   std::vector<Frame> captured;
   std::atomic<bool> stop{false};
   s.simulation->run([&](Frame&& f) { if (static_cast<int>(captured.size()) < frames) captured.push_back(std::move(f)); },

@@ -1,4 +1,4 @@
-// flexframe: command-line entry point. Verbs: run, check, scenes, compare, bench, study.
+// flexframe: command-line entry point. Verbs: run, check, scenes, compare, bench, study, policies.
 #include <CLI/CLI.hpp>
 
 #include <atomic>
@@ -6,9 +6,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include "app/bench.h"
 #include "app/compare.h"
+#include "app/policy_table.h"
 #include "app/run_session.h"
 #include "app/study.h"
 #include "app/io/mesh_import.h"
@@ -92,6 +94,18 @@ int main(int argc, char** argv) {
   study->add_option("--repeat", study_opt.repeat, "timing repetitions (median)")->check(CLI::Range(1, 1000));
   study->add_option("--out", study_opt.out_dir, "output folder (study.csv, study.md, study.png)");
 
+  // policies
+  ff::app::PolicyTableOptions pol_opt;
+  std::string pol_dts = "5e-4", pol_policies = "full,nni:2,nni:3,nni:4,frozen";
+  CLI::App* policies = app.add_subcommand(
+      "policies", "NOI/NOU and wall time per iteration-matrix policy and step (the shell paper's Tables 3-4)");
+  policies->add_option("scene", pol_opt.scene, "shell_dynamic scene file or bundled name");
+  policies->add_option("--dt", pol_dts, "time steps, comma separated");
+  policies->add_option("--policies", pol_policies, "comma separated: full, frozen, nni:<i>");
+  policies->add_option("--until", pol_opt.until, "simulated time per run [s]")->check(CLI::PositiveNumber);
+  policies->add_option("--set", pol_opt.overrides, "override a scene key in every run")->take_all();
+  policies->add_option("--out", pol_opt.out_dir, "output folder (policies.csv, policies.md, policies.png)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -127,6 +141,18 @@ int main(int argc, char** argv) {
     }
     if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
     if (*bench) return ff::app::run_bench(bench_opt, g_stop);
+    if (*policies) {
+      auto split = [](const std::string& s) {
+        std::vector<std::string> out;
+        std::stringstream ss(s);
+        for (std::string item; std::getline(ss, item, ',');)
+          if (!item.empty()) out.push_back(item);
+        return out;
+      };
+      pol_opt.dts = split(pol_dts);
+      pol_opt.policies = split(pol_policies);
+      return ff::app::run_policy_table(pol_opt, g_stop);
+    }
     if (*study) {
       study_opt.scene = ff::app::resolve_scene(study_opt.scene);
       if (!study_opt.baseline.empty()) study_opt.baseline = ff::app::resolve_scene(study_opt.baseline);

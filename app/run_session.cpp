@@ -79,7 +79,7 @@ std::vector<std::string> bundled_scenes() {
   return names;
 }
 
-std::string default_scene() { return "hub_beam_efg_tau1"; }
+std::string default_scene() { return "double_pendulum_shells"; }
 
 std::string resolve_scene(const std::string& name) {
   if (fs::is_regular_file(name)) return name;

@@ -108,6 +108,7 @@ RunOutcome ShellDynamicSimulation::run(const std::function<void(Frame&&)>& publi
   publish(make_frame(0, 0.0, StepStats{}));
   const double dt = s_.dt, t_end = s_.end_time;
   std::int64_t step = 0;
+  int iterations = 0, updates = 0;  // since the last published frame
   while (integrator_->time() < t_end - 1e-9 * dt) {
     if (stop.load()) return finish(RunStatus::interrupted, "interrupted at t = " + std::to_string(integrator_->time()) + " s");
     const double t0 = integrator_->time();
@@ -117,13 +118,16 @@ RunOutcome ShellDynamicSimulation::run(const std::function<void(Frame&&)>& publi
     if (!rep.converged) return finish(RunStatus::diverged, rep.failure);
     ++step;
     ++totals_.steps;
+    iterations += rep.iterations;
+    updates += rep.updates;
     record();
     const bool last = integrator_->time() >= t_end - 1e-9 * dt;
     if (step % s_.output_every == 0 || last) {
       StepStats st;
       st.dt = h;
-      st.iterations = rep.iterations;
-      st.jacobian_updates = rep.updates;
+      st.iterations = iterations;  // NOI and NOU of all steps since the previous frame
+      st.jacobian_updates = updates;
+      iterations = updates = 0;
       st.residual_norm = rep.residual_norm;
       st.increment_norm = rep.increment_norm;
       Frame f = make_frame(step, integrator_->time(), st);

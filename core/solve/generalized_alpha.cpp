@@ -88,6 +88,13 @@ std::string GeneralizedAlpha::initialize(double t0, const Eigen::VectorXd& v0) {
   const IterationWeights mass_only{1.0, 0.0, 0.0};
   p_.evaluate(t0, v_, zero_n, zero_m, r, phi, &mass_only, &S_, &B_);
   if (!finite(r)) return "the initial state gives a non-finite residual";
+  // unknowns without inertia (the drilling rotation of a 6-DoF shell node moves no mass) have no
+  // initial acceleration of their own: a unit-scale diagonal gives them v̇0 = −r_i / mean(M_ii),
+  // which is 0 in a stress-free reference state
+  double diag_max = 0.0, diag_sum = 0.0;
+  for (int i = 0; i < n; ++i) diag_max = std::max(diag_max, std::abs(S_.coeff(i, i))), diag_sum += std::abs(S_.coeff(i, i));
+  for (int i = 0; i < n; ++i)
+    if (std::abs(S_.coeff(i, i)) <= 1e-12 * diag_max) S_.coeffRef(i, i) = diag_sum / n;
   // [M Bᵀ; B 0][v̇0; λ0] = [−g; 0] with unit row scale, then the counters start from zero
   k_ = 1.0;
   std::string why;

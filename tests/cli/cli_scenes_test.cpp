@@ -30,6 +30,13 @@ bool is_static(const std::string& name) {
   return std::regex_search(read_text(scene_path(name)), re);
 }
 
+constexpr double kShortShellDynamics = 0.01;  // s: shell dynamics scenes stop here (20 steps at 5e-4)
+
+bool is_shell_dynamic(const std::string& name) {
+  static const std::regex re(R"((^|\n)\s*model\s*=\s*"shell_dynamic")");
+  return std::regex_search(read_text(scene_path(name)), re);
+}
+
 /// `flexframe run NAME --out DIR/out --no-frames --no-plots --quiet`, shortened to kShortEnd
 /// (dynamics) or to the load factor kShortLambda (statics, whose "time" is lambda).
 ProcResult run_short(const std::string& name, const std::string& dir, double* t_end) {
@@ -38,6 +45,9 @@ ProcResult run_short(const std::string& name, const std::string& dir, double* t_
   if (is_static(name)) {
     *t_end = kShortLambda;
     set << "solver.lambda_end=" << *t_end;
+  } else if (is_shell_dynamic(name)) {
+    *t_end = kShortShellDynamics;
+    set << "time.end=" << *t_end;
   } else {
     const double scene_end = scene_t_end(name);
     *t_end = std::isfinite(scene_end) ? std::min(scene_end, kShortEnd) : kShortEnd;
