@@ -246,11 +246,14 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
       pairs.push_back({node_id(a, id), partner});
     }
     const bool six = spec.shells[a].options.drilling;
+    const bool other_rigid = b >= static_cast<int>(spec.shells.size());
     for (const auto& [na, nb] : pairs) {
       PositionConstraint pc;
       pc.a = na;
       pc.b = nb;
       pc.target = position_of(a, na - offsets[a]);
+      // a rigid body carries the joint point at its offset from the centre of mass (body axes = W at t = 0)
+      if (other_rigid) pc.b_offset = pc.target - spec.rigid[b - spec.shells.size()].pose.x;
       spec.positions.push_back(pc);
     }
     if (type == "revolute" || type == "fixed") {

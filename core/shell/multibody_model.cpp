@@ -144,9 +144,9 @@ void MultibodyModel::build_pattern() {
   int row = 0;
   for (const PositionConstraint& c : spec_.positions) {
     for (int k = 0; k < 3; ++k)
-      for (int j = 0; j < 3; ++j) {
-        t.emplace_back(row + k, eq_[6 * c.a + j], 1.0);
-        if (c.b >= 0) t.emplace_back(row + k, eq_[6 * c.b + j], 1.0);
+      for (int j = 0; j < 6; ++j) {
+        if (eq_[6 * c.a + j] >= 0) t.emplace_back(row + k, eq_[6 * c.a + j], 1.0);
+        if (c.b >= 0 && eq_[6 * c.b + j] >= 0) t.emplace_back(row + k, eq_[6 * c.b + j], 1.0);
       }
     row += 3;
   }
@@ -308,21 +308,30 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   int row = 0;
   for (const PositionConstraint& c : spec_.positions) {
     const Vec3 lam = lambda.segment<3>(row);
-    const Mat3& Ra = poses_[c.a].R;
-    phi.segment<3>(row) = poses_[c.a].x - (c.b >= 0 ? poses_[c.b].x : c.target);
-    const Vec3 fa = Ra.transpose() * lam;  // Bᵀλ on node a (local)
-    for (int j = 0; j < 3; ++j) r[eq_[6 * c.a + j]] += fa[j];
-    for (int k = 0; k < 3; ++k)
-      for (int j = 0; j < 3; ++j) bset(row + k, c.a, j, Ra(k, j));
-    if (tangent) add_block(c.a, 0, c.a, 3, w->stiffness * skew(fa));
-    if (c.b >= 0) {
-      const Mat3& Rb = poses_[c.b].R;
-      const Vec3 fb = -(Rb.transpose() * lam);
-      for (int j = 0; j < 3; ++j) r[eq_[6 * c.b + j]] += fb[j];
+    // one side: point x + R o; B = [R, −R õ]; force Bᵀλ = [μ; o × μ], μ = ±Rᵀλ, whose local
+    // components turn with the node: ∂/∂θ = [μ̃; õ μ̃] (the D rule of (S16))
+    auto side = [&](int node, const Vec3& o, double sign) {
+      const Mat3& R = poses_[node].R;
+      const Vec3 mu = sign * (R.transpose() * lam);
+      const Vec3 mo = o.cross(mu);
+      for (int j = 0; j < 3; ++j) r[eq_[6 * node + j]] += mu[j];
+      for (int j = 0; j < 3; ++j)
+        if (eq_[6 * node + 3 + j] >= 0) r[eq_[6 * node + 3 + j]] += mo[j];
+      const Mat3 Bt = -sign * R * skew(o);
       for (int k = 0; k < 3; ++k)
-        for (int j = 0; j < 3; ++j) bset(row + k, c.b, j, -Rb(k, j));
-      if (tangent) add_block(c.b, 0, c.b, 3, w->stiffness * skew(fb));
-    }
+        for (int j = 0; j < 3; ++j) {
+          bset(row + k, node, j, sign * R(k, j));
+          bset(row + k, node, 3 + j, Bt(k, j));
+        }
+      if (tangent) {
+        add_block(node, 0, node, 3, w->stiffness * skew(mu));
+        add_block(node, 3, node, 3, w->stiffness * skew(o) * skew(mu));
+      }
+      return Vec3(poses_[node].x + R * o);
+    };
+    const Vec3 pa = side(c.a, c.a_offset, 1.0);
+    const Vec3 pb = c.b >= 0 ? side(c.b, c.b_offset, -1.0) : c.target;
+    phi.segment<3>(row) = pa - pb;
     row += 3;
   }
   for (const PerpendicularConstraint& c : spec_.perpendiculars) {
@@ -384,8 +393,11 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
 
 double MultibodyModel::constraint_violation() const {
   double worst = 0.0;
-  for (const PositionConstraint& c : spec_.positions)
-    worst = std::max(worst, (poses_[c.a].x - (c.b >= 0 ? poses_[c.b].x : c.target)).cwiseAbs().maxCoeff());
+  for (const PositionConstraint& c : spec_.positions) {
+    const Vec3 pa = poses_[c.a].x + poses_[c.a].R * c.a_offset;
+    const Vec3 pb = c.b >= 0 ? Vec3(poses_[c.b].x + poses_[c.b].R * c.b_offset) : c.target;
+    worst = std::max(worst, (pa - pb).cwiseAbs().maxCoeff());
+  }
   for (const PerpendicularConstraint& c : spec_.perpendiculars) {
     const Vec3 p = c.b >= 0 ? Vec3(poses_[c.b].R * c.b_vector) : c.b_vector;
     worst = std::max(worst, std::abs((poses_[c.a].R * c.a_local).dot(p)));

@@ -32,10 +32,13 @@ struct RigidBodySpec {
   Mat3 inertia = Mat3::Identity();    ///< about the centre of mass, body axes
 };
 
-/// x_a = x_b (b >= 0) or x_a = target (b < 0): (D11), (D12). Node ids are model-wide.
+/// Points carried by the nodes coincide: x_a + R_a o_a = x_b + R_b o_b (b >= 0) or
+/// x_a + R_a o_a = target (b < 0): (D11), (D12). Offsets o are in the node frames (zero for shell
+/// nodes; a rigid body's joint point relative to its centre of mass). Node ids are model-wide.
 struct PositionConstraint {
   int a = -1, b = -1;
   Vec3 target = Vec3::Zero();
+  Vec3 a_offset = Vec3::Zero(), b_offset = Vec3::Zero();
 };
 /// (R_a â)·(R_b p̂) = 0, or (R_a â)·p = 0 with a fixed global p when b < 0: (D13).
 struct PerpendicularConstraint {

@@ -102,7 +102,9 @@ TEST_P(CliBundledScene, RunsShortened) {
   std::vector<std::string> fx;
   for (const Json& e : effects->array) fx.push_back(e.string);
   const std::vector<const char*> needed_effects =
-      is_static(name) ? std::vector<const char*>{"elastic"} : std::vector<const char*>{"inertia", "bending"};
+      is_static(name)          ? std::vector<const char*>{"elastic"}
+      : is_shell_dynamic(name) ? std::vector<const char*>{"elastic", "inertia"}
+                               : std::vector<const char*>{"inertia", "bending"};
   for (const char* needed : needed_effects)
     EXPECT_NE(std::find(fx.begin(), fx.end(), needed), fx.end()) << "effects lack " << needed;
   ASSERT_TRUE(s->get("metrics"));

@@ -46,11 +46,13 @@ MultibodySpec system_spec(bool gravity, bool ground) {
   const int plate_nodes = 12, rigid = plate_nodes + 12;
   s.positions.push_back({0, -1, Vec3::Zero()});            // plate corner to ground
   s.positions.push_back({3, plate_nodes + 0, Vec3::Zero()});  // plate to panel (coincidence in a moved state)
-  s.positions.push_back({plate_nodes + 5, rigid, Vec3::Zero()});
+  s.positions.push_back({plate_nodes + 5, rigid, Vec3::Zero(), Vec3::Zero(), Vec3(0.1, -0.2, 0.3)});
+  s.positions.push_back({rigid, -1, Vec3(0.4, 0.9, 0.1), Vec3(-0.3, 0.1, 0.2), Vec3::Zero()});  // pivot off the CoM
   s.perpendiculars.push_back({plate_nodes + 5, rigid, Vec3::UnitX(), Vec3::UnitY()});
   s.perpendiculars.push_back({rigid, -1, Vec3::UnitZ(), Vec3::UnitX()});
   if (!ground) {
     s.positions.erase(s.positions.begin());
+    s.positions.pop_back();
     s.perpendiculars.pop_back();
   }
   return s;
@@ -67,7 +69,7 @@ Eigen::VectorXd random_vector(int n, unsigned seed, double scale) {
 TEST(MultibodyModel, IterationMatrixAndConstraintJacobianMatchCentralDifferences) {
   MultibodyModel model(system_spec(true, true));
   const int n = model.size(), m = model.constraint_count();
-  ASSERT_EQ(m, 3 * 3 + 2);
+  ASSERT_EQ(m, 4 * 3 + 2);
   model.configure(random_vector(n, 1, 0.05));  // a deformed, rotated state
   model.commit();
   const Eigen::VectorXd v = random_vector(n, 2, 1.0), vd = random_vector(n, 3, 4.0), lam = random_vector(m, 4, 50.0);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "core/mesh/generators.h"
@@ -106,6 +107,43 @@ TEST(ShellDynamics, EnergyNeverGrowsWithNumericalDissipation) {
     EXPECT_LT(d.energy_max_growth, 1e-6) << "rho_inf " << rho;
     EXPECT_GT(d.energy, 1e-4) << "rho_inf " << rho;  // it does dissipate
   }
+}
+
+// A rigid body hanging from a spherical joint 0.5 m above its centre of mass (joint offset in the
+// body frame, (D11) with o): small oscillations about y have the compound-pendulum period
+// T = 2 pi sqrt((J_yy + m L^2) / (m g L)) (any dynamics text, e.g. Meriam & Kraige ch. 6).
+TEST(ShellDynamics, RigidCompoundPendulumPeriod) {
+  const double L = 0.5, m = 2.0, Jyy = 0.02, theta0 = 0.05, g = 9.81;
+  MultibodySpec s;
+  RigidBodySpec rb;
+  rb.name = "bob";
+  rb.mass = m;
+  rb.inertia = Vec3(0.01, Jyy, 0.03).asDiagonal();
+  rb.pose.R = Eigen::AngleAxisd(theta0, Vec3::UnitY()).toRotationMatrix();
+  rb.pose.x = -(rb.pose.R * Vec3(0, 0, L));
+  s.rigid = {rb};
+  s.gravity = true;
+  s.g = Vec3(0, 0, -g);
+  s.positions.push_back({0, -1, Vec3::Zero(), Vec3(0, 0, L), Vec3::Zero()});
+  MultibodyModel model(s);
+  GeneralizedAlphaSettings st;
+  st.rho_inf = 1.0;
+  st.tolerance = 1e-12;
+  GeneralizedAlpha ga(model, st);
+  ASSERT_EQ(ga.initialize(0.0, Eigen::VectorXd::Zero(model.size())), "");
+  const double T = 2 * std::numbers::pi * std::sqrt((Jyy + m * L * L) / (m * g * L)) * (1 + theta0 * theta0 / 16);
+  const double h = T / 2000;
+  double previous = model.poses()[0].x.x(), crossing = -1;
+  const double e0 = model.summary(ga.velocity()).total();
+  while (ga.time() < 0.3 * T) {
+    ASSERT_TRUE(ga.step(h).converged);
+    const double x = model.poses()[0].x.x();
+    if (crossing < 0 && previous < 0 && x >= 0) crossing = ga.time() - h * x / (x - previous);
+    previous = x;
+    EXPECT_LT(model.constraint_violation(), 1e-10);
+  }
+  EXPECT_NEAR(crossing, 0.25 * T, 1e-4 * T);  // a quarter period to the bottom
+  EXPECT_NEAR(model.summary(ga.velocity()).total(), e0, 1e-6 * m * g * L);
 }
 
 // the bundled double pendulum, shortened and coarsened through scene overrides
