@@ -13,6 +13,7 @@
 #include "app/policy_table.h"
 #include "app/run_session.h"
 #include "app/study.h"
+#include "app/io/mesh_import.h"
 #include "core/scene/scene.h"
 
 namespace {
@@ -37,6 +38,7 @@ void print_result(const ff::app::RunResult& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ff::io::install_mesh_file_reader();  // scenes with mesh.generator = "file"
   CLI::App app{"FlexFrame: flexible multibody dynamics with a headless renderer"};
   app.require_subcommand(1);
 

@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "core/mesh/generators.h"
+#include "core/scene/mesh_file.h"
 
 namespace ff::io {
 
@@ -162,6 +163,11 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
   }
   out = std::move(m);
   return true;
+}
+
+void install_mesh_file_reader() {
+  ff::scene::set_mesh_file_reader(
+      [](const std::string& path, ShellMesh& out, std::string* error) { return import_shell_mesh(path, out, error); });
 }
 
 bool write_shell_mesh_obj(const std::string& path, const ShellMesh& mesh, std::string* error) {

@@ -36,6 +36,10 @@ struct MeshImportOptions {
 bool import_shell_mesh(const std::string& path, ff::mesh::ShellMesh& out, std::string* error,
                        const MeshImportOptions& options = {});
 
+/// Installs import_shell_mesh (default options) as core's reader for scenes with
+/// mesh.generator = "file" (core/scene/mesh_file.h). Call once at program start.
+void install_mesh_file_reader();
+
 /// Writes points and quads as Wavefront OBJ (1-based "f a b c d", 17 significant digits).
 bool write_shell_mesh_obj(const std::string& path, const ff::mesh::ShellMesh& mesh, std::string* error);
 /// Writes points and quads as ASCII PLY (double coordinates, "4 a b c d" faces).

@@ -45,6 +45,15 @@ std::vector<int> select_nodes(const Document& d, const mesh::ShellMesh& m, const
   return ids;
 }
 
+std::vector<int> quads_within(const mesh::ShellMesh& m, const std::vector<int>& ids) {
+  std::vector<char> in(m.node_count(), 0);
+  for (int i : ids) in[i] = 1;
+  std::vector<int> q;
+  for (int k = 0; k < m.quad_count(); ++k)
+    if (std::all_of(m.quads[k].begin(), m.quads[k].end(), [&](int i) { return in[i] != 0; })) q.push_back(k);
+  return q;
+}
+
 std::vector<double> tributary_weights(const mesh::ShellMesh& m, const std::vector<int>& ids) {
   if (ids.size() == 1) return {1.0};
   Eigen::Vector3d lo = m.points[ids[0]], hi = lo;

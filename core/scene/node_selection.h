@@ -14,6 +14,8 @@ namespace ff::scene {
 void declare_selector_keys(Schema& s, const std::string& table);
 /// Node ids of mesh `m` chosen by entry i of `table`; SceneError at <table>.select when empty.
 std::vector<int> select_nodes(const Document& d, const mesh::ShellMesh& m, const std::string& table, std::size_t i);
+/// Quads of `m` whose 4 corner nodes are all in `ids` (ascending quad numbers).
+std::vector<int> quads_within(const mesh::ShellMesh& m, const std::vector<int>& ids);
 /// Shares of a total among nodes by tributary length along the line they lie on (trapezoid rule).
 std::vector<double> tributary_weights(const mesh::ShellMesh& m, const std::vector<int>& ids);
 

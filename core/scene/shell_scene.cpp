@@ -5,6 +5,7 @@
 
 #include "core/mesh/generators.h"
 #include "core/mesh/node_sets.h"
+#include "core/scene/mesh_file.h"
 #include "core/scene/node_selection.h"
 #include "core/scene/reference_csv.h"
 #include "core/scene/scene_common.h"
@@ -16,6 +17,22 @@ namespace fs = std::filesystem;
 
 namespace {
 Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+
+// generator = "file": mesh.file relative to the scene file, read by the installed reader
+mesh::ShellMesh read_mesh_file(const Document& d, const std::string& scene_path) {
+  const std::string& file = d.string("mesh.file");
+  if (file.empty())
+    throw SceneError({d.issue("mesh.generator", "generator = \"file\" needs mesh.file (an OBJ or PLY quad mesh, "
+                                                "relative to the scene file)")});
+  const MeshFileReader& reader = mesh_file_reader();
+  if (!reader)
+    throw SceneError({d.issue("mesh.file", "this program reads no mesh files (no reader installed; the flexframe "
+                                           "executable installs the assimp importer)")});
+  mesh::ShellMesh m;
+  std::string error;
+  if (!reader((fs::path(scene_path).parent_path() / file).string(), m, &error)) throw SceneError({d.issue("mesh.file", error)});
+  return m;
+}
 }  // namespace
 
 const Schema& shell_static_schema() {
@@ -48,10 +65,18 @@ const Schema& shell_static_schema() {
         .string_list("bc.fix", "type = fix: global DoFs", std::vector<std::string>{}, {"ux", "uy", "uz", "rx", "ry", "rz"});
     declare_selector_keys(s, "bc");
     s.table_array("load", "loads at lambda = 1 on node sets", 1, 64)
-        .choice("load.type", "point force or moment; several nodes share the total by tributary length",
-                {"force", "moment"}, std::nullopt)
-        .number_list("load.total", "total vector at lambda = 1 (global components)", std::nullopt, {}, 3, 3)
-        .boolean("load.follower", "turn with the nodes (components then in the node frame)", false);
+        .choice("load.type",
+                "point force or moment (several nodes share the total by tributary length), or a uniform pressure "
+                "on every quad whose 4 corner nodes are selected (select = \"all\": the whole mesh)",
+                {"force", "moment", "pressure"}, std::nullopt)
+        .number_list("load.total", "force / moment (required there): total vector at lambda = 1 (global components)",
+                     std::vector<double>{0, 0, 0}, {}, 3, 3)
+        .number("load.pressure",
+                "pressure (required there): force per unit area at lambda = 1, positive along the director (the "
+                "normal of a counter-clockwise quad)", 0.0)
+        .boolean("load.follower",
+                 "force / moment: turn with the nodes (components then in the node frame); pressure: act on the "
+                 "current normal and area instead of the reference ones", false);
     declare_selector_keys(s, "load");
     s.table_array("probe", "node displacements recorded along the path (direction . u)", 1, 32)
         .string("probe.name", "probe name (also the plot file name)", std::nullopt)
@@ -114,7 +139,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     else if (gen == "hinged_roof_quarter") spec.mesh = mesh::hinged_roof_quarter(n1, n2);
     else if (gen == "l_plate") spec.mesh = mesh::l_plate_simo_fox_rifai(n1, n2);
     else if (gen == "rectangular_plate") spec.mesh = mesh::rectangular_plate(d.number("mesh.length"), d.number("mesh.width"), n1, n2);
-    else throw SceneError({d.issue("mesh.generator", "generator = file is read by the app (mesh import); not available here")});
+    else spec.mesh = read_mesh_file(d, path);
   } catch (const std::invalid_argument& e) {
     throw SceneError({d.issue("mesh.generator", e.what())});
   }
@@ -152,10 +177,29 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     for (int id : ids) spec.restraints.push_back({id, mask});
   }
   for (std::size_t i = 0; i < d.count("load"); ++i) {
+    const std::string type = d.string("load.type", i);
     const std::vector<int> ids = select_nodes(d, m, "load", i);
+    if (type == "pressure") {
+      if (!d.present("load.pressure", i))
+        throw SceneError({d.issue("load.type", i, "type = \"pressure\" needs load.pressure (force per unit area)")});
+      if (d.present("load.total", i))
+        throw SceneError({d.issue("load.total", i, "a pressure load takes load.pressure, not load.total")});
+      const std::vector<int> quads = quads_within(m, ids);
+      if (quads.empty())
+        throw SceneError({d.issue("load.select", i, "selects " + std::to_string(ids.size()) +
+                                                        " nodes but no quad with all 4 corners among them; a pressure "
+                                                        "loads whole quads (select = \"all\" for the whole mesh)")});
+      for (int q : quads) spec.pressures.push_back({q, d.number("load.pressure", i), d.boolean("load.follower", i)});
+      continue;
+    }
+    if (d.present("load.pressure", i))
+      throw SceneError({d.issue("load.pressure", i, "load.pressure belongs to type = \"pressure\"; a " + type +
+                                                        " takes load.total")});
+    if (!d.present("load.total", i))
+      throw SceneError({d.issue("load.type", i, "type = \"" + type + "\" needs load.total (the total vector)")});
     const std::vector<double> w = tributary_weights(m, ids);
     const Eigen::Vector3d total = vec(d.numbers("load.total", i));
-    const bool moment = d.string("load.type", i) == "moment";
+    const bool moment = type == "moment";
     for (std::size_t k = 0; k < ids.size(); ++k) {
       NodalLoad l;
       l.node = ids[k];

@@ -26,6 +26,35 @@ Mat3 align(const Vec3& a, const Vec3& b) {
   const double s = axis.norm(), c = a.dot(b);
   return s < 1e-14 ? Mat3::Identity() : exp_so3(axis / s * std::atan2(s, c));
 }
+
+// p (g_xi x g_eta) over the bilinear quad x[0..3] by 2x2 Gauss (exact: the integrand is
+// biquadratic), eq. P2 of shell_model.md: f_a = p sum_g N_a (g_xi x g_eta). With dfdx, also
+// df_a/dx_b = p sum_g N_a (N_b,eta [g_xi]x - N_b,xi [g_eta]x) (eq. P3), 3x3 block (a, b) at dfdx[4a + b].
+void pressure_forces(const std::array<Vec3, 4>& x, double p, std::array<Vec3, 4>& f, std::array<Mat3, 16>* dfdx) {
+  static const double xa[4] = {-1, 1, 1, -1}, ya[4] = {-1, -1, 1, 1};
+  const double g = 1.0 / std::sqrt(3.0);
+  for (Vec3& v : f) v.setZero();
+  if (dfdx)
+    for (Mat3& m : *dfdx) m.setZero();
+  for (int gi = 0; gi < 4; ++gi) {
+    const double xi = xa[gi] * g, eta = ya[gi] * g;  // weights are 1
+    double N[4], Nx[4], Ne[4];
+    Vec3 gx = Vec3::Zero(), ge = Vec3::Zero();
+    for (int a = 0; a < 4; ++a) {
+      N[a] = 0.25 * (1 + xa[a] * xi) * (1 + ya[a] * eta);
+      Nx[a] = 0.25 * xa[a] * (1 + ya[a] * eta);
+      Ne[a] = 0.25 * ya[a] * (1 + xa[a] * xi);
+      gx += Nx[a] * x[a];
+      ge += Ne[a] * x[a];
+    }
+    const Vec3 n = gx.cross(ge);
+    for (int a = 0; a < 4; ++a) f[a] += p * N[a] * n;
+    if (!dfdx) continue;
+    const Mat3 Sx = skew(gx), Se = skew(ge);
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) (*dfdx)[4 * a + b] += p * N[a] * (Ne[b] * Sx - Nx[b] * Se);
+  }
+}
 }  // namespace
 
 ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
@@ -98,6 +127,16 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   Vec3 lo = m.points.front(), hi = lo;
   for (const Vec3& p : m.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   rotation_scale_ = 0.1 * (hi - lo).norm();
+  dead_pressure_.resize(spec_.pressures.size());
+  for (std::size_t k = 0; k < spec_.pressures.size(); ++k) {
+    const PressureLoad& pl = spec_.pressures[k];
+    if (pl.quad < 0 || pl.quad >= m.quad_count())
+      throw std::invalid_argument("pressure on quad " + std::to_string(pl.quad) + ", but the mesh has " +
+                                  std::to_string(m.quad_count()) + " quads");
+    std::array<Vec3, 4> x;
+    for (int c = 0; c < 4; ++c) x[c] = m.points[m.quads[pl.quad][c]];
+    pressure_forces(x, pl.pressure, dead_pressure_[k], nullptr);
+  }
   build_pattern();
 }
 
@@ -249,6 +288,37 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 2; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
     }
+  }
+  // pressure: nodal forces on translations only (global components, global increments), so the
+  // follower load stiffness -lambda df/dx needs no rotating-basis term (shell_model.md eq. P3)
+  for (std::size_t k = 0; k < spec_.pressures.size(); ++k) {
+    const PressureLoad& pl = spec_.pressures[k];
+    const std::array<int, 4>& q = elements_[pl.quad].nodes;
+    std::array<Vec3, 4> f;
+    std::array<Mat3, 16> dfdx;
+    if (pl.follower) {
+      std::array<Vec3, 4> x;
+      for (int c = 0; c < 4; ++c) x[c] = poses_[q[c]].x;
+      pressure_forces(x, pl.pressure, f, K ? &dfdx : nullptr);
+    } else {
+      f = dead_pressure_[k];
+    }
+    for (int c = 0; c < 4; ++c)
+      for (int s = 0; s < 3; ++s) {
+        const int a = eq_[6 * q[c] + s];
+        if (a < 0) continue;
+        r[a] -= lambda * f[c][s];
+        if (load) (*load)[a] += f[c][s];
+      }
+    if (!K || !pl.follower) continue;
+    const std::array<int, 576>& idx = scatter_[pl.quad];
+    for (int c = 0; c < 4; ++c)
+      for (int d = 0; d < 4; ++d)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            const int v = idx[(6 * c + i) * 24 + 6 * d + j];
+            if (v >= 0) values[v] -= lambda * dfdx[4 * c + d](i, j);
+          }
   }
 }
 

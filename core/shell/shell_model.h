@@ -30,6 +30,17 @@ struct NodalLoad {
   bool follower = false;
 };
 
+/// Uniform pressure on one quad of the mesh, p times the mid-surface area element
+/// g_xi x g_eta (shell_model.md eq. P1): positive along the quad's normal, i.e. towards the
+/// director's side of a counter-clockwise quad (core/mesh/README.md convention 1).
+struct PressureLoad {
+  int quad = -1;
+  double pressure = 0.0;  ///< force per unit area at lambda = 1
+  /// false: dead load, normal and area of the reference configuration; true: normal and area of
+  /// the current configuration (load stiffness in the tangent, non-symmetric in general)
+  bool follower = false;
+};
+
 struct ShellModelSpec {
   mesh::ShellMesh mesh;
   ShellSection section;
@@ -37,6 +48,7 @@ struct ShellModelSpec {
   std::vector<std::pair<int, unsigned>> restraints;  ///< node, Restraint mask (global directions)
   std::vector<std::pair<int, int>> symmetry;         ///< node, axis (0, 1, 2) of the plane normal
   std::vector<NodalLoad> loads;
+  std::vector<PressureLoad> pressures;
 };
 
 class ShellModel final : public ff::StaticProblem {
@@ -80,6 +92,7 @@ class ShellModel final : public ff::StaticProblem {
   // entry (-1 when restrained), so assembly is a scatter-add without triplets
   Eigen::SparseMatrix<double> pattern_;
   std::vector<std::array<int, 576>> scatter_;
+  std::vector<std::array<Vec3, 4>> dead_pressure_;  // per spec_.pressures: fixed nodal forces (reference)
   std::vector<Vec24> el_force_;   // per-element results of the parallel element loop
   std::vector<Mat24> el_tangent_;
   void build_pattern();

@@ -48,6 +48,8 @@ ShellModelSpec spec(bool drilling, double R) {
   s.loads = {{11, Vec3(0.1, 0.2, -0.3), Vec3::Zero(), false},
              {10, Vec3(0.05, 0.0, 0.2), Vec3(0.01, -0.02, 0.0), true},
              {9, Vec3::Zero(), Vec3(0.0, 0.03, 0.01), false}};
+  // quads 0-5: one dead and two follower pressures (quad 1 has restrained corners)
+  s.pressures = {{0, 0.4, false}, {1, -0.7, true}, {4, 0.9, true}};
   return s;
 }
 
@@ -98,6 +100,76 @@ TEST_P(ShellModelTangent, MatchesCentralDifferencesOfTheResidual) {
 
 INSTANTIATE_TEST_SUITE_P(FiveAndSixDofs, ShellModelTangent,
                          ::testing::Combine(::testing::Bool(), ::testing::Values(0.0, 1.5)));
+
+// The follower-pressure load stiffness alone: tangent(with pressure) - tangent(without) against
+// central differences of residual(with) - residual(without), bounded relative to the pressure
+// part itself (the full-tangent test above bounds it only against the much stiffer elements).
+TEST_P(ShellModelTangent, FollowerPressureStiffnessMatchesCentralDifferences) {
+  const auto [drilling, R] = GetParam();
+  ShellModelSpec with = spec(drilling, R), without = with;
+  without.pressures.clear();
+  with.pressures = {{1, -7.0, true}, {4, 9.0, true}, {5, 3.0, true}};
+  ShellModel a(with), b(without);
+  const int n = a.size();
+  std::mt19937 g(5);
+  std::uniform_real_distribution<double> u(-0.15, 0.15);
+  Eigen::VectorXd d(n);
+  for (int k = 0; k < n; ++k) d[k] = u(g);
+  a.update(d);
+  b.update(d);
+  const double lambda = 0.7;
+  auto residual_difference = [&](const Eigen::VectorXd& step) {
+    Eigen::VectorXd ra, rb;
+    a.save_state(), b.save_state();
+    a.update(step), b.update(step);
+    a.evaluate(lambda, ra, nullptr, nullptr);
+    b.evaluate(lambda, rb, nullptr, nullptr);
+    a.restore_state(), b.restore_state();
+    return Eigen::VectorXd(ra - rb);
+  };
+  Eigen::VectorXd r;
+  Eigen::SparseMatrix<double> Ka, Kb;
+  a.evaluate(lambda, r, &Ka, nullptr);
+  b.evaluate(lambda, r, &Kb, nullptr);
+  const Eigen::MatrixXd Kp = Eigen::MatrixXd(Ka) - Eigen::MatrixXd(Kb);
+  Eigen::MatrixXd Kfd(n, n);
+  const double h = 1e-5;
+  for (int k = 0; k < n; ++k) Kfd.col(k) = (residual_difference(unit(n, k, h)) - residual_difference(unit(n, k, -h))) / (2 * h);
+  const double scale = Kp.cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 0.1);  // the pressure part is really there
+  // the pressure forces are quadratic in the translations: central differences are exact up to
+  // round-off of the element residuals (~1e-16 x E h / h_fd ~ 1e-9)
+  EXPECT_LT((Kp - Kfd).cwiseAbs().maxCoeff(), 1e-6 * scale);
+  // non-symmetric in general
+  EXPECT_GT((Kp - Kp.transpose()).cwiseAbs().maxCoeff(), 1e-3 * scale);
+}
+
+// Resultants of a uniform pressure p on the flat patch (area 1 x 0.8, normal +z): p A e_z in the
+// reference configuration; after a rigid rotation Q the follower resultant turns to p A Q e_z and
+// the dead one stays.
+TEST(ShellModel, PressureResultantIsPressureTimesArea) {
+  ShellModelSpec s = spec(false, 0.0);
+  s.restraints.clear(), s.symmetry.clear(), s.loads.clear();
+  const double p = 2.5;
+  for (bool follower : {false, true}) {
+    s.pressures.clear();
+    for (int q = 0; q < s.mesh.quad_count(); ++q) s.pressures.push_back({q, p, follower});
+    ShellModel m(s);
+    Eigen::VectorXd r, load;
+    const Mat3 Q = Eigen::AngleAxisd(0.8, Vec3(1, 2, -0.5).normalized()).toRotationMatrix();
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(m.size());
+    for (int I = 0; I < s.mesh.node_count(); ++I)
+      d.segment<3>(m.equation(I, 0)) = Q * s.mesh.points[I] - s.mesh.points[I];
+    for (int pass = 0; pass < 2; ++pass) {
+      m.evaluate(1.0, r, nullptr, &load);
+      Vec3 total = Vec3::Zero();
+      for (int I = 0; I < s.mesh.node_count(); ++I) total += load.segment<3>(m.equation(I, 0));
+      const Vec3 expected = p * 0.8 * (pass == 1 && follower ? Vec3(Q * Vec3::UnitZ()) : Vec3::UnitZ());
+      EXPECT_LT((total - expected).norm(), 1e-13) << "follower " << follower << " rotated " << pass;
+      m.update(d);  // translations only: the follower load reads positions, not rotations
+    }
+  }
+}
 
 TEST(ShellModel, RestraintsAreExactAndCounted) {
   ShellModel five(spec(false, 1.5)), six(spec(true, 1.5));
