@@ -7,13 +7,18 @@ namespace ff::shell {
 
 namespace {
 using Mat8 = Eigen::Matrix<double, 8, 8>;
-using Mat36 = Eigen::Matrix<double, 3, 6>;
+using Mat83 = Eigen::Matrix<double, 8, 3>;
+using Mat38 = Eigen::Matrix<double, 3, 8>;
+using Vec5 = Eigen::Matrix<double, 5, 1>;
+using Vec10 = Eigen::Matrix<double, 10, 1>;
+using Mat20 = Eigen::Matrix<double, 20, 20>;
+using Mat20x5 = Eigen::Matrix<double, 20, 5>;
 
 constexpr double kXiNode[4] = {-1.0, 1.0, 1.0, -1.0};
 constexpr double kEtaNode[4] = {-1.0, -1.0, 1.0, 1.0};
-// covariant components in e_cov order: xx, ee, zz, xe, ez, xz (eq. 6)
-constexpr int kPair[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
-constexpr int kEtaZeta = 4, kXiZeta = 5;
+// covariant components kept (eq. 6): xx, ee, xe, ez, xz; E_zz has no weight in eq. (6)
+constexpr int kPair[5][2] = {{0, 0}, {1, 1}, {0, 1}, {1, 2}, {0, 2}};
+constexpr int kEtaZeta = 3, kXiZeta = 4;
 
 Mat3 skew(const Vec3& a) {
   Mat3 m;
@@ -30,59 +35,78 @@ void quad_shape(double xi, double eta, Eigen::Vector4d& N, Eigen::Vector4d& dxi,
   }
 }
 
-// slave node A: master I = A % 4, side s = +1 (A < 4) or -1; trilinear derivatives
-Eigen::Matrix<double, 8, 3> solid_derivatives(double xi, double eta, double zeta) {
+// trilinear derivatives of the slaves of master I (N_I (1 + s zeta) / 2), summed over s = +-1
+// (rows I) and weighted by s (rows 4 + I): g_i = sum_I phi(I, i) x_I + (h0/2) phi(4 + I, i) d_I
+Mat83 master_derivatives(double xi, double eta, double zeta) {
   Eigen::Vector4d N, dxi, deta;
   quad_shape(xi, eta, N, dxi, deta);
-  Eigen::Matrix<double, 8, 3> d;
-  for (int A = 0; A < 8; ++A) {
-    const int I = A % 4;
-    const double s = A < 4 ? 1.0 : -1.0;
-    d(A, 0) = dxi[I] * 0.5 * (1 + s * zeta);
-    d(A, 1) = deta[I] * 0.5 * (1 + s * zeta);
-    d(A, 2) = N[I] * 0.5 * s;
-  }
-  return d;
-}
-
-std::array<Vec3, 8> slave_positions(const ElementPoses& p, double h) {
-  std::array<Vec3, 8> xs;
+  Mat83 phi;
   for (int I = 0; I < 4; ++I) {
-    const Vec3 d = p[I].R.col(2);
-    xs[I] = p[I].x + 0.5 * h * d;      // eq. (1)
-    xs[I + 4] = p[I].x - 0.5 * h * d;
+    phi.row(I) << dxi[I], deta[I], 0.0;
+    phi.row(4 + I) << zeta * dxi[I], zeta * deta[I], N[I];
   }
-  return xs;
+  return phi;
 }
 
-void base_vectors(const Eigen::Matrix<double, 8, 3>& dN, const std::array<Vec3, 8>& xs, Vec3 g[3]) {
-  for (int i = 0; i < 3; ++i) {
-    g[i].setZero();
-    for (int A = 0; A < 8; ++A) g[i] += dN(A, i) * xs[A];
+// columns x_I and (h0/2) d_I, eq. (1)
+Mat38 node_columns(const ElementPoses& p, double hh) {
+  Mat38 X;
+  for (int I = 0; I < 4; ++I) {
+    X.col(I) = p[I].x;
+    X.col(4 + I) = hh * p[I].R.col(2);
+  }
+  return X;
+}
+
+// K = Y Y^T for Y 20 x N (column-major): upper 4 x 4 tiles, mirrored (the material stiffness is
+// symmetric; this is the largest product of the element)
+template <int N, typename Derived>
+void gram20(const Eigen::MatrixBase<Derived>& Y, Mat20& K) {
+  static_assert(Derived::RowsAtCompileTime == 20 && Derived::ColsAtCompileTime == N);
+  const double* data = Y.derived().data();
+  const Eigen::Index stride = Y.derived().outerStride();
+  for (int jb = 0; jb < 20; jb += 4)
+    for (int ib = 0; ib <= jb; ib += 4) {
+      double acc[4][4] = {};
+      for (int k = 0; k < N; ++k) {
+        const double* y = data + stride * k;
+        for (int c = 0; c < 4; ++c)
+          for (int r = 0; r < 4; ++r) acc[c][r] += y[ib + r] * y[jb + c];
+      }
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) K(ib + r, jb + c) = K(jb + c, ib + r) = acc[c][r];
+    }
+}
+
+// master rows from the kernels of one point: u rows (R_I^T g) Ku_I, theta rows
+// [-(R_I^T g) row 1; (R_I^T g) row 0] Kt_I (theta = (h0/2) e3~ R_I^T sum_s s b, eq. 2)
+template <int NC>
+void master_rows(const std::array<Mat3, 4>& Rt, const Mat3& g, const std::array<Eigen::Matrix<double, 3, 7>, 4>& Ku,
+                 const std::array<Eigen::Matrix<double, 3, 7>, 4>& Kt, Eigen::Matrix<double, 20, NC>& B) {
+  for (int I = 0; I < 4; ++I) {
+    const Mat3 gl = Rt[I].lazyProduct(g);
+    Eigen::Matrix<double, 2, 3> glr;
+    glr << -gl.row(1), gl.row(0);
+    B.template block<3, NC>(5 * I, 0).noalias() = gl.lazyProduct(Ku[I].template leftCols<NC>());
+    B.template block<2, NC>(5 * I + 3, 0).noalias() = glr.lazyProduct(Kt[I].template leftCols<NC>());
   }
 }
-}  // namespace
 
-struct CbShellElement::Strains {
-  Eigen::Matrix<double, 6, 1> e;        // covariant E_ij, eq. (3)
-  Eigen::Matrix<double, 6, 24> B;       // eq. (4)
-  std::array<Mat8, 6> M;                // eq. (5), scalar (times I3)
-};
-
-namespace {
-// one covariant component (i, j) with its variations, eqs. (3)-(5)
-// (M only when a tangent is wanted: it feeds the geometric stiffness alone)
-void covariant_component(const Eigen::Matrix<double, 8, 3>& dN, const Vec3 g[3], int i, int j, double ref,
-                         double& e, Eigen::Matrix<double, 1, 24>& b, Mat8* M) {
-  e = 0.5 * (g[i].dot(g[j]) - ref);
-  for (int A = 0; A < 8; ++A) b.segment<3>(3 * A) = 0.5 * (dN(A, i) * g[j] + dN(A, j) * g[i]).transpose();
-  if (M) M->noalias() = 0.5 * (dN.col(i) * dN.col(j).transpose() + dN.col(j) * dN.col(i).transpose());
+// symmetric 3 x 3 S with sum_c v_c (a_i b_j + a_j b_i) / 2 = a^T S b over covariant components c
+Mat3 covariant_matrix(const Vec5& v, bool with_shear) {
+  Mat3 S = Mat3::Zero();
+  for (int c = 0; c < (with_shear ? 5 : 3); ++c) {
+    const int i = kPair[c][0], j = kPair[c][1];
+    if (i == j) S(i, i) += v[c];
+    else S(i, j) += 0.5 * v[c], S(j, i) += 0.5 * v[c];
+  }
+  return S;
 }
 }  // namespace
 
 CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec, const ShellOptions& opt)
     : sec_(sec), opt_(opt) {
-  const double h = sec.thickness, E = sec.youngs_modulus, nu = sec.poisson_ratio;
+  const double h = sec.thickness, hh = 0.5 * h, E = sec.youngs_modulus, nu = sec.poisson_ratio;
   const double shear_modulus = E / (2.0 * (1.0 + nu));
   // eq. (7)
   C_.setZero();
@@ -93,19 +117,21 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
   C_(3, 3) = C_(4, 4) = sec.shear_factor * shear_modulus;
   gamma_ = opt.drilling_factor * shear_modulus * h;  // eq. (13)
 
-  const std::array<Vec3, 8> Xs = slave_positions(ref, h);
+  const Mat38 X0 = node_columns(ref, hh);
   // centre frame for the assumed stress, eq. (9)
-  Vec3 Gc[3];
-  base_vectors(solid_derivatives(0, 0, 0), Xs, Gc);
-  const Vec3 t1c = Gc[0].normalized();
-  const Vec3 t3c = Gc[0].cross(Gc[1]).normalized();
+  const Mat3 Gc = X0 * master_derivatives(0, 0, 0);
+  const Vec3 t1c = Gc.col(0).normalized();
+  const Vec3 t3c = Gc.col(0).cross(Gc.col(1)).normalized();
   const Vec3 t2c = t3c.cross(t1c);
-  const double a1 = Gc[0].dot(t1c), b1 = Gc[0].dot(t2c), a2 = Gc[1].dot(t1c), b2 = Gc[1].dot(t2c);
-  if (!(Gc[0].cross(Gc[1]).norm() > 0)) throw std::invalid_argument("CB shell: degenerate element");
+  const double a1 = Gc.col(0).dot(t1c), b1 = Gc.col(0).dot(t2c), a2 = Gc.col(1).dot(t1c), b2 = Gc.col(1).dot(t2c);
+  if (!(Gc.col(0).cross(Gc.col(1)).norm() > 0)) throw std::invalid_argument("CB shell: degenerate element");
 
   const double gp = 1.0 / std::sqrt(3.0);
   const double gpts[2] = {-gp, gp};
-  Eigen::Matrix3d Cm_inv = C_.topLeftCorner<3, 3>().inverse();
+  const Eigen::Matrix3d Cm = C_.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d Cm_inv = Cm.inverse();
+  const Eigen::Matrix3d Lc = Cm.llt().matrixL();
+  const double kG = C_(3, 3);
   Eigen::Matrix<double, 10, 10> H = Eigen::Matrix<double, 10, 10>::Zero();
   int k = 0;
   for (int l = 0; l < 2; ++l)
@@ -114,53 +140,94 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
         SolidPoint& p = pts_[k];
         p.xi = gpts[jx];
         p.eta = gpts[jy];
+        p.zeta = gpts[l];
         p.layer = l;
-        const double zeta = gpts[l];
-        p.dN = solid_derivatives(p.xi, p.eta, zeta);
-        Vec3 G[3];
-        base_vectors(p.dN, Xs, G);
-        Mat3 J;
-        J << G[0], G[1], G[2];
+        p.phi = master_derivatives(p.xi, p.eta, p.zeta);
+        const Mat3 J = X0 * p.phi;  // columns G_xi, G_eta, G_zeta
         const double detJ = J.determinant();
         if (!(detJ > 0)) throw std::invalid_argument("CB shell: inverted or degenerate element (det J <= 0)");
         p.weight = detJ;
-        for (int c = 0; c < 6; ++c) p.ref_metric[c] = G[kPair[c][0]].dot(G[kPair[c][1]]);
+        for (int c = 0; c < 5; ++c) p.ref_metric[c] = J.col(kPair[c][0]).dot(J.col(kPair[c][1]));
         // lamina frame: normal at the point, t1 from the centre frame (common in-plane orientation)
-        const Vec3 t3 = G[0].cross(G[1]).normalized();
+        const Vec3 t3 = J.col(0).cross(J.col(1)).normalized();
         const Vec3 t1 = (t1c - t1c.dot(t3) * t3).normalized();
         const Vec3 t2 = t3.cross(t1);
         const Mat3 dual = J.inverse();  // rows: contravariant G^i
         Mat3 c;                         // c(i, k) = G^i . t_k
         for (int i = 0; i < 3; ++i) c.row(i) << dual.row(i).dot(t1), dual.row(i).dot(t2), dual.row(i).dot(t3);
-        // eq. (6): rows eps11, eps22, 2eps12, 2eps13, 2eps23
+        // eq. (6): rows eps11, eps22, 2eps12, 2eps13, 2eps23. G^zeta is parallel to t3, so the
+        // in-plane rows have no ez, xz (and no row has a zz) weight: those entries are round-off
         const int kl[5][2] = {{0, 0}, {1, 1}, {0, 1}, {0, 2}, {1, 2}};
+        Eigen::Matrix<double, 5, 5> Q;
         for (int r = 0; r < 5; ++r) {
           const int kk = kl[r][0], ll = kl[r][1];
           const double eng = kk == ll ? 1.0 : 2.0;
-          for (int q = 0; q < 6; ++q) {
+          for (int q = 0; q < 5; ++q) {
             const int i = kPair[q][0], j = kPair[q][1];
             const double coef = i == j ? c(i, kk) * c(j, ll) : c(i, kk) * c(j, ll) + c(j, kk) * c(i, ll);
-            p.Q(r, q) = eng * coef;
+            Q(r, q) = eng * coef;
           }
         }
+        p.Qm = Q.topLeftCorner<3, 3>();
+        p.Qs = Q.bottomRows<2>();
         Eigen::Matrix<double, 3, 5> P;
         P << 1, 0, 0, a1 * a1 * p.eta, a2 * a2 * p.xi, 0, 1, 0, b1 * b1 * p.eta, b2 * b2 * p.xi, 0, 0, 1,
             a1 * b1 * p.eta, a2 * b2 * p.xi;
-        p.P << P, zeta * P;
+        p.P << P, p.zeta * P;
         H.noalias() += p.weight * p.P.transpose() * Cm_inv * p.P;  // eq. (10)
+
+        // B rows of eps (eq. 4 through 6) on master increments: row r at slave A is
+        // sum_ij dN_A,i S_r(i, j) g_j; summed over the two slaves of master I and rotated to its
+        // frame this is (R_I^T g) Su (u part) and, weighted by s, the theta part (speed notes)
+        const double shear_scale = std::sqrt(p.weight * kG);
+        Eigen::Matrix<double, 3, 5> Su, St;  // columns: sum_i phi(I, i) S_r(i, :) per row r
+        for (int I = 0; I < 4; ++I) {
+          for (int r = 0; r < 5; ++r) {
+            Vec5 q = Q.row(r).transpose();
+            if (r < 3) q.tail<2>().setZero();
+            const Mat3 S = covariant_matrix(q, !(opt.ans && r >= 3));
+            Su.col(r) = S * p.phi.row(I).transpose();
+            St.col(r) = hh * (S * p.phi.row(4 + I).transpose());
+          }
+          Su.rightCols<2>() *= shear_scale;
+          St.rightCols<2>() *= shear_scale;
+          Mat37& ku = p.Ku[I];
+          Mat37& kt = p.Kt[I];
+          ku.setZero();
+          kt.setZero();
+          if (opt.hr) {  // this point's share of G^T (first five columns of P-hat), eq. (11)
+            ku.leftCols<5>() = p.weight * Su.leftCols<3>() * P;
+            kt.leftCols<5>() = p.weight * St.leftCols<3>() * P;
+            ku.rightCols<2>() = Su.rightCols<2>();
+            kt.rightCols<2>() = St.rightCols<2>();
+          } else {      // K = Y Y^T with the membrane rows times sqrt(w) L_c
+            ku.leftCols<3>() = Su.leftCols<3>() * (std::sqrt(p.weight) * Lc);
+            kt.leftCols<3>() = St.leftCols<3>() * (std::sqrt(p.weight) * Lc);
+            ku.middleCols<2>(3) = Su.rightCols<2>();
+            kt.middleCols<2>(3) = St.rightCols<2>();
+          }
+        }
+        // eq. (8): tying points A, B, C, D feed ez (A, C) and xz (B, D) of the shear rows
+        const double w[4] = {0.5 * (1 - p.xi), 0.5 * (1 - p.eta), 0.5 * (1 + p.xi), 0.5 * (1 + p.eta)};
+        for (int t = 0; t < 4; ++t) {
+          const int comp = (t == 0 || t == 2) ? kEtaZeta : kXiZeta;
+          for (int r = 0; r < 2; ++r) p.ans(t, r) = shear_scale * p.Qs(r, comp) * w[t];
+        }
       }
   h_inv_ = H.inverse();
+  h_inv_factor_ = h_inv_.llt().matrixL();
 
   // tying points of eq. (8): A(-1,0), B(0,-1), C(1,0), D(0,1) at each layer
   const double tp[4][2] = {{-1, 0}, {0, -1}, {1, 0}, {0, 1}};
   for (int l = 0; l < 2; ++l)
     for (int t = 0; t < 4; ++t) {
       TyingPoint& tpnt = tying_[l][t];
-      tpnt.dN = solid_derivatives(tp[t][0], tp[t][1], gpts[l]);
-      Vec3 G[3];
-      base_vectors(tpnt.dN, Xs, G);
-      const int comp = (t == 0 || t == 2) ? kEtaZeta : kXiZeta;
-      tpnt.ref_value = G[kPair[comp][0]].dot(G[kPair[comp][1]]);
+      tpnt.phi = master_derivatives(tp[t][0], tp[t][1], gpts[l]);
+      const Mat3 G = X0 * tpnt.phi;
+      tpnt.i = (t == 0 || t == 2) ? 1 : 0;
+      tpnt.ref_value = G.col(tpnt.i).dot(G.col(2));
+      tpnt.M = 0.5 * (tpnt.phi.col(tpnt.i) * tpnt.phi.col(2).transpose() +
+                      tpnt.phi.col(2) * tpnt.phi.col(tpnt.i).transpose());
     }
 
   // drilling points, eq. (12)
@@ -181,180 +248,269 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
     }
 }
 
-void CbShellElement::solid_point(const SolidPoint& p, const std::array<Vec3, 8>& xs, Strains& s, bool second) const {
-  Vec3 g[3];
-  base_vectors(p.dN, xs, g);
-  for (int c = 0; c < 6; ++c) {
-    Eigen::Matrix<double, 1, 24> b;
-    covariant_component(p.dN, g, kPair[c][0], kPair[c][1], p.ref_metric[c], s.e[c], b, second ? &s.M[c] : nullptr);
-    s.B.row(c) = b;
-  }
-  if (!opt_.ans) return;
-  // eq. (8): transverse shears interpolated from the tying points of this layer
-  const double wA = 0.5 * (1 - p.xi), wC = 0.5 * (1 + p.xi), wB = 0.5 * (1 - p.eta), wD = 0.5 * (1 + p.eta);
-  const double w[4] = {wA, wB, wC, wD};
-  s.e[kEtaZeta] = s.e[kXiZeta] = 0.0;
-  s.B.row(kEtaZeta).setZero();
-  s.B.row(kXiZeta).setZero();
-  if (second) s.M[kEtaZeta].setZero(), s.M[kXiZeta].setZero();
-  for (int t = 0; t < 4; ++t) {
-    const TyingPoint& tpnt = tying_[p.layer][t];
-    const int comp = (t == 0 || t == 2) ? kEtaZeta : kXiZeta;
-    Vec3 gt[3];
-    base_vectors(tpnt.dN, xs, gt);
-    double e;
-    Eigen::Matrix<double, 1, 24> b;
-    Mat8 M;
-    covariant_component(tpnt.dN, gt, kPair[comp][0], kPair[comp][1], tpnt.ref_value, e, b, second ? &M : nullptr);
-    s.e[comp] += w[t] * e;
-    s.B.row(comp) += w[t] * b;
-    if (second) s.M[comp] += w[t] * M;
-  }
-}
+// Solid part (eqs. 3-11) mapped to master DoFs (eqs. 15, 16) without forming slave matrices:
+// force from the stress vectors g Sigma (eq. 4), geometric stiffness from the 8 x 8 scalar
+// matrix of eq. (5) in the (sum, s-weighted) slave basis, material stiffness K = Y Y^T with Y
+// the scaled master B rows (and H^{-1/2} G for the assumed stress). See cb_shell.md, speed notes.
+double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) const {
+  const double hh = 0.5 * sec_.thickness;
+  const Mat38 X = node_columns(cur, hh);
+  std::array<Mat3, 4> Rt;
+  for (int I = 0; I < 4; ++I) Rt[I] = cur[I].R.transpose();
 
-double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& f, Mat24* K) const {
-  const std::array<Vec3, 8> xs = slave_positions(cur, sec_.thickness);
-  std::array<Strains, kPoints> st;
-  f.setZero();
-  if (K) K->setZero();
-  Mat8 geo = Mat8::Zero();
+  // tying values and their master B rows, eq. (8)
+  double e_tie[2][4] = {};
+  Vec3 g_tie[2][4][2];  // g_i, g_zeta
+  Eigen::Matrix<double, 20, 4> B_tie[2];
+  if (opt_.ans)
+    for (int l = 0; l < 2; ++l)
+      for (int t = 0; t < 4; ++t) {
+        const TyingPoint& tp = tying_[l][t];
+        const Vec3 gi = X * tp.phi.col(tp.i), gz = X * tp.phi.col(2);
+        g_tie[l][t][0] = gi;
+        g_tie[l][t][1] = gz;
+        e_tie[l][t] = 0.5 * (gi.dot(gz) - tp.ref_value);
+        if (!K) continue;
+        for (int I = 0; I < 4; ++I) {
+          const Vec3 gzl = Rt[I] * gz;
+          const double gx = Rt[I].row(0).dot(gi), gy = Rt[I].row(1).dot(gi);
+          B_tie[l].block<3, 1>(5 * I, t) = (0.5 * tp.phi(I, tp.i)) * gzl;
+          const double wx = 0.5 * (tp.phi(4 + I, tp.i) * gzl.x() + tp.phi(4 + I, 2) * gx);
+          const double wy = 0.5 * (tp.phi(4 + I, tp.i) * gzl.y() + tp.phi(4 + I, 2) * gy);
+          B_tie[l](5 * I + 3, t) = -hh * wy;
+          B_tie[l](5 * I + 4, t) = hh * wx;
+        }
+      }
+
+  // strains at the points; B rows when a tangent is wanted
+  const int shear_col = opt_.hr ? 10 : 24;
+  Eigen::Matrix<double, 20, 40> Y;  // K_material = Y Y^T (first 26 columns with hr)
+  Mat20x5 G_layer[2];                // G^T per layer (hr), eq. (11)
+  if (K && opt_.hr) G_layer[0].setZero(), G_layer[1].setZero();
+  std::array<Mat3, kPoints> g;
+  std::array<Vec3, kPoints> em;
+  std::array<Eigen::Vector2d, kPoints> es;
+  Vec10 gv = Vec10::Zero();
   double energy = 0.0;
-  Eigen::Matrix<double, 10, 1> g = Eigen::Matrix<double, 10, 1>::Zero();
-  Eigen::Matrix<double, 10, 24> G = Eigen::Matrix<double, 10, 24>::Zero();
-  const Eigen::Matrix2d Cs = C_.bottomRightCorner<2, 2>();
-  const Eigen::Matrix3d Cm = C_.topLeftCorner<3, 3>();
   for (int k = 0; k < kPoints; ++k) {
     const SolidPoint& p = pts_[k];
-    Strains& s = st[k];
-    solid_point(p, xs, s, K != nullptr);
-    const Eigen::Matrix<double, 5, 1> eps = p.Q * s.e;
-    const Eigen::Matrix<double, 5, 24> B = p.Q * s.B;
-    // transverse shear: displacement based (with ANS strains when on)
-    const Eigen::Vector2d Ss = Cs * eps.tail<2>();
-    f.noalias() += p.weight * B.bottomRows<2>().transpose() * Ss;
-    energy += 0.5 * p.weight * eps.tail<2>().dot(Ss);
-    Eigen::Matrix<double, 6, 1> Scov = p.Q.bottomRows<2>().transpose() * Ss;
-    if (K) K->noalias() += p.weight * B.bottomRows<2>().transpose() * Cs * B.bottomRows<2>();
-    if (opt_.hr) {
-      g.noalias() += p.weight * p.P.transpose() * eps.head<3>();  // eq. (10)
-      G.noalias() += p.weight * p.P.transpose() * B.topRows<3>();  // eq. (11)
-    } else {
-      const Eigen::Vector3d Sm = Cm * eps.head<3>();
-      f.noalias() += p.weight * B.topRows<3>().transpose() * Sm;
-      energy += 0.5 * p.weight * eps.head<3>().dot(Sm);
-      Scov.noalias() += p.Q.topRows<3>().transpose() * Sm;
-      if (K) K->noalias() += p.weight * B.topRows<3>().transpose() * Cm * B.topRows<3>();
+    g[k].noalias() = X * p.phi;
+    Vec5 e;
+    for (int c = 0; c < 5; ++c) e[c] = 0.5 * (g[k].col(kPair[c][0]).dot(g[k].col(kPair[c][1])) - p.ref_metric[c]);
+    if (opt_.ans) {  // eq. (8)
+      const double* et = e_tie[p.layer];
+      e[kEtaZeta] = 0.5 * (1 - p.xi) * et[0] + 0.5 * (1 + p.xi) * et[2];
+      e[kXiZeta] = 0.5 * (1 - p.eta) * et[1] + 0.5 * (1 + p.eta) * et[3];
     }
-    if (K)
-      for (int c = 0; c < 6; ++c) geo.noalias() += (p.weight * Scov[c]) * s.M[c];
+    em[k].noalias() = p.Qm * e.head<3>();
+    es[k].noalias() = p.Qs * e;
+    if (opt_.hr) gv.noalias() += p.weight * (p.P.transpose() * em[k]);  // eq. (10)
+    if (!K) continue;
+    if (opt_.hr) {
+      Eigen::Matrix<double, 20, 7> B;
+      master_rows<7>(Rt, g[k], p.Ku, p.Kt, B);
+      G_layer[p.layer] += B.leftCols<5>();
+      if (opt_.ans) B.rightCols<2>().noalias() += B_tie[p.layer] * p.ans;
+      Y.middleCols<2>(shear_col + 2 * k) = B.rightCols<2>();
+    } else {
+      Eigen::Matrix<double, 20, 5> B;
+      master_rows<5>(Rt, g[k], p.Ku, p.Kt, B);
+      if (opt_.ans) B.rightCols<2>().noalias() += B_tie[p.layer] * p.ans;
+      Y.middleCols<2>(shear_col + 2 * k) = B.rightCols<2>();
+      Y.middleCols<3>(3 * k) = B.leftCols<3>();
+    }
   }
+  Vec10 beta;
   if (opt_.hr) {
-    const Eigen::Matrix<double, 10, 1> beta = h_inv_ * g;  // eq. (10)
-    f.noalias() += G.transpose() * beta;                  // eq. (11)
-    energy += 0.5 * g.dot(beta);
+    beta.noalias() = h_inv_ * gv;  // eq. (10)
+    energy += 0.5 * gv.dot(beta);
+  }
+
+  // stresses: force and the scalar geometric matrix, eqs. (4), (5), (11)
+  const Eigen::Matrix3d Cm = C_.topLeftCorner<3, 3>();
+  const double kG = C_(3, 3);
+  Mat38 Fg = Mat38::Zero();  // columns: sum over s of slave forces of I, and weighted by s
+  // eq. (5) weighted by stresses in the basis of phi: rows I of phi are (D_I, 0), rows 4 + I are
+  // (zeta D_I, N_I), so the 8 x 8 matrix is [[A0, A1], [A1, A2]] + the N terms
+  Eigen::Matrix4d A0, A1, A2, V1, V2;
+  if (K) A0.setZero(), A1.setZero(), A2.setZero(), V1.setZero(), V2.setZero();
+  double sig_tie[2][4] = {};
+  for (int k = 0; k < kPoints; ++k) {
+    const SolidPoint& p = pts_[k];
+    Vec3 Sm;
+    if (opt_.hr) {
+      Sm.noalias() = p.P * beta;  // assumed stress at the point
+    } else {
+      Sm.noalias() = Cm * em[k];
+      energy += 0.5 * p.weight * em[k].dot(Sm);
+    }
+    const Eigen::Vector2d Ss = kG * es[k];
+    energy += 0.5 * p.weight * es[k].dot(Ss);
+    Vec5 sig = p.Qs.transpose() * Ss;
+    sig.head<3>().noalias() += p.Qm.transpose() * Sm;
+    sig *= p.weight;  // covariant stress x weight
+    if (opt_.ans) {
+      double* st = sig_tie[p.layer];
+      st[0] += 0.5 * (1 - p.xi) * sig[kEtaZeta];
+      st[2] += 0.5 * (1 + p.xi) * sig[kEtaZeta];
+      st[1] += 0.5 * (1 - p.eta) * sig[kXiZeta];
+      st[3] += 0.5 * (1 + p.eta) * sig[kXiZeta];
+    }
+    const Mat3 S = covariant_matrix(sig, !opt_.ans);
+    const Mat3 T = g[k] * S;  // stress vectors
+    Fg.noalias() += T * p.phi.transpose();
     if (K) {
-      K->noalias() += G.transpose() * h_inv_ * G;
-      for (int k = 0; k < kPoints; ++k) {
-        const Eigen::Vector3d Sm = pts_[k].P * beta;  // assumed stress at the point
-        const Eigen::Matrix<double, 6, 1> Scov = pts_[k].Q.topRows<3>().transpose() * Sm;
-        for (int c = 0; c < 6; ++c) geo.noalias() += (pts_[k].weight * Scov[c]) * st[k].M[c];
+      const Eigen::Matrix<double, 4, 2> D = p.phi.topLeftCorner<4, 2>();
+      const Eigen::Matrix4d A = D.lazyProduct(S.topLeftCorner<2, 2>().lazyProduct(D.transpose()));
+      A0 += A;
+      A1 += p.zeta * A;
+      A2 += (p.zeta * p.zeta) * A;
+      if (!opt_.ans) {  // S(0:2, 2) with phi(4 + J, 2) = N_J
+        const Eigen::Matrix4d vN = (D * S.block<2, 1>(0, 2)) * p.phi.block<4, 1>(4, 2).transpose();
+        V1 += vN;
+        V2 += p.zeta * vN;
       }
     }
   }
-  if (K)
-    for (int A = 0; A < 8; ++A)
-      for (int Bn = 0; Bn < 8; ++Bn) K->block<3, 3>(3 * A, 3 * Bn).diagonal().array() += geo(A, Bn);
+  Mat8 Gb;
+  if (K) {
+    Gb.topLeftCorner<4, 4>() = A0;
+    Gb.topRightCorner<4, 4>() = A1 + V1;
+    Gb.bottomLeftCorner<4, 4>() = A1 + V1.transpose();
+    Gb.bottomRightCorner<4, 4>() = A2 + V2 + V2.transpose();
+  }
+  if (opt_.ans)
+    for (int l = 0; l < 2; ++l)
+      for (int t = 0; t < 4; ++t) {
+        const TyingPoint& tp = tying_[l][t];
+        const double s = sig_tie[l][t];
+        Fg.noalias() += (0.5 * s) * (g_tie[l][t][1] * tp.phi.col(tp.i).transpose() +
+                                     g_tie[l][t][0] * tp.phi.col(2).transpose());
+        if (K) Gb.noalias() += s * tp.M;
+      }
+
+  // master force, eq. (15): F_u = R^T sum f, F_theta = (h0/2) e3~ R^T sum s f
+  std::array<Vec3, 4> fu, fs;
+  for (int I = 0; I < 4; ++I) {
+    fu[I].noalias() = Rt[I] * Fg.col(I);
+    fs[I].noalias() = Rt[I] * Fg.col(4 + I);
+    F.segment<3>(6 * I) = fu[I];
+    F.segment<3>(6 * I + 3) << -hh * fs[I].y(), hh * fs[I].x(), 0.0;
+  }
+  if (!K) return energy;
+
+  // material stiffness on the 5 bending DoFs per node (u0 u1 u2 theta0 theta1)
+  Mat20 Km;
+  if (opt_.hr) {
+    Eigen::Matrix<double, 20, 10> Gt;
+    Gt.leftCols<5>() = G_layer[0] + G_layer[1];
+    Gt.rightCols<5>() = pts_[0].zeta * G_layer[0] + pts_[kPoints - 1].zeta * G_layer[1];
+    for (int j = 0; j < 10; ++j) {  // W = G^T L, L lower triangular: W W^T = G^T H^{-1} G
+      Y.col(j) = h_inv_factor_(j, j) * Gt.col(j);
+      for (int i = j + 1; i < 10; ++i) Y.col(j) += h_inv_factor_(i, j) * Gt.col(i);
+    }
+    gram20<26>(Y.leftCols<26>(), Km);
+  } else {
+    gram20<40>(Y, Km);
+  }
+  // geometric stiffness and the variation of T, eqs. (15), (16), node block by node block
+  const double hh2 = hh * hh;
+  for (int I = 0; I < 4; ++I)
+    for (int J = 0; J < 4; ++J) {
+      const Mat3 Rij = Rt[I] * cur[J].R;
+      const double g00 = Gb(I, J), g01 = Gb(I, 4 + J), g10 = Gb(4 + I, J), g11 = Gb(4 + I, 4 + J);
+      auto blk = K->block<6, 6>(6 * I, 6 * J);
+      blk.topLeftCorner<3, 3>() = Km.block<3, 3>(5 * I, 5 * J) + g00 * Rij;
+      // -(h0/2) g01 R_ij e3~ and (h0/2) g10 e3~ R_ij
+      blk.block<3, 1>(0, 3) = Km.block<3, 1>(5 * I, 5 * J + 3) - (hh * g01) * Rij.col(1);
+      blk.block<3, 1>(0, 4) = Km.block<3, 1>(5 * I, 5 * J + 4) + (hh * g01) * Rij.col(0);
+      blk.block<1, 3>(3, 0) = Km.block<1, 3>(5 * I + 3, 5 * J) - (hh * g10) * Rij.row(1);
+      blk.block<1, 3>(4, 0) = Km.block<1, 3>(5 * I + 4, 5 * J) + (hh * g10) * Rij.row(0);
+      // -(h0/2)^2 g11 e3~ R_ij e3~
+      blk(3, 3) = Km(5 * I + 3, 5 * J + 3) + hh2 * g11 * Rij(1, 1);
+      blk(3, 4) = Km(5 * I + 3, 5 * J + 4) - hh2 * g11 * Rij(1, 0);
+      blk(4, 3) = Km(5 * I + 4, 5 * J + 3) - hh2 * g11 * Rij(0, 1);
+      blk(4, 4) = Km(5 * I + 4, 5 * J + 4) + hh2 * g11 * Rij(0, 0);
+      blk.col(5).setZero();
+      blk.row(5).head<5>().setZero();
+    }
+  const Mat3 e3x = skew(Vec3::UnitZ());
+  for (int I = 0; I < 4; ++I) {
+    const Mat3 fl = skew(fs[I]);
+    K->block<3, 3>(6 * I, 6 * I + 3) += skew(fu[I]);
+    K->block<3, 3>(6 * I + 3, 6 * I + 3) += hh * e3x * fl;
+  }
   return energy;
 }
 
+// eqs. (12)-(14), (17); the second-variation terms are summed over the points first (they are
+// linear in the point data) and rotated once per node pair
 double CbShellElement::drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* K) const {
   double energy = 0.0;
-  for (const DrillPoint& d : drill_) {
+  Eigen::Matrix<double, 24, 4> c, c_scaled;  // local gradients of omega per point, eq. (14)
+  Vec3 v_cross[4][4];                        // (theta_I, u_J) blocks before R_I^T R_J
+  Mat3 k_tt[4];                              // (theta_I, theta_I), eq. (17)
+  Vec3 p_ut[4];                              // (u_I, theta_I) = skew(sum p_x)
+  if (K)
+    for (int I = 0; I < 4; ++I) {
+      k_tt[I].setZero();
+      p_ut[I].setZero();
+      for (int J = 0; J < 4; ++J) v_cross[I][J].setZero();
+    }
+  for (int q = 0; q < 4; ++q) {
+    const DrillPoint& d = drill_[q];
     Vec3 gx = Vec3::Zero(), ge = Vec3::Zero(), abar = Vec3::Zero(), bbar = Vec3::Zero();
-    std::array<Vec3, 4> a, b;
     for (int I = 0; I < 4; ++I) {
       gx += d.dNxi[I] * cur[I].x;
       ge += d.dNeta[I] * cur[I].x;
-      a[I] = cur[I].R * d.g1_local[I];
-      b[I] = cur[I].R * d.g2_local[I];
-      abar += d.N[I] * a[I];
-      bbar += d.N[I] * b[I];
+      abar += d.N[I] * (cur[I].R * d.g1_local[I]);
+      bbar += d.N[I] * (cur[I].R * d.g2_local[I]);
     }
     const double omega = d.inv2A * (abar.dot(ge) - bbar.dot(gx));  // eq. (12)
     energy += 0.5 * gamma_ * d.weight * omega * omega;              // eq. (13)
-    // local gradient c of omega, eq. (14)
-    Vec24 c;
-    std::array<Vec3, 4> pa, pb, px;  // local-frame partials of omega w.r.t. a_I, b_I, x_I
+    const double scale = gamma_ * d.weight, so = scale * omega;
     for (int I = 0; I < 4; ++I) {
       const Mat3 Rt = cur[I].R.transpose();
-      px[I] = Rt * (d.inv2A * (d.dNeta[I] * abar - d.dNxi[I] * bbar));
-      pa[I] = Rt * (d.inv2A * d.N[I] * ge);
-      pb[I] = Rt * (-d.inv2A * d.N[I] * gx);
-      c.segment<3>(6 * I) = px[I];
-      c.segment<3>(6 * I + 3) = skew(d.g1_local[I]) * pa[I] + skew(d.g2_local[I]) * pb[I];
-    }
-    const double scale = gamma_ * d.weight;
-    f.noalias() += (scale * omega) * c;
-    if (!K) continue;
-    Mat24 Hw = Mat24::Zero();
-    for (int I = 0; I < 4; ++I) {
-      // primitive cross terms a_I/b_I with x_J (rows theta_I, columns u_J), and transposes
-      for (int J = 0; J < 4; ++J) {
-        const Mat3 RiRj = cur[I].R.transpose() * cur[J].R;
-        const Mat3 blk = d.inv2A * d.N[I] *
-                         (d.dNeta[J] * skew(d.g1_local[I]) - d.dNxi[J] * skew(d.g2_local[I])) * RiRj;
-        Hw.block<3, 3>(6 * I + 3, 6 * J) += blk;
-        Hw.block<3, 3>(6 * J, 6 * I + 3) += blk.transpose();
-      }
+      const Vec3 px = Rt * (d.inv2A * (d.dNeta[I] * abar - d.dNxi[I] * bbar));
+      const Vec3 pa = Rt * (d.inv2A * d.N[I] * ge);
+      const Vec3 pb = Rt * (-d.inv2A * d.N[I] * gx);
+      c.block<3, 1>(6 * I, q) = px;
+      c.block<3, 1>(6 * I + 3, q) = d.g1_local[I].cross(pa) + d.g2_local[I].cross(pb);
+      if (!K) continue;
       // second variations of the primitives at fixed local directions, eq. (17)
-      Hw.block<3, 3>(6 * I + 3, 6 * I + 3) += pa[I] * d.g1_local[I].transpose() -
-                                               pa[I].dot(d.g1_local[I]) * Mat3::Identity() +
-                                               pb[I] * d.g2_local[I].transpose() -
-                                               pb[I].dot(d.g2_local[I]) * Mat3::Identity();
-      Hw.block<3, 3>(6 * I, 6 * I + 3) += skew(px[I]);
+      k_tt[I] += so * (pa * d.g1_local[I].transpose() + pb * d.g2_local[I].transpose());
+      k_tt[I].diagonal().array() -= so * (pa.dot(d.g1_local[I]) + pb.dot(d.g2_local[I]));
+      p_ut[I] += so * px;
+      // primitive cross terms a_I / b_I with x_J
+      for (int J = 0; J < 4; ++J)
+        v_cross[I][J] += (so * d.inv2A * d.N[I]) * (d.dNeta[J] * d.g1_local[I] - d.dNxi[J] * d.g2_local[I]);
     }
-    K->noalias() += scale * (c * c.transpose() + omega * Hw);
+    f.noalias() += so * c.col(q);
+    c_scaled.col(q) = scale * c.col(q);
+  }
+  if (!K) return energy;
+  K->noalias() += c.lazyProduct(c_scaled.transpose());
+  for (int I = 0; I < 4; ++I) {
+    for (int J = 0; J < 4; ++J) {
+      const Mat3 blk = skew(v_cross[I][J]) * (cur[I].R.transpose() * cur[J].R);
+      K->block<3, 3>(6 * I + 3, 6 * J) += blk;
+      K->block<3, 3>(6 * J, 6 * I + 3) += blk.transpose();
+    }
+    K->block<3, 3>(6 * I + 3, 6 * I + 3) += k_tt[I];
+    K->block<3, 3>(6 * I, 6 * I + 3) += skew(p_ut[I]);
   }
   return energy;
 }
 
 void CbShellElement::evaluate(const ElementPoses& cur, Vec24& F, Mat24* K) const {
-  Vec24 fs;
-  Mat24 Ks;
-  solid_terms(cur, fs, K ? &Ks : nullptr);
-  F.setZero();
-  if (K) K->setZero();
-  const double hh = 0.5 * sec_.thickness;
-  const Vec3 e3(0, 0, 1);
-  const Mat3 e3x = skew(e3);
-  std::array<Mat36, 8> T;  // eq. (2)
-  for (int A = 0; A < 8; ++A) {
-    const int I = A % 4;
-    const double s = A < 4 ? 1.0 : -1.0;
-    T[A] << cur[I].R, -s * hh * cur[I].R * e3x;
-  }
-  for (int A = 0; A < 8; ++A) {
-    const int I = A % 4;
-    const double s = A < 4 ? 1.0 : -1.0;
-    F.segment<6>(6 * I).noalias() += T[A].transpose() * fs.segment<3>(3 * A);  // eq. (15)
-    if (!K) continue;
-    for (int B = 0; B < 8; ++B)
-      K->block<6, 6>(6 * I, 6 * (B % 4)).noalias() += T[A].transpose() * Ks.block<3, 3>(3 * A, 3 * B) * T[B];
-    // eq. (16): variation of T at fixed slave force
-    const Mat3 fl = skew(cur[I].R.transpose() * fs.segment<3>(3 * A));
-    K->block<3, 3>(6 * I, 6 * I + 3) += fl;
-    K->block<3, 3>(6 * I + 3, 6 * I + 3) += s * hh * e3x * fl;
-  }
+  solid_terms(cur, F, K);
   if (opt_.drilling) drilling_terms(cur, F, K);
 }
 
 double CbShellElement::energy(const ElementPoses& cur) const {
   Vec24 f;
   double e = solid_terms(cur, f, nullptr);
-  if (opt_.drilling) {
-    Vec24 fd = Vec24::Zero();
-    e += drilling_terms(cur, fd, nullptr);
-  }
+  if (opt_.drilling) e += drilling_terms(cur, f, nullptr);
   return e;
 }
 

@@ -212,29 +212,35 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     ElementPoses cur;
     for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].x};
     e.el->evaluate(cur, el_force_[k], K ? &el_tangent_[k] : nullptr);
+    if (!K) continue;
+    // to solver rows here, in parallel: A_I blockdiag(C, C) is block diagonal in 3 x 3
+    std::array<Mat3, 8> L;  // per corner: translations, rotations
+    for (int c = 0; c < 4; ++c) {
+      const int I = e.nodes[c];
+      L[2 * c] = poses_[I].R * e.corner[c];
+      L[2 * c + 1] = six_[I] ? L[2 * c] : e.corner[c];
+    }
+    Mat24& Ke = el_tangent_[k];
+    for (int a = 0; a < 8; ++a)
+      for (int b = 0; b < 8; ++b) {
+        const Mat3 blk = L[a] * Ke.block<3, 3>(3 * a, 3 * b);
+        Ke.block<3, 3>(3 * a, 3 * b).noalias() = blk * L[b].transpose();
+      }
   }
   for (int k = 0; k < ne; ++k) {
     const Element& e = elements_[k];
     const Vec24& F = el_force_[k];
-    std::array<Mat6, 4> AC;  // solver rows from corner-local: A_I blockdiag(C, C)
-    for (int c = 0; c < 4; ++c) {
-      Mat6 CC = Mat6::Zero();
-      CC.topLeftCorner<3, 3>() = e.corner[c];
-      CC.bottomRightCorner<3, 3>() = e.corner[c];
-      node_force[e.nodes[c]] += CC * F.segment<6>(6 * c);
-      AC[c] = A(e.nodes[c]) * CC;
+    for (int c = 0; c < 4; ++c) {  // node-local from corner-local: blockdiag(C, C)
+      node_force[e.nodes[c]].head<3>() += e.corner[c] * F.segment<3>(6 * c);
+      node_force[e.nodes[c]].tail<3>() += e.corner[c] * F.segment<3>(6 * c + 3);
     }
     if (!K) continue;
-    const Mat24& Ke = el_tangent_[k];
+    const Mat24& Ke = el_tangent_[k];  // already in solver rows
     const std::array<int, 576>& idx = scatter_[k];
-    for (int c = 0; c < 4; ++c)
-      for (int d = 0; d < 4; ++d) {
-        const Mat6 blk = AC[c] * Ke.block<6, 6>(6 * c, 6 * d) * AC[d].transpose();
-        for (int i = 0; i < 6; ++i)
-          for (int j = 0; j < 6; ++j) {
-            const int v = idx[(6 * c + i) * 24 + 6 * d + j];
-            if (v >= 0) values[v] += blk(i, j);
-          }
+    for (int r = 0; r < 24; ++r)
+      for (int s = 0; s < 24; ++s) {
+        const int v = idx[r * 24 + s];
+        if (v >= 0) values[v] += Ke(r, s);
       }
   }
   for (int I = 0; I < nn; ++I) {

@@ -1,0 +1,195 @@
+// CB shell cost (core/shell/cb_shell.md "Implementation notes (speed)"): one element's force and
+// force + tangent on a curved, distorted, deformed element for every effect set; ShellModel
+// assembly per Newton iteration (force + tangent) and the sparse factorize + solve of that
+// tangent for clamped square plates n×n, n = 16 ... 256; assembly with 1 and 2 OpenMP threads.
+//   build/tests/bench/bench_cb_shell [--benchmark_filter=element]
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+
+#include "core/mesh/generators.h"
+#include "core/shell/cb_shell.h"
+#include "core/shell/shell_model.h"
+#include "core/solve/sparse_solver.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace {
+
+using namespace ff::shell;
+
+Mat3 rot(const Vec3& th) {
+  const double a = th.norm();
+  return a < 1e-300 ? Mat3::Identity() : Eigen::AngleAxisd(a, th / a).toRotationMatrix();
+}
+
+Mat3 frame(const Vec3& n) {
+  const Vec3 e3 = n.normalized();
+  const Vec3 e1 = (Vec3::UnitX() - Vec3::UnitX().dot(e3) * e3).normalized();
+  Mat3 R;
+  R << e1, e3.cross(e1), e3;
+  return R;
+}
+
+// patch of a cylinder of radius 2 with skewed corners (as tests/unit/test_cb_shell.cpp), and a
+// large rotation plus a random deformation of it
+ElementPoses curved_reference() {
+  ElementPoses p;
+  const double R = 2.0, ang[4] = {-0.25, 0.22, 0.27, -0.2}, y[4] = {0, 0.05, 0.8, 0.7};
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 n(std::sin(ang[i]), 0, std::cos(ang[i]));
+    p[i] = {frame(n), R * n + Vec3(0, y[i], 0)};
+  }
+  return p;
+}
+
+ElementPoses deformed(const ElementPoses& ref) {
+  std::mt19937 g(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Mat3 Q = rot(Vec3(0.9, -1.4, 1.1));
+  ElementPoses p = ref;
+  for (auto& n : p) {
+    n.x = Q * n.x + Vec3(0.3, -0.2, 0.5) + 0.05 * Vec3(u(g), u(g), u(g));
+    n.R = Q * n.R * rot(0.1 * Vec3(u(g), u(g), u(g)));
+  }
+  return p;
+}
+
+// range(0): 1 = 6 DoF (drilling), range(1): hr, range(2): ans
+ShellOptions element_options(const benchmark::State& state) {
+  ShellOptions o;
+  o.drilling = state.range(0) != 0;
+  o.hr = state.range(1) != 0;
+  o.ans = state.range(2) != 0;
+  o.drilling_factor = 0.1;
+  return o;
+}
+
+std::string effects_label(const ShellOptions& o) {
+  return std::string(o.drilling ? "6dof" : "5dof") + (o.hr ? " hr" : " nohr") + (o.ans ? " ans" : " noans");
+}
+
+void bm_element(benchmark::State& state, bool with_tangent) {
+  const ElementPoses ref = curved_reference();
+  const ShellOptions o = element_options(state);
+  const CbShellElement el(ref, {2.0e5, 0.3, 0.05, 5.0 / 6.0}, o);
+  const ElementPoses cur = deformed(ref);
+  Vec24 F;
+  Mat24 K;
+  for (auto _ : state) {
+    el.evaluate(cur, F, with_tangent ? &K : nullptr);
+    benchmark::DoNotOptimize(F.data());
+    benchmark::DoNotOptimize(K.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetLabel(effects_label(o));
+}
+
+// n×n plate 1×1 in z = 0, clamped at x = 0, transverse load on the edge x = 1; the state is one
+// Newton update away from the reference so every element is deformed
+struct PlateProblem {
+  std::unique_ptr<ShellModel> model;
+  Eigen::VectorXd residual;
+  ff::SparseMatrixD tangent;
+};
+
+PlateProblem& plate(int n) {
+  static std::map<int, PlateProblem> cache;
+  auto it = cache.find(n);
+  if (it != cache.end()) return it->second;
+  ShellModelSpec spec;
+  spec.mesh = ff::mesh::rectangular_plate(1.0, 1.0, n, n);
+  spec.section = {1.0e7, 0.3, 0.01, 5.0 / 6.0};
+  for (int I = 0; I < spec.mesh.node_count(); ++I) {
+    const Vec3& p = spec.mesh.points[I];
+    if (p.x() < 1e-12) spec.restraints.emplace_back(I, kClamped);
+    if (p.x() > 1.0 - 1e-12) spec.loads.push_back({I, Vec3(0, 0, -1.0 / (n + 1)), Vec3::Zero(), false});
+  }
+  PlateProblem& pp = cache[n];
+  pp.model = std::make_unique<ShellModel>(std::move(spec));
+  std::mt19937 g(3);
+  std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+  Eigen::VectorXd delta(pp.model->size());
+  for (int k = 0; k < delta.size(); ++k) delta[k] = u(g);
+  pp.model->update(delta);
+  pp.model->evaluate(1.0, pp.residual, &pp.tangent, nullptr);
+  return pp;
+}
+
+void set_threads(int threads) {
+#ifdef _OPENMP
+  omp_set_num_threads(threads);
+#else
+  (void)threads;
+#endif
+}
+
+// range(0) = n, range(1) = OpenMP threads
+void bm_assembly(benchmark::State& state) {
+  PlateProblem& pp = plate(static_cast<int>(state.range(0)));
+  set_threads(static_cast<int>(state.range(1)));
+  for (auto _ : state) {
+    pp.model->evaluate(1.0, pp.residual, &pp.tangent, nullptr);
+    benchmark::DoNotOptimize(pp.tangent.valuePtr());
+  }
+  set_threads(1);
+  state.counters["dofs"] = pp.model->size();
+  state.counters["elements"] = static_cast<double>(state.range(0) * state.range(0));
+}
+
+// numeric factorization + one solve with the default backend (pattern analyzed once, as the
+// static solvers do)
+void bm_solve(benchmark::State& state) {
+  PlateProblem& pp = plate(static_cast<int>(state.range(0)));
+  ff::SparseLinearSolver solver;
+  if (!solver.analyze(pp.tangent)) state.SkipWithError("analyze failed");
+  Eigen::VectorXd x;
+  for (auto _ : state) {
+    const ff::LinearStatus s = solver.factorize(pp.tangent);
+    if (!s) state.SkipWithError(s.message.c_str());
+    if (!solver.solve(pp.residual, x)) state.SkipWithError("solve failed");
+    benchmark::DoNotOptimize(x.data());
+  }
+  state.SetLabel(std::string(ff::to_string(solver.backend())));
+  state.counters["dofs"] = pp.model->size();
+  state.counters["nnz"] = static_cast<double>(pp.tangent.nonZeros());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // the machine is shared: repetitions and their minimum, except the one-shot 256×256 solve
+  auto min = [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); };
+  set_threads(1);
+  for (bool tangent : {false, true}) {
+    auto* b = benchmark::RegisterBenchmark(tangent ? "element/force_tangent" : "element/force", bm_element, tangent);
+    for (int drilling : {0, 1})
+      for (int hr : {1, 0})
+        for (int ans : {1, 0}) b->Args({drilling, hr, ans});
+    b->ArgNames({"drill", "hr", "ans"})->Unit(benchmark::kMicrosecond)->Repetitions(5);
+    b->ComputeStatistics("min", min)->ReportAggregatesOnly(true);
+  }
+  for (int n : {16, 32, 64, 128, 256}) {
+    auto* a = benchmark::RegisterBenchmark("assembly", bm_assembly)->Args({n, 1})->Args({n, 2});
+    a->ArgNames({"n", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
+    a->Repetitions(3)->ComputeStatistics("min", min)->ReportAggregatesOnly(true);
+  }
+  for (int n : {16, 32, 64, 128, 256}) {
+    auto* s = benchmark::RegisterBenchmark("factorize_solve", bm_solve)->Arg(n)->ArgName("n");
+    s->Unit(benchmark::kMillisecond)->UseRealTime();
+    if (n < 256) s->Repetitions(3)->ComputeStatistics("min", min)->ReportAggregatesOnly(true);
+    else s->Iterations(1);
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
