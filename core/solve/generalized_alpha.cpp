@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace ff {
@@ -15,6 +16,11 @@ int value_index(const SparseMatrixD& A, int row, int col) {
   return (it != end && *it == row) ? static_cast<int>(it - inner) : -1;
 }
 bool finite(const Eigen::VectorXd& x) { return x.allFinite(); }
+std::string num(double x) {  // short, exact enough for a message: 3.2e-07, 0.0125
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", x);
+  return b;
+}
 }  // namespace
 
 GeneralizedAlpha::GeneralizedAlpha(DynamicProblem& problem, GeneralizedAlphaSettings settings)
@@ -178,7 +184,7 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
     }
   }
   out.failure = "no convergence in " + std::to_string(s_.max_iterations) + " iterations (|dx| = " +
-                std::to_string(out.increment_norm) + ")";
+                num(out.increment_norm) + " against the tolerance " + num(s_.tolerance) + ")";
   return out;
 }
 
@@ -226,7 +232,7 @@ AlphaStepReport GeneralizedAlpha::step(double h) {
     // a converged first half stays: the run stops at the last state that converged
     failure = first.converged ? second.failure : first.failure;
   }
-  rep.failure = "step at t = " + std::to_string(t_) + " with h = " + std::to_string(h) + ": " + failure;
+  rep.failure = "step at t = " + num(t_) + " s with h = " + num(h) + " s: " + failure;
   return rep;
 }
 
