@@ -360,6 +360,7 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
   std::array<Mat3, kPoints> g;
   std::array<Vec3, kPoints> em;
   std::array<Eigen::Vector2d, kPoints> es;
+  std::array<Eigen::Matrix<double, 3, 10>, kPoints> Ph;  // eq. (9) at the points (hr)
   Vec10 gv = Vec10::Zero();
   double energy = 0.0;
   for (int k = 0; k < kPoints; ++k) {
@@ -375,7 +376,10 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
     }
     em[k].noalias() = p.Qm * e.head<3>();
     es[k].noalias() = p.Qs * e;
-    if (opt_.hr) gv.noalias() += p.weight * (p_hat(p_coef_, pc).transpose() * em[k]);  // eq. (10)
+    if (opt_.hr) {
+      Ph[k] = p_hat(p_coef_, pc);
+      gv.noalias() += p.weight * (Ph[k].transpose() * em[k]);  // eq. (10)
+    }
     if (!K) continue;
     const TangentData::Point& pt = td->pts[k];
     if (opt_.hr) {
@@ -411,7 +415,7 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
     const SolidConst& pc = tab.pts[k];
     Vec3 Sm;
     if (opt_.hr) {
-      Sm.noalias() = p_hat(p_coef_, pc) * beta;  // assumed stress at the point
+      Sm.noalias() = Ph[k] * beta;  // assumed stress at the point
     } else {
       Sm.noalias() = Cm_ * em[k];
       energy += 0.5 * p.weight * em[k].dot(Sm);
