@@ -102,19 +102,103 @@ Mat3 covariant_matrix(const Vec5& v, bool with_shear) {
   }
   return S;
 }
+
+// What is the same for every element: the fixed points and the shape derivatives there
+// (master_derivatives, eq. 5 of the tied components, the drilling points' quad functions).
+// Shared by all elements, so the per-element data a force evaluation streams stay small.
+constexpr int kPoints = 8;
+struct SolidConst {
+  double xi, eta, zeta;
+  int layer;   // thickness layer (tying values)
+  Mat83 phi;   // rows I: sum over the two slaves of master I of dN/d(xi, eta, zeta); rows 4 + I:
+               // the same weighted by s, so g = [x_I, h0/2 d_I] * phi (eqs. 1, 3)
+};
+struct TyingConst {  // eq. (8) at one thickness layer
+  Mat83 phi;         // as SolidConst::phi
+  Mat8 M;            // eq. (5) of the tied component in phi's basis
+  int i;             // 1 (eta-zeta) or 0 (xi-zeta)
+};
+struct DrillConst {
+  Eigen::Vector4d N, dNxi, dNeta;
+};
+struct Tables {
+  std::array<SolidConst, kPoints> pts;
+  std::array<std::array<TyingConst, 4>, 2> tying;  // [layer][A, B, C, D]
+  std::array<DrillConst, 4> drill;
+  double gpts[2];
+};
+
+Tables make_tables() {
+  Tables t;
+  const double gp = 1.0 / std::sqrt(3.0);
+  t.gpts[0] = -gp, t.gpts[1] = gp;
+  int k = 0;
+  for (int l = 0; l < 2; ++l)
+    for (int jy = 0; jy < 2; ++jy)
+      for (int jx = 0; jx < 2; ++jx, ++k) {
+        SolidConst& p = t.pts[k];
+        p.xi = t.gpts[jx];
+        p.eta = t.gpts[jy];
+        p.zeta = t.gpts[l];
+        p.layer = l;
+        p.phi = master_derivatives(p.xi, p.eta, p.zeta);
+      }
+  // tying points of eq. (8): A(-1,0), B(0,-1), C(1,0), D(0,1) at each layer
+  const double tp[4][2] = {{-1, 0}, {0, -1}, {1, 0}, {0, 1}};
+  for (int l = 0; l < 2; ++l)
+    for (int q = 0; q < 4; ++q) {
+      TyingConst& c = t.tying[l][q];
+      c.phi = master_derivatives(tp[q][0], tp[q][1], t.gpts[l]);
+      c.i = (q == 0 || q == 2) ? 1 : 0;
+      c.M = 0.5 * (c.phi.col(c.i) * c.phi.col(2).transpose() + c.phi.col(2) * c.phi.col(c.i).transpose());
+    }
+  k = 0;
+  for (int jy = 0; jy < 2; ++jy)
+    for (int jx = 0; jx < 2; ++jx, ++k) quad_shape(t.gpts[jx], t.gpts[jy], t.drill[k].N, t.drill[k].dNxi, t.drill[k].dNeta);
+  return t;
+}
+
+const Tables& tables() {
+  static const Tables t = make_tables();
+  return t;
+}
+
+// P-hat of eq. (9) at a point from the element's coefficients a1^2, b1^2, a1 b1, a2^2, b2^2, a2 b2
+Eigen::Matrix<double, 3, 10> p_hat(const std::array<double, 6>& c, const SolidConst& p) {
+  Eigen::Matrix<double, 3, 5> P;
+  P << 1, 0, 0, c[0] * p.eta, c[3] * p.xi, 0, 1, 0, c[1] * p.eta, c[4] * p.xi, 0, 0, 1, c[2] * p.eta, c[5] * p.xi;
+  Eigen::Matrix<double, 3, 10> Ph;
+  Ph << P, p.zeta * P;
+  return Ph;
+}
 }  // namespace
+
+// The tangent-only kernels (cb_shell.md, "Implementation notes"), one heap block per element
+struct CbShellElement::TangentData {
+  using Mat37 = Eigen::Matrix<double, 3, 7>;
+  struct Point {
+    // master rows of node I from R_I^T g: u part Ku, theta part Kt; columns: with hr the five
+    // columns of w B_m^T P (eq. 11, per layer) then the two scaled shear rows; without hr the
+    // three membrane rows times sqrt(w) L_c (C_m = L_c L_c^T), the two shear rows, two unused
+    std::array<Mat37, 4> Ku, Kt;
+    Eigen::Matrix<double, 4, 2> ans;  // tying rows into the shear rows, eq. (8)
+  };
+  std::array<Point, kPoints> pts;
+  Eigen::Matrix<double, 10, 10> h_inv_factor;  // L with L L^T = h_inv_
+};
 
 CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec, const ShellOptions& opt)
     : sec_(sec), opt_(opt) {
+  const Tables& tab = tables();
   const double h = sec.thickness, hh = 0.5 * h, E = sec.youngs_modulus, nu = sec.poisson_ratio;
   const double shear_modulus = E / (2.0 * (1.0 + nu));
   // eq. (7)
-  C_.setZero();
   const double cm = E / (1.0 - nu * nu);
-  C_(0, 0) = C_(1, 1) = cm;
-  C_(0, 1) = C_(1, 0) = cm * nu;
-  C_(2, 2) = cm * 0.5 * (1.0 - nu);
-  C_(3, 3) = C_(4, 4) = sec.shear_factor * shear_modulus;
+  Cm_.setZero();
+  Cm_(0, 0) = Cm_(1, 1) = cm;
+  Cm_(0, 1) = Cm_(1, 0) = cm * nu;
+  Cm_(2, 2) = cm * 0.5 * (1.0 - nu);
+  kG_ = sec.shear_factor * shear_modulus;
   gamma_ = opt.drilling_factor * shear_modulus * h;  // eq. (13)
 
   const Mat38 X0 = node_columns(ref, hh);
@@ -125,127 +209,111 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
   const Vec3 t2c = t3c.cross(t1c);
   const double a1 = Gc.col(0).dot(t1c), b1 = Gc.col(0).dot(t2c), a2 = Gc.col(1).dot(t1c), b2 = Gc.col(1).dot(t2c);
   if (!(Gc.col(0).cross(Gc.col(1)).norm() > 0)) throw std::invalid_argument("CB shell: degenerate element");
+  p_coef_ = {a1 * a1, b1 * b1, a1 * b1, a2 * a2, b2 * b2, a2 * b2};
 
-  const double gp = 1.0 / std::sqrt(3.0);
-  const double gpts[2] = {-gp, gp};
-  const Eigen::Matrix3d Cm = C_.topLeftCorner<3, 3>();
-  const Eigen::Matrix3d Cm_inv = Cm.inverse();
-  const Eigen::Matrix3d Lc = Cm.llt().matrixL();
-  const double kG = C_(3, 3);
+  auto td = std::make_shared<TangentData>();
+  const Eigen::Matrix3d Cm_inv = Cm_.inverse();
+  const Eigen::Matrix3d Lc = Cm_.llt().matrixL();
   Eigen::Matrix<double, 10, 10> H = Eigen::Matrix<double, 10, 10>::Zero();
-  int k = 0;
-  for (int l = 0; l < 2; ++l)
-    for (int jy = 0; jy < 2; ++jy)
-      for (int jx = 0; jx < 2; ++jx, ++k) {
-        SolidPoint& p = pts_[k];
-        p.xi = gpts[jx];
-        p.eta = gpts[jy];
-        p.zeta = gpts[l];
-        p.layer = l;
-        p.phi = master_derivatives(p.xi, p.eta, p.zeta);
-        const Mat3 J = X0 * p.phi;  // columns G_xi, G_eta, G_zeta
-        const double detJ = J.determinant();
-        if (!(detJ > 0)) throw std::invalid_argument("CB shell: inverted or degenerate element (det J <= 0)");
-        p.weight = detJ;
-        for (int c = 0; c < 5; ++c) p.ref_metric[c] = J.col(kPair[c][0]).dot(J.col(kPair[c][1]));
-        // lamina frame: normal at the point, t1 from the centre frame (common in-plane orientation)
-        const Vec3 t3 = J.col(0).cross(J.col(1)).normalized();
-        const Vec3 t1 = (t1c - t1c.dot(t3) * t3).normalized();
-        const Vec3 t2 = t3.cross(t1);
-        const Mat3 dual = J.inverse();  // rows: contravariant G^i
-        Mat3 c;                         // c(i, k) = G^i . t_k
-        for (int i = 0; i < 3; ++i) c.row(i) << dual.row(i).dot(t1), dual.row(i).dot(t2), dual.row(i).dot(t3);
-        // eq. (6): rows eps11, eps22, 2eps12, 2eps13, 2eps23. G^zeta is parallel to t3, so the
-        // in-plane rows have no ez, xz (and no row has a zz) weight: those entries are round-off
-        const int kl[5][2] = {{0, 0}, {1, 1}, {0, 1}, {0, 2}, {1, 2}};
-        Eigen::Matrix<double, 5, 5> Q;
-        for (int r = 0; r < 5; ++r) {
-          const int kk = kl[r][0], ll = kl[r][1];
-          const double eng = kk == ll ? 1.0 : 2.0;
-          for (int q = 0; q < 5; ++q) {
-            const int i = kPair[q][0], j = kPair[q][1];
-            const double coef = i == j ? c(i, kk) * c(j, ll) : c(i, kk) * c(j, ll) + c(j, kk) * c(i, ll);
-            Q(r, q) = eng * coef;
-          }
-        }
-        p.Qm = Q.topLeftCorner<3, 3>();
-        p.Qs = Q.bottomRows<2>();
-        Eigen::Matrix<double, 3, 5> P;
-        P << 1, 0, 0, a1 * a1 * p.eta, a2 * a2 * p.xi, 0, 1, 0, b1 * b1 * p.eta, b2 * b2 * p.xi, 0, 0, 1,
-            a1 * b1 * p.eta, a2 * b2 * p.xi;
-        p.P << P, p.zeta * P;
-        H.noalias() += p.weight * p.P.transpose() * Cm_inv * p.P;  // eq. (10)
-
-        // B rows of eps (eq. 4 through 6) on master increments: row r at slave A is
-        // sum_ij dN_A,i S_r(i, j) g_j; summed over the two slaves of master I and rotated to its
-        // frame this is (R_I^T g) Su (u part) and, weighted by s, the theta part (speed notes)
-        const double shear_scale = std::sqrt(p.weight * kG);
-        Eigen::Matrix<double, 3, 5> Su, St;  // columns: sum_i phi(I, i) S_r(i, :) per row r
-        for (int I = 0; I < 4; ++I) {
-          for (int r = 0; r < 5; ++r) {
-            Vec5 q = Q.row(r).transpose();
-            if (r < 3) q.tail<2>().setZero();
-            const Mat3 S = covariant_matrix(q, !(opt.ans && r >= 3));
-            Su.col(r) = S * p.phi.row(I).transpose();
-            St.col(r) = hh * (S * p.phi.row(4 + I).transpose());
-          }
-          Su.rightCols<2>() *= shear_scale;
-          St.rightCols<2>() *= shear_scale;
-          Mat37& ku = p.Ku[I];
-          Mat37& kt = p.Kt[I];
-          ku.setZero();
-          kt.setZero();
-          if (opt.hr) {  // this point's share of G^T (first five columns of P-hat), eq. (11)
-            ku.leftCols<5>() = p.weight * Su.leftCols<3>() * P;
-            kt.leftCols<5>() = p.weight * St.leftCols<3>() * P;
-            ku.rightCols<2>() = Su.rightCols<2>();
-            kt.rightCols<2>() = St.rightCols<2>();
-          } else {      // K = Y Y^T with the membrane rows times sqrt(w) L_c
-            ku.leftCols<3>() = Su.leftCols<3>() * (std::sqrt(p.weight) * Lc);
-            kt.leftCols<3>() = St.leftCols<3>() * (std::sqrt(p.weight) * Lc);
-            ku.middleCols<2>(3) = Su.rightCols<2>();
-            kt.middleCols<2>(3) = St.rightCols<2>();
-          }
-        }
-        // eq. (8): tying points A, B, C, D feed ez (A, C) and xz (B, D) of the shear rows
-        const double w[4] = {0.5 * (1 - p.xi), 0.5 * (1 - p.eta), 0.5 * (1 + p.xi), 0.5 * (1 + p.eta)};
-        for (int t = 0; t < 4; ++t) {
-          const int comp = (t == 0 || t == 2) ? kEtaZeta : kXiZeta;
-          for (int r = 0; r < 2; ++r) p.ans(t, r) = shear_scale * p.Qs(r, comp) * w[t];
-        }
+  for (int k = 0; k < kPoints; ++k) {
+    const SolidConst& pc = tab.pts[k];
+    SolidPoint& p = pts_[k];
+    TangentData::Point& pt = td->pts[k];
+    const Mat3 J = X0 * pc.phi;  // columns G_xi, G_eta, G_zeta
+    const double detJ = J.determinant();
+    if (!(detJ > 0)) throw std::invalid_argument("CB shell: inverted or degenerate element (det J <= 0)");
+    p.weight = detJ;
+    for (int c = 0; c < 5; ++c) p.ref_metric[c] = J.col(kPair[c][0]).dot(J.col(kPair[c][1]));
+    // lamina frame: normal at the point, t1 from the centre frame (common in-plane orientation)
+    const Vec3 t3 = J.col(0).cross(J.col(1)).normalized();
+    const Vec3 t1 = (t1c - t1c.dot(t3) * t3).normalized();
+    const Vec3 t2 = t3.cross(t1);
+    const Mat3 dual = J.inverse();  // rows: contravariant G^i
+    Mat3 c;                         // c(i, k) = G^i . t_k
+    for (int i = 0; i < 3; ++i) c.row(i) << dual.row(i).dot(t1), dual.row(i).dot(t2), dual.row(i).dot(t3);
+    // eq. (6): rows eps11, eps22, 2eps12, 2eps13, 2eps23. G^zeta is parallel to t3, so the
+    // in-plane rows have no ez, xz (and no row has a zz) weight: those entries are round-off
+    const int kl[5][2] = {{0, 0}, {1, 1}, {0, 1}, {0, 2}, {1, 2}};
+    Eigen::Matrix<double, 5, 5> Q;
+    for (int r = 0; r < 5; ++r) {
+      const int kk = kl[r][0], ll = kl[r][1];
+      const double eng = kk == ll ? 1.0 : 2.0;
+      for (int q = 0; q < 5; ++q) {
+        const int i = kPair[q][0], j = kPair[q][1];
+        const double coef = i == j ? c(i, kk) * c(j, ll) : c(i, kk) * c(j, ll) + c(j, kk) * c(i, ll);
+        Q(r, q) = eng * coef;
       }
-  h_inv_ = H.inverse();
-  h_inv_factor_ = h_inv_.llt().matrixL();
+    }
+    p.Qm = Q.topLeftCorner<3, 3>();
+    p.Qs = Q.bottomRows<2>();
+    const Eigen::Matrix<double, 3, 10> Ph = p_hat(p_coef_, pc);
+    const Eigen::Matrix<double, 3, 5> P = Ph.leftCols<5>();
+    H.noalias() += p.weight * Ph.transpose() * Cm_inv * Ph;  // eq. (10)
 
-  // tying points of eq. (8): A(-1,0), B(0,-1), C(1,0), D(0,1) at each layer
-  const double tp[4][2] = {{-1, 0}, {0, -1}, {1, 0}, {0, 1}};
+    // B rows of eps (eq. 4 through 6) on master increments: row r at slave A is
+    // sum_ij dN_A,i S_r(i, j) g_j; summed over the two slaves of master I and rotated to its
+    // frame this is (R_I^T g) Su (u part) and, weighted by s, the theta part (speed notes)
+    const double shear_scale = std::sqrt(p.weight * kG_);
+    Eigen::Matrix<double, 3, 5> Su, St;  // columns: sum_i phi(I, i) S_r(i, :) per row r
+    for (int I = 0; I < 4; ++I) {
+      for (int r = 0; r < 5; ++r) {
+        Vec5 q = Q.row(r).transpose();
+        if (r < 3) q.tail<2>().setZero();
+        const Mat3 S = covariant_matrix(q, !(opt.ans && r >= 3));
+        Su.col(r) = S * pc.phi.row(I).transpose();
+        St.col(r) = hh * (S * pc.phi.row(4 + I).transpose());
+      }
+      Su.rightCols<2>() *= shear_scale;
+      St.rightCols<2>() *= shear_scale;
+      TangentData::Mat37& ku = pt.Ku[I];
+      TangentData::Mat37& kt = pt.Kt[I];
+      ku.setZero();
+      kt.setZero();
+      if (opt.hr) {  // this point's share of G^T (first five columns of P-hat), eq. (11)
+        ku.leftCols<5>() = p.weight * Su.leftCols<3>() * P;
+        kt.leftCols<5>() = p.weight * St.leftCols<3>() * P;
+        ku.rightCols<2>() = Su.rightCols<2>();
+        kt.rightCols<2>() = St.rightCols<2>();
+      } else {      // K = Y Y^T with the membrane rows times sqrt(w) L_c
+        ku.leftCols<3>() = Su.leftCols<3>() * (std::sqrt(p.weight) * Lc);
+        kt.leftCols<3>() = St.leftCols<3>() * (std::sqrt(p.weight) * Lc);
+        ku.middleCols<2>(3) = Su.rightCols<2>();
+        kt.middleCols<2>(3) = St.rightCols<2>();
+      }
+    }
+    // eq. (8): tying points A, B, C, D feed ez (A, C) and xz (B, D) of the shear rows
+    const double w[4] = {0.5 * (1 - pc.xi), 0.5 * (1 - pc.eta), 0.5 * (1 + pc.xi), 0.5 * (1 + pc.eta)};
+    for (int t = 0; t < 4; ++t) {
+      const int comp = (t == 0 || t == 2) ? kEtaZeta : kXiZeta;
+      for (int r = 0; r < 2; ++r) pt.ans(t, r) = shear_scale * p.Qs(r, comp) * w[t];
+    }
+  }
+  h_inv_ = H.inverse();
+  td->h_inv_factor = h_inv_.llt().matrixL();
+  tan_ = std::move(td);
+
+  // reference values of the tied components, eq. (8)
   for (int l = 0; l < 2; ++l)
     for (int t = 0; t < 4; ++t) {
-      TyingPoint& tpnt = tying_[l][t];
-      tpnt.phi = master_derivatives(tp[t][0], tp[t][1], gpts[l]);
-      const Mat3 G = X0 * tpnt.phi;
-      tpnt.i = (t == 0 || t == 2) ? 1 : 0;
-      tpnt.ref_value = G.col(tpnt.i).dot(G.col(2));
-      tpnt.M = 0.5 * (tpnt.phi.col(tpnt.i) * tpnt.phi.col(2).transpose() +
-                      tpnt.phi.col(2) * tpnt.phi.col(tpnt.i).transpose());
+      const TyingConst& tc = tab.tying[l][t];
+      const Mat3 G = X0 * tc.phi;
+      tie_ref_[l][t] = G.col(tc.i).dot(G.col(2));
     }
 
   // drilling points, eq. (12)
-  k = 0;
-  for (int jy = 0; jy < 2; ++jy)
-    for (int jx = 0; jx < 2; ++jx, ++k) {
-      DrillPoint& d = drill_[k];
-      quad_shape(gpts[jx], gpts[jy], d.N, d.dNxi, d.dNeta);
-      Vec3 Gx = Vec3::Zero(), Ge = Vec3::Zero();
-      for (int I = 0; I < 4; ++I) Gx += d.dNxi[I] * ref[I].x, Ge += d.dNeta[I] * ref[I].x;
-      const double A = Gx.cross(Ge).norm();
-      d.weight = A;
-      d.inv2A = 0.5 / A;
-      for (int I = 0; I < 4; ++I) {
-        d.g1_local[I] = ref[I].R.transpose() * Gx;
-        d.g2_local[I] = ref[I].R.transpose() * Ge;
-      }
+  for (int k = 0; k < 4; ++k) {
+    const DrillConst& dc = tab.drill[k];
+    DrillPoint& d = drill_[k];
+    Vec3 Gx = Vec3::Zero(), Ge = Vec3::Zero();
+    for (int I = 0; I < 4; ++I) Gx += dc.dNxi[I] * ref[I].x, Ge += dc.dNeta[I] * ref[I].x;
+    const double A = Gx.cross(Ge).norm();
+    d.weight = A;
+    d.inv2A = 0.5 / A;
+    for (int I = 0; I < 4; ++I) {
+      d.g1_local[I] = ref[I].R.transpose() * Gx;
+      d.g2_local[I] = ref[I].R.transpose() * Ge;
     }
+  }
 }
 
 // Solid part (eqs. 3-11) mapped to master DoFs (eqs. 15, 16) without forming slave matrices:
@@ -254,6 +322,8 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
 // the scaled master B rows (and H^{-1/2} G for the assumed stress). See cb_shell.md, speed notes.
 double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) const {
   const double hh = 0.5 * sec_.thickness;
+  const Tables& tab = tables();
+  const TangentData* td = K ? tan_.get() : nullptr;  // only the tangent reads its kernels
   const Mat38 X = node_columns(cur, hh);
   std::array<Mat3, 4> Rt;
   for (int I = 0; I < 4; ++I) Rt[I] = cur[I].R.transpose();
@@ -265,11 +335,11 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
   if (opt_.ans)
     for (int l = 0; l < 2; ++l)
       for (int t = 0; t < 4; ++t) {
-        const TyingPoint& tp = tying_[l][t];
+        const TyingConst& tp = tab.tying[l][t];
         const Vec3 gi = X * tp.phi.col(tp.i), gz = X * tp.phi.col(2);
         g_tie[l][t][0] = gi;
         g_tie[l][t][1] = gz;
-        e_tie[l][t] = 0.5 * (gi.dot(gz) - tp.ref_value);
+        e_tie[l][t] = 0.5 * (gi.dot(gz) - tie_ref_[l][t]);
         if (!K) continue;
         for (int I = 0; I < 4; ++I) {
           const Vec3 gzl = Rt[I] * gz;
@@ -290,32 +360,38 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
   std::array<Mat3, kPoints> g;
   std::array<Vec3, kPoints> em;
   std::array<Eigen::Vector2d, kPoints> es;
+  std::array<Eigen::Matrix<double, 3, 10>, kPoints> Ph;  // eq. (9) at the points (hr)
   Vec10 gv = Vec10::Zero();
   double energy = 0.0;
   for (int k = 0; k < kPoints; ++k) {
     const SolidPoint& p = pts_[k];
-    g[k].noalias() = X * p.phi;
+    const SolidConst& pc = tab.pts[k];
+    g[k].noalias() = X * pc.phi;
     Vec5 e;
     for (int c = 0; c < 5; ++c) e[c] = 0.5 * (g[k].col(kPair[c][0]).dot(g[k].col(kPair[c][1])) - p.ref_metric[c]);
     if (opt_.ans) {  // eq. (8)
-      const double* et = e_tie[p.layer];
-      e[kEtaZeta] = 0.5 * (1 - p.xi) * et[0] + 0.5 * (1 + p.xi) * et[2];
-      e[kXiZeta] = 0.5 * (1 - p.eta) * et[1] + 0.5 * (1 + p.eta) * et[3];
+      const double* et = e_tie[pc.layer];
+      e[kEtaZeta] = 0.5 * (1 - pc.xi) * et[0] + 0.5 * (1 + pc.xi) * et[2];
+      e[kXiZeta] = 0.5 * (1 - pc.eta) * et[1] + 0.5 * (1 + pc.eta) * et[3];
     }
     em[k].noalias() = p.Qm * e.head<3>();
     es[k].noalias() = p.Qs * e;
-    if (opt_.hr) gv.noalias() += p.weight * (p.P.transpose() * em[k]);  // eq. (10)
+    if (opt_.hr) {
+      Ph[k] = p_hat(p_coef_, pc);
+      gv.noalias() += p.weight * (Ph[k].transpose() * em[k]);  // eq. (10)
+    }
     if (!K) continue;
+    const TangentData::Point& pt = td->pts[k];
     if (opt_.hr) {
       Eigen::Matrix<double, 20, 7> B;
-      master_rows<7>(Rt, g[k], p.Ku, p.Kt, B);
-      G_layer[p.layer] += B.leftCols<5>();
-      if (opt_.ans) B.rightCols<2>().noalias() += B_tie[p.layer] * p.ans;
+      master_rows<7>(Rt, g[k], pt.Ku, pt.Kt, B);
+      G_layer[pc.layer] += B.leftCols<5>();
+      if (opt_.ans) B.rightCols<2>().noalias() += B_tie[pc.layer] * pt.ans;
       Y.middleCols<2>(shear_col + 2 * k) = B.rightCols<2>();
     } else {
       Eigen::Matrix<double, 20, 5> B;
-      master_rows<5>(Rt, g[k], p.Ku, p.Kt, B);
-      if (opt_.ans) B.rightCols<2>().noalias() += B_tie[p.layer] * p.ans;
+      master_rows<5>(Rt, g[k], pt.Ku, pt.Kt, B);
+      if (opt_.ans) B.rightCols<2>().noalias() += B_tie[pc.layer] * pt.ans;
       Y.middleCols<2>(shear_col + 2 * k) = B.rightCols<2>();
       Y.middleCols<3>(3 * k) = B.leftCols<3>();
     }
@@ -327,8 +403,7 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
   }
 
   // stresses: force and the scalar geometric matrix, eqs. (4), (5), (11)
-  const Eigen::Matrix3d Cm = C_.topLeftCorner<3, 3>();
-  const double kG = C_(3, 3);
+  const double kG = kG_;
   Mat38 Fg = Mat38::Zero();  // columns: sum over s of slave forces of I, and weighted by s
   // eq. (5) weighted by stresses in the basis of phi: rows I of phi are (D_I, 0), rows 4 + I are
   // (zeta D_I, N_I), so the 8 x 8 matrix is [[A0, A1], [A1, A2]] + the N terms
@@ -337,11 +412,12 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
   double sig_tie[2][4] = {};
   for (int k = 0; k < kPoints; ++k) {
     const SolidPoint& p = pts_[k];
+    const SolidConst& pc = tab.pts[k];
     Vec3 Sm;
     if (opt_.hr) {
-      Sm.noalias() = p.P * beta;  // assumed stress at the point
+      Sm.noalias() = Ph[k] * beta;  // assumed stress at the point
     } else {
-      Sm.noalias() = Cm * em[k];
+      Sm.noalias() = Cm_ * em[k];
       energy += 0.5 * p.weight * em[k].dot(Sm);
     }
     const Eigen::Vector2d Ss = kG * es[k];
@@ -350,25 +426,25 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
     sig.head<3>().noalias() += p.Qm.transpose() * Sm;
     sig *= p.weight;  // covariant stress x weight
     if (opt_.ans) {
-      double* st = sig_tie[p.layer];
-      st[0] += 0.5 * (1 - p.xi) * sig[kEtaZeta];
-      st[2] += 0.5 * (1 + p.xi) * sig[kEtaZeta];
-      st[1] += 0.5 * (1 - p.eta) * sig[kXiZeta];
-      st[3] += 0.5 * (1 + p.eta) * sig[kXiZeta];
+      double* st = sig_tie[pc.layer];
+      st[0] += 0.5 * (1 - pc.xi) * sig[kEtaZeta];
+      st[2] += 0.5 * (1 + pc.xi) * sig[kEtaZeta];
+      st[1] += 0.5 * (1 - pc.eta) * sig[kXiZeta];
+      st[3] += 0.5 * (1 + pc.eta) * sig[kXiZeta];
     }
     const Mat3 S = covariant_matrix(sig, !opt_.ans);
     const Mat3 T = g[k] * S;  // stress vectors
-    Fg.noalias() += T * p.phi.transpose();
+    Fg.noalias() += T * pc.phi.transpose();
     if (K) {
-      const Eigen::Matrix<double, 4, 2> D = p.phi.topLeftCorner<4, 2>();
+      const Eigen::Matrix<double, 4, 2> D = pc.phi.topLeftCorner<4, 2>();
       const Eigen::Matrix4d A = D.lazyProduct(S.topLeftCorner<2, 2>().lazyProduct(D.transpose()));
       A0 += A;
-      A1 += p.zeta * A;
-      A2 += (p.zeta * p.zeta) * A;
+      A1 += pc.zeta * A;
+      A2 += (pc.zeta * pc.zeta) * A;
       if (!opt_.ans) {  // S(0:2, 2) with phi(4 + J, 2) = N_J
-        const Eigen::Matrix4d vN = (D * S.block<2, 1>(0, 2)) * p.phi.block<4, 1>(4, 2).transpose();
+        const Eigen::Matrix4d vN = (D * S.block<2, 1>(0, 2)) * pc.phi.block<4, 1>(4, 2).transpose();
         V1 += vN;
-        V2 += p.zeta * vN;
+        V2 += pc.zeta * vN;
       }
     }
   }
@@ -382,7 +458,7 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
   if (opt_.ans)
     for (int l = 0; l < 2; ++l)
       for (int t = 0; t < 4; ++t) {
-        const TyingPoint& tp = tying_[l][t];
+        const TyingConst& tp = tab.tying[l][t];
         const double s = sig_tie[l][t];
         Fg.noalias() += (0.5 * s) * (g_tie[l][t][1] * tp.phi.col(tp.i).transpose() +
                                      g_tie[l][t][0] * tp.phi.col(2).transpose());
@@ -404,10 +480,11 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
   if (opt_.hr) {
     Eigen::Matrix<double, 20, 10> Gt;
     Gt.leftCols<5>() = G_layer[0] + G_layer[1];
-    Gt.rightCols<5>() = pts_[0].zeta * G_layer[0] + pts_[kPoints - 1].zeta * G_layer[1];
+    Gt.rightCols<5>() = tab.pts[0].zeta * G_layer[0] + tab.pts[kPoints - 1].zeta * G_layer[1];
+    const Eigen::Matrix<double, 10, 10>& Lh = td->h_inv_factor;
     for (int j = 0; j < 10; ++j) {  // W = G^T L, L lower triangular: W W^T = G^T H^{-1} G
-      Y.col(j) = h_inv_factor_(j, j) * Gt.col(j);
-      for (int i = j + 1; i < 10; ++i) Y.col(j) += h_inv_factor_(i, j) * Gt.col(i);
+      Y.col(j) = Lh(j, j) * Gt.col(j);
+      for (int i = j + 1; i < 10; ++i) Y.col(j) += Lh(i, j) * Gt.col(i);
     }
     gram20<26>(Y.leftCols<26>(), Km);
   } else {
@@ -459,21 +536,22 @@ double CbShellElement::drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* 
     }
   for (int q = 0; q < 4; ++q) {
     const DrillPoint& d = drill_[q];
+    const DrillConst& dc = tables().drill[q];
     Vec3 gx = Vec3::Zero(), ge = Vec3::Zero(), abar = Vec3::Zero(), bbar = Vec3::Zero();
     for (int I = 0; I < 4; ++I) {
-      gx += d.dNxi[I] * cur[I].x;
-      ge += d.dNeta[I] * cur[I].x;
-      abar += d.N[I] * (cur[I].R * d.g1_local[I]);
-      bbar += d.N[I] * (cur[I].R * d.g2_local[I]);
+      gx += dc.dNxi[I] * cur[I].x;
+      ge += dc.dNeta[I] * cur[I].x;
+      abar += dc.N[I] * (cur[I].R * d.g1_local[I]);
+      bbar += dc.N[I] * (cur[I].R * d.g2_local[I]);
     }
     const double omega = d.inv2A * (abar.dot(ge) - bbar.dot(gx));  // eq. (12)
     energy += 0.5 * gamma_ * d.weight * omega * omega;              // eq. (13)
     const double scale = gamma_ * d.weight, so = scale * omega;
     for (int I = 0; I < 4; ++I) {
       const Mat3 Rt = cur[I].R.transpose();
-      const Vec3 px = Rt * (d.inv2A * (d.dNeta[I] * abar - d.dNxi[I] * bbar));
-      const Vec3 pa = Rt * (d.inv2A * d.N[I] * ge);
-      const Vec3 pb = Rt * (-d.inv2A * d.N[I] * gx);
+      const Vec3 px = Rt * (d.inv2A * (dc.dNeta[I] * abar - dc.dNxi[I] * bbar));
+      const Vec3 pa = Rt * (d.inv2A * dc.N[I] * ge);
+      const Vec3 pb = Rt * (-d.inv2A * dc.N[I] * gx);
       c.block<3, 1>(6 * I, q) = px;
       c.block<3, 1>(6 * I + 3, q) = d.g1_local[I].cross(pa) + d.g2_local[I].cross(pb);
       if (!K) continue;
@@ -483,7 +561,7 @@ double CbShellElement::drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* 
       p_ut[I] += so * px;
       // primitive cross terms a_I / b_I with x_J
       for (int J = 0; J < 4; ++J)
-        v_cross[I][J] += (so * d.inv2A * d.N[I]) * (d.dNeta[J] * d.g1_local[I] - d.dNxi[J] * d.g2_local[I]);
+        v_cross[I][J] += (so * d.inv2A * dc.N[I]) * (dc.dNeta[J] * d.g1_local[I] - dc.dNxi[J] * d.g2_local[I]);
     }
     f.noalias() += so * c.col(q);
     c_scaled.col(q) = scale * c.col(q);

@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <memory>
 
 namespace ff::shell {
 
@@ -51,38 +52,23 @@ class CbShellElement {
   const ShellSection& section() const { return sec_; }
 
  private:
-  // reference-only data of the kernels, precomputed here (cb_shell.md, "Implementation notes")
+  // Reference-only data of the kernels, precomputed here (cb_shell.md, "Implementation notes").
+  // The element keeps inline only what the force needs (about 2.6 kB, contiguous); the tangent's
+  // kernels live in one heap block (TangentData) that a force-only evaluation never touches, and
+  // what is the same for every element (shape derivatives at the fixed points) is shared.
   static constexpr int kPoints = 8;  // 2 x 2 in plane x 2 through the thickness
-  using Mat37 = Eigen::Matrix<double, 3, 7>;
-  struct SolidPoint {
+  struct SolidPoint {                              // force data of one integration point
     double weight;                                 // Gauss weight x det J (reference volume)
-    double xi, eta, zeta;
-    int layer;                                     // thickness layer (tying values)
-    // rows I: sum over the two slaves of master I of dN/d(xi, eta, zeta); rows 4 + I: the same
-    // sum weighted by s, so g = [x_I, h0/2 d_I] * phi (eqs. 1, 3)
-    Eigen::Matrix<double, 8, 3> phi;
     Eigen::Matrix<double, 5, 1> ref_metric;        // G_i.G_j for xx, ee, xe, eta-zeta, xi-zeta
     Eigen::Matrix3d Qm;                            // eq. (6): in-plane rows, columns xx ee xe
     Eigen::Matrix<double, 2, 5> Qs;                // eq. (6): shear rows, columns xx ee xe ez xz
-    Eigen::Matrix<double, 3, 10> P;                // eq. (9), P-hat at this point
-    // master rows of node I from R_I^T g: u part Ku, theta part Kt; columns: with hr the five
-    // columns of w B_m^T P (eq. 11, per layer) then the two scaled shear rows; without hr the
-    // three membrane rows times sqrt(w) L_c (C_m = L_c L_c^T), the two shear rows, two unused
-    std::array<Mat37, 4> Ku, Kt;
-    Eigen::Matrix<double, 4, 2> ans;               // tying rows into the shear rows, eq. (8)
-  };
-  struct TyingPoint {                              // eq. (8) at one thickness layer
-    Eigen::Matrix<double, 8, 3> phi;               // as SolidPoint::phi
-    Eigen::Matrix<double, 8, 8> M;                 // eq. (5) of the tied component in phi's basis
-    double ref_value;                              // G_i.G_zeta of the tied component
-    int i;                                         // 1 (eta-zeta) or 0 (xi-zeta)
   };
   struct DrillPoint {
     double weight;                                 // Gauss weight x A
     double inv2A;                                  // 1 / (2A)
-    Eigen::Vector4d N, dNxi, dNeta;
     std::array<Vec3, 4> g1_local, g2_local;        // R0_I^T G_xi, R0_I^T G_eta
   };
+  struct TangentData;                              // Ku, Kt, ANS rows, H^{-1} factor (cb_shell.cpp)
 
   double solid_terms(const ElementPoses& cur, Vec24& f, Mat24* K) const;
   double drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* K) const;
@@ -90,12 +76,14 @@ class CbShellElement {
   ShellSection sec_;
   ShellOptions opt_;
   std::array<SolidPoint, kPoints> pts_;
-  std::array<std::array<TyingPoint, 4>, 2> tying_;  // [layer][A, B, C, D]
-  std::array<DrillPoint, 4> drill_;
+  std::array<std::array<double, 4>, 2> tie_ref_;   // G_i.G_zeta of the tied components [layer][A..D]
+  std::array<double, 6> p_coef_;                   // eq. (9): a1^2, b1^2, a1 b1, a2^2, b2^2, a2 b2
   Eigen::Matrix<double, 10, 10> h_inv_;            // eq. (10)
-  Eigen::Matrix<double, 10, 10> h_inv_factor_;     // L with L L^T = h_inv_
-  Eigen::Matrix<double, 5, 5> C_;                  // eq. (7)
+  Eigen::Matrix3d Cm_;                             // eq. (7), membrane block
+  double kG_ = 0.0;                                // eq. (7), shear
   double gamma_ = 0.0;                             // eq. (13)
+  std::shared_ptr<const TangentData> tan_;         // immutable, shared by copies
+  std::array<DrillPoint, 4> drill_;
 };
 
 }  // namespace ff::shell

@@ -1,8 +1,10 @@
 // CB shell cost (core/shell/cb_shell.md "Implementation notes (speed)"): one element's force and
-// force + tangent on a curved, distorted, deformed element for every effect set; ShellModel
+// force + tangent on a curved, distorted, deformed element for every effect set; the same over an
+// array of distinct curved elements evaluated in turn, as the assembly loops do (the element data
+// then come from outside L1/L2, which a single hot element hides); ShellModel
 // assembly per Newton iteration (force + tangent) and the sparse factorize + solve of that
 // tangent for clamped square plates n×n, n = 16 ... 256; assembly with 1 and 2 OpenMP threads.
-//   build/tests/bench/bench_cb_shell [--benchmark_filter=element]
+//   build/tests/bench/bench_cb_shell [--benchmark_filter=element]   (element/... and elements/...)
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "core/mesh/generators.h"
 #include "core/shell/cb_shell.h"
@@ -90,6 +93,63 @@ void bm_element(benchmark::State& state, bool with_tangent) {
     benchmark::ClobberMemory();
   }
   state.SetLabel(effects_label(o));
+}
+
+// n distinct elements of a half cylinder (radius 0.3, length 1.2, as double_pendulum_shells), each
+// heap-allocated like the assembly's, with its own large rotation and random deformation; one
+// benchmark iteration evaluates all of them in order. range(0) = n, range(1..3) = drill, hr, ans.
+struct ElementArray {
+  std::vector<std::unique_ptr<CbShellElement>> elements;
+  std::vector<ElementPoses> current;
+  std::vector<Vec24> forces;
+  std::vector<Mat24> tangents;
+};
+
+ElementArray element_array(int n, const ShellOptions& o) {
+  const int n1 = 15, n2 = (n + n1 - 1) / n1;
+  const double radius = 0.3, length = 1.2, pi = 3.14159265358979323846;
+  auto node = [&](int i, int j) {
+    const double phi = pi * (1.0 - static_cast<double>(i) / n1);
+    const Vec3 nrm(std::cos(phi), 0.0, std::sin(phi));
+    return NodePose{frame(nrm), radius * nrm + Vec3(0, length * j / n2, 0)};
+  };
+  std::mt19937 g(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  ElementArray a;
+  for (int k = 0; k < n; ++k) {
+    const int i = k % n1, j = k / n1;
+    const ElementPoses ref = {node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)};
+    a.elements.push_back(std::make_unique<CbShellElement>(ref, ShellSection{1.0e9, 0.3, 0.01, 5.0 / 6.0}, o));
+    const Mat3 Q = rot(Vec3(u(g), u(g), u(g)));
+    ElementPoses cur = ref;
+    for (auto& p : cur) {
+      p.x = Q * p.x + Vec3(0.1, -0.2, 0.3) + 0.002 * Vec3(u(g), u(g), u(g));
+      p.R = Q * p.R * rot(0.02 * Vec3(u(g), u(g), u(g)));
+    }
+    a.current.push_back(cur);
+  }
+  a.forces.resize(n);
+  a.tangents.resize(n);
+  return a;
+}
+
+void bm_elements(benchmark::State& state, bool with_tangent) {
+  ShellOptions o;
+  o.drilling = state.range(1) != 0;
+  o.hr = state.range(2) != 0;
+  o.ans = state.range(3) != 0;
+  const int n = static_cast<int>(state.range(0));
+  ElementArray a = element_array(n, o);
+  for (auto _ : state) {
+    for (int k = 0; k < n; ++k)
+      a.elements[k]->evaluate(a.current[k], a.forces[k], with_tangent ? &a.tangents[k] : nullptr);
+    benchmark::ClobberMemory();
+  }
+  state.SetLabel(effects_label(o));
+  // CPU time per element (the figure to compare with the single-element rows)
+  state.counters["per_element"] = benchmark::Counter(
+      static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["bytes_per_element"] = static_cast<double>(sizeof(CbShellElement));
 }
 
 // n×n plate 1×1 in z = 0, clamped at x = 0, transverse load on the edge x = 1; the state is one
@@ -174,6 +234,16 @@ int main(int argc, char** argv) {
       for (int hr : {1, 0})
         for (int ans : {1, 0}) b->Args({drilling, hr, ans});
     b->ArgNames({"drill", "hr", "ans"})->Unit(benchmark::kMicrosecond)->Repetitions(5);
+    b->ComputeStatistics("min", min)->ReportAggregatesOnly(true);
+  }
+  for (bool tangent : {false, true}) {
+    auto* b = benchmark::RegisterBenchmark(tangent ? "elements/force_tangent" : "elements/force", bm_elements, tangent);
+    for (int n : {450, 1800}) b->Args({n, 0, 1, 1});
+    for (int drilling : {0, 1})
+      for (int hr : {1, 0})
+        for (int ans : {1, 0})
+          if (drilling || !hr || !ans) b->Args({450, drilling, hr, ans});
+    b->ArgNames({"n", "drill", "hr", "ans"})->Unit(benchmark::kMillisecond)->Repetitions(5);
     b->ComputeStatistics("min", min)->ReportAggregatesOnly(true);
   }
   for (int n : {16, 32, 64, 128, 256}) {
