@@ -19,6 +19,7 @@
 #include "core/shell/cb_shell.h"
 #include "core/shell/shell_model.h"
 #include "core/solve/sparse_solver.h"
+#include "tests/support/shell_fixtures.h"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -27,43 +28,13 @@
 namespace {
 
 using namespace ff::shell;
+using ff::shell::testing::curved;
+using ff::shell::testing::frame;
+using ff::shell::testing::rot;
 
-Mat3 rot(const Vec3& th) {
-  const double a = th.norm();
-  return a < 1e-300 ? Mat3::Identity() : Eigen::AngleAxisd(a, th / a).toRotationMatrix();
-}
-
-Mat3 frame(const Vec3& n) {
-  const Vec3 e3 = n.normalized();
-  const Vec3 e1 = (Vec3::UnitX() - Vec3::UnitX().dot(e3) * e3).normalized();
-  Mat3 R;
-  R << e1, e3.cross(e1), e3;
-  return R;
-}
-
-// patch of a cylinder of radius 2 with skewed corners (as tests/unit/test_cb_shell.cpp), and a
-// large rotation plus a random deformation of it
-ElementPoses curved_reference() {
-  ElementPoses p;
-  const double R = 2.0, ang[4] = {-0.25, 0.22, 0.27, -0.2}, y[4] = {0, 0.05, 0.8, 0.7};
-  for (int i = 0; i < 4; ++i) {
-    const Vec3 n(std::sin(ang[i]), 0, std::cos(ang[i]));
-    p[i] = {frame(n), R * n + Vec3(0, y[i], 0)};
-  }
-  return p;
-}
-
-ElementPoses deformed(const ElementPoses& ref) {
-  std::mt19937 g(5);
-  std::uniform_real_distribution<double> u(-1, 1);
-  const Mat3 Q = rot(Vec3(0.9, -1.4, 1.1));
-  ElementPoses p = ref;
-  for (auto& n : p) {
-    n.x = Q * n.x + Vec3(0.3, -0.2, 0.5) + 0.05 * Vec3(u(g), u(g), u(g));
-    n.R = Q * n.R * rot(0.1 * Vec3(u(g), u(g), u(g)));
-  }
-  return p;
-}
+// the curved, skewed cylinder patch of the unit tests and a large-rotation deformed state of it
+ElementPoses curved_reference() { return curved(); }
+ElementPoses deformed(const ElementPoses& ref) { return ff::shell::testing::deformed(ref, 5); }
 
 // range(0): 1 = 6 DoF (drilling), range(1): hr, range(2): ans
 ShellOptions element_options(const benchmark::State& state) {
