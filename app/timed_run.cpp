@@ -50,10 +50,6 @@ TimedRun timed_run_median(const std::string& scene_path, const std::vector<std::
   return first;
 }
 
-double metric(const Metrics& m, const std::string& name) {
-  for (const auto& [k, v] : m)
-    if (k == name) return v;
-  return NAN;
-}
+double metric(const Metrics& m, const std::string& name) { return find_metric(m, name).value_or(NAN); }
 
 }  // namespace ff::app

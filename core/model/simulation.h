@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,13 @@
 namespace ff {
 
 using Metrics = std::vector<std::pair<std::string, double>>;
+
+/// The value of metric `name`, or nothing when the run did not produce it.
+inline std::optional<double> find_metric(const Metrics& m, const std::string& name) {
+  for (const auto& [k, v] : m)
+    if (k == name) return v;
+  return std::nullopt;
+}
 
 /// What one effect (elastic, inertia, gravity, joints ...) cost: evaluations and seconds spent.
 struct EffectStat {

@@ -64,7 +64,7 @@ void GeneralizedAlpha::build_augmented_pattern() {
 }
 
 // A = [S kBᵀ; kB 0] (G7) from the current S_ and B_, then its factorization
-bool GeneralizedAlpha::update_matrix(double, double, const Eigen::VectorXd&, const Eigen::VectorXd&, std::string& why) {
+bool GeneralizedAlpha::update_matrix(std::string& why) {
   if (static_cast<int>(s_map_.size()) != S_.nonZeros() || static_cast<int>(b_map_.size()) != B_.nonZeros() ||
       A_.rows() != p_.size() + p_.constraint_count())
     build_augmented_pattern();
@@ -104,7 +104,7 @@ std::string GeneralizedAlpha::initialize(double t0, const Eigen::VectorXd& v0) {
   // [M Bᵀ; B 0][v̇0; λ0] = [−g; 0] with unit row scale, then the counters start from zero
   k_ = 1.0;
   std::string why;
-  if (!update_matrix(0, t0, v_, zero_n, why)) return "initial accelerations: " + why;
+  if (!update_matrix(why)) return "initial accelerations: " + why;
   nou_ = 0;
   Eigen::VectorXd rhs(n + m), x;
   rhs << -r, Eigen::VectorXd::Zero(m);
@@ -147,7 +147,7 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
         k_ = n > 0 && sum > 0 ? sum / n : 1.0;
       }
       std::string why;
-      if (!update_matrix(h, t_ + h, v1, vd, why)) {
+      if (!update_matrix(why)) {
         out.failure = why;
         return out;
       }

@@ -63,7 +63,7 @@ class GeneralizedAlpha {
     std::string failure;
   };
   Attempt attempt(double h, bool force_full);
-  bool update_matrix(double h, double t, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot, std::string& why);
+  bool update_matrix(std::string& why);  // refills A from S_, B_ and factorizes it
   void build_augmented_pattern();
 
   DynamicProblem& p_;

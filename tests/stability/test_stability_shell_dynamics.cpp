@@ -24,10 +24,9 @@ using namespace ff::shell;
 namespace {
 
 double metric(const Metrics& m, const std::string& name) {
-  for (const auto& [k, v] : m)
-    if (k == name) return v;
-  ADD_FAILURE() << "no metric " << name;
-  return std::nan("");
+  const std::optional<double> v = find_metric(m, name);
+  if (!v) ADD_FAILURE() << "no metric " << name;
+  return v.value_or(std::nan(""));
 }
 
 TEST(Stability, StiffDoublePendulumWithFrozenMatrixAtTheLargestStep) {

@@ -160,10 +160,9 @@ Metrics pendulum(const std::vector<std::string>& extra, double* violation = null
 }
 
 double metric(const Metrics& m, const std::string& name) {
-  for (const auto& [k, v] : m)
-    if (k == name) return v;
-  ADD_FAILURE() << "no metric " << name;
-  return std::nan("");
+  const std::optional<double> v = find_metric(m, name);
+  if (!v) ADD_FAILURE() << "no metric " << name;
+  return v.value_or(std::nan(""));
 }
 
 TEST(ShellDynamics, DoublePendulumKeepsItsJointsAtSolverTolerance) {
