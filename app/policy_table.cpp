@@ -90,7 +90,7 @@ int run_policy_table(const PolicyTableOptions& opt, const std::atomic<bool>& sto
     spec.log_y = true;
     for (const Row& r : rows) {
       if (spec.series.empty() || spec.series.back().label != "dt = " + r.dt + " s")
-        spec.series.push_back({"dt = " + r.dt + " s", {}, {}, false});
+        spec.series.push_back({"dt = " + r.dt + " s", {}, {}, true});  // one marker per policy
       spec.series.back().x.push_back(r.noi);
       spec.series.back().y.push_back(std::max(r.nou, 1.0));
     }
