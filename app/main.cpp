@@ -85,14 +85,25 @@ int main(int argc, char** argv) {
 
   // study
   ff::app::StudyOptions study_opt;
-  CLI::App* study = app.add_subcommand("study", "run variants of a scene: error vs wall time table and plot");
-  study->add_option("scene", study_opt.scene, "scene file or bundled scene name")->required();
-  study->add_option("--vary", study_opt.vary, "KEY=V1,V2,... (each --vary is one table, varied alone)")
-      ->required()->take_all();
-  study->add_option("--baseline", study_opt.baseline, "scene whose run defines relative time and the reference value");
-  study->add_option("--metric", study_opt.metric, "summary metric compared to the reference")->required();
-  study->add_option("--repeat", study_opt.repeat, "timing repetitions (median)")->check(CLI::Range(1, 1000));
-  study->add_option("--out", study_opt.out_dir, "output folder (study.csv, study.md, study.png)");
+  CLI::App* study = app.add_subcommand(
+      "study", "what accuracy costs: run variants of a scene, error vs wall time, iterations and memory");
+  study->add_option("target", study_opt.target,
+                    "bundled study (flexframe study --list), study file, or scene file / bundled scene name");
+  study->add_option("--vary", study_opt.vary,
+                    "KEY=V1,V2,... or KEY1+KEY2=V1,V2,... (keys set together); several --vary form a grid")
+      ->take_all();
+  study->add_option("--set", study_opt.overrides, "override a scene key in every run")->take_all();
+  study->add_option("--metric", study_opt.metric, "summary metric whose error is measured");
+  study->add_option("--reference", study_opt.reference,
+                    "finest (default: every axis at its last value), a number, or scene:NAME");
+  study->add_option("--baseline", study_opt.baseline, "same as --reference scene:BASELINE");
+  study->add_flag("--each", study_opt.each, "vary one axis at a time instead of every combination");
+  study->add_option("--repeat", study_opt.repeat, "timing repetitions per variant (median)")->check(CLI::Range(1, 1000));
+  study->add_option("--out", study_opt.out_dir, "output folder (default out/study/<name>): study.csv, study.md, pareto.png");
+  study->add_flag("--check", study_opt.check_only, "validate every variant without running");
+  bool study_list = false, study_reference = false;
+  study->add_flag("--list", study_list, "list the bundled studies");
+  study->add_flag("--reference-keys", study_reference, "print the study file keys as a markdown table");
 
   // policies
   ff::app::PolicyTableOptions pol_opt;
@@ -154,12 +165,24 @@ int main(int argc, char** argv) {
       return ff::app::run_policy_table(pol_opt, g_stop);
     }
     if (*study) {
-      study_opt.scene = ff::app::resolve_scene(study_opt.scene);
-      if (!study_opt.baseline.empty()) study_opt.baseline = ff::app::resolve_scene(study_opt.baseline);
-      return ff::app::run_study(study_opt, g_stop);
+      if (study_list) {
+        for (const auto& [name, path] : ff::app::bundled_studies()) {
+          const ff::app::StudySpec spec = ff::app::read_study_file(path);
+          std::printf("%-32s %s\n", name.c_str(), spec.description.c_str());
+        }
+        return 0;
+      }
+      if (study_reference) {
+        std::cout << ff::app::study_reference_markdown();
+        return 0;
+      }
+      if (study_opt.target.empty()) throw ff::app::InputError("study needs a bundled study, study file or scene");
+      const ff::app::StudySpec spec = ff::app::make_study_spec(study_opt);
+      if (study_opt.check_only) return ff::app::check_study(spec);
+      return ff::app::run_study(spec, study_opt.out_dir, g_stop);
     }
   } catch (const ff::scene::SceneError& e) {
-    std::fprintf(stderr, "error: invalid scene\n%s\n", e.what());
+    std::fprintf(stderr, "error: invalid scene or study file\n%s\n", e.what());
     return 2;
   } catch (const ff::app::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

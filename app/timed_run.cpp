@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <thread>
 
 #include "core/scene/scene.h"
 
@@ -25,7 +27,17 @@ TimedRun timed_run(const std::string& scene_path, const std::vector<std::string>
   scene::LoadedScene s = scene::load_scene(scene_path, overrides);
   r.setup_s = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
-  r.outcome = s.simulation->run([](Frame&&) {}, stop);
+  // the solver runs on a worker thread, as in `run`, so thread-local state and stack are the same
+  std::exception_ptr failure;
+  std::thread worker([&] {
+    try {
+      r.outcome = s.simulation->run([](Frame&&) {}, stop);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  });
+  worker.join();
+  if (failure) std::rethrow_exception(failure);
   r.run_s = seconds_since(t0);
   r.metrics = s.simulation->metrics();
   r.totals = s.simulation->totals();

@@ -1,0 +1,229 @@
+// `flexframe study` (issue 6, "what accuracy costs"): every bundled study validates; a grid of
+// variants writes study.csv / study.md / pareto.png whose errors, reference row and Pareto flags
+// are recomputed here from the CSV's own columns; the reference kinds (finest, table, scene) and
+// --each give the runs they promise; bad study input is refused with file:line and key.
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "cli_support.h"
+
+namespace ff::cli::test {
+namespace {
+
+/// study.csv as rows of column -> text (the simple quoting the writer uses: "..." with "" inside).
+std::vector<std::map<std::string, std::string>> read_study_csv(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::map<std::string, std::string>> rows;
+  std::vector<std::string> header;
+  const auto split = [](const std::string& l) {
+    std::vector<std::string> out;
+    std::string cur;
+    bool quoted = false;
+    for (std::size_t i = 0; i < l.size(); ++i) {
+      const char c = l[i];
+      if (quoted && c == '"' && i + 1 < l.size() && l[i + 1] == '"') {
+        cur += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = !quoted;
+      } else if (c == ',' && !quoted) {
+        out.push_back(cur);
+        cur.clear();
+      } else {
+        cur += c;
+      }
+    }
+    out.push_back(cur);
+    return out;
+  };
+  if (!std::getline(in, line)) return rows;
+  header = split(line);
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = split(line);
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+double num(const std::map<std::string, std::string>& row, const std::string& key) {
+  const auto it = row.find(key);
+  if (it == row.end() || it->second.empty()) return NAN;
+  return std::stod(it->second);
+}
+
+std::vector<std::string> bundled_study_names() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(std::string(FF_SOURCE_DIR) + "/assets/studies", ec))
+    if (e.path().extension() == ".toml") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+class BundledStudy : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BundledStudy, EveryVariantAndTheReferenceValidate) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_flexframe({"study", GetParam(), "--check"}, dir + "/check");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_NE(r.out.find("runs valid"), std::string::npos) << r.describe();
+}
+
+INSTANTIATE_TEST_SUITE_P(Studies, BundledStudy, ::testing::ValuesIn(bundled_study_names()),
+                         [](const auto& info) { return info.param; });
+
+TEST(CliStudy, BundledStudiesAreListed) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_flexframe({"study", "--list"}, dir + "/list");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  for (const std::string& name : bundled_study_names()) EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  EXPECT_GE(bundled_study_names().size(), 4u);  // the four studies issue 6 asks for
+}
+
+// A 2 x 2 grid on the hub-beam, shortened to 2.5 s; the reference is the finest variant (last
+// value of each axis). Errors, the reference row and the Pareto front are recomputed from the CSV.
+TEST(CliStudy, GridWithFinestReferenceWritesConsistentTableAndPlot) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  const ProcResult r = run_flexframe({"study", "hub_beam_efg_tau1", "--vary", "efg.scale=2.0,2.5", "--vary",
+                                      "efg.gauss_points=4,6", "--metric", "tip_transverse_at_2s_m", "--set",
+                                      "solver.t_end=2.5", "--repeat", "2", "--out", out},
+                                     dir + "/study");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  for (const char* f : {"/study.csv", "/study.md", "/pareto.png"}) ASSERT_TRUE(fs::is_regular_file(out + f)) << f;
+  const auto rows = read_study_csv(out + "/study.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  // the odometer order: last axis fastest
+  EXPECT_EQ(rows[0].at("variant"), "efg.scale=2.0, efg.gauss_points=4");
+  EXPECT_EQ(rows[3].at("variant"), "efg.scale=2.5, efg.gauss_points=6");
+  EXPECT_EQ(rows[3].at("is_reference"), "1");
+  const double ref = num(rows[3], "tip_transverse_at_2s_m");
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("status"), "completed");
+    EXPECT_DOUBLE_EQ(num(row, "reference"), ref);
+    const double m = num(row, "tip_transverse_at_2s_m");
+    EXPECT_NEAR(num(row, "error_percent"), 100.0 * std::abs(m - ref) / std::abs(ref), 1e-6);
+    EXPECT_GT(num(row, "wall_s"), 0.0);
+    EXPECT_GT(num(row, "newton_iterations"), 0.0);
+  }
+  EXPECT_EQ(num(rows[3], "error_percent"), 0.0);
+  // Pareto: a non-reference row is on the front iff no faster row has a smaller error
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].at("is_reference") == "1") {
+      EXPECT_EQ(rows[i].at("pareto"), "0");
+      continue;
+    }
+    bool dominated = false;
+    for (std::size_t j = 0; j < rows.size(); ++j)
+      if (j != i && rows[j].at("is_reference") == "0" && num(rows[j], "wall_s") < num(rows[i], "wall_s") &&
+          num(rows[j], "error") <= num(rows[i], "error") * (1.0 + 1e-6))
+        dominated = true;
+    EXPECT_EQ(rows[i].at("pareto"), dominated ? "0" : "1") << rows[i].at("variant");
+  }
+  const std::string md = read_text(out + "/study.md");
+  EXPECT_NE(md.find("| efg.scale=2.5, efg.gauss_points=6 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("reference"), std::string::npos);
+  const auto png = ff::render::test::read_png(out + "/pareto.png");
+  EXPECT_GT(png.width, 100);
+}
+
+// Reference from a table (a CSV written here: y = x / 10, interpolated at x = 5 * 2 after the
+// x_scale) and an extra variant from another scene; --each runs each axis alone.
+TEST(CliStudy, StudyFileWithTableReferenceExtraVariantAndEach) {
+  const std::string dir = fresh_test_dir();
+  write_text(dir + "/ref.csv", "# test table\nx,y\n0,0\n10,-1\n");
+  write_text(dir + "/s.toml",
+             "[study]\nscene = \"hub_beam_efg_tau1\"\nmetric = \"tip_transverse_at_2s_m\"\n"
+             "set = [\"solver.t_end=2.5\"]\ncombine = \"each\"\n"
+             "[[vary]]\nkey = [\"efg.scale\"]\nvalues = [\"2.0\", \"2.5\"]\n"
+             "[[vary]]\nkey = [\"efg.gauss_points\"]\nvalues = [\"4\", \"6\"]\n"
+             "[[variant]]\nlabel = \"FEM\"\nscene = \"hub_beam_fem_tau1\"\n"
+             "[reference]\nkind = \"table\"\nsource = \"test table\"\nfile = \"ref.csv\"\n"
+             "x_column = \"x\"\ny_column = \"y\"\nx_scale = 2.0\nat = 10.0\n");
+  const std::string out = dir + "/out";
+  const ProcResult r = run_flexframe({"study", dir + "/s.toml", "--out", out}, dir + "/study");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const auto rows = read_study_csv(out + "/study.csv");
+  ASSERT_EQ(rows.size(), 5u);  // 2 + 2 alone, plus FEM
+  EXPECT_EQ(rows[0].at("variant"), "efg.scale=2.0");
+  EXPECT_EQ(rows[2].at("variant"), "efg.gauss_points=4");
+  EXPECT_EQ(rows[4].at("variant"), "FEM");
+  for (const auto& row : rows) {
+    EXPECT_DOUBLE_EQ(num(row, "reference"), -0.5);  // y at x = 10 / 2 = 5
+    EXPECT_EQ(row.at("is_reference"), "0");
+  }
+  EXPECT_NE(read_text(out + "/study.md").find("test table"), std::string::npos);
+}
+
+// A diverging variant is reported as diverged (empty metric, never "nan") and the study goes on;
+// the reference is another scene's run.
+TEST(CliStudy, DivergedVariantIsReportedAndSceneReferenceIsUsed) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  const ProcResult r =
+      run_flexframe({"study", "hub_beam_efg_tau1", "--vary", "efg.gauss_points=2,4", "--metric",
+                     "tip_transverse_at_2s_m", "--set", "solver.t_end=2.5", "--set", "efg.scale=3.0",
+                     "--reference", "scene:hub_beam_fem_tau1", "--out", out},
+                    dir + "/study");
+  // 2 Gauss points per cell under-integrate the scale-3 supports: that run diverges (seen at 0.8 s)
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const auto rows = read_study_csv(out + "/study.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(read_text(out + "/study.csv").find("nan"), std::string::npos);
+  EXPECT_EQ(rows[0].at("status"), "diverged");
+  EXPECT_EQ(rows[0].at("tip_transverse_at_2s_m"), "");
+  EXPECT_EQ(rows[1].at("status"), "completed");
+  EXPECT_EQ(rows[1].at("pareto"), "1");
+  for (const auto& row : rows) EXPECT_EQ(row.at("is_reference"), "0");
+  EXPECT_NE(read_text(out + "/study.md").find("from a run of hub_beam_fem_tau1"), std::string::npos);
+}
+
+TEST(CliStudy, BadStudyFileNamesFileLineAndKey) {
+  const std::string dir = fresh_test_dir();
+  write_text(dir + "/bad.toml",
+             "[study]\nscene = \"hub_beam_efg_tau1\"\nmetric = \"m\"\nrepat = 3\n"
+             "[[vary]]\nkey = [\"efg.scale\"]\nvalues = [\"2.0\", \"2.5\"]\nlabels = [\"a\"]\n"
+             "[reference]\nkind = \"value\"\nvalue = 1.0\n");
+  const ProcResult r = run_flexframe({"study", dir + "/bad.toml", "--check"}, dir + "/bad");
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find("bad.toml:4"), std::string::npos) << r.describe();          // repat
+  EXPECT_NE(r.err.find("study.repat"), std::string::npos) << r.describe();
+  // cross-key checks come after the schema's: fix the typo and see them
+  write_text(dir + "/bad2.toml",
+             "[study]\nscene = \"hub_beam_efg_tau1\"\nmetric = \"m\"\n"
+             "[[vary]]\nkey = [\"efg.scale\"]\nvalues = [\"2.0\", \"2.5\"]\nlabels = [\"a\"]\n"
+             "[reference]\nkind = \"value\"\nvalue = 1.0\n");
+  const ProcResult r2 = run_flexframe({"study", dir + "/bad2.toml", "--check"}, dir + "/bad2");
+  EXPECT_EQ(r2.exit_code, 2) << r2.describe();
+  EXPECT_NE(r2.err.find("vary[0].labels"), std::string::npos) << r2.describe();
+  EXPECT_NE(r2.err.find("reference.source"), std::string::npos) << r2.describe();
+}
+
+TEST(CliStudy, BadVariantKeyAndUnknownMetricAreInputErrors) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult bad_key = run_flexframe(
+      {"study", "hub_beam_efg_tau1", "--vary", "efg.scael=2,3", "--metric", "tip_transverse_at_2s_m", "--check"},
+      dir + "/key");
+  EXPECT_EQ(bad_key.exit_code, 2) << bad_key.describe();
+  EXPECT_NE(bad_key.err.find("efg.scael"), std::string::npos) << bad_key.describe();
+  EXPECT_NE(bad_key.err.find("variant efg.scael=2"), std::string::npos) << bad_key.describe();
+  const ProcResult bad_vary = run_flexframe({"study", "hub_beam_efg_tau1", "--vary", "efg.scale", "--metric", "x"},
+                                            dir + "/vary");
+  EXPECT_EQ(bad_vary.exit_code, 2) << bad_vary.describe();
+  EXPECT_NE(bad_vary.err.find("KEY=V1,V2"), std::string::npos) << bad_vary.describe();
+  const ProcResult bad_metric =
+      run_flexframe({"study", "hub_beam_efg_tau1", "--vary", "efg.scale=2.5", "--metric", "no_such_metric", "--set",
+                     "solver.t_end=0.5", "--reference", "1.0", "--out", dir + "/out"},
+                    dir + "/metric");
+  EXPECT_EQ(bad_metric.exit_code, 2) << bad_metric.describe();
+  EXPECT_NE(bad_metric.err.find("its metrics are:"), std::string::npos) << bad_metric.describe();
+  EXPECT_NE(bad_metric.err.find("tip_axial_max_m"), std::string::npos) << bad_metric.describe();
+}
+
+}  // namespace
+}  // namespace ff::cli::test
