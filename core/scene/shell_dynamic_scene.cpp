@@ -93,7 +93,7 @@ const Schema& shell_dynamic_schema() {
         .string("metric.name", "metric name", std::nullopt)
         .choice("metric.kind", "how it is read from the history", {"min", "max", "max_abs", "final"}, std::nullopt)
         .string("metric.probe", "probe (or arc_rate_<arc>, arc_strain_<arc>) it reads", std::nullopt);
-    declare_output_keys(s, {"displacement"}, true);
+    declare_output_keys(s, {"displacement", "strain"}, true);
     return s;
   }();
   return schema;

@@ -117,7 +117,7 @@ const Schema& shell_static_schema() {
         .integer("solver.max_steps", "arc length: step budget", 400, IntRange::closed(1, 100000))
         .string("solver.monitor_probe", "arc length: probe whose displacement limit ends the run", std::string{})
         .number("solver.displacement_limit", "arc length: stop when |monitor probe| reaches this", 1e300, Range::positive());
-    declare_output_keys(s, {"displacement"}, true);
+    declare_output_keys(s, {"displacement", "strain"}, true);
     return s;
   }();
   return schema;

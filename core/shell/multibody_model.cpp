@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/lie/se3.h"
+#include "core/shell/surface_strain.h"
 
 namespace ff::shell {
 
@@ -420,6 +421,23 @@ std::vector<std::pair<std::string, EffectCounter>> MultibodyModel::effect_stats(
   if (rigid_.evaluations) out.push_back({"rigid_body", rigid_});
   if (joints_.evaluations) out.push_back({"joints", joints_});
   return out;
+}
+
+std::vector<double> MultibodyModel::nodal_surface_strain() const {
+  std::vector<double> values(elements_.size());
+  std::vector<std::array<int, 4>> nodes(elements_.size());
+  for (std::size_t k = 0; k < elements_.size(); ++k) {
+    const Element& e = elements_[k];
+    ElementPoses ref, cur;
+    for (int c = 0; c < 4; ++c) {
+      const int I = e.nodes[c];
+      ref[c] = {reference_[I].R * e.corner[c], reference_[I].x};
+      cur[c] = {poses_[I].R * e.corner[c], poses_[I].x};
+    }
+    values[k] = max_surface_strain(ref, cur, spec_.shells[e.body].section.thickness);
+    nodes[k] = e.nodes;
+  }
+  return average_to_nodes(values, nodes, node_count());
 }
 
 }  // namespace ff::shell

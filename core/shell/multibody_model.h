@@ -100,6 +100,9 @@ class MultibodyModel final : public ff::DynamicProblem {
   double constraint_violation() const;
   const MultibodySpec& spec() const { return spec_; }
   double total_mass() const;
+  /// Display strain per node (cb_shell.md eq. S3, averaged over the adjacent elements); 0 at
+  /// rigid-body nodes.
+  std::vector<double> nodal_surface_strain() const;
   /// Effects that ran with their counters: "elastic", "inertia", "gravity", "joints", "rigid_body".
   std::vector<std::pair<std::string, EffectCounter>> effect_stats() const;
 

@@ -44,7 +44,7 @@ ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicS
   info_.probes.push_back({"kinetic_energy", "J", "kinetic energy"});
   info_.probes.push_back({"strain_energy", "J", "strain energy"});
   info_.probes.push_back({"total_energy", "J", "kinetic + strain + gravity potential energy"});
-  info_.fields = {{"displacement", "m", "displacement magnitude"}};
+  info_.fields = {{"displacement", "m", "displacement magnitude"}, {"strain", "", "largest principal surface strain"}};
   values_.resize(s_.probes.size() + 2 * s_.arcs.size());
 }
 
@@ -68,6 +68,7 @@ Frame ShellDynamicSimulation::make_frame(std::int64_t step, double time, const S
   f.points.reserve(3 * nn);
   f.base_points.reserve(3 * nn);
   f.fields.assign(1, std::vector<double>(nn));
+  f.fields.push_back(model_->nodal_surface_strain());
   for (int I = 0; I < nn; ++I) {
     const Vec3& x = model_->poses()[I].x;
     const Vec3& X = model_->reference_pose(I).x;

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/shell/surface_strain.h"
+
 namespace ff::shell {
 
 namespace {
@@ -108,6 +110,7 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   poses_.resize(nn);
   for (int i = 0; i < nn; ++i) poses_[i] = {m.frames[i], m.points[i]};
   saved_ = poses_;
+  reference_ = poses_;
   elements_.reserve(m.quad_count());
   for (int q = 0; q < m.quad_count(); ++q) {
     Element e;
@@ -337,6 +340,23 @@ void ShellModel::update(const Eigen::VectorXd& delta) {
     if (six_[I]) poses_[I].R = exp_so3(d[I].tail<3>()) * poses_[I].R;
     else poses_[I].R = poses_[I].R * exp_so3(Vec3(d[I][3], d[I][4], 0.0));
   }
+}
+
+std::vector<double> ShellModel::nodal_surface_strain() const {
+  std::vector<double> values(elements_.size());
+  std::vector<std::array<int, 4>> nodes(elements_.size());
+  for (std::size_t k = 0; k < elements_.size(); ++k) {
+    const Element& e = elements_[k];
+    ElementPoses ref, cur;
+    for (int c = 0; c < 4; ++c) {
+      const int I = e.nodes[c];
+      ref[c] = {reference_[I].R * e.corner[c], reference_[I].x};
+      cur[c] = {poses_[I].R * e.corner[c], poses_[I].x};
+    }
+    values[k] = max_surface_strain(ref, cur, spec_.section.thickness);
+    nodes[k] = e.nodes;
+  }
+  return average_to_nodes(values, nodes, static_cast<int>(poses_.size()));
 }
 
 }  // namespace ff::shell

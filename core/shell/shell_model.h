@@ -69,6 +69,8 @@ class ShellModel final : public ff::StaticProblem {
   int dofs_of_node(int node) const { return six_[node] ? 6 : 5; }
   /// Global displacement of a node from its reference position.
   Vec3 node_displacement(int node) const { return poses_[node].x - spec_.mesh.points[node]; }
+  /// Display strain per node (cb_shell.md eq. S3, averaged over the adjacent elements).
+  std::vector<double> nodal_surface_strain() const;
   /// Equation index of (node, slot) or -1 when restrained; slots 0-2 translations, 3-5 rotations.
   int equation(int node, int slot) const { return eq_[6 * node + slot]; }
 
@@ -83,6 +85,7 @@ class ShellModel final : public ff::StaticProblem {
   };
   ShellModelSpec spec_;
   std::vector<NodePose> poses_, saved_;
+  std::vector<NodePose> reference_;     // initial node poses (display strain)
   std::vector<std::uint8_t> six_;       // node has 6 DoFs
   std::vector<int> eq_;                 // 6 per node, -1 restrained/absent
   std::vector<Dof> free_;

@@ -17,7 +17,7 @@ ShellStaticSimulation::ShellStaticSimulation(ShellModelSpec spec, ShellStaticSet
   for (const auto& q : m.quads) info_.mesh.quads.insert(info_.mesh.quads.end(), q.begin(), q.end());
   info_.probes = {{"lambda", "", "load factor"}, {"load", s_.load_unit, s_.load_label}};
   for (const ShellProbe& p : s_.probes) info_.probes.push_back({p.name, "", p.label});
-  info_.fields = {{"displacement", "", "displacement magnitude"}};
+  info_.fields = {{"displacement", "", "displacement magnitude"}, {"strain", "", "largest principal surface strain"}};
   info_.plot_x_probe = "load";
   values_.resize(s_.probes.size());
 }
@@ -35,6 +35,7 @@ Frame ShellStaticSimulation::make_frame(int step, double lambda) const {
   const auto& ref = model_->spec().mesh.points;
   f.points.reserve(3 * poses.size());
   f.fields.assign(1, std::vector<double>(poses.size()));
+  f.fields.push_back(model_->nodal_surface_strain());
   for (std::size_t i = 0; i < poses.size(); ++i) {
     f.points.insert(f.points.end(), {poses[i].x.x(), poses[i].x.y(), poses[i].x.z()});
     f.base_points.insert(f.base_points.end(), {ref[i].x(), ref[i].y(), ref[i].z()});
