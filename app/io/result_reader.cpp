@@ -442,4 +442,43 @@ std::vector<StepStats> ResultReader::stats() const {
   return out;
 }
 
+std::vector<StepRecord> ResultReader::step_log() const {
+  const Impl& m = *impl_;
+  h5::Quiet quiet;
+  std::vector<StepRecord> out;
+  try {
+    hid_t f = m.file.get();
+    if (!h5::has_link(f, names::kSteps)) {  // an older file: the frames are the steps
+      const std::vector<StepStats> st = stats();
+      for (std::size_t i = 0; i < st.size(); ++i) {
+        const Frame fr = frame(i);
+        if (fr.step > 0) out.push_back({fr.step, fr.time, st[i]});
+      }
+      return out;
+    }
+    h5::Handle g = h5::open_group(f, names::kSteps);
+    const auto n = static_cast<std::size_t>(h5::read_attr_int64(g.get(), names::kStepsWritten));
+    const auto read = [&](const char* name, hid_t type, void* dst) {
+      h5::Handle d = h5::open_dataset(g.get(), name);
+      h5::read_rows(d.get(), type, 0, n, dst, m.what(std::string("read steps/") + name));
+    };
+    std::vector<std::int64_t> step(n);
+    std::vector<double> time(n), dt(n), res(n), inc(n);
+    std::vector<std::int32_t> it(n), ju(n);
+    std::vector<std::int8_t> cv(n);
+    read("step", H5T_NATIVE_INT64, step.data());
+    read("time", H5T_NATIVE_DOUBLE, time.data());
+    read("dt", H5T_NATIVE_DOUBLE, dt.data());
+    read("iterations", H5T_NATIVE_INT32, it.data());
+    read("jacobian_updates", H5T_NATIVE_INT32, ju.data());
+    read("residual_norm", H5T_NATIVE_DOUBLE, res.data());
+    read("increment_norm", H5T_NATIVE_DOUBLE, inc.data());
+    read("converged", m.converged_mem_type.valid() ? m.converged_mem_type.get() : H5T_NATIVE_INT8, cv.data());
+    for (std::size_t i = 0; i < n; ++i) out.push_back({step[i], time[i], StepStats{dt[i], it[i], ju[i], res[i], inc[i], cv[i] != 0}});
+  } catch (const h5::Failure& e) {
+    throw std::runtime_error(e.what());
+  }
+  return out;
+}
+
 }  // namespace ff::io

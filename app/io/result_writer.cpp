@@ -153,6 +153,29 @@ std::string locked_by_another_process(const std::string& path) {
 
 }  // namespace
 
+/// Writes the `count` staged rows of each column at row `first` (extents are absolute, so a
+/// retry after a failed flush is harmless).
+void write_rows(std::vector<Column>& columns, std::size_t first_row, std::size_t count_rows, const char* what_rows) {
+  if (count_rows == 0) return;
+  const hsize_t first = first_row, count = count_rows, total = first + count;
+  for (Column& c : columns) {
+    const std::string what = "write " + std::to_string(count) + " " + what_rows + " to '" + c.name + "'";
+    std::vector<hsize_t> dims{total}, start{first}, shape{count};
+    for (hsize_t d : c.frame_shape) {
+      dims.push_back(d);
+      start.push_back(0);
+      shape.push_back(d);
+    }
+    h5::check(H5Dset_extent(c.dset.get(), dims.data()), what);
+    if (c.row_bytes == 0) continue;
+    h5::Handle fspace(h5::check_id(H5Dget_space(c.dset.get()), what));
+    h5::check(H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start.data(), nullptr, shape.data(), nullptr), what);
+    h5::Handle mspace(
+        h5::check_id(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), what));
+    h5::check(H5Dwrite(c.dset.get(), c.mem_type, mspace.get(), fspace.get(), H5P_DEFAULT, c.staged.data()), what);
+  }
+}
+
 struct ResultWriter::Impl {
   std::string path;
   h5::Handle file;  // first member: released last
@@ -164,6 +187,11 @@ struct ResultWriter::Impl {
                        kFixed };
   std::size_t checksum_column = 0;
   std::vector<Column> columns;
+  // the per-step convergence log: its own rows, announced by /steps steps_written
+  enum : std::size_t { kLogStep, kLogTime, kLogDt, kLogIter, kLogJac, kLogRes, kLogInc, kLogConv };
+  h5::Handle steps_group;
+  std::vector<Column> step_columns;
+  std::size_t steps_written = 0, steps_staged = 0;
   std::size_t point_count = 0, probe_count = 0, field_count = 0;
 
   std::size_t frames_written = 0, frames_staged = 0;
@@ -277,6 +305,21 @@ void ResultWriter::Impl::create_frame_columns(const RunInfo& info) {
     order.push_back(q.name);
   }
   h5::write_attr_strings(fields.get(), "names", order);
+  steps_group = h5::create_group(f, names::kSteps, false);
+  h5::write_attr_int64(steps_group.get(), names::kStepsWritten, 0);
+  const std::size_t frame_columns = columns.size();
+  hid_t sg = steps_group.get();
+  add(sg, "step", H5T_STD_I64LE, H5T_NATIVE_INT64, 8, {}, "solver step", "");
+  add(sg, "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {}, "time (load factor for statics) at the end of the step", tu);
+  add(sg, "dt", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {}, "step size", tu);
+  add(sg, "iterations", H5T_STD_I32LE, H5T_NATIVE_INT32, 4, {}, "Newton iterations of the step (NOI)", "");
+  add(sg, "jacobian_updates", H5T_STD_I32LE, H5T_NATIVE_INT32, 4, {},
+      "iteration-matrix factorizations of the step (NOU)", "");
+  add(sg, "residual_norm", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {}, "final residual norm", "");
+  add(sg, "increment_norm", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, {}, "final increment norm", "");
+  add(sg, "converged", bool_type.get(), bool_type.get(), 1, {}, "step converged", "");
+  step_columns.assign(std::make_move_iterator(columns.begin() + frame_columns), std::make_move_iterator(columns.end()));
+  columns.erase(columns.begin() + frame_columns, columns.end());
   checksum_column = columns.size();
   add(fr, "checksum", H5T_STD_U64LE, H5T_NATIVE_UINT64, 8, {},
       "FNV-1a 64 of the frame's rows of all other frame data sets (see results_layout.md)", "");
@@ -298,6 +341,7 @@ void ResultWriter::Impl::write_unfinished_outcome() {
 void ResultWriter::Impl::write_progress() {
   h5::write_attr_int64(frames_group.get(), names::kFramesWritten,
                        static_cast<std::int64_t>(frames_written));
+  h5::write_attr_int64(steps_group.get(), names::kStepsWritten, static_cast<std::int64_t>(steps_written));
   hid_t o = outcome_group.get();
   h5::write_attr_double(o, "stop_time", last_written_time);
   h5::write_attr_int64(o, "steps", last_written_step);
@@ -307,30 +351,8 @@ void ResultWriter::Impl::write_progress() {
 
 void ResultWriter::Impl::flush_or_throw() {
   if (closed) throw h5::Failure("the file is already closed");
-  if (frames_staged > 0) {
-    const hsize_t first = frames_written, count = frames_staged, total = first + count;
-    for (Column& c : columns) {
-      const std::string what = "write " + std::to_string(count) + " frames to '" + c.name + "'";
-      std::vector<hsize_t> dims{total}, start{first}, shape{count};
-      for (hsize_t d : c.frame_shape) {
-        dims.push_back(d);
-        start.push_back(0);
-        shape.push_back(d);
-      }
-      // extents are absolute, so a retry after a failed flush is harmless
-      h5::check(H5Dset_extent(c.dset.get(), dims.data()), what);
-      if (c.row_bytes == 0) continue;
-      h5::Handle fspace(h5::check_id(H5Dget_space(c.dset.get()), what));
-      h5::check(H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start.data(), nullptr,
-                                    shape.data(), nullptr),
-                what);
-      h5::Handle mspace(h5::check_id(
-          H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), what));
-      h5::check(H5Dwrite(c.dset.get(), c.mem_type, mspace.get(), fspace.get(), H5P_DEFAULT,
-                         c.staged.data()),
-                what);
-    }
-  }
+  write_rows(columns, frames_written, frames_staged, "frames");
+  write_rows(step_columns, steps_written, steps_staged, "steps");
   for (const auto& [key, value] : staged_attributes) {
     h5::write_attr_string(attributes_group.get(), key, value);
   }
@@ -339,6 +361,8 @@ void ResultWriter::Impl::flush_or_throw() {
   // kill during a single combined flush could leave frames_written ahead of the data.
   h5::check(H5Fflush(file.get(), H5F_SCOPE_LOCAL), "flush frame data");
   const std::size_t total = frames_written + frames_staged;
+  const std::size_t saved_steps = steps_written;
+  steps_written += steps_staged;
   std::size_t saved_written = frames_written;
   double saved_time = last_written_time;
   std::int64_t saved_step = last_written_step;
@@ -351,13 +375,16 @@ void ResultWriter::Impl::flush_or_throw() {
     write_progress();
     h5::check(H5Fflush(file.get(), H5F_SCOPE_LOCAL), "flush frames_written");
   } catch (...) {
+    steps_written = saved_steps;
     frames_written = saved_written;
     last_written_time = saved_time;
     last_written_step = saved_step;
     throw;
   }
   for (Column& c : columns) c.staged.clear();
+  for (Column& c : step_columns) c.staged.clear();
   frames_staged = 0;
+  steps_staged = 0;
   staged_attributes.clear();
   last_flush = Clock::now();
 }
@@ -366,6 +393,8 @@ void ResultWriter::Impl::close_or_throw() {
   if (closed) return;
   closed = true;
   columns.clear();
+  step_columns.clear();
+  steps_group.reset();
   frames_group.reset();
   outcome_group.reset();
   metrics_group.reset();
@@ -467,6 +496,25 @@ bool ResultWriter::append(const Frame& frame, std::string* error) {
   }
   c[m.checksum_column].stage(&checksum);
   ++m.frames_staged;
+  // the convergence log: the frame's steps, or the frame itself when it is one solver step
+  auto log_step = [&](std::int64_t step, double time, const StepStats& st) {
+    const std::int8_t conv = st.converged ? 1 : 0;
+    auto& l = m.step_columns;
+    l[Impl::kLogStep].stage(&step);
+    l[Impl::kLogTime].stage(&time);
+    l[Impl::kLogDt].stage(&st.dt);
+    l[Impl::kLogIter].stage(&st.iterations);
+    l[Impl::kLogJac].stage(&st.jacobian_updates);
+    l[Impl::kLogRes].stage(&st.residual_norm);
+    l[Impl::kLogInc].stage(&st.increment_norm);
+    l[Impl::kLogConv].stage(&conv);
+    ++m.steps_staged;
+  };
+  if (!frame.step_log.empty()) {
+    for (const StepRecord& r : frame.step_log) log_step(r.step, r.time, r.stats);
+  } else if (frame.step > 0) {
+    log_step(frame.step, frame.time, frame.stats);
+  }
   m.last_staged_time = frame.time;
   m.last_staged_step = frame.step;
 

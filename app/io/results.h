@@ -99,6 +99,9 @@ class ResultReader {
   std::vector<double> probe_series(const std::string& name) const;
   /// The Newton statistics of every frame (the convergence table), frame_count() rows.
   std::vector<StepStats> stats() const;
+  /// The per-step convergence log (/steps, steps_written rows): one row per solver step even
+  /// where frames were published every n-th step. Files without /steps give the frames' stats.
+  std::vector<StepRecord> step_log() const;
   /// A file whose writer never finished reads as RunStatus::interrupted with reason
   /// "the writer did not finish (process stopped?); N frames were saved".
   RunOutcome outcome() const;

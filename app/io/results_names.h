@@ -23,6 +23,8 @@ inline constexpr const char* kMetrics = "/metrics";
 inline constexpr const char* kAttributes = "/attributes";
 
 inline constexpr const char* kFramesWritten = "frames_written";
+inline constexpr const char* kSteps = "/steps";  ///< the per-step convergence log
+inline constexpr const char* kStepsWritten = "steps_written";
 
 /// Reason stored (and reported by the reader) while the writer has not finished.
 inline constexpr const char* kUnfinished = "the writer did not finish (process stopped?)";

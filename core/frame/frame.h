@@ -36,6 +36,13 @@ struct StepStats {
   bool converged = true;
 };
 
+/// One solver step of the convergence log (MBDyn-style: one line per step).
+struct StepRecord {
+  std::int64_t step = 0;  ///< solver step number (1 = the first step)
+  double time = 0.0;      ///< time (or load factor) at the end of the step
+  StepStats stats;        ///< of this step alone
+};
+
 /// Reference data a plot overlays as markers: y(x) where x and y name probes of this run
 /// (e.g. x = "load", y = "disp_outward"), with where the numbers come from.
 struct ReferenceSeries {
@@ -70,6 +77,10 @@ struct Frame {
   std::vector<double> probes;     ///< values in the order of RunInfo::probes
   std::vector<std::vector<double>> fields;  ///< per-point values in the order of RunInfo::fields
   StepStats stats;
+  /// Every solver step since the previous frame, this frame's step last, for models that
+  /// publish every n-th step (stats then sums their iterations and updates). Empty when the
+  /// frame's own stats are its only step.
+  std::vector<StepRecord> step_log;
 };
 
 /// How a run ended.

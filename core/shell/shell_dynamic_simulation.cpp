@@ -110,32 +110,45 @@ RunOutcome ShellDynamicSimulation::run(const std::function<void(Frame&&)>& publi
   const double dt = s_.dt, t_end = s_.end_time;
   std::int64_t step = 0;
   int iterations = 0, updates = 0;  // since the last published frame
+  std::vector<StepRecord> log;       // every step since the last published frame
+  log.reserve(s_.output_every);
+  // a frame of the current (converged) state carrying the steps since the previous frame
+  auto publish_state = [&](std::int64_t step) {
+    const StepRecord& newest = log.back();
+    StepStats st = newest.stats;
+    st.iterations = iterations;  // NOI and NOU of all steps since the previous frame
+    st.jacobian_updates = updates;
+    iterations = updates = 0;
+    Frame f = make_frame(step, integrator_->time(), st);
+    f.step_log.swap(log);
+    log.clear();
+    log.reserve(s_.output_every);
+    const double energy = f.probes[f.probes.size() - 1];
+    max_energy_growth_ = std::max(max_energy_growth_, energy - energy0_);
+    publish(std::move(f));
+  };
+  // a run that stops early still publishes its last converged step, so nothing computed is lost
+  auto stop_early = [&](std::int64_t step, RunStatus status, std::string reason) {
+    if (!log.empty()) publish_state(step);
+    return finish(status, std::move(reason));
+  };
   while (integrator_->time() < t_end - 1e-9 * dt) {
-    if (stop.load()) return finish(RunStatus::interrupted, "interrupted at t = " + std::to_string(integrator_->time()) + " s");
+    if (stop.load())
+      return stop_early(step, RunStatus::interrupted, "interrupted at t = " + std::to_string(integrator_->time()) + " s");
     const double t0 = integrator_->time();
     const double h = std::min(dt, t_end - t0);
     const AlphaStepReport rep = integrator_->step(h);
     if (t0 < s_.count_until - 1e-9 * dt) window_noi_ += rep.iterations, window_nou_ += rep.updates;
-    if (!rep.converged) return finish(RunStatus::diverged, rep.failure);
+    if (!rep.converged) return stop_early(step, RunStatus::diverged, rep.failure);
     ++step;
     ++totals_.steps;
     iterations += rep.iterations;
     updates += rep.updates;
+    log.push_back({step, integrator_->time(),
+                   StepStats{h, rep.iterations, rep.updates, rep.residual_norm, rep.increment_norm, true}});
     record();
     const bool last = integrator_->time() >= t_end - 1e-9 * dt;
-    if (step % s_.output_every == 0 || last) {
-      StepStats st;
-      st.dt = h;
-      st.iterations = iterations;  // NOI and NOU of all steps since the previous frame
-      st.jacobian_updates = updates;
-      iterations = updates = 0;
-      st.residual_norm = rep.residual_norm;
-      st.increment_norm = rep.increment_norm;
-      Frame f = make_frame(step, integrator_->time(), st);
-      const double energy = f.probes[f.probes.size() - 1];
-      max_energy_growth_ = std::max(max_energy_growth_, energy - energy0_);
-      publish(std::move(f));
-    }
+    if (step % s_.output_every == 0 || last) publish_state(step);
   }
   return finish(RunStatus::completed, {});
 }

@@ -67,5 +67,47 @@ TEST(CliRoundTrip, SummaryAndResultsAgree) {
   EXPECT_EQ(info.effects, fx);
 }
 
+// The shell-dynamics store keeps NOI and NOU per solver step (/steps) although it publishes a
+// frame every 7th step: one row per step, summing to summary.json's totals and, between two
+// frames, to that frame's aggregated stats.
+TEST(CliRoundTrip, ShellDynamicsStoresEveryStepsIterations) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  const ProcResult r = run_flexframe({"run", "double_pendulum_shells", "--out", out, "--no-frames", "--no-plots",
+                                      "--quiet", "--set", "time.end=0.01", "--set", "time.output_every=7", "--set",
+                                      "shell[0].n1=4", "--set", "shell[0].n2=4", "--set", "shell[1].n1=4", "--set",
+                                      "shell[1].n2=4"},
+                                     dir + "/run");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  std::string err;
+  const std::optional<Json> s = read_summary(out, &err);
+  ASSERT_TRUE(s) << err;
+  const std::unique_ptr<io::ResultReader> h5 = io::ResultReader::open(out + "/results.h5", &err);
+  ASSERT_TRUE(h5) << err;
+  const std::vector<StepRecord> log = h5->step_log();
+  ASSERT_EQ(static_cast<double>(log.size()), summary_number(*s, "steps"));  // 20 steps of 5e-4
+  long long noi = 0, nou = 0;
+  for (std::size_t i = 0; i < log.size(); ++i) {
+    EXPECT_EQ(log[i].step, static_cast<std::int64_t>(i + 1));
+    EXPECT_NEAR(log[i].time, 5e-4 * static_cast<double>(i + 1), 1e-12);
+    EXPECT_GE(log[i].stats.iterations, 1);
+    EXPECT_TRUE(log[i].stats.converged);
+    noi += log[i].stats.iterations;
+    nou += log[i].stats.jacobian_updates;
+  }
+  EXPECT_EQ(static_cast<double>(noi), summary_number(*s, "newton_iterations"));
+  EXPECT_EQ(static_cast<double>(nou), summary_number(*s, "jacobian_updates"));
+  // frames at steps 0, 7, 14, 20; each frame's NOI is the sum of its steps
+  const std::vector<StepStats> stats = h5->stats();
+  ASSERT_EQ(stats.size(), 4u);
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < stats.size(); ++i) {
+    const std::int64_t last = h5->frame(i).step;
+    int sum = 0;
+    for (; k < log.size() && log[k].step <= last; ++k) sum += log[k].stats.iterations;
+    EXPECT_EQ(stats[i].iterations, sum) << "frame " << i;
+  }
+}
+
 }  // namespace
 }  // namespace ff::cli::test

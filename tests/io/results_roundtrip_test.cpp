@@ -211,5 +211,52 @@ TEST(ResultStore, RejectsFramesThatDoNotMatchRunInfo) {
   EXPECT_TRUE(test::same_frame(make_frame(info, 1), r->frame(1)));
 }
 
+// The per-step convergence log: frames that carry the steps since the previous frame give one
+// /steps row per step, in order and bitwise; a frame without a log is its own single step; the
+// initial frame (step 0) is no step.
+TEST(ResultStore, StepLogKeepsEveryStepBetweenFrames) {
+  const std::string path = out_path("step_log.h5");
+  const RunInfo info = make_info(8, 1, 1);
+  std::vector<StepRecord> want;
+  std::string error;
+  {
+    auto w = ResultWriter::create(path, info, &error);
+    ASSERT_TRUE(w) << error;
+    ASSERT_TRUE(w->append(make_frame(info, 0), &error)) << error;
+    std::int64_t step = 0;
+    for (int frame = 1; frame <= 120; ++frame) {  // more than one flush block of frames
+      Frame f = make_frame(info, frame);
+      if (frame % 7 == 0) {  // no log: the frame is a single step
+        f.step = ++step;
+        want.push_back({f.step, f.time, f.stats});
+      } else {
+        for (int k = 0; k <= frame % 4; ++k) {
+          ++step;
+          f.step_log.push_back({step, 1e-3 * static_cast<double>(step),
+                                StepStats{1e-3, 1 + static_cast<int>(step % 5), static_cast<int>(step % 2),
+                                          1e-9 * static_cast<double>(step), 1e-7 / static_cast<double>(step), true}});
+          want.push_back(f.step_log.back());
+        }
+        f.step = step;
+      }
+      ASSERT_TRUE(w->append(f, &error)) << error;
+    }
+    ASSERT_TRUE(w->finish(RunOutcome{}, {}, &error)) << error;
+  }
+  auto r = ResultReader::open(path, &error);
+  ASSERT_TRUE(r) << error;
+  const std::vector<StepRecord> got = r->step_log();
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    EXPECT_EQ(got[i].step, want[i].step) << i;
+    EXPECT_TRUE(test::bitwise_equal(got[i].time, want[i].time)) << i;
+    EXPECT_EQ(got[i].stats.iterations, want[i].stats.iterations) << i;
+    EXPECT_EQ(got[i].stats.jacobian_updates, want[i].stats.jacobian_updates) << i;
+    EXPECT_TRUE(test::bitwise_equal(got[i].stats.residual_norm, want[i].stats.residual_norm)) << i;
+    EXPECT_TRUE(test::bitwise_equal(got[i].stats.increment_norm, want[i].stats.increment_norm)) << i;
+    EXPECT_EQ(got[i].stats.converged, want[i].stats.converged) << i;
+  }
+}
+
 }  // namespace
 }  // namespace ff::io
