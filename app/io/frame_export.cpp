@@ -27,33 +27,43 @@ aiColor4D map_colour(double v, double lo, double hi) {
                    static_cast<float>(a[2] + w * (b[2] - a[2])), 1.0f);
 }
 
-// a mesh with all n points of the frame as vertices and `faces` faces of `per` indices each
-aiMesh* new_mesh(const char* name, const Frame& frame, std::size_t n, const std::vector<double>* colour_values,
-                 std::array<double, 2> range, unsigned primitive) {
+// a mesh of the given faces (point indices) whose vertices are the points they use, in point
+// order; faces are renumbered to the vertices
+aiMesh* new_mesh(const char* name, const Frame& frame, std::size_t n, const std::vector<std::vector<unsigned>>& faces,
+                 const std::vector<double>* colour_values, std::array<double, 2> range, unsigned primitive) {
+  std::vector<int> vertex_of(n, -1);
+  for (const auto& f : faces)
+    for (unsigned v : f) vertex_of[v] = 0;
+  unsigned count = 0;
+  for (int& v : vertex_of)
+    if (v == 0) v = static_cast<int>(count++);
   auto* m = new aiMesh();
   m->mName = name;
   m->mPrimitiveTypes = primitive;
   m->mMaterialIndex = 0;
-  m->mNumVertices = static_cast<unsigned>(n);
-  m->mVertices = new aiVector3D[n];
-  for (std::size_t i = 0; i < n; ++i)
-    m->mVertices[i] = aiVector3D(static_cast<ai_real>(frame.points[3 * i]), static_cast<ai_real>(frame.points[3 * i + 1]),
+  m->mNumVertices = count;
+  m->mVertices = new aiVector3D[count];
+  if (colour_values != nullptr) m->mColors[0] = new aiColor4D[count];
+  // u = the point's index: keeps coincident points (a hinge's node pairs) apart when the
+  // exporter joins identical vertices, and maps vertices back to results.h5
+  m->mTextureCoords[0] = new aiVector3D[count];
+  m->mNumUVComponents[0] = 2;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (vertex_of[i] < 0) continue;
+    const unsigned k = static_cast<unsigned>(vertex_of[i]);
+    m->mVertices[k] = aiVector3D(static_cast<ai_real>(frame.points[3 * i]), static_cast<ai_real>(frame.points[3 * i + 1]),
                                  static_cast<ai_real>(frame.points[3 * i + 2]));
-  if (colour_values != nullptr) {
-    m->mColors[0] = new aiColor4D[n];
-    for (std::size_t i = 0; i < n; ++i) m->mColors[0][i] = map_colour((*colour_values)[i], range[0], range[1]);
+    if (colour_values != nullptr) m->mColors[0][k] = map_colour((*colour_values)[i], range[0], range[1]);
+    m->mTextureCoords[0][k] = aiVector3D(static_cast<ai_real>(i), 0, 0);
   }
-  return m;
-}
-
-void set_faces(aiMesh* m, const std::vector<std::vector<unsigned>>& faces) {
   m->mNumFaces = static_cast<unsigned>(faces.size());
   m->mFaces = new aiFace[faces.size()];
   for (std::size_t f = 0; f < faces.size(); ++f) {
     m->mFaces[f].mNumIndices = static_cast<unsigned>(faces[f].size());
     m->mFaces[f].mIndices = new unsigned[faces[f].size()];
-    std::copy(faces[f].begin(), faces[f].end(), m->mFaces[f].mIndices);
+    for (std::size_t j = 0; j < faces[f].size(); ++j) m->mFaces[f].mIndices[j] = static_cast<unsigned>(vertex_of[faces[f][j]]);
   }
+  return m;
 }
 
 }  // namespace
@@ -94,14 +104,9 @@ bool write_frame_mesh(const std::string& path, MeshFileFormat format, const RunI
 
   auto scene = std::make_unique<aiScene>();  // its destructor frees everything attached below
   std::vector<aiMesh*> meshes;
-  if (!triangles.empty()) {
-    meshes.push_back(new_mesh("surfaces", frame, n, colours, range, aiPrimitiveType_TRIANGLE));
-    set_faces(meshes.back(), triangles);
-  }
-  if (!lines.empty()) {
-    meshes.push_back(new_mesh("lines", frame, n, colours, range, aiPrimitiveType_LINE));
-    set_faces(meshes.back(), lines);
-  }
+  if (!triangles.empty())
+    meshes.push_back(new_mesh("surfaces", frame, n, triangles, colours, range, aiPrimitiveType_TRIANGLE));
+  if (!lines.empty()) meshes.push_back(new_mesh("lines", frame, n, lines, colours, range, aiPrimitiveType_LINE));
   scene->mNumMeshes = static_cast<unsigned>(meshes.size());
   scene->mMeshes = new aiMesh*[meshes.size()];
   std::copy(meshes.begin(), meshes.end(), scene->mMeshes);
