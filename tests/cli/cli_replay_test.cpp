@@ -18,6 +18,8 @@
 #include "app/frame_outputs.h"
 #include "app/io/movie_writer.h"
 #include "app/io/results.h"
+#include "app/run_session.h"
+#include "app/view_options.h"
 #include "cli_support.h"
 
 namespace ff::cli::test {
@@ -83,6 +85,34 @@ std::string diverged_run(const std::string& dir) {
                                      dir + "/run");
   EXPECT_EQ(r.exit_code, 3) << r.describe();
   return out;
+}
+
+TEST(ReplayOptions, CameraSizeFormatsAndSelection) {
+  EXPECT_TRUE(app::parse_camera("auto").automatic);
+  EXPECT_EQ(app::parse_camera("auto").view_direction, (std::array<double, 3>{0, 0, 0}));
+  EXPECT_EQ(app::parse_camera("iso").view_direction, (std::array<double, 3>{1, -1, 1}));
+  const render::Camera top = app::parse_camera("top,2.5");
+  EXPECT_EQ(top.view_direction, (std::array<double, 3>{0, 0, 1}));
+  EXPECT_EQ(top.view_up, (std::array<double, 3>{0, 1, 0}));
+  EXPECT_EQ(top.zoom, 2.5);
+  const render::Camera ae = app::parse_camera("90,0,0.5");  // azimuth 90: the eye on +y
+  EXPECT_NEAR(ae.view_direction[0], 0, 1e-12);
+  EXPECT_NEAR(ae.view_direction[1], 1, 1e-12);
+  EXPECT_NEAR(ae.view_direction[2], 0, 1e-12);
+  EXPECT_EQ(ae.zoom, 0.5);
+  EXPECT_NEAR(app::parse_camera("0,90").view_direction[2], 1, 1e-12);
+  for (const char* bad : {"", "north", "10", "10,95", "iso,0", "iso,2,3", "1,2,3,4", "iso,x"})
+    EXPECT_THROW(app::parse_camera(bad), app::InputError) << bad;
+  EXPECT_EQ(app::parse_size("1280x720"), (std::pair<int, int>{1280, 720}));
+  for (const char* bad : {"1280", "x720", "63x100", "100x9000", "12.5x100", "axb"})
+    EXPECT_THROW(app::parse_size(bad), app::InputError) << bad;
+  const app::ExportFormats f = app::parse_export_formats("vtu,gltf");
+  EXPECT_TRUE(f.vtu && f.gltf && !f.obj);
+  EXPECT_THROW(app::parse_export_formats(""), app::InputError);
+  EXPECT_EQ(app::frame_selection(10, 4, true), (std::vector<std::size_t>{0, 4, 8, 9}));
+  EXPECT_EQ(app::frame_selection(10, 4, false), (std::vector<std::size_t>{0, 4, 8}));
+  EXPECT_EQ(app::frame_selection(9, 4, true), (std::vector<std::size_t>{0, 4, 8}));
+  EXPECT_TRUE(app::frame_selection(0, 1, true).empty());
 }
 
 TEST(CliReplay, DivergedRunWithAnotherFieldSizeMovieAndExports) {
