@@ -181,11 +181,13 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   // ---- plots of every probe over the stored frames
   if (opt.plots && !stop) {
     fs::create_directories(plots_dir, ec);
+    RunInfo plot_info = info;  // the plot titles say when the stored run did not complete
+    if (outcome.status != RunStatus::completed) plot_info.scene_name += std::string(" (") + to_string(outcome.status) + ")";
     PlotHistory history;
     history.time = times;
     for (const Quantity& q : info.probes) history.probes.push_back(reader->probe_series(q.name));
     std::string plot_error;
-    const auto files = write_run_plots(info, history, plots_dir.string(), &plot_error);
+    const auto files = write_run_plots(plot_info, history, plots_dir.string(), &plot_error);
     std::printf("  plots: %zu in %s\n", files.size(), plots_dir.string().c_str());
     if (!plot_error.empty()) {
       std::fprintf(stderr, "error: plots: %s\n", plot_error.c_str());

@@ -240,8 +240,10 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   // movie of the frames; mesh exports of the same frames, read back from results.h5
   const fs::path movie_path = dir / "movie.mp4";
   fs::remove(movie_path, ec);
-  if (opt.movie && result.frames_rendered > 0) {
-    const MovieReport m = write_movie(frames_dir.string(), movie_path.string(), opt.fps, stop);
+  if (opt.movie) {
+    const MovieReport m = result.frames_rendered > 0
+                              ? write_movie(frames_dir.string(), movie_path.string(), opt.fps, stop)
+                              : MovieReport{false, "", "", 0, "no frames were rendered"};
     if (m.ok) result.movie = m.path;
     else std::fprintf(stderr, "warning: no movie: %s\n", m.message.c_str());
   }
