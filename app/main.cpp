@@ -1,4 +1,4 @@
-// flexframe: command-line entry point. Verbs: run, check, scenes, compare, bench, study, policies.
+// flexframe: command-line entry point. Verbs: run, replay, check, scenes, compare, bench, study, policies.
 #include <CLI/CLI.hpp>
 
 #include <atomic>
@@ -11,8 +11,10 @@
 #include "app/bench.h"
 #include "app/compare.h"
 #include "app/policy_table.h"
+#include "app/replay.h"
 #include "app/run_session.h"
 #include "app/study.h"
+#include "app/view_options.h"
 #include "app/io/mesh_import.h"
 #include "core/scene/scene.h"
 
@@ -32,8 +34,11 @@ void print_result(const ff::app::RunResult& r) {
               static_cast<long long>(r.totals.newton_iterations), r.outcome.wall_time_s);
   if (!r.outcome.reason.empty()) std::printf("  reason: %s\n", r.outcome.reason.c_str());
   for (const auto& [k, v] : r.metrics) std::printf("  %-30s %.6g\n", k.c_str(), v);
-  std::printf("  outputs: %s/{results.h5, summary.json, frames/ (%d PNG), plots/}\n", r.out_dir.c_str(),
+  std::printf("  outputs: %s/{results.h5, summary.json, frames/ (%d PNG), plots/", r.out_dir.c_str(),
               r.frames_rendered);
+  if (!r.movie.empty()) std::printf(", movie.mp4");
+  if (r.frames_exported > 0) std::printf(", export/ (%d frames)", r.frames_exported);
+  std::printf("}\n");
 }
 }  // namespace
 
@@ -56,6 +61,31 @@ int main(int argc, char** argv) {
   run->add_flag("--no-frames", no_frames, "skip PNG frames");
   run->add_flag("--no-plots", no_plots, "skip plots");
   run->add_flag("--quiet", quiet, "no progress line");
+  run->add_option("--camera", run_opt.camera, std::string(ff::app::kCameraHelp) + " (default: the scene's view)");
+  run->add_flag("--movie", run_opt.movie, "also assemble the frames into DIR/movie.mp4");
+  run->add_option("--fps", run_opt.fps, "movie frames per second")->check(CLI::Range(1, 240));
+  run->add_option("--export", run_opt.export_formats,
+                  "write the rendered frames' deformed mesh to DIR/export: vtu (+ .pvd), gltf (.glb), obj");
+
+  // replay
+  ff::app::ReplayOptions replay_opt;
+  std::string replay_field;
+  bool replay_no_frames = false, replay_no_plots = false;
+  CLI::App* replay = app.add_subcommand(
+      "replay", "re-render frames, plots, a movie or mesh exports from a stored results.h5 (no solve)");
+  replay->add_option("results", replay_opt.results, "results.h5 or a run folder")->required();
+  replay->add_option("--out", replay_opt.out_dir, "output folder (default: <run folder>/replay)");
+  replay->add_option("--field", replay_field, "colour field stored in the file, or none (default: the run's)");
+  replay->add_option("--camera", replay_opt.camera, std::string(ff::app::kCameraHelp) + " (default: the run's view)");
+  replay->add_option("--size", replay_opt.size, "frame size WxH, e.g. 1280x720 (default: the run's)");
+  replay->add_option("--frame-every", replay_opt.frame_every, "every n-th stored frame (the last is always shown)")
+      ->check(CLI::Range(1, 1000000));
+  replay->add_flag("--movie", replay_opt.movie, "also assemble the frames into DIR/movie.mp4");
+  replay->add_option("--fps", replay_opt.fps, "movie frames per second")->check(CLI::Range(1, 240));
+  replay->add_option("--export", replay_opt.export_formats,
+                     "write the replayed frames' deformed mesh to DIR/export: vtu (+ .pvd), gltf (.glb), obj");
+  replay->add_flag("--no-frames", replay_no_frames, "skip PNG frames");
+  replay->add_flag("--no-plots", replay_no_plots, "skip plots");
 
   // check
   std::string check_scene;
@@ -136,6 +166,12 @@ int main(int argc, char** argv) {
       const ff::app::RunResult r = ff::app::run_scene(run_opt, g_stop);
       print_result(r);
       return ff::app::exit_code(r.outcome);
+    }
+    if (*replay) {
+      if (!replay_field.empty()) replay_opt.field = replay_field;
+      replay_opt.frames = !replay_no_frames;
+      replay_opt.plots = !replay_no_plots;
+      return ff::app::replay(replay_opt, g_stop);
     }
     if (*check) {
       std::printf("%s\n", ff::scene::check_scene(ff::app::resolve_scene(check_scene), check_overrides).c_str());

@@ -14,9 +14,11 @@
 #include <thread>
 
 #include "app/channel.h"
+#include "app/frame_outputs.h"
 #include "app/io/results.h"
 #include "app/json_writer.h"
 #include "app/plots.h"
+#include "app/view_options.h"
 #include "core/scene/scene.h"
 #include "render/frame_renderer.h"
 #include "render/graphics_context.h"
@@ -35,28 +37,6 @@ std::string format_duration(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%ld:%02ld", t / 60, t % 60);
   return buf;
-}
-// a fixed camera from the scene's output.view keys (the renderer fits automatically otherwise)
-render::Camera scene_camera(const FrameMesh& mesh, const scene::OutputSettings& out) {
-  const auto& p = mesh.reference_points;
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (std::size_t i = 0; i < p.size(); ++i) lo[i % 3] = std::min(lo[i % 3], p[i]), hi[i % 3] = std::max(hi[i % 3], p[i]);
-  std::array<double, 3> c{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-  if (out.view_center.size() == 3) c = {out.view_center[0], out.view_center[1], out.view_center[2]};
-  const double r = 0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                                   (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  std::array<double, 3> dir{1, -1, 1}, up{0, 0, 1};
-  if (out.view == "front") dir = {0, -1, 0};
-  if (out.view == "top") dir = {0, 0, 1}, up = {0, 1, 0};
-  const double n = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]), dist = 10.0 * std::max(r, 1e-9);
-  render::Camera cam;
-  cam.automatic = false;
-  cam.parallel = true;
-  cam.focal_point = c;
-  cam.position = {c[0] + dist * dir[0] / n, c[1] + dist * dir[1] / n, c[2] + dist * dir[2] / n};
-  cam.view_up = up;
-  cam.parallel_scale = out.view_radius > 0 ? out.view_radius : 1.1 * r;
-  return cam;
 }
 }  // namespace
 
@@ -110,6 +90,12 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   if (opt.width) out.width = *opt.width;
   if (opt.height) out.height = *opt.height;
   const bool want_frames = opt.frames && out.frames;
+  // view and output options are checked before anything is written
+  std::optional<render::Camera> camera;
+  if (!opt.camera.empty()) camera = parse_camera(opt.camera);
+  const ExportFormats formats = opt.export_formats.empty() ? ExportFormats{} : parse_export_formats(opt.export_formats);
+  if (opt.movie && !want_frames) throw InputError("--movie needs the frames (no --no-frames, output.frames = true)");
+  if (opt.fps < 1 || opt.fps > 240) throw InputError("--fps must be 1..240");
 
   RunResult result;
   result.scene_name = scene.name;
@@ -177,7 +163,10 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
         style.deformation_scale = out.deformation_scale;
         style.color_field = out.color_field == "none" ? "" : out.color_field;
         style.title = scene.name;
-        if (out.view != "auto") style.camera = scene_camera(info.mesh, out);
+        if (camera)
+          style.camera = *camera;
+        else if (out.view != "auto")
+          style.camera = scene_camera(info.mesh, out.view, out.view_center, out.view_radius);
         renderer = std::make_unique<render::FrameRenderer>(*gc, info, style);
         if (!renderer->ok()) {
           render_error = renderer->error();
@@ -248,6 +237,30 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     if (!plot_error.empty()) std::fprintf(stderr, "warning: plots: %s\n", plot_error.c_str());
   }
 
+  // movie of the frames; mesh exports of the same frames, read back from results.h5
+  const fs::path movie_path = dir / "movie.mp4";
+  fs::remove(movie_path, ec);
+  if (opt.movie) {
+    const MovieReport m = result.frames_rendered > 0
+                              ? write_movie(frames_dir.string(), movie_path.string(), opt.fps, stop)
+                              : MovieReport{false, "", "", 0, "no frames were rendered"};
+    if (m.ok) result.movie = m.path;
+    else std::fprintf(stderr, "warning: no movie: %s\n", m.message.c_str());
+  }
+  if (formats.any()) {
+    std::string e;
+    const auto reader = io::ResultReader::open(h5_path, &e);
+    if (reader) {
+      const int field = field_index(info, out.color_field);
+      const auto frames = frame_selection(reader->frame_count(), out.frame_every, false);
+      const ExportReport x = export_frames(*reader, frames, formats, (dir / "export").string(), field,
+                                           field_range(*reader, frames, field), stop);
+      result.frames_exported = x.frames;
+      e = x.error;
+    }
+    if (!e.empty()) std::fprintf(stderr, "warning: export: %s\n", e.c_str());
+  }
+
   // summary.json: what scripts and benchmarks read
   JsonObject metrics;
   for (const auto& [k, v] : result.metrics) metrics.add(k, v);
@@ -259,7 +272,8 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   }
   JsonObject outputs;
   outputs.add("results", "results.h5").add("frames_dir", "frames").add("frames", result.frames_rendered)
-      .add("plots", plot_files);
+      .add("plots", plot_files).add("movie", result.movie.empty() ? "" : "movie.mp4")
+      .add("export_frames", result.frames_exported);
   JsonObject render_info;
   render_info.add("backend", render_backend).add("gl_renderer", gl_renderer)
       .add("frames_per_second", result.render_seconds > 0 ? result.frames_rendered / result.render_seconds : 0.0);

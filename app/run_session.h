@@ -27,6 +27,10 @@ struct RunOptions {
   bool frames = true;                      ///< PNG frames (also subject to output.frames)
   bool plots = true;
   bool progress = true;
+  std::string camera;                      ///< --camera (see parse_camera); "" = the scene's view
+  bool movie = false;                      ///< DIR/movie.mp4 from the frames
+  int fps = 25;                            ///< movie frame rate
+  std::string export_formats;              ///< --export: "" = none, else e.g. "vtu,gltf" (DIR/export/)
 };
 
 struct RunResult {
@@ -36,6 +40,8 @@ struct RunResult {
   std::string out_dir;
   std::string scene_name;
   int frames_rendered = 0;
+  std::string movie;             ///< path of the movie written, "" if none
+  int frames_exported = 0;
   double render_seconds = 0.0;   ///< wall time spent rendering frames (render thread)
 };
 

@@ -24,7 +24,8 @@ std::string format_number(double v) {
 }  // namespace
 
 ViewFit fit_view(const FrameMesh& mesh, int width, int height, bool parallel,
-                 int reserved_right_px) {
+                 int reserved_right_px, std::array<double, 3> direction,
+                 std::array<double, 3> requested_up, double zoom) {
   ViewFit fit;
   Camera& cam = fit.camera;
   cam.automatic = false;
@@ -96,9 +97,28 @@ ViewFit fit_view(const FrameMesh& mesh, int width, int height, bool parallel,
     dir = {s, -s, s};
     up = {0, 0, 1};
   }
+  const double dir_len = std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] +
+                                   direction[2] * direction[2]);
+  if (dir_len > 0 && std::isfinite(dir_len)) {
+    for (int k = 0; k < 3; ++k) dir[k] = direction[k] / dir_len;
+    // up made normal to the direction; a fallback when the two are (nearly) parallel
+    auto orthogonal_up = [&](const std::array<double, 3>& u) {
+      const double d = u[0] * dir[0] + u[1] * dir[1] + u[2] * dir[2];
+      std::array<double, 3> v{u[0] - d * dir[0], u[1] - d * dir[1], u[2] - d * dir[2]};
+      const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      const double ulen = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+      if (!(len > 1e-3 * ulen) || !(ulen > 0)) return std::array<double, 3>{0, 0, 0};
+      return std::array<double, 3>{v[0] / len, v[1] / len, v[2] / len};
+    };
+    up = orthogonal_up(requested_up);
+    if (up == std::array<double, 3>{0, 0, 0})
+      up = orthogonal_up(std::fabs(dir[2]) > 0.9 ? std::array<double, 3>{0, 1, 0}
+                                                 : std::array<double, 3>{0, 0, 1});
+  }
   // the circle must fit the height and the usable width
   const double usable_aspect = static_cast<double>(usable_width) / height;
-  const double half_height = kViewMargin * radius / std::min(1.0, usable_aspect);
+  const double half_height = kViewMargin * radius / std::min(1.0, usable_aspect) /
+                             (zoom > 0 && std::isfinite(zoom) ? zoom : 1.0);
   double distance = 4.0 * radius;
   if (!parallel) {
     const double half_angle = 0.5 * kPerspectiveViewAngleDeg * std::numbers::pi / 180.0;
@@ -161,6 +181,7 @@ std::string status_line(const RunInfo& info, const Frame& frame, double deformat
   if (frame.load_factor != 0.0) s.append("\n").append(format_load_factor(frame.load_factor));
   if (deformation_scale != 1.0)
     s.append("\n").append(format_deformation_scale(deformation_scale));
+  if (frame.step > 0) s.append("\nstep ").append(std::to_string(frame.step));
   return s;
 }
 

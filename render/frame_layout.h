@@ -39,8 +39,13 @@ constexpr double kViewMargin = 1.1;
 /// the camera is shifted sideways, so the circle centre is not the image centre then.
 /// Parallel: parallel_scale = half the image height in world units. Perspective: 30° view
 /// angle at the distance that shows the same circle.
+/// A non-zero `direction` (from the framed centre towards the eye, any length) replaces the
+/// automatic direction; `up` is then the image's up direction (projected to be normal to it;
+/// when nearly parallel to it, +y is used for a view along z and +z otherwise). The centre and
+/// radius are chosen as above. zoom > 1 magnifies: the framed half height is divided by it.
 ViewFit fit_view(const FrameMesh& mesh, int width, int height, bool parallel,
-                 int reserved_right_px = 0);
+                 int reserved_right_px = 0, std::array<double, 3> direction = {0, 0, 0},
+                 std::array<double, 3> up = {0, 0, 1}, double zoom = 1.0);
 
 /// Automatic tube radius for line cells: 1.1 % of the framed half height in world units.
 double automatic_line_radius(const Camera& camera, double radius);
@@ -52,7 +57,8 @@ std::string format_load_factor(double lambda);
 /// "deformation ×5", "deformation ×0.5".
 std::string format_deformation_scale(double scale);
 /// The overlay below the title, one item per line (short lines stay in the image corner):
-/// time, then load factor if non-zero, then deformation scale if != 1.
+/// time, then load factor if non-zero, then deformation scale if != 1, then "step 120"
+/// (the solver step that produced the frame) when the step is positive.
 std::string status_line(const RunInfo& info, const Frame& frame, double deformation_scale);
 /// "label [unit]" ("label" alone when unit is empty; name when label is empty).
 std::string quantity_title(const Quantity& q);

@@ -163,8 +163,16 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
   }
 
   // camera: fitted to the reference mesh once, so motion shows between frames
-  fit = fit_view(mesh, style.width, style.height, style.camera.parallel,
-                 field >= 0 ? bar_strip_px() : 0);
+  FrameMesh fit_mesh;  // the reference mesh plus the caller's extra points
+  if (!style.fit_points.empty()) {
+    fit_mesh.reference_points = mesh.reference_points;
+    const std::size_t m = style.fit_points.size() / 3 * 3;
+    fit_mesh.reference_points.insert(fit_mesh.reference_points.end(), style.fit_points.begin(),
+                                     style.fit_points.begin() + static_cast<std::ptrdiff_t>(m));
+  }
+  fit = fit_view(style.fit_points.empty() ? mesh : fit_mesh, style.width, style.height, style.camera.parallel,
+                 field >= 0 ? bar_strip_px() : 0, style.camera.view_direction,
+                 style.camera.view_up, style.camera.zoom);
   camera = style.camera.automatic ? fit.camera : style.camera;
   if (!(camera.parallel_scale > 0)) camera.parallel_scale = fit.camera.parallel_scale;
   tube_radius = style.line_radius > 0 ? style.line_radius : automatic_line_radius(camera, fit.radius);

@@ -21,6 +21,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/frame/frame.h"
 #include "render/graphics_context.h"
@@ -35,7 +36,12 @@ struct Camera {
   std::array<double, 3> view_up{0, 1, 0};      ///< world direction that points up in the image
   double parallel_scale = 0;  ///< half the image height in world units; 0 = fit the mesh
   bool parallel = true;       ///< parallel (orthographic) projection; false = perspective 30°
-  bool automatic = true;      ///< ignore focal_point/position/view_up and fit the mesh
+  bool automatic = true;      ///< ignore focal_point/position and fit the mesh
+  /// With automatic = true: the direction from the framed centre towards the eye (any length),
+  /// with view_up as the image's up; {0, 0, 0} = the fit's own choice (plane normal or
+  /// isometric) and view_up is ignored. See fit_view().
+  std::array<double, 3> view_direction{0, 0, 0};
+  double zoom = 1.0;          ///< with automatic = true: > 1 magnifies the fitted view
 };
 
 /// How frames look. Copied into the renderer; constant for a run.
@@ -50,6 +56,9 @@ struct FrameStyle {
   /// replay) to get one fixed range for the whole sequence.
   double color_min = 0, color_max = 0;
   Camera camera;
+  /// Extra world points (3*m coordinates p_W) the automatic camera keeps in view besides the
+  /// reference mesh, e.g. positions from every frame of a stored run on replay.
+  std::vector<double> fit_points;
   std::string title;         ///< first overlay line, e.g. the scene name; "" = none
   double line_radius = 0;    ///< tube radius of line cells in world units; 0 = automatic
                              ///< (1.1 % of the framed half height: ~8 px wide at 720 px)

@@ -74,6 +74,29 @@ TEST(FitView, SolidGetsAnIsometricView) {
   EXPECT_DOUBLE_EQ(fit.camera.view_up[2], 1.0);
 }
 
+TEST(FitView, RequestedDirectionUpAndZoom) {
+  // a side view of the planar hub-beam: the eye along +x, +z up; the circle about the origin
+  const ViewFit fit = fit_view(hub_beam_mesh(), 960, 720, true, 0, {2, 0, 0}, {0, 0, 1}, 2.0);
+  const auto& p = fit.camera.position;
+  const auto& f = fit.camera.focal_point;
+  EXPECT_GT(p[0] - f[0], 0);
+  EXPECT_NEAR(p[1] - f[1], 0, 1e-12);
+  EXPECT_NEAR(p[2] - f[2], 0, 1e-12);
+  EXPECT_NEAR(fit.camera.view_up[2], 1.0, 1e-12);
+  EXPECT_NEAR(fit.center[0], 0.0, 1e-15);
+  EXPECT_NEAR(fit.camera.parallel_scale, 1.1 * 1.85 / 2.0, 1e-12) << "zoom 2 halves the framed height";
+  // up not normal to the direction is made normal; up along the direction falls back
+  const ViewFit oblique = fit_view(hub_beam_mesh(), 960, 720, true, 0, {1, 0, 1}, {0, 0, 1});
+  const auto& u = oblique.camera.view_up;
+  EXPECT_NEAR(u[0] + u[2], 0, 1e-12);
+  EXPECT_NEAR(u[0] * u[0] + u[1] * u[1] + u[2] * u[2], 1, 1e-12);
+  const ViewFit top = fit_view(hub_beam_mesh(), 960, 720, true, 0, {0, 0, 1}, {0, 0, 1});
+  EXPECT_NEAR(top.camera.view_up[1], 1.0, 1e-12);
+  // no direction: the automatic choice, as before
+  const ViewFit automatic = fit_view(hub_beam_mesh(), 960, 720, true, 0, {0, 0, 0}, {1, 0, 0});
+  EXPECT_DOUBLE_EQ(automatic.camera.view_up[1], 1.0);
+}
+
 TEST(FitView, EmptyMeshGivesAUsableCamera) {
   const ViewFit fit = fit_view(FrameMesh{}, 960, 720, false);
   EXPECT_GT(fit.camera.parallel_scale, 0);
@@ -103,6 +126,8 @@ TEST(Overlay, TextFormats) {
   EXPECT_EQ(status_line(info, f, 1.0), "t = 1.250 s");
   f.load_factor = 0.5;
   EXPECT_EQ(status_line(info, f, 5.0), "t = 1.250 s\n\u03bb = 0.500\ndeformation \u00d75");
+  f.step = 120;
+  EXPECT_EQ(status_line(info, f, 1.0), "t = 1.250 s\n\u03bb = 0.500\nstep 120");
 }
 
 TEST(ColourRange, RoundsOutwardToTheSpansDecade) {

@@ -1,0 +1,227 @@
+#include "app/replay.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <tuple>
+
+#include "app/frame_outputs.h"
+#include "app/io/results.h"
+#include "app/plots.h"
+#include "app/run_session.h"
+#include "app/view_options.h"
+#include "render/frame_layout.h"
+#include "render/frame_renderer.h"
+#include "render/graphics_context.h"
+
+namespace fs = std::filesystem;
+
+namespace ff::app {
+
+namespace {
+
+constexpr std::size_t kMaxFitFrames = 200;  // frames sampled to fit the camera to the motion
+
+// a scene key as stored in /run/settings (TOML value text), quotes removed; "" if absent
+std::string setting(const RunInfo& info, const std::string& key) {
+  for (const auto& [k, v] : info.settings) {
+    if (k != key) continue;
+    if (v.size() >= 2 && v.front() == '"' && v.back() == '"') return v.substr(1, v.size() - 2);
+    return v;
+  }
+  return "";
+}
+
+double setting_number(const RunInfo& info, const std::string& key, double fallback) {
+  const std::string s = setting(info, key);
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  return !s.empty() && end == s.c_str() + s.size() && std::isfinite(v) ? v : fallback;
+}
+
+// "[0.6, 0.9, -0.6]" -> {0.6, 0.9, -0.6}; anything unreadable -> {}
+std::vector<double> setting_numbers(const RunInfo& info, const std::string& key) {
+  std::string s = setting(info, key);
+  std::replace_if(s.begin(), s.end(), [](char c) { return c == '[' || c == ']' || c == ','; }, ' ');
+  std::istringstream in(s);
+  std::vector<double> out;
+  for (double v; in >> v;) out.push_back(v);
+  return in.eof() ? out : std::vector<double>{};
+}
+
+std::string png_name(std::size_t k) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%05zu.png", k);
+  return name;
+}
+
+}  // namespace
+
+int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
+  // ---- input, all checked before anything is written
+  const std::string path = fs::is_directory(opt.results) ? (fs::path(opt.results) / "results.h5").string() : opt.results;
+  std::string err;
+  const std::unique_ptr<io::ResultReader> reader = io::ResultReader::open(path, &err);
+  if (!reader) throw InputError(err);
+  const RunInfo& info = reader->info();
+
+  std::string field_name = opt.field ? *opt.field : setting(info, "output.color_field");
+  if (!opt.field && field_index(info, field_name) < 0)  // the run's choice, or else the first field
+    field_name = info.fields.empty() ? "none" : info.fields.front().name;
+  const int field = field_name == "none" ? -1 : field_index(info, field_name);
+  if (field_name != "none" && field < 0)
+    throw InputError("--field '" + field_name + "': " + path + " stores no such field; available: " +
+                     field_names(info) + " (or none)");
+  int width = static_cast<int>(setting_number(info, "output.width", 960));
+  int height = static_cast<int>(setting_number(info, "output.height", 720));
+  if (!opt.size.empty()) std::tie(width, height) = parse_size(opt.size);
+  const render::Camera camera = parse_camera(opt.camera);
+  const ExportFormats formats = opt.export_formats.empty() ? ExportFormats{} : parse_export_formats(opt.export_formats);
+  if (opt.frame_every < 1) throw InputError("--frame-every must be at least 1");
+  if (opt.movie && !opt.frames) throw InputError("--movie needs the frames: drop --no-frames");
+  if (opt.fps < 1 || opt.fps > 240) throw InputError("--fps must be 1..240");
+
+  // ---- what the stored run is
+  const RunOutcome outcome = reader->outcome();
+  const std::size_t count = reader->frame_count();
+  const std::vector<double> times = reader->times();
+  std::printf("replay of %s (%s): %zu stored frames", info.scene_name.c_str(), path.c_str(), count);
+  if (count > 0) std::printf(", t = %g .. %g %s", times.front(), times.back(), info.time_unit.c_str());
+  std::printf("\n  stored run: %s at t = %g %s after %lld steps\n", to_string(outcome.status), outcome.stop_time,
+              info.time_unit.c_str(), static_cast<long long>(outcome.steps));
+  if (!outcome.reason.empty()) std::printf("  reason: %s\n", outcome.reason.c_str());
+
+  const fs::path dir = opt.out_dir.empty() ? fs::absolute(path).parent_path() / "replay" : fs::path(opt.out_dir);
+  const fs::path frames_dir = dir / "frames", plots_dir = dir / "plots";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!fs::is_directory(dir)) throw std::runtime_error("cannot create output folder " + dir.string());
+  if (count == 0) {
+    std::printf("  nothing to replay: the file holds no complete frame\n");
+    return 0;
+  }
+  const std::vector<std::size_t> selection = frame_selection(count, opt.frame_every, true);
+  int status = 0;
+
+  // ---- one pass over the selection: the field's range and the points the camera must keep in view
+  std::array<double, 2> range{0, 0};
+  std::vector<double> fit_points;
+  if (opt.frames || formats.gltf || formats.obj) {
+    double lo = 0, hi = 0;
+    bool any = false;
+    const std::size_t fit_stride = std::max<std::size_t>(1, selection.size() / kMaxFitFrames);
+    for (std::size_t k = 0; k < selection.size(); ++k) {
+      if (stop) return 130;
+      const Frame f = reader->frame(selection[k]);
+      if (field >= 0) {
+        for (double v : f.fields[static_cast<std::size_t>(field)]) {
+          if (!std::isfinite(v)) continue;
+          lo = any ? std::min(lo, v) : v;
+          hi = any ? std::max(hi, v) : v;
+          any = true;
+        }
+      }
+      const bool finite = std::all_of(f.points.begin(), f.points.end(), [](double p) { return std::isfinite(p); });
+      if (finite && (k % fit_stride == 0 || k + 1 == selection.size()))
+        fit_points.insert(fit_points.end(), f.points.begin(), f.points.end());
+    }
+    if (any) range = {lo, hi};
+  }
+
+  // ---- frames
+  int rendered = 0;
+  if (opt.frames) {
+    fs::create_directories(frames_dir, ec);
+    for (const auto& e : fs::directory_iterator(frames_dir, ec))  // stale frames of an earlier replay
+      if (e.path().extension() == ".png") fs::remove(e.path(), ec);
+    render::FrameStyle style;
+    style.width = width;
+    style.height = height;
+    style.deformation_scale = setting_number(info, "output.deformation_scale", 1.0);
+    style.color_field = field >= 0 ? field_name : "";
+    if (range[1] > range[0]) {  // one range for the whole sequence
+      const auto r = render::round_range(range[0], range[1]);
+      style.color_min = r[0];
+      style.color_max = r[1];
+    }
+    style.title = info.scene_name;
+    if (outcome.status != RunStatus::completed) style.title += std::string(" (") + to_string(outcome.status) + ")";
+    const std::string view = setting(info, "output.view");
+    if (opt.camera == "auto" && (view == "iso" || view == "front" || view == "top")) {
+      style.camera = scene_camera(info.mesh, view, setting_numbers(info, "output.view_center"),
+                                  setting_number(info, "output.view_radius", 0.0));  // as the run showed it
+    } else {
+      style.camera = camera;
+      style.fit_points = std::move(fit_points);
+    }
+    std::unique_ptr<render::GraphicsContext> gc = render::GraphicsContext::create(&err);
+    std::unique_ptr<render::FrameRenderer> renderer;
+    if (gc) {
+      renderer = std::make_unique<render::FrameRenderer>(*gc, info, style);
+      if (!renderer->ok()) err = renderer->error();
+    }
+    if (gc && renderer->ok()) {
+      for (std::size_t k = 0; k < selection.size() && !stop; ++k) {
+        if (!renderer->render_png(reader->frame(selection[k]), (frames_dir / png_name(k)).string(), &err)) break;
+        ++rendered;
+      }
+      renderer.reset();
+    }
+    std::printf("  frames: %d of %zu PNG (%dx%d, colour: %s) in %s\n", rendered, selection.size(), width, height,
+                field >= 0 ? field_name.c_str() : "none", frames_dir.string().c_str());
+    if (rendered < static_cast<int>(selection.size()) && !stop) {
+      std::fprintf(stderr, "error: frames not rendered: %s\n", err.c_str());
+      status = 1;
+    }
+  }
+
+  // ---- plots of every probe over the stored frames
+  if (opt.plots && !stop) {
+    fs::create_directories(plots_dir, ec);
+    RunInfo plot_info = info;  // the plot titles say when the stored run did not complete
+    if (outcome.status != RunStatus::completed) plot_info.scene_name += std::string(" (") + to_string(outcome.status) + ")";
+    PlotHistory history;
+    history.time = times;
+    for (const Quantity& q : info.probes) history.probes.push_back(reader->probe_series(q.name));
+    std::string plot_error;
+    const auto files = write_run_plots(plot_info, history, plots_dir.string(), &plot_error);
+    std::printf("  plots: %zu in %s\n", files.size(), plots_dir.string().c_str());
+    if (!plot_error.empty()) {
+      std::fprintf(stderr, "error: plots: %s\n", plot_error.c_str());
+      status = 1;
+    }
+  }
+
+  // ---- movie of the frames
+  if (opt.movie && rendered > 0 && !stop) {
+    const MovieReport m = write_movie(frames_dir.string(), (dir / "movie.mp4").string(), opt.fps, stop);
+    if (m.ok) {
+      std::printf("  movie: %s (%s, %d frames at %d/s)\n", m.path.c_str(), m.codec.c_str(), m.frames, opt.fps);
+    } else {
+      std::fprintf(stderr, "error: no movie: %s\n", m.message.c_str());
+      status = 1;
+    }
+  }
+
+  // ---- mesh exports
+  if (formats.any() && !stop) {
+    const ExportReport x = export_frames(*reader, selection, formats, (dir / "export").string(), field, range, stop);
+    std::printf("  export: %d frames in %s", x.frames, (dir / "export").string().c_str());
+    for (const std::string& f : x.files) std::printf(" %s", fs::path(f).filename().c_str());
+    std::printf("%s\n", x.files.empty() ? "" : " ...");
+    if (!x.error.empty()) {
+      std::fprintf(stderr, "error: export: %s\n", x.error.c_str());
+      status = 1;
+    }
+  }
+  if (stop) {
+    std::printf("  replay stopped (Ctrl-C)\n");
+    return 130;
+  }
+  return status;
+}
+
+}  // namespace ff::app

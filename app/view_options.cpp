@@ -1,0 +1,121 @@
+#include "app/view_options.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+#include <sstream>
+
+#include "app/run_session.h"
+
+namespace ff::app {
+
+const char* const kCameraHelp =
+    "view: auto, iso, top, front, side, or AZIMUTH,ELEVATION in degrees; optionally ,ZOOM (e.g. iso,1.5 or -60,25,2)";
+
+namespace {
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, sep);) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    out.push_back(item);
+  }
+  return out;
+}
+
+bool parse_number(const std::string& s, double* v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  *v = std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size() && std::isfinite(*v);
+}
+
+}  // namespace
+
+render::Camera parse_camera(const std::string& spec) {
+  const std::string accepted = std::string("--camera '") + spec + "': expected " + kCameraHelp;
+  render::Camera cam;  // automatic
+  const std::vector<std::string> parts = split(spec, ',');
+  if (parts.empty() || parts.size() > 3) throw InputError(accepted);
+  std::size_t used = 1;
+  if (parts[0] == "auto") {
+  } else if (parts[0] == "iso") {
+    cam.view_direction = {1, -1, 1};
+    cam.view_up = {0, 0, 1};
+  } else if (parts[0] == "top") {
+    cam.view_direction = {0, 0, 1};
+    cam.view_up = {0, 1, 0};
+  } else if (parts[0] == "front") {
+    cam.view_direction = {0, -1, 0};
+    cam.view_up = {0, 0, 1};
+  } else if (parts[0] == "side") {
+    cam.view_direction = {1, 0, 0};
+    cam.view_up = {0, 0, 1};
+  } else {
+    double az = 0, el = 0;
+    if (parts.size() < 2 || !parse_number(parts[0], &az) || !parse_number(parts[1], &el) || std::fabs(el) > 90)
+      throw InputError(accepted + " (elevation within -90..90)");
+    const double a = az * std::numbers::pi / 180, e = el * std::numbers::pi / 180;
+    cam.view_direction = {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+    cam.view_up = {0, 0, 1};
+    used = 2;
+  }
+  if (parts.size() > used + 1) throw InputError(accepted);
+  if (parts.size() == used + 1) {
+    double zoom = 0;
+    if (!parse_number(parts[used], &zoom) || !(zoom > 0) || zoom > 1000)
+      throw InputError(accepted + " (zoom must be a number in (0, 1000])");
+    cam.zoom = zoom;
+  }
+  return cam;
+}
+
+std::pair<int, int> parse_size(const std::string& spec) {
+  const std::string msg = "--size '" + spec + "': expected WIDTHxHEIGHT in pixels, each 64..8192 (e.g. 1280x720)";
+  const std::size_t x = spec.find_first_of("xX");
+  if (x == std::string::npos) throw InputError(msg);
+  double w = 0, h = 0;
+  if (!parse_number(spec.substr(0, x), &w) || !parse_number(spec.substr(x + 1), &h)) throw InputError(msg);
+  if (w != std::floor(w) || h != std::floor(h) || w < 64 || h < 64 || w > 8192 || h > 8192) throw InputError(msg);
+  return {static_cast<int>(w), static_cast<int>(h)};
+}
+
+ExportFormats parse_export_formats(const std::string& spec) {
+  ExportFormats f;
+  for (const std::string& p : split(spec, ',')) {
+    if (p == "vtu") f.vtu = true;
+    else if (p == "gltf" || p == "glb") f.gltf = true;
+    else if (p == "obj") f.obj = true;
+    else throw InputError("--export '" + spec + "': unknown format '" + p + "'; choose from vtu, gltf, obj (comma separated)");
+  }
+  if (!f.any()) throw InputError("--export '" + spec + "': name at least one of vtu, gltf, obj");
+  return f;
+}
+
+render::Camera scene_camera(const FrameMesh& mesh, const std::string& view, const std::vector<double>& center,
+                            double radius) {
+  const auto& p = mesh.reference_points;
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (std::size_t i = 0; i < p.size(); ++i) lo[i % 3] = std::min(lo[i % 3], p[i]), hi[i % 3] = std::max(hi[i % 3], p[i]);
+  std::array<double, 3> c{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  if (center.size() == 3) c = {center[0], center[1], center[2]};
+  const double r = 0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                   (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  std::array<double, 3> dir{1, -1, 1}, up{0, 0, 1};
+  if (view == "front") dir = {0, -1, 0};
+  if (view == "top") dir = {0, 0, 1}, up = {0, 1, 0};
+  const double n = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]), dist = 10.0 * std::max(r, 1e-9);
+  render::Camera cam;
+  cam.automatic = false;
+  cam.parallel = true;
+  cam.focal_point = c;
+  cam.position = {c[0] + dist * dir[0] / n, c[1] + dist * dir[1] / n, c[2] + dist * dir[2] / n};
+  cam.view_up = up;
+  cam.parallel_scale = radius > 0 ? radius : 1.1 * r;
+  return cam;
+}
+
+}  // namespace ff::app

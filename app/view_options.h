@@ -1,0 +1,42 @@
+#pragma once
+/// \file view_options.h
+/// Command-line view options shared by `run` and `replay`: --camera, --size, --export, and the
+/// camera of a scene's [output] view keys.
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/frame/frame.h"
+#include "render/frame_renderer.h"
+
+namespace ff::app {
+
+/// Help text of --camera (one line).
+extern const char* const kCameraHelp;
+
+/// --camera: `auto` (the renderer's fit), a named view `iso`, `top`, `front`, `side`, or
+/// `AZIMUTH,ELEVATION` in degrees (eye direction from the centre: azimuth in the x-y plane from
+/// +x towards +y, elevation above it; z up), each optionally followed by `,ZOOM` (> 0; 2 = twice
+/// as large). The result is an automatic camera (fitted to the body) looking along that
+/// direction: iso = (1, -1, 1), top = (0, 0, 1) with +y up, front = (0, -1, 0), side = (1, 0, 0).
+/// Throws InputError naming the accepted forms.
+render::Camera parse_camera(const std::string& spec);
+
+/// --size WxH (e.g. 1280x720; each 64..8192). Throws InputError.
+std::pair<int, int> parse_size(const std::string& spec);
+
+/// --export: comma-separated vtu, gltf, obj.
+struct ExportFormats {
+  bool vtu = false, gltf = false, obj = false;
+  bool any() const { return vtu || gltf || obj; }
+};
+/// Throws InputError naming the accepted formats.
+ExportFormats parse_export_formats(const std::string& spec);
+
+/// The fixed camera of a scene's output.view (iso, front, top), output.view_center (empty =
+/// centre of the reference bounding box) and output.view_radius (0 = fit the mesh).
+render::Camera scene_camera(const FrameMesh& mesh, const std::string& view, const std::vector<double>& center,
+                            double radius);
+
+}  // namespace ff::app

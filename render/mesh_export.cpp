@@ -1,0 +1,158 @@
+#include "render/mesh_export.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellType.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkStringArray.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <cstdio>
+#include <fstream>
+#include <mutex>
+
+#include "render/graphics_context.h"
+#include "render/vtk_messages.h"
+
+namespace ff::render {
+namespace {
+
+vtkNew<vtkDoubleArray> one_value(const char* name, double v) {
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfTuples(1);
+  a->SetValue(0, v);
+  return a;
+}
+
+// minimal XML escaping for attribute values
+std::string xml_attr(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+bool write_vtu(const std::string& path, const RunInfo& info, const Frame& frame, std::string* error) {
+  auto fail = [&](const std::string& why) {
+    if (error) *error = "'" + path + "': " + why;
+    return false;
+  };
+  const FrameMesh& mesh = info.mesh;
+  const std::size_t n = mesh.point_count();
+  if (frame.points.size() != 3 * n)
+    return fail("frame has " + std::to_string(frame.points.size()) + " point coordinates, the mesh needs " +
+                std::to_string(3 * n));
+  const bool have_base = !frame.base_points.empty();
+  if (have_base && frame.base_points.size() != 3 * n) return fail("frame base_points do not match the mesh");
+  if (frame.fields.size() != info.fields.size()) return fail("frame fields do not match the run's field list");
+  for (const auto& f : frame.fields)
+    if (f.size() != n) return fail("a frame field does not have one value per point");
+  for (const auto* cells : {&mesh.lines, &mesh.triangles, &mesh.quads})
+    for (std::int32_t v : *cells)
+      if (v < 0 || static_cast<std::size_t>(v) >= n) return fail("a mesh cell refers to a point that does not exist");
+
+  install_vtk_message_filter();
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  vtkNew<vtkUnstructuredGrid> grid;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(n));
+  for (std::size_t i = 0; i < n; ++i) points->SetPoint(static_cast<vtkIdType>(i), &frame.points[3 * i]);
+  grid->SetPoints(points);
+
+  const std::size_t cell_count = mesh.lines.size() / 2 + mesh.triangles.size() / 3 + mesh.quads.size() / 4;
+  grid->Allocate(static_cast<vtkIdType>(cell_count));
+  auto add_cells = [&](const std::vector<std::int32_t>& c, std::size_t per, int type) {
+    vtkIdType ids[4];
+    for (std::size_t e = 0; e + per <= c.size(); e += per) {
+      for (std::size_t k = 0; k < per; ++k) ids[k] = c[e + k];
+      grid->InsertNextCell(type, static_cast<vtkIdType>(per), ids);
+    }
+  };
+  add_cells(mesh.lines, 2, VTK_LINE);
+  add_cells(mesh.triangles, 3, VTK_TRIANGLE);
+  add_cells(mesh.quads, 4, VTK_QUAD);
+
+  vtkPointData* pd = grid->GetPointData();
+  for (std::size_t k = 0; k < info.fields.size(); ++k) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(info.fields[k].name.c_str());
+    a->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    for (std::size_t i = 0; i < n; ++i) a->SetValue(static_cast<vtkIdType>(i), frame.fields[k][i]);
+    pd->AddArray(a);
+  }
+  auto add_vector = [&](const char* name, const std::vector<double>& from) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name);
+    a->SetNumberOfComponents(3);
+    a->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    for (std::size_t i = 0; i < 3 * n; ++i) a->SetValue(static_cast<vtkIdType>(i), frame.points[i] - from[i]);
+    pd->AddArray(a);
+  };
+  add_vector("displacement_xyz", mesh.reference_points);
+  if (have_base) add_vector("elastic_displacement_xyz", frame.base_points);
+  if (!info.fields.empty()) pd->SetActiveScalars(info.fields.front().name.c_str());
+
+  vtkFieldData* fd = grid->GetFieldData();
+  fd->AddArray(one_value("TimeValue", frame.time));
+  fd->AddArray(one_value("step", static_cast<double>(frame.step)));
+  fd->AddArray(one_value("load_factor", frame.load_factor));
+  vtkNew<vtkStringArray> units;
+  units->SetName("field_units");
+  for (const Quantity& q : info.fields) {
+    std::string s = q.name + ": " + (q.label.empty() ? q.name : q.label);
+    if (!q.unit.empty()) s += " [" + q.unit + "]";
+    units->InsertNextValue(s);
+  }
+  fd->AddArray(units);
+
+  MessageCapture vtk_errors;
+  vtkNew<vtkXMLUnstructuredGridWriter> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputData(grid);
+  writer->SetDataModeToAppended();
+  writer->SetCompressorTypeToZLib();
+  if (writer->Write() != 1 || writer->GetErrorCode() != 0)
+    return fail("could not write the VTU file" + (vtk_errors.empty() ? std::string() : ": " + vtk_errors.text()));
+  return true;
+}
+
+bool write_pvd(const std::string& path, const std::vector<PvdEntry>& entries, std::string* error) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) {
+    if (error) *error = "'" + path + "': cannot open for writing";
+    return false;
+  }
+  out << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+  for (const PvdEntry& e : entries) {
+    char t[40];
+    std::snprintf(t, sizeof t, "%.17g", e.time);
+    out << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << xml_attr(e.file) << "\"/>\n";
+  }
+  out << "  </Collection>\n</VTKFile>\n";
+  out.close();
+  if (!out) {
+    if (error) *error = "'" + path + "': write failed";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace ff::render
