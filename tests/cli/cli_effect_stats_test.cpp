@@ -24,7 +24,8 @@ std::set<std::string> effect_names(const Json& summary) {
     const Json* n = e.get("evaluations");
     EXPECT_TRUE(n && n->is_number() && n->number > 0) << name << ": evaluations missing or not > 0";
     const Json* t = e.get("time_s");
-    ASSERT_TRUE(t) << name << ": no time_s";
+    EXPECT_TRUE(t) << name << ": no time_s";
+    if (!t) continue;
     const Json* in = e.get("included_in");
     if (in) {
       EXPECT_TRUE(in->is_string());
