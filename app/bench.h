@@ -5,8 +5,15 @@ namespace ff::app {
 struct BenchOptions {
   int repeat = 5;
   std::string out_file;  ///< optional JSON
+  bool effects = false;  ///< --effects: only the effects table (run_effects_bench)
+  int effects_plate = 16;  ///< --plate: elements per side of the effects benchmark's plate
 };
 /// `flexframe bench`: steps/s of every bundled hub-beam scene, EFG/FEM cost ratios and headless
 /// frames/s, as a markdown table. Ratios come from one run of this command.
 int run_bench(const BenchOptions& options, const std::atomic<bool>& stop);
+/// `flexframe bench --effects`: time saved by effects left out, as ratios from one run: a static
+/// assembly (no mass matrix) against the dynamic one on the same plate, 5 against 6 DoF per node
+/// (assembly and sparse factorization), hr / ans off against on, the hub-beam's zero- against
+/// first-order coupling and without axial DoFs (app/bench_effects.cpp).
+int run_effects_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 }  // namespace ff::app

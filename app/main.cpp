@@ -112,6 +112,10 @@ int main(int argc, char** argv) {
   bench->add_option("--repeat", bench_opt.repeat, "repetitions per measurement (median is reported)")
       ->check(CLI::Range(1, 1000));
   bench->add_option("--out", bench_opt.out_file, "also write the results as JSON to this file");
+  bench->add_flag("--effects", bench_opt.effects,
+                  "only the time saved by effects left out (no mass matrix, 5 vs 6 DoF, hr/ans, coupling order)");
+  bench->add_option("--plate", bench_opt.effects_plate, "--effects: elements per side of the plate")
+      ->check(CLI::Range(2, 512));
 
   // study
   ff::app::StudyOptions study_opt;
@@ -187,7 +191,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
-    if (*bench) return ff::app::run_bench(bench_opt, g_stop);
+    if (*bench) return bench_opt.effects ? ff::app::run_effects_bench(bench_opt, g_stop) : ff::app::run_bench(bench_opt, g_stop);
     if (*policies) {
       auto split = [](const std::string& s) {
         std::vector<std::string> out;

@@ -267,7 +267,8 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   JsonObject effect_stats;  // only the effects that ran
   for (const EffectStat& e : sim.effect_stats()) {
     JsonObject one;
-    one.add("evaluations", e.evaluations).add("time_s", e.seconds);
+    one.add("evaluations", e.evaluations).add("time_s", e.seconds);  // NaN (fused, not timed apart): null
+    if (!e.included_in.empty()) one.add("included_in", e.included_in);
     effect_stats.add(e.effect, one);
   }
   JsonObject outputs;

@@ -36,6 +36,7 @@ class HubBeamSimulation final : public Simulation {
   Metrics metrics() const override;
   SolverTotals totals() const override { return totals_; }
   double end_time() const override { return s_.t_end; }
+  std::vector<EffectStat> effect_stats() const override { return sys_->effect_stats(); }
   const HubBeamSystem& system() const { return *sys_; }
 
  private:

@@ -1,5 +1,6 @@
 #include "core/hubbeam/hub_beam_system.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -21,13 +22,14 @@ std::vector<std::string> HubBeamEffects::names() const {
   return n;
 }
 
-FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis) {
+FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis, bool with_d1) {
   const int n = basis.node_count();
   const double rho_a = p.density * p.area, ea = p.youngs_modulus * p.area,
                ei = p.youngs_modulus * p.second_moment, a = p.hub_radius, len = p.length;
   FullMatrices f;
   f.m1 = f.k1 = MatrixXd::Zero(n, n);
-  f.m2 = f.k2 = f.d1 = MatrixXd::Zero(2 * n, 2 * n);
+  f.m2 = f.k2 = MatrixXd::Zero(2 * n, 2 * n);
+  if (with_d1) f.d1 = MatrixXd::Zero(2 * n, 2 * n);
   f.r = MatrixXd::Zero(n, 2 * n);
   f.u11 = RowVectorXd::Zero(n);
   f.u12 = RowVectorXd::Zero(2 * n);
@@ -42,6 +44,7 @@ FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis) {
     f.r.noalias() += (rho_a * w) * s.n1.transpose() * s.n2;
     f.u11 += (rho_a * (a + q.x) * w) * s.n1;
     f.u12 += (rho_a * (a + q.x) * w) * s.n2;
+    if (!with_d1) continue;
     // eq. (9): inner integral of (a + x) from s to L done in closed form
     const double lever = a * (len - q.x) + 0.5 * (len * len - q.x * q.x);
     f.d1.noalias() += (rho_a * lever * w) * s.dn2.transpose() * s.dn2;
@@ -97,7 +100,8 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
     : p_(params), fx_(effects), basis_(std::move(basis)), validity_ratio_(validity_deflection_ratio) {
   const int n = basis_->node_count();
   const std::vector<int> ia = free_axial(n), it = free_transverse(n);
-  const FullMatrices f = assemble_full(p_, *basis_);
+  const bool first_order = fx_.first_order_coupling;
+  const FullMatrices f = assemble_full(p_, *basis_, first_order);
   n1_ = fx_.axial ? static_cast<int>(ia.size()) : 0;
   n2_ = static_cast<int>(it.size());
   const std::vector<int> ia_used = fx_.axial ? ia : std::vector<int>{};
@@ -108,11 +112,13 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
   m_.m2 = pick(f.m2, it, it);
   m_.k2 = pick(f.k2, it, it);
   m_.u12 = pick(f.u12, it);
-  m_.d1 = fx_.first_order_coupling ? pick(f.d1, it, it) : MatrixXd::Zero(n2_, n2_);
+  // the zero-order model never evaluates D1 or S(L): NaN, so a term multiplied by zero would show
+  const double unused = std::numeric_limits<double>::quiet_NaN();
+  m_.d1 = first_order ? pick(f.d1, it, it) : MatrixXd::Constant(n2_, n2_, unused);
   const double rho_a = p_.density * p_.area, a = p_.hub_radius;
-  m2_minus_d1_ = m_.m2 - m_.d1;
+  m2_minus_d1_ = first_order ? MatrixXd(m_.m2 - m_.d1) : m_.m2;
   m_.jb = rho_a * (std::pow(a + p_.length, 3) - std::pow(a, 3)) / 3.0;  // eq. (8)
-  m_.s_tip = pick(coupling_shape_matrix(*basis_, p_.length), it, it);
+  m_.s_tip = first_order ? pick(coupling_shape_matrix(*basis_, p_.length), it, it) : MatrixXd::Constant(n2_, n2_, unused);
   ShapeRows s = basis_->make_rows();
   basis_->evaluate(p_.length, s);
   m_.n1_tip = pick(s.n1, ia_used);
@@ -120,7 +126,7 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
 
   // eq. (29): K2 phi = w^2 (M2 - D1) phi; the smallest positive w is the critical speed
   {
-    Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(m_.m2 - m_.d1, m_.k2, Eigen::EigenvaluesOnly);
+    Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(m2_minus_d1_, m_.k2, Eigen::EigenvaluesOnly);
     const double mu = es.eigenvalues().maxCoeff();
     critical_speed_ = mu > 0 ? 1.0 / std::sqrt(mu) : std::numeric_limits<double>::infinity();
   }
@@ -150,9 +156,12 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
 
 double HubBeamSystem::hub_axis_inertia(const VectorXd& x) const {
   const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
-  // eq. (6)
-  return p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1) - q2.dot(m_.d1 * q2) + q1.dot(m_.m1 * q1) +
-         q2.dot(m_.m2 * q2);
+  // eq. (6), summed in this order; the D1 term only in the first-order model
+  double m = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1);
+  if (fx_.first_order_coupling) m -= q2.dot(m_.d1 * q2);
+  m += q1.dot(m_.m1 * q1);
+  m += q2.dot(m_.m2 * q2);
+  return m;
 }
 
 double HubBeamSystem::torque(double t) const {
@@ -162,23 +171,34 @@ double HubBeamSystem::torque(double t) const {
 
 void HubBeamSystem::residual(const VectorXd& x, const VectorXd& v, const VectorXd& a, double t,
                              VectorXd& r) const {
+  const auto t0 = std::chrono::steady_clock::now();
   r.resize(size());
   const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
   const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
   const auto aq1 = a.segment(1, n1_), aq2 = a.segment(1 + n1_, n2_);
   const double w = v[0], dw = a[0];
-  const VectorXd m1q1 = m_.m1 * q1, m2q2 = m_.m2 * q2, d1q2 = m_.d1 * q2, rq2 = m_.r * q2;
+  const bool first_order = fx_.first_order_coupling;
+  const VectorXd m1q1 = m_.m1 * q1, m2q2 = m_.m2 * q2, rq2 = m_.r * q2;
+  const VectorXd d1q2 = first_order ? VectorXd(m_.d1 * q2) : VectorXd();
   const VectorXd rtq1 = m_.r.transpose() * q1;
   const double mtt = hub_axis_inertia(x);
-  // eq. (11)
-  r[0] = mtt * dw - rq2.dot(aq1) + (m_.u12.transpose() + rtq1).dot(aq2) +
-         2.0 * w * (m1q1.dot(dq1) + m2q2.dot(dq2) + m_.u11.dot(dq1) - d1q2.dot(dq2)) - torque(t);
+  // eq. (11); the zero-order model leaves the D1 terms out (not multiplied by zero)
+  double gyro = m1q1.dot(dq1) + m2q2.dot(dq2) + m_.u11.dot(dq1);
+  if (first_order) gyro -= d1q2.dot(dq2);
+  r[0] = mtt * dw - rq2.dot(aq1) + (m_.u12.transpose() + rtq1).dot(aq2) + 2.0 * w * gyro;
+  if (fx_.hub_torque) r[0] -= torque(t);
   // eq. (12)
   r.segment(1, n1_) = m_.m1 * aq1 - rq2 * dw - 2.0 * w * (m_.r * dq2) + m_.k1 * q1 - (w * w) * m1q1 -
                       (w * w) * m_.u11.transpose();
   // eq. (13)
-  r.segment(1 + n1_, n2_) = m_.m2 * aq2 + (m_.u12.transpose() + rtq1) * dw +
-                            2.0 * w * (m_.r.transpose() * dq1) + m_.k2 * q2 + (w * w) * (d1q2 - m2q2);
+  if (first_order)
+    r.segment(1 + n1_, n2_) = m_.m2 * aq2 + (m_.u12.transpose() + rtq1) * dw +
+                              2.0 * w * (m_.r.transpose() * dq1) + m_.k2 * q2 + (w * w) * (d1q2 - m2q2);
+  else
+    r.segment(1 + n1_, n2_) = m_.m2 * aq2 + (m_.u12.transpose() + rtq1) * dw +
+                              2.0 * w * (m_.r.transpose() * dq1) + m_.k2 * q2 - (w * w) * m2q2;
+  ++residual_calls_;
+  eval_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void HubBeamSystem::jacobians(const VectorXd& x, const VectorXd& v, const VectorXd& a, MatrixXd& A,
@@ -191,9 +211,9 @@ void HubBeamSystem::jacobians(const VectorXd& x, const VectorXd& v, const Vector
   const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
   const auto aq1 = a.segment(1, n1_), aq2 = a.segment(1 + n1_, n2_);
   const double w = v[0], dw = a[0];
-  const VectorXd m1q1 = m_.m1 * q1, m2q2 = m_.m2 * q2, d1q2 = m_.d1 * q2, rq2 = m_.r * q2;
+  const VectorXd m1q1 = m_.m1 * q1, m2q2 = m_.m2 * q2, rq2 = m_.r * q2;
   const VectorXd rtq1 = m_.r.transpose() * q1;
-  const MatrixXd& m2d1 = m2_minus_d1_;
+  const MatrixXd& m2d1 = m2_minus_d1_;  // M2 alone in the zero-order model
   // eq. (15)
   A(0, 0) = hub_axis_inertia(x);
   A.block(0, o1, 1, n1_) = -rq2.transpose();
@@ -203,7 +223,12 @@ void HubBeamSystem::jacobians(const VectorXd& x, const VectorXd& v, const Vector
   A.block(o2, 0, n2_, 1) = m_.u12.transpose() + rtq1;
   A.block(o2, o2, n2_, n2_) = m_.m2;
   // eq. (16)
-  C(0, 0) = 2.0 * (m1q1.dot(dq1) + m2q2.dot(dq2) + m_.u11.dot(dq1) - d1q2.dot(dq2));
+  double gyro = m1q1.dot(dq1) + m2q2.dot(dq2) + m_.u11.dot(dq1);
+  if (fx_.first_order_coupling) {
+    const VectorXd d1q2 = m_.d1 * q2;
+    gyro -= d1q2.dot(dq2);
+  }
+  C(0, 0) = 2.0 * gyro;
   C.block(0, o1, 1, n1_) = 2.0 * w * (m1q1.transpose() + m_.u11);
   C.block(0, o2, 1, n2_) = 2.0 * w * (m2d1 * q2).transpose();
   C.block(o1, 0, n1_, 1) = -2.0 * (m_.r * dq2) - 2.0 * w * (m1q1 + m_.u11.transpose());
@@ -223,10 +248,26 @@ void HubBeamSystem::jacobians(const VectorXd& x, const VectorXd& v, const Vector
 
 void HubBeamSystem::iteration_matrix(const VectorXd& x, const VectorXd& v, const VectorXd& a,
                                      double /*t*/, double ca, double cv, double cx, MatrixXd& j) const {
+  const auto t0 = std::chrono::steady_clock::now();
   jacobians(x, v, a, work_a_, work_c_, work_k_);
   j.noalias() = ca * work_a_;  // eq. (26)
   j.noalias() += cv * work_c_;
   j.noalias() += cx * work_k_;
+  ++matrix_calls_;
+  eval_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<EffectStat> HubBeamSystem::effect_stats() const {
+  std::vector<EffectStat> out;
+  const long long calls = residual_calls_ + matrix_calls_;
+  if (calls == 0) return out;
+  const double fused = std::numeric_limits<double>::quiet_NaN();
+  out.push_back({"inertia", calls, eval_seconds_, {}});
+  out.push_back({"bending", calls, fused, "inertia"});
+  if (n1_ > 0) out.push_back({"axial", calls, fused, "inertia"});
+  if (fx_.first_order_coupling) out.push_back({"first_order_coupling", calls, fused, "inertia"});
+  if (fx_.hub_torque && residual_calls_) out.push_back({"hub_torque", residual_calls_, fused, "inertia"});
+  return out;
 }
 
 std::string HubBeamSystem::check_state(const VectorXd& x, const VectorXd& v) const {

@@ -12,6 +12,7 @@
 
 #include "core/frame/frame.h"
 #include "core/hubbeam/beam_basis.h"
+#include "core/model/simulation.h"
 #include "core/solve/second_order_system.h"
 
 namespace ff::hubbeam {
@@ -36,7 +37,8 @@ struct HubBeamEffects {
   std::vector<std::string> names() const;
 };
 
-/// Constant matrices of eqs. (7)-(9), restricted to the free DoFs.
+/// Constant matrices of eqs. (7)-(9), restricted to the free DoFs. D1 and S(L) are built only with
+/// first-order coupling; the zero-order model never evaluates them and holds NaN there.
 struct HubBeamMatrices {
   Eigen::MatrixXd m1, k1, m2, k2, r, d1;   ///< R is (n1 x n2)
   Eigen::RowVectorXd u11, u12;
@@ -45,12 +47,13 @@ struct HubBeamMatrices {
   Eigen::RowVectorXd n1_tip, n2_tip;       ///< N1(L), N2(L) on free DoFs
 };
 
-/// Assembles eqs. (7)-(9) on the full DoFs by the basis' quadrature (D1 by the swapped form (9)).
+/// Assembles eqs. (7)-(9) on the full DoFs by the basis' quadrature (D1 by the swapped form (9);
+/// without `with_d1`, the zero-order model, D1 is not built and stays empty).
 struct FullMatrices {
   Eigen::MatrixXd m1, k1, m2, k2, r, d1;
   Eigen::RowVectorXd u11, u12;
 };
-FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis);
+FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis, bool with_d1 = true);
 /// S(x) of eq. (4) by Gauss quadrature over [0, x] with `cells` sub-intervals (full DoFs).
 Eigen::MatrixXd coupling_shape_matrix(const BeamBasis& basis, double x, int cells = 16, int gauss = 6);
 
@@ -94,6 +97,13 @@ class HubBeamSystem final : public SecondOrderSystem {
   /// M_theta_theta of eq. (6): hub + beam inertia about the axis in the deformed state.
   double hub_axis_inertia(const Eigen::VectorXd& x) const;
 
+  /// Effects evaluated so far by residual() and iteration_matrix(), only those that ran. The
+  /// equations (11)-(13) are one dense evaluation of every enabled term, timed per call (two clock
+  /// reads) and reported on "inertia"; "bending", "axial", "first_order_coupling" (the D1 terms)
+  /// and "hub_torque" (residuals only: tau(t) has no Jacobian) count the calls that evaluated them
+  /// and say `included_in` "inertia".
+  std::vector<EffectStat> effect_stats() const;
+
   const HubBeamMatrices& matrices() const { return m_; }
   const HubBeamParams& params() const { return p_; }
   const HubBeamEffects& effects() const { return fx_; }
@@ -111,6 +121,8 @@ class HubBeamSystem final : public SecondOrderSystem {
   HubBeamMatrices m_;
   Eigen::MatrixXd m2_minus_d1_;               ///< M2 - D1, constant
   mutable Eigen::MatrixXd work_a_, work_c_, work_k_;  ///< iteration-matrix workspace (sized once)
+  mutable long long residual_calls_ = 0, matrix_calls_ = 0;  ///< effect counters (single thread)
+  mutable double eval_seconds_ = 0.0;
   // drawing samples along the beam
   std::vector<double> draw_x_;
   Eigen::MatrixXd draw_n1_, draw_n2_;         ///< rows N1(x_k), N2(x_k) on free DoFs

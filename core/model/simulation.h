@@ -24,10 +24,16 @@ inline std::optional<double> find_metric(const Metrics& m, const std::string& na
 }
 
 /// What one effect (elastic, inertia, gravity, joints ...) cost: evaluations and seconds spent.
+/// An effect that runs fused inside another effect's kernel (hr, ans, drilling inside the elastic
+/// shell element; the terms of the hub-beam's dense equations of motion) has no time of its own:
+/// `included_in` names the effect whose seconds contain it and `seconds` is NaN (JSON null).
+/// Timing the fused parts apart would need clocks inside the element loop; `flexframe bench`
+/// measures what switching them off saves instead.
 struct EffectStat {
   std::string effect;
-  long long evaluations = 0;
+  long long evaluations = 0;  ///< element (or model) evaluations in which the effect's terms ran
   double seconds = 0.0;
+  std::string included_in;    ///< empty: `seconds` is this effect's own measured time
 };
 
 struct SolverTotals {

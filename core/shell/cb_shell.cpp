@@ -1,6 +1,7 @@
 #include "core/shell/cb_shell.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace ff::shell {
@@ -19,6 +20,9 @@ constexpr double kEtaNode[4] = {-1.0, -1.0, 1.0, 1.0};
 // covariant components kept (eq. 6): xx, ee, xe, ez, xz; E_zz has no weight in eq. (6)
 constexpr int kPair[5][2] = {{0, 0}, {1, 1}, {0, 1}, {1, 2}, {0, 2}};
 constexpr int kEtaZeta = 3, kXiZeta = 4;
+// reference data of a disabled effect are not built; NaN instead, so that any evaluation of a
+// disabled term (even one multiplied by zero) would show as a non-finite force (test_cb_shell)
+constexpr double kUnused = std::numeric_limits<double>::quiet_NaN();
 
 Mat3 skew(const Vec3& a) {
   Mat3 m;
@@ -246,9 +250,12 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
     }
     p.Qm = Q.topLeftCorner<3, 3>();
     p.Qs = Q.bottomRows<2>();
-    const Eigen::Matrix<double, 3, 10> Ph = p_hat(p_coef_, pc);
-    const Eigen::Matrix<double, 3, 5> P = Ph.leftCols<5>();
-    H.noalias() += p.weight * Ph.transpose() * Cm_inv * Ph;  // eq. (10)
+    Eigen::Matrix<double, 3, 5> P;
+    if (opt.hr) {
+      const Eigen::Matrix<double, 3, 10> Ph = p_hat(p_coef_, pc);
+      P = Ph.leftCols<5>();
+      H.noalias() += p.weight * Ph.transpose() * Cm_inv * Ph;  // eq. (10)
+    }
 
     // B rows of eps (eq. 4 through 6) on master increments: row r at slave A is
     // sum_ij dN_A,i S_r(i, j) g_j; summed over the two slaves of master I and rotated to its
@@ -283,17 +290,24 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
     }
     // eq. (8): tying points A, B, C, D feed ez (A, C) and xz (B, D) of the shear rows
     const double w[4] = {0.5 * (1 - pc.xi), 0.5 * (1 - pc.eta), 0.5 * (1 + pc.xi), 0.5 * (1 + pc.eta)};
-    for (int t = 0; t < 4; ++t) {
+    if (!opt.ans) pt.ans.setConstant(kUnused);
+    for (int t = 0; t < 4 && opt.ans; ++t) {
       const int comp = (t == 0 || t == 2) ? kEtaZeta : kXiZeta;
       for (int r = 0; r < 2; ++r) pt.ans(t, r) = shear_scale * p.Qs(r, comp) * w[t];
     }
   }
-  h_inv_ = H.inverse();
-  td->h_inv_factor = h_inv_.llt().matrixL();
+  if (opt.hr) {
+    h_inv_ = H.inverse();
+    td->h_inv_factor = h_inv_.llt().matrixL();
+  } else {
+    h_inv_.setConstant(kUnused);
+    td->h_inv_factor.setConstant(kUnused);
+  }
   tan_ = std::move(td);
 
   // reference values of the tied components, eq. (8)
-  for (int l = 0; l < 2; ++l)
+  for (auto& layer : tie_ref_) layer.fill(kUnused);
+  for (int l = 0; l < 2 && opt.ans; ++l)
     for (int t = 0; t < 4; ++t) {
       const TyingConst& tc = tab.tying[l][t];
       const Mat3 G = X0 * tc.phi;
@@ -301,7 +315,12 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
     }
 
   // drilling points, eq. (12)
-  for (int k = 0; k < 4; ++k) {
+  for (DrillPoint& d : drill_) {
+    d.weight = d.inv2A = kUnused;
+    d.g1_local.fill(Vec3::Constant(kUnused));
+    d.g2_local.fill(Vec3::Constant(kUnused));
+  }
+  for (int k = 0; k < 4 && opt.drilling; ++k) {
     const DrillConst& dc = tab.drill[k];
     DrillPoint& d = drill_[k];
     Vec3 Gx = Vec3::Zero(), Ge = Vec3::Zero();

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/mesh/shell_mesh.h"
+#include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
 #include "core/shell/cb_shell_inertia.h"
 #include "core/solve/dynamic_problem.h"
@@ -103,8 +104,10 @@ class MultibodyModel final : public ff::DynamicProblem {
   /// Display strain per node (cb_shell.md eq. S3, averaged over the adjacent elements); 0 at
   /// rigid-body nodes.
   std::vector<double> nodal_surface_strain() const;
-  /// Effects that ran with their counters: "elastic", "inertia", "gravity", "joints", "rigid_body".
-  std::vector<std::pair<std::string, EffectCounter>> effect_stats() const;
+  /// Effects that ran with their counters: "elastic", "inertia", "gravity" (element evaluations),
+  /// "hr", "ans", "drilling" (element evaluations with the term on, timed inside "elastic" as in
+  /// ShellModel), "rigid_body", "joints" (assemblies).
+  std::vector<EffectStat> effect_stats() const;
 
  private:
   struct Element;
@@ -127,6 +130,8 @@ class MultibodyModel final : public ff::DynamicProblem {
   };
   std::vector<ElementResult> results_;
   EffectCounter elastic_, inertia_, gravity_, joints_, rigid_;
+  long long assemblies_ = 0;
+  long long hr_elements_ = 0, ans_elements_ = 0, drilling_elements_ = 0;  // elements with the term on
 };
 
 }  // namespace ff::shell

@@ -153,11 +153,7 @@ RunOutcome ShellDynamicSimulation::run(const std::function<void(Frame&&)>& publi
   return finish(RunStatus::completed, {});
 }
 
-std::vector<EffectStat> ShellDynamicSimulation::effect_stats() const {
-  std::vector<EffectStat> out;
-  for (const auto& [name, c] : model_->effect_stats()) out.push_back({name, c.evaluations, c.seconds});
-  return out;
-}
+std::vector<EffectStat> ShellDynamicSimulation::effect_stats() const { return model_->effect_stats(); }
 
 Metrics ShellDynamicSimulation::metrics() const {
   Metrics m;

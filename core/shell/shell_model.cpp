@@ -1,7 +1,9 @@
 #include "core/shell/shell_model.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -12,6 +14,9 @@ namespace ff::shell {
 namespace {
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Clock = std::chrono::steady_clock;
+
+double seconds_between(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
 Mat3 skew(const Vec3& a) {
   Mat3 m;
@@ -136,6 +141,8 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
     if (pl.quad < 0 || pl.quad >= m.quad_count())
       throw std::invalid_argument("pressure on quad " + std::to_string(pl.quad) + ", but the mesh has " +
                                   std::to_string(m.quad_count()) + " quads");
+    ++(pl.follower ? follower_pressures_ : dead_pressures_);
+    if (pl.follower) continue;  // evaluated in the current configuration instead
     std::array<Vec3, 4> x;
     for (int c = 0; c < 4; ++c) x[c] = m.points[m.quads[pl.quad][c]];
     pressure_forces(x, pl.pressure, dead_pressure_[k], nullptr);
@@ -187,6 +194,8 @@ void ShellModel::build_pattern() {
 }
 
 void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix<double>* K, Eigen::VectorXd* load) {
+  // effect timing: one clock pair per effect and assembly, none inside the element loop
+  const Clock::time_point t_elastic = Clock::now();
   const int n = size(), nn = static_cast<int>(poses_.size());
   r.setZero(n);
   if (load) load->setZero(n);
@@ -263,6 +272,10 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
         for (int j = 0; j < 2; ++j) add(I, i, I, 3 + j, tu(i, j));
     }
   }
+  elastic_.evaluations += ne;
+  ++assemblies_;
+  const Clock::time_point t_loads = Clock::now();
+  elastic_.seconds += seconds_between(t_elastic, t_loads);
   // external loads: r -= lambda f_ext
   for (const NodalLoad& l : spec_.loads) {
     const int I = l.node;
@@ -298,9 +311,14 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
         for (int j = 0; j < 2; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
     }
   }
+  if (!spec_.loads.empty()) {
+    point_loads_.evaluations += static_cast<long long>(spec_.loads.size());
+    point_loads_.seconds += seconds_between(t_loads, Clock::now());
+  }
   // pressure: nodal forces on translations only (global components, global increments), so the
-  // follower load stiffness -lambda df/dx needs no rotating-basis term (shell_model.md eq. P3)
-  for (std::size_t k = 0; k < spec_.pressures.size(); ++k) {
+  // follower load stiffness -lambda df/dx needs no rotating-basis term (shell_model.md eq. P3).
+  // Dead pressures first, then follower ones (each timed as its own effect).
+  auto apply_pressure = [&](std::size_t k) {
     const PressureLoad& pl = spec_.pressures[k];
     const std::array<int, 4>& q = elements_[pl.quad].nodes;
     std::array<Vec3, 4> f;
@@ -319,7 +337,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
         r[a] -= lambda * f[c][s];
         if (load) (*load)[a] += f[c][s];
       }
-    if (!K || !pl.follower) continue;
+    if (!K || !pl.follower) return;
     const std::array<int, 576>& idx = scatter_[pl.quad];
     for (int c = 0; c < 4; ++c)
       for (int d = 0; d < 4; ++d)
@@ -328,7 +346,34 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
             const int v = idx[(6 * c + i) * 24 + 6 * d + j];
             if (v >= 0) values[v] -= lambda * dfdx[4 * c + d](i, j);
           }
+  };
+  for (const bool follower : {false, true}) {
+    const long long count = follower ? follower_pressures_ : dead_pressures_;
+    if (count == 0) continue;
+    const Clock::time_point t_pressure = Clock::now();
+    for (std::size_t k = 0; k < spec_.pressures.size(); ++k)
+      if (spec_.pressures[k].follower == follower) apply_pressure(k);
+    Counter& counter = follower ? follower_pressure_stat_ : dead_pressure_stat_;
+    counter.evaluations += count;
+    counter.seconds += seconds_between(t_pressure, Clock::now());
   }
+}
+
+std::vector<EffectStat> ShellModel::effect_stats() const {
+  std::vector<EffectStat> out;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const long long element_evaluations = assemblies_ * static_cast<long long>(elements_.size());
+  if (elastic_.evaluations) out.push_back({"elastic", elastic_.evaluations, elastic_.seconds, {}});
+  // formulation terms of the element, fused in its kernel (cb_shell.cpp): counted, timed in elastic
+  if (spec_.options.hr && element_evaluations) out.push_back({"hr", element_evaluations, nan, "elastic"});
+  if (spec_.options.ans && element_evaluations) out.push_back({"ans", element_evaluations, nan, "elastic"});
+  if (spec_.options.drilling && element_evaluations) out.push_back({"drilling", element_evaluations, nan, "elastic"});
+  if (point_loads_.evaluations) out.push_back({"point_loads", point_loads_.evaluations, point_loads_.seconds, {}});
+  if (dead_pressure_stat_.evaluations)
+    out.push_back({"pressure_dead", dead_pressure_stat_.evaluations, dead_pressure_stat_.seconds, {}});
+  if (follower_pressure_stat_.evaluations)
+    out.push_back({"pressure_follower", follower_pressure_stat_.evaluations, follower_pressure_stat_.seconds, {}});
+  return out;
 }
 
 void ShellModel::update(const Eigen::VectorXd& delta) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/mesh/shell_mesh.h"
+#include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
 #include "core/solve/static_problem.h"
 
@@ -73,6 +74,12 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<double> nodal_surface_strain() const;
   /// Equation index of (node, slot) or -1 when restrained; slots 0-2 translations, 3-5 rotations.
   int equation(int node, int slot) const { return eq_[6 * node + slot]; }
+  /// What evaluate() ran so far, only effects that ran: "elastic" (element evaluations; seconds of
+  /// the element loop, scatter and rotating-basis terms, timed once per assembly), "hr", "ans",
+  /// "drilling" (element evaluations in which the term was on; timed inside "elastic"),
+  /// "point_loads" (nodal loads applied), "pressure_dead", "pressure_follower" (loaded quads).
+  /// There is no inertia: a static model has no mass matrix.
+  std::vector<EffectStat> effect_stats() const;
 
  private:
   struct Dof {
@@ -98,6 +105,13 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<std::array<Vec3, 4>> dead_pressure_;  // per spec_.pressures: fixed nodal forces (reference)
   std::vector<Vec24> el_force_;   // per-element results of the parallel element loop
   std::vector<Mat24> el_tangent_;
+  struct Counter {
+    long long evaluations = 0;
+    double seconds = 0.0;
+  };
+  Counter elastic_, point_loads_, dead_pressure_stat_, follower_pressure_stat_;
+  long long dead_pressures_ = 0, follower_pressures_ = 0;  // loaded quads of each kind
+  long long assemblies_ = 0;  // hr / ans / drilling ran in every element of every assembly
   void build_pattern();
   int value_index(int row, int col) const;
 };

@@ -52,6 +52,7 @@ class ShellStaticSimulation final : public Simulation {
   Metrics metrics() const override;
   SolverTotals totals() const override { return totals_; }
   double end_time() const override;  ///< lambda at the end
+  std::vector<EffectStat> effect_stats() const override { return model_->effect_stats(); }
   const ShellModel& model() const { return *model_; }
 
  private:

@@ -107,6 +107,17 @@ TEST_P(CliBundledScene, RunsShortened) {
                                : std::vector<const char*>{"inertia", "bending"};
   for (const char* needed : needed_effects)
     EXPECT_NE(std::find(fx.begin(), fx.end(), needed), fx.end()) << "effects lack " << needed;
+  // effect_stats: every listed effect ran; anything else that ran is a load or a rigid body
+  const Json* stats = s->get("effect_stats");
+  ASSERT_TRUE(stats && stats->kind == Json::Kind::object);
+  for (const std::string& e : fx) EXPECT_TRUE(stats->get(e)) << "effect '" << e << "' is listed but did not run";
+  for (const auto& [e, stat] : stats->object) {
+    const bool listed = std::find(fx.begin(), fx.end(), e) != fx.end();
+    const bool implied = e == "point_loads" || e == "pressure_dead" || e == "pressure_follower" || e == "rigid_body";
+    EXPECT_TRUE(listed || implied) << "'" << e << "' ran but the scene does not ask for it";
+    const Json* n = stat.get("evaluations");
+    EXPECT_TRUE(n && n->is_number() && n->number > 0) << e;
+  }
   ASSERT_TRUE(s->get("metrics"));
   EXPECT_FALSE(s->get("metrics")->object.empty());
 
