@@ -347,6 +347,7 @@ class GuiApp {
       message_is_error_ = u.status.message_is_error;
       if (message_is_error_) std::fprintf(stderr, "%s\n", message_.c_str());
     }
+    if (u.status.probe_node >= 0 && u.status.probe_node != status_.probe_node) probe_input_ = u.status.probe_node;
     status_ = std::move(u.status);
     for (Sample& s : u.samples) {
       rate_.push_back({Clock::now(), s.step});
@@ -608,7 +609,7 @@ class GuiApp {
     }
     series.push_back({"Newton iterations per step", collect([](const Sample& s) { return s.stats.iterations; })});
 
-    const int columns = std::max(1, static_cast<int>(width / 330.0f));
+    const int columns = std::max(1, static_cast<int>(width / 290.0f));
     if (ImGui::BeginTable("plots", columns, ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingStretchSame)) {
       const float plot_h = (kPlotHeight - 24.0f) / 2.0f - ImGui::GetTextLineHeightWithSpacing() - 6.0f;
       for (const Series& s : series) {
@@ -630,9 +631,10 @@ class GuiApp {
     const long long step = history_.empty() ? 0 : history_.back().step;
     std::string line = std::string(to_string(status_.state)) + " | t = " + fmt("%.4g", t) + " / " +
                        fmt("%.4g", status_.end_time) + " " + unit + " | step " + std::to_string(step) + " | " +
-                       fmt("%.0f", steps_per_second()) + " steps/s | Newton " + std::to_string(last_stats_.iterations) +
-                       " it, " + std::to_string(last_stats_.jacobian_updates) + " matrix upd., |R| " +
-                       fmt("%.2e", last_stats_.residual_norm);
+                       fmt("%.0f", steps_per_second()) + " steps/s | last frame: " +
+                       std::to_string(last_stats_.iterations) + " Newton it., " +
+                       std::to_string(last_stats_.jacobian_updates) + " matrix updates, |R| " +
+                       fmt("%.2e", last_stats_.residual_norm) + (last_stats_.converged ? "" : " (not converged)");
     if (status_.outcome && status_.outcome->status != RunStatus::completed)
       line += " | " + std::string(ff::to_string(status_.outcome->status)) + ": " + status_.outcome->reason;
     ImGui::TextUnformatted(line.c_str());

@@ -159,9 +159,11 @@ std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
       continue;
     }
     const std::string title = group.empty() ? "(top level)" : group;
-    const ImGuiTreeNodeFlags flags = f.empty() ? 0 : ImGuiTreeNodeFlags_DefaultOpen;
+    // the time-stepping tables start open: the keys people try first
+    const bool stepping = group == "solver" || group == "time" || group == "integrator";
     ImGui::PushID(title.c_str());
-    const bool open = f.empty() ? ImGui::TreeNodeEx(title.c_str(), flags) : (ImGui::SetNextItemOpen(true), ImGui::TreeNodeEx(title.c_str(), flags));
+    if (!f.empty()) ImGui::SetNextItemOpen(true);  // a filter shows every match
+    const bool open = ImGui::TreeNodeEx(title.c_str(), stepping ? ImGuiTreeNodeFlags_DefaultOpen : 0);
     if (open) {
       if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_SizingStretchProp)) {
         ImGui::TableSetupColumn("key", ImGuiTableColumnFlags_WidthStretch, 0.42f);
