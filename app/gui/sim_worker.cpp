@@ -78,6 +78,7 @@ void SimWorker::start_generation() {
   status_.state = running_ ? WorkerState::running : WorkerState::paused;
   frame_.reset();
   samples_.clear();
+  steps_left_ = 0;
   first_frame_ = true;
   finished_ = false;
 }
@@ -111,7 +112,7 @@ void SimWorker::main() {
       while (!quit_ && !pending_) {
         status_.settled_seq = handled_seq_;
         cv_.wait(lock, [&] { return !queue_.empty(); });
-        while (!queue_.empty() && !quit_) {
+        while (!queue_.empty() && !quit_ && !pending_) {
           const Command c = queue_.front();
           queue_.pop_front();
           handle(c, lock);
@@ -155,7 +156,8 @@ void SimWorker::on_frame(Frame&& f) {
 
 void SimWorker::serve(std::unique_lock<std::mutex>& lock) {
   while (true) {
-    while (!queue_.empty() && !quit_) {
+    // commands after a rebuild wait for the new run (a step queued behind a set steps the new model)
+    while (!queue_.empty() && !quit_ && !pending_) {
       const Command c = queue_.front();
       queue_.pop_front();
       handle(c, lock);

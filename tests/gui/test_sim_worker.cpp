@@ -89,6 +89,17 @@ TEST(GuiSimWorker, StepsSetsAndRuns) {
   EXPECT_EQ(watch.frame->step, 0);
 }
 
+TEST(GuiSimWorker, StepQueuedBehindASetStepsTheNewModel) {
+  SimWorker w(scene::load_scene(kScene), {});
+  Watcher watch{w, {}, {}, {}};
+  w.set("solver.dt", "0.02");
+  ASSERT_TRUE(watch.settled(w.step(2)));
+  ASSERT_TRUE(watch.frame.has_value());
+  EXPECT_EQ(watch.frame->step, 2);
+  EXPECT_NEAR(watch.frame->time, 0.04, 1e-12);
+  EXPECT_EQ(watch.status.state, WorkerState::paused);
+}
+
 TEST(GuiSimWorker, PausesWhileRunningAndQuitsPromptly) {
   SimWorker w(scene::load_scene(kScene), {"solver.t_end=1000"});
   Watcher watch{w, {}, {}, {}};
