@@ -1,4 +1,4 @@
-// flexframe: command-line entry point. Verbs: run, replay, check, scenes, compare, bench, study, policies.
+// flexframe: command-line entry point. Verbs: run, replay, check, scenes, compare, bench, study, policies, gui.
 #include <CLI/CLI.hpp>
 
 #include <atomic>
@@ -10,6 +10,7 @@
 
 #include "app/bench.h"
 #include "app/compare.h"
+#include "app/gui/gui_app.h"
 #include "app/policy_table.h"
 #include "app/replay.h"
 #include "app/run_session.h"
@@ -151,6 +152,21 @@ int main(int argc, char** argv) {
   policies->add_option("--set", pol_opt.overrides, "override a scene key in every run")->take_all();
   policies->add_option("--out", pol_opt.out_dir, "output folder (policies.csv, policies.md, policies.png)");
 
+  // gui
+  ff::app::gui::GuiOptions gui_opt;
+  std::string gui_scene;
+  CLI::App* gui = app.add_subcommand("gui", "interactive window: edit a scene, run/pause/step it, watch it and its probes");
+  gui->add_option("scene", gui_scene, "scene file or bundled scene name (default: " + ff::app::default_scene() + ")");
+  gui->add_option("--set", gui_opt.overrides, "override a scene key, e.g. --set solver.dt=0.01")->take_all();
+  gui->add_option("--actions", gui_opt.actions_file,
+                  "run a script of GUI actions, one per line: run, pause, step [N], reset, set KEY VALUE, "
+                  "wait SECONDS, screenshot FILE, probe NODE, save FILE, export FILE, quit");
+  gui->add_option("--screenshot", gui_opt.screenshot, "write the window as PNG just before quitting");
+  gui->add_option("--quit-after", gui_opt.quit_after, "quit after this many seconds")->check(CLI::NonNegativeNumber);
+  gui->add_flag("--run", gui_opt.run, "start the solver at once (default: paused at t = 0)");
+  gui->add_option("--width", gui_opt.width, "window width in pixels")->check(CLI::Range(640, 8192));
+  gui->add_option("--height", gui_opt.height, "window height in pixels")->check(CLI::Range(480, 8192));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -189,6 +205,10 @@ int main(int argc, char** argv) {
         for (const std::string& s : ff::app::bundled_scenes()) std::printf("  %s\n", s.c_str());
       }
       return 0;
+    }
+    if (*gui) {
+      gui_opt.scene_path = ff::app::resolve_scene(gui_scene.empty() ? ff::app::default_scene() : gui_scene);
+      return ff::app::gui::run_gui(gui_opt, g_stop);
     }
     if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
     if (*bench) return bench_opt.effects ? ff::app::run_effects_bench(bench_opt, g_stop) : ff::app::run_bench(bench_opt, g_stop);

@@ -2,6 +2,7 @@
 
 #include <vtkActor.h>
 #include <vtkCamera.h>
+#include <vtkCellPicker.h>
 #include <vtkCellArray.h>
 #include <vtkColorTransferFunction.h>
 #include <vtkDoubleArray.h>
@@ -101,6 +102,7 @@ struct FrameRenderer::Impl {
   void build_overlay(const RunInfo& info);
   bool update(const Frame& frame, std::string* why);
   void update_range(const std::vector<double>& values);
+  void apply_camera(const Camera& c);
   void set_bar_labels();
   // layout of the overlay, in pixels
   double margin_px() const { return std::round(0.018 * style.height); }
@@ -297,19 +299,24 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
     }
   }
 
-  vtkCamera* cam = renderer->GetActiveCamera();
-  cam->SetFocalPoint(camera.focal_point.data());
-  cam->SetPosition(camera.position.data());
-  cam->SetViewUp(camera.view_up.data());
-  cam->SetParallelProjection(camera.parallel);
-  cam->SetParallelScale(camera.parallel_scale);
-  cam->SetViewAngle(30.0);
+  apply_camera(camera);
 
   renderer->SetBackground(style.background[0], style.background[1], style.background[2]);
   renderer->SetUseFXAA(style.antialias);
   build_overlay(info);
   surface->window()->AddRenderer(renderer);
   return true;
+}
+
+void FrameRenderer::Impl::apply_camera(const Camera& c) {
+  vtkCamera* cam = renderer->GetActiveCamera();
+  cam->SetFocalPoint(c.focal_point.data());
+  cam->SetPosition(c.position.data());
+  cam->SetViewUp(c.view_up.data());
+  cam->SetParallelProjection(c.parallel);
+  cam->SetParallelScale(c.parallel_scale);
+  cam->SetViewAngle(30.0);
+  renderer->ResetCameraClippingRange();
 }
 
 void FrameRenderer::Impl::build_overlay(const RunInfo& info) {
@@ -478,6 +485,122 @@ bool FrameRenderer::render_png(const Frame& frame, const std::string& png_path,
   if (error) *error = why;
   return false;
 }
+
+bool FrameRenderer::render_rgb(const Frame& frame, std::vector<unsigned char>* rgb, std::string* error) {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  std::string why;
+  if (!impl_->error.empty()) {
+    why = impl_->error;
+  } else if (impl_->update(frame, &why) && impl_->surface->render_to_rgb(rgb, &why)) {
+    return true;
+  }
+  if (error) *error = why;
+  return false;
+}
+
+void FrameRenderer::orbit(double azimuth_deg, double elevation_deg) {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  vtkCamera* cam = impl_->renderer->GetActiveCamera();
+  cam->Azimuth(azimuth_deg);
+  cam->Elevation(elevation_deg);
+  cam->OrthogonalizeViewUp();
+  impl_->renderer->ResetCameraClippingRange();
+}
+
+void FrameRenderer::zoom(double factor) {
+  if (!(factor > 0)) return;
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  vtkCamera* cam = impl_->renderer->GetActiveCamera();
+  if (cam->GetParallelProjection())
+    cam->SetParallelScale(cam->GetParallelScale() / factor);
+  else
+    cam->Dolly(factor);
+  impl_->renderer->ResetCameraClippingRange();
+}
+
+void FrameRenderer::pan(double dx_px, double dy_px) {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  vtkCamera* cam = impl_->renderer->GetActiveCamera();
+  double f[3], p[3], up[3], dir[3];
+  cam->GetFocalPoint(f);
+  cam->GetPosition(p);
+  cam->GetViewUp(up);
+  cam->GetDirectionOfProjection(dir);
+  // world length of one pixel at the focal point
+  const double half_h = cam->GetParallelProjection()
+                            ? cam->GetParallelScale()
+                            : cam->GetDistance() * std::tan(0.5 * cam->GetViewAngle() * M_PI / 180.0);
+  const double w = 2.0 * half_h / impl_->style.height;
+  const double right[3] = {dir[1] * up[2] - dir[2] * up[1], dir[2] * up[0] - dir[0] * up[2],
+                           dir[0] * up[1] - dir[1] * up[0]};
+  double shift[3];
+  for (int k = 0; k < 3; ++k) shift[k] = w * (-dx_px * right[k] + dy_px * up[k]);
+  cam->SetFocalPoint(f[0] + shift[0], f[1] + shift[1], f[2] + shift[2]);
+  cam->SetPosition(p[0] + shift[0], p[1] + shift[1], p[2] + shift[2]);
+  impl_->renderer->ResetCameraClippingRange();
+}
+
+void FrameRenderer::reset_camera() {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  impl_->apply_camera(impl_->camera);
+}
+
+Camera FrameRenderer::current_camera() const {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  vtkCamera* cam = impl_->renderer->GetActiveCamera();
+  Camera c;
+  c.automatic = false;
+  cam->GetFocalPoint(c.focal_point.data());
+  cam->GetPosition(c.position.data());
+  cam->GetViewUp(c.view_up.data());
+  c.parallel = cam->GetParallelProjection() != 0;
+  c.parallel_scale = cam->GetParallelScale();
+  return c;
+}
+
+int FrameRenderer::pick_point(double x_px, double y_px, double max_px) {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  Impl& m = *impl_;
+  if (!m.error.empty() || m.n == 0) return -1;
+  const double yd = m.style.height - 1 - y_px;  // VTK's display y grows upwards
+  auto nearest = [&](auto&& dist2) {
+    int best = -1;
+    double best_d = 0;
+    for (std::size_t i = 0; i < m.n; ++i) {
+      double p[3];
+      m.points->GetPoint(static_cast<vtkIdType>(i), p);
+      const double d = dist2(p);
+      if (best < 0 || d < best_d) best = static_cast<int>(i), best_d = d;
+    }
+    return std::make_pair(best, best_d);
+  };
+  // the body under the cursor: the mesh point closest to the hit
+  vtkNew<vtkCellPicker> picker;
+  picker->SetTolerance(0.002);
+  picker->PickFromListOn();
+  if (m.have_lines) picker->AddPickList(m.line_actor);
+  if (m.have_surfaces) picker->AddPickList(m.surface_actor);
+  if (picker->Pick(x_px, yd, 0.0, m.renderer)) {
+    double hit[3];
+    picker->GetPickPosition(hit);
+    return nearest([&](const double* p) {
+             return (p[0] - hit[0]) * (p[0] - hit[0]) + (p[1] - hit[1]) * (p[1] - hit[1]) +
+                    (p[2] - hit[2]) * (p[2] - hit[2]);
+           }).first;
+  }
+  // nothing hit: the point drawn nearest on screen, if close enough
+  const auto [best, d2] = nearest([&](const double* p) {
+    m.renderer->SetWorldPoint(p[0], p[1], p[2], 1.0);
+    m.renderer->WorldToDisplay();
+    double d[3];
+    m.renderer->GetDisplayPoint(d);
+    return (d[0] - x_px) * (d[0] - x_px) + (d[1] - yd) * (d[1] - yd);
+  });
+  return d2 <= max_px * max_px ? best : -1;
+}
+
+int FrameRenderer::width() const { return impl_->style.width; }
+int FrameRenderer::height() const { return impl_->style.height; }
 
 std::array<double, 2> FrameRenderer::color_range() const {
   return impl_->field >= 0 ? impl_->range : std::array<double, 2>{0, 0};

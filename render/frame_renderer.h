@@ -88,6 +88,31 @@ class FrameRenderer {
   /// The same frame always gives the same bytes.
   bool render_png(const Frame& frame, const std::string& png_path, std::string* error);
 
+  // ---- interactive use (the GUI's viewport) ----------------------------------------------------
+
+  /// Renders one frame into memory: 3 bytes (RGB) per pixel, rows from the bottom up (OpenGL
+  /// order), style.width x style.height. Fails like render_png.
+  bool render_rgb(const Frame& frame, std::vector<unsigned char>* rgb, std::string* error);
+  /// Turns the camera about its focal point: azimuth about the view-up axis, elevation about the
+  /// screen's horizontal axis (degrees).
+  void orbit(double azimuth_deg, double elevation_deg);
+  /// Zooms by `factor` (> 1 brings the body closer).
+  void zoom(double factor);
+  /// Moves the view by a drag of (dx, dy) pixels (x right, y down), the body following the mouse.
+  void pan(double dx_px, double dy_px);
+  /// Back to the camera of the style (or the fitted view).
+  void reset_camera();
+  /// The camera as it is now (after orbit/zoom/pan); pass it in FrameStyle::camera to keep the
+  /// view when a renderer is rebuilt (a new window size, a new mesh).
+  Camera current_camera() const;
+  /// Index of the mesh point drawn nearest to pixel (x, y) of the last rendered frame (origin
+  /// top left): the point closest to where the body is hit, or, where no body is hit, the point
+  /// projected nearest within max_px; -1 when none.
+  int pick_point(double x_px, double y_px, double max_px = 24.0);
+  /// Image size in pixels.
+  int width() const;
+  int height() const;
+
   /// Current colour range of the field (after automatic choice); {0, 0} without a field.
   std::array<double, 2> color_range() const;
   /// The camera actually used (after automatic fitting).

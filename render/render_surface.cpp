@@ -6,6 +6,7 @@
 #include <vtkOpenGLRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkRendererCollection.h>
+#include <vtkUnsignedCharArray.h>
 
 #include "render/vtk_messages.h"
 
@@ -118,6 +119,26 @@ bool RenderSurface::render_to_png(const std::string& path, std::string* error) {
     return fail(why);
   }
   if (!vtk_errors.empty()) return fail("VTK reported: " + vtk_errors.text());
+  return true;
+}
+
+bool RenderSurface::render_to_rgb(std::vector<unsigned char>* rgb, std::string* error) {
+  if (!ok_) {
+    if (error) *error = error_;
+    return false;
+  }
+  MessageCapture vtk_errors;
+  window_->Render();
+  const int* size = window_->GetSize();
+  const int w = size[0], h = size[1];
+  vtkNew<vtkUnsignedCharArray> pixels;
+  // the back buffer: where VTK's off-screen framebuffer is read from (as the PNG path does)
+  window_->GetPixelData(0, 0, w - 1, h - 1, 0, pixels, 0);
+  if (pixels->GetNumberOfValues() != static_cast<vtkIdType>(3) * w * h) {
+    if (error) *error = "could not read the rendered image back" + (vtk_errors.empty() ? "" : ": " + vtk_errors.text());
+    return false;
+  }
+  rgb->assign(pixels->GetPointer(0), pixels->GetPointer(0) + 3 * static_cast<std::size_t>(w) * h);
   return true;
 }
 

@@ -10,6 +10,7 @@
 #include <vtkWindowToImageFilter.h>
 
 #include <string>
+#include <vector>
 
 #include "render/egl_headless.h"
 #include "render/graphics_context.h"
@@ -53,6 +54,9 @@ class RenderSurface {
   /// Renders the window and writes its colour buffer (RGB) as PNG. Errors raised by VTK
   /// during the call (e.g. an unwritable path) make it fail with their text in *error.
   bool render_to_png(const std::string& path, std::string* error);
+  /// Renders the window and reads its colour buffer into *rgb: 3 bytes per pixel, rows from the
+  /// bottom up (OpenGL order), width x height of the window.
+  bool render_to_rgb(std::vector<unsigned char>* rgb, std::string* error);
 
  private:
   GraphicsContext::Impl& gc_;

@@ -160,6 +160,13 @@ std::string peek_model(const std::string& path) {
 }
 }  // namespace
 
+const Schema& scene_schema(const std::string& path) {
+  const std::string model = peek_model(path);
+  if (model == "shell_static") return shell_static_schema();
+  if (model == "shell_dynamic") return shell_dynamic_schema();
+  return hub_beam_schema();
+}
+
 std::string scene_reference_markdown() {
   return "## model = \"hub_beam\"\n\n" + hub_beam_schema().markdown_reference() + "\n## model = \"shell_static\"\n\n" +
          shell_static_schema().markdown_reference() + "\n## model = \"shell_dynamic\"\n\n" +

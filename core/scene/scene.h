@@ -34,6 +34,11 @@ struct LoadedScene {
 
 /// The schema of hub-beam scenes (model = "hub_beam").
 const Schema& hub_beam_schema();
+/// The schema a scene file is validated against, picked by its `scene.model` (the hub-beam
+/// schema when the file cannot be read or parsed; validating with it then reports why).
+/// Editors (the GUI's parameter list) read the keys, kinds, ranges and docs from it.
+const Schema& scene_schema(const std::string& path);
+
 /// Markdown reference of every scene key of every model (README's scene reference).
 std::string scene_reference_markdown();
 

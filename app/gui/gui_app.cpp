@@ -1,0 +1,769 @@
+#include "app/gui/gui_app.h"
+
+#define GL_SILENCE_DEPRECATION
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+#include <imgui_stdlib.h>
+#include <stb_image_write.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+
+#include "app/gui/actions.h"
+#include "app/gui/param_editor.h"
+#include "app/gui/sim_worker.h"
+#include "app/run_session.h"
+#include "core/scene/scene.h"
+#include "core/scene/scene_edit.h"
+#include "render/frame_renderer.h"
+#include "render/graphics_context.h"
+
+namespace ff::app::gui {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kHeadlessHint =
+    "Without a display use the headless verbs: `flexframe run SCENE` (frames, plots, results.h5, "
+    "summary.json) and `flexframe replay RUN` (frames again from a results.h5); or give the GUI a "
+    "virtual display: `xvfb-run -a flexframe gui SCENE --actions FILE`.";
+
+// layout (pixels at scale 1)
+constexpr float kSideWidth = 390.0f;
+constexpr float kPlotHeight = 250.0f;
+constexpr float kStatusHeight = 30.0f;
+constexpr double kViewportMinInterval = 1.0 / 20.0;  // viewport renders at most 20 times per second
+constexpr std::size_t kMaxPlotPoints = 800;
+
+std::string g_glfw_error;
+void on_glfw_error(int, const char* text) { g_glfw_error = text ? text : "unknown GLFW error"; }
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+/// Writes the current framebuffer (RGB) as PNG, top row first.
+bool write_window_png(const std::string& path, int w, int h, std::string* error) {
+  std::vector<unsigned char> rgb(3 * static_cast<std::size_t>(w) * h), flipped(rgb.size());
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_BACK);
+  glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+  const std::size_t row = 3 * static_cast<std::size_t>(w);
+  for (int y = 0; y < h; ++y) std::copy_n(&rgb[(h - 1 - y) * row], row, &flipped[y * row]);
+  if (!path.empty()) {
+    std::error_code ec;
+    const fs::path parent = fs::path(path).parent_path();
+    if (!parent.empty()) fs::create_directories(parent, ec);
+  }
+  if (stbi_write_png(path.c_str(), w, h, 3, flipped.data(), static_cast<int>(row)) == 0) {
+    *error = "could not write " + path;
+    return false;
+  }
+  return true;
+}
+
+/// The VTK view of the latest frame, drawn off screen by render/ and shown as a texture.
+class Viewport {
+ public:
+  explicit Viewport(GLFWwindow* window) : window_(window) {}
+  ~Viewport() {
+    renderer_.reset();
+    gc_.reset();
+    glfwMakeContextCurrent(window_);
+    if (texture_) glDeleteTextures(1, &texture_);
+  }
+
+  /// A new run (new mesh): the renderer is rebuilt at the next draw.
+  void set_run(std::shared_ptr<const RunInfo> info, const scene::OutputSettings& out, const std::string& title) {
+    const bool same_mesh = info_ && info->mesh.reference_points == info_->mesh.reference_points;
+    if (!same_mesh) camera_.reset();
+    else if (renderer_) camera_ = renderer_->current_camera();
+    info_ = std::move(info);
+    output_ = out;
+    title_ = title;
+    release();
+  }
+  void set_frame(const Frame& f) {
+    frame_ = f;
+    dirty_ = true;
+  }
+  const std::optional<Frame>& frame() const { return frame_; }
+
+  /// Re-renders if the frame or view changed (at most 20 per second unless forced).
+  void update(int w, int h, bool force) {
+    if (!info_ || !frame_ || w < 32 || h < 32) return;
+    if (renderer_ && (renderer_->width() != w || renderer_->height() != h)) {
+      camera_ = renderer_->current_camera();
+      release();
+    }
+    if (!renderer_ && error_.empty()) build(w, h);
+    if (!renderer_ || !dirty_) return;
+    if (!force && seconds_since(last_render_) < kViewportMinInterval) return;
+    std::string err;
+    if (renderer_->render_rgb(*frame_, &rgb_, &err)) {
+      upload(renderer_->width(), renderer_->height());
+      error_.clear();
+    } else {
+      error_ = err;
+    }
+    glfwMakeContextCurrent(window_);
+    dirty_ = false;
+    last_render_ = Clock::now();
+  }
+
+  /// Draws the image into the current ImGui window and handles the mouse (orbit, pan, zoom,
+  /// click to pick). Returns the node picked this frame, or -1.
+  int draw(float w, float h) {
+    int picked = -1;
+    if (!texture_) {
+      ImGui::SetCursorPos(ImVec2(20, 20));
+      ImGui::TextWrapped("%s", error_.empty() ? "waiting for the first frame ..." : ("viewport: " + error_).c_str());
+      return picked;
+    }
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture_)), ImVec2(w, h), ImVec2(0, 1),
+                 ImVec2(1, 0));
+    if (!renderer_) return picked;
+    const ImGuiIO& io = ImGui::GetIO();
+    if (ImGui::IsItemHovered()) {
+      if (io.MouseWheel != 0.0f) {
+        renderer_->zoom(std::pow(1.15, io.MouseWheel));
+        dirty_ = true;
+      }
+      if (ImGui::IsMouseReleased(ImGuiMouseButton_Left) && !dragged_) {
+        picked = renderer_->pick_point(io.MousePos.x - origin.x, io.MousePos.y - origin.y);
+        glfwMakeContextCurrent(window_);
+      }
+      if (ImGui::IsMouseClicked(ImGuiMouseButton_Left) || ImGui::IsMouseClicked(ImGuiMouseButton_Right) ||
+          ImGui::IsMouseClicked(ImGuiMouseButton_Middle))
+        dragged_ = false, dragging_ = true;
+    }
+    if (dragging_) {
+      const ImVec2 d = io.MouseDelta;
+      if (d.x != 0.0f || d.y != 0.0f) {
+        if (ImGui::IsMouseDragging(ImGuiMouseButton_Left, 3.0f)) {
+          renderer_->orbit(-0.4 * d.x, 0.4 * d.y);
+          dragged_ = dirty_ = true;
+        } else if (ImGui::IsMouseDragging(ImGuiMouseButton_Right, 1.0f) ||
+                   ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 1.0f)) {
+          renderer_->pan(d.x, d.y);
+          dragged_ = dirty_ = true;
+        }
+      }
+      if (!ImGui::IsMouseDown(ImGuiMouseButton_Left) && !ImGui::IsMouseDown(ImGuiMouseButton_Right) &&
+          !ImGui::IsMouseDown(ImGuiMouseButton_Middle))
+        dragging_ = false;
+    }
+    return picked;
+  }
+
+  void reset_camera() {
+    if (renderer_) renderer_->reset_camera(), dirty_ = true;
+    camera_.reset();
+  }
+
+  /// The latest frame as a PNG at the viewport's size and view.
+  bool export_png(const std::string& path, std::string* error) {
+    if (!renderer_ || !frame_) {
+      *error = "nothing to export yet";
+      return false;
+    }
+    std::error_code ec;
+    const fs::path parent = fs::path(path).parent_path();
+    if (!parent.empty()) fs::create_directories(parent, ec);
+    const bool ok = renderer_->render_png(*frame_, path, error);
+    glfwMakeContextCurrent(window_);
+    return ok;
+  }
+
+  std::string backend() const { return gc_ ? gc_->backend() + ", " + gc_->gl_renderer() : ""; }
+
+ private:
+  void release() {
+    renderer_.reset();
+    glfwMakeContextCurrent(window_);
+    error_.clear();
+    dirty_ = true;
+  }
+  void build(int w, int h) {
+    if (!gc_) {
+      gc_ = render::GraphicsContext::create(&error_);
+      glfwMakeContextCurrent(window_);
+      if (!gc_) return;
+    }
+    render::FrameStyle style;
+    style.width = w;
+    style.height = h;
+    style.deformation_scale = output_.deformation_scale;
+    style.color_field = output_.color_field == "none" ? "" : output_.color_field;
+    style.title = title_;
+    style.background = {0.97, 0.97, 0.98};
+    if (camera_) style.camera = *camera_;
+    renderer_ = std::make_unique<render::FrameRenderer>(*gc_, *info_, style);
+    if (!renderer_->ok()) {
+      error_ = renderer_->error();
+      renderer_.reset();
+    }
+    glfwMakeContextCurrent(window_);
+    dirty_ = true;
+  }
+  void upload(int w, int h) {
+    glfwMakeContextCurrent(window_);
+    if (!texture_) {
+      glGenTextures(1, &texture_);
+      glBindTexture(GL_TEXTURE_2D, texture_);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, w, h, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb_.data());
+  }
+
+  GLFWwindow* window_;
+  std::unique_ptr<render::GraphicsContext> gc_;
+  std::unique_ptr<render::FrameRenderer> renderer_;
+  std::shared_ptr<const RunInfo> info_;
+  scene::OutputSettings output_;
+  std::string title_;
+  std::optional<render::Camera> camera_;
+  std::optional<Frame> frame_;
+  std::vector<unsigned char> rgb_;
+  GLuint texture_ = 0;
+  bool dirty_ = true, dragging_ = false, dragged_ = false;
+  Clock::time_point last_render_{};
+  std::string error_;
+};
+
+/// Everything the window shows and does.
+class GuiApp {
+ public:
+  GuiApp(GLFWwindow* window, const GuiOptions& opt, std::unique_ptr<SimWorker> worker,
+         std::vector<Action> actions, const std::atomic<bool>& stop)
+      : window_(window), opt_(opt), worker_(std::move(worker)), viewport_(window), actions_(std::move(actions)),
+        stop_(stop) {
+    bundled_ = bundled_scenes();
+    start_ = Clock::now();
+  }
+
+  int loop() {
+    if (opt_.run) worker_->run();
+    while (!glfwWindowShouldClose(window_) && !quit_) {
+      // idle frames wait for input; while the solver runs the window refreshes ~30 times a second
+      glfwWaitEventsTimeout(1.0 / 30.0);
+      pull();
+      run_actions();
+      if (opt_.quit_after > 0 && seconds_since(start_) >= opt_.quit_after && !quit_) {
+        quit_ = true;
+        if (current_action_ || next_action_ < actions_.size()) {
+          const Action& next = current_action_ ? *current_action_ : actions_[next_action_];
+          std::fprintf(stderr, "error: --quit-after %g s reached before the actions finished (at %s)\n",
+                       opt_.quit_after, next.where().c_str());
+          exit_code_ = 1;
+        }
+      }
+      if (stop_) quit_ = true;
+      const bool want_capture = quit_ && !opt_.screenshot.empty();
+      int fb_w = 0, fb_h = 0;
+      glfwGetFramebufferSize(window_, &fb_w, &fb_h);
+      const ImVec2 vp = viewport_size(static_cast<float>(fb_w), static_cast<float>(fb_h));
+      viewport_.update(static_cast<int>(vp.x), static_cast<int>(vp.y),
+                       !pending_screenshot_.empty() || !pending_export_.empty() || want_capture);
+      if (!pending_export_.empty()) {
+        std::string err;
+        if (viewport_.export_png(pending_export_, &err))
+          notice("exported " + pending_export_);
+        else
+          action_failed("export " + pending_export_ + ": " + err);
+        pending_export_.clear();
+      }
+
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      draw(static_cast<float>(fb_w), static_cast<float>(fb_h), vp);
+      ImGui::Render();
+      glViewport(0, 0, fb_w, fb_h);
+      glClearColor(0.94f, 0.94f, 0.95f, 1.0f);
+      glClear(GL_COLOR_BUFFER_BIT);
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      if (!pending_screenshot_.empty()) {
+        std::string err;
+        if (write_window_png(pending_screenshot_, fb_w, fb_h, &err))
+          std::printf("screenshot %s (%dx%d)\n", pending_screenshot_.c_str(), fb_w, fb_h);
+        else
+          action_failed("screenshot: " + err);
+        pending_screenshot_.clear();
+      }
+      if (want_capture) {
+        std::string err;
+        if (write_window_png(opt_.screenshot, fb_w, fb_h, &err))
+          std::printf("screenshot %s (%dx%d)\n", opt_.screenshot.c_str(), fb_w, fb_h);
+        else
+          std::fprintf(stderr, "error: %s\n", err.c_str()), exit_code_ = 1;
+      }
+      glfwSwapBuffers(window_);
+    }
+    std::fflush(stdout);
+    return exit_code_;
+  }
+
+ private:
+  // ---- solver updates ---------------------------------------------------------------------------
+
+  void pull() {
+    WorkerUpdate u = worker_->take();
+    if (u.status.generation != status_.generation) {
+      history_.clear();
+      rate_.clear();
+      viewport_.set_run(u.status.info, u.status.output, u.status.scene_name);
+      params_.load(u.status.scene_path, u.status.overrides);
+      save_path_ = u.status.scene_name + "_edited.toml";
+      export_path_ = u.status.scene_name + ".png";
+      scene_field_ = u.status.scene_path;
+    } else if (u.status.message_seq != status_.message_seq && u.status.message_is_error) {
+      params_.load(u.status.scene_path, u.status.overrides);  // drop the refused edit from the list
+    }
+    if (u.status.message_seq != status_.message_seq && !u.status.message.empty()) {
+      message_ = u.status.message;
+      message_is_error_ = u.status.message_is_error;
+      if (message_is_error_) std::fprintf(stderr, "%s\n", message_.c_str());
+    }
+    if (u.status.probe_node >= 0 && u.status.probe_node != status_.probe_node) probe_input_ = u.status.probe_node;
+    status_ = std::move(u.status);
+    for (Sample& s : u.samples) {
+      rate_.push_back({Clock::now(), s.step});
+      history_.push_back(std::move(s));
+    }
+    while (rate_.size() > 2 && seconds_since(rate_.front().first) > 2.0) rate_.pop_front();
+    if (u.frame) {
+      last_stats_ = u.frame->stats;
+      viewport_.set_frame(*u.frame);
+    }
+  }
+
+  double steps_per_second() const {
+    if (rate_.size() < 2 || status_.state == WorkerState::paused) return 0.0;
+    const double dt = std::chrono::duration<double>(rate_.back().first - rate_.front().first).count();
+    return dt > 0 ? (rate_.back().second - rate_.front().second) / dt : 0.0;
+  }
+
+  void notice(const std::string& text) {
+    message_ = text;
+    message_is_error_ = false;
+  }
+
+  // ---- scripted actions -------------------------------------------------------------------------
+
+  void action_failed(const std::string& text) {
+    const std::string where = current_action_ ? current_action_->where() + ": " : "";
+    std::fprintf(stderr, "error: %s%s\n", where.c_str(), text.c_str());
+    message_ = text;
+    message_is_error_ = true;
+    if (current_action_) {
+      exit_code_ = 2;
+      quit_ = true;
+    }
+  }
+
+  void run_actions() {
+    while (pending_screenshot_.empty() && pending_export_.empty() && !quit_) {
+      if (waiting_seq_ != 0) {
+        if (status_.settled_seq < waiting_seq_) return;
+        waiting_seq_ = 0;
+        if (current_action_ && current_action_->kind == Action::Kind::set && status_.message_is_error &&
+            status_.message_seq != message_seq_at_issue_) {
+          action_failed("set " + current_action_->key + " " + current_action_->text + " was refused:\n" +
+                        status_.message);
+          return;
+        }
+      }
+      if (Clock::now() < wait_until_) return;
+      if (next_action_ >= actions_.size()) {
+        current_action_ = nullptr;  // the script is done; later failures are the user's clicks
+        return;
+      }
+      const Action& a = actions_[next_action_++];
+      current_action_ = &a;
+      std::printf("action %s: %s\n", a.where().c_str(), describe(a).c_str());
+      std::fflush(stdout);
+      message_seq_at_issue_ = status_.message_seq;
+      switch (a.kind) {
+        case Action::Kind::run: waiting_seq_ = worker_->run(); break;
+        case Action::Kind::pause: waiting_seq_ = worker_->pause(); break;
+        case Action::Kind::step: waiting_seq_ = worker_->step(a.count); break;
+        case Action::Kind::reset: waiting_seq_ = worker_->reset(); break;
+        case Action::Kind::set: waiting_seq_ = worker_->set(a.key, a.text); break;
+        case Action::Kind::probe: waiting_seq_ = worker_->probe(static_cast<int>(a.count)); break;
+        case Action::Kind::wait:
+          wait_until_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.seconds));
+          break;
+        case Action::Kind::screenshot: pending_screenshot_ = a.text; break;
+        case Action::Kind::export_png: pending_export_ = a.text; break;
+        case Action::Kind::save: save_scene(a.text); break;
+        case Action::Kind::quit: quit_ = true; break;
+      }
+    }
+  }
+
+  static std::string describe(const Action& a) {
+    switch (a.kind) {
+      case Action::Kind::run: return "run";
+      case Action::Kind::pause: return "pause";
+      case Action::Kind::step: return "step " + std::to_string(a.count);
+      case Action::Kind::reset: return "reset";
+      case Action::Kind::set: return "set " + a.key + " " + a.text;
+      case Action::Kind::probe: return "probe " + std::to_string(a.count);
+      case Action::Kind::wait: return "wait " + fmt("%g", a.seconds);
+      case Action::Kind::screenshot: return "screenshot " + a.text;
+      case Action::Kind::export_png: return "export " + a.text;
+      case Action::Kind::save: return "save " + a.text;
+      case Action::Kind::quit: return "quit";
+    }
+    return "";
+  }
+
+  void save_scene(const std::string& path) {
+    try {
+      const std::string text = scene::scene_text_with_overrides(status_.scene_path, status_.overrides);
+      std::ofstream out(path, std::ios::binary);
+      if (!(out << text)) throw std::runtime_error("cannot write " + path);
+      notice("saved " + path);
+      std::printf("saved %s\n", path.c_str());
+    } catch (const std::exception& e) {
+      action_failed(std::string("save: ") + e.what());
+    }
+  }
+
+  // ---- layout -----------------------------------------------------------------------------------
+
+  static ImVec2 viewport_size(float w, float h) {
+    return ImVec2(std::max(0.0f, w - kSideWidth), std::max(0.0f, h - kPlotHeight - kStatusHeight));
+  }
+
+  static constexpr ImGuiWindowFlags kPanel =
+      ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus;
+
+  void draw(float w, float h, ImVec2 vp) {
+    // viewport: top left, no padding, the image fills it
+    ImGui::SetNextWindowPos(ImVec2(0, 0));
+    ImGui::SetNextWindowSize(vp);
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0.0f);
+    ImGui::Begin("viewport", nullptr, kPanel | ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoScrollbar |
+                                          ImGuiWindowFlags_NoScrollWithMouse);
+    const int picked = viewport_.draw(vp.x, vp.y);
+    if (picked >= 0) {
+      probe_input_ = picked;
+      worker_->probe(picked);
+      notice("probing node " + std::to_string(picked));
+    }
+    ImGui::End();
+    ImGui::PopStyleVar(2);
+
+    ImGui::SetNextWindowPos(ImVec2(vp.x, 0));
+    ImGui::SetNextWindowSize(ImVec2(w - vp.x, h - kStatusHeight));
+    ImGui::Begin("FlexFrame", nullptr, kPanel);
+    draw_side_panel();
+    ImGui::End();
+
+    ImGui::SetNextWindowPos(ImVec2(0, vp.y));
+    ImGui::SetNextWindowSize(ImVec2(vp.x, kPlotHeight));
+    ImGui::Begin("Plots", nullptr, kPanel | ImGuiWindowFlags_NoTitleBar);
+    draw_plots(vp.x);
+    ImGui::End();
+
+    ImGui::SetNextWindowPos(ImVec2(0, h - kStatusHeight));
+    ImGui::SetNextWindowSize(ImVec2(w, kStatusHeight));
+    ImGui::Begin("status", nullptr, kPanel | ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoScrollbar);
+    draw_status();
+    ImGui::End();
+  }
+
+  void draw_side_panel() {
+    // run controls first: what a person reaches for most
+    const bool finished = status_.state == WorkerState::finished || status_.state == WorkerState::failed;
+    const bool running = status_.state == WorkerState::running;
+    const ImVec2 button(80, 0);
+    if (running) {
+      if (ImGui::Button("Pause", button)) worker_->pause();
+    } else {
+      if (ImGui::Button(finished ? "Run again" : "Run", button)) worker_->run();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Step", button)) worker_->step(step_count_);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(60);
+    ImGui::InputInt("##steps", &step_count_, 0);
+    step_count_ = std::max(1, step_count_);
+    ImGui::SameLine();
+    if (ImGui::Button("Reset", button)) worker_->reset();
+    ImGui::SetNextItemWidth(150);
+    if (ImGui::InputDouble("max steps/s", &pace_, 0, 0, "%.0f", ImGuiInputTextFlags_EnterReturnsTrue))
+      worker_->pace(pace_);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("slow the solver down to watch it; 0 = as fast as it goes");
+    ImGui::SameLine();
+    if (ImGui::Button("View")) viewport_.reset_camera();
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("reset the camera (drag: orbit, right drag: pan, wheel: zoom, click: probe a node)");
+    ImGui::Separator();
+
+    if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) {
+      ImGui::SetNextItemWidth(-70);
+      if (ImGui::BeginCombo("bundled", status_.scene_name.c_str())) {
+        for (const std::string& s : bundled_) {
+          if (ImGui::Selectable(s.c_str(), s == status_.scene_name)) open_scene(s);
+        }
+        ImGui::EndCombo();
+      }
+      ImGui::SetNextItemWidth(-70);
+      ImGui::InputText("##path", &scene_field_);
+      ImGui::SameLine();
+      if (ImGui::Button("Open", ImVec2(-1, 0))) open_scene(scene_field_);
+      ImGui::SetNextItemWidth(-70);
+      ImGui::InputText("##save", &save_path_);
+      ImGui::SameLine();
+      if (ImGui::Button("Save", ImVec2(-1, 0))) save_scene(save_path_);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("write the scene with your edits as TOML");
+      ImGui::SetNextItemWidth(-70);
+      ImGui::InputText("##png", &export_path_);
+      ImGui::SameLine();
+      if (ImGui::Button("PNG", ImVec2(-1, 0))) pending_export_ = export_path_;
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("export the current frame as PNG");
+    }
+    if (ImGui::CollapsingHeader("Probe a node", ImGuiTreeNodeFlags_DefaultOpen)) {
+      ImGui::SetNextItemWidth(120);
+      ImGui::InputInt("node", &probe_input_);
+      ImGui::SameLine();
+      if (ImGui::Button("Probe")) worker_->probe(probe_input_);
+      if (status_.probe_node >= 0 && !history_.empty()) {
+        const Sample& s = history_.back();
+        ImGui::Text("node %d at (%.4g, %.4g, %.4g)", status_.probe_node, s.node_position[0], s.node_position[1],
+                    s.node_position[2]);
+        ImGui::Text("|x - X| = %.4g, elastic |x - x_base| = %.4g", s.node_displacement, s.node_deflection);
+      } else {
+        ImGui::TextDisabled("click the body or enter a node index");
+      }
+    }
+    if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
+      ImGui::TextDisabled("edits rebuild the model and restart at t = 0");
+      ImGui::BeginChild("params", ImVec2(0, 0), false);
+      for (const auto& [key, value] : params_.draw()) worker_->set(key, value);
+      ImGui::EndChild();
+    }
+  }
+
+  void open_scene(const std::string& name) {
+    try {
+      worker_->load(resolve_scene(name));
+    } catch (const std::exception& e) {
+      message_ = e.what();
+      message_is_error_ = true;
+    }
+  }
+
+  /// One PlotLines per probe (and the probed node), laid out in columns.
+  void draw_plots(float width) {
+    if (!status_.info) return;
+    const RunInfo& info = *status_.info;
+    struct Series {
+      std::string title;
+      std::vector<float> y;
+    };
+    std::vector<Series> series;
+    const std::size_t n = history_.size();
+    const std::size_t stride = std::max<std::size_t>(1, (n + kMaxPlotPoints - 1) / kMaxPlotPoints);
+    auto collect = [&](auto&& value) {
+      std::vector<float> y;
+      y.reserve(n / stride + 1);
+      for (std::size_t i = 0; i < n; i += stride) y.push_back(static_cast<float>(value(history_[i])));
+      if (n > 0 && (n - 1) % stride != 0) y.push_back(static_cast<float>(value(history_.back())));
+      return y;
+    };
+    auto label = [](const Quantity& q) { return q.label.empty() ? q.name : q.label; };
+    if (status_.probe_node >= 0)
+      series.push_back({"node " + std::to_string(status_.probe_node) + " elastic deflection",
+                        collect([](const Sample& s) { return s.node_deflection; })});
+    for (std::size_t p = 0; p < info.probes.size(); ++p) {
+      std::string t = label(info.probes[p]);
+      if (!info.probes[p].unit.empty()) t += " [" + info.probes[p].unit + "]";
+      series.push_back({t, collect([p](const Sample& s) { return p < s.probes.size() ? s.probes[p] : 0.0; })});
+    }
+    series.push_back({"Newton iterations per step", collect([](const Sample& s) { return s.stats.iterations; })});
+
+    const int columns = std::max(1, static_cast<int>(width / 290.0f));
+    if (ImGui::BeginTable("plots", columns, ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingStretchSame)) {
+      const float plot_h = (kPlotHeight - 24.0f) / 2.0f - ImGui::GetTextLineHeightWithSpacing() - 6.0f;
+      for (const Series& s : series) {
+        ImGui::TableNextColumn();
+        const float last = s.y.empty() ? 0.0f : s.y.back();
+        ImGui::Text("%s  %.5g", s.title.c_str(), last);
+        ImGui::PushID(s.title.c_str());
+        ImGui::PlotLines("##p", s.y.data(), static_cast<int>(s.y.size()), 0, nullptr, FLT_MAX, FLT_MAX,
+                         ImVec2(ImGui::GetContentRegionAvail().x, std::max(30.0f, plot_h)));
+        ImGui::PopID();
+      }
+      ImGui::EndTable();
+    }
+  }
+
+  void draw_status() {
+    const char* unit = status_.info ? status_.info->time_unit.c_str() : "";
+    const double t = history_.empty() ? 0.0 : history_.back().time;
+    const long long step = history_.empty() ? 0 : history_.back().step;
+    std::string line = std::string(to_string(status_.state)) + " | t = " + fmt("%.4g", t) + " / " +
+                       fmt("%.4g", status_.end_time) + " " + unit + " | step " + std::to_string(step) + " | " +
+                       fmt("%.0f", steps_per_second()) + " steps/s | last frame: " +
+                       std::to_string(last_stats_.iterations) + " Newton it., " +
+                       std::to_string(last_stats_.jacobian_updates) + " matrix updates, |R| " +
+                       fmt("%.2e", last_stats_.residual_norm) + (last_stats_.converged ? "" : " (not converged)");
+    if (status_.outcome && status_.outcome->status != RunStatus::completed)
+      line += " | " + std::string(ff::to_string(status_.outcome->status)) + ": " + status_.outcome->reason;
+    ImGui::TextUnformatted(line.c_str());
+    if (!message_.empty()) {
+      ImGui::SameLine();
+      const std::string first = message_.substr(0, message_.find('\n'));
+      ImGui::TextColored(message_is_error_ ? ImVec4(0.8f, 0.1f, 0.1f, 1) : ImVec4(0.2f, 0.45f, 0.2f, 1), "| %s",
+                         first.c_str());
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", message_.c_str());
+    }
+  }
+
+  GLFWwindow* window_;
+  GuiOptions opt_;
+  std::unique_ptr<SimWorker> worker_;
+  Viewport viewport_;
+  ParamEditor params_;
+  WorkerStatus status_;
+  std::vector<Sample> history_;
+  std::deque<std::pair<Clock::time_point, long long>> rate_;
+  StepStats last_stats_;
+  std::vector<std::string> bundled_;
+  std::string scene_field_, save_path_, export_path_;
+  std::string message_;
+  bool message_is_error_ = false;
+  int step_count_ = 1, probe_input_ = 0;
+  double pace_ = 0.0;
+
+  std::vector<Action> actions_;
+  std::size_t next_action_ = 0;
+  const Action* current_action_ = nullptr;
+  std::uint64_t waiting_seq_ = 0, message_seq_at_issue_ = 0;
+  Clock::time_point wait_until_{};
+  std::string pending_screenshot_, pending_export_;
+  Clock::time_point start_;
+  const std::atomic<bool>& stop_;
+  bool quit_ = false;
+  int exit_code_ = 0;
+};
+
+/// Checks every `set` of a script against the scene before any window opens.
+void check_actions(const std::vector<Action>& actions, const std::string& scene_path,
+                   std::vector<std::string> overrides) {
+  const scene::Schema& schema = scene::scene_schema(scene_path);
+  for (const Action& a : actions) {
+    if (a.kind != Action::Kind::set) continue;
+    overrides.push_back(a.key + "=" + a.text);
+    try {
+      scene::validate_file(schema, scene_path, overrides);
+    } catch (const scene::SceneError& e) {
+      throw ActionError(a.where() + ": set " + a.key + " " + a.text + ": " + e.what());
+    }
+  }
+}
+
+}  // namespace
+
+int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
+  std::vector<Action> actions;
+  try {
+    if (!opt.actions_file.empty()) {
+      actions = read_actions(opt.actions_file);
+      check_actions(actions, opt.scene_path, opt.overrides);
+    }
+  } catch (const ActionError& e) {
+    std::fprintf(stderr, "error: bad actions file: %s\n", e.what());
+    return 2;
+  }
+
+  const char* display = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  if ((display == nullptr || display[0] == '\0') && (wayland == nullptr || wayland[0] == '\0')) {
+    std::fprintf(stderr, "error: flexframe gui needs a display, and DISPLAY is not set.\n%s\n", kHeadlessHint);
+    return kNoDisplayExitCode;
+  }
+  glfwSetErrorCallback(on_glfw_error);
+  if (!glfwInit()) {
+    std::fprintf(stderr, "error: flexframe gui cannot open the display '%s' (%s).\n%s\n", display ? display : "",
+                 g_glfw_error.c_str(), kHeadlessHint);
+    return kNoDisplayExitCode;
+  }
+
+  // the scene is read before the window opens: bad input is reported like `flexframe run` does
+  scene::LoadedScene scene;
+  try {
+    scene = scene::load_scene(opt.scene_path, opt.overrides);
+  } catch (...) {
+    glfwTerminate();
+    throw;
+  }
+
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  const std::string title = "FlexFrame - " + scene.name;
+  GLFWwindow* window = glfwCreateWindow(opt.width, opt.height, title.c_str(), nullptr, nullptr);
+  if (window == nullptr) {
+    std::fprintf(stderr, "error: flexframe gui could not open an OpenGL 3.3 window (%s).\n%s\n", g_glfw_error.c_str(),
+                 kHeadlessHint);
+    glfwTerminate();
+    return kNoDisplayExitCode;
+  }
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(0);
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
+  ImGui::StyleColorsLight();
+  ImGuiStyle& style = ImGui::GetStyle();
+  style.WindowRounding = 0.0f;
+  style.FrameRounding = 3.0f;
+  style.WindowBorderSize = 1.0f;
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+
+  int code = 0;
+  {
+    auto worker = std::make_unique<SimWorker>(std::move(scene), opt.overrides);
+    GuiApp app(window, opt, std::move(worker), std::move(actions), stop);
+    code = app.loop();
+  }
+
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return code;
+}
+
+}  // namespace ff::app::gui

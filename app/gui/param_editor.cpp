@@ -1,0 +1,252 @@
+#include "app/gui/param_editor.h"
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <cctype>
+
+#include "core/scene/scene.h"
+
+namespace ff::app::gui {
+namespace {
+
+using scene::Kind;
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+/// TOML basic string.
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+/// "\"efg\"" -> "efg" (strings and choices are edited without their quotes).
+std::string unquoted(const std::string& toml) {
+  if (toml.size() >= 2 && toml.front() == '"' && toml.back() == '"') {
+    std::string out;
+    for (std::size_t i = 1; i + 1 < toml.size(); ++i) {
+      if (toml[i] == '\\' && i + 2 < toml.size()) ++i;
+      out += toml[i];
+    }
+    return out;
+  }
+  return toml;
+}
+
+std::string list_text(const std::vector<std::string>& items) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < items.size(); ++i) s += (i ? ", " : "") + quoted(items[i]);
+  return s + "]";
+}
+
+std::string allowed_text(const scene::Schema::KeySpec& k) {
+  switch (k.kind) {
+    case Kind::Number:
+    case Kind::NumberList: return k.range.text();
+    case Kind::Integer: return k.int_range.text();
+    case Kind::Boolean: return "true, false";
+    case Kind::Choice:
+    case Kind::StringList: {
+      std::string s;
+      for (const auto& c : k.choices) s += (s.empty() ? "" : ", ") + c;
+      return s.empty() ? "any" : s;
+    }
+    case Kind::String: return "any";
+  }
+  return "";
+}
+
+}  // namespace
+
+std::vector<ParamItem> scene_params(const std::string& path, const std::vector<std::string>& overrides) {
+  const scene::Schema& schema = scene::scene_schema(path);
+  const scene::Document doc = scene::validate_file(schema, path, overrides);
+  auto is_edited = [&](const std::string& key) {
+    return std::any_of(overrides.begin(), overrides.end(),
+                       [&](const std::string& o) { return o.substr(0, o.find('=')) == key; });
+  };
+  std::vector<ParamItem> items;
+  for (const std::string& k : doc.key_paths()) {
+    if (k == "scene.model") continue;
+    ParamItem it;
+    it.key = k;
+    const auto dot = k.rfind('.');
+    it.group = dot == std::string::npos ? "" : k.substr(0, dot);
+    it.name = dot == std::string::npos ? k : k.substr(dot + 1);
+    it.spec = schema.find_key(k);
+    it.value = doc.value_text(k);
+    it.where = doc.where(k);
+    it.edited = is_edited(k);
+    if (it.spec) items.push_back(it);
+  }
+  for (const std::string& a : doc.array_paths()) {
+    for (std::size_t i = 0; i < doc.count(a); ++i) {
+      for (const std::string& k : doc.element_key_paths(a)) {
+        ParamItem it;
+        it.group = a + "[" + std::to_string(i) + "]";
+        it.name = k.substr(a.size() + 1);
+        it.key = it.group + "." + it.name;
+        it.spec = schema.find_key(k);
+        it.value = doc.value_text(k, i);
+        it.where = doc.where(k, i);
+        it.edited = is_edited(it.key);
+        if (it.spec) items.push_back(it);
+      }
+    }
+  }
+  // rows of one table together, tables in order of first appearance
+  std::vector<std::string> order;
+  for (const ParamItem& it : items)
+    if (std::find(order.begin(), order.end(), it.group) == order.end()) order.push_back(it.group);
+  std::stable_sort(items.begin(), items.end(), [&](const ParamItem& a, const ParamItem& b) {
+    return std::find(order.begin(), order.end(), a.group) < std::find(order.begin(), order.end(), b.group);
+  });
+  return items;
+}
+
+void ParamEditor::load(const std::string& path, const std::vector<std::string>& overrides) {
+  rows_.clear();
+  error_.clear();
+  try {
+    for (ParamItem& it : scene_params(path, overrides)) {
+      Row r;
+      r.item = std::move(it);
+      const Kind kind = r.item.spec->kind;
+      r.buffer = (kind == Kind::String || kind == Kind::Choice) ? unquoted(r.item.value) : r.item.value;
+      r.flag = r.item.value == "true";
+      if (kind == Kind::StringList && !r.item.spec->choices.empty()) {
+        for (const std::string& c : r.item.spec->choices)
+          if (r.item.value.find(quoted(c)) != std::string::npos) r.selected.push_back(c);
+      }
+      rows_.push_back(std::move(r));
+    }
+  } catch (const std::exception& e) {
+    error_ = e.what();
+  }
+}
+
+std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
+  std::vector<std::pair<std::string, std::string>> edits;
+  if (!error_.empty()) {
+    ImGui::TextWrapped("%s", error_.c_str());
+    return edits;
+  }
+  ImGui::SetNextItemWidth(-1);
+  ImGui::InputTextWithHint("##filter", "filter keys (e.g. dt, thickness, effects)", &filter_);
+  const std::string f = lower(filter_);
+  const ImVec4 edited_color(0.80f, 0.35f, 0.05f, 1.0f);
+
+  std::size_t i = 0;
+  while (i < rows_.size()) {
+    // one tree node per table; rows of a table are consecutive
+    const std::string group = rows_[i].item.group;
+    std::size_t end = i;
+    bool any_match = false;
+    while (end < rows_.size() && rows_[end].item.group == group) {
+      any_match = any_match || f.empty() || lower(rows_[end].item.key).find(f) != std::string::npos;
+      ++end;
+    }
+    if (!any_match) {
+      i = end;
+      continue;
+    }
+    const std::string title = group.empty() ? "(top level)" : group;
+    // the time-stepping tables start open: the keys people try first
+    const bool stepping = group == "solver" || group == "time" || group == "integrator";
+    ImGui::PushID(title.c_str());
+    if (!f.empty()) ImGui::SetNextItemOpen(true);  // a filter shows every match
+    const bool open = ImGui::TreeNodeEx(title.c_str(), stepping ? ImGuiTreeNodeFlags_DefaultOpen : 0);
+    if (open) {
+      if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_SizingStretchProp)) {
+        ImGui::TableSetupColumn("key", ImGuiTableColumnFlags_WidthStretch, 0.42f);
+        ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 0.58f);
+        for (std::size_t r = i; r < end; ++r) {
+          Row& row = rows_[r];
+          const ParamItem& it = row.item;
+          if (!f.empty() && lower(it.key).find(f) == std::string::npos) continue;
+          const auto& spec = *it.spec;
+          ImGui::PushID(it.key.c_str());
+          ImGui::TableNextRow();
+          ImGui::TableSetColumnIndex(0);
+          if (it.edited)
+            ImGui::TextColored(edited_color, "%s", it.name.c_str());
+          else
+            ImGui::TextUnformatted(it.name.c_str());
+          if (ImGui::IsItemHovered()) {
+            ImGui::BeginTooltip();
+            ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30.0f);
+            ImGui::Text("%s", it.key.c_str());
+            ImGui::TextWrapped("%s", spec.doc.c_str());
+            if (!spec.unit.empty()) ImGui::Text("unit: %s", spec.unit.c_str());
+            ImGui::Text("allowed: %s", allowed_text(spec).c_str());
+            ImGui::Text("from: %s", it.where.c_str());
+            ImGui::PopTextWrapPos();
+            ImGui::EndTooltip();
+          }
+          ImGui::TableSetColumnIndex(1);
+          ImGui::SetNextItemWidth(-1);
+          switch (spec.kind) {
+            case Kind::Boolean:
+              if (ImGui::Checkbox("##v", &row.flag)) edits.emplace_back(it.key, row.flag ? "true" : "false");
+              break;
+            case Kind::Choice:
+              if (ImGui::BeginCombo("##v", row.buffer.c_str())) {
+                for (const std::string& c : spec.choices) {
+                  if (ImGui::Selectable(c.c_str(), c == row.buffer) && c != row.buffer) {
+                    row.buffer = c;
+                    edits.emplace_back(it.key, quoted(c));
+                  }
+                }
+                ImGui::EndCombo();
+              }
+              break;
+            case Kind::StringList:
+              if (!spec.choices.empty()) {
+                // effects and other sets of names: one checkbox each
+                bool changed = false;
+                for (const std::string& c : spec.choices) {
+                  bool on = std::find(row.selected.begin(), row.selected.end(), c) != row.selected.end();
+                  if (ImGui::Checkbox(c.c_str(), &on)) {
+                    changed = true;
+                    if (on)
+                      row.selected.push_back(c);
+                    else
+                      row.selected.erase(std::find(row.selected.begin(), row.selected.end(), c));
+                  }
+                }
+                if (changed) edits.emplace_back(it.key, list_text(row.selected));
+                break;
+              }
+              [[fallthrough]];
+            default: {
+              const ImGuiInputTextFlags tf =
+                  spec.kind == Kind::Number || spec.kind == Kind::Integer ? ImGuiInputTextFlags_CharsScientific : 0;
+              ImGui::InputText("##v", &row.buffer, tf);
+              if (ImGui::IsItemDeactivatedAfterEdit()) {
+                const std::string v = spec.kind == Kind::String ? quoted(row.buffer) : row.buffer;
+                if (v != it.value) edits.emplace_back(it.key, v);
+              }
+              if (!spec.unit.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", spec.unit.c_str());
+            }
+          }
+          ImGui::PopID();
+        }
+        ImGui::EndTable();
+      }
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+    i = end;
+  }
+  return edits;
+}
+
+}  // namespace ff::app::gui

@@ -1,0 +1,51 @@
+#pragma once
+/// \file param_editor.h
+/// The GUI's scene parameter list, built from the scene's schema and its validated values, so
+/// every model (and every key a future model declares) is editable with no GUI change. Edits
+/// come out as `--set`-style (key, TOML value) pairs for the solver thread's command queue.
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/scene/schema.h"
+
+namespace ff::app::gui {
+
+/// One editable key of a scene.
+struct ParamItem {
+  std::string key;    ///< what --set takes: "solver.dt", "shell[1].thickness"
+  std::string group;  ///< table it sits in: "solver", "shell[1]", "" for the top level
+  std::string name;   ///< last path segment
+  const scene::Schema::KeySpec* spec = nullptr;
+  std::string value;  ///< TOML text of the validated value ("" = required but absent)
+  std::string where;  ///< "file:line:col", "--set ...", "default" or "absent"
+  bool edited = false;  ///< an edit of this session is in effect
+};
+
+/// The editable keys of a scene: every declared key outside arrays of tables, then every key of
+/// every element of the arrays the file has. scene.model is left out (it picks the schema).
+/// Throws SceneError when the scene does not validate.
+std::vector<ParamItem> scene_params(const std::string& scene_path, const std::vector<std::string>& overrides);
+
+/// Draws the list (ImGui) and returns the edits made this frame: (key, TOML value text).
+class ParamEditor {
+ public:
+  /// Refills the list; call when the scene, its edits or the solver's answer changed.
+  void load(const std::string& scene_path, const std::vector<std::string>& overrides);
+  std::vector<std::pair<std::string, std::string>> draw();
+  const std::string& error() const { return error_; }
+
+ private:
+  struct Row {
+    ParamItem item;
+    std::string buffer;  ///< text being edited
+    bool flag = false;   ///< booleans
+    std::vector<std::string> selected;  ///< string lists with allowed values
+  };
+  std::vector<Row> rows_;
+  std::string filter_;
+  std::string error_;
+};
+
+}  // namespace ff::app::gui

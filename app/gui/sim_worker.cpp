@@ -1,0 +1,277 @@
+#include "app/gui/sim_worker.h"
+
+#include <chrono>
+#include <cmath>
+#include <exception>
+
+namespace ff::app::gui {
+
+const char* to_string(WorkerState s) {
+  switch (s) {
+    case WorkerState::paused: return "paused";
+    case WorkerState::running: return "running";
+    case WorkerState::stepping: return "stepping";
+    case WorkerState::finished: return "finished";
+    case WorkerState::failed: return "failed";
+  }
+  return "?";
+}
+
+SimWorker::SimWorker(scene::LoadedScene scene, std::vector<std::string> overrides) : scene_(std::move(scene)) {
+  status_.scene_path = scene_.path;
+  status_.overrides = std::move(overrides);
+  start_generation();
+  thread_ = std::thread([this] { main(); });
+}
+
+SimWorker::~SimWorker() {
+  push(Command::make(Command::Kind::quit));
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+std::uint64_t SimWorker::push(Command c) {
+  std::lock_guard lock(m_);
+  c.seq = next_seq_++;
+  queue_.push_back(std::move(c));
+  cv_.notify_all();
+  return c.seq;
+}
+
+std::uint64_t SimWorker::run() { return push(Command::make(Command::Kind::run)); }
+std::uint64_t SimWorker::pause() { return push(Command::make(Command::Kind::pause)); }
+std::uint64_t SimWorker::step(long long n) { return push(Command::make(Command::Kind::step, "", "", n)); }
+std::uint64_t SimWorker::reset() { return push(Command::make(Command::Kind::reset)); }
+std::uint64_t SimWorker::set(const std::string& key, const std::string& value) {
+  return push(Command::make(Command::Kind::set, key, value));
+}
+std::uint64_t SimWorker::load(const std::string& path) { return push(Command::make(Command::Kind::load, path)); }
+std::uint64_t SimWorker::probe(int node) { return push(Command::make(Command::Kind::probe, "", "", node)); }
+std::uint64_t SimWorker::pace(double steps_per_second) {
+  return push(Command::make(Command::Kind::pace, "", "", 0, steps_per_second));
+}
+
+WorkerUpdate SimWorker::take() {
+  std::lock_guard lock(m_);
+  WorkerUpdate u;
+  u.status = status_;
+  u.frame = std::move(frame_);
+  u.samples = std::move(samples_);
+  frame_.reset();
+  samples_.clear();
+  return u;
+}
+
+// ---- worker thread ------------------------------------------------------------------------------
+
+void SimWorker::start_generation() {
+  const Simulation& sim = *scene_.simulation;
+  ++status_.generation;
+  status_.info = std::make_shared<const RunInfo>(sim.info());
+  status_.scene_name = scene_.name;
+  status_.scene_path = scene_.path;
+  status_.output = scene_.output;
+  status_.end_time = sim.end_time();
+  status_.outcome.reset();
+  if (probe_node_ >= static_cast<int>(status_.info->mesh.point_count())) probe_node_ = -1;
+  status_.probe_node = probe_node_;
+  status_.state = running_ ? WorkerState::running : WorkerState::paused;
+  frame_.reset();
+  samples_.clear();
+  steps_left_ = 0;
+  first_frame_ = true;
+  finished_ = false;
+}
+
+void SimWorker::set_message(std::string text, bool error) {
+  status_.message = std::move(text);
+  status_.message_is_error = error;
+  ++status_.message_seq;
+}
+
+bool SimWorker::settled() const { return !pending_ && steps_left_ == 0; }
+
+void SimWorker::main() {
+  while (true) {
+    stop_ = false;
+    RunOutcome outcome;
+    try {
+      outcome = scene_.simulation->run([this](Frame&& f) { on_frame(std::move(f)); }, stop_);
+    } catch (const std::exception& e) {
+      outcome.status = RunStatus::failed;
+      outcome.reason = std::string("solver error: ") + e.what();
+    }
+    std::unique_lock lock(m_);
+    if (!quit_ && !pending_) {
+      // the run ended by itself: completed, diverged or failed; wait for what comes next
+      finished_ = true;
+      running_ = false;
+      steps_left_ = 0;
+      status_.outcome = outcome;
+      status_.state = outcome.status == RunStatus::failed ? WorkerState::failed : WorkerState::finished;
+      while (!quit_ && !pending_) {
+        status_.settled_seq = handled_seq_;
+        cv_.wait(lock, [&] { return !queue_.empty(); });
+        while (!queue_.empty() && !quit_ && !pending_) {
+          const Command c = queue_.front();
+          queue_.pop_front();
+          handle(c, lock);
+        }
+      }
+    }
+    if (quit_) return;
+    scene_ = std::move(*pending_);
+    pending_.reset();
+    status_.overrides = pending_overrides_;
+    start_generation();
+  }
+}
+
+void SimWorker::on_frame(Frame&& f) {
+  Sample s;
+  s.step = f.step;
+  s.time = f.time;
+  s.load_factor = f.load_factor;
+  s.probes = f.probes;
+  s.stats = f.stats;
+  if (probe_node_ >= 0 && 3 * static_cast<std::size_t>(probe_node_) + 2 < f.points.size()) {
+    const std::size_t i = 3 * static_cast<std::size_t>(probe_node_);
+    const auto& ref = scene_.simulation->info().mesh.reference_points;
+    double u2 = 0, d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      s.node_position[k] = f.points[i + k];
+      u2 += std::pow(f.points[i + k] - ref[i + k], 2);
+      if (f.base_points.size() == f.points.size()) d2 += std::pow(f.points[i + k] - f.base_points[i + k], 2);
+    }
+    s.node_displacement = std::sqrt(u2);
+    s.node_deflection = std::sqrt(d2);
+  }
+  std::unique_lock lock(m_);
+  frame_ = std::move(f);
+  samples_.push_back(std::move(s));
+  if (!first_frame_ && steps_left_ > 0) --steps_left_;
+  first_frame_ = false;
+  serve(lock);
+}
+
+void SimWorker::serve(std::unique_lock<std::mutex>& lock) {
+  while (true) {
+    // commands after a rebuild wait for the new run (a step queued behind a set steps the new model)
+    while (!queue_.empty() && !quit_ && !pending_) {
+      const Command c = queue_.front();
+      queue_.pop_front();
+      handle(c, lock);
+    }
+    if (quit_ || pending_) {
+      stop_ = true;  // run() returns; main() swaps in the new scene
+      return;
+    }
+    status_.state = running_ ? WorkerState::running : steps_left_ > 0 ? WorkerState::stepping : WorkerState::paused;
+    if (settled()) status_.settled_seq = handled_seq_;
+    if (steps_left_ > 0) return;
+    if (running_) {
+      if (pace_ <= 0) return;
+      // paced: hold the solver until the next step is due, but wake for commands
+      const auto due = last_release_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                           std::chrono::duration<double>(1.0 / pace_));
+      if (cv_.wait_until(lock, due, [&] { return !queue_.empty(); })) continue;
+      last_release_ = std::chrono::steady_clock::now();
+      return;
+    }
+    cv_.wait(lock, [&] { return !queue_.empty(); });
+  }
+}
+
+void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
+  // builds a scene off the lock; on success it waits in pending_ for the run to stop
+  const auto rebuild = [&](const std::string& path, const std::vector<std::string>& overrides,
+                           const std::string& what) {
+    lock.unlock();
+    std::optional<scene::LoadedScene> built;
+    std::string error;
+    try {
+      built = scene::load_scene(path, overrides);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    lock.lock();
+    if (!built) {
+      set_message(what + " refused:\n" + error, true);
+      return false;
+    }
+    pending_ = std::move(built);
+    pending_overrides_ = overrides;
+    return true;
+  };
+  const std::string& path = pending_ ? pending_->path : status_.scene_path;
+  const std::vector<std::string>& overrides = pending_ ? pending_overrides_ : status_.overrides;
+
+  switch (c.kind) {
+    case Command::Kind::run:
+      if (finished_) {
+        if (rebuild(path, overrides, "restart")) running_ = true;
+      } else {
+        running_ = true;
+        steps_left_ = 0;
+        last_release_ = std::chrono::steady_clock::now();
+      }
+      break;
+    case Command::Kind::pause:
+      running_ = false;
+      steps_left_ = 0;
+      break;
+    case Command::Kind::step:
+      if (finished_) {
+        set_message("the run has ended; reset to start again", false);
+      } else {
+        running_ = false;
+        steps_left_ += std::max<long long>(c.n, 1);
+      }
+      break;
+    case Command::Kind::reset:
+      if (rebuild(path, overrides, "reset")) running_ = false;
+      break;
+    case Command::Kind::set: {
+      std::vector<std::string> next;
+      for (const std::string& o : overrides)
+        if (o.substr(0, o.find('=')) != c.a) next.push_back(o);
+      next.push_back(c.a + "=" + c.b);
+      if (rebuild(path, next, "set " + c.a + " = " + c.b)) {
+        if (finished_) running_ = false;
+        set_message("set " + c.a + " = " + c.b + "; restarted at t = 0", false);
+      }
+      break;
+    }
+    case Command::Kind::load:
+      if (rebuild(c.a, {}, "load " + c.a)) {
+        running_ = false;
+        probe_node_ = -1;
+        set_message("loaded " + c.a, false);
+      }
+      break;
+    case Command::Kind::probe: {
+      const int n = static_cast<int>(scene_.simulation->info().mesh.point_count());
+      if (c.n >= 0 && c.n < n) {
+        probe_node_ = static_cast<int>(c.n);
+        status_.probe_node = probe_node_;
+      } else if (c.n < 0) {
+        probe_node_ = -1;
+        status_.probe_node = -1;
+      } else {
+        set_message("probe " + std::to_string(c.n) + " refused: the mesh has nodes 0 to " + std::to_string(n - 1),
+                    true);
+      }
+      break;
+    }
+    case Command::Kind::pace:
+      pace_ = std::max(0.0, c.x);
+      status_.pace = pace_;
+      break;
+    case Command::Kind::quit:
+      quit_ = true;
+      break;
+  }
+  handled_seq_ = c.seq;
+}
+
+}  // namespace ff::app::gui

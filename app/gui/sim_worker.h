@@ -1,0 +1,147 @@
+#pragma once
+/// \file sim_worker.h
+/// The GUI's solver thread. It owns the scene's Simulation; the UI talks to it only through a
+/// command queue (run, pause, step, reset, set, load, probe, pace, quit) and reads back plain
+/// copies (the latest Frame, probe samples, a status) with take(). No GL or ImGui here.
+///
+/// How it works: Simulation::run() publishes every converged step through a callback on the
+/// worker thread; the callback hands the frame over and then applies the queued commands
+/// between steps — while paused it waits there, so the solver's state never leaves its thread.
+/// Commands that change the model (reset, set, load) build a new Simulation first (a refused
+/// edit leaves the running one alone and says why), then stop the current run and start the
+/// new one at t = 0, paused unless it was running.
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/frame/frame.h"
+#include "core/scene/scene.h"
+
+namespace ff::app::gui {
+
+/// One point of the live plots.
+struct Sample {
+  std::int64_t step = 0;
+  double time = 0.0;
+  double load_factor = 0.0;
+  std::vector<double> probes;   ///< in the order of RunInfo::probes
+  std::array<double, 3> node_position{0, 0, 0};  ///< probed node, world coordinates
+  double node_displacement = 0.0;  ///< |x - X| of the probed node (0 without one)
+  double node_deflection = 0.0;    ///< |x - x_base|: its elastic part (0 without base points)
+  StepStats stats;
+};
+
+enum class WorkerState { paused, running, stepping, finished, failed };
+const char* to_string(WorkerState s);
+
+/// What the worker reports; a copy is handed out by take().
+struct WorkerStatus {
+  std::uint64_t generation = 0;  ///< +1 at every (re)build; samples belong to this generation
+  std::uint64_t settled_seq = 0; ///< every command up to this sequence number has taken effect
+  WorkerState state = WorkerState::paused;
+  std::string scene_path;
+  std::vector<std::string> overrides;  ///< "key=value", the edits in effect
+  std::string scene_name;
+  std::shared_ptr<const RunInfo> info;  ///< of this generation
+  scene::OutputSettings output;
+  double end_time = 0.0;
+  int probe_node = -1;
+  double pace = 0.0;                    ///< max steps per second, 0 = as fast as it goes
+  std::optional<RunOutcome> outcome;    ///< once the run has ended
+  std::string message;                  ///< the last refusal or notice ("" = none)
+  std::uint64_t message_seq = 0;        ///< +1 per message
+  bool message_is_error = false;
+};
+
+/// What take() returns: the status plus what arrived since the last take().
+struct WorkerUpdate {
+  WorkerStatus status;
+  std::optional<Frame> frame;   ///< the newest frame, if a new one came
+  std::vector<Sample> samples;  ///< every frame's sample since the last take, in order
+};
+
+class SimWorker {
+ public:
+  /// Starts the thread on a scene already loaded (so bad input is reported before any window
+  /// opens); paused at the initial state.
+  SimWorker(scene::LoadedScene scene, std::vector<std::string> overrides);
+  ~SimWorker();  ///< quits and joins
+  SimWorker(const SimWorker&) = delete;
+  SimWorker& operator=(const SimWorker&) = delete;
+
+  // Each returns the command's sequence number (compare with WorkerStatus::settled_seq).
+  std::uint64_t run();
+  std::uint64_t pause();
+  std::uint64_t step(long long n = 1);
+  std::uint64_t reset();
+  std::uint64_t set(const std::string& key, const std::string& value);
+  std::uint64_t load(const std::string& scene_path);
+  std::uint64_t probe(int node);
+  std::uint64_t pace(double steps_per_second);
+
+  WorkerUpdate take();
+
+ private:
+  struct Command {
+    enum class Kind { run, pause, step, reset, set, load, probe, pace, quit };
+    Kind kind = Kind::run;
+    std::string a, b;
+    long long n = 0;
+    double x = 0.0;
+    std::uint64_t seq = 0;
+    static Command make(Kind k, std::string a = {}, std::string b = {}, long long n = 0, double x = 0.0) {
+      Command c;
+      c.kind = k, c.a = std::move(a), c.b = std::move(b), c.n = n, c.x = x;
+      return c;
+    }
+  };
+  std::uint64_t push(Command c);
+  void main();
+  /// The run's frame callback (worker thread).
+  void on_frame(Frame&& f);
+  void handle(const Command& c, std::unique_lock<std::mutex>& lock);
+  /// Applies queued commands; waits while paused. Returns when the run should go on or stop.
+  void serve(std::unique_lock<std::mutex>& lock);
+  void start_generation();
+  void set_message(std::string text, bool error);
+  bool settled() const;
+
+  std::mutex m_;
+  std::condition_variable cv_;
+  std::deque<Command> queue_;
+  std::uint64_t next_seq_ = 1;
+  std::uint64_t handled_seq_ = 0;
+
+  // worker-owned solver state (touched only on the worker thread)
+  scene::LoadedScene scene_;
+  std::optional<scene::LoadedScene> pending_;
+  std::vector<std::string> pending_overrides_;
+  std::atomic<bool> stop_{false};
+  bool running_ = false;
+  long long steps_left_ = 0;
+  bool first_frame_ = true;
+  bool quit_ = false;
+  bool finished_ = false;
+  int probe_node_ = -1;
+  double pace_ = 0.0;
+  std::chrono::steady_clock::time_point last_release_;
+
+  // the mailbox (under m_)
+  WorkerStatus status_;
+  std::optional<Frame> frame_;
+  std::vector<Sample> samples_;
+
+  std::thread thread_;
+};
+
+}  // namespace ff::app::gui

@@ -1,0 +1,181 @@
+// `flexframe gui` as a person (or CI) runs it: under `xvfb-run -a`, driven by an actions file
+// through run / pause / set / step / probe, then a screenshot read back pixel by pixel (the body
+// is in the viewport, the image is not one flat colour), the saved scene and the exported frame.
+// Without a display the GUI exits at once with exit code 2 and names the headless verbs; a bad
+// actions line is reported as FILE:LINE with exit code 2.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <set>
+
+#include "tests/cli/cli_support.h"
+
+namespace ff::cli::test {
+namespace {
+
+/// Runs `program args...` (searched in PATH) with output to log files; like Child for flexframe.
+ProcResult run_program(const std::vector<std::string>& argv_in, const std::string& log_prefix, double timeout_s) {
+  const std::string out_file = log_prefix + ".stdout.txt", err_file = log_prefix + ".stderr.txt";
+  std::vector<std::string> all = argv_in;
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int o = open(out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (o < 0 || e < 0) _exit(126);
+    dup2(o, STDOUT_FILENO);
+    dup2(e, STDERR_FILENO);
+    setpgid(0, 0);  // its own group: a timeout kills xvfb-run, Xvfb and flexframe together
+    execvp(argv[0], argv.data());
+    _exit(127);
+  }
+  ProcResult r;
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > timeout_s) {
+      r.timed_out = true;
+      kill(-pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.out = read_text(out_file);
+  r.err = read_text(err_file);
+  return r;
+}
+
+bool have_xvfb_run() { return std::system("command -v xvfb-run > /dev/null 2>&1") == 0; }
+
+/// flexframe gui ARGS under a fresh virtual display.
+ProcResult run_gui_under_xvfb(const std::vector<std::string>& args, const std::string& log_prefix) {
+  std::vector<std::string> argv = {"xvfb-run", "-a", "-s", "-screen 0 1280x800x24", flexframe_exe(), "gui"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return run_program(argv, log_prefix, 60.0);
+}
+
+// the viewport: left of the 390 px side panel, above the 250 px plots and the 30 px status line
+struct Region {
+  int x0, y0, x1, y1;
+};
+constexpr std::array<std::uint8_t, 3> kViewportBackground = {247, 247, 250};  // 0.97, 0.97, 0.98
+
+int differs(const std::array<std::uint8_t, 3>& a, const std::array<std::uint8_t, 3>& b) {
+  return std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+}
+
+/// Checks a GUI screenshot: the viewport shows something besides its background (the body), it
+/// has the background too (not covered by a panel), and the whole window is not one colour.
+void expect_body_in_viewport(const Image& img, int width, int height) {
+  ASSERT_EQ(img.width, width);
+  ASSERT_EQ(img.height, height);
+  const Region vp{0, 0, width - 390, height - 250 - 30};
+  long long body = 0, background = 0, total = 0;
+  for (int y = vp.y0 + 60; y < vp.y1; ++y) {     // below the title and time text
+    for (int x = vp.x0; x < vp.x1 - 150; ++x) {  // left of the colour bar
+      const auto& p = img.at(x, y);
+      ++total;
+      if (differs(p, kViewportBackground) <= 6)
+        ++background;
+      else if (differs(p, kViewportBackground) > 60)
+        ++body;
+    }
+  }
+  EXPECT_GT(background, total / 3) << "the viewport background is missing";
+  EXPECT_GT(body, 200) << "no body drawn in the viewport (" << body << " pixels differ from the background)";
+  std::set<std::array<std::uint8_t, 3>> colours;
+  for (int y = 0; y < img.height && colours.size() < 50; y += 7)
+    for (int x = 0; x < img.width && colours.size() < 50; x += 7) colours.insert(img.at(x, y));
+  EXPECT_GT(colours.size(), 10u) << "the window is (nearly) one colour";
+}
+
+TEST(GuiCli, ScriptedSessionUnderXvfb) {
+  if (!have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup installs it)";
+  const std::string dir = fresh_test_dir();
+  const std::string actions = dir + "/session.txt";
+  write_text(actions,
+             "# drive the GUI like a person would\n"
+             "step 3\n"
+             "run\n"
+             "wait 0.2\n"
+             "pause\n"
+             "set solver.dt 0.02\n"
+             "set torque.amplitude 7\n"
+             "step 40\n"
+             "probe 5\n"
+             "step 5\n"
+             "screenshot " + dir + "/shot.png\n"
+             "export " + dir + "/frame.png\n"
+             "save " + dir + "/edited.toml\n"
+             "quit\n");
+  const ProcResult r = run_gui_under_xvfb({"hub_beam_fem_tau1", "--actions", actions, "--width", "1280",
+                                           "--height", "800", "--quit-after", "40"}, dir + "/gui");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_LT(r.wall_s, 20.0) << r.describe();
+  EXPECT_NE(r.out.find("session.txt:14: quit"), std::string::npos) << r.describe();
+  expect_body_in_viewport(read_png(dir + "/shot.png"), 1280, 800);
+
+  // the exported frame is the viewport alone
+  const Image frame = read_png(dir + "/frame.png");
+  EXPECT_EQ(frame.width, 1280 - 390);
+  EXPECT_EQ(frame.height, 800 - 250 - 30);
+
+  // the saved scene holds the edits and is valid
+  const std::string saved = read_text(dir + "/edited.toml");
+  EXPECT_NE(saved.find("dt = 0.02"), std::string::npos) << saved;
+  EXPECT_NE(saved.find("amplitude = 7"), std::string::npos) << saved;
+  const ProcResult check = run_flexframe({"check", dir + "/edited.toml"}, dir + "/check");
+  EXPECT_EQ(check.exit_code, 0) << check.describe();
+}
+
+TEST(GuiCli, ShellSceneScreenshotAfterQuitAfter) {
+  if (!have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup installs it)";
+  const std::string dir = fresh_test_dir();
+  // a coarse double pendulum, a few steps: surfaces in the viewport
+  const ProcResult r = run_gui_under_xvfb(
+      {"double_pendulum_shells", "--set", "shell[0].n1=6", "--set", "shell[0].n2=6", "--set", "shell[1].n1=6",
+       "--set", "shell[1].n2=6", "--run", "--screenshot", dir + "/shot.png", "--quit-after", "4", "--width",
+       "1280", "--height", "800"},
+      dir + "/gui");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  expect_body_in_viewport(read_png(dir + "/shot.png"), 1280, 800);
+}
+
+TEST(GuiCli, NoDisplayExitsWithTheHeadlessVerbs) {
+  const std::string dir = fresh_test_dir();
+  const char* saved = std::getenv("DISPLAY");
+  const std::string display = saved ? saved : "";
+  unsetenv("DISPLAY");
+  unsetenv("WAYLAND_DISPLAY");
+  const ProcResult r = run_flexframe({"gui", "hub_beam_fem_tau1"}, dir + "/gui", "", 20.0);
+  if (!display.empty()) setenv("DISPLAY", display.c_str(), 1);
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_LT(r.wall_s, 5.0) << r.describe();
+  EXPECT_NE(r.err.find("needs a display"), std::string::npos) << r.describe();
+  EXPECT_NE(r.err.find("flexframe run"), std::string::npos) << r.describe();
+  EXPECT_NE(r.err.find("flexframe replay"), std::string::npos) << r.describe();
+}
+
+TEST(GuiCli, BadActionsLineNamesFileAndLine) {
+  const std::string dir = fresh_test_dir();
+  const std::string actions = dir + "/bad.txt";
+  write_text(actions, "run\nwait 0.1\nstep many\nquit\n");
+  const ProcResult r = run_flexframe({"gui", "hub_beam_fem_tau1", "--actions", actions}, dir + "/gui", "", 20.0);
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find(actions + ":3: 'step' takes a whole number of steps"), std::string::npos) << r.describe();
+
+  // a key the scene does not have is caught before any window opens, at its line
+  write_text(actions, "run\nset solver.dtt 0.01\n");
+  const ProcResult k = run_flexframe({"gui", "hub_beam_fem_tau1", "--actions", actions}, dir + "/gui2", "", 20.0);
+  EXPECT_EQ(k.exit_code, 2) << k.describe();
+  EXPECT_NE(k.err.find(actions + ":2: set solver.dtt 0.01"), std::string::npos) << k.describe();
+}
+
+}  // namespace
+}  // namespace ff::cli::test
