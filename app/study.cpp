@@ -123,7 +123,11 @@ StudySpec make_study_spec(const StudyOptions& o) {
 
 int check_study(const StudySpec& spec) {
   std::vector<StudyVariant> runs = spec.variants();
-  if (spec.reference.kind == StudyReference::Kind::finest) runs.push_back(spec.finest());
+  if (spec.reference.kind == StudyReference::Kind::finest) {
+    const StudyVariant f = spec.finest();
+    if (std::none_of(runs.begin(), runs.end(), [&](const StudyVariant& v) { return v.scene == f.scene && v.overrides == f.overrides; }))
+      runs.push_back(f);
+  }
   if (spec.reference.kind == StudyReference::Kind::scene)
     runs.push_back({"reference", spec.reference.scene, spec.reference.overrides, {}});
   for (const StudyVariant& v : runs) {
