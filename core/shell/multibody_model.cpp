@@ -129,6 +129,8 @@ void MultibodyModel::build_pattern() {
   for (int I = 0; I < node_count(); ++I) block(I, I);  // rigid bodies, constraint-force terms
   for (const PerpendicularConstraint& c : spec_.perpendiculars)
     if (c.b >= 0) block(c.a, c.b), block(c.b, c.a);
+  for (const PositionConstraint& c : spec_.positions)  // local-frame rows couple the pair (D12')
+    if (c.b >= 0) block(c.a, c.b), block(c.b, c.a);
   pattern_.resize(n_, n_);
   pattern_.setFromTriplets(t.begin(), t.end());
   pattern_.makeCompressed();
@@ -296,7 +298,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   }
   if (!spec_.rigid.empty()) rigid_.evaluations += 1, rigid_.seconds += seconds_since(t_rigid);
 
-  // ---- joints: Φ, Bᵀλ and its variation (D11)-(D13) ----
+  // ---- joints: Φ, Bᵀλ and its variation (D11')-(D13) ----
   if (m_ == 0) {
     if (B) *B = b_pattern_;
     return;
@@ -311,31 +313,54 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   };
   int row = 0;
   for (const PositionConstraint& c : spec_.positions) {
+    // in node a's frame (D11'), (D12'): Φ = R_aᵀ d, d = p_a − p_b, p = x + R o. Its Jacobian
+    // is constant under rigid motions of the pair ([1, −õ_a + Φ̃ | −R_ab, R_ab õ_b], R_ab = R_aᵀR_b),
+    // so a frozen iteration matrix does not age as the bodies turn.
     const Vec3 lam = lambda.segment<3>(row);
-    // one side: point x + R o; B = [R, −R õ]; force Bᵀλ = [μ; o × μ], μ = ±Rᵀλ, whose local
-    // components turn with the node: ∂/∂θ = [μ̃; õ μ̃] (the D rule of (S16))
-    auto side = [&](int node, const Vec3& o, double sign) {
-      const Mat3& R = poses_[node].R;
-      const Vec3 mu = sign * (R.transpose() * lam);
-      const Vec3 mo = o.cross(mu);
-      for (int j = 0; j < 3; ++j) r[eq_[6 * node + j]] += mu[j];
+    const Mat3& Ra = poses_[c.a].R;
+    const Vec3 pa = poses_[c.a].x + Ra * c.a_offset;
+    const Vec3 pb = c.b >= 0 ? Vec3(poses_[c.b].x + poses_[c.b].R * c.b_offset) : c.target;
+    const Vec3 ph = Ra.transpose() * (pa - pb);
+    phi.segment<3>(row) = ph;
+    const Mat3 Ba_rot = -skew(c.a_offset) + skew(ph);
+    for (int j = 0; j < 3; ++j) r[eq_[6 * c.a + j]] += lam[j];
+    const Vec3 fa = Ba_rot.transpose() * lam;
+    for (int j = 0; j < 3; ++j)
+      if (eq_[6 * c.a + 3 + j] >= 0) r[eq_[6 * c.a + 3 + j]] += fa[j];
+    for (int k = 0; k < 3; ++k) {
+      bset(row + k, c.a, k, 1.0);
+      for (int j = 0; j < 3; ++j) bset(row + k, c.a, 3 + j, Ba_rot(k, j));
+    }
+    const Mat3 L = skew(lam);
+    if (tangent) {  // (−Φ × λ)' = λ̃ δΦ
+      add_block(c.a, 3, c.a, 0, w->stiffness * L);
+      add_block(c.a, 3, c.a, 3, w->stiffness * L * Ba_rot);
+    }
+    if (c.b >= 0) {
+      const Mat3& Rb = poses_[c.b].R;
+      const Mat3 Rab = Ra.transpose() * Rb;
+      const Mat3 Bb_rot = Rab * skew(c.b_offset);
+      const Vec3 mu = Rab.transpose() * lam;  // λ in b's frame
+      for (int j = 0; j < 3; ++j) r[eq_[6 * c.b + j]] -= mu[j];
+      const Vec3 fb = Bb_rot.transpose() * lam;
       for (int j = 0; j < 3; ++j)
-        if (eq_[6 * node + 3 + j] >= 0) r[eq_[6 * node + 3 + j]] += mo[j];
-      const Mat3 Bt = -sign * R * skew(o);
+        if (eq_[6 * c.b + 3 + j] >= 0) r[eq_[6 * c.b + 3 + j]] += fb[j];
       for (int k = 0; k < 3; ++k)
         for (int j = 0; j < 3; ++j) {
-          bset(row + k, node, j, sign * R(k, j));
-          bset(row + k, node, 3 + j, Bt(k, j));
+          bset(row + k, c.b, j, -Rab(k, j));
+          bset(row + k, c.b, 3 + j, Bb_rot(k, j));
         }
       if (tangent) {
-        add_block(node, 0, node, 3, w->stiffness * skew(mu));
-        add_block(node, 3, node, 3, w->stiffness * skew(o) * skew(mu));
+        const Mat3 Rba = Rab.transpose();
+        add_block(c.a, 3, c.b, 0, -w->stiffness * L * Rab);
+        add_block(c.a, 3, c.b, 3, w->stiffness * L * Bb_rot);
+        // δμ = μ̃ δθ_b − R_ba λ̃ δθ_a (δR_bᵀ = −δθ̃_b R_bᵀ, δR_a = R_a δθ̃_a); forces −μ and −õ_b μ
+        add_block(c.b, 0, c.b, 3, -w->stiffness * skew(mu));
+        add_block(c.b, 0, c.a, 3, w->stiffness * Rba * L);
+        add_block(c.b, 3, c.b, 3, -w->stiffness * skew(c.b_offset) * skew(mu));
+        add_block(c.b, 3, c.a, 3, w->stiffness * skew(c.b_offset) * Rba * L);
       }
-      return Vec3(poses_[node].x + R * o);
-    };
-    const Vec3 pa = side(c.a, c.a_offset, 1.0);
-    const Vec3 pb = c.b >= 0 ? side(c.b, c.b_offset, -1.0) : c.target;
-    phi.segment<3>(row) = pa - pb;
+    }
     row += 3;
   }
   for (const PerpendicularConstraint& c : spec_.perpendiculars) {

@@ -34,7 +34,7 @@ struct RigidBodySpec {
 };
 
 /// Points carried by the nodes coincide: x_a + R_a o_a = x_b + R_b o_b (b >= 0) or
-/// x_a + R_a o_a = target (b < 0): (D11), (D12). Offsets o are in the node frames (zero for shell
+/// x_a + R_a o_a = target (b < 0), as rows in node a's frame: (D11'), (D12'). Offsets o are in the node frames (zero for shell
 /// nodes; a rigid body's joint point relative to its centre of mass). Node ids are model-wide.
 struct PositionConstraint {
   int a = -1, b = -1;
