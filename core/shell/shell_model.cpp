@@ -388,20 +388,8 @@ void ShellModel::update(const Eigen::VectorXd& delta) {
 }
 
 std::vector<double> ShellModel::nodal_surface_strain() const {
-  std::vector<double> values(elements_.size());
-  std::vector<std::array<int, 4>> nodes(elements_.size());
-  for (std::size_t k = 0; k < elements_.size(); ++k) {
-    const Element& e = elements_[k];
-    ElementPoses ref, cur;
-    for (int c = 0; c < 4; ++c) {
-      const int I = e.nodes[c];
-      ref[c] = {reference_[I].R * e.corner[c], reference_[I].x};
-      cur[c] = {poses_[I].R * e.corner[c], poses_[I].x};
-    }
-    values[k] = max_surface_strain(ref, cur, spec_.section.thickness);
-    nodes[k] = e.nodes;
-  }
-  return average_to_nodes(values, nodes, static_cast<int>(poses_.size()));
+  return shell::nodal_surface_strain(elements_, reference_, poses_,
+                                     [this](const Element& e) { return spec_.section.thickness; });
 }
 
 }  // namespace ff::shell
