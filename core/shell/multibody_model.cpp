@@ -76,9 +76,22 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
                                     "a physical rotation. Enable the drilling effect for that shell, join rigid "
                                     "bodies, or use a revolute joint along an edge (positions only)");
   }
+  // a ground point at a node's own reference position, without offset, pins the node: its
+  // translations leave the unknowns (x ← x + R δu never moves it) instead of adding three
+  // constraint rows, whose reaction stiffness turns with the node and ages a frozen matrix
+  std::vector<std::uint8_t> pinned(nn, 0);
+  std::vector<PositionConstraint> rows;
+  for (const PositionConstraint& c : spec_.positions) {
+    const bool pin = c.b < 0 && c.a < rigid_offset_ && c.a_offset.isZero(0.0) &&
+                     (c.target - reference_[c.a].x).norm() <= 1e-12 * std::max(1.0, c.target.norm());
+    if (pin && !pinned[c.a]) pinned_.push_back(c.a);
+    if (pin) pinned[c.a] = 1;
+    else rows.push_back(c);
+  }
+  spec_.positions = std::move(rows);
   eq_.assign(6 * nn, -1);
   for (int i = 0; i < nn; ++i)
-    for (int s = 0; s < (six_[i] ? 6 : 5); ++s) eq_[6 * i + s] = n_++;
+    for (int s = pinned[i] ? 3 : 0; s < (six_[i] ? 6 : 5); ++s) eq_[6 * i + s] = n_++;
   m_ = 3 * static_cast<int>(spec_.positions.size()) + static_cast<int>(spec_.perpendiculars.size());
 
   for (int b = 0; b < static_cast<int>(spec_.shells.size()); ++b) {
@@ -301,6 +314,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   // ---- joints: Φ, Bᵀλ and its variation (D11')-(D13) ----
   if (m_ == 0) {
     if (B) *B = b_pattern_;
+    if (!pinned_.empty()) joints_.evaluations += 1;  // the pins act through the missing unknowns
     return;
   }
   auto t_joint = Clock::now();
@@ -323,7 +337,8 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     const Vec3 ph = Ra.transpose() * (pa - pb);
     phi.segment<3>(row) = ph;
     const Mat3 Ba_rot = -skew(c.a_offset) + skew(ph);
-    for (int j = 0; j < 3; ++j) r[eq_[6 * c.a + j]] += lam[j];
+    for (int j = 0; j < 3; ++j)
+      if (eq_[6 * c.a + j] >= 0) r[eq_[6 * c.a + j]] += lam[j];
     const Vec3 fa = Ba_rot.transpose() * lam;
     for (int j = 0; j < 3; ++j)
       if (eq_[6 * c.a + 3 + j] >= 0) r[eq_[6 * c.a + 3 + j]] += fa[j];
@@ -341,7 +356,8 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
       const Mat3 Rab = Ra.transpose() * Rb;
       const Mat3 Bb_rot = Rab * skew(c.b_offset);
       const Vec3 mu = Rab.transpose() * lam;  // λ in b's frame
-      for (int j = 0; j < 3; ++j) r[eq_[6 * c.b + j]] -= mu[j];
+      for (int j = 0; j < 3; ++j)
+        if (eq_[6 * c.b + j] >= 0) r[eq_[6 * c.b + j]] -= mu[j];
       const Vec3 fb = Bb_rot.transpose() * lam;
       for (int j = 0; j < 3; ++j)
         if (eq_[6 * c.b + 3 + j] >= 0) r[eq_[6 * c.b + 3 + j]] += fb[j];

@@ -34,7 +34,9 @@ struct RigidBodySpec {
 };
 
 /// Points carried by the nodes coincide: x_a + R_a o_a = x_b + R_b o_b (b >= 0) or
-/// x_a + R_a o_a = target (b < 0), as rows in node a's frame: (D11'), (D12'). Offsets o are in the node frames (zero for shell
+/// x_a + R_a o_a = target (b < 0), as rows in node a's frame: (D11'), (D12'). A ground point at
+/// node a's own reference position with no offset is a pin instead: the model drops a's
+/// translations from the unknowns and the constraint from spec().positions. Offsets o are in the node frames (zero for shell
 /// nodes; a rigid body's joint point relative to its centre of mass). Node ids are model-wide.
 struct PositionConstraint {
   int a = -1, b = -1;
@@ -116,6 +118,7 @@ class MultibodyModel final : public ff::DynamicProblem {
 
   MultibodySpec spec_;
   std::vector<NodePose> reference_, poses_, committed_;
+  std::vector<int> pinned_;  // nodes held in space by ground points: translations not unknowns
   std::vector<std::uint8_t> six_;
   std::vector<int> eq_;
   std::vector<int> shell_offset_;

@@ -44,7 +44,9 @@ MultibodySpec system_spec(bool gravity, bool ground) {
   s.gravity = gravity;
   s.g = Vec3(0.5, -1.0, -9.81);
   const int plate_nodes = 12, rigid = plate_nodes + 12;
-  s.positions.push_back({0, -1, Vec3::Zero()});            // plate corner to ground
+  // plate corner to a ground point off its reference position: three rows (at the node itself
+  // it would be a pin, see PinOnTheSpotLeavesTheUnknowns)
+  s.positions.push_back({0, -1, Vec3(0.0, 0.0, 0.02)});
   s.positions.push_back({3, plate_nodes + 0, Vec3::Zero()});  // plate to panel (coincidence in a moved state)
   s.positions.push_back({plate_nodes + 5, rigid, Vec3::Zero(), Vec3::Zero(), Vec3(0.1, -0.2, 0.3)});
   s.positions.push_back({rigid, -1, Vec3(0.4, 0.9, 0.1), Vec3(-0.3, 0.1, 0.2), Vec3::Zero()});  // pivot off the CoM
@@ -166,6 +168,30 @@ TEST(MultibodyModel, RotationalJointOnFiveDofNodeIsRefusedWithAReason) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("5 DoFs"), std::string::npos) << e.what();
   }
+}
+
+// A ground point at a node's own reference position is a pin: three unknowns fewer, no rows, the
+// node stays where it is whatever the step, and the model still reports the joints effect.
+TEST(MultibodyModel, PinOnTheSpotLeavesTheUnknowns) {
+  MultibodySpec rows = system_spec(false, false);
+  MultibodySpec pins = rows;
+  MultibodyModel free_model(rows);
+  pins.positions.push_back({0, -1, free_model.reference_pose(0).x});
+  pins.positions.push_back({1, -1, free_model.reference_pose(1).x});
+  MultibodyModel pinned(pins);
+  EXPECT_EQ(pinned.size(), free_model.size() - 6);
+  EXPECT_EQ(pinned.constraint_count(), free_model.constraint_count());
+  EXPECT_EQ(pinned.spec().positions.size(), rows.positions.size());
+  pinned.configure(random_vector(pinned.size(), 9, 0.3));
+  pinned.commit();
+  for (int I : {0, 1}) EXPECT_EQ((pinned.poses()[I].x - pinned.reference_pose(I).x).norm(), 0.0);
+  EXPECT_GT((pinned.poses()[0].R - pinned.reference_pose(0).R).norm(), 1e-3);  // free to turn
+  Eigen::VectorXd r, phi;
+  pinned.evaluate(0, Eigen::VectorXd::Zero(pinned.size()), Eigen::VectorXd::Zero(pinned.size()),
+                  Eigen::VectorXd::Zero(pinned.constraint_count()), r, phi, nullptr, nullptr, nullptr);
+  bool joints = false;
+  for (const auto& e : pinned.effect_stats()) joints = joints || (e.effect == "joints" && e.evaluations > 0);
+  EXPECT_TRUE(joints);
 }
 
 }  // namespace
