@@ -173,6 +173,8 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
           continue;
         }
       }
+      // the scene's camera path, unless --camera fixed the view
+      if (!camera && !out.camera_path.empty()) renderer->set_camera(*camera_on_path(out.camera_path, f->time));
       char name[32];
       std::snprintf(name, sizeof name, "frame_%05d.png", n);
       if (!renderer->render_png(*f, (frames_dir / name).string(), &render_error)) continue;
