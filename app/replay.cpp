@@ -164,7 +164,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
       style.camera = scene_camera(info.mesh, view, setting_numbers(info, "output.view_center"),
                                   setting_number(info, "output.view_radius", 0.0));  // as the run showed it
     } else {
-      style.camera = camera;
+      style.camera = camera_path.empty() ? camera : *camera_on_path(camera_path, reader->frame(selection[0]).time);
       style.fit_points = std::move(fit_points);
     }
     std::unique_ptr<render::GraphicsContext> gc = render::GraphicsContext::create(&err);

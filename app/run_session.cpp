@@ -165,6 +165,8 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
         style.title = scene.name;
         if (camera)
           style.camera = *camera;
+        else if (!out.camera_path.empty())  // the path's start sizes the tubes; each frame sets its own
+          style.camera = *camera_on_path(out.camera_path, f->time);
         else if (out.view != "auto")
           style.camera = scene_camera(info.mesh, out.view, out.view_center, out.view_radius);
         renderer = std::make_unique<render::FrameRenderer>(*gc, info, style);
