@@ -76,8 +76,10 @@ RunOutcome HubBeamSimulation::run(const std::function<void(Frame&&)>& publish, c
   const auto& changes = s_.torque_scale_changes;
   std::size_t next_change = 0;
   auto apply_due = [&](double t) {
+    bool changed = false;
     while (next_change < changes.size() && changes[next_change].first <= t + 1e-9 * s_.dt)
-      sys_->set_torque_scale(changes[next_change++].second);
+      sys_->set_torque_scale(changes[next_change++].second), changed = true;
+    return changed;
   };
   apply_due(0.0);
   StepReport init = integrator.initialize(st);
@@ -122,7 +124,17 @@ RunOutcome HubBeamSimulation::run(const std::function<void(Frame&&)>& publish, c
       if (remaining <= 1e-12) break;
       ++k;
     }
-    apply_due(st.t);
+    // the torque jumps: restart from the current state with accelerations that balance the new
+    // torque, so the step after the change carries none of the old one (Newmark's update mixes
+    // the accelerations at both ends of a step)
+    if (apply_due(st.t)) {
+      const StepReport re = integrator.initialize(st);
+      if (!re.converged) {
+        out.status = RunStatus::failed;
+        out.reason = "restart after a timeline change at t = " + std::to_string(st.t) + " s: " + re.failure;
+        break;
+      }
+    }
     // a change inside the step splits it: integrate up to the change, apply it, then the rest
     double dt = remaining;
     if (next_change < changes.size() && changes[next_change].first < st.t + remaining - 1e-9 * s_.dt)
