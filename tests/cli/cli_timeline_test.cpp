@@ -27,8 +27,8 @@ std::string type_text(hid_t type) {
 }
 
 void read_attributes(hid_t obj, const std::string& path, H5Contents* c) {
-  H5O_info2_t info;
-  H5Oget_info3(obj, &info, H5O_INFO_NUM_ATTRS);
+  H5O_info_t info;
+  H5Oget_info2(obj, &info, H5O_INFO_NUM_ATTRS);
   for (hsize_t i = 0; i < info.num_attrs; ++i) {
     const hid_t a = H5Aopen_by_idx(obj, ".", H5_INDEX_NAME, H5_ITER_INC, i, H5P_DEFAULT, H5P_DEFAULT);
     char name[256] = {0};
@@ -36,16 +36,16 @@ void read_attributes(hid_t obj, const std::string& path, H5Contents* c) {
     const hid_t type = H5Aget_type(a), space = H5Aget_space(a);
     std::string bytes = type_text(type) + "|";
     if (H5Tis_variable_str(type) > 0) {
-      char* s = nullptr;
-      const hid_t mem = H5Tcopy(H5T_C_S1);
-      H5Tset_size(mem, H5T_VARIABLE);
-      H5Aread(a, mem, &s);
-      bytes += s ? s : "";
-      H5free_memory(s);
-      H5Tclose(mem);
+      // read with the stored type (UTF-8 variable-length strings), scalar or an array of them
+      std::vector<char*> s(static_cast<std::size_t>(std::max<hssize_t>(1, H5Sget_simple_extent_npoints(space))));
+      EXPECT_GE(H5Aread(a, type, s.data()), 0) << path << "@" << name;
+      for (char* p : s) {
+        bytes += std::string(p ? p : "") + '\0';
+        H5free_memory(p);
+      }
     } else {
       std::string buf(static_cast<std::size_t>(H5Aget_storage_size(a)), '\0');
-      H5Aread(a, type, buf.data());
+      EXPECT_GE(H5Aread(a, type, buf.data()), 0) << path << "@" << name;
       bytes += buf;
     }
     c->attributes[path + "@" + name] = bytes;
@@ -55,7 +55,7 @@ void read_attributes(hid_t obj, const std::string& path, H5Contents* c) {
   }
 }
 
-herr_t visit(hid_t root, const char* name, const H5O_info2_t* info, void* data) {
+herr_t visit(hid_t root, const char* name, const H5O_info_t* info, void* data) {
   auto* c = static_cast<H5Contents*>(data);
   const std::string path = std::string("/") + (std::string(name) == "." ? "" : name);
   const hid_t obj = H5Oopen(root, name, H5P_DEFAULT);
@@ -70,12 +70,12 @@ herr_t visit(hid_t root, const char* name, const H5O_info2_t* info, void* data) 
     std::string bytes = type_text(type) + "|" + shape + "|";
     if (H5Tis_variable_str(type) > 0) {
       std::vector<char*> s(static_cast<std::size_t>(n));
-      H5Dread(obj, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, s.data());
+      EXPECT_GE(H5Dread(obj, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, s.data()), 0) << path;
       for (char* p : s) bytes += std::string(p ? p : "") + '\0';
       H5Dvlen_reclaim(type, space, H5P_DEFAULT, s.data());
     } else {
       std::string buf(static_cast<std::size_t>(n) * H5Tget_size(type), '\0');
-      H5Dread(obj, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data());
+      EXPECT_GE(H5Dread(obj, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()), 0) << path;
       bytes += buf;
     }
     c->datasets[path] = bytes;
@@ -91,7 +91,7 @@ H5Contents read_h5(const std::string& file) {
   const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   EXPECT_GE(f, 0) << file;
   if (f < 0) return c;
-  H5Ovisit3(f, H5_INDEX_NAME, H5_ITER_INC, visit, &c, H5O_INFO_BASIC);
+  H5Ovisit2(f, H5_INDEX_NAME, H5_ITER_INC, visit, &c, H5O_INFO_BASIC);
   H5Fclose(f);
   return c;
 }

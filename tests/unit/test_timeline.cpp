@@ -132,8 +132,10 @@ TEST(Timeline, HubTorqueSwitchedOffAtItsTime) {
     peak = std::max(peak, std::abs(f.probes[momentum]));
     if (f.time > 1.23 + 1e-12) {
       EXPECT_EQ(f.probes[torque], 0.0) << "t = " << f.time;
-      // Newton stops at |dx| <= 1e-10 (1 + |x|): the momentum holds to far better than 1e-6
-      EXPECT_NEAR(f.probes[momentum], p_off, 1e-6 * std::abs(p_off)) << "t = " << f.time;
+      // trapezoidal Newmark (beta = 1/4) conserves the momentum of the nonlinear hub-beam only to
+      // O(dt^2): at dt = 0.05 s it wanders by ~5e-5 relative (measured), against the ~0.67 kg m^2/s
+      // (~80 %) the drive would have added from 1.23 s to 2.5 s
+      EXPECT_NEAR(f.probes[momentum], p_off, 2e-4 * std::abs(p_off)) << "t = " << f.time;
     } else if (f.time > 0.0) {
       EXPECT_GT(f.probes[torque], 0.0) << "t = " << f.time;
     }
