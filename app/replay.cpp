@@ -152,7 +152,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     if (outcome.status != RunStatus::completed) style.title += std::string(" (") + to_string(outcome.status) + ")";
     // the stored scene's camera path ([[timeline]] camera keys), followed unless --camera is given
     std::vector<scene::CameraKey> camera_path;
-    if (opt.camera == "auto") {
+    if (opt.camera == "auto" && info.scene_text.find("timeline") != std::string::npos) {
       try {
         camera_path = scene::camera_path_from_text(info.scene_text, info.scene_path + " (as stored in " + path + ")");
       } catch (const scene::SceneError& e) {

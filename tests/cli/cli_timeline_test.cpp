@@ -106,7 +106,9 @@ void expect_identical_runs(const std::vector<std::string>& args) {
     ASSERT_EQ(r.exit_code, 0) << r.describe();
   }
   const H5Contents a = read_h5(dir + "/a/results.h5"), b = read_h5(dir + "/b/results.h5");
-  ASSERT_FALSE(a.datasets.empty());
+  // the whole file: frames, step log, mesh, run description, outcome, metrics, provenance
+  EXPECT_GE(a.datasets.size(), 20u);
+  EXPECT_GE(a.attributes.size(), 10u);
   EXPECT_GT(a.datasets.count("/frames/points"), 0u);
   EXPECT_GT(a.attributes.count("/outcome@wall_time_s"), 0u);
   ASSERT_EQ(a.datasets.size(), b.datasets.size());
