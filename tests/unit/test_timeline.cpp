@@ -208,6 +208,14 @@ TEST(Timeline, BadEntriesAreRefusedAtTheirKey) {
   EXPECT_NE(e.find("timeline[0].camera"), std::string::npos) << e;
   e = error_of("negative", base + "\n[[timeline]]\nat = -1.0\ntorque_scale = 0\n");
   EXPECT_NE(e.find("timeline[0].at"), std::string::npos) << e;
+  // a gravity change needs the gravity effect
+  std::string shells = read_text(bundled("double_pendulum_shells"));
+  const std::size_t g = shells.find("\"gravity\", ");
+  ASSERT_NE(g, std::string::npos);
+  shells.erase(g, 11);
+  e = error_of("no_gravity", shells + "\n[[timeline]]\nat = 0.1\ngravity = [0, 0, 0]\n");
+  EXPECT_NE(e.find("timeline[0].gravity"), std::string::npos) << e;
+  EXPECT_NE(e.find("lacks gravity"), std::string::npos) << e;
 }
 
 }  // namespace
