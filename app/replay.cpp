@@ -13,6 +13,7 @@
 #include "app/plots.h"
 #include "app/run_session.h"
 #include "app/view_options.h"
+#include "core/scene/scene.h"
 #include "render/frame_layout.h"
 #include "render/frame_renderer.h"
 #include "render/graphics_context.h"
@@ -149,12 +150,21 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     }
     style.title = info.scene_name;
     if (outcome.status != RunStatus::completed) style.title += std::string(" (") + to_string(outcome.status) + ")";
+    // the stored scene's camera path ([[timeline]] camera keys), followed unless --camera is given
+    std::vector<scene::CameraKey> camera_path;
+    if (opt.camera == "auto" && info.scene_text.find("timeline") != std::string::npos) {
+      try {
+        camera_path = scene::camera_path_from_text(info.scene_text, info.scene_path + " (as stored in " + path + ")");
+      } catch (const scene::SceneError& e) {
+        std::fprintf(stderr, "warning: the stored scene's timeline cannot be read, camera path ignored:\n%s\n", e.what());
+      }
+    }
     const std::string view = setting(info, "output.view");
-    if (opt.camera == "auto" && (view == "iso" || view == "front" || view == "top")) {
+    if (camera_path.empty() && opt.camera == "auto" && (view == "iso" || view == "front" || view == "top")) {
       style.camera = scene_camera(info.mesh, view, setting_numbers(info, "output.view_center"),
                                   setting_number(info, "output.view_radius", 0.0));  // as the run showed it
     } else {
-      style.camera = camera;
+      style.camera = camera_path.empty() ? camera : *camera_on_path(camera_path, reader->frame(selection[0]).time);
       style.fit_points = std::move(fit_points);
     }
     std::unique_ptr<render::GraphicsContext> gc = render::GraphicsContext::create(&err);
@@ -165,7 +175,9 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     }
     if (gc && renderer->ok()) {
       for (std::size_t k = 0; k < selection.size() && !stop; ++k) {
-        if (!renderer->render_png(reader->frame(selection[k]), (frames_dir / png_name(k)).string(), &err)) break;
+        const Frame f = reader->frame(selection[k]);
+        if (!camera_path.empty()) renderer->set_camera(*camera_on_path(camera_path, f.time));
+        if (!renderer->render_png(f, (frames_dir / png_name(k)).string(), &err)) break;
         ++rendered;
       }
       renderer.reset();

@@ -165,6 +165,8 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
         style.title = scene.name;
         if (camera)
           style.camera = *camera;
+        else if (!out.camera_path.empty())  // the path's start sizes the tubes; each frame sets its own
+          style.camera = *camera_on_path(out.camera_path, f->time);
         else if (out.view != "auto")
           style.camera = scene_camera(info.mesh, out.view, out.view_center, out.view_radius);
         renderer = std::make_unique<render::FrameRenderer>(*gc, info, style);
@@ -173,6 +175,8 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
           continue;
         }
       }
+      // the scene's camera path, unless --camera fixed the view
+      if (!camera && !out.camera_path.empty()) renderer->set_camera(*camera_on_path(out.camera_path, f->time));
       char name[32];
       std::snprintf(name, sizeof name, "frame_%05d.png", n);
       if (!renderer->render_png(*f, (frames_dir / name).string(), &render_error)) continue;

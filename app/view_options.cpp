@@ -73,6 +73,26 @@ render::Camera parse_camera(const std::string& spec) {
   return cam;
 }
 
+render::Camera camera_from_view(const scene::ViewAngles& view) {
+  render::Camera cam;  // automatic
+  cam.zoom = view.zoom;
+  if (view.automatic) return cam;
+  const double a = view.azimuth_deg * std::numbers::pi / 180, e = view.elevation_deg * std::numbers::pi / 180;
+  cam.view_direction = {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+  cam.view_up = {0, 0, 1};
+  if (std::fabs(view.elevation_deg) > 89.9) {
+    const double s = view.elevation_deg > 0 ? 1.0 : -1.0;
+    cam.view_up = {-s * std::cos(a), -s * std::sin(a), 0};
+  }
+  return cam;
+}
+
+std::optional<render::Camera> camera_on_path(const std::vector<scene::CameraKey>& path, double t) {
+  const std::optional<scene::ViewAngles> v = scene::camera_at(path, t);
+  if (!v) return std::nullopt;
+  return camera_from_view(*v);
+}
+
 std::pair<int, int> parse_size(const std::string& spec) {
   const std::string msg = "--size '" + spec + "': expected WIDTHxHEIGHT in pixels, each 64..8192 (e.g. 1280x720)";
   const std::size_t x = spec.find_first_of("xX");

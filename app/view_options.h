@@ -3,11 +3,13 @@
 /// Command-line view options shared by `run` and `replay`: --camera, --size, --export, and the
 /// camera of a scene's [output] view keys.
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/frame/frame.h"
+#include "core/scene/timeline.h"
 #include "render/frame_renderer.h"
 
 namespace ff::app {
@@ -22,6 +24,16 @@ extern const char* const kCameraHelp;
 /// direction: iso = (1, -1, 1), top = (0, 0, 1) with +y up, front = (0, -1, 0), side = (1, 0, 0).
 /// Throws InputError naming the accepted forms.
 render::Camera parse_camera(const std::string& spec);
+
+/// The automatic camera looking along a view's angles (a point of a scene's camera path):
+/// eye direction (cos el cos az, cos el sin az, sin el), z up; looking straight down or up
+/// (|el| > 89.9°) the image's up is the horizontal direction away from the eye's azimuth, so
+/// `top` is (0, 0, 1) with +y up, as parse_camera("top") gives. `auto` = the fit's own choice.
+render::Camera camera_from_view(const scene::ViewAngles& view);
+
+/// The camera of a frame at time (or load factor) t on a scene's camera path; nullopt without
+/// keys (the run's fixed camera applies).
+std::optional<render::Camera> camera_on_path(const std::vector<scene::CameraKey>& path, double t);
 
 /// --size WxH (e.g. 1280x720; each 64..8192). Throws InputError.
 std::pair<int, int> parse_size(const std::string& spec);

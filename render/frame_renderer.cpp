@@ -78,6 +78,7 @@ struct FrameRenderer::Impl {
   std::string error;
 
   ViewFit fit;
+  FrameMesh fit_mesh;  // what an automatic camera frames: the reference mesh plus style.fit_points
   Camera camera;
   double tube_radius = 0;
   bool have_lines = false, have_surfaces = false;
@@ -165,14 +166,13 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
   }
 
   // camera: fitted to the reference mesh once, so motion shows between frames
-  FrameMesh fit_mesh;  // the reference mesh plus the caller's extra points
+  fit_mesh.reference_points = mesh.reference_points;  // plus the caller's extra points
   if (!style.fit_points.empty()) {
-    fit_mesh.reference_points = mesh.reference_points;
     const std::size_t m = style.fit_points.size() / 3 * 3;
     fit_mesh.reference_points.insert(fit_mesh.reference_points.end(), style.fit_points.begin(),
                                      style.fit_points.begin() + static_cast<std::ptrdiff_t>(m));
   }
-  fit = fit_view(style.fit_points.empty() ? mesh : fit_mesh, style.width, style.height, style.camera.parallel,
+  fit = fit_view(fit_mesh, style.width, style.height, style.camera.parallel,
                  field >= 0 ? bar_strip_px() : 0, style.camera.view_direction,
                  style.camera.view_up, style.camera.zoom);
   camera = style.camera.automatic ? fit.camera : style.camera;
@@ -543,6 +543,21 @@ void FrameRenderer::pan(double dx_px, double dy_px) {
 void FrameRenderer::reset_camera() {
   std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
   impl_->apply_camera(impl_->camera);
+}
+
+void FrameRenderer::set_camera(const Camera& c) {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  Impl& m = *impl_;
+  if (!m.surface) return;  // not built (see ok())
+  if (c.automatic) {
+    const ViewFit f = fit_view(m.fit_mesh, m.style.width, m.style.height, c.parallel,
+                               m.field >= 0 ? m.bar_strip_px() : 0, c.view_direction, c.view_up, c.zoom);
+    m.camera = f.camera;
+  } else {
+    m.camera = c;
+    if (!(m.camera.parallel_scale > 0)) m.camera.parallel_scale = m.fit.camera.parallel_scale;
+  }
+  m.apply_camera(m.camera);
 }
 
 Camera FrameRenderer::current_camera() const {

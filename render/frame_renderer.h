@@ -102,6 +102,10 @@ class FrameRenderer {
   void pan(double dx_px, double dy_px);
   /// Back to the camera of the style (or the fitted view).
   void reset_camera();
+  /// Replaces the camera for the following frames (a scripted camera path): an automatic camera
+  /// is fitted to the same mesh and extra points as the style's; the tube radius and the colour
+  /// range stay as they are. reset_camera() then returns to this camera.
+  void set_camera(const Camera& camera);
   /// The camera as it is now (after orbit/zoom/pan); pass it in FrameStyle::camera to keep the
   /// view when a renderer is rebuilt (a new window size, a new mesh).
   Camera current_camera() const;

@@ -72,6 +72,16 @@ RunOutcome HubBeamSimulation::run(const std::function<void(Frame&&)>& publish, c
   st.v = Eigen::VectorXd::Zero(n);
   st.a = Eigen::VectorXd::Zero(n);
   RunOutcome out;
+  // [[timeline]] torque_scale changes: those due at (or within round-off of) the time t apply now
+  const auto& changes = s_.torque_scale_changes;
+  std::size_t next_change = 0;
+  auto apply_due = [&](double t) {
+    bool changed = false;
+    while (next_change < changes.size() && changes[next_change].first <= t + 1e-9 * s_.dt)
+      sys_->set_torque_scale(changes[next_change++].second), changed = true;
+    return changed;
+  };
+  apply_due(0.0);
   StepReport init = integrator.initialize(st);
   auto record = [&](long long step, const StepReport& rep, double dt) {
     Frame f;
@@ -99,7 +109,9 @@ RunOutcome HubBeamSimulation::run(const std::function<void(Frame&&)>& publish, c
   }
   record(0, init, 0.0);
   const long long steps = static_cast<long long>(std::llround(s_.t_end / s_.dt));
-  for (long long k = 1; k <= steps; ++k) {
+  long long frame_step = 0;  // = k unless a timeline change split a step
+  double remaining = 0.0;    // of the regular step k still to integrate
+  for (long long k = 0; k < steps || remaining > 1e-9 * s_.dt;) {
     if (stop.load()) {
       out.status = RunStatus::interrupted;
       std::ostringstream msg;
@@ -107,8 +119,27 @@ RunOutcome HubBeamSimulation::run(const std::function<void(Frame&&)>& publish, c
       out.reason = msg.str();
       break;
     }
-    const double dt = std::min(s_.dt, s_.t_end - st.t);
-    if (dt <= 1e-12) break;
+    if (remaining <= 1e-9 * s_.dt) {  // a new regular step
+      remaining = std::min(s_.dt, s_.t_end - st.t);
+      if (remaining <= 1e-12) break;
+      ++k;
+    }
+    // the torque jumps: restart from the current state with accelerations that balance the new
+    // torque, so the step after the change carries none of the old one (Newmark's update mixes
+    // the accelerations at both ends of a step)
+    if (apply_due(st.t)) {
+      const StepReport re = integrator.initialize(st);
+      if (!re.converged) {
+        out.status = RunStatus::failed;
+        out.reason = "restart after a timeline change at t = " + std::to_string(st.t) + " s: " + re.failure;
+        break;
+      }
+    }
+    // a change inside the step splits it: integrate up to the change, apply it, then the rest
+    double dt = remaining;
+    if (next_change < changes.size() && changes[next_change].first < st.t + remaining - 1e-9 * s_.dt)
+      dt = changes[next_change].first - st.t;
+    remaining = dt == remaining ? 0.0 : remaining - dt;
     const double t_before = st.t, prev_v = st.v[0], prev_a = st.a[0];
     StepReport rep = integrator.step(st, dt);
     totals_.newton_iterations += rep.iterations;
@@ -121,7 +152,7 @@ RunOutcome HubBeamSimulation::run(const std::function<void(Frame&&)>& publish, c
       break;
     }
     ++totals_.steps;
-    record(k, rep, dt);
+    record(++frame_step, rep, dt);
     // eq. (30): the hub rate along the step's cubic Hermite interpolant, against the critical speed
     const double peak = peak_rate(prev_v, prev_a, st.v[0], st.a[0], dt);
     if (peak > sys_->critical_speed()) {

@@ -15,6 +15,9 @@ struct HubBeamRunSettings {
   double dt = 0.05;        ///< time step [s]
   double t_end = 10.0;     ///< end time [s]
   NewmarkSettings newmark;
+  /// [[timeline]] torque_scale: (time, factor on the hub torque from then on), ascending in time.
+  /// The step containing a time is split there, so the change happens exactly at it.
+  std::vector<std::pair<double, double>> torque_scale_changes;
 };
 
 /// Metrics from a sampled history (free functions so tests can check them on known signals).

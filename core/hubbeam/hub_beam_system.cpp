@@ -166,7 +166,7 @@ double HubBeamSystem::hub_axis_inertia(const VectorXd& x) const {
 
 double HubBeamSystem::torque(double t) const {
   if (!fx_.hub_torque || t < 0.0 || t > p_.torque_period) return 0.0;
-  return p_.torque_amplitude * std::sin(2.0 * M_PI * t / p_.torque_period);  // eq. (10)
+  return torque_scale_ * p_.torque_amplitude * std::sin(2.0 * M_PI * t / p_.torque_period);  // eq. (10)
 }
 
 void HubBeamSystem::residual(const VectorXd& x, const VectorXd& v, const VectorXd& a, double t,

@@ -77,7 +77,10 @@ class HubBeamSystem final : public SecondOrderSystem {
   void jacobians(const Eigen::VectorXd& x, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
                  Eigen::MatrixXd& A, Eigen::MatrixXd& C, Eigen::MatrixXd& K) const;
 
-  double torque(double t) const;                                            ///< eq. (10) [N m]
+  double torque(double t) const;  ///< eq. (10) times torque_scale() [N m]
+  /// Factor on the hub torque from now on (a scene's [[timeline]] torque_scale; 1 by default).
+  void set_torque_scale(double scale) { torque_scale_ = scale; }
+  double torque_scale() const { return torque_scale_; }
   double kinetic_energy(const Eigen::VectorXd& x, const Eigen::VectorXd& v) const;  ///< eq. (5) [J]
   double potential_energy(const Eigen::VectorXd& x) const;                  ///< [J]
   double angular_momentum(const Eigen::VectorXd& x, const Eigen::VectorXd& v) const;  ///< eq. (14)
@@ -114,6 +117,7 @@ class HubBeamSystem final : public SecondOrderSystem {
  private:
   HubBeamParams p_;
   HubBeamEffects fx_;
+  double torque_scale_ = 1.0;
   std::unique_ptr<BeamBasis> basis_;
   double validity_ratio_;
   double critical_speed_ = 0.0;

@@ -10,6 +10,7 @@
 #include "core/hubbeam/hub_beam_simulation.h"
 #include "core/scene/shell_dynamic_scene.h"
 #include "core/scene/scene_common.h"
+#include "core/scene/timeline.h"
 #include "core/scene/shell_scene.h"
 
 namespace ff::scene {
@@ -64,6 +65,7 @@ const Schema& hub_beam_schema() {
         .number("solver.max_tip_deflection_ratio",
                 "stop as diverged when |tip deflection| exceeds this multiple of L", 1.0, Range::left_open(0.0, 100.0));
     declare_output_keys(s, {"deflection", "transverse"}, false);
+    declare_timeline(s, "time of the event", "s", {"torque_scale"});
     return s;
   }();
   return schema;
@@ -135,6 +137,8 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
   rs.newmark.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
   rs.newmark.max_cutbacks = static_cast<int>(d.integer("solver.max_cutbacks"));
 
+  for (const ParameterChange& c : read_timeline(d, rs.t_end).changes)
+    if (c.key == "torque_scale") rs.torque_scale_changes.push_back({c.at, c.value[0]});
   auto system = std::make_unique<HubBeamSystem>(p, fx, std::move(basis), d.number("solver.max_tip_deflection_ratio"));
   RunInfo info;
   describe_run(d, path, info);
@@ -147,18 +151,28 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
 namespace {
 // the model named in the file picks the schema; anything unreadable falls back to the hub-beam
 // schema, whose validation then reports the problem with its location
-std::string peek_model(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
+std::string peek_model_text(const std::string& text, const std::string& path) {
   try {
-    const toml::table t = toml::parse(ss.str(), path);
+    const toml::table t = toml::parse(text, path);
     return t["scene"]["model"].value<std::string>().value_or("hub_beam");
   } catch (const toml::parse_error&) {
     return "hub_beam";
   }
 }
+std::string peek_model(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return peek_model_text(ss.str(), path);
+}
 }  // namespace
+
+const Schema& schema_for_text(const std::string& text) {
+  const std::string model = peek_model_text(text, "scene_text");
+  if (model == "shell_static") return shell_static_schema();
+  if (model == "shell_dynamic") return shell_dynamic_schema();
+  return hub_beam_schema();
+}
 
 const Schema& scene_schema(const std::string& path) {
   const std::string model = peek_model(path);
@@ -182,6 +196,7 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
     s.name = d.string("scene.name");
     s.path = path;
     s.output = read_output(d, true);
+    s.output.camera_path = read_timeline(d, d.number(statics ? "solver.lambda_end" : "time.end")).camera;
     s.simulation = statics ? build_shell_static(d, path) : build_shell_dynamic(d, path);
     return s;
   }
@@ -190,6 +205,7 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
   s.name = d.string("scene.name");
   s.path = path;
   s.output = read_output(d, false);
+  s.output.camera_path = read_timeline(d, d.number("solver.t_end")).camera;
   s.simulation = build_hub_beam(d, path);
   return s;
 }

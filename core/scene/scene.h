@@ -9,6 +9,7 @@
 
 #include "core/model/simulation.h"
 #include "core/scene/schema.h"
+#include "core/scene/timeline.h"
 
 namespace ff::scene {
 
@@ -23,6 +24,9 @@ struct OutputSettings {
   std::string view = "auto";               ///< auto (renderer fits), iso, front (along +y), top (along -z)
   std::vector<double> view_center;         ///< empty = centre of the reference bounding box
   double view_radius = 0.0;                ///< half height of the view in world units; 0 = fit
+  /// Camera keys of the scene's [[timeline]] (empty: none); the app interpolates them per frame
+  /// with camera_at() unless --camera overrides them.
+  std::vector<CameraKey> camera_path;
 };
 
 struct LoadedScene {
@@ -38,6 +42,9 @@ const Schema& hub_beam_schema();
 /// schema when the file cannot be read or parsed; validating with it then reports why).
 /// Editors (the GUI's parameter list) read the keys, kinds, ranges and docs from it.
 const Schema& scene_schema(const std::string& path);
+
+/// The schema of a scene text, picked by its `scene.model` as scene_schema() does for a file.
+const Schema& schema_for_text(const std::string& text);
 
 /// Markdown reference of every scene key of every model (README's scene reference).
 std::string scene_reference_markdown();

@@ -58,6 +58,12 @@ void describe_run(const Document& d, const std::string& path, RunInfo& info) {
     const std::string v = d.value_text(k);
     if (!v.empty()) info.settings.emplace_back(k, v);
   }
+  // the scripted events, so a reader of the results sees what happened when
+  if (d.count("timeline") > 0)
+    for (std::size_t i = 0; i < d.count("timeline"); ++i)
+      for (const std::string& k : d.element_key_paths("timeline"))
+        if (d.present(k, i))
+          info.settings.emplace_back("timeline[" + std::to_string(i) + "]" + k.substr(k.find('.')), d.value_text(k, i));
 }
 
 }  // namespace ff::scene

@@ -7,6 +7,7 @@
 #include "core/mesh/generators.h"
 #include "core/scene/node_selection.h"
 #include "core/scene/scene_common.h"
+#include "core/scene/timeline.h"
 #include "core/shell/shell_dynamic_simulation.h"
 
 namespace ff::scene {
@@ -94,6 +95,7 @@ const Schema& shell_dynamic_schema() {
         .choice("metric.kind", "how it is read from the history", {"min", "max", "max_abs", "final"}, std::nullopt)
         .string("metric.probe", "probe (or arc_rate_<arc>, arc_strain_<arc>) it reads", std::nullopt);
     declare_output_keys(s, {"displacement", "strain"}, true);
+    declare_timeline(s, "time of the event", "s", {"gravity"});
     return s;
   }();
   return schema;
@@ -336,6 +338,15 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
                                   : DynamicMetric::Kind::final_value;
     if (!known_probe(mt.probe)) throw SceneError({d.issue("metric.probe", i, "no probe called '" + mt.probe + "'")});
     st.metrics.push_back(mt);
+  }
+  // [[timeline]] gravity changes, applied by the simulation exactly at their time
+  const Timeline timeline = read_timeline(d, st.end_time);
+  for (std::size_t i = 0, k = 0; i < d.count("timeline"); ++i) {
+    if (!d.present("timeline.gravity", i)) continue;
+    if (!spec.gravity) throw SceneError({d.issue("timeline.gravity", i, "changes gravity, but scene.effects lacks gravity")});
+    while (timeline.changes[k].key != "gravity") ++k;
+    const std::vector<double>& g = timeline.changes[k++].value;
+    st.gravity_changes.push_back({d.number("timeline.at", i), Vec3(g[0], g[1], g[2])});
   }
   RunInfo info;
   describe_run(d, path, info);

@@ -9,6 +9,7 @@
 #include "core/scene/node_selection.h"
 #include "core/scene/reference_csv.h"
 #include "core/scene/scene_common.h"
+#include "core/scene/timeline.h"
 #include "core/shell/shell_static_simulation.h"
 
 namespace ff::scene {
@@ -118,6 +119,7 @@ const Schema& shell_static_schema() {
         .string("solver.monitor_probe", "arc length: probe whose displacement limit ends the run", std::string{})
         .number("solver.displacement_limit", "arc length: stop when |monitor probe| reaches this", 1e300, Range::positive());
     declare_output_keys(s, {"displacement", "strain"}, true);
+    declare_timeline(s, "load factor of the event (statics: camera keys only)", "", {});
     return s;
   }();
   return schema;

@@ -102,6 +102,8 @@ class MultibodyModel final : public ff::DynamicProblem {
   /// Largest |Φ_i| of the current configuration (length units for positions, cosines for axes).
   double constraint_violation() const;
   const MultibodySpec& spec() const { return spec_; }
+  /// Gravity g [m/s^2] from now on (a scene's [[timeline]] gravity); used only when spec().gravity.
+  void set_gravity(const Vec3& g) { spec_.g = g; }
   double total_mass() const;
   /// Display strain per node (cb_shell.md eq. S3, averaged over the adjacent elements); 0 at
   /// rigid-body nodes.

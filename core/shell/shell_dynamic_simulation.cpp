@@ -96,6 +96,15 @@ RunOutcome ShellDynamicSimulation::run(const std::function<void(Frame&&)>& publi
     totals_.jacobian_updates = integrator_->total_updates();
     return out;
   };
+  // [[timeline]] gravity changes: those due at (or within round-off of) the time t apply now
+  std::size_t next_change = 0;
+  auto apply_due = [&](double t) {
+    bool changed = false;
+    while (next_change < s_.gravity_changes.size() && s_.gravity_changes[next_change].first <= t + 1e-9 * s_.dt)
+      model_->set_gravity(s_.gravity_changes[next_change++].second), changed = true;
+    return changed;
+  };
+  apply_due(0.0);
   const std::string why = integrator_->initialize(0.0, Eigen::VectorXd::Zero(model_->size()));
   if (!why.empty()) return finish(RunStatus::failed, why);
   auto record = [&] {
@@ -132,11 +141,25 @@ RunOutcome ShellDynamicSimulation::run(const std::function<void(Frame&&)>& publi
     if (!log.empty()) publish_state(step);
     return finish(status, std::move(reason));
   };
+  double rest = 0.0;  // of a step split by a timeline change
   while (integrator_->time() < t_end - 1e-9 * dt) {
     if (stop.load())
       return stop_early(step, RunStatus::interrupted, "interrupted at t = " + std::to_string(integrator_->time()) + " s");
     const double t0 = integrator_->time();
-    const double h = std::min(dt, t_end - t0);
+    // gravity jumps: restart from the current state with accelerations and multipliers that
+    // balance the new load (the integrator's algorithmic accelerations carry the old one)
+    if (apply_due(t0)) {
+      const std::string restart = integrator_->restart();
+      if (!restart.empty()) return stop_early(step, RunStatus::failed, "restart after a timeline change: " + restart);
+    }
+    double h = rest > 0 ? rest : std::min(dt, t_end - t0);
+    rest = 0.0;
+    // a change inside the step splits it at the change; the rest of the step follows, so later
+    // steps stay on the grid of dt
+    if (next_change < s_.gravity_changes.size() && s_.gravity_changes[next_change].first < t0 + h - 1e-9 * dt) {
+      rest = h - (s_.gravity_changes[next_change].first - t0);
+      h = s_.gravity_changes[next_change].first - t0;
+    }
     const AlphaStepReport rep = integrator_->step(h);
     if (t0 < s_.count_until - 1e-9 * dt) window_noi_ += rep.iterations, window_nou_ += rep.updates;
     if (!rep.converged) return stop_early(step, RunStatus::diverged, rep.failure);

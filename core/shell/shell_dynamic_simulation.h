@@ -45,6 +45,9 @@ struct ShellDynamicSettings {
   std::vector<DynamicProbe> probes;
   std::vector<DynamicArc> arcs;
   std::vector<DynamicMetric> metrics;
+  /// [[timeline]] gravity: (time, g from then on), ascending in time. The step containing a time
+  /// is split there, so the change happens exactly at it.
+  std::vector<std::pair<double, Vec3>> gravity_changes;
 };
 
 class ShellDynamicSimulation final : public Simulation {

@@ -118,6 +118,14 @@ std::string GeneralizedAlpha::initialize(double t0, const Eigen::VectorXd& v0) {
   return {};
 }
 
+std::string GeneralizedAlpha::restart() {
+  const long long nou = nou_;
+  const Eigen::VectorXd v = v_;
+  std::string why = initialize(t_, v);
+  nou_ = nou;
+  return why;
+}
+
 GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
   const int n = p_.size(), m = p_.constraint_count();
   const double bp = (1 - am_) / (h * h * beta_ * (1 - af_)), gp = gamma_ / (h * beta_);  // (G6)

@@ -45,6 +45,10 @@ class GeneralizedAlpha {
   /// Advances from time() by h (with cut-backs when needed). On failure the state is the last one
   /// that converged (time() tells where: a converged first half of a cut-back step is kept).
   AlphaStepReport step(double h);
+  /// Restarts at the current (converged) state after a jump of the load (a scene's [[timeline]]
+  /// change): initialize() at time() with the current velocity; the counters are kept (the
+  /// mass-matrix factorization, like initialize()'s, is not counted as an update).
+  std::string restart();
 
   double time() const { return t_; }
   const Eigen::VectorXd& velocity() const { return v_; }
