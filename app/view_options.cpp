@@ -7,70 +7,20 @@
 #include <sstream>
 
 #include "app/run_session.h"
+#include "core/scene/schema_text.h"
 
 namespace ff::app {
 
 const char* const kCameraHelp =
     "view: auto, iso, top, front, side, or AZIMUTH,ELEVATION in degrees; optionally ,ZOOM (e.g. iso,1.5 or -60,25,2)";
 
-namespace {
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, sep);) {
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
-    out.push_back(item);
-  }
-  return out;
-}
-
-bool parse_number(const std::string& s, double* v) {
-  if (s.empty()) return false;
-  char* end = nullptr;
-  *v = std::strtod(s.c_str(), &end);
-  return end == s.c_str() + s.size() && std::isfinite(*v);
-}
-
-}  // namespace
-
 render::Camera parse_camera(const std::string& spec) {
-  const std::string accepted = std::string("--camera '") + spec + "': expected " + kCameraHelp;
-  render::Camera cam;  // automatic
-  const std::vector<std::string> parts = split(spec, ',');
-  if (parts.empty() || parts.size() > 3) throw InputError(accepted);
-  std::size_t used = 1;
-  if (parts[0] == "auto") {
-  } else if (parts[0] == "iso") {
-    cam.view_direction = {1, -1, 1};
-    cam.view_up = {0, 0, 1};
-  } else if (parts[0] == "top") {
-    cam.view_direction = {0, 0, 1};
-    cam.view_up = {0, 1, 0};
-  } else if (parts[0] == "front") {
-    cam.view_direction = {0, -1, 0};
-    cam.view_up = {0, 0, 1};
-  } else if (parts[0] == "side") {
-    cam.view_direction = {1, 0, 0};
-    cam.view_up = {0, 0, 1};
-  } else {
-    double az = 0, el = 0;
-    if (parts.size() < 2 || !parse_number(parts[0], &az) || !parse_number(parts[1], &el) || std::fabs(el) > 90)
-      throw InputError(accepted + " (elevation within -90..90)");
-    const double a = az * std::numbers::pi / 180, e = el * std::numbers::pi / 180;
-    cam.view_direction = {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
-    cam.view_up = {0, 0, 1};
-    used = 2;
-  }
-  if (parts.size() > used + 1) throw InputError(accepted);
-  if (parts.size() == used + 1) {
-    double zoom = 0;
-    if (!parse_number(parts[used], &zoom) || !(zoom > 0) || zoom > 1000)
-      throw InputError(accepted + " (zoom must be a number in (0, 1000])");
-    cam.zoom = zoom;
-  }
-  return cam;
+  // one parser for the command line and the scene timeline (core/scene/timeline.h)
+  const std::optional<scene::ViewAngles> view = scene::parse_view_angles(spec);
+  if (!view)
+    throw InputError(std::string("--camera '") + spec + "': expected " + kCameraHelp +
+                     " (elevation within -90..90, zoom in (0, 1000])");
+  return camera_from_view(*view);
 }
 
 render::Camera camera_from_view(const scene::ViewAngles& view) {
@@ -98,14 +48,14 @@ std::pair<int, int> parse_size(const std::string& spec) {
   const std::size_t x = spec.find_first_of("xX");
   if (x == std::string::npos) throw InputError(msg);
   double w = 0, h = 0;
-  if (!parse_number(spec.substr(0, x), &w) || !parse_number(spec.substr(x + 1), &h)) throw InputError(msg);
+  if (!scene::text::parse_finite(spec.substr(0, x), &w) || !scene::text::parse_finite(spec.substr(x + 1), &h)) throw InputError(msg);
   if (w != std::floor(w) || h != std::floor(h) || w < 64 || h < 64 || w > 8192 || h > 8192) throw InputError(msg);
   return {static_cast<int>(w), static_cast<int>(h)};
 }
 
 ExportFormats parse_export_formats(const std::string& spec) {
   ExportFormats f;
-  for (const std::string& p : split(spec, ',')) {
+  for (const std::string& p : scene::text::split_trimmed(spec, ',')) {
     if (p == "vtu") f.vtu = true;
     else if (p == "gltf" || p == "glb") f.gltf = true;
     else if (p == "obj") f.obj = true;

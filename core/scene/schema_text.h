@@ -21,6 +21,10 @@ std::string quoted(std::string_view s);
 std::string clip(std::string_view s, std::size_t max = 60);
 /// Items joined by `sep`.
 std::string join(const std::vector<std::string>& items, std::string_view sep);
+/// `s` cut at every `sep`, each piece trimmed of blanks and tabs ("a, b" -> {"a", "b"}).
+std::vector<std::string> split_trimmed(const std::string& s, char sep);
+/// The whole of `s` as a finite number, or false.
+bool parse_finite(const std::string& s, double* v);
 /// Value as TOML text ("" for monostate).
 std::string toml_value(const Value& v);
 

@@ -5,28 +5,11 @@
 #include <sstream>
 
 #include "core/scene/scene.h"
+#include "core/scene/schema_text.h"
 
 namespace ff::scene {
 
 namespace {
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, sep);) {
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
-    out.push_back(item);
-  }
-  return out;
-}
-
-bool parse_number(const std::string& s, double* v) {
-  if (s.empty()) return false;
-  char* end = nullptr;
-  *v = std::strtod(s.c_str(), &end);
-  return end == s.c_str() + s.size() && std::isfinite(*v);
-}
 
 const char* const kViewForms =
     "auto, iso, top, front, side, or AZIMUTH,ELEVATION in degrees (elevation within -90..90); "
@@ -35,7 +18,7 @@ const char* const kViewForms =
 }  // namespace
 
 std::optional<ViewAngles> parse_view_angles(const std::string& spec) {
-  const std::vector<std::string> parts = split(spec, ',');
+  const std::vector<std::string> parts = text::split_trimmed(spec, ',');
   if (parts.empty() || parts.size() > 3) return std::nullopt;
   ViewAngles v;
   std::size_t used = 1;
@@ -52,14 +35,14 @@ std::optional<ViewAngles> parse_view_angles(const std::string& spec) {
     v.azimuth_deg = -90.0;
     v.elevation_deg = 90.0;
   } else {
-    if (parts.size() < 2 || !parse_number(parts[0], &v.azimuth_deg) || !parse_number(parts[1], &v.elevation_deg) ||
+    if (parts.size() < 2 || !text::parse_finite(parts[0], &v.azimuth_deg) || !text::parse_finite(parts[1], &v.elevation_deg) ||
         std::fabs(v.elevation_deg) > 90.0)
       return std::nullopt;
     used = 2;
   }
   if (parts.size() > used + 1) return std::nullopt;
   if (parts.size() == used + 1) {
-    if (!parse_number(parts[used], &v.zoom) || !(v.zoom > 0) || v.zoom > 1000) return std::nullopt;
+    if (!text::parse_finite(parts[used], &v.zoom) || !(v.zoom > 0) || v.zoom > 1000) return std::nullopt;
   }
   return v;
 }
