@@ -564,7 +564,7 @@ class GuiApp {
       }
     }
     if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
-      ImGui::TextDisabled("edits rebuild the model and restart at t = 0");
+      ImGui::TextDisabled("edits rebuild the model and restart at t = 0; live, the run goes on: torque.amplitude, gravity.g");
       ImGui::BeginChild("params", ImVec2(0, 0), false);
       for (const auto& [key, value] : params_.draw()) worker_->set(key, value);
       ImGui::EndChild();

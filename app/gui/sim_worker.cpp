@@ -236,6 +236,12 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
       for (const std::string& o : overrides)
         if (o.substr(0, o.find('=')) != c.a) next.push_back(o);
       next.push_back(c.a + "=" + c.b);
+      // a live parameter (Simulation::change_live) changes at the next step; the run goes on
+      if (!finished_ && !pending_ && scene_.simulation->change_live(c.a, c.b).empty()) {
+        status_.overrides = next;
+        set_message("set " + c.a + " = " + c.b + " live: the run goes on with it from the next step", false);
+        break;
+      }
       if (rebuild(path, next, "set " + c.a + " = " + c.b)) {
         if (finished_) running_ = false;
         set_message("set " + c.a + " = " + c.b + "; restarted at t = 0", false);

@@ -79,6 +79,11 @@ RunOutcome HubBeamSimulation::run(const std::function<void(Frame&&)>& publish, c
     bool changed = false;
     while (next_change < changes.size() && changes[next_change].first <= t + 1e-9 * s_.dt)
       sys_->set_torque_scale(changes[next_change++].second), changed = true;
+    if (live_torque_scale_) {  // a live edit (change_live) made since the last step
+      sys_->set_torque_scale(*live_torque_scale_);
+      live_torque_scale_.reset();
+      changed = true;
+    }
     return changed;
   };
   apply_due(0.0);
@@ -204,6 +209,17 @@ Metrics HubBeamSimulation::metrics() const {
   if (modal.frequencies_hz.size() > 1) add("modal_frequency_hz", modal.frequencies_hz[1]);
   add("beam_inertia_kg_m2", sys_->matrices().jb);
   return m;
+}
+
+std::string HubBeamSimulation::change_live(const std::string& key, const std::string& value) {
+  if (key != "torque.amplitude") return "'" + key + "' cannot change while the model runs (live: torque.amplitude)";
+  char* end = nullptr;
+  const double tau0 = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !std::isfinite(tau0)) return "torque.amplitude needs a number, got '" + value + "'";
+  const double base = sys_->params().torque_amplitude;
+  if (base == 0.0) return "the scene's torque amplitude is 0, so it cannot be scaled live";
+  live_torque_scale_ = tau0 / base;
+  return "";
 }
 
 }  // namespace ff::hubbeam

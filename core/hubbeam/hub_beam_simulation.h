@@ -4,6 +4,8 @@
 /// the seed reports (hub_beam.md; README "Hub-beam metrics").
 
 #include <memory>
+#include <optional>
+#include <string>
 
 #include "core/hubbeam/hub_beam_system.h"
 #include "core/model/simulation.h"
@@ -41,12 +43,15 @@ class HubBeamSimulation final : public Simulation {
   double end_time() const override { return s_.t_end; }
   std::vector<EffectStat> effect_stats() const override { return sys_->effect_stats(); }
   const HubBeamSystem& system() const { return *sys_; }
+  /// Live: "torque.amplitude" (tau0 [N m]; the run goes on with the torque scaled to it).
+  std::string change_live(const std::string& key, const std::string& value) override;
 
  private:
   std::unique_ptr<HubBeamSystem> sys_;
   HubBeamRunSettings s_;
   RunInfo info_;
   SolverTotals totals_;
+  std::optional<double> live_torque_scale_;  // a live change waiting for the next step
   std::vector<double> t_, angle_deg_, tip_v_, tip_u_, energy_, momentum_;
 };
 

@@ -56,6 +56,14 @@ class Simulation {
   /// Effects that were evaluated, with their counts and times (summary.json "effect_stats");
   /// empty where a model does not count them.
   virtual std::vector<EffectStat> effect_stats() const { return {}; }
+  /// A parameter change while the run goes on (the GUI's live edits). Call it from inside run()'s
+  /// publish callback, i.e. between steps on the solver's own thread; it takes effect at the start
+  /// of the next step, exactly as a [[timeline]] change at that time would. Returns "" when
+  /// accepted, otherwise why not (the caller then rebuilds the model instead).
+  virtual std::string change_live(const std::string& key, const std::string& value) {
+    (void)value;
+    return "'" + key + "' cannot change while the model runs";
+  }
 };
 
 }  // namespace ff

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 namespace ff::shell {
 
@@ -102,6 +103,11 @@ RunOutcome ShellDynamicSimulation::run(const std::function<void(Frame&&)>& publi
     bool changed = false;
     while (next_change < s_.gravity_changes.size() && s_.gravity_changes[next_change].first <= t + 1e-9 * s_.dt)
       model_->set_gravity(s_.gravity_changes[next_change++].second), changed = true;
+    if (live_gravity_) {  // a live edit (change_live) made since the last step
+      model_->set_gravity(*live_gravity_);
+      live_gravity_.reset();
+      changed = true;
+    }
     return changed;
   };
   apply_due(0.0);
@@ -221,6 +227,21 @@ Metrics ShellDynamicSimulation::metrics() const {
   const double scale = std::max(std::abs(energy0_), 1e-300);
   m.emplace_back("energy_growth_max_rel", max_energy_growth_ / scale);
   return m;
+}
+
+std::string ShellDynamicSimulation::change_live(const std::string& key, const std::string& value) {
+  if (key != "gravity.g") return "'" + key + "' cannot change while the model runs (live: gravity.g)";
+  if (!model_->spec().gravity) return "gravity.g changes live only when the scene has the gravity effect";
+  // "[gx, gy, gz]": three finite numbers
+  std::string text = value;
+  for (char& c : text)
+    if (c == '[' || c == ']' || c == ',') c = ' ';
+  std::istringstream in(text);
+  Vec3 g;
+  if (!(in >> g.x() >> g.y() >> g.z()) || !g.allFinite() || (in >> std::ws, !in.eof()))
+    return "gravity.g needs [gx, gy, gz], got '" + value + "'";
+  live_gravity_ = g;
+  return "";
 }
 
 }  // namespace ff::shell

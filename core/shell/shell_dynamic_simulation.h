@@ -6,6 +6,7 @@
 
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,8 @@ class ShellDynamicSimulation final : public Simulation {
   SolverTotals totals() const override { return totals_; }
   double end_time() const override { return s_.end_time; }
   std::vector<EffectStat> effect_stats() const override;
+  /// Live: "gravity.g" ([gx, gy, gz] in m/s²; needs the gravity effect).
+  std::string change_live(const std::string& key, const std::string& value) override;
   const MultibodyModel& model() const { return *model_; }
   /// Largest |Φ| seen after a converged step (constraint violation), in length units.
   double max_constraint_violation() const { return max_violation_; }
@@ -67,6 +70,7 @@ class ShellDynamicSimulation final : public Simulation {
   Frame make_frame(std::int64_t step, double time, const StepStats& stats) const;
   std::vector<double> probe_values() const;  // probes in RunInfo order
   std::unique_ptr<MultibodyModel> model_;
+  std::optional<Vec3> live_gravity_;  // a live change waiting for the next step
   std::unique_ptr<GeneralizedAlpha> integrator_;
   ShellDynamicSettings s_;
   RunInfo info_;

@@ -115,5 +115,26 @@ TEST(GuiSimWorker, PausesWhileRunningAndQuitsPromptly) {
   // the destructor quits while paused
 }
 
+// A live key (Simulation::change_live) changes the running model: same generation, time goes on
+// from where it was, the edit is kept for saving; the torque probe shows the new amplitude.
+TEST(GuiSimWorker, LiveKeyChangesTheRunWithoutRestart) {
+  SimWorker w(scene::load_scene(kScene), {});
+  Watcher watch{w, {}, {}, {}};
+  ASSERT_TRUE(watch.until([&] { return watch.frame.has_value(); }));
+  const std::uint64_t gen0 = watch.status.generation;
+  ASSERT_TRUE(watch.settled(w.step(4)));
+  ASSERT_TRUE(watch.settled(w.set("torque.amplitude", "0")));
+  EXPECT_EQ(watch.status.generation, gen0);  // not rebuilt
+  EXPECT_NE(watch.status.message.find("live"), std::string::npos) << watch.status.message;
+  ASSERT_EQ(watch.status.overrides.size(), 1u);
+  EXPECT_EQ(watch.status.overrides[0], "torque.amplitude=0");
+  ASSERT_TRUE(watch.settled(w.step(2)));
+  ASSERT_TRUE(watch.frame.has_value());
+  EXPECT_EQ(watch.frame->step, 6);  // went on from step 4
+  const RunInfo& info = *watch.status.info;
+  for (std::size_t k = 0; k < info.probes.size(); ++k)
+    if (info.probes[k].name == "torque") EXPECT_EQ(watch.frame->probes[k], 0.0);
+}
+
 }  // namespace
 }  // namespace ff::app::gui
