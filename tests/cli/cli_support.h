@@ -198,6 +198,16 @@ inline std::vector<std::string> tree(const std::string& dir) {
   return out;
 }
 
+/// The PNG files directly in `dir` (full paths), sorted.
+inline std::vector<std::string> pngs_in(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".png") out.push_back(e.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 // ---- a small JSON reader (enough for summary.json) ---------------------------------------------
 
 struct Json {

@@ -136,15 +136,6 @@ TEST(CliTimeline, ShellDynamicRunsAreIdentical) {
   expect_identical_runs({"run", "double_pendulum_shells", "--set", "time.end=0.005"});
 }
 
-std::vector<std::string> pngs_in(const std::string& dir) {
-  std::vector<std::string> out;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec))
-    if (e.path().extension() == ".png") out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 // the run stores the scene text; replay reads its [[timeline]] and moves the camera along it:
 // its first frame is the path's first key (as --camera gives it), its last is not
 TEST(CliTimeline, ReplayFollowsTheCameraPath) {
