@@ -123,13 +123,9 @@ StudySpec make_study_spec(const StudyOptions& o) {
 
 int check_study(const StudySpec& spec) {
   std::vector<StudyVariant> runs = spec.variants();
-  if (spec.reference.kind == StudyReference::Kind::finest) {
-    const StudyVariant f = spec.finest();
-    if (std::none_of(runs.begin(), runs.end(), [&](const StudyVariant& v) { return v.scene == f.scene && v.overrides == f.overrides; }))
-      runs.push_back(f);
-  }
-  if (spec.reference.kind == StudyReference::Kind::scene)
-    runs.push_back({"reference", spec.reference.scene, spec.reference.overrides, {}});
+  if (const std::optional<StudyVariant> r = spec.reference_run())
+    if (std::none_of(runs.begin(), runs.end(), [&](const StudyVariant& v) { return v.same_run(*r); }))
+      runs.push_back(*r);
   for (const StudyVariant& v : runs) {
     try {
       std::printf("%-50s %s\n", v.label.c_str(), scene::check_scene(v.scene, v.overrides).c_str());
@@ -163,11 +159,9 @@ int run_study(const StudySpec& spec, const std::string& out_dir_option, const st
     case StudyReference::Kind::table: ref = interpolate_reference(spec.reference); break;
     case StudyReference::Kind::scene:
     case StudyReference::Kind::finest: {
-      StudyVariant target = spec.reference.kind == StudyReference::Kind::finest
-                                ? spec.finest()
-                                : StudyVariant{"reference", spec.reference.scene, spec.reference.overrides, {}};
+      const StudyVariant target = *spec.reference_run();
       for (std::size_t i = 0; i < rows.size(); ++i)
-        if (rows[i].variant.scene == target.scene && rows[i].variant.overrides == target.overrides) ref_row = i;
+        if (rows[i].variant.same_run(target)) ref_row = i;
       if (ref_row == rows.size()) {
         std::fprintf(stderr, "reference run %s ...\n", target.label.c_str());
         const TimedRun r = timed_run(target.scene, target.overrides, stop);

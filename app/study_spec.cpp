@@ -162,6 +162,13 @@ StudyVariant StudySpec::finest() const {
   return make_variant(*this, pick, std::vector<bool>(axes.size(), true));
 }
 
+std::optional<StudyVariant> StudySpec::reference_run() const {
+  if (reference.kind == StudyReference::Kind::finest) return finest();
+  if (reference.kind == StudyReference::Kind::scene)
+    return StudyVariant{"reference", reference.scene, reference.overrides, {}};
+  return std::nullopt;
+}
+
 bool is_study_file(const std::string& path) {
   if (fs::path(path).extension() != ".toml" || !fs::is_regular_file(path)) return false;
   std::ifstream in(path);

@@ -28,6 +28,8 @@ struct StudyVariant {
   std::string scene;                   ///< resolved scene path
   std::vector<std::string> overrides;  ///< --set arguments (base ones first)
   std::vector<std::string> axis_labels;  ///< value label per axis ("" for extra variants)
+  /// The same scene with the same overrides (labels aside).
+  bool same_run(const StudyVariant& other) const { return scene == other.scene && overrides == other.overrides; }
 };
 
 /// Where the error of each variant is measured from.
@@ -58,6 +60,8 @@ struct StudySpec {
   std::vector<StudyVariant> variants() const;
   /// The run that defines the reference for kind finest (every axis at its last value).
   StudyVariant finest() const;
+  /// The run the reference comes from (kinds finest and scene); none for value and table.
+  std::optional<StudyVariant> reference_run() const;
 };
 
 /// True when `path` is a TOML file with a [study] table.
