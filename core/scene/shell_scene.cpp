@@ -8,6 +8,7 @@
 #include "core/scene/mesh_file.h"
 #include "core/scene/node_selection.h"
 #include "core/scene/reference_csv.h"
+#include "core/scene/shell_boundary.h"
 #include "core/scene/scene_common.h"
 #include "core/scene/timeline.h"
 #include "core/shell/shell_static_simulation.h"
@@ -60,30 +61,9 @@ const Schema& shell_static_schema() {
         .number("material.shear_factor", "transverse shear correction factor", 5.0 / 6.0, Range::left_open(0.0, 1.0));
     s.table("drilling", "drilling penalty (effect drilling)")
         .number("drilling.factor", "c in gamma = c G h0", 1e-3, Range::left_open(0.0, 1e3));
-    s.table_array("bc", "boundary conditions on node sets", 0, 64)
-        .choice("bc.type", "clamped (all DoFs), hinged (translations), symmetry (plane through the nodes), "
-                "fix (listed global DoFs)", {"clamped", "hinged", "symmetry", "fix"}, std::nullopt)
-        .string_list("bc.fix", "type = fix: global DoFs", std::vector<std::string>{}, {"ux", "uy", "uz", "rx", "ry", "rz"});
-    declare_selector_keys(s, "bc");
-    s.table_array("load", "loads at lambda = 1 on node sets", 1, 64)
-        .choice("load.type",
-                "point force or moment (several nodes share the total by tributary length), or a uniform pressure "
-                "on every quad whose 4 corner nodes are selected (select = \"all\": the whole mesh)",
-                {"force", "moment", "pressure"}, std::nullopt)
-        .number_list("load.total", "force / moment (required there): total vector at lambda = 1 (global components)",
-                     std::vector<double>{0, 0, 0}, {}, 3, 3)
-        .number("load.pressure",
-                "pressure (required there): force per unit area at lambda = 1, positive along the director (the "
-                "normal of a counter-clockwise quad)", 0.0)
-        .boolean("load.follower",
-                 "force / moment: turn with the nodes (components then in the node frame); pressure: act on the "
-                 "current normal and area instead of the reference ones", false);
-    declare_selector_keys(s, "load");
-    s.table_array("probe", "node displacements recorded along the path (direction . u)", 1, 32)
-        .string("probe.name", "probe name (also the plot file name)", std::nullopt)
-        .string("probe.label", "plot label", std::string{})
-        .number_list("probe.direction", "global direction the displacement is projected on", std::nullopt, {}, 3, 3);
-    declare_selector_keys(s, "probe");
+    declare_bc_keys(s);
+    declare_load_keys(s);
+    declare_probe_keys(s);
     s.table_array("metric", "numbers written to summary.json", 0, 32)
         .string("metric.name", "metric name", std::nullopt)
         .choice("metric.kind", "how it is read from the path",
@@ -153,71 +133,16 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   spec.options.drilling_factor = d.number("drilling.factor");
   const mesh::ShellMesh& m = spec.mesh;
 
-  for (std::size_t i = 0; i < d.count("bc"); ++i) {
-    const std::string type = d.string("bc.type", i);
-    const std::vector<int> ids = select_nodes(d, m, "bc", i);
-    if (type == "symmetry") {
-      if (d.string("bc.select", i) != "plane")
-        throw SceneError({d.issue("bc.select", i, "a symmetry condition needs select = \"plane\"")});
-      const Eigen::Vector3d n = vec(d.numbers("bc.normal", i)).normalized();
-      int axis = -1;
-      for (int k = 0; k < 3; ++k)
-        if (std::abs(std::abs(n[k]) - 1.0) < 1e-12) axis = k;
-      if (axis < 0) throw SceneError({d.issue("bc.normal", i, "symmetry planes must be normal to x, y or z")});
-      for (int id : ids) spec.symmetry.push_back({id, axis});
-      continue;
-    }
-    unsigned mask = type == "clamped" ? kClamped : type == "hinged" ? kAllTranslations : 0u;
-    if (type == "fix") {
-      const std::vector<std::string> dofs = d.strings("bc.fix", i);
-      if (dofs.empty()) throw SceneError({d.issue("bc.fix", i, "type = \"fix\" needs the DoFs to fix, e.g. [\"uz\"]")});
-      const char* names[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
-      for (const std::string& s : dofs)
-        for (int k = 0; k < 6; ++k)
-          if (s == names[k]) mask |= 1u << k;
-    }
-    for (int id : ids) spec.restraints.push_back({id, mask});
-  }
-  for (std::size_t i = 0; i < d.count("load"); ++i) {
-    const std::string type = d.string("load.type", i);
-    const std::vector<int> ids = select_nodes(d, m, "load", i);
-    if (type == "pressure") {
-      if (!d.present("load.pressure", i))
-        throw SceneError({d.issue("load.type", i, "type = \"pressure\" needs load.pressure (force per unit area)")});
-      if (d.present("load.total", i))
-        throw SceneError({d.issue("load.total", i, "a pressure load takes load.pressure, not load.total")});
-      const std::vector<int> quads = quads_within(m, ids);
-      if (quads.empty())
-        throw SceneError({d.issue("load.select", i, "selects " + std::to_string(ids.size()) +
-                                                        " nodes but no quad with all 4 corners among them; a pressure "
-                                                        "loads whole quads (select = \"all\" for the whole mesh)")});
-      for (int q : quads) spec.pressures.push_back({q, d.number("load.pressure", i), d.boolean("load.follower", i)});
-      continue;
-    }
-    if (d.present("load.pressure", i))
-      throw SceneError({d.issue("load.pressure", i, "load.pressure belongs to type = \"pressure\"; a " + type +
-                                                        " takes load.total")});
-    if (!d.present("load.total", i))
-      throw SceneError({d.issue("load.type", i, "type = \"" + type + "\" needs load.total (the total vector)")});
-    const std::vector<double> w = tributary_weights(m, ids);
-    const Eigen::Vector3d total = vec(d.numbers("load.total", i));
-    const bool moment = type == "moment";
-    for (std::size_t k = 0; k < ids.size(); ++k) {
-      NodalLoad l;
-      l.node = ids[k];
-      (moment ? l.moment : l.force) = w[k] * total;
-      l.follower = d.boolean("load.follower", i);
-      spec.loads.push_back(l);
-    }
-  }
+  read_bcs(d, spec);
+  read_loads(d, spec);
+  if (spec.loads.empty() && spec.pressures.empty() &&
+      std::none_of(spec.directions.begin(), spec.directions.end(), [](const DirectionRestraint& r) { return r.value != 0.0; }))
+    throw SceneError({d.issue("scene.model", "nothing loads the shell: give a [[load]] or a [[bc]] of type = "
+                                             "\"displacement\"")});
   ShellStaticSettings st;
   st.load_scale = d.number("solver.load_scale");
   st.load_label = d.string("solver.load_label");
-  for (std::size_t i = 0; i < d.count("probe"); ++i) {
-    const std::vector<int> ids = select_nodes(d, m, "probe", i);
-    const std::string name = d.string("probe.name", i), label = d.string("probe.label", i);
-    st.probes.push_back({name, label.empty() ? name : label, ids.front(), vec(d.numbers("probe.direction", i))});
-  }
+  st.probes = read_probes(d, m);
   auto has_probe = [&](const std::string& n) {
     return std::any_of(st.probes.begin(), st.probes.end(), [&](const ShellProbe& p) { return p.name == n; });
   };
@@ -279,8 +204,8 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   std::unique_ptr<ShellStaticSimulation> sim;
   try {
     sim = std::make_unique<ShellStaticSimulation>(std::move(spec), st, std::move(info));
-  } catch (const std::invalid_argument& e) {
-    throw SceneError({d.issue("bc.type", 0, e.what())});
+  } catch (const ShellSpecError& e) {
+    throw SceneError({located(d, e)});
   }
   return sim;
 }

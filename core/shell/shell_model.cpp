@@ -64,6 +64,219 @@ void pressure_forces(const std::array<Vec3, 4>& x, double p, std::array<Vec3, 4>
 }
 }  // namespace
 
+namespace {
+// a global axis (index) when d is +-e_k to round-off, else -1
+int global_axis(const Vec3& d) {
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(std::abs(d[k]) - 1.0) < 1e-14 && std::abs(d[(k + 1) % 3]) < 1e-14 && std::abs(d[(k + 2) % 3]) < 1e-14)
+      return k;
+  return -1;
+}
+
+// The slots of one node for restrained directions dirs (unit) with prescribed values (eq. R2):
+// basis T (columns = slot directions, world components), restrained slot mask and, per restrained
+// slot, its value. All directions global axes: T = I and the axes themselves are the slots, so a
+// model with only global restraints assembles exactly as without bases.
+struct SlotBasis {
+  Mat3 T = Mat3::Identity();
+  unsigned restrained = 0;
+  Vec3 value = Vec3::Zero();
+  bool identity = true;
+  std::string error;  // non-empty: the directions or values contradict each other
+};
+
+SlotBasis slot_basis(const std::vector<Vec3>& dirs, const std::vector<double>& values) {
+  SlotBasis b;
+  if (dirs.empty()) return b;
+  const double scale = 1.0 + Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size())).cwiseAbs().maxCoeff();
+  bool all_axes = true;
+  for (const Vec3& d : dirs) all_axes = all_axes && global_axis(d) >= 0;
+  if (all_axes) {
+    bool set[3] = {false, false, false};
+    for (std::size_t j = 0; j < dirs.size(); ++j) {
+      const int k = global_axis(dirs[j]);
+      const double v = dirs[j][k] > 0 ? values[j] : -values[j];
+      if (set[k] && std::abs(b.value[k] - v) > 1e-12 * scale) {
+        b.error = "two prescribed displacements along the same direction differ (" + std::to_string(b.value[k]) +
+                  " and " + std::to_string(v) + ")";
+        return b;
+      }
+      set[k] = true;
+      b.value[k] = v;
+      b.restrained |= 1u << k;
+    }
+    return b;
+  }
+  // general directions: the leading right singular vectors of D (rows = dirs) span them
+  Eigen::MatrixXd D(dirs.size(), 3);
+  Eigen::VectorXd v(dirs.size());
+  for (std::size_t j = 0; j < dirs.size(); ++j) D.row(j) = dirs[j].transpose(), v[j] = values[j];
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(D, Eigen::ComputeThinU | Eigen::ComputeFullV);
+  svd.setThreshold(1e-9);
+  const int rank = static_cast<int>(svd.rank());
+  b.T = svd.matrixV();
+  if (b.T.determinant() < 0) b.T.col(2) *= -1.0;
+  const Vec3 u = svd.solve(v);  // least-squares prescribed displacement
+  if ((D * u - v).norm() > 1e-9 * scale) {
+    b.error = "the prescribed displacements along its restrained directions contradict each other";
+    return b;
+  }
+  for (int s = 0; s < rank; ++s) b.restrained |= 1u << s, b.value[s] = b.T.col(s).dot(u);
+  b.identity = false;
+  return b;
+}
+
+// two unit vectors spanning the plane of normal n (the other global axes when n is one)
+std::array<Vec3, 2> in_plane_axes(const Vec3& n) {
+  const int k = global_axis(n);
+  if (k >= 0) return {Vec3::Unit((k + 1) % 3), Vec3::Unit((k + 2) % 3)};
+  Vec3 t1 = n.unitOrthogonal();
+  return {t1, n.cross(t1)};
+}
+}  // namespace
+
+// eqs. R1-R4 of shell_model.md: per node, the slot bases and restrained slots; 5-DoF nodes turn
+// their e1 onto the one free rotation axis
+void ShellModel::build_node_bases(std::vector<unsigned>& fixed) {
+  mesh::ShellMesh& m = spec_.mesh;
+  const int nn = m.node_count();
+  struct NodeRestraints {
+    std::vector<Vec3> u_dirs, r_dirs, planes;
+    std::vector<double> u_values;
+    int u_source = -1, r_source = -1, plane_source = -1;
+  };
+  std::vector<NodeRestraints> at(nn);
+  auto check_node = [&](int node, ShellSpecError::Part part, int source) {
+    if (node < 0 || node >= nn)
+      throw ShellSpecError(part, source, "node " + std::to_string(node) + " is not a node of the mesh (" +
+                                             std::to_string(nn) + " nodes)");
+  };
+  for (const auto& [node, mask] : spec_.restraints) {
+    check_node(node, ShellSpecError::Part::restraint, -1);
+    for (int k = 0; k < 6; ++k)
+      if (mask & (1u << k)) {
+        if (k < 3) at[node].u_dirs.push_back(Vec3::Unit(k)), at[node].u_values.push_back(0.0);
+        else at[node].r_dirs.push_back(Vec3::Unit(k - 3));
+      }
+  }
+  for (std::size_t j = 0; j < spec_.directions.size(); ++j) {
+    const DirectionRestraint& r = spec_.directions[j];
+    check_node(r.node, ShellSpecError::Part::restraint, r.source);
+    const double len = r.direction.norm();
+    if (!(len > 1e-12) || !std::isfinite(len))
+      throw ShellSpecError(ShellSpecError::Part::restraint, r.source, "a restraint direction at node " +
+                                                                          std::to_string(r.node) + " is zero or not finite");
+    if (!std::isfinite(r.value))
+      throw ShellSpecError(ShellSpecError::Part::restraint, r.source, "a prescribed displacement is not finite");
+    if (r.rotation && r.value != 0.0)
+      throw ShellSpecError(ShellSpecError::Part::restraint, r.source,
+                           "prescribed rotations are not supported; prescribe translations or hold the rotation at zero");
+    NodeRestraints& n = at[r.node];
+    if (r.rotation) n.r_dirs.push_back(r.direction / len), n.r_source = r.source;
+    else n.u_dirs.push_back(r.direction / len), n.u_values.push_back(r.value), n.u_source = r.source;
+  }
+  for (const auto& [node, axis] : spec_.symmetry) {
+    check_node(node, ShellSpecError::Part::symmetry, -1);
+    at[node].planes.push_back(Vec3::Unit(axis));
+  }
+  for (const SymmetryPlane& p : spec_.symmetry_planes) {
+    check_node(p.node, ShellSpecError::Part::symmetry, p.source);
+    const double len = p.normal.norm();
+    if (!(len > 1e-12) || !std::isfinite(len))
+      throw ShellSpecError(ShellSpecError::Part::symmetry, p.source, "a symmetry plane normal is zero or not finite");
+    at[p.node].planes.push_back(p.normal / len);
+    at[p.node].plane_source = p.source;
+  }
+
+  basis_u_.assign(nn, Mat3::Identity());
+  basis_r_.assign(nn, Mat3::Identity());
+  has_basis_.assign(nn, 0);
+  prescribed_of_.assign(3 * nn, -1);
+  auto node_name = [](int i) { return "node " + std::to_string(i); };
+  for (int I = 0; I < nn; ++I) {
+    NodeRestraints& n = at[I];
+    if (n.u_dirs.empty() && n.r_dirs.empty() && n.planes.empty()) continue;
+    // eq. R3: a symmetry plane holds the normal translation and every rotation but the one about
+    // the normal
+    for (const Vec3& p : n.planes) {
+      n.u_dirs.push_back(p), n.u_values.push_back(0.0);
+      if (six_[I])
+        for (const Vec3& t : in_plane_axes(p)) n.r_dirs.push_back(t);
+    }
+    if (!six_[I] && !n.planes.empty()) {
+      // 5 DoFs: every plane must contain the director; one that misses by a hair is moved into
+      // all of them at once (eq. R3')
+      Mat3& R0 = m.frames[I];
+      const Vec3 d = R0.col(2);
+      Eigen::MatrixXd P(n.planes.size(), 3);
+      for (std::size_t j = 0; j < n.planes.size(); ++j) P.row(j) = n.planes[j].transpose();
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(P, Eigen::ComputeFullV);
+      svd.setThreshold(1e-9);
+      const Eigen::MatrixXd Q = svd.matrixV().leftCols(svd.rank());
+      const Vec3 along = Q * (Q.transpose() * d);  // the part of d the planes do not contain
+      double cross = 0.0;
+      for (const Vec3& p : n.planes) cross = std::abs(p.dot(d)) > std::abs(cross) ? p.dot(d) : cross;
+      if (along.norm() > kSymmetryDirectorSnap || svd.rank() >= 3)
+        throw ShellSpecError(ShellSpecError::Part::symmetry, n.plane_source,
+                             node_name(I) + " lies on a symmetry plane its director crosses (normal . director = " +
+                                 std::to_string(cross) + "); a symmetry plane must contain the director of a 5-DoF "
+                                 "node (give the mesh exact normals, or enable the drilling effect for 6 DoFs)");
+      if (along.norm() > 1e-12) {  // round-off of an exact generator normal stays as it is
+        const Vec3 snapped = (d - along).normalized();
+        largest_snap_ = std::max(largest_snap_, std::asin(std::min(1.0, along.norm())));
+        ++snapped_directors_;
+        for (std::size_t q = 0; q < m.corner_normals.size(); ++q)
+          for (int c = 0; c < 4; ++c)
+            if (m.quads[q][c] == I && (m.corner_normals[q][c] - m.normals[I]).norm() < 1e-12) m.corner_normals[q][c] = snapped;
+        m.normals[I] = snapped;
+        R0 = mesh::frame_from_normal(snapped, m.frame_reference);
+      }
+      for (const Vec3& p : n.planes) n.r_dirs.push_back(p.cross(R0.col(2)).normalized());  // in-plane tangent axis
+    }
+    // translations (and their prescribed values)
+    const SlotBasis tu = slot_basis(n.u_dirs, n.u_values);
+    if (!tu.error.empty()) throw ShellSpecError(ShellSpecError::Part::restraint, n.u_source, node_name(I) + ": " + tu.error);
+    basis_u_[I] = tu.T;
+    fixed[I] |= tu.restrained;
+    for (int s = 0; s < 3; ++s)
+      if ((tu.restrained & (1u << s)) && tu.value[s] != 0.0) {
+        prescribed_of_[3 * I + s] = static_cast<int>(prescribed_.size());
+        prescribed_.push_back({I, s, tu.value[s]});
+      }
+    // rotations
+    if (six_[I]) {
+      const SlotBasis tr = slot_basis(n.r_dirs, std::vector<double>(n.r_dirs.size(), 0.0));
+      basis_r_[I] = tr.T;
+      fixed[I] |= tr.restrained << 3;
+      has_basis_[I] = !(tu.identity && tr.identity);
+      continue;
+    }
+    has_basis_[I] = !tu.identity;
+    // 5 DoFs (eq. R5): only rotations about tangent axes exist; project the restrained directions
+    Mat3& R0 = m.frames[I];
+    const Vec3 d = R0.col(2);
+    std::vector<Vec3> tangent;
+    for (const Vec3& r : n.r_dirs)
+      if (const Vec3 t = r - r.dot(d) * d; t.norm() > 1e-9) tangent.push_back(t.normalized());
+    if (tangent.empty()) continue;
+    Eigen::MatrixXd T(tangent.size(), 3);
+    for (std::size_t j = 0; j < tangent.size(); ++j) T.row(j) = tangent[j].transpose();
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(T, Eigen::ComputeFullV);
+    svd.setThreshold(1e-9);
+    if (svd.rank() >= 2) {
+      fixed[I] |= (1u << 3) | (1u << 4);
+      continue;
+    }
+    // one restrained tangent direction b: the node may rotate about a = d x b only; e1 = a
+    const Vec3 b = svd.matrixV().col(0);
+    Vec3 a = d.cross(b).normalized();
+    for (const Vec3& p : n.planes)
+      if (std::abs(a.dot(p)) > 1.0 - 1e-9) a = p;  // a symmetry plane: exactly its normal
+    R0 << a, d.cross(a), d;
+    fixed[I] |= 1u << 4;
+  }
+}
+
 ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   mesh::ShellMesh& m = spec_.mesh;
   const int nn = m.node_count();
@@ -71,39 +284,7 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   for (int i = 0; i < nn && i < static_cast<int>(m.fold.size()); ++i)
     if (m.fold[i]) six_[i] = 1;
   std::vector<unsigned> fixed(nn, 0u);  // slot mask, bits 0-5
-  auto node_name = [](int i) { return "node " + std::to_string(i); };
-
-  // symmetry planes: translation along the normal and rotations off the normal are restrained
-  for (const auto& [node, axis] : spec_.symmetry) {
-    const Vec3 n = Vec3::Unit(axis);
-    fixed[node] |= 1u << axis;
-    if (six_[node]) {
-      for (int k = 0; k < 3; ++k)
-        if (k != axis) fixed[node] |= 1u << (3 + k);
-    } else {
-      Mat3& R0 = m.frames[node];
-      const Vec3 e3 = R0.col(2);
-      if (std::abs(n.dot(e3)) > 1e-6)
-        throw std::invalid_argument(node_name(node) + " lies on a symmetry plane its director crosses (normal . "
-                                    "director = " + std::to_string(n.dot(e3)) + "); a symmetry plane must contain the director");
-      R0 << n, e3.cross(n), e3;  // e1 = plane normal: the exact restraint is then theta_2 = 0
-      fixed[node] |= 1u << 4;
-    }
-  }
-  for (const auto& [node, mask] : spec_.restraints) {
-    fixed[node] |= mask & kAllTranslations;
-    const unsigned rot = (mask & kAllRotations) >> 3;
-    if (!rot) continue;
-    if (six_[node]) {
-      fixed[node] |= rot << 3;
-    } else if (rot == 7) {
-      fixed[node] |= (1u << 3) | (1u << 4);
-    } else {
-      throw std::invalid_argument(node_name(node) + " has 5 DoFs (no drilling effect): a restraint on rotation about "
-                                  "a single global axis cannot be exact there; clamp all rotations, use a symmetry "
-                                  "plane, or enable the drilling effect (6 DoFs)");
-    }
-  }
+  build_node_bases(fixed);
   eq_.assign(6 * nn, -1);
   for (int i = 0; i < nn; ++i)
     for (int s = 0; s < (six_[i] ? 6 : 5); ++s)
@@ -129,7 +310,11 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
       e.corner[c] = m.frames[I].transpose() * Rc;
       ref[c] = {Rc, m.points[I]};
     }
-    e.el = std::make_unique<CbShellElement>(ref, spec_.section, spec_.options);
+    try {
+      e.el = std::make_unique<CbShellElement>(ref, spec_.section, spec_.options);
+    } catch (const std::invalid_argument& err) {
+      throw ShellSpecError(ShellSpecError::Part::element, q, "quad " + std::to_string(q) + ": " + err.what());
+    }
     elements_.push_back(std::move(e));
   }
   Vec3 lo = m.points.front(), hi = lo;
@@ -139,8 +324,9 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   for (std::size_t k = 0; k < spec_.pressures.size(); ++k) {
     const PressureLoad& pl = spec_.pressures[k];
     if (pl.quad < 0 || pl.quad >= m.quad_count())
-      throw std::invalid_argument("pressure on quad " + std::to_string(pl.quad) + ", but the mesh has " +
-                                  std::to_string(m.quad_count()) + " quads");
+      throw ShellSpecError(ShellSpecError::Part::pressure, static_cast<int>(k),
+                           "pressure on quad " + std::to_string(pl.quad) + ", but the mesh has " +
+                               std::to_string(m.quad_count()) + " quads");
     ++(pl.follower ? follower_pressures_ : dead_pressures_);
     if (pl.follower) continue;  // evaluated in the current configuration instead
     std::array<Vec3, 4> x;
@@ -148,6 +334,12 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
     pressure_forces(x, pl.pressure, dead_pressure_[k], nullptr);
   }
   build_pattern();
+  element_prescribed_.assign(elements_.size(), 0);
+  for (std::size_t k = 0; k < elements_.size(); ++k)
+    for (int I : elements_[k].nodes)
+      for (int sl = 0; sl < 3; ++sl)
+        if (prescribed_of_[3 * I + sl] >= 0) element_prescribed_[k] = 1;
+  reaction_.assign(nn, Vec3::Zero());
 }
 
 int ShellModel::value_index(int row, int col) const {
@@ -193,10 +385,24 @@ void ShellModel::build_pattern() {
   el_tangent_.resize(elements_.size());
 }
 
+void ShellModel::apply_prescribed(double lambda) {
+  // eq. R4: the prescribed slot component of x_I is its reference value plus lambda * value
+  for (const Prescribed& p : prescribed_) {
+    const Vec3 t = basis_u_[p.node].col(p.slot);
+    Vec3& x = poses_[p.node].x;
+    x += (t.dot(spec_.mesh.points[p.node]) + lambda * p.value - t.dot(x)) * t;
+  }
+}
+
+double ShellModel::state_magnitude(int i) const {
+  return free_[i].slot < 3 ? poses_[free_[i].node].x.cwiseAbs().maxCoeff() : 1.0;
+}
+
 void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix<double>* K, Eigen::VectorXd* load) {
   // effect timing: one clock pair per effect and assembly, none inside the element loop
   const Clock::time_point t_elastic = Clock::now();
   const int n = size(), nn = static_cast<int>(poses_.size());
+  if (!prescribed_.empty()) apply_prescribed(lambda);
   r.setZero(n);
   if (load) load->setZero(n);
   if (K) {
@@ -205,32 +411,48 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   }
   double* values = K ? K->valuePtr() : nullptr;
   std::vector<Vec6> node_force(nn, Vec6::Zero());  // node-local internal force
-  // A_I maps node-local 6-vectors to solver rows (global translations; global or local rotations)
-  auto A = [&](int I) {
-    Mat6 a = Mat6::Zero();
-    a.topLeftCorner<3, 3>() = poses_[I].R;
-    a.bottomRightCorner<3, 3>() = six_[I] ? poses_[I].R : Mat3::Identity();
-    return a;
+  // slot rows of a world vector at node I (eq. R2): T_u^T v for translations, T_r^T v for 6-DoF rotations
+  auto rows_u = [&](int I, const Vec3& v) { return has_basis_[I] ? Vec3(basis_u_[I].transpose() * v) : v; };
+  auto rows_r = [&](int I, const Vec3& v) { return has_basis_[I] ? Vec3(basis_r_[I].transpose() * v) : v; };
+  // a world-by-world 3x3 block between nodes I and J in slot rows and columns
+  auto block_uu = [&](int I, const Mat3& b, int J) {
+    Mat3 out = b;
+    if (has_basis_[I]) out = basis_u_[I].transpose() * out;
+    if (has_basis_[J]) out = out * basis_u_[J];
+    return out;
   };
   auto add = [&](int I, int si, int J, int sj, double v) {
     const int a = eq_[6 * I + si], b = eq_[6 * J + sj];
     if (a >= 0 && b >= 0 && v != 0.0) values[value_index(a, b)] += v;
   };
+  // -d r / d lambda through the prescribed columns (eq. R4): f_ref gains -K_ap value_p
+  auto add_prescribed_load = [&](int I, int si, int J, int sj, double k) {
+    const int a = eq_[6 * I + si];
+    if (!load || a < 0 || sj >= 3) return;
+    const int p = prescribed_of_[3 * J + sj];
+    if (p >= 0) (*load)[a] -= k * prescribed_[p].value;
+  };
   // elements in parallel (each writes only its own buffers), then a serial scatter
   const int ne = static_cast<int>(elements_.size());
+  const bool prescribed_load = load && !prescribed_.empty();
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < ne; ++k) {
     const Element& e = elements_[k];
     ElementPoses cur;
     for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].x};
-    e.el->evaluate(cur, el_force_[k], K ? &el_tangent_[k] : nullptr);
-    if (!K) continue;
+    const bool tangent = K || (prescribed_load && element_prescribed_[k]);
+    e.el->evaluate(cur, el_force_[k], tangent ? &el_tangent_[k] : nullptr);
+    if (!tangent) continue;
     // to solver rows here, in parallel: A_I blockdiag(C, C) is block diagonal in 3 x 3
     std::array<Mat3, 8> L;  // per corner: translations, rotations
     for (int c = 0; c < 4; ++c) {
       const int I = e.nodes[c];
       L[2 * c] = poses_[I].R * e.corner[c];
       L[2 * c + 1] = six_[I] ? L[2 * c] : e.corner[c];
+      if (has_basis_[I]) {
+        L[2 * c + 1] = six_[I] ? Mat3(basis_r_[I].transpose() * L[2 * c + 1]) : L[2 * c + 1];
+        L[2 * c] = basis_u_[I].transpose() * L[2 * c];
+      }
     }
     Mat24& Ke = el_tangent_[k];
     for (int a = 0; a < 8; ++a)
@@ -246,8 +468,13 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       node_force[e.nodes[c]].head<3>() += e.corner[c] * F.segment<3>(6 * c);
       node_force[e.nodes[c]].tail<3>() += e.corner[c] * F.segment<3>(6 * c + 3);
     }
-    if (!K) continue;
     const Mat24& Ke = el_tangent_[k];  // already in solver rows
+    if (prescribed_load && element_prescribed_[k])
+      for (int c = 0; c < 4; ++c)
+        for (int i = 0; i < 6; ++i)
+          for (int d = 0; d < 4; ++d)
+            for (int j = 0; j < 3; ++j) add_prescribed_load(e.nodes[c], i, e.nodes[d], j, Ke(6 * c + i, 6 * d + j));
+    if (!K) continue;
     const std::array<int, 576>& idx = scatter_[k];
     for (int r = 0; r < 24; ++r)
       for (int s = 0; s < 24; ++s) {
@@ -256,18 +483,27 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       }
   }
   for (int I = 0; I < nn; ++I) {
-    const Vec6 g = A(I) * node_force[I];
+    const Mat3& R = poses_[I].R;
+    const Vec3 fu = R * node_force[I].head<3>();  // world components
+    reaction_[I] = fu;
+    Vec6 g;
+    g.head<3>() = rows_u(I, fu);
+    g.tail<3>() = six_[I] ? rows_r(I, R * node_force[I].tail<3>()) : Vec3(node_force[I].tail<3>());
     for (int s = 0; s < 6; ++s)
       if (eq_[6 * I + s] >= 0) r[eq_[6 * I + s]] += g[s];
     if (!K) continue;
     // the rotating basis of A_I along the node's own rotation increment
-    const Mat3& R = poses_[I].R;
     if (six_[I]) {
-      const Mat3 tu = -skew(R * node_force[I].head<3>()), tt = -skew(R * node_force[I].tail<3>());
+      Mat3 tu = -skew(fu), tt = -skew(R * node_force[I].tail<3>());
+      if (has_basis_[I]) {
+        tu = basis_u_[I].transpose() * tu * basis_r_[I];
+        tt = basis_r_[I].transpose() * tt * basis_r_[I];
+      }
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) add(I, i, I, 3 + j, tu(i, j)), add(I, 3 + i, I, 3 + j, tt(i, j));
     } else {
-      const Mat3 tu = -R * skew(node_force[I].head<3>());
+      Mat3 tu = -R * skew(node_force[I].head<3>());
+      if (has_basis_[I]) tu = basis_u_[I].transpose() * tu;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 2; ++j) add(I, i, I, 3 + j, tu(i, j));
     }
@@ -280,10 +516,12 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   for (const NodalLoad& l : spec_.loads) {
     const int I = l.node;
     const Mat3& R = poses_[I].R;
+    const Vec3 fw = l.follower ? Vec3(R * l.force) : l.force;  // world components
+    reaction_[I] -= lambda * fw;
     Vec6 f = Vec6::Zero();
-    f.head<3>() = l.follower ? Vec3(R * l.force) : l.force;
+    f.head<3>() = rows_u(I, fw);
     if (six_[I]) {
-      f.tail<3>() = l.follower ? Vec3(R * l.moment) : l.moment;
+      f.tail<3>() = rows_r(I, l.follower ? Vec3(R * l.moment) : l.moment);
     } else {
       f.tail<3>() = l.follower ? l.moment : Vec3(R.transpose() * l.moment);
       f[5] = 0.0;
@@ -296,11 +534,13 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     }
     if (!K) continue;
     if (l.follower) {
-      const Mat3 tf = six_[I] ? Mat3(lambda * skew(R * l.force)) : Mat3(lambda * R * skew(l.force));
+      Mat3 tf = six_[I] ? Mat3(lambda * skew(R * l.force)) : Mat3(lambda * R * skew(l.force));
+      if (has_basis_[I]) tf = six_[I] ? Mat3(basis_u_[I].transpose() * tf * basis_r_[I]) : Mat3(basis_u_[I].transpose() * tf);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < (six_[I] ? 3 : 2); ++j) add(I, i, I, 3 + j, tf(i, j));
       if (six_[I]) {
-        const Mat3 tm = lambda * skew(R * l.moment);
+        Mat3 tm = lambda * skew(R * l.moment);
+        if (has_basis_[I]) tm = basis_r_[I].transpose() * tm * basis_r_[I];
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
       }
@@ -315,7 +555,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     point_loads_.evaluations += static_cast<long long>(spec_.loads.size());
     point_loads_.seconds += seconds_between(t_loads, Clock::now());
   }
-  // pressure: nodal forces on translations only (global components, global increments), so the
+  // pressure: nodal forces on translations only (world components along the node bases), so the
   // follower load stiffness -lambda df/dx needs no rotating-basis term (shell_model.md eq. P3).
   // Dead pressures first, then follower ones (each timed as its own effect).
   auto apply_pressure = [&](std::size_t k) {
@@ -323,29 +563,36 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     const std::array<int, 4>& q = elements_[pl.quad].nodes;
     std::array<Vec3, 4> f;
     std::array<Mat3, 16> dfdx;
+    const bool with_stiffness = pl.follower && (K || prescribed_load);
     if (pl.follower) {
       std::array<Vec3, 4> x;
       for (int c = 0; c < 4; ++c) x[c] = poses_[q[c]].x;
-      pressure_forces(x, pl.pressure, f, K ? &dfdx : nullptr);
+      pressure_forces(x, pl.pressure, f, with_stiffness ? &dfdx : nullptr);
     } else {
       f = dead_pressure_[k];
     }
-    for (int c = 0; c < 4; ++c)
+    for (int c = 0; c < 4; ++c) {
+      reaction_[q[c]] -= lambda * f[c];
+      const Vec3 fs = rows_u(q[c], f[c]);
       for (int s = 0; s < 3; ++s) {
         const int a = eq_[6 * q[c] + s];
         if (a < 0) continue;
-        r[a] -= lambda * f[c][s];
-        if (load) (*load)[a] += f[c][s];
+        r[a] -= lambda * fs[s];
+        if (load) (*load)[a] += fs[s];
       }
-    if (!K || !pl.follower) return;
+    }
+    if (!with_stiffness) return;
     const std::array<int, 576>& idx = scatter_[pl.quad];
     for (int c = 0; c < 4; ++c)
-      for (int d = 0; d < 4; ++d)
+      for (int d = 0; d < 4; ++d) {
+        const Mat3 b = block_uu(q[c], dfdx[4 * c + d], q[d]);
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) {
-            const int v = idx[(6 * c + i) * 24 + 6 * d + j];
-            if (v >= 0) values[v] -= lambda * dfdx[4 * c + d](i, j);
+            if (prescribed_load) add_prescribed_load(q[c], i, q[d], j, -lambda * b(i, j));
+            const int v = K ? idx[(6 * c + i) * 24 + 6 * d + j] : -1;
+            if (v >= 0) values[v] -= lambda * b(i, j);
           }
+      }
   };
   for (const bool follower : {false, true}) {
     const long long count = follower ? follower_pressures_ : dead_pressures_;
@@ -381,6 +628,11 @@ void ShellModel::update(const Eigen::VectorXd& delta) {
   std::vector<Vec6> d(nn, Vec6::Zero());
   for (int k = 0; k < size(); ++k) d[free_[k].node][free_[k].slot] += delta[k];
   for (int I = 0; I < nn; ++I) {
+    // eq. R2: slot increments along the node bases
+    if (has_basis_[I]) {
+      d[I].head<3>() = basis_u_[I] * d[I].head<3>();
+      if (six_[I]) d[I].tail<3>() = basis_r_[I] * d[I].tail<3>();
+    }
     poses_[I].x += d[I].head<3>();
     if (six_[I]) poses_[I].R = exp_so3(d[I].tail<3>()) * poses_[I].R;
     else poses_[I].R = poses_[I].R * exp_so3(Vec3(d[I][3], d[I][4], 0.0));

@@ -1,15 +1,19 @@
 #pragma once
 /// \file shell_model.h
 /// Assembly of CB shell elements into a static problem (shell_model.md). Node DoFs seen by the
-/// solver: translations as global increments (x <- x + dx), rotations as global increments for
-/// 6-DoF nodes (R <- exp(dphi~) R) and as the two local bending increments for 5-DoF nodes
-/// (R <- R exp([t1 t2 0]~)). Global restraints on translations and on 6-DoF rotations are therefore
-/// exact; a 5-DoF node on a symmetry plane gets e1 = plane normal so "rotate only about the
-/// normal" is the exact local restraint t2 = 0.
+/// solver: translations as increments along a fixed orthonormal basis T_u of the node
+/// (x <- x + T_u du), rotations as increments about a fixed basis T_r for 6-DoF nodes
+/// (R <- exp((T_r dphi)~) R) and as the two local bending increments for 5-DoF nodes
+/// (R <- R exp([t1 t2 0]~)). T_u = T_r = I unless a restraint asks for other directions; a node
+/// basis puts every restrained direction on a slot of its own, so restraints in any directions
+/// (cylindrical, the node's frame, symmetry planes of any normal) are exact (shell_model.md §R).
+/// A 5-DoF node restrained about one tangent direction b gets e1 = d x b (d the director), so
+/// "rotate only about e1" is the exact local restraint t2 = 0.
 
 #include <Eigen/Sparse>
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -42,14 +46,49 @@ struct PressureLoad {
   bool follower = false;
 };
 
+/// One restrained direction of a node (shell_model.md eq. R1): the component of the node's
+/// translation (or, with rotation = true, of its rotation increments) along `direction` is held
+/// at zero, or for a translation at lambda * value (a prescribed displacement, eq. R4).
+struct DirectionRestraint {
+  int node = -1;
+  Vec3 direction = Vec3::UnitZ();  ///< world components; normalized by the model
+  bool rotation = false;
+  double value = 0.0;              ///< prescribed displacement along direction at lambda = 1
+  int source = -1;                 ///< index of the scene entry it came from (error messages)
+};
+
+/// A node on a symmetry plane (eq. R3): no translation along the normal, rotation only about it.
+struct SymmetryPlane {
+  int node = -1;
+  Vec3 normal = Vec3::UnitX();  ///< world components; normalized by the model
+  int source = -1;
+};
+
 struct ShellModelSpec {
   mesh::ShellMesh mesh;
   ShellSection section;
   ShellOptions options;
   std::vector<std::pair<int, unsigned>> restraints;  ///< node, Restraint mask (global directions)
   std::vector<std::pair<int, int>> symmetry;         ///< node, axis (0, 1, 2) of the plane normal
+  std::vector<DirectionRestraint> directions;        ///< restraints in any direction, prescribed values
+  std::vector<SymmetryPlane> symmetry_planes;        ///< symmetry planes of any normal
   std::vector<NodalLoad> loads;
   std::vector<PressureLoad> pressures;
+};
+
+/// What the ShellModel constructor refuses, with the part of the spec it comes from, so a scene
+/// can point at its own entry (`source` of the restraint or plane; the quad for an element).
+class ShellSpecError : public std::invalid_argument {
+ public:
+  enum class Part { restraint, symmetry, pressure, element };
+  ShellSpecError(Part part, int source, const std::string& what)
+      : std::invalid_argument(what), part_(part), source_(source) {}
+  Part part() const { return part_; }
+  int source() const { return source_; }
+
+ private:
+  Part part_;
+  int source_;
 };
 
 class ShellModel final : public ff::StaticProblem {
@@ -70,10 +109,31 @@ class ShellModel final : public ff::StaticProblem {
   int dofs_of_node(int node) const { return six_[node] ? 6 : 5; }
   /// Global displacement of a node from its reference position.
   Vec3 node_displacement(int node) const { return poses_[node].x - spec_.mesh.points[node]; }
+  /// Reaction at a node at the last evaluate(): f_int - lambda f_ext on its translations, world
+  /// components (zero up to the residual at a free node in equilibrium; the support force where
+  /// translations are restrained or prescribed).
+  Vec3 node_reaction(int node) const { return reaction_[node]; }
+  /// Moves the prescribed translations to lambda * value (eq. R4); evaluate() does it itself.
+  void apply_prescribed(double lambda);
+  bool has_prescribed() const { return !prescribed_.empty(); }
+  /// Coordinate magnitude behind DoF i (static_problem.h): |x_I|_inf for a translation, 1 for a
+  /// rotation.
+  double state_magnitude(int i) const override;
+  /// Nodes whose director was moved into a symmetry plane it missed by less than
+  /// kSymmetryDirectorSnap, and the largest such angle [rad].
+  int snapped_directors() const { return snapped_directors_; }
+  double largest_director_snap() const { return largest_snap_; }
+  /// A director within this angle [rad] of a symmetry plane is moved into it (eq. R3');
+  /// beyond it the plane is refused for a 5-DoF node.
+  static constexpr double kSymmetryDirectorSnap = 1e-3;
   /// Display strain per node (cb_shell.md eq. S3, averaged over the adjacent elements).
   std::vector<double> nodal_surface_strain() const;
-  /// Equation index of (node, slot) or -1 when restrained; slots 0-2 translations, 3-5 rotations.
+  /// Equation index of (node, slot) or -1 when restrained; slots 0-2 translations along the
+  /// columns of translation_basis(node), 3-5 rotations (about rotation_basis(node) for 6-DoF nodes,
+  /// about the node's own e1, e2 for 5-DoF nodes).
   int equation(int node, int slot) const { return eq_[6 * node + slot]; }
+  const Mat3& translation_basis(int node) const { return basis_u_[node]; }
+  const Mat3& rotation_basis(int node) const { return basis_r_[node]; }
   /// What evaluate() ran so far, only effects that ran: "elastic" (element evaluations; seconds of
   /// the element loop, scatter and rotating-basis terms, timed once per assembly), "hr", "ans",
   /// "drilling" (element evaluations in which the term was on; timed inside "elastic"),
@@ -94,6 +154,20 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<NodePose> poses_, saved_;
   std::vector<NodePose> reference_;     // initial node poses (display strain)
   std::vector<std::uint8_t> six_;       // node has 6 DoFs
+  // node bases (eq. R2): slot directions of translations and 6-DoF rotations, world components;
+  // identity unless a restraint needs other directions (then has_basis_ = 1)
+  std::vector<Mat3> basis_u_, basis_r_;
+  std::vector<std::uint8_t> has_basis_;
+  struct Prescribed {
+    int node, slot;
+    double value;  // along basis_u_ column `slot` at lambda = 1
+  };
+  std::vector<Prescribed> prescribed_;
+  std::vector<int> prescribed_of_;       // 3 per node: index into prescribed_ or -1
+  std::vector<std::uint8_t> element_prescribed_;  // element has a prescribed corner
+  std::vector<Vec3> reaction_;           // per node, world components (last evaluate)
+  int snapped_directors_ = 0;
+  double largest_snap_ = 0.0;
   std::vector<int> eq_;                 // 6 per node, -1 restrained/absent
   std::vector<Dof> free_;
   std::vector<Element> elements_;
@@ -113,6 +187,7 @@ class ShellModel final : public ff::StaticProblem {
   long long dead_pressures_ = 0, follower_pressures_ = 0;  // loaded quads of each kind
   long long assemblies_ = 0;  // hr / ans / drilling ran in every element of every assembly
   void build_pattern();
+  void build_node_bases(std::vector<unsigned>& fixed);
   int value_index(int row, int col) const;
 };
 

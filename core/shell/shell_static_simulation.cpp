@@ -26,6 +26,13 @@ double ShellStaticSimulation::end_time() const {
   return s_.arc_length ? s_.arc.lambda_max : s_.load_control.lambda_end;
 }
 
+double ShellStaticSimulation::probe_value(const ShellProbe& p) const {
+  if (p.quantity == ShellProbe::Quantity::displacement) return p.direction.dot(model_->node_displacement(p.node));
+  Vec3 total = Vec3::Zero();
+  for (int I : p.nodes) total += model_->node_reaction(I);
+  return p.direction.dot(total);
+}
+
 Frame ShellStaticSimulation::make_frame(int step, double lambda) const {
   Frame f;
   f.step = step;
@@ -42,7 +49,7 @@ Frame ShellStaticSimulation::make_frame(int step, double lambda) const {
     f.fields[0][i] = (poses[i].x - ref[i]).norm();
   }
   f.probes = {lambda, lambda * s_.load_scale};
-  for (const ShellProbe& p : s_.probes) f.probes.push_back(p.direction.dot(model_->node_displacement(p.node)));
+  for (const ShellProbe& p : s_.probes) f.probes.push_back(probe_value(p));
   return f;
 }
 
@@ -70,9 +77,7 @@ RunOutcome ShellStaticSimulation::run(const std::function<void(Frame&&)>& publis
     ArcLengthSettings a = s_.arc;
     for (const ShellProbe& p : s_.probes)
       if (p.name == s_.monitor_probe) {
-        int axis = 0;
-        p.direction.cwiseAbs().maxCoeff(&axis);
-        a.monitor_dof = model_->equation(p.node, axis);
+        a.monitor = [this, &p] { return probe_value(p); };
         a.displacement_limit = s_.displacement_limit;
       }
     a.on_step = on_step;

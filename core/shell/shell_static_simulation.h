@@ -16,11 +16,15 @@
 
 namespace ff::shell {
 
-/// A scalar displacement probe: direction . u(node) (global direction, unit or not).
+/// A scalar probe: direction . u(node) for a displacement, direction . (sum of the reactions
+/// over `nodes`) for a reaction (global direction, unit or not).
 struct ShellProbe {
+  enum class Quantity { displacement, reaction };
   std::string name, label;
   int node = -1;
   Vec3 direction = Vec3::UnitZ();
+  Quantity quantity = Quantity::displacement;
+  std::vector<int> nodes;  ///< reaction: the nodes summed
 };
 
 /// A metric of the load path (summary.json "metrics").
@@ -57,6 +61,7 @@ class ShellStaticSimulation final : public Simulation {
 
  private:
   Frame make_frame(int step, double lambda) const;
+  double probe_value(const ShellProbe& p) const;
   std::unique_ptr<ShellModel> model_;
   ShellStaticSettings s_;
   RunInfo info_;

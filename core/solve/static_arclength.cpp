@@ -19,7 +19,8 @@ std::string check_settings(const ArcLengthSettings& s, int n) {
     return "arc-length bounds must satisfy 0 < min_arc_length_ratio <= 1 <= max_arc_length_ratio";
   if (s.desired_iterations < 1 || s.max_growth < 1.0) return "desired_iterations >= 1 and max_growth >= 1 required";
   if (s.monitor_dof >= n) return "monitor_dof is not a DoF of the problem";
-  if (std::isfinite(s.displacement_limit) && s.monitor_dof < 0) return "a displacement limit needs monitor_dof";
+  if (std::isfinite(s.displacement_limit) && s.monitor_dof < 0 && !s.monitor)
+    return "a displacement limit needs monitor_dof or monitor";
   if (s.convergence.max_iterations < 1 || s.max_steps < 1) return "max_iterations and max_steps must be >= 1";
   return {};
 }
@@ -60,6 +61,7 @@ bool PathFollower::load_tangent(double lambda, Eigen::VectorXd& dq_f) {
 }
 
 double PathFollower::monitored() const {
+  if (s_.monitor) return s_.monitor();
   if (s_.monitor_dof < 0) return std::numeric_limits<double>::quiet_NaN();
   const std::optional<double> u = k_.problem().displacement(s_.monitor_dof);
   return u ? *u : u_total_[s_.monitor_dof];
@@ -376,10 +378,10 @@ StaticResult PathFollower::run() {
     if (final_step || lambda_ >= s_.lambda_max)
       return finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_max = " + fmt(s_.lambda_max) +
                                                                             (final_step ? "" : " (overshot, landing failed)"));
-    if (s_.monitor_dof >= 0 && std::abs(monitored()) >= s_.displacement_limit)
+    if ((s_.monitor || s_.monitor_dof >= 0) && std::abs(monitored()) >= s_.displacement_limit)
       return finish(StaticStatus::completed, StaticStop::displacement_limit,
-                    "displacement of DoF " + std::to_string(s_.monitor_dof) + " reached " + fmt(monitored()) +
-                        " (limit " + fmt(s_.displacement_limit) + ") at λ = " + fmt(lambda_));
+                    "the monitored displacement reached " + fmt(monitored()) + " (limit " + fmt(s_.displacement_limit) +
+                        ") at λ = " + fmt(lambda_));
     if (res.steps >= s_.max_steps)
       return finish(StaticStatus::completed, StaticStop::max_steps,
                     std::to_string(s_.max_steps) + " steps done, at λ = " + fmt(lambda_));

@@ -31,6 +31,8 @@ struct ArcLengthSettings {
   double lambda_max = 1.0;              ///< stop when λ reaches it
   bool land_on_lambda_max = true;       ///< finish exactly at λ_max (a Newton step at fixed λ_max)
   int monitor_dof = -1;                 ///< DoF reported in StaticStepInfo::monitored and limited below
+  /// the monitored quantity when set (instead of monitor_dof), read at each converged state
+  std::function<double()> monitor;
   double displacement_limit = std::numeric_limits<double>::infinity();  ///< stop when |u(monitor_dof)| ≥ this
   int max_steps = 500;                  ///< stop (completed, max_steps) after this many steps
   StaticConvergence convergence;

@@ -54,6 +54,12 @@ class StaticProblem {
   /// and the step reports. nullopt (default): the solver uses the sum of the increments δ_i it
   /// applied, exact on a vector space and for a rotation about a fixed axis.
   virtual std::optional<double> displacement(int i) const { return std::nullopt; }
+
+  /// Magnitude of the state coordinate behind DoF i (e.g. |x|_inf of a node for a translation,
+  /// 1 for a rotation angle): the state is known to about eps × this, so the residual cannot be
+  /// computed more accurately than the change such an error makes (the round-off floor of the
+  /// convergence test, static_solvers.md eq. 3'). 0 (default): no floor is estimated.
+  virtual double state_magnitude(int i) const { return 0.0; }
 };
 
 }  // namespace ff

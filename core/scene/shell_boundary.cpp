@@ -1,0 +1,284 @@
+#include "core/scene/shell_boundary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/scene/node_selection.h"
+
+namespace ff::scene {
+
+namespace {
+using Vec3 = Eigen::Vector3d;
+Vec3 vec(const std::vector<double>& v) { return Vec3(v[0], v[1], v[2]); }
+
+// DoF names per frame: three translations, then three rotations, each along axis k of the frame
+const std::map<std::string, std::vector<std::string>> kDofNames = {
+    {"global", {"ux", "uy", "uz", "rx", "ry", "rz"}},
+    {"cylindrical", {"ur", "ut", "ua", "rr", "rt", "ra"}},
+    {"node", {"u1", "u2", "u3", "r1", "r2", "r3"}}};
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+// the axes of entry i's frame at node I, world components, as columns
+Eigen::Matrix3d frame_axes(const Document& d, std::size_t i, const mesh::ShellMesh& m, int I) {
+  const std::string frame = d.string("bc.frame", i);
+  if (frame == "global") return Eigen::Matrix3d::Identity();
+  if (frame == "node") return m.frames[I];
+  // cylindrical: radial (from the axis to the node), tangential = axis x radial, axial
+  const Vec3 axis = vec(d.numbers("bc.axis", i));
+  if (!(axis.norm() > 0) || !axis.allFinite()) throw SceneError({d.issue("bc.axis", i, "the cylinder axis is the zero vector")});
+  const Vec3 a = axis.normalized();
+  const Vec3 rel = m.points[I] - vec(d.numbers("bc.axis_point", i));
+  const Vec3 radial = rel - rel.dot(a) * a;
+  if (!(radial.norm() > 1e-9 * std::max(1.0, rel.norm())))
+    throw SceneError({d.issue("bc.axis_point", i, "node " + std::to_string(I) + " lies on the cylinder axis, where the "
+                                                  "radial direction is undefined")});
+  Eigen::Matrix3d T;
+  const Vec3 er = radial.normalized();
+  T << er, a.cross(er), a;
+  return T;
+}
+}  // namespace
+
+void declare_bc_keys(Schema& s) {
+  s.table_array("bc", "supports on node sets (restraints, symmetry, prescribed displacements)", 0, 64)
+      .choice("bc.type",
+              "clamped (all DoFs), hinged (all translations), symmetry (plane through the nodes: no translation along "
+              "its normal, rotation only about it), fix (the listed DoFs, in bc.frame), displacement (the listed "
+              "translations prescribed: lambda x bc.displacement; displacement control)",
+              {"clamped", "hinged", "symmetry", "fix", "displacement"}, std::nullopt)
+      .string_list("bc.fix",
+                   "fix: DoFs held at zero; displacement: translations prescribed (default all three). Names per "
+                   "frame: global ux uy uz rx ry rz; cylindrical ur ut ua rr rt ra (radial, tangential = axis x "
+                   "radial, axial); node u1 u2 u3 r1 r2 r3 (the node's reference frame, 3 = director)",
+                   std::vector<std::string>{},
+                   {"ux", "uy", "uz", "rx", "ry", "rz", "ur", "ut", "ua", "rr", "rt", "ra", "u1", "u2", "u3", "r1", "r2", "r3"})
+      .choice("bc.frame", "axes the fix / displacement components refer to (fixed in space, taken per node)",
+              {"global", "cylindrical", "node"}, "global")
+      .number_list("bc.axis", "frame = cylindrical: direction of the cylinder axis", std::vector<double>{0, 0, 1}, {}, 3, 3)
+      .number_list("bc.axis_point", "frame = cylindrical: a point of the cylinder axis", std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number_list("bc.displacement",
+                   "displacement: components at lambda = 1 along the frame's three translation axes (only those "
+                   "listed in bc.fix are prescribed)",
+                   std::vector<double>{0, 0, 0}, {}, 3, 3);
+  declare_selector_keys(s, "bc");
+}
+
+void declare_load_keys(Schema& s) {
+  s.table_array("load", "loads at lambda = 1 on node sets", 0, 64)
+      .choice("load.type",
+              "force / moment: a point load (several nodes share the total by tributary length); line: a force per "
+              "unit length along the mesh edges joining the selected nodes (consistent nodal forces); pressure: a "
+              "uniform pressure on every quad whose 4 corner nodes are selected (select = \"all\": the whole mesh)",
+              {"force", "moment", "line", "pressure"}, std::nullopt)
+      .number_list("load.total", "force / moment (required there): total vector at lambda = 1 (global components)",
+                   std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number_list("load.per_length", "line (required there): force per unit length at lambda = 1 (global components)",
+                   std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number("load.pressure",
+              "pressure (required there): force per unit area at lambda = 1, positive along the director (the "
+              "normal of a counter-clockwise quad)", 0.0)
+      .boolean("load.follower",
+               "force / moment: turn with the nodes (components then in the node frame); pressure: act on the "
+               "current normal and area instead of the reference ones; line loads are dead loads", false);
+  declare_selector_keys(s, "load");
+}
+
+void declare_probe_keys(Schema& s) {
+  s.table_array("probe", "quantities recorded along the path", 1, 32)
+      .string("probe.name", "probe name (also the plot file name)", std::nullopt)
+      .string("probe.label", "plot label", std::string{})
+      .choice("probe.quantity",
+              "displacement: direction . u of the (first) selected node; reaction: direction . (support force) "
+              "summed over the selected nodes (the force the supports exert on the shell, with the sign of the "
+              "external load it balances reversed: f_int - lambda f_ext)",
+              {"displacement", "reaction"}, "displacement")
+      .number_list("probe.direction", "global direction the quantity is projected on", std::nullopt, {}, 3, 3);
+  declare_selector_keys(s, "probe");
+}
+
+void read_bcs(const Document& d, shell::ShellModelSpec& spec) {
+  using namespace ff::shell;
+  const mesh::ShellMesh& m = spec.mesh;
+  for (std::size_t i = 0; i < d.count("bc"); ++i) {
+    const int source = static_cast<int>(i);
+    const std::string type = d.string("bc.type", i);
+    const std::vector<int> ids = select_nodes(d, m, "bc", i);
+    if (type == "symmetry") {
+      if (d.string("bc.select", i) != "plane")
+        throw SceneError({d.issue("bc.select", i, "a symmetry condition needs select = \"plane\" (its normal is the "
+                                                  "plane's normal)")});
+      const Vec3 n = vec(d.numbers("bc.normal", i));
+      if (!(n.norm() > 0) || !n.allFinite()) throw SceneError({d.issue("bc.normal", i, "the plane normal is the zero vector")});
+      for (int id : ids) spec.symmetry_planes.push_back({id, n.normalized(), source});
+      continue;
+    }
+    if (type == "clamped" || type == "hinged") {
+      if (d.present("bc.fix", i))
+        throw SceneError({d.issue("bc.fix", i, "type = \"" + type + "\" restrains a fixed set of DoFs; use type = "
+                                                 "\"fix\" to list them")});
+      for (int id : ids)
+        for (int k = 0; k < (type == "clamped" ? 6 : 3); ++k)
+          spec.directions.push_back({id, Vec3::Unit(k % 3), k >= 3, 0.0, source});
+      continue;
+    }
+    // fix / displacement: DoF names of the entry's frame
+    const std::string frame = d.string("bc.frame", i);
+    const std::vector<std::string>& names = kDofNames.at(frame);
+    std::vector<std::string> dofs = d.strings("bc.fix", i);
+    const bool prescribe = type == "displacement";
+    if (dofs.empty()) {
+      if (!prescribe)
+        throw SceneError({d.issue("bc.fix", i, "type = \"fix\" needs the DoFs to fix, e.g. [\"" + names[2] + "\"] (frame = \"" +
+                                                   frame + "\": " + joined(names) + ")")});
+      dofs.assign(names.begin(), names.begin() + 3);
+    }
+    if (!prescribe && d.present("bc.displacement", i))
+      throw SceneError({d.issue("bc.displacement", i, "bc.displacement belongs to type = \"displacement\"")});
+    const Vec3 value = vec(d.numbers("bc.displacement", i));
+    if (!value.allFinite()) throw SceneError({d.issue("bc.displacement", i, "the displacement is not finite")});
+    std::vector<int> slots;
+    for (const std::string& name : dofs) {
+      const auto it = std::find(names.begin(), names.end(), name);
+      if (it == names.end())
+        throw SceneError({d.issue("bc.fix", i, "'" + name + "' is not a DoF of frame = \"" + frame + "\" (its DoFs: " +
+                                                   joined(names) + ")")});
+      const int k = static_cast<int>(it - names.begin());
+      if (prescribe && k >= 3)
+        throw SceneError({d.issue("bc.fix", i, "'" + name + "': only translations can be prescribed; hold rotations "
+                                                   "with a type = \"fix\" entry")});
+      slots.push_back(k);
+    }
+    for (int id : ids) {
+      const Eigen::Matrix3d T = frame_axes(d, i, m, id);
+      for (int k : slots)
+        spec.directions.push_back({id, T.col(k % 3), k >= 3, prescribe ? value[k] : 0.0, source});
+    }
+  }
+}
+
+std::vector<std::pair<int, Vec3>> line_load_forces(const mesh::ShellMesh& m, const std::vector<int>& ids, const Vec3& q,
+                                                   std::string& why) {
+  std::vector<char> in(m.node_count(), 0);
+  for (int i : ids) in[i] = 1;
+  std::map<std::pair<int, int>, double> edges;  // unique edges between selected nodes, with their length
+  for (int k = 0; k < m.quad_count(); ++k) {
+    const auto& quad = m.quads[k];
+    if (std::all_of(quad.begin(), quad.end(), [&](int i) { return in[i] != 0; })) {
+      why = "selects all 4 corners of quad " + std::to_string(k) + ", i.e. an area; a line load needs nodes along a line "
+            "(an edge of the mesh or a line of nodes across it)";
+      return {};
+    }
+    for (int c = 0; c < 4; ++c) {
+      const int a = quad[c], b = quad[(c + 1) % 4];
+      if (in[a] && in[b]) edges[{std::min(a, b), std::max(a, b)}] = (m.points[a] - m.points[b]).norm();
+    }
+  }
+  if (edges.empty()) {
+    why = "selects " + std::to_string(ids.size()) + " node(s) but no mesh edge joins two of them; a line load needs "
+          "nodes along a line of edges";
+    return {};
+  }
+  std::map<int, double> share;  // tributary length per node: half of each adjacent selected edge
+  for (const auto& [e, len] : edges) share[e.first] += 0.5 * len, share[e.second] += 0.5 * len;
+  std::vector<std::pair<int, Vec3>> out;
+  for (const auto& [node, len] : share) out.emplace_back(node, len * q);
+  return out;
+}
+
+void read_loads(const Document& d, shell::ShellModelSpec& spec) {
+  using namespace ff::shell;
+  const mesh::ShellMesh& m = spec.mesh;
+  for (std::size_t i = 0; i < d.count("load"); ++i) {
+    const std::string type = d.string("load.type", i);
+    const std::vector<int> ids = select_nodes(d, m, "load", i);
+    // each type takes its own amount key, and only that one
+    const std::map<std::string, std::string> amount = {
+        {"force", "load.total"}, {"moment", "load.total"}, {"line", "load.per_length"}, {"pressure", "load.pressure"}};
+    const std::map<std::string, std::string> owner = {{"load.total", "type = \"force\" or \"moment\""},
+                                                      {"load.per_length", "type = \"line\""},
+                                                      {"load.pressure", "type = \"pressure\""}};
+    for (const auto& [key, types] : owner)
+      if (key != amount.at(type) && d.present(key, i))
+        throw SceneError({d.issue(key, i, key + " belongs to " + types + "; a " + type + " load takes " + amount.at(type))});
+    if (!d.present(amount.at(type), i))
+      throw SceneError({d.issue("load.type", i, "type = \"" + type + "\" needs " + amount.at(type))});
+    if (type == "pressure") {
+      const std::vector<int> quads = quads_within(m, ids);
+      if (quads.empty())
+        throw SceneError({d.issue("load.select", i, "selects " + std::to_string(ids.size()) +
+                                                        " nodes but no quad with all 4 corners among them; a pressure "
+                                                        "loads whole quads (select = \"all\" for the whole mesh)")});
+      for (int q : quads) spec.pressures.push_back({q, d.number("load.pressure", i), d.boolean("load.follower", i)});
+      continue;
+    }
+    if (type == "line") {
+      if (d.boolean("load.follower", i))
+        throw SceneError({d.issue("load.follower", i, "line loads are dead loads (fixed direction); follower = true is "
+                                                      "not supported for them")});
+      std::string why;
+      const auto forces = line_load_forces(m, ids, vec(d.numbers("load.per_length", i)), why);
+      if (!why.empty()) throw SceneError({d.issue("load.select", i, why)});
+      for (const auto& [node, f] : forces) spec.loads.push_back({node, f, Vec3::Zero(), false});
+      continue;
+    }
+    const std::vector<double> w = tributary_weights(m, ids);
+    const Vec3 total = vec(d.numbers("load.total", i));
+    const bool moment = type == "moment";
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      NodalLoad l;
+      l.node = ids[k];
+      (moment ? l.moment : l.force) = w[k] * total;
+      l.follower = d.boolean("load.follower", i);
+      spec.loads.push_back(l);
+    }
+  }
+}
+
+std::vector<shell::ShellProbe> read_probes(const Document& d, const mesh::ShellMesh& m) {
+  std::vector<shell::ShellProbe> probes;
+  for (std::size_t i = 0; i < d.count("probe"); ++i) {
+    const std::vector<int> ids = select_nodes(d, m, "probe", i);
+    const std::string name = d.string("probe.name", i), label = d.string("probe.label", i);
+    for (const shell::ShellProbe& p : probes)
+      if (p.name == name) throw SceneError({d.issue("probe.name", i, "a probe named '" + name + "' is already declared")});
+    shell::ShellProbe p;
+    p.name = name;
+    p.label = label.empty() ? name : label;
+    p.node = ids.front();
+    p.direction = vec(d.numbers("probe.direction", i));
+    if (d.string("probe.quantity", i) == "reaction") {
+      p.quantity = shell::ShellProbe::Quantity::reaction;
+      p.nodes = ids;
+    }
+    probes.push_back(std::move(p));
+  }
+  return probes;
+}
+
+Issue located(const Document& d, const shell::ShellSpecError& e) {
+  using Part = shell::ShellSpecError::Part;
+  const std::size_t i = e.source() >= 0 ? static_cast<std::size_t>(e.source()) : 0;
+  switch (e.part()) {
+    case Part::restraint:
+    case Part::symmetry:
+      if (e.source() >= 0 && i < d.count("bc")) return d.issue("bc.type", i, e.what());
+      break;
+    case Part::pressure:
+      break;
+    case Part::element:
+      // an element the section cannot form (det J <= 0 through the thickness): the thickness
+      // against the curvature or a distorted mesh
+      return d.issue("material.thickness", std::string(e.what()) +
+                                               " (a thickness larger than the local radius of curvature, or a distorted "
+                                               "mesh, makes the element invalid)");
+  }
+  return d.issue("bc.type", 0, e.what());
+}
+
+}  // namespace ff::scene

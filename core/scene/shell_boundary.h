@@ -1,0 +1,41 @@
+#pragma once
+/// \file shell_boundary.h
+/// Supports ([[bc]]), loads ([[load]]) and probes ([[probe]]) of a shell_static scene: their
+/// schema keys and their translation into the model's spec (restraints in global, cylindrical or
+/// nodal axes, symmetry planes of any normal, prescribed displacements, point and line loads,
+/// pressures), with errors located at the scene entry that caused them.
+#include <string>
+#include <vector>
+
+#include "core/scene/schema.h"
+#include "core/shell/shell_model.h"
+#include "core/shell/shell_static_simulation.h"
+
+namespace ff::scene {
+
+/// Declares [[bc]] (type, fix, frame, axis, axis_point, displacement and the selector keys).
+void declare_bc_keys(Schema& s);
+/// Declares [[load]] (type, total, per_length, pressure, follower and the selector keys).
+void declare_load_keys(Schema& s);
+/// Declares [[probe]] (name, label, quantity, direction and the selector keys).
+void declare_probe_keys(Schema& s);
+
+/// Restraints, symmetry planes and prescribed displacements of every [[bc]] into `spec`
+/// (each tagged with its entry index as `source`). Needs spec.mesh. Throws SceneError.
+void read_bcs(const Document& d, shell::ShellModelSpec& spec);
+/// Point forces and moments, line loads and pressures of every [[load]] into `spec`.
+void read_loads(const Document& d, shell::ShellModelSpec& spec);
+/// Probes of every [[probe]].
+std::vector<shell::ShellProbe> read_probes(const Document& d, const mesh::ShellMesh& m);
+
+/// The scene issue for an error the model constructor raised about the spec read from `d`.
+Issue located(const Document& d, const shell::ShellSpecError& e);
+
+/// Nodal forces equivalent to a uniform force per unit length q along the mesh edges joining the
+/// nodes `ids` (consistent lumping: q L / 2 to each end of an edge of length L). Empty `why`
+/// on success; otherwise why the nodes do not form a line (no edge between them, or a whole quad
+/// selected).
+std::vector<std::pair<int, Eigen::Vector3d>> line_load_forces(const mesh::ShellMesh& m, const std::vector<int>& ids,
+                                                              const Eigen::Vector3d& q, std::string& why);
+
+}  // namespace ff::scene
