@@ -74,6 +74,7 @@ std::string resolve_scene(const std::string& name) {
 int exit_code(const RunOutcome& o) {
   switch (o.status) {
     case RunStatus::completed: return 0;
+    case RunStatus::incomplete: return 4;
     case RunStatus::diverged: return 3;
     case RunStatus::interrupted: return 130;
     case RunStatus::failed: return 1;
@@ -282,6 +283,13 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   JsonObject render_info;
   render_info.add("backend", render_backend).add("gl_renderer", gl_renderer)
       .add("frames_per_second", result.render_seconds > 0 ? result.frames_rendered / result.render_seconds : 0.0);
+  std::string events = "[";  // what the path did (statics: limit points, bifurcations, turn-backs)
+  for (const PathEvent& e : outcome.events) {
+    JsonObject one;
+    one.add("kind", e.kind).add("step", static_cast<long long>(e.step)).add("load_factor", e.load_factor).add("detail", e.detail);
+    events += (events.size() > 1 ? ", " : "") + one.str();
+  }
+  events += "]";
   JsonObject summary;
   summary.add("scene", scene.name)
       .add("scene_path", scene.path)
@@ -296,6 +304,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       .add("steps_per_second", outcome.wall_time_s > 0 ? result.totals.steps / outcome.wall_time_s : 0.0)
       .add("effects", info.effects)
       .add("metrics", metrics)
+      .raw("events", events)
       .add("effect_stats", effect_stats)
       .add("outputs", outputs)
       .add("render", render_info);

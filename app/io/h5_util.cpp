@@ -210,6 +210,20 @@ void write_attr_double(hid_t obj, const std::string& name, double value) {
   check(H5Awrite(a.get(), H5T_NATIVE_DOUBLE, &value), "write attribute '" + name + "'");
 }
 
+void write_attr_doubles(hid_t obj, const std::string& name, const std::vector<double>& values) {
+  Handle space = simple_space({values.size()});
+  Handle a = attr_for_write(obj, name, H5T_IEEE_F64LE, space.get());
+  if (!values.empty()) check(H5Awrite(a.get(), H5T_NATIVE_DOUBLE, values.data()), "write attribute '" + name + "'");
+}
+
+std::vector<double> read_attr_doubles(hid_t obj, const std::string& name) {
+  Handle a = open_attr(obj, name);
+  Handle s(check_id(H5Aget_space(a.get()), "read attribute '" + name + "'"));
+  std::vector<double> v(element_count(s.get()));
+  if (!v.empty()) check(H5Aread(a.get(), H5T_NATIVE_DOUBLE, v.data()), "read attribute '" + name + "'");
+  return v;
+}
+
 void write_attr_int64(hid_t obj, const std::string& name, std::int64_t value) {
   Handle space = scalar_space();
   Handle a = attr_for_write(obj, name, H5T_STD_I64LE, space.get());

@@ -101,6 +101,8 @@ void write_attr_string(hid_t obj, const std::string& name, const std::string& va
 void write_attr_strings(hid_t obj, const std::string& name, const std::vector<std::string>& values);
 void write_attr_double(hid_t obj, const std::string& name, double value);
 void write_attr_int64(hid_t obj, const std::string& name, std::int64_t value);
+void write_attr_doubles(hid_t obj, const std::string& name, const std::vector<double>& values);
+std::vector<double> read_attr_doubles(hid_t obj, const std::string& name);
 std::string read_attr_string(hid_t obj, const std::string& name);
 std::vector<std::string> read_attr_strings(hid_t obj, const std::string& name);
 double read_attr_double(hid_t obj, const std::string& name);

@@ -21,7 +21,7 @@ static_assert(std::endian::native == std::endian::little, "checksums hash little
 
 RunStatus parse_status(const std::string& s, bool* known) {
   *known = true;
-  for (RunStatus r : {RunStatus::completed, RunStatus::diverged, RunStatus::interrupted,
+  for (RunStatus r : {RunStatus::completed, RunStatus::incomplete, RunStatus::diverged, RunStatus::interrupted,
                       RunStatus::failed}) {
     if (s == to_string(r)) return r;
   }
@@ -204,6 +204,16 @@ void ResultReader::Impl::load_all() {
     outcome.stop_time = h5::read_attr_double(o.get(), "stop_time");
     outcome.steps = h5::read_attr_int64(o.get(), "steps");
     outcome.wall_time_s = h5::read_attr_double(o.get(), "wall_time_s");
+    if (h5::has_attr(o.get(), "event_kind")) {
+      const std::vector<std::string> kinds = h5::read_attr_strings(o.get(), "event_kind");
+      const std::vector<std::string> details = h5::read_attr_strings(o.get(), "event_detail");
+      const std::vector<double> steps = h5::read_attr_doubles(o.get(), "event_step");
+      const std::vector<double> loads = h5::read_attr_doubles(o.get(), "event_load_factor");
+      if (details.size() != kinds.size() || steps.size() != kinds.size() || loads.size() != kinds.size())
+        throw h5::Failure("the outcome's event attributes have different lengths");
+      for (std::size_t k = 0; k < kinds.size(); ++k)
+        outcome.events.push_back({kinds[k], static_cast<std::int64_t>(steps[k]), loads[k], details[k]});
+    }
   } else {
     // the writer was stopped: keep only frames whose checksum proves them complete, and take
     // the outcome from the last of them; the stored progress attributes are a fallback only

@@ -576,6 +576,20 @@ bool ResultWriter::finish(const RunOutcome& outcome,
     h5::write_attr_double(o, "stop_time", outcome.stop_time);
     h5::write_attr_int64(o, "steps", outcome.steps);
     h5::write_attr_double(o, "wall_time_s", outcome.wall_time_s);
+    if (!outcome.events.empty()) {  // the path's events, one entry each (results_layout.md)
+      std::vector<std::string> kinds, details;
+      std::vector<double> steps, loads;
+      for (const PathEvent& e : outcome.events) {
+        kinds.push_back(e.kind);
+        details.push_back(e.detail);
+        steps.push_back(static_cast<double>(e.step));
+        loads.push_back(e.load_factor);
+      }
+      h5::write_attr_strings(o, "event_kind", kinds);
+      h5::write_attr_doubles(o, "event_step", steps);
+      h5::write_attr_doubles(o, "event_load_factor", loads);
+      h5::write_attr_strings(o, "event_detail", details);
+    }
     // "finished" goes last, after everything it vouches for is on disk
     h5::check(H5Fflush(m.file.get(), H5F_SCOPE_LOCAL), "flush the outcome");
     h5::write_attr_int64(o, "finished", 1);

@@ -83,18 +83,27 @@ struct Frame {
   std::vector<StepRecord> step_log;
 };
 
-/// How a run ended.
-enum class RunStatus { completed, diverged, interrupted, failed };
+/// How a run ended. `incomplete`: it stopped early by design (a step budget ran out) before its end.
+enum class RunStatus { completed, incomplete, diverged, interrupted, failed };
 
 inline const char* to_string(RunStatus s) {
   switch (s) {
     case RunStatus::completed: return "completed";
+    case RunStatus::incomplete: return "incomplete";
     case RunStatus::diverged: return "diverged";
     case RunStatus::interrupted: return "interrupted";
     case RunStatus::failed: return "failed";
   }
   return "failed";
 }
+
+/// Something the solution path did on the way, e.g. a limit point of a static load path.
+struct PathEvent {
+  std::string kind;           ///< "limit_point", "bifurcation", "turn_back"
+  std::int64_t step = 0;      ///< the converged step (frame step) after which it was seen
+  double load_factor = 0.0;   ///< load factor (or time) there
+  std::string detail;         ///< one sentence
+};
 
 /// Final word of a run: status, why, and where it stopped.
 struct RunOutcome {
@@ -103,6 +112,7 @@ struct RunOutcome {
   double stop_time = 0.0;    ///< simulated time of the last converged frame
   std::int64_t steps = 0;    ///< converged steps
   double wall_time_s = 0.0;
+  std::vector<PathEvent> events;  ///< in path order; empty where a model reports none
 };
 
 }  // namespace ff

@@ -18,7 +18,6 @@ namespace ff::scene {
 namespace fs = std::filesystem;
 
 namespace {
-Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 
 // generator = "file": mesh.file relative to the scene file, read by the installed reader
 mesh::ShellMesh read_mesh_file(const Document& d, const std::string& scene_path) {
@@ -94,7 +93,21 @@ const Schema& shell_static_schema() {
         .boolean("solver.stop_at_limit_point",
                  "load control: refuse iterates that change the sign of det K (a limit point lies ahead)", true)
         .choice("solver.arc_method", "arc-length constraint", {"crisfield", "lam_morley"}, "crisfield")
-        .integer("solver.desired_iterations", "arc length adapts to reach this many corrections", 4, IntRange::closed(1, 50))
+        .integer("solver.desired_iterations",
+                 "arc length: a step needing more corrections than this shortens the next by sqrt(desired / used)", 5,
+                 IntRange::closed(1, 50))
+        .number("solver.target_turn",
+                "arc length: the angle [deg] between predictor and converged increment the step length aims at "
+                "(long steps where the path is straight, short ones where it turns)", 8.0, Range::left_open(0.0, 45.0))
+        .number("solver.max_turn",
+                "arc length: a step turning more than this [deg] from the tangent at its start or end is retried "
+                "shorter (it may have left the path); 0 = no such guard", 24.0, Range::closed(0.0, 90.0))
+        .number("solver.max_growth", "arc length: largest growth of the arc length from one step to the next", 2.0,
+                Range::closed(1.0, 10.0))
+        .choice("solver.tangent",
+                "full: a new tangent at every correction (quadratic Newton); modified: keep the factorization while "
+                "the residual contracts by at least half per correction, refactor after 4 on one", {"full", "modified"},
+                "full")
         .integer("solver.max_steps", "arc length: step budget", 400, IntRange::closed(1, 100000))
         .string("solver.monitor_probe", "arc length: probe whose displacement limit ends the run", std::string{})
         .number("solver.displacement_limit", "arc length: stop when |monitor probe| reaches this", 1e300, Range::positive());
@@ -184,6 +197,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   StaticConvergence conv;
   conv.residual_tolerance = conv.increment_tolerance = d.number("solver.tolerance");
   conv.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
+  conv.tangent = d.string("solver.tangent") == "modified" ? TangentPolicy::modified : TangentPolicy::every_iteration;
   st.arc_length = d.string("solver.method") == "arc_length";
   st.load_control.lambda_end = d.number("solver.lambda_end");
   st.load_control.initial_step = d.number("solver.initial_step");
@@ -195,6 +209,10 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   st.arc.initial_load_increment = d.number("solver.initial_step");
   st.arc.lambda_max = d.number("solver.lambda_end");
   st.arc.desired_iterations = static_cast<int>(d.integer("solver.desired_iterations"));
+  const double deg = std::acos(-1.0) / 180.0;
+  st.arc.target_turn = d.number("solver.target_turn") * deg;
+  st.arc.max_turn = d.number("solver.max_turn") * deg;
+  st.arc.max_growth = d.number("solver.max_growth");
   st.arc.max_steps = static_cast<int>(d.integer("solver.max_steps"));
   st.arc.convergence = conv;
   st.monitor_probe = d.string("solver.monitor_probe");

@@ -93,8 +93,11 @@ RunOutcome ShellStaticSimulation::run(const std::function<void(Frame&&)>& publis
   totals_.jacobian_updates = r.factorizations;
   RunOutcome out;
   out.status = r.status == StaticStatus::completed     ? RunStatus::completed
+               : r.status == StaticStatus::incomplete  ? RunStatus::incomplete
                : r.status == StaticStatus::interrupted ? RunStatus::interrupted
                                                        : RunStatus::diverged;
+  for (const StaticEvent& e : r.events)
+    out.events.push_back({std::string(to_string(e.kind)), e.step, e.lambda, e.detail});
   out.reason = r.status == StaticStatus::completed ? std::string() : r.reason;
   out.stop_time = r.lambda;
   out.steps = r.steps;
@@ -151,7 +154,15 @@ Metrics ShellStaticSimulation::metrics() const {
         if (limit >= 0 && k >= 0) v = vertex(loads_, limit, values_[k]);
         break;
       case ShellMetric::Kind::min_load_after_limit:
-        if (limit >= 0) v = *std::min_element(loads_.begin() + limit, loads_.end());
+        // the lowest sample after the limit point, refined like the limit load: the vertex of the
+        // parabola through it and its neighbours (a coarse path rarely lands on the minimum)
+        if (limit >= 0) {
+          const auto lowest = std::min_element(loads_.begin() + limit, loads_.end());
+          const int i = static_cast<int>(lowest - loads_.begin());
+          std::vector<double> negated(loads_.size());
+          for (std::size_t k = 0; k < loads_.size(); ++k) negated[k] = -loads_[k];
+          v = i > limit && i + 1 < static_cast<int>(loads_.size()) ? -vertex(negated, i, negated) : *lowest;
+        }
         break;
       case ShellMetric::Kind::max_abs:
         if (k >= 0)

@@ -38,11 +38,25 @@ class PathFollower {
   bool evaluate_iterate(double lambda, AttemptOutcome& a);
   bool start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor, AttemptOutcome& a);
   double monitored() const;
+  double monitored_after(const Eigen::VectorXd& step) const;  // at the current (unaccepted) state
+
+  // eq. (23): the tangent predictor oriented by the previous step, or the secant one
+  bool predict(double dl, Eigen::VectorXd& dq_f, std::string& failure);
+  void secant(double dl, double load_weight);
+  std::vector<StaticEvent> path_events(int steps) const;
 
   const ArcLengthSettings& s_;
   StaticKernel k_;
   int n_;
+  double alpha2_ = 0.0;            // λ weight of the orientation metric (eq. 23): ||K0⁻¹ f||² at the start
+  Eigen::VectorXd dq_pred_;        // the predictor of the attempt (eq. 22)
+  double dlambda_pred_ = 0.0;
+  std::vector<int> det_sign_;      // sign of det K at converged state k (0: unknown)
+  std::vector<double> state_lambda_;  // λ of converged state k
+  std::vector<int> reversals_;     // states where Δλ changed sign (limit points)
+  std::vector<int> turn_backs_;    // states after which the increment reversed
   double lambda_ = 0.0;            // last converged load factor
+  double monitor_last_ = 0.0;      // the monitored displacement there
   Eigen::VectorXd dq_;             // increment of the step being attempted (Σ of the applied δ)
   double dlambda_ = 0.0;           // its load increment
   Eigen::VectorXd dq_prev_;        // increment of the last converged step
@@ -65,6 +79,13 @@ double PathFollower::monitored() const {
   if (s_.monitor_dof < 0) return std::numeric_limits<double>::quiet_NaN();
   const std::optional<double> u = k_.problem().displacement(s_.monitor_dof);
   return u ? *u : u_total_[s_.monitor_dof];
+}
+
+double PathFollower::monitored_after(const Eigen::VectorXd& step) const {
+  if (s_.monitor) return s_.monitor();
+  if (s_.monitor_dof < 0) return std::numeric_limits<double>::quiet_NaN();
+  const std::optional<double> u = k_.problem().displacement(s_.monitor_dof);
+  return u ? *u : u_total_[s_.monitor_dof] + step[s_.monitor_dof];
 }
 
 // stop flag and evaluation at the current iterate (K too under full Newton); false ends the attempt
@@ -92,10 +113,76 @@ bool PathFollower::start_iteration(int k, double lambda, double rn, double previ
     a.failure = "diverging near λ = " + fmt(lambda) + ": " + why;
     return false;
   }
-  if (k_.wants_new_tangent(k, rn, previous) && !k_.refresh_tangent(lambda)) {
-    a.failure = k_.failure() + " (iteration " + std::to_string(k) + ")";
-    return false;
+  if (k_.wants_new_tangent(k, rn, previous)) {
+    if (!k_.refresh_tangent(lambda)) {
+      a.failure = k_.failure() + " (iteration " + std::to_string(k) + ")";
+      return false;
+    }
   }
+  return true;
+}
+
+// the previous converged increment scaled to Δl (the secant predictor, eq. 18 with the load weight)
+void PathFollower::secant(double dl, double load_weight) {
+  const double mu = dl / std::sqrt(k_.dot_u(dq_prev_, dq_prev_) + load_weight * dlambda_prev_ * dlambda_prev_);
+  dq_ = mu * dq_prev_;
+  dlambda_ = mu * dlambda_prev_;
+}
+
+// eq. (23): δq_f = K⁻¹ f at the converged state, oriented by the angle to the previous increment
+// (displacements only: at a fold the λ part of the path's tangent changes sign, its displacement
+// part does not); when that cosine is nearly zero (δq_f almost orthogonal to the path, as near a
+// bifurcation) the secant predictor continues the path instead
+bool PathFollower::predict(double dl, Eigen::VectorXd& dq_f, std::string& failure) {
+  const double psi2 = s_.psi * s_.psi;
+  // under modified Newton the held factorization may be older: then det K is not recorded
+  const bool full = s_.convergence.tangent == TangentPolicy::every_iteration;
+  const bool tangent = load_tangent(lambda_, dq_f);
+  if (!det_sign_.empty() && det_sign_.back() == 0) det_sign_.back() = tangent && full ? k_.determinant_sign() : 0;
+  const double ff = psi2 * k_.dot_r(k_.load(), k_.load());
+  if (!tangent) {
+    if (!has_previous_) {
+      failure = "predictor: " + k_.failure();
+      return false;
+    }
+    secant(dl, ff);  // K singular at the converged point
+  } else {
+    double sign = s_.initial_load_increment < 0.0 ? -1.0 : 1.0;
+    bool use_secant = false;
+    if (has_previous_) {
+      const double o = k_.dot_u(dq_prev_, dq_f);
+      const double np = std::sqrt(k_.dot_u(dq_prev_, dq_prev_)), nt = std::sqrt(k_.dot_u(dq_f, dq_f));
+      use_secant = !(std::abs(o) >= s_.ambiguous_orientation * np * nt);
+      sign = o >= 0.0 ? 1.0 : -1.0;
+    }
+    if (use_secant) {
+      secant(dl, ff);
+    } else {
+      dlambda_ = sign * dl / std::sqrt(k_.dot_u(dq_f, dq_f) + ff);
+      dq_ = dlambda_ * dq_f;
+      // eq. (24): on a path of constant curvature the next chord turns from the tangent by as much
+      // as the tangent turned from the last chord: direction 2 τ - c (unit vectors in the metric of
+      // eq. 23), used while that turn is moderate
+      if (has_previous_ && s_.curvature_predictor) {
+        const double nt = std::sqrt(k_.dot_u(dq_f, dq_f) + alpha2_);
+        const double nc = std::sqrt(k_.dot_u(dq_prev_, dq_prev_) + alpha2_ * dlambda_prev_ * dlambda_prev_);
+        const double cos_tc = sign * (k_.dot_u(dq_f, dq_prev_) + alpha2_ * dlambda_prev_) / (nt * nc);
+        const Eigen::VectorXd dq_dir = (2.0 * sign / nt) * dq_f - dq_prev_ / nc;
+        const double dl_dir = 2.0 * sign / nt - dlambda_prev_ / nc;
+        // ... and keeps at least half of the tangent's own displacement direction: where the path
+        // stands nearly vertical in λ the correction could flip the displacement part, which the
+        // arc-length constraint then scales up
+        const double along = sign * k_.dot_u(dq_dir, dq_f) / (k_.dot_u(dq_f, dq_f) / nt);
+        if (cos_tc > std::cos(2.0 * s_.target_turn) && along >= 0.5) {
+          const double mu = dl / std::sqrt(k_.dot_u(dq_dir, dq_dir) + ff * dl_dir * dl_dir);
+          dq_ = mu * dq_dir;
+          dlambda_ = mu * dl_dir;
+        }
+      }
+    }
+  }
+  dq_pred_ = dq_;
+  dlambda_pred_ = dlambda_;
   return true;
 }
 
@@ -107,23 +194,9 @@ AttemptOutcome PathFollower::crisfield_step(double dl) {
   Eigen::VectorXd dq_f(n_), dq_r(n_), delta(n_), rhs;
   dq_.setZero(n_);
 
-  // predictor: along K⁻¹f, oriented by the previous step (eq. 9); the secant when K is singular
-  if (load_tangent(lambda_, dq_f)) {
-    const double ff = psi2 * k_.dot_r(k_.load(), k_.load());
-    double sign = s_.initial_load_increment < 0.0 ? -1.0 : 1.0;
-    if (has_previous_) {
-      const double orient = k_.dot_u(dq_prev_, dq_f);
-      sign = orient != 0.0 ? (orient > 0.0 ? 1.0 : -1.0) : (dlambda_prev_ >= 0.0 ? 1.0 : -1.0);
-    }
-    dlambda_ = sign * dl / std::sqrt(k_.dot_u(dq_f, dq_f) + ff);
-    dq_ = dlambda_ * dq_f;
-  } else if (has_previous_) {
-    const double mu = dl / std::sqrt(k_.dot_u(dq_prev_, dq_prev_) +
-                                     psi2 * k_.dot_r(k_.load(), k_.load()) * dlambda_prev_ * dlambda_prev_);
-    dq_ = mu * dq_prev_;
-    dlambda_ = mu * dlambda_prev_;
-  } else {
-    a.failure = "predictor: " + k_.failure();
+  std::string failure;
+  if (!predict(dl, dq_f, failure)) {
+    a.failure = failure;
     return a;
   }
   k_.update(dq_);
@@ -134,7 +207,7 @@ AttemptOutcome PathFollower::crisfield_step(double dl) {
     const double lambda = lambda_ + dlambda_;
     if (!evaluate_iterate(lambda, a)) break;
     a.residual_norm = k_.norm_r(k_.residual());
-    if (k > 0 && k_.converged(a.residual_norm, a.increment_norm, k_.norm_u(dq_))) {
+    if (k > 0 && k_.converged(a.residual_norm, a.increment_norm, a.previous_increment_norm, k_.norm_u(dq_))) {
       a.converged = true;
       break;
     }
@@ -166,6 +239,7 @@ AttemptOutcome PathFollower::crisfield_step(double dl) {
     k_.update(delta);
     dq_ += delta;
     dlambda_ += x;
+    a.previous_increment_norm = a.increment_norm;
     a.increment_norm = k_.norm_u(delta);
     a.iterations = k + 1;
     previous = a.residual_norm;
@@ -179,6 +253,10 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
   AttemptOutcome a;
   const int f0 = k_.factorizations();
   Eigen::VectorXd dq_f(n_), dq_h(n_), delta(n_), rhs, r_perp;
+  // det K at the converged state, for the path's events (§4.4)
+  if (!det_sign_.empty() && det_sign_.back() == 0 && s_.convergence.tangent == TangentPolicy::every_iteration &&
+      k_.refresh_tangent(lambda_))
+    det_sign_.back() = k_.determinant_sign();
   if (has_previous_) {
     const double mu = dl / std::sqrt(k_.dot_u(dq_prev_, dq_prev_) + a0_ * dlambda_prev_ * dlambda_prev_);
     dq_ = mu * dq_prev_;
@@ -192,6 +270,8 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
     dlambda_ = sign * dl / std::sqrt(k_.dot_u(dq_f, dq_f) + a0_);
     dq_ = dlambda_ * dq_f;
   }
+  dq_pred_ = dq_;
+  dlambda_pred_ = dlambda_;
   k_.update(dq_);
 
   DivergenceMonitor monitor(s_.convergence);
@@ -205,7 +285,7 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
     const double g = ff > 0.0 ? k_.dot_r(k_.residual(), f) / ff : 0.0;
     r_perp = k_.residual() - g * f;
     a.residual_norm = k_.norm_r(r_perp);
-    if (k > 0 && k_.converged(a.residual_norm, a.increment_norm, k_.norm_u(dq_))) {
+    if (k > 0 && k_.converged(a.residual_norm, a.increment_norm, a.previous_increment_norm, k_.norm_u(dq_))) {
       dlambda_ += g;  // λ that leaves only h: r(q, λ + g) = h
       a.converged = true;
       break;
@@ -254,6 +334,7 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
         k_.restore();
         delta = mu * dq_cr;
         k_.update(delta);
+        a.previous_increment_norm = a.increment_norm;
         a.increment_norm = k_.norm_u(delta - dq_);
         dq_ = delta;
         dlambda_ = mu * dlambda_cr;
@@ -271,12 +352,47 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
     k_.update(delta);
     dq_ += delta;
     dlambda_ = s + x;
+    a.previous_increment_norm = a.increment_norm;
     a.increment_norm = k_.norm_u(delta);
     a.iterations = k + 1;
     previous = a.residual_norm;
   }
   a.factorizations = k_.factorizations() - f0;
   return a;
+}
+
+// the events of the path (§4.4): a Δλ sign change is a limit point; a det K sign change between
+// two converged states with no limit point within one step of it is a bifurcation
+std::vector<StaticEvent> PathFollower::path_events(int steps) const {
+  std::vector<StaticEvent> ev;
+  auto near_reversal = [&](int k) {
+    return std::any_of(reversals_.begin(), reversals_.end(), [&](int r) { return std::abs(r - k) <= 1; });
+  };
+  auto det_changed_near = [&](int k) {
+    for (int j = std::max(1, k - 1); j <= k + 1 && j < static_cast<int>(det_sign_.size()); ++j)
+      if (det_sign_[j] != 0 && det_sign_[j - 1] != 0 && det_sign_[j] != det_sign_[j - 1]) return true;
+    return false;
+  };
+  for (int r : reversals_) {
+    const bool max = r > 0 && state_lambda_[r] >= state_lambda_[r - 1];
+    ev.push_back({StaticEvent::Kind::limit_point, r, state_lambda_[r],
+                  std::string(max ? "maximum" : "minimum") + " of λ; det K " +
+                      (det_changed_near(r) ? "changed sign there" : "kept its sign (an even number of its eigenvalues "
+                                                                     "crossed zero, or the solver could not tell)")});
+  }
+  for (int k = 1; k < static_cast<int>(det_sign_.size()) && k <= steps; ++k)
+    if (det_sign_[k] != 0 && det_sign_[k - 1] != 0 && det_sign_[k] != det_sign_[k - 1] && !near_reversal(k) &&
+        !near_reversal(k - 1))
+      ev.push_back({StaticEvent::Kind::bifurcation, k, state_lambda_[k],
+                    "det K changed sign between λ = " + fmt(state_lambda_[k - 1]) + " and " + fmt(state_lambda_[k]) +
+                        " with no limit point: a branch crosses the path here; the path followed stays on its own "
+                        "branch (no branch switching)"});
+  for (int k : turn_backs_)
+    ev.push_back({StaticEvent::Kind::turn_back, k, state_lambda_[k],
+                  "the increment reversed against the previous one even at the smallest arc length: the path turns "
+                  "back on itself (a cusp) or the solver lost it"});
+  std::stable_sort(ev.begin(), ev.end(), [](const StaticEvent& a, const StaticEvent& b) { return a.step < b.step; });
+  return ev;
 }
 
 StaticResult PathFollower::run() {
@@ -289,6 +405,7 @@ StaticResult PathFollower::run() {
     res.reason = std::move(reason);
     res.lambda = lambda_;
     res.factorizations = k_.factorizations();
+    res.events = path_events(res.steps);
     return res;
   };
   if (std::string why = check_settings(s_, n_); !why.empty())
@@ -300,12 +417,16 @@ StaticResult PathFollower::run() {
   dq_prev_.setZero(n_);
   u_total_.setZero(n_);
   k_.save();
+  if (s_.monitor || s_.monitor_dof >= 0) monitor_last_ = monitored();
 
   // the first Δl from the initial load increment along the initial tangent (eq. 12)
   Eigen::VectorXd dq_f(n_);
   if (!load_tangent(lambda_, dq_f))
     return finish(StaticStatus::diverged, StaticStop::step_too_small, "initial tangent: " + k_.failure());
+  det_sign_.push_back(k_.determinant_sign());
+  state_lambda_.push_back(lambda_);
   const double qf = k_.dot_u(dq_f, dq_f);
+  alpha2_ = qf;
   double dl0 = 0.0;
   if (s_.method == ArcLengthMethod::crisfield) {
     dl0 = std::abs(s_.initial_load_increment) * std::sqrt(qf + s_.psi * s_.psi * k_.dot_r(k_.load(), k_.load()));
@@ -318,6 +439,7 @@ StaticResult PathFollower::run() {
   double dl = dl0;
   int attempts = 1;
   bool landing_failed = false;
+  std::string last_failure;
 
   while (true) {
     if (stop_requested(s_.stop))
@@ -328,24 +450,73 @@ StaticResult PathFollower::run() {
       k_.restore();
       return finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
     }
+    // eq. (22): a converged increment far from its predictor may sit on another branch, and one
+    // pointing back along the previous step turns the path back on itself: retry shorter
+    double turn = 0.0, end_turn = 0.0;
+    bool reversed = false;
+    if (a.converged) {
+      // in the metric of eq. (23): a jump that keeps the direction of Δq but not the sign of Δλ turns too
+      const double np = std::sqrt(k_.dot_u(dq_pred_, dq_pred_) + alpha2_ * dlambda_pred_ * dlambda_pred_);
+      const double nc = std::sqrt(k_.dot_u(dq_, dq_) + alpha2_ * dlambda_ * dlambda_);
+      const double c = k_.dot_u(dq_pred_, dq_) + alpha2_ * dlambda_pred_ * dlambda_;
+      turn = np > 0.0 && nc > 0.0 ? std::acos(std::clamp(c / (np * nc), -1.0, 1.0)) : 0.0;
+      reversed = has_previous_ && k_.dot_u(dq_, dq_prev_) < 0.0;
+      // eq. (22'): the tangent at the converged end must fit the chord as the start tangent does;
+      // an increment that landed on another branch has an end tangent unrelated to it. The
+      // factorization is the next predictor's (no extra cost under full Newton).
+      Eigen::VectorXd t_end(n_);
+      if (s_.convergence.tangent == TangentPolicy::every_iteration && load_tangent(lambda_ + dlambda_, t_end)) {
+        const double ne = std::sqrt(k_.dot_u(t_end, t_end) + alpha2_);
+        const double nc = std::sqrt(k_.dot_u(dq_, dq_) + alpha2_ * dlambda_ * dlambda_);
+        const double c = std::abs(k_.dot_u(t_end, dq_) + alpha2_ * dlambda_);
+        end_turn = ne > 0.0 && nc > 0.0 ? std::acos(std::clamp(c / (ne * nc), 0.0, 1.0)) : 0.0;
+      }
+      const bool can_shorten = 0.5 * dl >= dl_min;
+      // a step that needed more than twice the desired corrections started far from the path: its
+      // predictor crossed a region the path curves through (it may have landed on another branch)
+      const bool laborious = a.iterations > 2 * s_.desired_iterations;
+      if (can_shorten && (reversed || laborious || (s_.max_turn > 0.0 && std::max(turn, end_turn) > s_.max_turn))) {
+        a.converged = false;
+        a.failure = laborious ? "the step needed " + std::to_string(a.iterations) + " corrections, more than twice the "
+                                "desired " + std::to_string(s_.desired_iterations) + " (its predictor was far from the path)"
+                    : reversed ? "the converged increment points back along the previous step (the path would turn back "
+                               "on itself)"
+                             : "the converged increment turned " + fmt(std::max(turn, end_turn) * 180.0 / std::acos(-1.0)) +
+                                   "° from the tangent at its " + (turn >= end_turn ? "start" : "end") +
+                                   " (more than max_turn: it may have left the path)";
+      }
+    }
+    if (a.converged && reversed) {
+      // even the shortest arc turns back: the path cannot be followed on as one continuous curve
+      turn_backs_.push_back(res.steps);
+      k_.restore();
+      return finish(StaticStatus::diverged, StaticStop::step_too_small,
+                    "the path turns back on itself at λ = " + fmt(lambda_) + " (step " + std::to_string(res.steps) +
+                        "): even at the smallest arc length " + fmt(dl) + " the converged increment points back along "
+                        "the previous step (a cusp, or a path the solver lost)");
+    }
     if (!a.converged) {
       k_.restore();
       k_.invalidate_factorization();
       ++res.cutbacks;
       ++attempts;
       dl *= 0.5;
+      last_failure = a.failure;
       if (dl < dl_min)
         return finish(StaticStatus::diverged, StaticStop::step_too_small,
-                      "arc-length stopped at λ = " + fmt(lambda_) + ": Δl cut below its minimum " + fmt(dl_min) +
-                          "; last attempt: " + a.failure);
+                      "arc-length stopped at λ = " + fmt(lambda_) + " (step " + std::to_string(res.steps) +
+                          "): Δl cut below its minimum " + fmt(dl_min) + "; last attempt: " + a.failure);
       continue;
     }
 
-    // land exactly on λ_max: Newton at fixed λ_max from the interpolated increment (eq. 21)
+    // land exactly on λ_max: Newton at fixed λ_max from the interpolated increment (eq. 21), unless
+    // the displacement limit comes first along this step
     bool final_step = false;
-    if (s_.land_on_lambda_max && !landing_failed && lambda_ < s_.lambda_max && lambda_ + dlambda_ > s_.lambda_max) {
+    const bool crosses_max = lambda_ < s_.lambda_max && lambda_ + dlambda_ > s_.lambda_max;
+    if (s_.land_on_lambda_max && !landing_failed && crosses_max) {
       const double t = (s_.lambda_max - lambda_) / dlambda_;
       Eigen::VectorXd landing = t * dq_;
+      const Eigen::VectorXd arc_step = dq_;
       k_.restore();
       k_.update(landing);
       const AttemptOutcome out = newton_at_fixed_load(k_, s_.lambda_max, landing, s_.stop, false);
@@ -357,38 +528,63 @@ StaticResult PathFollower::run() {
         landing_failed = true;
         continue;
       }
-      dq_ = landing;
-      dlambda_ = s_.lambda_max - lambda_;
-      a = out;
-      final_step = true;
+      if ((s_.monitor || s_.monitor_dof >= 0) && std::abs(monitored_after(landing)) >= s_.displacement_limit) {
+        // the displacement limit comes before λ_max along this step: keep the arc-length state,
+        // which ends the run at the limit below
+        k_.restore();
+        k_.update(arc_step);
+        k_.evaluate(lambda_ + dlambda_, false);  // the model's derived quantities (reactions) of this state
+        dq_ = arc_step;
+      } else {
+        dq_ = landing;
+        dlambda_ = s_.lambda_max - lambda_;
+        a = out;
+        final_step = true;
+      }
     }
 
     // accept
+    const int previous_state = res.steps;
     lambda_ += dlambda_;
     k_.save();
     u_total_ += dq_;
     ++res.steps;
-    if (has_previous_ && dlambda_ * dlambda_prev_ < 0.0) ++res.limit_points;
+    state_lambda_.push_back(lambda_);
+    det_sign_.push_back(0);  // filled by the next predictor's factorization
+    if (has_previous_ && dlambda_ * dlambda_prev_ < 0.0) {
+      ++res.limit_points;
+      reversals_.push_back(previous_state);
+    }
+    if (s_.monitor || s_.monitor_dof >= 0) monitor_last_ = monitored();
     if (s_.on_step) {
       StaticStepInfo info = step_info(a, res.steps, lambda_, dlambda_, attempts, k_.norm_u(dq_));
       info.arc_length = dl;
+      info.turn = std::max(turn, end_turn);
       info.monitored = monitored();
       s_.on_step(info);
     }
-    if (final_step || lambda_ >= s_.lambda_max)
-      return finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_max = " + fmt(s_.lambda_max) +
-                                                                            (final_step ? "" : " (overshot, landing failed)"));
+    if (final_step)
+      return finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_max = " + fmt(s_.lambda_max));
     if ((s_.monitor || s_.monitor_dof >= 0) && std::abs(monitored()) >= s_.displacement_limit)
       return finish(StaticStatus::completed, StaticStop::displacement_limit,
                     "the monitored displacement reached " + fmt(monitored()) + " (limit " + fmt(s_.displacement_limit) +
                         ") at λ = " + fmt(lambda_));
+    if (lambda_ >= s_.lambda_max)
+      return finish(StaticStatus::completed, StaticStop::lambda_reached,
+                    "reached λ_max = " + fmt(s_.lambda_max) + " (overshot to λ = " + fmt(lambda_) + ": landing failed)");
     if (res.steps >= s_.max_steps)
-      return finish(StaticStatus::completed, StaticStop::max_steps,
-                    std::to_string(s_.max_steps) + " steps done, at λ = " + fmt(lambda_));
+      return finish(StaticStatus::incomplete, StaticStop::max_steps,
+                    "step budget of " + std::to_string(s_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
+                        std::to_string(res.steps) + "), before λ_max = " + fmt(s_.lambda_max));
 
-    // eq. (13): Δl for the next step from this step's iteration count (no growth after a cut-back)
-    double factor = std::sqrt(static_cast<double>(s_.desired_iterations) / std::max(1, a.iterations));
-    factor = std::min(factor, attempts > 1 ? 1.0 : s_.max_growth);
+    // eqs. (13), (13'): Δl for the next step from this step's corrections and turn
+    double factor = s_.max_growth;
+    if (a.iterations > s_.desired_iterations)
+      factor = std::sqrt(static_cast<double>(s_.desired_iterations) / a.iterations);
+    const double bend = std::max(turn, end_turn);  // the step's turn seen from both of its ends
+    if (s_.target_turn > 0.0 && bend > 0.0) factor = std::min(factor, s_.target_turn / bend);
+    factor = std::max(factor, 0.25);
+    if (attempts > 1) factor = std::min(factor, 1.0);
     dl = std::clamp(dl * factor, dl_min, dl_max);
     dq_prev_ = dq_;
     dlambda_prev_ = dlambda_;

@@ -25,16 +25,28 @@ struct ArcLengthSettings {
   double initial_load_increment = 0.1;  ///< Δλ of the first predictor; fixes the first Δl (eq. 12)
   double arc_length = 0.0;              ///< first Δl when > 0 (overrides initial_load_increment)
   double min_arc_length_ratio = 1e-4;   ///< Δl ≥ ratio × first Δl; a cut-back below ends the run
-  double max_arc_length_ratio = 10.0;   ///< Δl ≤ ratio × first Δl
-  int desired_iterations = 4;           ///< N_d in Δl ← Δl sqrt(N_d/N) (eq. 13)
-  double max_growth = 2.0;              ///< bound on that factor per step
+  double max_arc_length_ratio = 1e3;    ///< Δl ≤ ratio × first Δl
+  int desired_iterations = 5;           ///< N_d: more corrections than this shrink Δl by sqrt(N_d/N) (eq. 13)
+  double max_growth = 2.0;              ///< bound on the growth of Δl per step (eq. 13)
+  /// eq. (13'): the angle [rad] between predictor and converged increment that Δl aims at; the
+  /// angle grows with Δl times the curvature of the path, so long steps on straight stretches and
+  /// short ones where the path turns
+  double target_turn = 8.0 * 3.14159265358979323846 / 180.0;
+  /// eq. (22): a converged step whose increment turned more than this [rad] from its predictor is
+  /// rejected and retried shorter (it may have jumped to another branch); 0 disables the guard
+  double max_turn = 24.0 * 3.14159265358979323846 / 180.0;
+  /// eq. (23): the predictor's orientation follows the previous step unless the cosine between
+  /// them is below this in magnitude; then the secant predictor is used
+  double ambiguous_orientation = 0.05;
+  /// eq. (24): correct the tangent predictor for the curvature the last step showed
+  bool curvature_predictor = true;
   double lambda_max = 1.0;              ///< stop when λ reaches it
   bool land_on_lambda_max = true;       ///< finish exactly at λ_max (a Newton step at fixed λ_max)
   int monitor_dof = -1;                 ///< DoF reported in StaticStepInfo::monitored and limited below
   /// the monitored quantity when set (instead of monitor_dof), read at each converged state
   std::function<double()> monitor;
   double displacement_limit = std::numeric_limits<double>::infinity();  ///< stop when |u(monitor_dof)| ≥ this
-  int max_steps = 500;                  ///< stop (completed, max_steps) after this many steps
+  int max_steps = 500;                  ///< stop (incomplete, max_steps) after this many steps
   StaticConvergence convergence;
   StaticStepCallback on_step;
   const std::atomic<bool>* stop = nullptr;

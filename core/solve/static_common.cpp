@@ -7,6 +7,7 @@ namespace ff {
 std::string_view to_string(StaticStatus status) {
   switch (status) {
     case StaticStatus::completed: return "completed";
+    case StaticStatus::incomplete: return "incomplete";
     case StaticStatus::diverged: return "diverged";
     case StaticStatus::interrupted: return "interrupted";
   }
@@ -22,6 +23,15 @@ std::string_view to_string(StaticStop stop) {
     case StaticStop::step_too_small: return "step_too_small";
     case StaticStop::invalid_settings: return "invalid_settings";
     case StaticStop::stop_requested: return "stop_requested";
+  }
+  return "unknown";
+}
+
+std::string_view to_string(StaticEvent::Kind kind) {
+  switch (kind) {
+    case StaticEvent::Kind::limit_point: return "limit_point";
+    case StaticEvent::Kind::bifurcation: return "bifurcation";
+    case StaticEvent::Kind::turn_back: return "turn_back";
   }
   return "unknown";
 }
@@ -77,6 +87,7 @@ bool StaticKernel::evaluate(double lambda, bool with_tangent) {
   if (with_tangent) {
     tangent_current_ = true;
     tangent_lambda_ = lambda;
+    estimate_round_off();
   }
   if (r_.size() != n_ || f_.size() != n_) {
     failure_ = "the problem returned vectors of the wrong size";
@@ -136,11 +147,33 @@ void StaticKernel::restore() {
   tangent_current_ = evaluated_ = false;
 }
 
-double StaticKernel::residual_limit() const { return c_.residual_tolerance * norm_r(f_) + c_.residual_floor; }
+// eq. (3'): r_i changes by sum_j K_ij e_j for state errors e_j; independent one-ulp errors
+// e_j ~ eps m_j (m_j the coordinate's magnitude) give rho_i = eps sqrt(sum_j (K_ij m_j)^2)
+void StaticKernel::estimate_round_off() {
+  if (c_.round_off_factor <= 0.0 || k_.nonZeros() == 0) return;
+  magnitude_.resize(n_);
+  for (int j = 0; j < n_; ++j) magnitude_[j] = p_.state_magnitude(j);
+  if (magnitude_.maxCoeff() <= 0.0) return;
+  Eigen::VectorXd acc = Eigen::VectorXd::Zero(n_);
+  for (int j = 0; j < k_.outerSize(); ++j)
+    for (SparseMatrixD::InnerIterator it(k_, j); it; ++it) {
+      const double v = it.value() * magnitude_[j];
+      acc[it.row()] += v * v;
+    }
+  round_off_ = std::numeric_limits<double>::epsilon() * std::sqrt((acc.array() * iw2_.array()).sum());
+}
 
-bool StaticKernel::converged(double residual_norm, double increment_norm, double step_norm) const {
-  return residual_norm <= residual_limit() &&
-         increment_norm <= c_.increment_tolerance * step_norm + c_.increment_floor;
+double StaticKernel::residual_limit() const {
+  return c_.residual_tolerance * norm_r(f_) + c_.residual_floor + c_.round_off_factor * round_off_;
+}
+
+bool StaticKernel::converged(double residual_norm, double increment_norm, double previous_increment_norm,
+                             double step_norm) const {
+  // eq. (4): the error left after δ_k is about θ/(1-θ) ||δ_k|| with θ = ||δ_k|| / ||δ_{k-1}||
+  // (a contracting iteration); without a clear contraction, ||δ_k|| itself
+  const double theta = previous_increment_norm > 0.0 ? increment_norm / previous_increment_norm : 1.0;
+  const double error = theta < 0.5 ? increment_norm * theta / (1.0 - theta) : increment_norm;
+  return residual_norm <= residual_limit() && error <= c_.increment_tolerance * step_norm + c_.increment_floor;
 }
 
 std::string DivergenceMonitor::check(int k, double rn, double converged_level) {
@@ -186,7 +219,7 @@ AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::
     }
     out.residual_norm = kernel.norm_r(kernel.residual());
     // at least one correction, so that both criteria are measured
-    if (k > 0 && kernel.converged(out.residual_norm, out.increment_norm, kernel.norm_u(step))) {
+    if (k > 0 && kernel.converged(out.residual_norm, out.increment_norm, out.previous_increment_norm, kernel.norm_u(step))) {
       out.converged = true;
       break;
     }
@@ -222,6 +255,7 @@ AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::
     }
     kernel.update(delta);
     step += delta;
+    out.previous_increment_norm = out.increment_norm;
     out.increment_norm = kernel.norm_u(delta);
     if (k == 0) out.first_increment_norm = out.increment_norm;
     out.iterations = k + 1;

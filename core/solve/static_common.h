@@ -10,6 +10,7 @@
 #include <limits>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/solve/sparse_solver.h"
 #include "core/solve/static_problem.h"
@@ -17,7 +18,8 @@
 namespace ff {
 
 enum class StaticStatus {
-  completed,   ///< reached the requested end (λ_end, λ_max, displacement limit, step budget of arc-length)
+  completed,   ///< reached the requested end (λ_end, λ_max, displacement limit) on one continuous path
+  incomplete,  ///< the step budget ran out before the end: the state is the last converged step
   diverged,    ///< could not continue: `reason` says why, the state is the last converged step
   interrupted  ///< the stop flag was raised; the state is the last converged step
 };
@@ -43,9 +45,11 @@ enum class TangentPolicy {
 
 /// Convergence and divergence rules of one Newton iteration sequence (static_solvers.md eqs. 3–5).
 struct StaticConvergence {
-  double residual_tolerance = 1e-8;   ///< ε_r: ||r||_r ≤ ε_r ||f_ref||_r + residual_floor
+  double residual_tolerance = 1e-8;   ///< ε_r: ||r||_r ≤ ε_r ||f_ref||_r + residual_floor + c ρ (eq. 3)
   double residual_floor = 0.0;        ///< absolute residual floor (force units)
-  double increment_tolerance = 1e-8;  ///< ε_u: ||δ||_u ≤ ε_u ||Δq_step||_u + increment_floor
+  /// c in eq. (3): multiple of the round-off level ρ of the residual (eq. 3'); 0 ignores round-off
+  double round_off_factor = 10.0;
+  double increment_tolerance = 1e-8;  ///< ε_u: e(δ) ≤ ε_u ||Δq_step||_u + increment_floor (eq. 4)
   double increment_floor = 1e-14;     ///< absolute increment floor (length units)
   int max_iterations = 25;            ///< corrections per attempt
   double divergence_ratio = 1e6;      ///< ||r|| above this × its smallest value in the attempt: diverging
@@ -69,9 +73,24 @@ struct StaticStepInfo {
   double residual_norm = 0.0;    ///< ||r||_r at acceptance
   double increment_norm = 0.0;   ///< ||δ||_u of the last correction
   double step_norm = 0.0;        ///< ||Δq||_u of the whole step
+  double turn = 0.0;             ///< arc-length: angle [rad] between predictor and converged increment (eq. 13')
   double monitored = std::numeric_limits<double>::quiet_NaN();  ///< displacement of the monitored DoF
 };
 using StaticStepCallback = std::function<void(const StaticStepInfo&)>;
+
+/// Something the path did at a converged step (static_solvers.md §4.4).
+struct StaticEvent {
+  enum class Kind {
+    limit_point,  ///< λ passed a local maximum or minimum (Δλ changed sign)
+    bifurcation,  ///< det K changed sign with no limit point: a branch crosses here (not followed)
+    turn_back     ///< the path turned back on itself (the increment reversed); it was not avoidable
+  };
+  Kind kind = Kind::limit_point;
+  int step = 0;         ///< the converged step after which it was seen
+  double lambda = 0.0;  ///< load factor there (the extreme λ for a limit point)
+  std::string detail;   ///< one sentence, e.g. "maximum of λ; det K changed sign"
+};
+std::string_view to_string(StaticEvent::Kind kind);
 
 struct StaticResult {
   StaticStatus status = StaticStatus::completed;
@@ -83,6 +102,7 @@ struct StaticResult {
   int factorizations = 0; ///< tangent factorizations over all attempts
   int cutbacks = 0;       ///< rejected attempts
   int limit_points = 0;   ///< sign changes of Δλ between consecutive steps (arc-length)
+  std::vector<StaticEvent> events;  ///< limit points, bifurcations, turn-backs in path order
 };
 
 /// Shared numerics of one solve() call. Owns the residual, load, tangent and linear solver; every
@@ -120,8 +140,14 @@ class StaticKernel {
   /// forget the factorization (after a rejected attempt: never retry with the tangent that failed)
   void invalidate_factorization() { factorized_ = false; }
 
-  bool converged(double residual_norm, double increment_norm, double step_norm) const;
+  /// eqs. (3)-(4): the residual test, and the increment test on the error estimate e(δ) that
+  /// the contraction ||δ_k|| / ||δ_{k-1}|| gives (previous_increment_norm 0: none yet)
+  bool converged(double residual_norm, double increment_norm, double previous_increment_norm, double step_norm) const;
   double residual_limit() const;  ///< right-hand side of the residual criterion at the held f_ref
+  /// ρ of eq. (3'): the residual change that one-ulp errors in every state coordinate make,
+  /// estimated from the last evaluated tangent (0 before one, or when the problem gives no
+  /// state magnitudes)
+  double round_off_level() const { return round_off_; }
 
   const Eigen::VectorXd& residual() const { return r_; }
   const Eigen::VectorXd& load() const { return f_; }
@@ -132,10 +158,12 @@ class StaticKernel {
   int determinant_sign() const { return factorized_ ? linear_.determinant_sign() : 0; }
 
  private:
+  void estimate_round_off();
   StaticProblem& p_;
   StaticConvergence c_;
   int n_;
   Eigen::VectorXd w2_, iw2_;  // s_i², 1/s_i²
+  Eigen::VectorXd magnitude_;  // state magnitudes m_j of eq. (3')
   Eigen::VectorXd r_, f_;
   SparseMatrixD k_;
   SparseLinearSolver linear_;
@@ -144,6 +172,7 @@ class StaticKernel {
   bool evaluated_ = false;  // r_, f_ were evaluated at the current state, at λ = evaluated_lambda_
   double evaluated_lambda_ = 0.0;
   bool factorized_ = false;
+  double round_off_ = 0.0;
   int factorizations_ = 0;
   int iterations_on_factorization_ = 0;
   std::string failure_;
@@ -158,6 +187,7 @@ struct AttemptOutcome {
   int factorizations = 0;
   double residual_norm = 0.0;
   double increment_norm = 0.0;        ///< ||δ||_u of the last correction
+  double previous_increment_norm = 0.0;  ///< ||δ||_u of the correction before it (0: none)
   double first_increment_norm = 0.0;  ///< ||δ||_u of the first correction (the linearized step)
   std::string failure;
 };

@@ -52,8 +52,9 @@ StaticResult solve_load_control(StaticProblem& problem, const LoadControlSetting
     if (remaining <= 1e-14 * std::max(1.0, std::abs(s.lambda_end)))
       return finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_end = " + fmt(s.lambda_end));
     if (res.steps >= s.max_steps)
-      return finish(StaticStatus::diverged, StaticStop::max_steps,
-                    "step budget of " + std::to_string(s.max_steps) + " used up at λ = " + fmt(lambda));
+      return finish(StaticStatus::incomplete, StaticStop::max_steps,
+                    "step budget of " + std::to_string(s.max_steps) + " used up at λ = " + fmt(lambda) + " (step " +
+                        std::to_string(res.steps) + "), before λ_end = " + fmt(s.lambda_end));
     if (stop_requested(s.stop))
       return finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda));
 

@@ -13,6 +13,7 @@
 //    never as NaN in what was published.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/model/simulation.h"
@@ -92,11 +93,9 @@ TEST(StabilityStatics, HingedRoofH635FollowsItsSnapBack) {
   const Recorded r = run("hinged_roof_h635", {"output.frames=false"});
   ASSERT_EQ(r.outcome.status, RunStatus::completed) << r.outcome.reason;
   expect_all_finite(r, "hinged roof h = 6.35");
-  // the load factor falls below zero after the limit point and rises again, through many small
-  // steps: an arc length that jumped across the branch would skip the negative loads. Steps are
-  // measured in the (w, lambda) plane, each scaled by its range over the unstable part of the path
-  // (from the start until the load is positive again; the stiff final branch takes long load
-  // steps on purpose).
+  // the load factor falls below zero after the limit point and rises again: an arc length that
+  // jumped across the branch would skip the negative loads (ranges over the unstable part of the
+  // path, from the start until the load is positive again)
   const std::size_t w = probe_index(r, "minus_w_centre");
   double lambda_limit = -INFINITY, lambda_min_after = INFINITY, w_lo = INFINITY, w_hi = -INFINITY;
   int negative_frames = 0;
@@ -113,17 +112,35 @@ TEST(StabilityStatics, HingedRoofH635FollowsItsSnapBack) {
     w_hi = std::max(w_hi, r.frames[k].probes[w]);
   }
   ASSERT_LT(end, r.frames.size()) << "the load never came back above zero";
-  double largest_step = 0.0;
-  std::string path;
-  for (std::size_t k = 1; k < end; ++k) {
-    const Frame &a = r.frames[k - 1], &b = r.frames[k];
-    largest_step = std::max(largest_step, std::hypot((b.probes[w] - a.probes[w]) / (w_hi - w_lo),
-                                                     (b.load_factor - a.load_factor) / (lambda_limit - lambda_min_after)));
-    path += " (" + std::to_string(b.probes[w]) + ", " + std::to_string(b.load_factor) + ")";
-  }
   EXPECT_LT(lambda_min_after, 0.0);
   EXPECT_GE(negative_frames, 3);
-  EXPECT_LT(largest_step, 0.25) << "path (w, lambda):" << path;
+  // one continuous path: every computed (w, lambda) lies on the same model's path traced with short
+  // steps (target turn 1.5 deg), within 1 % of the ranges; a step that jumped across the branch
+  // would land off it. Both limit points are reported as events.
+  const Recorded fine = run("hinged_roof_h635", {"output.frames=false", "solver.target_turn=1.5", "solver.max_growth=1.25"});
+  ASSERT_EQ(fine.outcome.status, RunStatus::completed) << fine.outcome.reason;
+  ASSERT_GT(fine.frames.size(), 2 * r.frames.size());
+  double farthest = 0.0;
+  std::string path;
+  for (std::size_t k = 1; k < end; ++k) {
+    const double w_k = r.frames[k].probes[w], l_k = r.frames[k].load_factor;
+    double nearest = INFINITY;
+    for (std::size_t j = 1; j < fine.frames.size(); ++j) {
+      // distance to the segment (j-1, j) of the fine path in the scaled (w, lambda) plane
+      const double ax = fine.frames[j - 1].probes[w] / (w_hi - w_lo), ay = fine.frames[j - 1].load_factor / (lambda_limit - lambda_min_after);
+      const double bx = fine.frames[j].probes[w] / (w_hi - w_lo), by = fine.frames[j].load_factor / (lambda_limit - lambda_min_after);
+      const double px = w_k / (w_hi - w_lo), py = l_k / (lambda_limit - lambda_min_after);
+      const double dx = bx - ax, dy = by - ay, len2 = dx * dx + dy * dy;
+      const double t = len2 > 0 ? std::clamp(((px - ax) * dx + (py - ay) * dy) / len2, 0.0, 1.0) : 0.0;
+      nearest = std::min(nearest, std::hypot(px - ax - t * dx, py - ay - t * dy));
+    }
+    farthest = std::max(farthest, nearest);
+    path += " (" + std::to_string(w_k) + ", " + std::to_string(l_k) + ")";
+  }
+  EXPECT_LT(farthest, 0.01) << "path (w, lambda):" << path;
+  int limit_points = 0;
+  for (const PathEvent& e : r.outcome.events) limit_points += e.kind == "limit_point";
+  EXPECT_EQ(limit_points, 2);
   EXPECT_LT(metric(r, "min_load_after_limit"), 0.0);
 }
 
