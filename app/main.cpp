@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "app/bench.h"
@@ -34,6 +35,10 @@ void print_result(const ff::app::RunResult& r) {
               ff::to_string(r.outcome.status), r.outcome.stop_time, static_cast<long long>(r.totals.steps),
               static_cast<long long>(r.totals.newton_iterations), r.outcome.wall_time_s);
   if (!r.outcome.reason.empty()) std::printf("  reason: %s\n", r.outcome.reason.c_str());
+  // what the path did on the way (statics): each event once, counted by kind
+  std::map<std::string, int> kinds;
+  for (const ff::PathEvent& e : r.outcome.events) ++kinds[e.kind];
+  for (const auto& [kind, n] : kinds) std::printf("  events: %d %s%s (summary.json \"events\")\n", n, kind.c_str(), n > 1 ? "s" : "");
   for (const auto& [k, v] : r.metrics) std::printf("  %-30s %.6g\n", k.c_str(), v);
   std::printf("  outputs: %s/{results.h5, summary.json, frames/ (%d PNG), plots/", r.out_dir.c_str(),
               r.frames_rendered);
