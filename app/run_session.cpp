@@ -130,6 +130,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   // store thread: every frame to HDF5, every n-th to the renderer
   std::thread store([&] {
     long long index = 0;
+    std::optional<Frame> unrendered_last;  // the final state is always a frame, whatever the cadence
     while (std::optional<Frame> f = store_ch.pop()) {
       std::string e;
       if (store_error.empty() && !writer->append(*f, &e)) store_error = e;
@@ -139,9 +140,15 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       }
       progress_time = f->time;
       progress_steps = f->step;
-      if (want_frames && index % out.frame_every == 0) render_ch.push(std::move(*f));
+      if (want_frames && index % out.frame_every == 0) {
+        render_ch.push(std::move(*f));
+        unrendered_last.reset();
+      } else if (want_frames) {
+        unrendered_last = std::move(f);
+      }
       ++index;
     }
+    if (unrendered_last) render_ch.push(std::move(*unrendered_last));
     render_ch.close();
   });
 

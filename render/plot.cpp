@@ -37,11 +37,20 @@ bool keep_point(double x, double y, const PlotSpec& spec) {
   return true;
 }
 
-void style_axis(vtkAxis* axis, const std::string& title, bool log, double font_px) {
+// the largest font size (<= font_px, >= 8 px) at which `text` fits in `room_px` (about 0.6 em per
+// character for the sans-serif face): long titles and labels shrink instead of being cut off
+double fitting_font(const std::string& text, double room_px, double font_px) {
+  std::size_t glyphs = 0;
+  for (unsigned char c : text) glyphs += (c & 0xC0) != 0x80;  // UTF-8: count code points
+  if (glyphs == 0) return font_px;
+  return std::max(8.0, std::min(font_px, room_px / (0.6 * static_cast<double>(glyphs))));
+}
+
+void style_axis(vtkAxis* axis, const std::string& title, bool log, double font_px, double room_px) {
   const double ink[3] = {0.10, 0.10, 0.12};
   axis->SetTitle(title);
   axis->SetLogScale(log);
-  set_text_style(axis->GetTitleProperties(), font_px, ink, true);
+  set_text_style(axis->GetTitleProperties(), fitting_font(title, room_px, font_px), ink, true);
   set_text_style(axis->GetLabelProperties(), 0.9 * font_px, ink, false);
   axis->GetGridPen()->SetColor(220, 220, 224, 255);
 }
@@ -78,9 +87,10 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
   const double ink[3] = {0.10, 0.10, 0.12};
   vtkNew<vtkChartXY> chart;
   chart->SetTitle(spec.title);
-  set_text_style(chart->GetTitleProperties(), 1.25 * font_px, ink, true);
-  style_axis(chart->GetAxis(vtkAxis::BOTTOM), spec.x_label, spec.log_x, font_px);
-  style_axis(chart->GetAxis(vtkAxis::LEFT), spec.y_label, spec.log_y, font_px);
+  set_text_style(chart->GetTitleProperties(), fitting_font(spec.title, 0.94 * spec.width, 1.25 * font_px), ink, true);
+  style_axis(chart->GetAxis(vtkAxis::BOTTOM), spec.x_label, spec.log_x, font_px, 0.85 * spec.width);
+  style_axis(chart->GetAxis(vtkAxis::LEFT), spec.y_label, spec.log_y, font_px, 0.75 * spec.height);
+  double y_lo = INFINITY, y_hi = -INFINITY;  // of what is drawn, for the legend's headroom
 
   for (std::size_t k = 0; k < spec.series.size(); ++k) {
     const PlotSeries& s = spec.series[k];
@@ -92,17 +102,21 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
       if (!keep_point(s.x[i], s.y[i], spec)) continue;
       xs->InsertNextValue(s.x[i]);
       ys->InsertNextValue(s.y[i]);
+      y_lo = std::min(y_lo, s.y[i]);
+      y_hi = std::max(y_hi, s.y[i]);
     }
     if (xs->GetNumberOfTuples() == 0) continue;
     table->AddColumn(xs);
     table->AddColumn(ys);
-    vtkPlot* plot = chart->AddPlot(s.markers_only ? vtkChart::POINTS : vtkChart::LINE);
+    // a line needs two points: a single sample (a run that stopped at once) is drawn as a marker
+    const bool markers = s.markers_only || xs->GetNumberOfTuples() < 2;
+    vtkPlot* plot = chart->AddPlot(markers ? vtkChart::POINTS : vtkChart::LINE);
     plot->SetInputData(table, 0, 1);
     const double* c = kPalette[k % kPaletteSize];
     plot->SetColor(c[0], c[1], c[2]);
-    plot->SetWidth(s.markers_only ? 1.5f : 2.5f);
+    plot->SetWidth(markers ? 1.5f : 2.5f);
     if (auto* points = vtkPlotPoints::SafeDownCast(plot)) {
-      points->SetMarkerStyle(s.markers_only ? vtkPlotPoints::CIRCLE : vtkPlotPoints::NONE);
+      points->SetMarkerStyle(markers ? vtkPlotPoints::CIRCLE : vtkPlotPoints::NONE);
       points->SetMarkerSize(static_cast<float>(0.6 * font_px));
     }
   }
@@ -111,6 +125,21 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
     set_text_style(chart->GetLegend()->GetLabelProperties(), 0.9 * font_px, ink, false);
     chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
     chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+    // headroom above the data for the legend box (one row per series), so it covers no curve
+    const double plot_px = spec.height - 7.0 * font_px;
+    const double legend_px = (1.5 * static_cast<double>(spec.series.size()) + 1.0) * font_px;
+    if (std::isfinite(y_lo) && plot_px > 2.0 * legend_px) {
+      const double f = legend_px / plot_px;
+      vtkAxis* y = chart->GetAxis(vtkAxis::LEFT);
+      if (spec.log_y && y_lo > 0) {
+        const double lo = std::log10(y_lo), hi = std::log10(y_hi), span = std::max(hi - lo, 1.0);
+        y->SetRange(std::pow(10.0, lo - 0.05 * span), std::pow(10.0, hi + span * f / (1.0 - f)));
+      } else if (!spec.log_y) {
+        const double span = y_hi > y_lo ? y_hi - y_lo : std::max(std::abs(y_hi), 1.0);
+        y->SetRange(y_lo - 0.05 * span, y_hi + span * (f / (1.0 - f) + 0.05));
+      }
+      y->SetBehavior(vtkAxis::FIXED);
+    }
   }
 
   vtkNew<vtkContextScene> scene;
