@@ -45,9 +45,11 @@ TEST(CliInterrupt, SigintKeepsResultsAndSummary) {
   std::ostringstream when;
   when << stop;  // %g-like, as the app prints it
   EXPECT_NE(reason.find(when.str()), std::string::npos) << "reason '" << reason << "' does not name t = " << stop;
-  // the one frame the interval allows (frame 0)
+  // the one frame the interval allows (frame 0), and the state where it stopped: the final state
+  // is always a frame
   EXPECT_TRUE(fs::is_regular_file(out + "/frames/frame_00000.png"));
-  EXPECT_FALSE(fs::exists(out + "/frames/frame_00001.png"));
+  EXPECT_TRUE(fs::is_regular_file(out + "/frames/frame_00001.png"));
+  EXPECT_FALSE(fs::exists(out + "/frames/frame_00002.png"));
 
   const std::unique_ptr<io::ResultReader> h5 = io::ResultReader::open(out + "/results.h5", &err);
   ASSERT_TRUE(h5) << err;
