@@ -78,3 +78,24 @@ TEST(CliPathFollowing, ASupportErrorNamesItsOwnEntry) {
 
 }  // namespace
 }  // namespace ff::cli::test
+
+namespace ff::cli::test {
+namespace {
+
+// The final state is always a frame, whatever frame_every: frames 0, 5, 10, ... and the last step.
+TEST(CliPathFollowing, TheFinalStateIsAlwaysAFrame) {
+  const std::string out = fresh_test_dir() + "/roof";
+  const ProcResult r = run_flexframe({"run", "hinged_roof_h127", "--out", out, "--frame-every", "5", "--width", "160",
+                                      "--height", "120", "--set", "output.plots=false"},
+                                     out + "_log");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  std::string why;
+  const std::optional<Json> s = read_summary(out, &why);
+  ASSERT_TRUE(s) << why;
+  const int steps = static_cast<int>(summary_number(*s, "steps"));
+  ASSERT_GT(steps % 5, 0) << "choose a cadence that does not divide the " << steps << " steps";
+  EXPECT_EQ(static_cast<int>(pngs_in(out + "/frames").size()), steps / 5 + 2);
+}
+
+}  // namespace
+}  // namespace ff::cli::test
