@@ -11,6 +11,10 @@ ShellStaticSimulation::ShellStaticSimulation(ShellModelSpec spec, ShellStaticSet
     : s_(std::move(settings)), info_(std::move(info)) {
   model_ = std::make_unique<ShellModel>(std::move(spec));
   const mesh::ShellMesh& m = model_->spec().mesh;
+  if (model_->snapped_directors() > 0)  // directors moved into symmetry planes they nearly contained
+    info_.settings.emplace_back("symmetry_directors_moved",
+                                std::to_string(model_->snapped_directors()) + " nodes, largest by " +
+                                    std::to_string(model_->largest_director_snap() * 180.0 / std::acos(-1.0)) + " deg");
   info_.time_unit = "";
   info_.mesh.reference_points.clear();
   for (const Vec3& p : m.points) info_.mesh.reference_points.insert(info_.mesh.reference_points.end(), {p.x(), p.y(), p.z()});
