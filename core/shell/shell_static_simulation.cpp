@@ -141,10 +141,24 @@ Metrics ShellStaticSimulation::metrics() const {
     switch (mt.kind) {
       case ShellMetric::Kind::at_load:
         // first crossing of the requested load along the path, linear in between
+        // first crossing of the requested load along the path; quadratic through a third sample on
+        // the same monotone stretch of the load (long arc-length steps), else linear
         for (std::size_t i = 1; k >= 0 && i < loads_.size(); ++i)
           if ((loads_[i - 1] - mt.load) * (loads_[i] - mt.load) <= 0 && loads_[i] != loads_[i - 1]) {
             const double t = (mt.load - loads_[i - 1]) / (loads_[i] - loads_[i - 1]);
             v = values_[k][i - 1] + t * (values_[k][i] - values_[k][i - 1]);
+            const double dir = loads_[i] - loads_[i - 1];
+            for (const std::size_t j : {i + 1, i - 2}) {
+              if (j >= loads_.size() || (j == i - 2 && i < 2)) continue;
+              const std::size_t a = std::min(j, i - 1), c = std::max(j, i);  // a < b < c along the path
+              const std::size_t b = a + 1;
+              if (!((loads_[b] - loads_[a]) * dir > 0 && (loads_[c] - loads_[b]) * dir > 0)) continue;
+              const double x = mt.load, xa = loads_[a], xb = loads_[b], xc = loads_[c];
+              v = values_[k][a] * (x - xb) * (x - xc) / ((xa - xb) * (xa - xc)) +
+                  values_[k][b] * (x - xa) * (x - xc) / ((xb - xa) * (xb - xc)) +
+                  values_[k][c] * (x - xa) * (x - xb) / ((xc - xa) * (xc - xb));
+              break;
+            }
             break;
           }
         break;
