@@ -2,7 +2,7 @@
 /// \file egl_headless.h
 /// Internal to render/: Mesa EGL on the surfaceless platform (no window system at all).
 /// Handles are opaque pointers so this header pulls in neither EGL nor X11 headers.
-/// Recipe and pitfalls: shared/TOOLCHAIN.md, "Headless rendering with VTK".
+/// Recipe and pitfalls: render/README.md, "Backend choice".
 
 #include <string>
 

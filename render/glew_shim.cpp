@@ -1,5 +1,5 @@
 // Removes VTK's "GLEW could not be initialized" at its root on the EGL path
-// (shared/TOOLCHAIN.md item 6).
+// (render/README.md, "The GLEW message").
 //
 // Debian's GLEW is built for GLX. glewInit() first loads the GL entry points
 // (glewContextInit, which succeeds on our EGL context) and then initializes its GLX half,

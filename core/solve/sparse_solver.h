@@ -74,7 +74,7 @@ class SparseLinearSolver {
   LinearStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
 
   /// Sign of det K for the last factorization: +1 or −1, 0 when singular or not factorized. Its
-  /// change along a load path marks a limit or bifurcation point (FORMULATION §8). O(n).
+  /// change along a load path marks a limit or bifurcation point (static_solvers.md §4.4). O(n).
   int determinant_sign() const;
 
   bool factorized() const { return factorized_; }

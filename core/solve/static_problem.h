@@ -37,7 +37,7 @@ class StaticProblem {
   virtual void evaluate(double lambda, Eigen::VectorXd& residual, Eigen::SparseMatrix<double>* tangent,
                         Eigen::VectorXd* load) = 0;
 
-  /// q ← q ⊕ δ (e.g. H_I ← H_I exp(Δh_I) per node, FORMULATION §1). δ has size n.
+  /// q ← q ⊕ δ (e.g. H_I ← H_I exp(Δh_I) per node, core/lie/lie.md). δ has size n.
   virtual void update(const Eigen::VectorXd& delta) = 0;
 
   /// One saved state: save_state() overwrites it, restore_state() returns to it and may be called

@@ -360,7 +360,7 @@ TEST(LieSe3, PoseCompositionInverseAndActionAgreeWith4x4Matrices) {
 }
 
 TEST(LieSe3, BodyIncrementMovesTheOriginAlongRAndRotatesOnTheRight) {
-  // FORMULATION §1 / eq. (23): H exp([δu; δθ]) = (R (I + δθ̃), x + R δu) + O(δ²)
+  // lie.md eq. (23): H exp([δu; δθ]) = (R (I + δθ̃), x + R δu) + O(δ²)
   Rng rng(10);
   const double d = 1e-7;  // second-order remainder ≈ d² ≈ 1e-14
   for (int i = 0; i < 20; ++i) {

@@ -1,5 +1,5 @@
 // Verification of the hub-beam against the seed paper and against analysis.
-// Reference: Xie & Jian (2017), J. Vib. Eng. 30(4) — shared/seeds/004_*, section 3.1 text and
+// Reference: Xie & Jian (2017), J. Vib. Eng. 30(4), section 3.1 text and
 // Table 1 (FEM row): hub angle ~20.77 deg (tau0 = 1) and ~147.1 deg (tau0 = 7) after the torque,
 // tip vibration ~1.31 Hz, FEM tip transverse displacement -0.0195 m at t = 2 s (tau0 = 1).
 // The bundled scenes use the paper's settings (dt = 0.05 s, Newmark beta = 3/4, gamma = 1/2,
