@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/shell/shell_model.h"
+#include "tests/support/static_fd.h"
 
 using namespace ff::shell;
 
@@ -83,18 +84,8 @@ TEST_P(ShellModelTangent, MatchesCentralDifferencesOfTheResidual) {
   Eigen::SparseMatrix<double> K;
   model.evaluate(lambda, r, &K, nullptr);
   const Eigen::MatrixXd Kd = Eigen::MatrixXd(K);
-  Eigen::MatrixXd Kfd(n, n);
   const double h = 1e-6;
-  for (int k = 0; k < n; ++k) {
-    model.save_state();
-    model.update(unit(n, k, h));
-    model.evaluate(lambda, rp, nullptr, nullptr);
-    model.restore_state();
-    model.update(unit(n, k, -h));
-    model.evaluate(lambda, rm, nullptr, nullptr);
-    model.restore_state();
-    Kfd.col(k) = (rp - rm) / (2 * h);
-  }
+  const Eigen::MatrixXd Kfd = ff::test::central_difference_tangent(model, lambda, h);
   const double scale = Kd.cwiseAbs().maxCoeff();
   EXPECT_LT((Kd - Kfd).cwiseAbs().maxCoeff(), 2e-6 * scale) << "drilling " << drilling << " R " << R;
   // the load vector is dr/dlambda with the sign of the convention r = f_int - lambda f_ref

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "core/shell/shell_model.h"
+#include "tests/support/static_fd.h"
 
 using namespace ff::shell;
 
@@ -75,18 +76,8 @@ TEST_P(ShellSupports, TangentAndLoadMatchCentralDifferencesWithObliqueBases) {
   Eigen::SparseMatrix<double> K;
   model.evaluate(lambda, r, &K, &load);
   const Eigen::MatrixXd Kd(K);
-  Eigen::MatrixXd Kfd(n, n);
   const double h = 1e-6;
-  for (int k = 0; k < n; ++k) {
-    model.save_state();
-    model.update(unit(n, k, h));
-    model.evaluate(lambda, rp, nullptr, nullptr);
-    model.restore_state();
-    model.update(unit(n, k, -h));
-    model.evaluate(lambda, rm, nullptr, nullptr);
-    model.restore_state();
-    Kfd.col(k) = (rp - rm) / (2 * h);
-  }
+  const Eigen::MatrixXd Kfd = ff::test::central_difference_tangent(model, lambda, h);
   const double scale = Kd.cwiseAbs().maxCoeff();
   EXPECT_LT((Kd - Kfd).cwiseAbs().maxCoeff(), 2e-6 * scale);
   // f_ref = -dr/dlambda: the loads plus -K_ap value_p through the prescribed columns (eq. R4);
