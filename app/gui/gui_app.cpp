@@ -8,6 +8,8 @@
 #include <imgui_stdlib.h>
 #include <stb_image_write.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cfloat>
 #include <chrono>
@@ -24,6 +26,7 @@
 #include "app/gui/param_editor.h"
 #include "app/gui/sim_worker.h"
 #include "app/run_session.h"
+#include "app/view_options.h"
 #include "core/scene/scene.h"
 #include "core/scene/scene_edit.h"
 #include "render/frame_renderer.h"
@@ -97,11 +100,34 @@ class Viewport {
     info_ = std::move(info);
     output_ = out;
     title_ = title;
+    if (!same_mesh) fit_points_.clear(), user_camera_ = false;
     release();
   }
   void set_frame(const Frame& f) {
     frame_ = f;
     dirty_ = true;
+    // the automatic view follows the deforming body: when a frame leaves the box the view was
+    // fitted to, the box grows by this frame's and the view is fitted again (not after the user
+    // moved the camera, nor along a scene's camera path, which sets its own view)
+    if (user_camera_ || camera_ || !output_.camera_path.empty() || f.points.size() < 3) return;
+    Eigen::AlignedBox3d box;
+    for (std::size_t i = 0; i + 2 < f.points.size(); i += 3) box.extend(Eigen::Vector3d(f.points[i], f.points[i + 1], f.points[i + 2]));
+    if (fitted_.isEmpty()) {
+      for (std::size_t i = 0; info_ && i + 2 < info_->mesh.reference_points.size(); i += 3)
+        fitted_.extend(Eigen::Vector3d(info_->mesh.reference_points[i], info_->mesh.reference_points[i + 1],
+                                       info_->mesh.reference_points[i + 2]));
+    }
+    const double slack = 0.02 * fitted_.diagonal().norm();
+    Eigen::AlignedBox3d grown = fitted_;
+    grown.min().array() -= slack;
+    grown.max().array() += slack;
+    if (grown.contains(box)) return;
+    fitted_.extend(box);
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d corner = box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c));
+      fit_points_.insert(fit_points_.end(), {corner.x(), corner.y(), corner.z()});
+    }
+    release();
   }
   const std::optional<Frame>& frame() const { return frame_; }
 
@@ -115,6 +141,10 @@ class Viewport {
     if (!renderer_ && error_.empty()) build(w, h);
     if (!renderer_ || !dirty_) return;
     if (!force && seconds_since(last_render_) < kViewportMinInterval) return;
+    // the scene's camera path, as `run` and `replay` follow it, until the user takes the camera
+    if (!user_camera_ && !output_.camera_path.empty()) {
+      if (const std::optional<render::Camera> c = camera_on_path(output_.camera_path, frame_->time)) renderer_->set_camera(*c);
+    }
     std::string err;
     if (renderer_->render_rgb(*frame_, &rgb_, &err)) {
       upload(renderer_->width(), renderer_->height());
@@ -144,7 +174,7 @@ class Viewport {
     if (ImGui::IsItemHovered()) {
       if (io.MouseWheel != 0.0f) {
         renderer_->zoom(std::pow(1.15, io.MouseWheel));
-        dirty_ = true;
+        dirty_ = user_camera_ = true;
       }
       if (ImGui::IsMouseReleased(ImGuiMouseButton_Left) && !dragged_) {
         picked = renderer_->pick_point(io.MousePos.x - origin.x, io.MousePos.y - origin.y);
@@ -159,11 +189,11 @@ class Viewport {
       if (d.x != 0.0f || d.y != 0.0f) {
         if (ImGui::IsMouseDragging(ImGuiMouseButton_Left, 3.0f)) {
           renderer_->orbit(-0.4 * d.x, 0.4 * d.y);
-          dragged_ = dirty_ = true;
+          dragged_ = dirty_ = user_camera_ = true;
         } else if (ImGui::IsMouseDragging(ImGuiMouseButton_Right, 1.0f) ||
                    ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 1.0f)) {
           renderer_->pan(d.x, d.y);
-          dragged_ = dirty_ = true;
+          dragged_ = dirty_ = user_camera_ = true;
         }
       }
       if (!ImGui::IsMouseDown(ImGuiMouseButton_Left) && !ImGui::IsMouseDown(ImGuiMouseButton_Right) &&
@@ -176,6 +206,7 @@ class Viewport {
   void reset_camera() {
     if (renderer_) renderer_->reset_camera(), dirty_ = true;
     camera_.reset();
+    user_camera_ = false;
   }
 
   /// The latest frame as a PNG at the viewport's size and view.
@@ -215,6 +246,7 @@ class Viewport {
     style.title = title_;
     style.background = {0.97, 0.97, 0.98};
     if (camera_) style.camera = *camera_;
+    style.fit_points = fit_points_;
     renderer_ = std::make_unique<render::FrameRenderer>(*gc_, *info_, style);
     if (!renderer_->ok()) {
       error_ = renderer_->error();
@@ -245,6 +277,9 @@ class Viewport {
   scene::OutputSettings output_;
   std::string title_;
   std::optional<render::Camera> camera_;
+  bool user_camera_ = false;        // orbited, panned or zoomed since the last reset
+  std::vector<double> fit_points_;  // corners of the deformed frames the automatic view must hold
+  Eigen::AlignedBox3d fitted_;      // what the automatic view was fitted to
   std::optional<Frame> frame_;
   std::vector<unsigned char> rgb_;
   GLuint texture_ = 0;
@@ -361,7 +396,8 @@ class GuiApp {
   }
 
   double steps_per_second() const {
-    if (rate_.size() < 2 || status_.state == WorkerState::paused) return 0.0;
+    // a rate only while the solver runs: after the end the window holds the last burst of steps
+    if (rate_.size() < 2 || status_.state != WorkerState::running) return 0.0;
     const double dt = std::chrono::duration<double>(rate_.back().first - rate_.front().first).count();
     return dt > 0 ? (rate_.back().second - rate_.front().second) / dt : 0.0;
   }
@@ -612,13 +648,24 @@ class GuiApp {
     const int columns = std::max(1, static_cast<int>(width / 290.0f));
     if (ImGui::BeginTable("plots", columns, ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingStretchSame)) {
       const float plot_h = (kPlotHeight - 24.0f) / 2.0f - ImGui::GetTextLineHeightWithSpacing() - 6.0f;
+      // the axes in words: the y range at the plot's corners, the time span below it
+      const std::string t_unit = info.time_unit.empty() ? "" : " " + info.time_unit;
+      const std::string x_axis = history_.empty() ? std::string()
+                                                  : std::string(info.time_unit.empty() ? "λ" : "t") + ": " +
+                                                        fmt("%.4g", history_.front().time) + " .. " +
+                                                        fmt("%.4g", history_.back().time) + t_unit;
       for (const Series& s : series) {
         ImGui::TableNextColumn();
         const float last = s.y.empty() ? 0.0f : s.y.back();
         ImGui::Text("%s  %.5g", s.title.c_str(), last);
         ImGui::PushID(s.title.c_str());
-        ImGui::PlotLines("##p", s.y.data(), static_cast<int>(s.y.size()), 0, nullptr, FLT_MAX, FLT_MAX,
+        const auto [lo, hi] = s.y.empty() ? std::pair<float, float>{0.0f, 0.0f}
+                                          : std::pair<float, float>{*std::min_element(s.y.begin(), s.y.end()),
+                                                                    *std::max_element(s.y.begin(), s.y.end())};
+        const std::string overlay = fmt("max %.4g", hi);
+        ImGui::PlotLines("##p", s.y.data(), static_cast<int>(s.y.size()), 0, overlay.c_str(), FLT_MAX, FLT_MAX,
                          ImVec2(ImGui::GetContentRegionAvail().x, std::max(30.0f, plot_h)));
+        ImGui::TextDisabled("min %.4g   %s", lo, x_axis.c_str());
         ImGui::PopID();
       }
       ImGui::EndTable();
