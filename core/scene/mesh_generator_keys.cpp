@@ -196,8 +196,8 @@ void declare_mesh_keys(Schema& s) {
           "writing-your-own-scene.md shows them), or generator = \"file\" reads a quad mesh. Azimuth: the angle "
           "phi about mesh.axis, right-handed, from mesh.reference (its part across the axis). Edge names per "
           "generator (patch: u=0, u=1, v=0, v=1): rectangular_plate (patch mesh.name): x_min, x_max, y_min, y_max; "
-          "l_plate: arm1 and arm2: corner/end (arm1: end, corner; arm2: corner, end), outer, inner; corner: arm1, "
-          "outer2, outer1, arm2; folded_plate: leg1: end, fold, y_min, y_max; leg2: fold, end, y_min, y_max; "
+          "l_plate: arm1: end, corner, outer, inner; corner: arm1, outer2, outer1, arm2; arm2: corner, end, outer, "
+          "inner; folded_plate: leg1: end, fold, y_min, y_max; leg2: fold, end, y_min, y_max; "
           "cylinder: start_angle, end_angle, bottom, top; annulus: inner, outer, start_angle, end_angle (without a "
           "hole: patches <name>_core and <name> with edges core, outer); spherical_cap: hole, rim, start_angle, "
           "end_angle (without a hole: patches <name>_core and <name> with edges core, rim)",

@@ -4,7 +4,7 @@
 //   Reissner-Mindlin plate with hard simple supports (w = 0, M_n = 0, no rotation along the edge):
 //   w = sum_{m,n odd} 16 q / (pi^2 m n) sin(m pi x / a) sin(n pi y / b) (1 / (D k^4) + 1 / (kappa G h
 //   k^2)), k^2 = (m pi / a)^2 + (n pi / b)^2 (Timoshenko & Woinowsky-Krieger, Theory of Plates and
-//   Shells, 2nd ed. 1959, §30 eq. (134) for the Kirchhoff part, whose centre value 0.01013 q a^4 / D
+//   Shells, 2nd ed. 1959, §30 (Navier solution) for the Kirchhoff part, whose centre value 0.01013 q a^4 / D
 //   is Table 8 at b/a = 2; Reddy, Theory and Analysis of Elastic Plates and Shells, 2nd ed. 2007,
 //   §10.2 for the shear part). Bilinear quads converge at second order: the error must fall by at
 //   least 2.5 per halving and be below 1e-2 on the fine mesh. Measured: -1.32e-2 (8 x 16), -3.26e-3
