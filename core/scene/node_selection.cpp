@@ -23,7 +23,8 @@ mesh::NodeSelector selector(const Document& d, const mesh::ShellMesh& m, const s
     try {
       return mesh::NodeSelector::patch_edge(patch, mesh::resolve_patch_edge(m, patch, d.string(t + ".edge", i)));
     } catch (const std::invalid_argument& e) {
-      throw SceneError({d.issue(d.present(t + ".edge", i) ? t + ".edge" : t + ".patch", i, e.what())});
+      const bool patch_exists = m.find_patch(patch) >= 0;
+      throw SceneError({d.issue(patch_exists ? t + ".edge" : t + ".patch", i, e.what())});
     }
   }
   return mesh::NodeSelector::all();

@@ -114,3 +114,25 @@ TEST(MeshGeneratorKeys, BadMeshInputNamesTheExactKey) {
   e = mesh_issue("generator = \"cylinder\"\nradius = 1.0\nlength = 1.0\nfile = \"x.obj\"");
   EXPECT_TRUE(starts(e, "mesh.file:")) << e;
 }
+
+TEST(MeshGeneratorKeys, EdgeNamesSelectInScenesAndTyposNameTheEntry) {
+  auto scene = [](const std::string& edge) {
+    return "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[mesh]\ngenerator = \"spherical_cap\"\n"
+           "radius = 1.0\npolar_start = 30.0\npolar_end = 90.0\nend_angle = 90.0\nn1 = 2\nn2 = 2\n"
+           "[material]\nyoungs_modulus = 1.0\nthickness = 0.1\n"
+           "[[bc]]\ntype = \"clamped\"\nselect = \"patch_edge\"\npatch = \"cap\"\nedge = \"" + edge + "\"\n"
+           "[[load]]\ntype = \"force\"\ntotal = [0.0, 0.0, 1e-6]\nselect = \"nearest\"\npoint = [0.0, 0.0, 1.0]\n"
+           "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\n[solver]\n";
+  };
+  const scene::Document good = scene::validate(scene::shell_static_schema(), scene("rim"), "t.toml");
+  EXPECT_NO_THROW(scene::build_shell_static(good, "t.toml"));
+  const scene::Document bad = scene::validate(scene::shell_static_schema(), scene("rimm"), "t.toml");
+  try {
+    scene::build_shell_static(bad, "t.toml");
+    ADD_FAILURE() << "edge = \"rimm\" was accepted";
+  } catch (const scene::SceneError& e) {
+    EXPECT_EQ(e.issues.at(0).key, "bc[0].edge");
+    EXPECT_GT(e.issues.at(0).line, 0);
+    EXPECT_NE(e.issues.at(0).message.find("\"rim\" (u=1)"), std::string::npos) << e.issues.at(0).message;
+  }
+}
