@@ -402,6 +402,17 @@ TEST(MeshGenerators, DiskWithoutHoleIsAnOGridOfTheRightArea) {
   for (int i = 0; i < m.node_count(); ++i) EXPECT_LE(m.points[i].norm(), 1.5 + 1e-12);
   // a flat polygon: the area error is the chord error at the rim only, O(h^2)
   expect_area_converges_quadratically([&](int n) { return annulus(a, n, 4 * n); }, kPi * 1.5 * 1.5, 4, "disk");
+  // a quarter disk running clockwise (end_angle < start_angle) covers the same quadrant
+  AnnularSector cw = a;
+  cw.phi0 = kPi / 2;
+  cw.phi1 = 0.0;
+  const ShellMesh q = annulus(cw, 3, 4, "quarter");
+  expect_valid(q);
+  for (int i = 0; i < q.node_count(); ++i) {
+    EXPECT_GE(q.points[i].x(), -1e-12);
+    EXPECT_GE(q.points[i].y(), -1e-12);
+  }
+  EXPECT_GT(total_area(q), 0.95 * kPi * 1.5 * 1.5 / 4);
   AnnularSector bad = a;
   bad.phi1 = kPi / 3;  // a 60 degree sector through the centre has no pole-free quad mesh here
   try {
