@@ -81,7 +81,7 @@ std::int64_t cell_of(double x, double cell) {
 }  // namespace
 
 ShellMesh parametric_patch(const std::string& name, const std::string& description, int nu, int nv,
-                           const SurfaceMap& map) {
+                           const SurfaceMap& map, bool merge_seam) {
   require_counts("patch '" + name + "'", nu, nv);
   ShellMesh m;
   const std::size_t nn = static_cast<std::size_t>(nu + 1) * (nv + 1);
@@ -124,7 +124,8 @@ ShellMesh parametric_patch(const std::string& name, const std::string& descripti
   m.fold.assign(m.points.size(), 0);
   corner_normals_from_nodes(m);
   compute_frames(m);
-  // a closed patch (360 degree cylinder, full annulus) merges its seam here
+  // a closed patch (360 degree cylinder, full annulus) merges its seam here; a slit keeps it
+  if (!merge_seam) return m;
   return assemble({m});
 }
 
@@ -149,6 +150,17 @@ ShellMesh rectangular_plate(double a, double b, int n_a, int n_b, const std::str
   return rectangular_plate(s, n_a, n_b, name);
 }
 
+ShellMesh axis_aligned_plate(double a, double b, const Vec3& origin, int n_a, int n_b, const std::string& name) {
+  if (!origin.allFinite()) fail("rectangular plate '" + name + "': the origin must be finite");
+  RectangularPlate s;
+  s.a = a;
+  s.b = b;
+  s.origin = origin;
+  ShellMesh m = rectangular_plate(s, n_a, n_b, name);
+  m.patches[0].edge_names = {"x_min", "x_max", "y_min", "y_max"};
+  return m;
+}
+
 ShellMesh cylindrical_patch(const CylinderPatch& s, int n_phi, int n_axial, const std::string& name) {
   const std::string who = "cylindrical patch '" + name + "'";
   require_positive(who, "radius", s.radius);
@@ -162,11 +174,16 @@ ShellMesh cylindrical_patch(const CylinderPatch& s, int n_phi, int n_axial, cons
   const Vec3 o = s.origin;
   const std::string d = "cylinder R=" + fmt(R) + ", phi in [" + fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad, axial in [" +
                         fmt(s.s0) + ", " + fmt(s.s1) + "]";
-  return parametric_patch(name, d, n_phi, n_axial, [=](double u, double v) {
-    const double phi = p0 + u * dp;
-    const Vec3 radial = std::cos(phi) * r0 + std::sin(phi) * et;
-    return SurfacePoint{o + (z0 + v * dz) * ax + R * radial, sign * radial};
-  });
+  ShellMesh m = parametric_patch(
+      name, d, n_phi, n_axial,
+      [=](double u, double v) {
+        const double phi = p0 + u * dp;
+        const Vec3 radial = std::cos(phi) * r0 + std::sin(phi) * et;
+        return SurfacePoint{o + (z0 + v * dz) * ax + R * radial, sign * radial};
+      },
+      !s.slit);
+  m.patches[0].edge_names = {"start_angle", "end_angle", "bottom", "top"};
+  return m;
 }
 
 ShellMesh spherical_patch(const SpherePatch& s, int n_theta, int n_phi, const std::string& name) {
@@ -186,11 +203,13 @@ ShellMesh spherical_patch(const SpherePatch& s, int n_theta, int n_phi, const st
   const Vec3 c = s.center;
   const std::string d = "sphere R=" + fmt(R) + ", theta in [" + fmt(s.theta0) + ", " + fmt(s.theta1) +
                         "] rad, phi in [" + fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad";
-  return parametric_patch(name, d, n_theta, n_phi, [=](double u, double v) {
+  ShellMesh m = parametric_patch(name, d, n_theta, n_phi, [=](double u, double v) {
     const double th = t0 + u * dt, ph = p0 + v * dp;
     const Vec3 radial = std::sin(th) * (std::cos(ph) * r0 + std::sin(ph) * et) + std::cos(th) * pole;
     return SurfacePoint{c + R * radial, sign * radial};
   });
+  m.patches[0].edge_names = {"hole", "rim", "start_angle", "end_angle"};
+  return m;
 }
 
 ShellMesh annular_sector(const AnnularSector& s, int n_r, int n_phi, const std::string& name) {
@@ -206,9 +225,111 @@ ShellMesh annular_sector(const AnnularSector& s, int n_r, int n_phi, const std::
   const Vec3 c = s.center;
   const std::string d = "annular sector r in [" + fmt(s.r_inner) + ", " + fmt(s.r_outer) + "], phi in [" +
                         fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad";
-  return parametric_patch(name, d, n_r, n_phi, [=](double u, double v) {
-    const double r = ra + u * dr, ph = p0 + v * dp;
-    return SurfacePoint{c + r * (std::cos(ph) * r0 + std::sin(ph) * et), ax};
+  ShellMesh m = parametric_patch(
+      name, d, n_r, n_phi,
+      [=](double u, double v) {
+        const double r = ra + u * dr, ph = p0 + v * dp;
+        return SurfacePoint{c + r * (std::cos(ph) * r0 + std::sin(ph) * et), ax};
+      },
+      !s.slit);
+  m.patches[0].edge_names = {"inner", "outer", "start_angle", "end_angle"};
+  return m;
+}
+
+ShellMesh polar_o_grid(const std::string& name, const std::string& description, const std::string& rim_name,
+                       double phi0, double phi1, int n_ring, int n_rim, const PolarMap& map) {
+  const std::string who = "polar mesh '" + name + "'";
+  require_counts(who, n_ring, n_rim);
+  require_angle_span(who, "phi", phi0, phi1);
+  const double span = std::abs(phi1 - phi0), sense = phi1 > phi0 ? 1.0 : -1.0;
+  // quadrants the span covers: the core is a quarter (1), half (2) or whole (4) square
+  int quadrants = 0;
+  for (int q : {1, 2, 4})
+    if (std::abs(span - q * std::numbers::pi / 2) <= 1e-9 * kTwoPi) quadrants = q;
+  if (quadrants == 0)
+    fail(who + ": a region that contains its pole (no hole) must span 90, 180 or 360 degrees of azimuth (got " +
+         fmt(span * 180 / std::numbers::pi) + " deg); leave a hole or split the region");
+  if (n_rim % (2 * quadrants) != 0)
+    fail(who + ": the elements along the rim (" + std::to_string(n_rim) + ") must be a multiple of " +
+         std::to_string(2 * quadrants) + " for a " + fmt(90.0 * quadrants) +
+         " degree region without a hole (the core square takes n/" + std::to_string(2 * quadrants) +
+         " elements per half-side)");
+  const int m = n_rim / (2 * quadrants);  // core elements per half-side
+  const double a = std::clamp(static_cast<double>(m) / (m + n_ring), 0.25, 0.6);
+  // flat core rectangle [x_lo, a] x [y_lo, a] in the frame whose x axis points at phi0
+  const double x_lo = quadrants >= 2 ? -a : 0.0, y_lo = quadrants == 4 ? -a : 0.0;
+  const int nx = quadrants >= 2 ? 2 * m : m, ny = quadrants == 4 ? 2 * m : m;
+  auto surface = [&, phi0, sense](double x, double y) {
+    const double rho = std::hypot(x, y);
+    const double angle = rho > 0 ? std::atan2(y, x) : 0.0;
+    // the whole disk: angles in [-pi, pi) relative to phi0 are the same points
+    return map(rho, phi0 + sense * angle);
+  };
+  ShellMesh core = parametric_patch(name + "_core", description + " (core around the pole)", nx, ny,
+                                    [&](double u, double v) { return surface(x_lo + u * (a - x_lo), y_lo + v * (a - y_lo)); });
+  // the core outline from angle 0 to the span, counter-clockwise in the flat frame; its corners
+  // are nodes, and node k of it faces the rim node at angle k * span / n_rim
+  std::vector<Eigen::Vector2d> corners;
+  corners.emplace_back(a, 0.0);
+  corners.emplace_back(a, a);
+  if (quadrants == 1) corners.emplace_back(0.0, a);
+  else corners.emplace_back(-a, a), corners.emplace_back(-a, quadrants == 2 ? 0.0 : -a);
+  if (quadrants == 4) corners.emplace_back(a, -a), corners.emplace_back(a, 0.0);
+  std::vector<int> segment_elements;  // elements along each side of the outline
+  for (std::size_t k = 0; k + 1 < corners.size(); ++k)
+    segment_elements.push_back(static_cast<int>(std::lround((corners[k + 1] - corners[k]).norm() / a * m)));
+  auto outline = [&](int node) {
+    for (std::size_t k = 0; k < segment_elements.size(); ++k) {
+      if (node <= segment_elements[k])
+        return Eigen::Vector2d(corners[k] + (corners[k + 1] - corners[k]) * (static_cast<double>(node) / segment_elements[k]));
+      node -= segment_elements[k];
+    }
+    return corners.back();
+  };
+  ShellMesh ring = parametric_patch(name, description, n_ring, n_rim, [&](double u, double v) {
+    const int node = static_cast<int>(std::lround(v * n_rim));
+    const double angle = static_cast<double>(node) / n_rim * span;
+    const Eigen::Vector2d p = (1.0 - u) * outline(node) + u * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    if (u == 1.0) return map(1.0, phi0 + sense * angle);  // the rim exactly
+    return surface(p.x(), p.y());
+  });
+  ring.patches[0].edge_names = {"core", rim_name, "", ""};
+  return assemble({core, ring});
+}
+
+ShellMesh annulus(const AnnularSector& s, int n_r, int n_phi, const std::string& name) {
+  if (s.r_inner != 0.0 || s.slit) return annular_sector(s, n_r, n_phi, name);
+  const std::string who = "disk '" + name + "'";
+  require_positive(who, "radius", s.r_outer);
+  const Vec3 ax = unit(who, "axis", s.axis);
+  const Vec3 r0 = orthogonal_unit(who, ax, s.radial0);
+  const Vec3 et = ax.cross(r0);
+  const double R = s.r_outer;
+  const Vec3 c = s.center;
+  const std::string d = "disk r <= " + fmt(R) + ", phi in [" + fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad";
+  return polar_o_grid(name, d, "outer", s.phi0, s.phi1, n_r, n_phi, [=](double rho, double ph) {
+    return SurfacePoint{c + (rho * R) * (std::cos(ph) * r0 + std::sin(ph) * et), ax};
+  });
+}
+
+ShellMesh spherical_cap(const SpherePatch& s, int n_theta, int n_phi, const std::string& name) {
+  if (s.theta0 != 0.0) return spherical_patch(s, n_theta, n_phi, name);
+  const std::string who = "spherical cap '" + name + "'";
+  require_positive(who, "radius", s.radius);
+  if (!(s.theta1 > 0.0) || !(s.theta1 < std::numbers::pi - 1e-9))
+    fail(who + ": the polar angle of the rim must lie in (0, pi) (got " + fmt(s.theta1) +
+         " rad); a cap reaching the opposite pole would collapse quads there");
+  const Vec3 pole = unit(who, "pole", s.pole);
+  const Vec3 r0 = orthogonal_unit(who, pole, s.radial0);
+  const Vec3 et = pole.cross(r0);
+  const double R = s.radius, t1 = s.theta1, sign = s.outward ? 1.0 : -1.0;
+  const Vec3 c = s.center;
+  const std::string d = "spherical cap R=" + fmt(R) + ", theta <= " + fmt(t1) + " rad, phi in [" + fmt(s.phi0) + ", " +
+                        fmt(s.phi1) + "] rad";
+  return polar_o_grid(name, d, "rim", s.phi0, s.phi1, n_theta, n_phi, [=](double rho, double ph) {
+    const double th = rho * t1;
+    const Vec3 radial = std::sin(th) * (std::cos(ph) * r0 + std::sin(ph) * et) + std::cos(th) * pole;
+    return SurfacePoint{c + R * radial, sign * radial};
   });
 }
 
@@ -344,37 +465,79 @@ ShellMesh hinged_roof_quarter(int n_arc, int n_axial) {
   return cylindrical_patch(s, n_arc, n_axial, "roof");
 }
 
-ShellMesh l_plate_simo_fox_rifai(int n_arm, int n_width) {
-  // centre lines 240 long to the centre of the corner square: each arm is 240 - w/2 long
-  const double L = bench::kLPlateLeg, w = bench::kLPlateWidth, arm = L - w / 2;
+ShellMesh l_plate(const LPlate& s, int n_arm, int n_width) {
+  const std::string who = "L-shaped plate";
+  require_positive(who, "width", s.width);
+  if (!s.origin.allFinite()) fail(who + ": the origin must be finite");
+  const double w = s.width;
+  // centre lines measured to the centre of the corner square: each arm is leg - w/2 long
+  const double arm1_length = s.leg1 - w / 2, arm2_length = s.leg2 - w / 2;
+  if (!(arm1_length > 0) || !(arm2_length > 0) || !std::isfinite(s.leg1) || !std::isfinite(s.leg2))
+    fail(who + ": each leg (centre line to the corner centre: " + fmt(s.leg1) + ", " + fmt(s.leg2) +
+         ") must be longer than half the width (" + fmt(w / 2) + ")");
+  const Vec3 o = s.origin;
   RectangularPlate arm1;
-  arm1.a = arm;
+  arm1.a = arm1_length;
   arm1.b = w;
+  arm1.origin = o;
   RectangularPlate corner;
   corner.a = w;
   corner.b = w;
-  corner.origin = Vec3(arm, 0, 0);
+  corner.origin = o + Vec3(arm1_length, 0, 0);
   RectangularPlate arm2;  // along +y; e_a x e_b = y x (-x) = +z keeps the normal
-  arm2.a = arm;
+  arm2.a = arm2_length;
   arm2.b = w;
-  arm2.origin = Vec3(arm + w, w, 0);
+  arm2.origin = o + Vec3(arm1_length + w, w, 0);
   arm2.e_a = Vec3::UnitY();
   arm2.e_b = -Vec3::UnitX();
-  return assemble({rectangular_plate(arm1, n_arm, n_width, "arm1"), rectangular_plate(corner, n_width, n_width, "corner"),
-                   rectangular_plate(arm2, n_arm, n_width, "arm2")});
+  ShellMesh p1 = rectangular_plate(arm1, n_arm, n_width, "arm1");
+  ShellMesh pc = rectangular_plate(corner, n_width, n_width, "corner");
+  ShellMesh p2 = rectangular_plate(arm2, n_arm, n_width, "arm2");
+  p1.patches[0].edge_names = {"end", "corner", "outer", "inner"};
+  pc.patches[0].edge_names = {"arm1", "outer2", "outer1", "arm2"};
+  p2.patches[0].edge_names = {"corner", "end", "outer", "inner"};
+  return assemble({p1, pc, p2});
+}
+
+ShellMesh l_plate_simo_fox_rifai(int n_arm, int n_width) {
+  LPlate s;
+  s.leg1 = s.leg2 = bench::kLPlateLeg;
+  s.width = bench::kLPlateWidth;
+  return l_plate(s, n_arm, n_width);
+}
+
+ShellMesh folded_plate(const FoldedPlate& s, int n_a, int n_b, int n_width) {
+  const std::string who = "folded plate";
+  if (!std::isfinite(s.fold_angle) || !(std::abs(s.fold_angle) < std::numbers::pi))
+    fail(who + ": the fold angle must lie in (-180, 180) degrees (got " + fmt(s.fold_angle * 180 / std::numbers::pi) +
+         " deg); at 180 the legs would lie on each other");
+  if (!s.origin.allFinite()) fail(who + ": the origin must be finite");
+  // cos(pi/2) is 6e-17, not 0: snap round-off so a right-angle fold is exactly upright
+  auto snapped = [](double v) { return std::abs(v) < 1e-15 ? 0.0 : v; };
+  const Vec3 d(snapped(std::cos(s.fold_angle)), 0.0, snapped(std::sin(s.fold_angle)));
+  RectangularPlate leg1;
+  leg1.a = s.a;
+  leg1.b = s.width;
+  leg1.origin = s.origin;
+  RectangularPlate leg2;  // e_a x e_b = d x y: the director turns continuously over the fold
+  leg2.a = s.b;
+  leg2.b = s.width;
+  leg2.origin = s.origin + Vec3(s.a, 0, 0);
+  leg2.e_a = d;
+  leg2.e_b = Vec3::UnitY();
+  ShellMesh p1 = rectangular_plate(leg1, n_a, n_width, "leg1");
+  ShellMesh p2 = rectangular_plate(leg2, n_b, n_width, "leg2");
+  p1.patches[0].edge_names = {"end", "fold", "y_min", "y_max"};
+  p2.patches[0].edge_names = {"fold", "end", "y_min", "y_max"};
+  return assemble({p1, p2});
 }
 
 ShellMesh right_angle_folded_plate(double a, double b, double width, int n_a, int n_b, int n_width) {
-  RectangularPlate leg1;
-  leg1.a = a;
-  leg1.b = width;
-  RectangularPlate leg2;  // e_a x e_b = z x y = -x: the director turns continuously over the fold
-  leg2.a = b;
-  leg2.b = width;
-  leg2.origin = Vec3(a, 0, 0);
-  leg2.e_a = Vec3::UnitZ();
-  leg2.e_b = Vec3::UnitY();
-  return assemble({rectangular_plate(leg1, n_a, n_width, "leg1"), rectangular_plate(leg2, n_b, n_width, "leg2")});
+  FoldedPlate s;
+  s.a = a;
+  s.b = b;
+  s.width = width;
+  return folded_plate(s, n_a, n_b, n_width);
 }
 
 }  // namespace ff::mesh

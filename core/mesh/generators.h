@@ -28,9 +28,11 @@ struct SurfacePoint {
 /// Surface map over the unit square (u, v) in [0, 1]^2.
 using SurfaceMap = std::function<SurfacePoint(double u, double v)>;
 
-/// The structured nu x nv patch of `map` (nodes uniformly spaced in u and v).
+/// The structured nu x nv patch of `map` (nodes uniformly spaced in u and v). A closed patch
+/// (360 degree cylinder or annulus) merges its coincident seam nodes unless !merge_seam, which
+/// keeps the two lips of the seam as separate nodes (a slit).
 ShellMesh parametric_patch(const std::string& name, const std::string& description, int nu, int nv,
-                           const SurfaceMap& map);
+                           const SurfaceMap& map, bool merge_seam = true);
 
 /// Rectangle origin + s*e_a + t*e_b, s in [0, a], t in [0, b]; normal e_a x e_b.
 /// u runs along e_a (n_a elements), v along e_b (n_b elements).
@@ -44,6 +46,10 @@ struct RectangularPlate {
 ShellMesh rectangular_plate(const RectangularPlate& spec, int n_a, int n_b, const std::string& name = "plate");
 /// Plate of length a along x and width b along y in z = 0, normal +z.
 ShellMesh rectangular_plate(double a, double b, int n_a, int n_b, const std::string& name = "plate");
+/// Plate [x0, x0 + a] x [y0, y0 + b] in the plane z = z0 (origin = (x0, y0, z0)), normal +z, with
+/// the edge names "x_min" (u=0), "x_max" (u=1), "y_min" (v=0), "y_max" (v=1).
+ShellMesh axis_aligned_plate(double a, double b, const Eigen::Vector3d& origin, int n_a, int n_b,
+                             const std::string& name = "plate");
 
 /// Cylinder patch: origin + s*axis + R*(cos(phi)*r0 + sin(phi)*(axis x r0)),
 /// phi in [phi0, phi1] (right-handed about axis), s in [s0, s1]. u = phi (n_phi elements),
@@ -56,14 +62,17 @@ struct CylinderPatch {
   double phi0 = 0.0, phi1 = std::numbers::pi / 2;     ///< |phi1 - phi0| <= 2 pi
   double s0 = 0.0, s1 = 1.0;                          ///< axial range
   bool outward = true;
+  bool slit = false;  ///< a 360 degree cylinder keeps its seam as two lips (separate nodes)
 };
+/// Edge names: "start_angle" (u=0), "end_angle" (u=1), "bottom" (v=0, s = s0), "top" (v=1).
 ShellMesh cylindrical_patch(const CylinderPatch& spec, int n_phi, int n_axial, const std::string& name = "cylinder");
 
 /// Sphere patch: center + R*(sin(theta)cos(phi) r0 + sin(theta)sin(phi) (pole x r0) +
 /// cos(theta) pole), polar angle theta in [theta0, theta1] measured from the pole, azimuth phi
 /// in [phi0, phi1]. u = theta (n_theta elements), v = phi (n_phi elements). The patch must not
 /// touch a pole (0 < theta0 < theta1 < pi): quads there would collapse to triangles.
-/// Normal: radial, outward unless !outward.
+/// Normal: radial, outward unless !outward. Edge names: "hole" (u=0), "rim" (u=1), "start_angle"
+/// (v=0), "end_angle" (v=1).
 struct SpherePatch {
   double radius = 1.0;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
@@ -83,8 +92,62 @@ struct AnnularSector {
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();    ///< plane normal
   Eigen::Vector3d radial0 = Eigen::Vector3d::UnitX(); ///< phi = 0 direction (orthogonalized)
   double phi0 = 0.0, phi1 = std::numbers::pi / 2;
+  bool slit = false;  ///< a 360 degree annulus keeps its seam as two lips (separate nodes)
 };
+/// Edge names: "inner" (u=0), "outer" (u=1), "start_angle" (v=0), "end_angle" (v=1).
 ShellMesh annular_sector(const AnnularSector& spec, int n_r, int n_phi, const std::string& name = "annulus");
+
+/// Surface of a polar map: the point at normalized radius rho in [0, 1] (0 = the pole or centre,
+/// 1 = the rim) and azimuth phi [rad].
+using PolarMap = std::function<SurfacePoint(double rho, double phi)>;
+
+/// A pole-free quad mesh of the polar region rho <= 1, phi in [phi0, phi1] (an "O-grid", see
+/// README.md §O-grid): in the flat (rho cos, rho sin) plane a core rectangle of half-width a
+/// around the pole, patch "<name>_core", and a ring patch "<name>" between the rectangle's
+/// outline and the rim, u from the outline (u=0, edge "core") to the rim (u=1, edge "rim_name"),
+/// v along the azimuth; both are mapped through `map`. |phi1 - phi0| must be 90, 180 or 360
+/// degrees (the core is a quarter, half or whole square) and n_rim a multiple of 2, 4 or 8
+/// respectively; n_ring elements run from the core to the rim. a = m / (m + n_ring) with m =
+/// the core's elements per half-side, clamped to [0.25, 0.6], so core and ring quads match.
+ShellMesh polar_o_grid(const std::string& name, const std::string& description, const std::string& rim_name,
+                       double phi0, double phi1, int n_ring, int n_rim, const PolarMap& map);
+
+/// An annular sector when r_inner > 0, a disk or disk sector when r_inner = 0 (polar_o_grid:
+/// patches "<name>_core" and "<name>", rim edge "outer"; the phi span must then be 90, 180 or
+/// 360 degrees). n_r = elements across (ring), n_phi = elements along the rim.
+ShellMesh annulus(const AnnularSector& spec, int n_r, int n_phi, const std::string& name = "annulus");
+
+/// spherical_patch when theta0 > 0; a cap closed at the pole when theta0 = 0 (polar_o_grid with
+/// rho = theta / theta1: patches "<name>_core" and "<name>", rim edge "rim"; the phi span must be
+/// 90, 180 or 360 degrees). theta1 < pi.
+ShellMesh spherical_cap(const SpherePatch& spec, int n_theta, int n_phi, const std::string& name = "cap");
+
+/// Two plates joined along a straight fold line: "leg1" origin + s e_x + t e_y, s in [0, a],
+/// t in [0, width], normal +z; "leg2" origin + a e_x + s d + t e_y, s in [0, b], with
+/// d = (cos alpha, 0, sin alpha): alpha = fold_angle turns leg2 up from leg1's continuation
+/// (0 = flat, 90 deg = upright along +z). Normal of leg2 d x e_y, continuous over the fold. The
+/// merged fold nodes are flagged (for alpha != 0) and keep leg1's normal. Edge names: leg1 "end"
+/// (u=0, x = origin x), "fold" (u=1); leg2 "fold" (u=0), "end" (u=1); both "y_min" (v=0), "y_max".
+struct FoldedPlate {
+  double a = 1.0, b = 1.0, width = 1.0;
+  double fold_angle = std::numbers::pi / 2;  ///< |fold_angle| < pi
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+};
+ShellMesh folded_plate(const FoldedPlate& spec, int n_a, int n_b, int n_width);
+
+/// A flat L-shaped plate in the plane z = origin z: two strips of the same width whose centre
+/// lines are leg1 (along +x) and leg2 (along +y) long, measured from each free end to the centre
+/// of the width x width corner square. With origin o: "arm1" x in o.x + [0, leg1 - w/2],
+/// y in o.y + [0, w]; "corner" x in o.x + [leg1 - w/2, leg1 + w/2], y in o.y + [0, w]; "arm2"
+/// x in o.x + [leg1 - w/2, leg1 + w/2], y in o.y + [w, leg2 + w/2]. Normal +z. Arms have
+/// n_arm x n_width elements, the corner n_width x n_width. Edge names: arms "end" (free end),
+/// "corner" (joint), "outer" (y = o.y for arm1, x = o.x + leg1 + w/2 for arm2), "inner";
+/// corner "arm1", "arm2", "outer1" (y = o.y), "outer2" (x = o.x + leg1 + w/2).
+struct LPlate {
+  double leg1 = 240.0, leg2 = 240.0, width = 30.0;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+};
+ShellMesh l_plate(const LPlate& spec, int n_arm, int n_width);
 
 /// How assemble() joins patches.
 struct AssemblyOptions {

@@ -87,6 +87,19 @@ std::optional<PatchEdge> parse_patch_edge(std::string_view t) {
   return std::nullopt;
 }
 
+PatchEdge resolve_patch_edge(const ShellMesh& mesh, const std::string& patch, std::string_view text) {
+  if (const auto e = parse_patch_edge(text)) return *e;
+  const Patch& p = find_patch_or_throw(mesh, patch);
+  static constexpr PatchEdge kOrder[4] = {PatchEdge::u_min, PatchEdge::u_max, PatchEdge::v_min, PatchEdge::v_max};
+  std::string names;
+  for (int k = 0; k < 4; ++k) {
+    if (!p.edge_names[k].empty() && p.edge_names[k] == text) return kOrder[k];
+    if (!p.edge_names[k].empty()) names += ", \"" + p.edge_names[k] + "\" (" + to_string(kOrder[k]) + ")";
+  }
+  throw std::invalid_argument("patch '" + patch + "' has no edge named \"" + std::string(text) +
+                              "\" (its edges: \"u=0\", \"u=1\", \"v=0\", \"v=1\"" + names + ")");
+}
+
 NodeSet nodes_on_plane(const ShellMesh& mesh, const Vec3& point, const Vec3& normal, double tol) {
   const double len = normal.norm();
   if (!(len > 0)) throw std::invalid_argument("plane node set: the plane normal is the zero vector");

@@ -32,6 +32,11 @@ const char* to_string(PatchEdge edge);
 /// Accepts "u=0", "u=1", "v=0", "v=1" (also "u0", "u1", "v0", "v1"); nullopt otherwise.
 std::optional<PatchEdge> parse_patch_edge(std::string_view text);
 
+/// The edge of patch `patch` that `text` names: "u=0", "u=1", "v=0", "v=1" (as parse_patch_edge)
+/// or one of the patch's edge_names (e.g. "rim", "start_angle"). Throws std::invalid_argument
+/// naming the patch's accepted names when it names none, or when there is no such patch.
+PatchEdge resolve_patch_edge(const ShellMesh& mesh, const std::string& patch, std::string_view text);
+
 /// Nodes with |(x - point) . n| <= tol, n = normal / |normal|.
 NodeSet nodes_on_plane(const ShellMesh& mesh, const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
                        double tol = kAutoTolerance);

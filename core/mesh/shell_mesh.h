@@ -39,6 +39,9 @@ struct Patch {
   std::vector<int> grid;    ///< node ids, grid[j*(nu+1)+i] at (u_i, v_j); empty if unstructured
   int first_quad = 0;       ///< quads [first_quad, first_quad+quad_count) belong to this patch
   int quad_count = 0;
+  /// Readable names of the edges u=0, u=1, v=0, v=1 given by the generator (e.g. "inner",
+  /// "rim", "start_angle"); "" where it gives none. Scenes select edges by these or by "u=0".
+  std::array<std::string, 4> edge_names;
 
   bool structured() const { return nu > 0 && nv > 0 && !grid.empty(); }
   int node(int i, int j) const { return grid[static_cast<std::size_t>(j) * (nu + 1) + i]; }

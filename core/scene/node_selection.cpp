@@ -11,15 +11,22 @@ const std::vector<std::string> kSelect = {"nearest", "plane", "box", "sphere", "
 
 Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 
-mesh::NodeSelector selector(const Document& d, const std::string& t, std::size_t i) {
+mesh::NodeSelector selector(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
   const std::string kind = d.string(t + ".select", i);
   const double tol = d.number(t + ".tolerance", i) > 0 ? d.number(t + ".tolerance", i) : mesh::kAutoTolerance;
   if (kind == "nearest") return mesh::NodeSelector::nearest(vec(d.numbers(t + ".point", i)));
   if (kind == "plane") return mesh::NodeSelector::plane(vec(d.numbers(t + ".point", i)), vec(d.numbers(t + ".normal", i)), tol);
   if (kind == "box") return mesh::NodeSelector::box(vec(d.numbers(t + ".box_min", i)), vec(d.numbers(t + ".box_max", i)), tol);
   if (kind == "sphere") return mesh::NodeSelector::sphere(vec(d.numbers(t + ".point", i)), d.number(t + ".radius", i), tol);
-  if (kind == "patch_edge")
-    return mesh::NodeSelector::patch_edge(d.string(t + ".patch", i), *mesh::parse_patch_edge(d.string(t + ".edge", i)));
+  if (kind == "patch_edge") {
+    const std::string& patch = d.string(t + ".patch", i);
+    try {
+      return mesh::NodeSelector::patch_edge(patch, mesh::resolve_patch_edge(m, patch, d.string(t + ".edge", i)));
+    } catch (const std::invalid_argument& e) {
+      const bool patch_exists = m.find_patch(patch) >= 0;
+      throw SceneError({d.issue(patch_exists ? t + ".edge" : t + ".patch", i, e.what())});
+    }
+  }
   return mesh::NodeSelector::all();
 }
 }  // namespace
@@ -32,13 +39,16 @@ void declare_selector_keys(Schema& s, const std::string& t) {
       .number_list(t + ".box_max", "box: upper corner", std::vector<double>{0, 0, 0}, {}, 3, 3)
       .number(t + ".radius", "sphere: radius", 0.0, Range::non_negative())
       .string(t + ".patch", "patch_edge: patch name", std::string("surface"))
-      .choice(t + ".edge", "patch_edge: which edge", {"u=0", "u=1", "v=0", "v=1"}, "u=0")
+      .string(t + ".edge",
+              "patch_edge: which edge, u=0, u=1, v=0, v=1 or the generator's name for it (see [mesh]: e.g. "
+              "\"start_angle\", \"rim\", \"inner\", \"x_min\")",
+              std::string("u=0"))
       .number(t + ".tolerance", "plane/box/sphere tolerance; 0 = automatic (1e-3 x shortest edge)", 0.0,
               Range::non_negative());
 }
 
 std::vector<int> select_nodes(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
-  const mesh::NodeSelector sel = selector(d, t, i);
+  const mesh::NodeSelector sel = selector(d, m, t, i);
   const std::vector<int> ids = sel.select(m);
   if (ids.empty())
     throw SceneError({d.issue(t + ".select", i, mesh::empty_selection_message(t + "[" + std::to_string(i) + "]", sel, m))});

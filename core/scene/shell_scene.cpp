@@ -6,6 +6,7 @@
 #include "core/mesh/generators.h"
 #include "core/mesh/node_sets.h"
 #include "core/scene/mesh_file.h"
+#include "core/scene/mesh_generator_keys.h"
 #include "core/scene/node_selection.h"
 #include "core/scene/reference_csv.h"
 #include "core/scene/shell_boundary.h"
@@ -43,16 +44,7 @@ const Schema& shell_static_schema() {
                         "effects to simulate: elastic (required), hr (assumed membrane stress), ans (assumed "
                         "transverse shear), drilling (6 DoF per node, Fox-Simo penalty)",
                         {"elastic", "hr", "ans", "drilling"});
-    s.table("mesh", "the shell mesh", true)
-        .choice("mesh.generator", "a parametric benchmark geometry, a plate, or a quad mesh file",
-                {"cantilever_strip", "hemisphere_quarter", "open_cylinder_octant", "hinged_roof_quarter",
-                 "l_plate", "rectangular_plate", "file"},
-                std::nullopt)
-        .integer("mesh.n1", "elements along the first direction (length / polar / arc / leg)", 16, IntRange::closed(1, 1024))
-        .integer("mesh.n2", "elements along the second direction (width / azimuth / axial)", 16, IntRange::closed(1, 1024))
-        .number("mesh.length", "rectangular_plate: length along x", 1.0, Range::positive())
-        .number("mesh.width", "rectangular_plate: width along y", 1.0, Range::positive())
-        .string("mesh.file", "generator = file: OBJ or PLY quad mesh, relative to the scene file", std::string{});
+    declare_mesh_keys(s);
     s.table("material", "St. Venant-Kirchhoff, plane stress", true)
         .number("material.youngs_modulus", "E", std::nullopt, Range::positive())
         .number("material.poisson_ratio", "nu", 0.3, Range::right_open(0.0, 0.5))
@@ -125,19 +117,12 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   if (!has("elastic")) throw SceneError({d.issue("scene.effects", "a shell_static scene needs the effect 'elastic'")});
 
   ShellModelSpec spec;
-  const std::string gen = d.string("mesh.generator");
-  const int n1 = static_cast<int>(d.integer("mesh.n1")), n2 = static_cast<int>(d.integer("mesh.n2"));
-  try {
-    if (gen == "cantilever_strip") spec.mesh = mesh::cantilever_strip(n1, n2);
-    else if (gen == "hemisphere_quarter") spec.mesh = mesh::hemisphere_quarter(n1, n2);
-    else if (gen == "open_cylinder_octant") spec.mesh = mesh::open_cylinder_octant(n1, n2);
-    else if (gen == "hinged_roof_quarter") spec.mesh = mesh::hinged_roof_quarter(n1, n2);
-    else if (gen == "l_plate") spec.mesh = mesh::l_plate_simo_fox_rifai(n1, n2);
-    else if (gen == "rectangular_plate") spec.mesh = mesh::rectangular_plate(d.number("mesh.length"), d.number("mesh.width"), n1, n2);
-    else spec.mesh = read_mesh_file(d, path);
-  } catch (const std::invalid_argument& e) {
-    throw SceneError({d.issue("mesh.generator", e.what())});
-  }
+  if (!mesh_from_file(d)) spec.mesh = generate_mesh(d);
+  else try {
+      spec.mesh = read_mesh_file(d, path);
+    } catch (const std::invalid_argument& e) {
+      throw SceneError({d.issue("mesh.generator", e.what())});
+    }
   spec.section = {d.number("material.youngs_modulus"), d.number("material.poisson_ratio"),
                   d.number("material.thickness"), d.number("material.shear_factor")};
   spec.options.hr = has("hr");

@@ -345,3 +345,185 @@ TEST(MeshBenchmarks, FlatLPlateOfSimoFoxRifai) {
   for (int i = 0; i < m.node_count(); ++i) EXPECT_EQ(m.normals[i], Vector3d::UnitZ());
   expect_valid(m);
 }
+
+// ---- pole-free caps and disks, slits, folds, L plates (issue 11: parametric geometry) ----------
+
+TEST(MeshGenerators, ClosedCapHasNoCollapsedQuadsAndItsAreaConverges) {
+  for (double span_deg : {90.0, 180.0, 360.0}) {
+    SpherePatch s;
+    s.radius = 2.0;
+    s.theta0 = 0.0;  // closed at the pole: core + ring
+    s.theta1 = 70.0 * kPi / 180;
+    s.phi0 = 0.3;
+    s.phi1 = 0.3 + span_deg * kPi / 180;
+    const int q = static_cast<int>(span_deg / 90);
+    const ShellMesh m = spherical_cap(s, 6, 4 * q, "cap");
+    expect_valid(m);
+    expect_unit_normals_and_frames(m);
+    expect_oriented(m, 0.5, "closed cap");
+    ASSERT_EQ(m.patches.size(), 2u);
+    EXPECT_EQ(m.patches[0].name, "cap_core");
+    EXPECT_EQ(m.patches[1].name, "cap");
+    EXPECT_EQ(m.patches[1].edge_names[1], "rim");
+    // core (2 q' x ...) + ring; nodes on the sphere, normals radial; the pole is a node
+    bool pole = false;
+    for (int i = 0; i < m.node_count(); ++i) {
+      EXPECT_NEAR(m.points[i].norm(), 2.0, 1e-12);
+      EXPECT_LT((m.normals[i] - m.points[i] / 2.0).norm(), 1e-12);
+      EXPECT_GE(m.points[i].z(), 2.0 * std::cos(s.theta1) - 1e-12);
+      pole = pole || (m.points[i] - Vector3d(0, 0, 2)).norm() < 1e-12;
+    }
+    EXPECT_TRUE(pole);
+    // the rim edge: n2 + 1 nodes at theta1 (n2 for the closed cap)
+    const NodeSet rim = patch_edge_nodes(m, "cap", resolve_patch_edge(m, "cap", "rim"));
+    EXPECT_EQ(static_cast<int>(rim.size()), q == 4 ? 4 * q : 4 * q + 1);
+    for (int i : rim) EXPECT_NEAR(m.points[i].z(), 2.0 * std::cos(s.theta1), 1e-12);
+  }
+  SpherePatch s;
+  s.radius = 1.0;
+  s.theta0 = 0.0;
+  s.theta1 = kPi / 2;
+  s.phi0 = 0.0;
+  s.phi1 = 2 * kPi;
+  expect_area_converges_quadratically([&](int n) { return spherical_cap(s, n, 8 * n); }, 2 * kPi, 3, "hemisphere");
+}
+
+TEST(MeshGenerators, DiskWithoutHoleIsAnOGridOfTheRightArea) {
+  AnnularSector a;
+  a.r_inner = 0.0;
+  a.r_outer = 1.5;
+  a.phi0 = 0.0;
+  a.phi1 = 2 * kPi;
+  const ShellMesh m = annulus(a, 4, 16, "disk");
+  expect_valid(m);
+  // core 4 x 4 quads + ring 4 x 16; nodes 25 + 4 x 16 (the ring's seam and inner row are merged)
+  EXPECT_EQ(m.quad_count(), 16 + 64);
+  EXPECT_EQ(m.node_count(), 25 + 4 * 16);
+  for (int i = 0; i < m.node_count(); ++i) EXPECT_LE(m.points[i].norm(), 1.5 + 1e-12);
+  // a flat polygon: the area error is the chord error at the rim only, O(h^2)
+  expect_area_converges_quadratically([&](int n) { return annulus(a, n, 4 * n); }, kPi * 1.5 * 1.5, 4, "disk");
+  // a quarter disk running clockwise (end_angle < start_angle) covers the same quadrant
+  AnnularSector cw = a;
+  cw.phi0 = kPi / 2;
+  cw.phi1 = 0.0;
+  const ShellMesh q = annulus(cw, 3, 4, "quarter");
+  expect_valid(q);
+  for (int i = 0; i < q.node_count(); ++i) {
+    EXPECT_GE(q.points[i].x(), -1e-12);
+    EXPECT_GE(q.points[i].y(), -1e-12);
+  }
+  EXPECT_GT(total_area(q), 0.95 * kPi * 1.5 * 1.5 / 4);
+  AnnularSector bad = a;
+  bad.phi1 = kPi / 3;  // a 60 degree sector through the centre has no pole-free quad mesh here
+  try {
+    annulus(bad, 4, 4);
+    ADD_FAILURE() << "a 60 degree disk sector was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("90, 180 or 360"), std::string::npos) << e.what();
+  }
+  bad = a;
+  try {
+    annulus(bad, 4, 12);  // 12 is not a multiple of 8
+    ADD_FAILURE() << "n_rim = 12 on a full disk was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("multiple of 8"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MeshGenerators, SlitAnnulusKeepsTwoLipsAndClosedOneMergesThem) {
+  AnnularSector a;
+  a.r_inner = 6.0;
+  a.r_outer = 10.0;
+  a.phi0 = 0.0;
+  a.phi1 = 2 * kPi;
+  const ShellMesh closed = annulus(a, 5, 40, "ring");
+  EXPECT_EQ(closed.node_count(), 6 * 40);
+  a.slit = true;
+  const ShellMesh slit = annulus(a, 5, 40, "ring");
+  EXPECT_EQ(slit.node_count(), 6 * 41);  // the 6 lip nodes twice
+  expect_valid(slit);
+  const NodeSet lip0 = patch_edge_nodes(slit, "ring", resolve_patch_edge(slit, "ring", "start_angle"));
+  const NodeSet lip1 = patch_edge_nodes(slit, "ring", resolve_patch_edge(slit, "ring", "end_angle"));
+  ASSERT_EQ(lip0.size(), 6u);
+  ASSERT_EQ(lip1.size(), 6u);
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_NE(lip0[k], lip1[k]);
+    EXPECT_LT((slit.points[lip0[k]] - slit.points[lip1[k]]).norm(), 1e-12);  // coincident, separate
+  }
+  // no quad joins the lips: every quad has its corners on one side of the slit
+  for (const auto& q : slit.quads) {
+    int on0 = 0, on1 = 0;
+    for (int c : q) on0 += std::count(lip0.begin(), lip0.end(), c), on1 += std::count(lip1.begin(), lip1.end(), c);
+    EXPECT_FALSE(on0 > 0 && on1 > 0);
+  }
+  CylinderPatch c;
+  c.phi0 = 0;
+  c.phi1 = 2 * kPi;
+  c.slit = true;
+  EXPECT_EQ(cylindrical_patch(c, 8, 2).node_count(), 9 * 3);
+  c.slit = false;
+  EXPECT_EQ(cylindrical_patch(c, 8, 2).node_count(), 8 * 3);
+}
+
+TEST(MeshGenerators, EdgeNamesSelectTheSameNodesAsParameterEdges) {
+  CylinderPatch c;
+  c.phi0 = 0.2;
+  c.phi1 = 1.3;
+  const ShellMesh m = cylindrical_patch(c, 4, 3, "panel");
+  const std::pair<const char*, PatchEdge> names[] = {{"start_angle", PatchEdge::u_min},
+                                                     {"end_angle", PatchEdge::u_max},
+                                                     {"bottom", PatchEdge::v_min},
+                                                     {"top", PatchEdge::v_max}};
+  for (const auto& [name, edge] : names) {
+    EXPECT_EQ(resolve_patch_edge(m, "panel", name), edge) << name;
+    EXPECT_EQ(resolve_patch_edge(m, "panel", to_string(edge)), edge);
+  }
+  try {
+    resolve_patch_edge(m, "panel", "rim");
+    ADD_FAILURE() << "a cylinder has no rim";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("\"start_angle\" (u=0)"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(resolve_patch_edge(m, "nope", "top"), std::invalid_argument);
+  const ShellMesh p = axis_aligned_plate(2, 1, Vector3d(1, 2, 3), 4, 2);
+  for (int i : patch_edge_nodes(p, "plate", resolve_patch_edge(p, "plate", "x_max"))) EXPECT_DOUBLE_EQ(p.points[i].x(), 3.0);
+  for (int i : patch_edge_nodes(p, "plate", resolve_patch_edge(p, "plate", "y_min"))) EXPECT_DOUBLE_EQ(p.points[i].y(), 2.0);
+}
+
+TEST(MeshGenerators, FoldedPlateAtAnyAngleAndLPlateWithUnequalLegs) {
+  FoldedPlate f;
+  f.a = 2.0;
+  f.b = 1.0;
+  f.width = 0.5;
+  const ShellMesh right = folded_plate(f, 4, 2, 1);
+  const ShellMesh old = right_angle_folded_plate(2.0, 1.0, 0.5, 4, 2, 1);
+  ASSERT_EQ(right.node_count(), old.node_count());
+  for (int i = 0; i < old.node_count(); ++i) EXPECT_EQ(right.points[i], old.points[i]);
+  f.fold_angle = 135.0 * kPi / 180;
+  f.origin = Vector3d(1, 1, 1);
+  const ShellMesh m = folded_plate(f, 4, 2, 1);
+  expect_valid(m);
+  int folds = 0;
+  for (int i = 0; i < m.node_count(); ++i) folds += m.fold[i];
+  EXPECT_EQ(folds, 2);  // the fold line has width + 1 = 2 nodes
+  const NodeSet end = patch_edge_nodes(m, "leg2", resolve_patch_edge(m, "leg2", "end"));
+  for (int i : end) {
+    EXPECT_NEAR(m.points[i].x(), 1 + 2.0 + std::cos(f.fold_angle), 1e-12);
+    EXPECT_NEAR(m.points[i].z(), 1 + std::sin(f.fold_angle), 1e-12);
+  }
+  f.fold_angle = kPi;
+  EXPECT_THROW(folded_plate(f, 2, 2, 1), std::invalid_argument);
+
+  LPlate l;
+  l.leg1 = 100;
+  l.leg2 = 60;
+  l.width = 10;
+  l.origin = Vector3d(0, 0, 2);
+  const ShellMesh L = l_plate(l, 6, 2);
+  expect_valid(L);
+  EXPECT_NEAR(total_area(L), 10 * (95 + 10 + 55), 1e-9);
+  for (int i : patch_edge_nodes(L, "arm2", resolve_patch_edge(L, "arm2", "end"))) EXPECT_NEAR(L.points[i].y(), 65.0, 1e-12);
+  for (int i : patch_edge_nodes(L, "arm1", resolve_patch_edge(L, "arm1", "end"))) EXPECT_NEAR(L.points[i].x(), 0.0, 1e-12);
+  l.leg2 = 4;  // shorter than half the width
+  EXPECT_THROW(l_plate(l, 2, 2), std::invalid_argument);
+}

@@ -1,0 +1,295 @@
+#include "core/scene/mesh_generator_keys.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include "core/mesh/generators.h"
+
+namespace ff::scene {
+
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+// The keys each generator reads besides mesh.generator; any other generator key given with it is
+// an error (a dimension that would silently do nothing).
+const std::map<std::string, std::vector<std::string>>& generator_keys() {
+  static const std::map<std::string, std::vector<std::string>> keys = {
+      {"rectangular_plate", {"n1", "n2", "name", "origin", "length", "width"}},
+      {"l_plate", {"n1", "n2", "origin", "length", "length2", "width"}},
+      {"folded_plate", {"n1", "n2", "n3", "origin", "length", "length2", "width", "fold_angle"}},
+      {"cylinder",
+       {"n1", "n2", "name", "origin", "axis", "reference", "radius", "length", "start_angle", "end_angle", "slit"}},
+      {"annulus",
+       {"n1", "n2", "name", "origin", "axis", "reference", "radius", "inner_radius", "start_angle", "end_angle", "slit"}},
+      {"spherical_cap",
+       {"n1", "n2", "name", "origin", "axis", "reference", "radius", "polar_start", "polar_end", "start_angle",
+        "end_angle"}},
+      {"file", {}},
+  };
+  return keys;
+}
+// the dimensions a generator cannot do without (no silent default)
+const std::map<std::string, std::vector<std::string>>& required_keys() {
+  static const std::map<std::string, std::vector<std::string>> keys = {
+      {"rectangular_plate", {"length", "width"}},
+      {"l_plate", {"length", "width"}},
+      {"folded_plate", {"length", "length2", "width"}},
+      {"cylinder", {"radius", "length"}},
+      {"annulus", {"radius"}},
+      {"spherical_cap", {"radius", "polar_end"}},
+  };
+  return keys;
+}
+// every key of the table that belongs to some generator
+const std::vector<std::string> kDimensionKeys = {"n1",     "n2",          "n3",          "name",      "origin",
+                                                 "axis",   "reference",   "length",      "length2",   "width",
+                                                 "radius", "inner_radius", "start_angle", "end_angle", "polar_start",
+                                                 "polar_end", "fold_angle", "slit"};
+
+double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }  // exact for 90 -> pi/2
+
+Vec3 vec(const std::vector<double>& v) { return Vec3(v[0], v[1], v[2]); }
+
+void check_keys(const Document& d, const std::string& gen) {
+  const std::vector<std::string>& own = generator_keys().at(gen);
+  std::string own_list;
+  for (const std::string& k : own) own_list += (own_list.empty() ? "" : ", ") + k;
+  for (const std::string& k : kDimensionKeys)
+    if (d.present("mesh." + k) && std::find(own.begin(), own.end(), k) == own.end())
+      throw SceneError({d.issue("mesh." + k, "mesh." + k + " does not belong to generator = \"" + gen + "\" (its keys: " +
+                                                 (own_list.empty() ? std::string("mesh.file") : own_list) + ")")});
+  if (gen != "file" && d.present("mesh.file"))
+    throw SceneError({d.issue("mesh.file", "mesh.file belongs to generator = \"file\"; generator = \"" + gen +
+                                               "\" builds its own mesh")});
+  const auto req = required_keys().find(gen);
+  if (req != required_keys().end())
+    for (const std::string& k : req->second)
+      if (!d.present("mesh." + k))
+        throw SceneError({d.issue("mesh.generator", "generator = \"" + gen + "\" needs mesh." + k + " (" +
+                                                        (k == "polar_end" ? "the polar angle of the rim in degrees, e.g. 90 "
+                                                                            "for a hemisphere"
+                                                                          : "a dimension in the scene's length unit") +
+                                                        ")")});
+}
+
+int count(const Document& d, const char* key) { return static_cast<int>(d.integer(std::string("mesh.") + key)); }
+
+std::string name_or(const Document& d, const char* fallback) {
+  const std::string& n = d.string("mesh.name");
+  return n.empty() ? std::string(fallback) : n;
+}
+
+// azimuth range [start, end] in degrees, 0 < |end - start| <= 360; slit only on a full turn
+std::pair<double, double> azimuth(const Document& d, bool slit_allowed) {
+  const double a0 = d.number("mesh.start_angle"), a1 = d.number("mesh.end_angle");
+  const double span = std::abs(a1 - a0);
+  if (!(span > 0) || span > 360.0 * (1 + 1e-12))
+    throw SceneError({d.issue(d.present("mesh.end_angle") ? "mesh.end_angle" : "mesh.start_angle",
+                              "the azimuth range [start_angle, end_angle] = [" + d.value_text("mesh.start_angle") + ", " +
+                                  d.value_text("mesh.end_angle") + "] deg must span more than 0 and at most 360 degrees")});
+  if (slit_allowed && d.boolean("mesh.slit") && std::abs(span - 360.0) > 1e-9)
+    throw SceneError({d.issue("mesh.slit", "a slit is the seam of a closed 360 degree surface kept open; this one spans " +
+                                               d.value_text("mesh.end_angle") + " - " + d.value_text("mesh.start_angle") +
+                                               " degrees, so its two straight edges are apart already")});
+  return {radians(a0), radians(a1)};
+}
+
+Vec3 checked_direction(const Document& d, const char* key) {
+  const Vec3 v = vec(d.numbers(std::string("mesh.") + key));
+  if (!(v.norm() > 0)) throw SceneError({d.issue(std::string("mesh.") + key, "the direction is the zero vector")});
+  return v;
+}
+
+void check_reference(const Document& d, const Vec3& axis) {
+  const Vec3 r = checked_direction(d, "reference");
+  if (r.cross(axis).norm() < 1e-9 * r.norm() * axis.norm())
+    throw SceneError({d.issue(d.present("mesh.reference") ? "mesh.reference" : "mesh.axis",
+                              "mesh.reference (the direction of azimuth 0) is parallel to mesh.axis; give one across it")});
+}
+
+mesh::ShellMesh build(const Document& d, const std::string& gen) {
+  const int n1 = count(d, "n1"), n2 = count(d, "n2");
+  const Vec3 origin = vec(d.numbers("mesh.origin"));
+  if (gen == "rectangular_plate")
+    return mesh::axis_aligned_plate(d.number("mesh.length"), d.number("mesh.width"), origin, n1, n2, name_or(d, "plate"));
+  if (gen == "l_plate") {
+    mesh::LPlate s;
+    s.leg1 = d.number("mesh.length");
+    s.leg2 = d.present("mesh.length2") ? d.number("mesh.length2") : s.leg1;
+    s.width = d.number("mesh.width");
+    s.origin = origin;
+    for (const char* k : {"length", "length2"})
+      if (d.present(std::string("mesh.") + k) && !(d.number(std::string("mesh.") + k) > s.width / 2))
+        throw SceneError({d.issue(std::string("mesh.") + k, "a leg's centre line runs to the centre of the corner square, "
+                                                              "so it must be longer than half the width (" +
+                                                                  d.value_text("mesh.width") + " / 2)")});
+    return mesh::l_plate(s, n1, n2);
+  }
+  if (gen == "folded_plate") {
+    mesh::FoldedPlate s;
+    s.a = d.number("mesh.length");
+    s.b = d.number("mesh.length2");
+    s.width = d.number("mesh.width");
+    s.fold_angle = radians(d.number("mesh.fold_angle"));
+    s.origin = origin;
+    const int n3 = count(d, "n3") > 0 ? count(d, "n3") : n1;
+    return mesh::folded_plate(s, n1, n3, n2);
+  }
+  const Vec3 axis = checked_direction(d, "axis");
+  check_reference(d, axis);
+  const Vec3 reference = vec(d.numbers("mesh.reference"));
+  if (gen == "cylinder") {
+    mesh::CylinderPatch s;
+    s.radius = d.number("mesh.radius");
+    s.origin = origin;
+    s.axis = axis;
+    s.radial0 = reference;
+    std::tie(s.phi0, s.phi1) = azimuth(d, true);
+    s.s0 = 0.0;
+    s.s1 = d.number("mesh.length");
+    s.slit = d.boolean("mesh.slit");
+    return mesh::cylindrical_patch(s, n1, n2, name_or(d, "cylinder"));
+  }
+  if (gen == "annulus") {
+    mesh::AnnularSector s;
+    s.r_outer = d.number("mesh.radius");
+    s.r_inner = d.number("mesh.inner_radius");
+    if (!(s.r_inner < s.r_outer))
+      throw SceneError({d.issue("mesh.inner_radius", "the inner radius must be smaller than mesh.radius (" +
+                                                         d.value_text("mesh.radius") + ")")});
+    s.center = origin;
+    s.axis = axis;
+    s.radial0 = reference;
+    std::tie(s.phi0, s.phi1) = azimuth(d, true);
+    s.slit = d.boolean("mesh.slit");
+    if (s.slit && s.r_inner == 0.0)
+      throw SceneError({d.issue("mesh.slit", "a slit disk needs a hole (mesh.inner_radius > 0): the slit would end at "
+                                             "the centre, where quads collapse")});
+    return mesh::annulus(s, n1, n2, name_or(d, "annulus"));
+  }
+  // spherical_cap
+  mesh::SpherePatch s;
+  s.radius = d.number("mesh.radius");
+  s.center = origin;
+  s.pole = axis;
+  s.radial0 = reference;
+  s.theta0 = radians(d.number("mesh.polar_start"));
+  s.theta1 = radians(d.number("mesh.polar_end"));
+  if (!(d.number("mesh.polar_start") < d.number("mesh.polar_end")))
+    throw SceneError({d.issue("mesh.polar_end", "the rim's polar angle must exceed mesh.polar_start (" +
+                                                    d.value_text("mesh.polar_start") + " deg)")});
+  std::tie(s.phi0, s.phi1) = azimuth(d, false);
+  return mesh::spherical_cap(s, n1, n2, name_or(d, "cap"));
+}
+
+}  // namespace
+
+void declare_mesh_keys(Schema& s) {
+  s.table("mesh",
+          "the shell mid-surface. A generator builds it from the dimensions below (lengths in the scene's unit, angles "
+          "in degrees; every generator names its patches and their edges for select = \"patch_edge\", docs/guide/"
+          "writing-your-own-scene.md shows them), or generator = \"file\" reads a quad mesh. Azimuth: the angle "
+          "phi about mesh.axis, right-handed, from mesh.reference (its part across the axis). Edge names per "
+          "generator (patch: u=0, u=1, v=0, v=1): rectangular_plate (patch mesh.name): x_min, x_max, y_min, y_max; "
+          "l_plate: arm1: end, corner, outer, inner; corner: arm1, outer2, outer1, arm2; arm2: corner, end, outer, "
+          "inner; folded_plate: leg1: end, fold, y_min, y_max; leg2: fold, end, y_min, y_max; "
+          "cylinder: start_angle, end_angle, bottom, top; annulus: inner, outer, start_angle, end_angle (without a "
+          "hole: patches <name>_core and <name> with edges core, outer); spherical_cap: hole, rim, start_angle, "
+          "end_angle (without a hole: patches <name>_core and <name> with edges core, rim)",
+          true)
+      .choice("mesh.generator",
+              "rectangular_plate: a plate in z = origin z; l_plate: a flat L of two strips; folded_plate: two plates "
+              "meeting at a fold; cylinder: a cylindrical panel or closed cylinder; annulus: an annular or disk "
+              "sector, closed, or slit; spherical_cap: a spherical cap or hemisphere, with or without a polar hole; "
+              "file: a quad mesh file (mesh.file)",
+              {"rectangular_plate", "l_plate", "folded_plate", "cylinder", "annulus", "spherical_cap", "file"},
+              std::nullopt)
+      .integer("mesh.n1",
+               "elements along the first direction: plate along x; l_plate along each arm; folded_plate along leg1; "
+               "cylinder around (over the azimuth range); annulus and spherical_cap from the hole (or the core) to the "
+               "rim",
+               16, IntRange::closed(1, 1024))
+      .integer("mesh.n2",
+               "elements along the second direction: plate along y; l_plate and folded_plate across the width; cylinder "
+               "along the axis; annulus and spherical_cap along the rim (without a hole a multiple of 2, 4 or 8 for 90, "
+               "180 or 360 degrees)",
+               16, IntRange::closed(1, 1024))
+      .integer("mesh.n3", "folded_plate: elements along leg2; 0 = as many as mesh.n1", 0, IntRange::closed(0, 1024))
+      .string("mesh.name",
+              "rectangular_plate, cylinder, annulus, spherical_cap: name of the patch (for select = \"patch_edge\"); "
+              "\"\" = the generator's default: plate, cylinder, annulus, cap",
+              std::string{})
+      .number_list("mesh.origin",
+                   "rectangular_plate: the corner (x_min, y_min) in the plane z = origin z; l_plate: the outer corner "
+                   "of arm1's end (its end is x = origin x, its outer edge y = origin y); folded_plate: the corner of "
+                   "leg1's end (end x = origin x, leg1 in z = origin z); cylinder: the point of the axis at the bottom "
+                   "edge; annulus: the centre; spherical_cap: the sphere's centre",
+                   std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number_list("mesh.axis",
+                   "cylinder: the axis direction (bottom at origin, top at origin + length axis); annulus: the plane "
+                   "normal (the director); spherical_cap: from the centre to the pole (polar angle 0)",
+                   std::vector<double>{0, 0, 1}, {}, 3, 3)
+      .number_list("mesh.reference",
+                   "cylinder, annulus, spherical_cap: the direction of azimuth 0 (only its part across mesh.axis counts)",
+                   std::vector<double>{1, 0, 0}, {}, 3, 3)
+      .number("mesh.length",
+              "rectangular_plate (required): length along x; l_plate (required): centre-line length of arm1 along x, from "
+              "its end to the centre of the corner square; folded_plate (required): length of leg1 along x, from its "
+              "end to the fold line; cylinder (required): length along the axis",
+              1.0, Range::positive())
+      .number("mesh.length2",
+              "l_plate: centre-line length of arm2 along y (default: mesh.length); folded_plate (required): length of "
+              "leg2 from the fold line to its end",
+              1.0, Range::positive())
+      .number("mesh.width",
+              "rectangular_plate (required): width along y; l_plate (required): width of both strips; folded_plate "
+              "(required): width of both legs along y (the fold line)",
+              1.0, Range::positive())
+      .number("mesh.radius", "cylinder, spherical_cap (required): the radius; annulus (required): the outer radius", 1.0,
+              Range::positive())
+      .number("mesh.inner_radius", "annulus: the inner radius; 0 = a disk (no hole)", 0.0, Range::non_negative())
+      .number("mesh.start_angle", "cylinder, annulus, spherical_cap: azimuth where the surface starts", 0.0, {}, "deg")
+      .number("mesh.end_angle",
+              "cylinder, annulus, spherical_cap: azimuth where it ends; a 360 degree range closes the surface (its "
+              "seam nodes are merged) unless mesh.slit",
+              360.0, {}, "deg")
+      .boolean("mesh.slit",
+               "cylinder, annulus over 360 degrees: keep the seam open as two coincident lips (separate nodes: edges "
+               "start_angle and end_angle)",
+               false)
+      .number("mesh.polar_start",
+              "spherical_cap: polar angle (from the pole, mesh.axis) of the hole's edge; 0 = closed at the pole (a "
+              "pole-free core + ring mesh)",
+              0.0, Range::right_open(0.0, 180.0), "deg")
+      .number("mesh.polar_end", "spherical_cap (required): polar angle of the rim (90 = hemisphere)", 90.0,
+              Range::open(0.0, 180.0), "deg")
+      .number("mesh.fold_angle",
+              "folded_plate: how far leg2 turns up (towards +z) from leg1's continuation: 0 = flat, 90 = upright",
+              90.0, Range::open(-180.0, 180.0), "deg")
+      .string("mesh.file", "generator = file: OBJ or PLY quad mesh, relative to the scene file", std::string{});
+}
+
+bool mesh_from_file(const Document& d) {
+  const std::string& gen = d.string("mesh.generator");
+  // generator = "file" without mesh.file: the reader's "needs mesh.file" comes first
+  if (gen == "file" && d.string("mesh.file").empty()) return true;
+  check_keys(d, gen);
+  return gen == "file";
+}
+
+mesh::ShellMesh generate_mesh(const Document& d) {
+  const std::string& gen = d.string("mesh.generator");
+  check_keys(d, gen);
+  try {
+    return build(d, gen);
+  } catch (const std::invalid_argument& e) {
+    throw SceneError({d.issue("mesh.generator", e.what())});
+  }
+}
+
+}  // namespace ff::scene

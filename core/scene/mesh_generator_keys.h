@@ -1,0 +1,28 @@
+#pragma once
+/// \file mesh_generator_keys.h
+/// The [mesh] table of static shell scenes: which generator builds the mid-surface, its
+/// dimensions as scene keys, and the mesh they give (core/mesh/generators.h). The key docs are
+/// the scene-key reference (README.md), so they state where each generator places its surface,
+/// its patches and the names of their edges (for select = "patch_edge").
+///
+/// Bad input is a located SceneError at the exact key: a dimension the generator needs and the
+/// scene does not give, a key that does not belong to the chosen generator, inconsistent ranges.
+
+#include <string>
+
+#include "core/mesh/shell_mesh.h"
+#include "core/scene/schema.h"
+
+namespace ff::scene {
+
+/// Declares the [mesh] table and its keys (generator, element counts, dimensions, file).
+void declare_mesh_keys(Schema& s);
+
+/// True when mesh.generator = "file" (the caller reads mesh.file); checks first that no
+/// generator dimension is given with it.
+bool mesh_from_file(const Document& d);
+
+/// The mesh of a parametric generator (mesh.generator != "file"), built from the [mesh] keys.
+mesh::ShellMesh generate_mesh(const Document& d);
+
+}  // namespace ff::scene
