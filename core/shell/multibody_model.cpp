@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/assembly/node_frames.h"
 #include "core/lie/se3.h"
 #include "core/shell/surface_strain.h"
 
@@ -13,17 +14,9 @@ namespace ff::shell {
 
 namespace {
 using Mat6 = Eigen::Matrix<double, 6, 6>;
-using Clock = std::chrono::steady_clock;
-
-Mat3 skew(const Vec3& a) { return ff::lie::hat(a); }
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// the rotation taking unit a to unit b about their common normal (fold corners, as in shell_model)
-Mat3 align(const Vec3& a, const Vec3& b) {
-  const Vec3 axis = a.cross(b);
-  const double s = axis.norm(), c = a.dot(b);
-  return s < 1e-14 ? Mat3::Identity() : Mat3(Eigen::AngleAxisd(std::atan2(s, c), axis / s).toRotationMatrix());
-}
+using assembly::Clock;
+using assembly::seconds_since;
+using lie::hat;
 }  // namespace
 
 struct MultibodyModel::Element {
@@ -89,9 +82,7 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
     else rows.push_back(c);
   }
   spec_.positions = std::move(rows);
-  eq_.assign(6 * nn, -1);
-  for (int i = 0; i < nn; ++i)
-    for (int s = pinned[i] ? 3 : 0; s < (six_[i] ? 6 : 5); ++s) eq_[6 * i + s] = n_++;
+  dofs_ = assembly::DofMap(nn, [&](int i, int slot) { return slot >= (pinned[i] ? 3 : 0) && slot < (six_[i] ? 6 : 5); });
   m_ = 3 * static_cast<int>(spec_.positions.size()) + static_cast<int>(spec_.perpendiculars.size());
 
   for (int b = 0; b < static_cast<int>(spec_.shells.size()); ++b) {
@@ -106,8 +97,9 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
         const int I = m.quads[q][c];
         e.nodes[c] = shell_offset_[b] + I;
         const Vec3 nc = q < static_cast<int>(m.corner_normals.size()) ? m.corner_normals[q][c] : m.normals[I];
-        const Mat3 Rc = align(m.frames[I].col(2), nc.normalized()) * m.frames[I];
-        e.corner[c] = m.frames[I].transpose() * Rc;
+        const assembly::CornerFrame corner = assembly::corner_frame(m.frames[I], nc);
+        const Mat3& Rc = corner.frame;
+        e.corner[c] = corner.turn;
         e.plain = e.plain && (e.corner[c] - Mat3::Identity()).norm() < 1e-14;
         ref[c] = {Rc, m.points[I]};
       }
@@ -121,61 +113,36 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
   build_pattern();
 }
 
-int MultibodyModel::value_index(int row, int col) const {
-  const int* inner = pattern_.innerIndexPtr();
-  const int* begin = inner + pattern_.outerIndexPtr()[col];
-  const int* end = inner + pattern_.outerIndexPtr()[col + 1];
-  const int* it = std::lower_bound(begin, end, row);
-  return (it != end && *it == row) ? static_cast<int>(it - inner) : -1;
-}
-
 void MultibodyModel::build_pattern() {
-  std::vector<Eigen::Triplet<double>> t;
-  auto block = [&](int I, int J) {
-    for (int i = 0; i < 6; ++i)
-      for (int j = 0; j < 6; ++j)
-        if (eq_[6 * I + i] >= 0 && eq_[6 * J + j] >= 0) t.emplace_back(eq_[6 * I + i], eq_[6 * J + j], 1.0);
-  };
-  for (const Element& e : elements_)
-    for (int c = 0; c < 4; ++c)
-      for (int d = 0; d < 4; ++d) block(e.nodes[c], e.nodes[d]);
-  for (int I = 0; I < node_count(); ++I) block(I, I);  // rigid bodies, constraint-force terms
+  for (const Element& e : elements_) pattern_.add_element(e.nodes);
+  for (int I = 0; I < node_count(); ++I) pattern_.add_block(I, I);  // rigid bodies, constraint-force terms
   for (const PerpendicularConstraint& c : spec_.perpendiculars)
-    if (c.b >= 0) block(c.a, c.b), block(c.b, c.a);
+    if (c.b >= 0) pattern_.add_block(c.a, c.b), pattern_.add_block(c.b, c.a);
   for (const PositionConstraint& c : spec_.positions)  // local-frame rows couple the pair (D12')
-    if (c.b >= 0) block(c.a, c.b), block(c.b, c.a);
-  pattern_.resize(n_, n_);
-  pattern_.setFromTriplets(t.begin(), t.end());
-  pattern_.makeCompressed();
+    if (c.b >= 0) pattern_.add_block(c.a, c.b), pattern_.add_block(c.b, c.a);
+  pattern_.build(dofs_);
   scatter_.resize(elements_.size());
-  for (std::size_t k = 0; k < elements_.size(); ++k)
-    for (int c = 0; c < 4; ++c)
-      for (int d = 0; d < 4; ++d)
-        for (int i = 0; i < 6; ++i)
-          for (int j = 0; j < 6; ++j) {
-            const int a = eq_[6 * elements_[k].nodes[c] + i], b = eq_[6 * elements_[k].nodes[d] + j];
-            scatter_[k][(6 * c + i) * 24 + 6 * d + j] = (a >= 0 && b >= 0) ? value_index(a, b) : -1;
-          }
+  for (std::size_t k = 0; k < elements_.size(); ++k) scatter_[k] = pattern_.element_scatter(dofs_, elements_[k].nodes);
   results_.resize(elements_.size());
   // B: 3 rows per position constraint on the translations, 1 row per perpendicularity on rotations
-  t.clear();
+  std::vector<Eigen::Triplet<double>> t;
   int row = 0;
   for (const PositionConstraint& c : spec_.positions) {
     for (int k = 0; k < 3; ++k)
       for (int j = 0; j < 6; ++j) {
-        if (eq_[6 * c.a + j] >= 0) t.emplace_back(row + k, eq_[6 * c.a + j], 1.0);
-        if (c.b >= 0 && eq_[6 * c.b + j] >= 0) t.emplace_back(row + k, eq_[6 * c.b + j], 1.0);
+        if (dofs_.equation(c.a, j) >= 0) t.emplace_back(row + k, dofs_.equation(c.a, j), 1.0);
+        if (c.b >= 0 && dofs_.equation(c.b, j) >= 0) t.emplace_back(row + k, dofs_.equation(c.b, j), 1.0);
       }
     row += 3;
   }
   for (const PerpendicularConstraint& c : spec_.perpendiculars) {
     for (int j = 3; j < 6; ++j) {
-      t.emplace_back(row, eq_[6 * c.a + j], 1.0);
-      if (c.b >= 0) t.emplace_back(row, eq_[6 * c.b + j], 1.0);
+      t.emplace_back(row, dofs_.equation(c.a, j), 1.0);
+      if (c.b >= 0) t.emplace_back(row, dofs_.equation(c.b, j), 1.0);
     }
     ++row;
   }
-  b_pattern_.resize(m_, n_);
+  b_pattern_.resize(m_, dofs_.size());
   b_pattern_.setFromTriplets(t.begin(), t.end());
   b_pattern_.makeCompressed();
 }
@@ -183,7 +150,7 @@ void MultibodyModel::build_pattern() {
 Vec6 MultibodyModel::node_vector(const Eigen::VectorXd& x, int node) const {
   Vec6 out = Vec6::Zero();
   for (int s = 0; s < 6; ++s)
-    if (eq_[6 * node + s] >= 0) out[s] = x[eq_[6 * node + s]];
+    if (dofs_.equation(node, s) >= 0) out[s] = x[dofs_.equation(node, s)];
   return out;
 }
 
@@ -198,16 +165,13 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
                               const Eigen::VectorXd& lambda, Eigen::VectorXd& r, Eigen::VectorXd& phi,
                               const IterationWeights* w, SparseMatrixD* S, SparseMatrixD* B) {
   const bool tangent = w && S;
-  r.setZero(n_);
+  r.setZero(dofs_.size());
   phi.setZero(m_);
-  if (tangent) {
-    *S = pattern_;
-    std::fill(S->valuePtr(), S->valuePtr() + S->nonZeros(), 0.0);
-  }
+  if (tangent) pattern_.zeroed(*S);
   double* values = tangent ? S->valuePtr() : nullptr;
   auto add = [&](int I, int si, int J, int sj, double x) {
-    const int a = eq_[6 * I + si], b = eq_[6 * J + sj];
-    if (a >= 0 && b >= 0) values[value_index(a, b)] += x;
+    const int a = dofs_.equation(I, si), b = dofs_.equation(J, sj);
+    if (a >= 0 && b >= 0) values[pattern_.value_index(a, b)] += x;
   };
   auto add_block = [&](int I, int oi, int J, int oj, const Mat3& blk) {
     for (int i = 0; i < 3; ++i)
@@ -268,7 +232,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
       }
     for (int c = 0; c < 4; ++c)
       for (int s = 0; s < 6; ++s) {
-        const int a = eq_[6 * e.nodes[c] + s];
+        const int a = dofs_.equation(e.nodes[c], s);
         if (a >= 0) r[a] += F[6 * c + s];
       }
     if (!tangent) continue;
@@ -302,12 +266,12 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     F.tail<3>() = J * A.tail<3>() + om.cross(J * om);
     const Vec3 Fg = body.mass * (poses_[I].R.transpose() * spec_.g);
     if (spec_.gravity) F.head<3>() -= Fg;
-    for (int s = 0; s < 6; ++s) r[eq_[6 * I + s]] += F[s];
+    for (int s = 0; s < 6; ++s) r[dofs_.equation(I, s)] += F[s];
     if (!tangent) continue;
-    add_block(I, 0, I, 0, w->mass * body.mass * Mat3::Identity() + w->damping * body.mass * skew(om));
-    add_block(I, 0, I, 3, -w->damping * body.mass * skew(vel));
-    add_block(I, 3, I, 3, w->mass * J + w->damping * (skew(om) * J - skew(J * om)));
-    if (spec_.gravity) add_block(I, 0, I, 3, -w->stiffness * skew(Fg));
+    add_block(I, 0, I, 0, w->mass * body.mass * Mat3::Identity() + w->damping * body.mass * hat(om));
+    add_block(I, 0, I, 3, -w->damping * body.mass * hat(vel));
+    add_block(I, 3, I, 3, w->mass * J + w->damping * (hat(om) * J - hat(J * om)));
+    if (spec_.gravity) add_block(I, 0, I, 3, -w->stiffness * hat(Fg));
   }
   if (!spec_.rigid.empty()) rigid_.evaluations += 1, rigid_.seconds += seconds_since(t_rigid);
 
@@ -323,7 +287,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     std::fill(B->valuePtr(), B->valuePtr() + B->nonZeros(), 0.0);
   }
   auto bset = [&](int row, int I, int slot, double x) {
-    if (B && eq_[6 * I + slot] >= 0) B->coeffRef(row, eq_[6 * I + slot]) += x;
+    if (B && dofs_.equation(I, slot) >= 0) B->coeffRef(row, dofs_.equation(I, slot)) += x;
   };
   int row = 0;
   for (const PositionConstraint& c : spec_.positions) {
@@ -336,17 +300,17 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     const Vec3 pb = c.b >= 0 ? Vec3(poses_[c.b].x + poses_[c.b].R * c.b_offset) : c.target;
     const Vec3 ph = Ra.transpose() * (pa - pb);
     phi.segment<3>(row) = ph;
-    const Mat3 Ba_rot = -skew(c.a_offset) + skew(ph);
+    const Mat3 Ba_rot = -hat(c.a_offset) + hat(ph);
     for (int j = 0; j < 3; ++j)
-      if (eq_[6 * c.a + j] >= 0) r[eq_[6 * c.a + j]] += lam[j];
+      if (dofs_.equation(c.a, j) >= 0) r[dofs_.equation(c.a, j)] += lam[j];
     const Vec3 fa = Ba_rot.transpose() * lam;
     for (int j = 0; j < 3; ++j)
-      if (eq_[6 * c.a + 3 + j] >= 0) r[eq_[6 * c.a + 3 + j]] += fa[j];
+      if (dofs_.equation(c.a, 3 + j) >= 0) r[dofs_.equation(c.a, 3 + j)] += fa[j];
     for (int k = 0; k < 3; ++k) {
       bset(row + k, c.a, k, 1.0);
       for (int j = 0; j < 3; ++j) bset(row + k, c.a, 3 + j, Ba_rot(k, j));
     }
-    const Mat3 L = skew(lam);
+    const Mat3 L = hat(lam);
     if (tangent) {  // (−Φ × λ)' = λ̃ δΦ
       add_block(c.a, 3, c.a, 0, w->stiffness * L);
       add_block(c.a, 3, c.a, 3, w->stiffness * L * Ba_rot);
@@ -354,13 +318,13 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     if (c.b >= 0) {
       const Mat3& Rb = poses_[c.b].R;
       const Mat3 Rab = Ra.transpose() * Rb;
-      const Mat3 Bb_rot = Rab * skew(c.b_offset);
+      const Mat3 Bb_rot = Rab * hat(c.b_offset);
       const Vec3 mu = Rab.transpose() * lam;  // λ in b's frame
       for (int j = 0; j < 3; ++j)
-        if (eq_[6 * c.b + j] >= 0) r[eq_[6 * c.b + j]] -= mu[j];
+        if (dofs_.equation(c.b, j) >= 0) r[dofs_.equation(c.b, j)] -= mu[j];
       const Vec3 fb = Bb_rot.transpose() * lam;
       for (int j = 0; j < 3; ++j)
-        if (eq_[6 * c.b + 3 + j] >= 0) r[eq_[6 * c.b + 3 + j]] += fb[j];
+        if (dofs_.equation(c.b, 3 + j) >= 0) r[dofs_.equation(c.b, 3 + j)] += fb[j];
       for (int k = 0; k < 3; ++k)
         for (int j = 0; j < 3; ++j) {
           bset(row + k, c.b, j, -Rab(k, j));
@@ -371,10 +335,10 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
         add_block(c.a, 3, c.b, 0, -w->stiffness * L * Rab);
         add_block(c.a, 3, c.b, 3, w->stiffness * L * Bb_rot);
         // δμ = μ̃ δθ_b − R_ba λ̃ δθ_a (δR_bᵀ = −δθ̃_b R_bᵀ, δR_a = R_a δθ̃_a); forces −μ and −õ_b μ
-        add_block(c.b, 0, c.b, 3, -w->stiffness * skew(mu));
+        add_block(c.b, 0, c.b, 3, -w->stiffness * hat(mu));
         add_block(c.b, 0, c.a, 3, w->stiffness * Rba * L);
-        add_block(c.b, 3, c.b, 3, -w->stiffness * skew(c.b_offset) * skew(mu));
-        add_block(c.b, 3, c.a, 3, w->stiffness * skew(c.b_offset) * Rba * L);
+        add_block(c.b, 3, c.b, 3, -w->stiffness * hat(c.b_offset) * hat(mu));
+        add_block(c.b, 3, c.a, 3, w->stiffness * hat(c.b_offset) * Rba * L);
       }
     }
     row += 3;
@@ -387,17 +351,17 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     phi[row] = a.dot(p);
     const Vec3 pa = Ra.transpose() * p;
     const Vec3 ga = c.a_local.cross(pa);  // ∂Φ/∂θ_a (D13)
-    for (int j = 0; j < 3; ++j) r[eq_[6 * c.a + 3 + j]] += lam * ga[j], bset(row, c.a, 3 + j, ga[j]);
-    if (tangent) add_block(c.a, 3, c.a, 3, w->stiffness * lam * skew(c.a_local) * skew(pa));
+    for (int j = 0; j < 3; ++j) r[dofs_.equation(c.a, 3 + j)] += lam * ga[j], bset(row, c.a, 3 + j, ga[j]);
+    if (tangent) add_block(c.a, 3, c.a, 3, w->stiffness * lam * hat(c.a_local) * hat(pa));
     if (c.b >= 0) {
       const Mat3& Rb = poses_[c.b].R;
       const Vec3 ab = Rb.transpose() * a;
       const Vec3 gb = c.b_vector.cross(ab);  // ∂Φ/∂θ_b
-      for (int j = 0; j < 3; ++j) r[eq_[6 * c.b + 3 + j]] += lam * gb[j], bset(row, c.b, 3 + j, gb[j]);
+      for (int j = 0; j < 3; ++j) r[dofs_.equation(c.b, 3 + j)] += lam * gb[j], bset(row, c.b, 3 + j, gb[j]);
       if (tangent) {
-        add_block(c.b, 3, c.b, 3, w->stiffness * lam * skew(c.b_vector) * skew(ab));
-        add_block(c.a, 3, c.b, 3, -w->stiffness * lam * skew(c.a_local) * Ra.transpose() * Rb * skew(c.b_vector));
-        add_block(c.b, 3, c.a, 3, -w->stiffness * lam * skew(c.b_vector) * Rb.transpose() * Ra * skew(c.a_local));
+        add_block(c.b, 3, c.b, 3, w->stiffness * lam * hat(c.b_vector) * hat(ab));
+        add_block(c.a, 3, c.b, 3, -w->stiffness * lam * hat(c.a_local) * Ra.transpose() * Rb * hat(c.b_vector));
+        add_block(c.b, 3, c.a, 3, -w->stiffness * lam * hat(c.b_vector) * Rb.transpose() * Ra * hat(c.a_local));
       }
     }
     ++row;
@@ -459,7 +423,7 @@ double MultibodyModel::total_mass() const {
 
 std::vector<EffectStat> MultibodyModel::effect_stats() const {
   std::vector<EffectStat> out;
-  auto own = [&](const char* name, const EffectCounter& c) {
+  auto own = [&](const char* name, const assembly::EffectCounter& c) {
     if (c.evaluations) out.push_back({name, c.evaluations, c.seconds, {}});
   };
   // formulation terms fused in the element kernel (cb_shell.cpp): counted, timed inside elastic

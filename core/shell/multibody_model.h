@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "core/assembly/block_pattern.h"
+#include "core/assembly/dof_map.h"
+#include "core/assembly/effect_counter.h"
 #include "core/mesh/shell_mesh.h"
 #include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
@@ -65,19 +68,13 @@ struct MotionSummary {
   double total() const { return kinetic + strain + gravity_potential; }
 };
 
-/// Counters of what the model evaluated (effects only as asked): evaluations and seconds.
-struct EffectCounter {
-  long long evaluations = 0;
-  double seconds = 0.0;
-};
-
 class MultibodyModel final : public ff::DynamicProblem {
  public:
   /// Throws std::invalid_argument with a plain explanation for specs that cannot be simulated.
   explicit MultibodyModel(MultibodySpec spec);
   ~MultibodyModel() override;
 
-  int size() const override { return n_; }
+  int size() const override { return dofs_.size(); }
   int constraint_count() const override { return m_; }
   void configure(const Eigen::VectorXd& step) override;
   void commit() override { committed_ = poses_; }
@@ -93,7 +90,7 @@ class MultibodyModel final : public ff::DynamicProblem {
   const std::vector<NodePose>& poses() const { return poses_; }
   const NodePose& reference_pose(int node) const { return reference_[node]; }
   int dofs_of_node(int node) const { return six_[node] ? 6 : 5; }
-  int equation(int node, int slot) const { return eq_[6 * node + slot]; }  ///< -1 when absent
+  int equation(int node, int slot) const { return dofs_.equation(node, slot); }  ///< -1 when absent
   /// Local 6-vector of node `node` from a solver vector (zero in the absent drilling slot).
   Vec6 node_vector(const Eigen::VectorXd& x, int node) const;
   Vec3 node_displacement(int node) const { return poses_[node].x - reference_[node].x; }
@@ -116,25 +113,25 @@ class MultibodyModel final : public ff::DynamicProblem {
  private:
   struct Element;
   void build_pattern();
-  int value_index(int row, int col) const;
 
   MultibodySpec spec_;
   std::vector<NodePose> reference_, poses_, committed_;
   std::vector<int> pinned_;  // nodes held in space by ground points: translations not unknowns
   std::vector<std::uint8_t> six_;
-  std::vector<int> eq_;
+  assembly::DofMap dofs_;
   std::vector<int> shell_offset_;
   int rigid_offset_ = 0;
-  int n_ = 0, m_ = 0;
+  int m_ = 0;
   std::vector<Element> elements_;
-  SparseMatrixD pattern_, b_pattern_;
+  assembly::BlockPattern pattern_;
+  SparseMatrixD b_pattern_;
   std::vector<std::array<int, 576>> scatter_;
   struct ElementResult {
     Vec24 r;
     Mat24 S;
   };
   std::vector<ElementResult> results_;
-  EffectCounter elastic_, inertia_, gravity_, joints_, rigid_;
+  assembly::EffectCounter elastic_, inertia_, gravity_, joints_, rigid_;
   long long assemblies_ = 0;
   long long hr_elements_ = 0, ans_elements_ = 0, drilling_elements_ = 0;  // elements with the term on
 };

@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/assembly/node_frames.h"
+#include "core/lie/so3.h"
 #include "core/shell/surface_strain.h"
 
 namespace ff::shell {
@@ -14,25 +16,9 @@ namespace ff::shell {
 namespace {
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
-using Clock = std::chrono::steady_clock;
-
-double seconds_between(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
-
-Mat3 skew(const Vec3& a) {
-  Mat3 m;
-  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  return m;
-}
-Mat3 exp_so3(const Vec3& th) {
-  const double a = th.norm();
-  return a < 1e-300 ? Mat3::Identity() : Eigen::AngleAxisd(a, th / a).toRotationMatrix();
-}
-// the rotation taking unit a to unit b about their common normal
-Mat3 align(const Vec3& a, const Vec3& b) {
-  const Vec3 axis = a.cross(b);
-  const double s = axis.norm(), c = a.dot(b);
-  return s < 1e-14 ? Mat3::Identity() : exp_so3(axis / s * std::atan2(s, c));
-}
+using assembly::Clock;
+using assembly::seconds_since;
+using lie::hat;
 
 // p (g_xi x g_eta) over the bilinear quad x[0..3] by 2x2 Gauss (exact: the integrand is
 // biquadratic), eq. P2 of shell_model.md: f_a = p sum_g N_a (g_xi x g_eta). With dfdx, also
@@ -57,7 +43,7 @@ void pressure_forces(const std::array<Vec3, 4>& x, double p, std::array<Vec3, 4>
     const Vec3 n = gx.cross(ge);
     for (int a = 0; a < 4; ++a) f[a] += p * N[a] * n;
     if (!dfdx) continue;
-    const Mat3 Sx = skew(gx), Se = skew(ge);
+    const Mat3 Sx = hat(gx), Se = hat(ge);
     for (int a = 0; a < 4; ++a)
       for (int b = 0; b < 4; ++b) (*dfdx)[4 * a + b] += p * N[a] * (Ne[b] * Sx - Nx[b] * Se);
   }
@@ -285,13 +271,7 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
     if (m.fold[i]) six_[i] = 1;
   std::vector<unsigned> fixed(nn, 0u);  // slot mask, bits 0-5
   build_node_bases(fixed);
-  eq_.assign(6 * nn, -1);
-  for (int i = 0; i < nn; ++i)
-    for (int s = 0; s < (six_[i] ? 6 : 5); ++s)
-      if (!(fixed[i] & (1u << s))) {
-        eq_[6 * i + s] = static_cast<int>(free_.size());
-        free_.push_back({i, s});
-      }
+  dofs_ = assembly::DofMap(nn, [&](int i, int slot) { return slot < (six_[i] ? 6 : 5) && !(fixed[i] & (1u << slot)); });
 
   poses_.resize(nn);
   for (int i = 0; i < nn; ++i) poses_[i] = {m.frames[i], m.points[i]};
@@ -306,9 +286,9 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
       const int I = e.nodes[c];
       const Vec3 nc = q < static_cast<int>(m.corner_normals.size()) ? m.corner_normals[q][c] : m.normals[I];
       // a fold corner has its own director; C maps node-local increments to corner-local ones
-      const Mat3 Rc = align(m.frames[I].col(2), nc.normalized()) * m.frames[I];
-      e.corner[c] = m.frames[I].transpose() * Rc;
-      ref[c] = {Rc, m.points[I]};
+      const assembly::CornerFrame corner = assembly::corner_frame(m.frames[I], nc);
+      e.corner[c] = corner.turn;
+      ref[c] = {corner.frame, m.points[I]};
     }
     try {
       e.el = std::make_unique<CbShellElement>(ref, spec_.section, spec_.options);
@@ -342,45 +322,12 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   reaction_.assign(nn, Vec3::Zero());
 }
 
-int ShellModel::value_index(int row, int col) const {
-  const int* inner = pattern_.innerIndexPtr();
-  const int* begin = inner + pattern_.outerIndexPtr()[col];
-  const int* end = inner + pattern_.outerIndexPtr()[col + 1];
-  const int* it = std::lower_bound(begin, end, row);
-  return (it != end && *it == row) ? static_cast<int>(it - inner) : -1;
-}
-
 void ShellModel::build_pattern() {
-  const int n = size(), nn = static_cast<int>(poses_.size());
-  std::vector<Eigen::Triplet<double>> trip;
-  for (const Element& e : elements_)
-    for (int c = 0; c < 4; ++c)
-      for (int d = 0; d < 4; ++d)
-        for (int i = 0; i < 6; ++i)
-          for (int j = 0; j < 6; ++j) {
-            const int a = eq_[6 * e.nodes[c] + i], b = eq_[6 * e.nodes[d] + j];
-            if (a >= 0 && b >= 0) trip.emplace_back(a, b, 1.0);
-          }
-  for (int I = 0; I < nn; ++I)  // node blocks (rotating-basis and load terms)
-    for (int i = 0; i < 6; ++i)
-      for (int j = 0; j < 6; ++j) {
-        const int a = eq_[6 * I + i], b = eq_[6 * I + j];
-        if (a >= 0 && b >= 0) trip.emplace_back(a, b, 1.0);
-      }
-  pattern_.resize(n, n);
-  pattern_.setFromTriplets(trip.begin(), trip.end());
-  pattern_.makeCompressed();
+  for (const Element& e : elements_) pattern_.add_element(e.nodes);
+  for (int I = 0; I < static_cast<int>(poses_.size()); ++I) pattern_.add_block(I, I);  // rotating-basis and load terms
+  pattern_.build(dofs_);
   scatter_.resize(elements_.size());
-  for (std::size_t k = 0; k < elements_.size(); ++k) {
-    const Element& e = elements_[k];
-    for (int c = 0; c < 4; ++c)
-      for (int d = 0; d < 4; ++d)
-        for (int i = 0; i < 6; ++i)
-          for (int j = 0; j < 6; ++j) {
-            const int a = eq_[6 * e.nodes[c] + i], b = eq_[6 * e.nodes[d] + j];
-            scatter_[k][(6 * c + i) * 24 + 6 * d + j] = (a >= 0 && b >= 0) ? value_index(a, b) : -1;
-          }
-  }
+  for (std::size_t k = 0; k < elements_.size(); ++k) scatter_[k] = pattern_.element_scatter(dofs_, elements_[k].nodes);
   el_force_.resize(elements_.size());
   el_tangent_.resize(elements_.size());
 }
@@ -395,7 +342,7 @@ void ShellModel::apply_prescribed(double lambda) {
 }
 
 double ShellModel::state_magnitude(int i) const {
-  return free_[i].slot < 3 ? poses_[free_[i].node].x.cwiseAbs().maxCoeff() : 1.0;
+  return dofs_.unknown(i).slot < 3 ? poses_[dofs_.unknown(i).node].x.cwiseAbs().maxCoeff() : 1.0;
 }
 
 void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix<double>* K, Eigen::VectorXd* load) {
@@ -405,10 +352,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   if (!prescribed_.empty()) apply_prescribed(lambda);
   r.setZero(n);
   if (load) load->setZero(n);
-  if (K) {
-    *K = pattern_;
-    std::fill(K->valuePtr(), K->valuePtr() + K->nonZeros(), 0.0);
-  }
+  if (K) pattern_.zeroed(*K);
   double* values = K ? K->valuePtr() : nullptr;
   std::vector<Vec6> node_force(nn, Vec6::Zero());  // node-local internal force
   // slot rows of a world vector at node I (eq. R2): T_u^T v for translations, T_r^T v for 6-DoF rotations
@@ -422,12 +366,12 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     return out;
   };
   auto add = [&](int I, int si, int J, int sj, double v) {
-    const int a = eq_[6 * I + si], b = eq_[6 * J + sj];
-    if (a >= 0 && b >= 0 && v != 0.0) values[value_index(a, b)] += v;
+    const int a = dofs_.equation(I, si), b = dofs_.equation(J, sj);
+    if (a >= 0 && b >= 0 && v != 0.0) values[pattern_.value_index(a, b)] += v;
   };
   // -d r / d lambda through the prescribed columns (eq. R4): f_ref gains -K_ap value_p
   auto add_prescribed_load = [&](int I, int si, int J, int sj, double k) {
-    const int a = eq_[6 * I + si];
+    const int a = dofs_.equation(I, si);
     if (!load || a < 0 || sj >= 3) return;
     const int p = prescribed_of_[3 * J + sj];
     if (p >= 0) (*load)[a] -= k * prescribed_[p].value;
@@ -490,11 +434,11 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     g.head<3>() = rows_u(I, fu);
     g.tail<3>() = six_[I] ? rows_r(I, R * node_force[I].tail<3>()) : Vec3(node_force[I].tail<3>());
     for (int s = 0; s < 6; ++s)
-      if (eq_[6 * I + s] >= 0) r[eq_[6 * I + s]] += g[s];
+      if (dofs_.equation(I, s) >= 0) r[dofs_.equation(I, s)] += g[s];
     if (!K) continue;
     // the rotating basis of A_I along the node's own rotation increment
     if (six_[I]) {
-      Mat3 tu = -skew(fu), tt = -skew(R * node_force[I].tail<3>());
+      Mat3 tu = -hat(fu), tt = -hat(R * node_force[I].tail<3>());
       if (has_basis_[I]) {
         tu = basis_u_[I].transpose() * tu * basis_r_[I];
         tt = basis_r_[I].transpose() * tt * basis_r_[I];
@@ -502,7 +446,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) add(I, i, I, 3 + j, tu(i, j)), add(I, 3 + i, I, 3 + j, tt(i, j));
     } else {
-      Mat3 tu = -R * skew(node_force[I].head<3>());
+      Mat3 tu = -R * hat(node_force[I].head<3>());
       if (has_basis_[I]) tu = basis_u_[I].transpose() * tu;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 2; ++j) add(I, i, I, 3 + j, tu(i, j));
@@ -511,7 +455,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   elastic_.evaluations += ne;
   ++assemblies_;
   const Clock::time_point t_loads = Clock::now();
-  elastic_.seconds += seconds_between(t_elastic, t_loads);
+  elastic_.seconds += std::chrono::duration<double>(t_loads - t_elastic).count();
   // external loads: r -= lambda f_ext
   for (const NodalLoad& l : spec_.loads) {
     const int I = l.node;
@@ -527,33 +471,33 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       f[5] = 0.0;
     }
     for (int s = 0; s < 6; ++s) {
-      const int a = eq_[6 * I + s];
+      const int a = dofs_.equation(I, s);
       if (a < 0) continue;
       r[a] -= lambda * f[s];
       if (load) (*load)[a] += f[s];
     }
     if (!K) continue;
     if (l.follower) {
-      Mat3 tf = six_[I] ? Mat3(lambda * skew(R * l.force)) : Mat3(lambda * R * skew(l.force));
+      Mat3 tf = six_[I] ? Mat3(lambda * hat(R * l.force)) : Mat3(lambda * R * hat(l.force));
       if (has_basis_[I]) tf = six_[I] ? Mat3(basis_u_[I].transpose() * tf * basis_r_[I]) : Mat3(basis_u_[I].transpose() * tf);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < (six_[I] ? 3 : 2); ++j) add(I, i, I, 3 + j, tf(i, j));
       if (six_[I]) {
-        Mat3 tm = lambda * skew(R * l.moment);
+        Mat3 tm = lambda * hat(R * l.moment);
         if (has_basis_[I]) tm = basis_r_[I].transpose() * tm * basis_r_[I];
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
       }
     } else if (!six_[I]) {
       // local components of a fixed global moment turn with the node
-      const Mat3 tm = -lambda * skew(R.transpose() * l.moment);
+      const Mat3 tm = -lambda * hat(R.transpose() * l.moment);
       for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 2; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
     }
   }
   if (!spec_.loads.empty()) {
     point_loads_.evaluations += static_cast<long long>(spec_.loads.size());
-    point_loads_.seconds += seconds_between(t_loads, Clock::now());
+    point_loads_.seconds += seconds_since(t_loads);
   }
   // pressure: nodal forces on translations only (world components along the node bases), so the
   // follower load stiffness -lambda df/dx needs no rotating-basis term (shell_model.md eq. P3).
@@ -575,7 +519,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       reaction_[q[c]] -= lambda * f[c];
       const Vec3 fs = rows_u(q[c], f[c]);
       for (int s = 0; s < 3; ++s) {
-        const int a = eq_[6 * q[c] + s];
+        const int a = dofs_.equation(q[c], s);
         if (a < 0) continue;
         r[a] -= lambda * fs[s];
         if (load) (*load)[a] += fs[s];
@@ -600,9 +544,9 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     const Clock::time_point t_pressure = Clock::now();
     for (std::size_t k = 0; k < spec_.pressures.size(); ++k)
       if (spec_.pressures[k].follower == follower) apply_pressure(k);
-    Counter& counter = follower ? follower_pressure_stat_ : dead_pressure_stat_;
+    assembly::EffectCounter& counter = follower ? follower_pressure_stat_ : dead_pressure_stat_;
     counter.evaluations += count;
-    counter.seconds += seconds_between(t_pressure, Clock::now());
+    counter.seconds += seconds_since(t_pressure);
   }
 }
 
@@ -626,7 +570,7 @@ std::vector<EffectStat> ShellModel::effect_stats() const {
 void ShellModel::update(const Eigen::VectorXd& delta) {
   const int nn = static_cast<int>(poses_.size());
   std::vector<Vec6> d(nn, Vec6::Zero());
-  for (int k = 0; k < size(); ++k) d[free_[k].node][free_[k].slot] += delta[k];
+  for (int k = 0; k < size(); ++k) d[dofs_.unknown(k).node][dofs_.unknown(k).slot] += delta[k];
   for (int I = 0; I < nn; ++I) {
     // eq. R2: slot increments along the node bases
     if (has_basis_[I]) {
@@ -634,8 +578,8 @@ void ShellModel::update(const Eigen::VectorXd& delta) {
       if (six_[I]) d[I].tail<3>() = basis_r_[I] * d[I].tail<3>();
     }
     poses_[I].x += d[I].head<3>();
-    if (six_[I]) poses_[I].R = exp_so3(d[I].tail<3>()) * poses_[I].R;
-    else poses_[I].R = poses_[I].R * exp_so3(Vec3(d[I][3], d[I][4], 0.0));
+    if (six_[I]) poses_[I].R = lie::exp_so3(d[I].tail<3>()) * poses_[I].R;
+    else poses_[I].R = poses_[I].R * lie::exp_so3(Vec3(d[I][3], d[I][4], 0.0));
   }
 }
 

@@ -17,6 +17,9 @@
 #include <string>
 #include <vector>
 
+#include "core/assembly/block_pattern.h"
+#include "core/assembly/dof_map.h"
+#include "core/assembly/effect_counter.h"
 #include "core/mesh/shell_mesh.h"
 #include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
@@ -96,13 +99,13 @@ class ShellModel final : public ff::StaticProblem {
   /// Throws std::invalid_argument with a plain explanation for restraints that cannot be exact.
   explicit ShellModel(ShellModelSpec spec);
 
-  int size() const override { return static_cast<int>(free_.size()); }
+  int size() const override { return dofs_.size(); }
   void evaluate(double lambda, Eigen::VectorXd& residual, Eigen::SparseMatrix<double>* tangent,
                 Eigen::VectorXd* load) override;
   void update(const Eigen::VectorXd& delta) override;
   void save_state() override { saved_ = poses_; }
   void restore_state() override { poses_ = saved_; }
-  double dof_scale(int i) const override { return free_[i].slot >= 3 ? rotation_scale_ : 1.0; }
+  double dof_scale(int i) const override { return dofs_.unknown(i).slot >= 3 ? rotation_scale_ : 1.0; }
 
   const std::vector<NodePose>& poses() const { return poses_; }
   const ShellModelSpec& spec() const { return spec_; }
@@ -131,7 +134,7 @@ class ShellModel final : public ff::StaticProblem {
   /// Equation index of (node, slot) or -1 when restrained; slots 0-2 translations along the
   /// columns of translation_basis(node), 3-5 rotations (about rotation_basis(node) for 6-DoF nodes,
   /// about the node's own e1, e2 for 5-DoF nodes).
-  int equation(int node, int slot) const { return eq_[6 * node + slot]; }
+  int equation(int node, int slot) const { return dofs_.equation(node, slot); }
   const Mat3& translation_basis(int node) const { return basis_u_[node]; }
   const Mat3& rotation_basis(int node) const { return basis_r_[node]; }
   /// What evaluate() ran so far, only effects that ran: "elastic" (element evaluations; seconds of
@@ -142,9 +145,6 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<EffectStat> effect_stats() const;
 
  private:
-  struct Dof {
-    int node, slot;
-  };
   struct Element {
     std::array<int, 4> nodes;
     std::array<Mat3, 4> corner;  // C = R0_I^T R0_corner (identity unless the corner's director differs)
@@ -168,27 +168,21 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<Vec3> reaction_;           // per node, world components (last evaluate)
   int snapped_directors_ = 0;
   double largest_snap_ = 0.0;
-  std::vector<int> eq_;                 // 6 per node, -1 restrained/absent
-  std::vector<Dof> free_;
+  assembly::DofMap dofs_;
   std::vector<Element> elements_;
   double rotation_scale_ = 1.0;
   // tangent pattern built once; per element the value index of each (corner dof, corner dof)
   // entry (-1 when restrained), so assembly is a scatter-add without triplets
-  Eigen::SparseMatrix<double> pattern_;
+  assembly::BlockPattern pattern_;
   std::vector<std::array<int, 576>> scatter_;
   std::vector<std::array<Vec3, 4>> dead_pressure_;  // per spec_.pressures: fixed nodal forces (reference)
   std::vector<Vec24> el_force_;   // per-element results of the parallel element loop
   std::vector<Mat24> el_tangent_;
-  struct Counter {
-    long long evaluations = 0;
-    double seconds = 0.0;
-  };
-  Counter elastic_, point_loads_, dead_pressure_stat_, follower_pressure_stat_;
+  assembly::EffectCounter elastic_, point_loads_, dead_pressure_stat_, follower_pressure_stat_;
   long long dead_pressures_ = 0, follower_pressures_ = 0;  // loaded quads of each kind
   long long assemblies_ = 0;  // hr / ans / drilling ran in every element of every assembly
   void build_pattern();
   void build_node_bases(std::vector<unsigned>& fixed);
-  int value_index(int row, int col) const;
 };
 
 }  // namespace ff::shell
