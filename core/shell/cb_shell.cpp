@@ -24,11 +24,7 @@ constexpr int kEtaZeta = 3, kXiZeta = 4;
 // disabled term (even one multiplied by zero) would show as a non-finite force (test_cb_shell)
 constexpr double kUnused = std::numeric_limits<double>::quiet_NaN();
 
-Mat3 skew(const Vec3& a) {
-  Mat3 m;
-  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  return m;
-}
+using lie::hat;  // [a]x, the one skew matrix of core/lie
 
 // bilinear quad functions and derivatives at (xi, eta)
 void quad_shape(double xi, double eta, Eigen::Vector4d& N, Eigen::Vector4d& dxi, Eigen::Vector4d& deta) {
@@ -530,10 +526,10 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
       blk.col(5).setZero();
       blk.row(5).head<5>().setZero();
     }
-  const Mat3 e3x = skew(Vec3::UnitZ());
+  const Mat3 e3x = hat(Vec3::UnitZ());
   for (int I = 0; I < 4; ++I) {
-    const Mat3 fl = skew(fs[I]);
-    K->block<3, 3>(6 * I, 6 * I + 3) += skew(fu[I]);
+    const Mat3 fl = hat(fs[I]);
+    K->block<3, 3>(6 * I, 6 * I + 3) += hat(fu[I]);
     K->block<3, 3>(6 * I + 3, 6 * I + 3) += hh * e3x * fl;
   }
   return energy;
@@ -546,7 +542,7 @@ double CbShellElement::drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* 
   Eigen::Matrix<double, 24, 4> c, c_scaled;  // local gradients of omega per point, eq. (14)
   Vec3 v_cross[4][4];                        // (theta_I, u_J) blocks before R_I^T R_J
   Mat3 k_tt[4];                              // (theta_I, theta_I), eq. (17)
-  Vec3 p_ut[4];                              // (u_I, theta_I) = skew(sum p_x)
+  Vec3 p_ut[4];                              // (u_I, theta_I) = hat(sum p_x)
   if (K)
     for (int I = 0; I < 4; ++I) {
       k_tt[I].setZero();
@@ -589,12 +585,12 @@ double CbShellElement::drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* 
   K->noalias() += c.lazyProduct(c_scaled.transpose());
   for (int I = 0; I < 4; ++I) {
     for (int J = 0; J < 4; ++J) {
-      const Mat3 blk = skew(v_cross[I][J]) * (cur[I].R.transpose() * cur[J].R);
+      const Mat3 blk = hat(v_cross[I][J]) * (cur[I].R.transpose() * cur[J].R);
       K->block<3, 3>(6 * I + 3, 6 * J) += blk;
       K->block<3, 3>(6 * J, 6 * I + 3) += blk.transpose();
     }
     K->block<3, 3>(6 * I + 3, 6 * I + 3) += k_tt[I];
-    K->block<3, 3>(6 * I, 6 * I + 3) += skew(p_ut[I]);
+    K->block<3, 3>(6 * I, 6 * I + 3) += hat(p_ut[I]);
   }
   return energy;
 }

@@ -10,6 +10,8 @@
 #include <array>
 #include <memory>
 
+#include "core/lie/se3.h"
+
 namespace ff::shell {
 
 using Vec3 = Eigen::Vector3d;
@@ -17,11 +19,9 @@ using Mat3 = Eigen::Matrix3d;
 using Vec24 = Eigen::Matrix<double, 24, 1>;
 using Mat24 = Eigen::Matrix<double, 24, 24>;
 
-/// X_WN: orientation (columns e1, e2, director) and position of a master node in W.
-struct NodePose {
-  Mat3 R = Mat3::Identity();
-  Vec3 x = Vec3::Zero();
-};
+/// X_WN: orientation (columns e1, e2, director) and position of a master node in W: the one pose
+/// type of core/lie (R = R_WN, x = p_WN).
+using NodePose = lie::Pose;
 using ElementPoses = std::array<NodePose, 4>;  ///< counter-clockwise about the directors
 
 struct ShellSection {

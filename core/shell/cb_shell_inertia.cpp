@@ -9,11 +9,7 @@ namespace {
 constexpr double kXiNode[4] = {-1.0, 1.0, 1.0, -1.0};
 constexpr double kEtaNode[4] = {-1.0, -1.0, 1.0, 1.0};
 
-Mat3 skew(const Vec3& a) {
-  Mat3 m;
-  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  return m;
-}
+using lie::hat;  // [a]x, the one skew matrix of core/lie
 double side(int A) { return A < 4 ? 1.0 : -1.0; }  // slave A: master A % 4, top (+) or bottom (-)
 
 // Ť_A^T X Ť_B for Ť = [I, -s h2 ẽ3] (D1): the 6x6 block [[X, -t h2 X ẽ3], [s h2 ẽ3 X, -s t h2² ẽ3 X ẽ3]]
@@ -67,7 +63,7 @@ CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, double
 void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, const ElementRates& a, Vec24& F,
                               const InertiaJacobians& jac) const {
   const Vec3 e3 = Vec3::UnitZ();
-  const Mat3 e3x = skew(e3);
+  const Mat3 e3x = hat(e3);
   Vec3 w[8], b[8], acc[8];
   for (int A = 0; A < 8; ++A) {
     const int I = A % 4;
@@ -102,13 +98,13 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
           if (jac.mass) jac.mass->block<6, 6>(6 * I, 6 * J) += mAB * sandwich(Q, shA, shB, e3x);  // (D5)
           if (jac.gyroscopic) {                                                                   // (D6)
             Eigen::Matrix<double, 3, 6> G;
-            G.leftCols<3>() = Q * skew(omJ);
-            G.rightCols<3>() = Q * (-skew(w[B]) - shB * skew(omJ) * e3x);
+            G.leftCols<3>() = Q * hat(omJ);
+            G.rightCols<3>() = Q * (-hat(w[B]) - shB * hat(omJ) * e3x);
             jac.gyroscopic->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
           }
           if (jac.stiffness) {                                                                    // (D7)
             Eigen::Matrix<double, 3, 6> G = Eigen::Matrix<double, 3, 6>::Zero();
-            G.rightCols<3>() = -Q * skew(b[B]);
+            G.rightCols<3>() = -Q * hat(b[B]);
             jac.stiffness->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
           }
         }
@@ -116,7 +112,7 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
   if (jac.stiffness)
     for (int A = 0; A < 8; ++A) {  // D term of (D7): the local components of f_A turn with R_I
       const int I = A % 4;
-      const Mat3 px = skew(phi[A]);
+      const Mat3 px = hat(phi[A]);
       jac.stiffness->block<3, 3>(6 * I, 6 * I + 3) += px;
       jac.stiffness->block<3, 3>(6 * I + 3, 6 * I + 3) += side(A) * half_h_ * e3x * px;
     }
@@ -124,7 +120,7 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
 
 void CbShellInertia::gravity(const ElementPoses& cur, const Vec3& g, Vec24& F, Mat24* dF) const {
   const Vec3 e3 = Vec3::UnitZ();
-  const Mat3 e3x = skew(e3);
+  const Mat3 e3x = hat(e3);
   F.setZero();
   if (dF) dF->setZero();
   for (int A = 0; A < 8; ++A) {  // (D8)
@@ -134,7 +130,7 @@ void CbShellInertia::gravity(const ElementPoses& cur, const Vec3& g, Vec24& F, M
     F.segment<3>(6 * I) += phi;
     F.segment<3>(6 * I + 3) += sh * e3.cross(phi);
     if (!dF) continue;
-    const Mat3 px = skew(phi);
+    const Mat3 px = hat(phi);
     dF->block<3, 3>(6 * I, 6 * I + 3) += px;
     dF->block<3, 3>(6 * I + 3, 6 * I + 3) += sh * e3x * px;
   }
