@@ -73,7 +73,7 @@ StudySpec read_study_file(const std::string& path);
 StudyAxis parse_vary(const std::string& spec);
 /// Parses --reference: "finest", a number, or "scene:NAME_OR_PATH"; throws InputError.
 StudyReference parse_reference(const std::string& text);
-/// The study file key reference as markdown (README).
+/// The study file key reference as markdown (docs/guide/studies.md).
 std::string study_reference_markdown();
 /// Bundled studies (assets/studies), name -> path, sorted.
 std::vector<std::pair<std::string, std::string>> bundled_studies();

@@ -1,7 +1,7 @@
 #pragma once
 /// \file hub_beam_simulation.h
 /// The hub-beam system integrated by Newmark, publishing Frames and computing the metrics
-/// the seed reports (hub_beam.md; README "Hub-beam metrics").
+/// the paper reports (hub_beam.md; docs/validation/hub-beam.md).
 
 #include <memory>
 #include <optional>

@@ -2,7 +2,7 @@
 /// \file mesh_generator_keys.h
 /// The [mesh] table of static shell scenes: which generator builds the mid-surface, its
 /// dimensions as scene keys, and the mesh they give (core/mesh/generators.h). The key docs are
-/// the scene-key reference (README.md), so they state where each generator places its surface,
+/// the scene-key reference (docs/reference/scene-keys.md), so they state where each generator places its surface,
 /// its patches and the names of their edges (for select = "patch_edge").
 ///
 /// Bad input is a located SceneError at the exact key: a dimension the generator needs and the

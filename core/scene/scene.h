@@ -46,7 +46,7 @@ const Schema& scene_schema(const std::string& path);
 /// The schema of a scene text, picked by its `scene.model` as scene_schema() does for a file.
 const Schema& schema_for_text(const std::string& text);
 
-/// Markdown reference of every scene key of every model (README's scene reference).
+/// Markdown reference of every scene key of every model (docs/reference/scene-keys.md).
 std::string scene_reference_markdown();
 
 /// Reads, validates and builds a scene. `overrides` are "key=value" from --set.

@@ -3,7 +3,7 @@
 /// Scene-file validation: one declared Schema of every key a scene may hold, checked against a
 /// TOML text plus command-line overrides (`--set solver.dt=0.01`), giving a Document of
 /// validated values with defaults filled in. The same Schema renders the markdown reference of
-/// keys for the README, so code, messages and docs cannot drift apart.
+/// keys (docs/reference/scene-keys.md), so code, messages and docs cannot drift apart.
 ///
 /// Contract:
 ///  - Bad *input* (the scene file or an override) never crashes and never silently defaults:

@@ -68,7 +68,7 @@ std::optional<ViewAngles> camera_at(const std::vector<CameraKey>& path, double t
 void declare_timeline(Schema& s, const std::string& at_doc, const std::string& at_unit,
                       const std::vector<std::string>& parameters) {
   s.table_array("timeline",
-                "scripted events: camera path and parameter changes at given times (README \"Scripted scenes\")")
+                "scripted events: camera path and parameter changes at given times (docs/guide/timeline.md)")
       .number("timeline.at", at_doc, std::nullopt, Range::non_negative(), at_unit)
       .string("timeline.camera",
               std::string("camera key of the path (interpolated linearly in time between keys): ") + kViewForms +

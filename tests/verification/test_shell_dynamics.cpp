@@ -195,7 +195,7 @@ TEST(ShellDynamics, DoublePendulumPoliciesAgreeAndFreezingSavesUpdates) {
 
 // Mesh convergence of the double pendulum (issue 4): z of F at t = 0.1 s on 4x4, 8x8 and 16x16
 // per shell. Measured -0.04825, -0.04873, -0.04886 m at dt = 5e-4: the change shrinks 3.7x per
-// halving (second order). Over 0.25 s the coarse meshes are pre-asymptotic (README, "Mesh
+// halving (second order). Over 0.25 s the coarse meshes are pre-asymptotic (docs/validation/shell-dynamics.md, "Mesh
 // convergence of the pendulum", bundled study double_pendulum_mesh), so the test uses the early,
 // asymptotic window. The bound 0.4 fails for first-order (0.5) or no convergence.
 TEST(ShellDynamics, DoublePendulumConvergesUnderMeshRefinement) {
