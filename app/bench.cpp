@@ -1,11 +1,12 @@
 #include "app/bench.h"
 
+#include <nlohmann/json.hpp>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
-#include "app/json_writer.h"
 #include "app/run_session.h"
 #include "app/timed_run.h"
 #include "core/scene/scene.h"
@@ -49,7 +50,7 @@ double frames_per_second(int frames, std::string* backend) {
 
 int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   std::printf("| scene | status | steps | set-up [ms] | stepping [ms] | steps/s |\n|---|---|---|---|---|---|\n");
-  JsonObject scenes;
+  nlohmann::ordered_json scenes = nlohmann::ordered_json::object();
   double efg_total[2] = {0, 0}, fem_total[2] = {0, 0}, efg_run[2] = {0, 0}, fem_run[2] = {0, 0};
   for (const std::string& name : bundled_scenes()) {
     if (name.rfind("hub_beam", 0) != 0 || stop) continue;
@@ -58,10 +59,11 @@ int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
     std::printf("| %s | %s | %lld | %.2f | %.2f | %.0f |\n", name.c_str(), to_string(r.outcome.status),
                 static_cast<long long>(r.totals.steps), 1e3 * r.setup_s, 1e3 * r.run_s, sps);
     std::fflush(stdout);
-    JsonObject o;
-    o.add("status", to_string(r.outcome.status)).add("steps", static_cast<long long>(r.totals.steps))
-        .add("setup_s", r.setup_s).add("run_s", r.run_s).add("steps_per_second", sps);
-    scenes.add(name, o);
+    scenes[name] = {{"status", to_string(r.outcome.status)},
+                    {"steps", static_cast<long long>(r.totals.steps)},
+                    {"setup_s", r.setup_s},
+                    {"run_s", r.run_s},
+                    {"steps_per_second", sps}};
     const int k = name.find("tau7") != std::string::npos ? 1 : 0;
     if (name == "hub_beam_efg_tau1" || name == "hub_beam_efg_tau7") efg_total[k] = r.total_s(), efg_run[k] = r.run_s;
     if (name == "hub_beam_fem_tau1" || name == "hub_beam_fem_tau7") fem_total[k] = r.total_s(), fem_run[k] = r.run_s;
@@ -74,14 +76,15 @@ int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   const double fps = stop ? 0.0 : frames_per_second(60, &backend);
   std::printf("\nheadless frames/s at the default size (960x720, %s): %.1f\n", backend.c_str(), fps);
   if (!opt.out_file.empty()) {
-    JsonObject root;
-    root.add("repeat", opt.repeat).add("scenes", scenes)
-        .add("efg_over_fem_total_tau1", efg_total[0] / fem_total[0])
-        .add("efg_over_fem_total_tau7", efg_total[1] / fem_total[1])
-        .add("efg_over_fem_stepping_tau1", efg_run[0] / fem_run[0])
-        .add("efg_over_fem_stepping_tau7", efg_run[1] / fem_run[1])
-        .add("frames_per_second", fps).add("render_backend", backend);
-    std::ofstream(opt.out_file) << root.str() << "\n";
+    const nlohmann::ordered_json root = {{"repeat", opt.repeat},
+                                         {"scenes", scenes},
+                                         {"efg_over_fem_total_tau1", efg_total[0] / fem_total[0]},
+                                         {"efg_over_fem_total_tau7", efg_total[1] / fem_total[1]},
+                                         {"efg_over_fem_stepping_tau1", efg_run[0] / fem_run[0]},
+                                         {"efg_over_fem_stepping_tau7", efg_run[1] / fem_run[1]},
+                                         {"frames_per_second", fps},
+                                         {"render_backend", backend}};
+    std::ofstream(opt.out_file) << root.dump(2) << "\n";
   }
   return stop ? 130 : 0;
 }

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "app/bench.h"
-#include "app/json_writer.h"
+#include <nlohmann/json.hpp>
 #include "core/hubbeam/hub_beam_system.h"
 #include "core/mesh/generators.h"
 #include "core/shell/multibody_model.h"
@@ -223,19 +223,19 @@ int run_effects_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
       {"hub-beam: axial DoFs off vs on (first order)", "no axial", "axial", t("hb first noaxial"), t("hb first")},
   };
   std::printf("| comparison | without | time [ms] | with | time [ms] | without / with |\n|---|---|---|---|---|---|\n");
-  JsonObject json_rows;
+  nlohmann::ordered_json json_rows = nlohmann::ordered_json::object();
   for (const Row& r : rows) {
     std::printf("| %s | %s | %.4g | %s | %.4g | %.2f |\n", r.comparison.c_str(), r.without.c_str(), 1e3 * r.t_without,
                 r.with_.c_str(), 1e3 * r.t_with, r.t_without / r.t_with);
-    JsonObject o;
-    o.add("without", r.without).add("without_s", r.t_without).add("with", r.with_).add("with_s", r.t_with)
-        .add("ratio", r.t_without / r.t_with);
-    json_rows.add(r.comparison, o);
+    json_rows[r.comparison] = {{"without", r.without}, {"without_s", r.t_without}, {"with", r.with_},
+                               {"with_s", r.t_with}, {"ratio", r.t_without / r.t_with}};
   }
   if (!opt.out_file.empty()) {
-    JsonObject root;
-    root.add("plate", n).add("repeat", opt.repeat).add("omp_num_threads", threads ? threads : "").add("effects", json_rows);
-    std::ofstream(opt.out_file) << root.str() << "\n";
+    const nlohmann::ordered_json root = {{"plate", n},
+                                         {"repeat", opt.repeat},
+                                         {"omp_num_threads", threads ? threads : ""},
+                                         {"effects", json_rows}};
+    std::ofstream(opt.out_file) << root.dump(2) << "\n";
   }
   return 0;
 }

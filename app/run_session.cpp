@@ -1,5 +1,7 @@
 #include "app/run_session.h"
 
+#include <nlohmann/json.hpp>
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,7 +18,6 @@
 #include "app/channel.h"
 #include "app/frame_outputs.h"
 #include "app/io/results.h"
-#include "app/json_writer.h"
 #include "app/plots.h"
 #include "app/view_options.h"
 #include "core/scene/scene.h"
@@ -273,49 +274,48 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     if (!e.empty()) std::fprintf(stderr, "warning: export: %s\n", e.c_str());
   }
 
-  // summary.json: what scripts and benchmarks read
-  JsonObject metrics;
-  for (const auto& [k, v] : result.metrics) metrics.add(k, v);
-  JsonObject effect_stats;  // only the effects that ran
+  // summary.json: what scripts and benchmarks read (keys in this order; NaN is written as null)
+  using Json = nlohmann::ordered_json;
+  Json metrics = Json::object();
+  for (const auto& [k, v] : result.metrics) metrics[k] = v;
+  Json effect_stats = Json::object();  // only the effects that ran
   for (const EffectStat& e : sim.effect_stats()) {
-    JsonObject one;
-    one.add("evaluations", e.evaluations).add("time_s", e.seconds);  // NaN (fused, not timed apart): null
-    if (!e.included_in.empty()) one.add("included_in", e.included_in);
-    effect_stats.add(e.effect, one);
+    Json one = {{"evaluations", e.evaluations}, {"time_s", e.seconds}};  // NaN (fused, not timed apart): null
+    if (!e.included_in.empty()) one["included_in"] = e.included_in;
+    effect_stats[e.effect] = one;
   }
-  JsonObject outputs;
-  outputs.add("results", "results.h5").add("frames_dir", "frames").add("frames", result.frames_rendered)
-      .add("plots", plot_files).add("movie", result.movie.empty() ? "" : "movie.mp4")
-      .add("export_frames", result.frames_exported);
-  JsonObject render_info;
-  render_info.add("backend", render_backend).add("gl_renderer", gl_renderer)
-      .add("frames_per_second", result.render_seconds > 0 ? result.frames_rendered / result.render_seconds : 0.0);
-  std::string events = "[";  // what the path did (statics: limit points, bifurcations, turn-backs)
-  for (const PathEvent& e : outcome.events) {
-    JsonObject one;
-    one.add("kind", e.kind).add("step", static_cast<long long>(e.step)).add("load_factor", e.load_factor).add("detail", e.detail);
-    events += (events.size() > 1 ? ", " : "") + one.str();
-  }
-  events += "]";
-  JsonObject summary;
-  summary.add("scene", scene.name)
-      .add("scene_path", scene.path)
-      .add("status", to_string(outcome.status))
-      .add("reason", outcome.reason)
-      .add("stop_time", outcome.stop_time)
-      .add("time_unit", info.time_unit)
-      .add("wall_time_s", outcome.wall_time_s)
-      .add("steps", static_cast<long long>(result.totals.steps))
-      .add("newton_iterations", static_cast<long long>(result.totals.newton_iterations))
-      .add("jacobian_updates", static_cast<long long>(result.totals.jacobian_updates))
-      .add("steps_per_second", outcome.wall_time_s > 0 ? result.totals.steps / outcome.wall_time_s : 0.0)
-      .add("effects", info.effects)
-      .add("metrics", metrics)
-      .raw("events", events)
-      .add("effect_stats", effect_stats)
-      .add("outputs", outputs)
-      .add("render", render_info);
-  std::ofstream(dir / "summary.json") << summary.str() << "\n";
+  const Json outputs = {{"results", "results.h5"},
+                        {"frames_dir", "frames"},
+                        {"frames", result.frames_rendered},
+                        {"plots", plot_files},
+                        {"movie", result.movie.empty() ? "" : "movie.mp4"},
+                        {"export_frames", result.frames_exported}};
+  const Json render_info = {
+      {"backend", render_backend},
+      {"gl_renderer", gl_renderer},
+      {"frames_per_second", result.render_seconds > 0 ? result.frames_rendered / result.render_seconds : 0.0}};
+  Json events = Json::array();  // what the path did (statics: limit points, bifurcations, turn-backs)
+  for (const PathEvent& e : outcome.events)
+    events.push_back({{"kind", e.kind}, {"step", e.step}, {"load_factor", e.load_factor}, {"detail", e.detail}});
+  const Json summary = {
+      {"scene", scene.name},
+      {"scene_path", scene.path},
+      {"status", to_string(outcome.status)},
+      {"reason", outcome.reason},
+      {"stop_time", outcome.stop_time},
+      {"time_unit", info.time_unit},
+      {"wall_time_s", outcome.wall_time_s},
+      {"steps", result.totals.steps},
+      {"newton_iterations", result.totals.newton_iterations},
+      {"jacobian_updates", result.totals.jacobian_updates},
+      {"steps_per_second", outcome.wall_time_s > 0 ? result.totals.steps / outcome.wall_time_s : 0.0},
+      {"effects", info.effects},
+      {"metrics", metrics},
+      {"events", events},
+      {"effect_stats", effect_stats},
+      {"outputs", outputs},
+      {"render", render_info}};
+  std::ofstream(dir / "summary.json") << summary.dump(2) << "\n";
   return result;
 }
 
