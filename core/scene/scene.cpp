@@ -1,8 +1,6 @@
 #include "core/scene/scene.h"
 
 #include <algorithm>
-#include <sstream>
-
 #include <fstream>
 #include <sstream>
 #include <toml++/toml.h>
@@ -148,65 +146,99 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
 
 }  // namespace
 
+const std::vector<ModelKind>& model_kinds() {
+  // one line per model: its name in scene.model, its schema, the key that ends its run, and how
+  // a validated document becomes its Simulation
+  static const std::vector<ModelKind> kinds = {
+      {"hub_beam", "rotating hub with a flexible beam (EFG or FEM)", hub_beam_schema, "solver.t_end", false, build_hub_beam},
+      {"shell_static", "CB shell statics: load control or arc length", shell_static_schema, "solver.lambda_end", true,
+       build_shell_static},
+      {"shell_dynamic", "CB shells, rigid bodies and joints in motion", shell_dynamic_schema, "time.end", true,
+       build_shell_dynamic},
+  };
+  return kinds;
+}
+
+const ModelKind* find_model(const std::string& name) {
+  for (const ModelKind& k : model_kinds())
+    if (k.name == name) return &k;
+  return nullptr;
+}
+
 namespace {
-// the model named in the file picks the schema; anything unreadable falls back to the hub-beam
-// schema, whose validation then reports the problem with its location
-std::string peek_model_text(const std::string& text, const std::string& path) {
+// the model named in the file picks the schema; anything unreadable falls back to the first
+// model's schema, whose validation then reports the problem with its location
+struct Peeked {
+  std::string model;  // "" when the file has none (or cannot be parsed)
+  bool given = false;
+};
+Peeked peek_model_text(const std::string& text, const std::string& path) {
   try {
     const toml::table t = toml::parse(text, path);
-    return t["scene"]["model"].value<std::string>().value_or("hub_beam");
+    if (const auto m = t["scene"]["model"].value<std::string>()) return {*m, true};
   } catch (const toml::parse_error&) {
-    return "hub_beam";
   }
+  return {};
 }
-std::string peek_model(const std::string& path) {
+std::string read_text(const std::string& path) {
   std::ifstream in(path);
   std::stringstream ss;
   ss << in.rdbuf();
-  return peek_model_text(ss.str(), path);
+  return ss.str();
+}
+const ModelKind& kind_or_first(const Peeked& p) {
+  const ModelKind* k = find_model(p.model);
+  return k ? *k : model_kinds().front();
+}
+// a model name that is no model: refused at its own line, with the models there are
+void refuse_unknown_model(const Peeked& p, const std::string& path, const std::string& text) {
+  if (!p.given || find_model(p.model)) return;
+  std::string known;
+  for (const ModelKind& k : model_kinds()) known += (known.empty() ? "" : ", ") + k.name;
+  Issue i;
+  i.file = path;
+  // the line of `model = ...` (the scene table's only key of that name)
+  int line = 1;
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    const std::size_t start = text.find_first_not_of(" \t", k);
+    if (start != std::string::npos && text.compare(start, 5, "model") == 0 &&
+        text.find_first_not_of(" \t", start + 5) != std::string::npos && text[text.find_first_not_of(" \t", start + 5)] == '=') {
+      i.line = line;
+      break;
+    }
+    k = text.find('\n', k);
+    if (k == std::string::npos) break;
+    ++line;
+  }
+  i.key = "scene.model";
+  i.message = "unknown model '" + p.model + "' (models: " + known + ")";
+  throw SceneError({i});
 }
 }  // namespace
 
-const Schema& schema_for_text(const std::string& text) {
-  const std::string model = peek_model_text(text, "scene_text");
-  if (model == "shell_static") return shell_static_schema();
-  if (model == "shell_dynamic") return shell_dynamic_schema();
-  return hub_beam_schema();
-}
+const Schema& schema_for_text(const std::string& text) { return kind_or_first(peek_model_text(text, "scene_text")).schema(); }
 
-const Schema& scene_schema(const std::string& path) {
-  const std::string model = peek_model(path);
-  if (model == "shell_static") return shell_static_schema();
-  if (model == "shell_dynamic") return shell_dynamic_schema();
-  return hub_beam_schema();
-}
+const Schema& scene_schema(const std::string& path) { return kind_or_first(peek_model_text(read_text(path), path)).schema(); }
 
 std::string scene_reference_markdown() {
-  return "## model = \"hub_beam\"\n\n" + hub_beam_schema().markdown_reference() + "\n## model = \"shell_static\"\n\n" +
-         shell_static_schema().markdown_reference() + "\n## model = \"shell_dynamic\"\n\n" +
-         shell_dynamic_schema().markdown_reference();
+  std::string out;
+  for (const ModelKind& k : model_kinds())
+    out += (out.empty() ? "" : "\n") + std::string("## model = \"") + k.name + "\"\n\n" + k.schema().markdown_reference();
+  return out;
 }
 
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  const std::string model = peek_model(path);
-  if (model == "shell_static" || model == "shell_dynamic") {
-    const bool statics = model == "shell_static";
-    const Document d = validate_file(statics ? shell_static_schema() : shell_dynamic_schema(), path, overrides);
-    LoadedScene s;
-    s.name = d.string("scene.name");
-    s.path = path;
-    s.output = read_output(d, true);
-    s.output.camera_path = read_timeline(d, d.number(statics ? "solver.lambda_end" : "time.end")).camera;
-    s.simulation = statics ? build_shell_static(d, path) : build_shell_dynamic(d, path);
-    return s;
-  }
-  const Document d = validate_file(hub_beam_schema(), path, overrides);
+  const std::string text = read_text(path);
+  const Peeked peeked = peek_model_text(text, path);
+  refuse_unknown_model(peeked, path, text);
+  const ModelKind& kind = kind_or_first(peeked);
+  const Document d = validate_file(kind.schema(), path, overrides);
   LoadedScene s;
   s.name = d.string("scene.name");
   s.path = path;
-  s.output = read_output(d, false);
-  s.output.camera_path = read_timeline(d, d.number("solver.t_end")).camera;
-  s.simulation = build_hub_beam(d, path);
+  s.output = read_output(d, kind.camera_keys);
+  s.output.camera_path = read_timeline(d, d.number(kind.end_key)).camera;
+  s.simulation = kind.build(d, path);
   return s;
 }
 

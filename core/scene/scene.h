@@ -38,6 +38,21 @@ struct LoadedScene {
 
 /// The schema of hub-beam scenes (model = "hub_beam").
 const Schema& hub_beam_schema();
+
+/// One kind of model a scene can name in `scene.model`: the registry that load_scene, the
+/// reference and the editors read (core/scene/scene.cpp, model_kinds()). A new model is one line
+/// there plus its schema and builder.
+struct ModelKind {
+  std::string name;         ///< the value of scene.model
+  std::string description;  ///< one line
+  const Schema& (*schema)();
+  std::string end_key;      ///< the key that ends a run (its timeline's range)
+  bool camera_keys;         ///< its [output] has view, view_center, view_radius
+  std::unique_ptr<Simulation> (*build)(const Document& d, const std::string& path);
+};
+const std::vector<ModelKind>& model_kinds();
+/// The kind named `name`, or nullptr.
+const ModelKind* find_model(const std::string& name);
 /// The schema a scene file is validated against, picked by its `scene.model` (the hub-beam
 /// schema when the file cannot be read or parsed; validating with it then reports why).
 /// Editors (the GUI's parameter list) read the keys, kinds, ranges and docs from it.
