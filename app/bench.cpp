@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "app/io/mesh_import.h"
 #include "app/run_session.h"
 #include "app/timed_run.h"
 #include "core/scene/scene.h"
@@ -20,7 +21,7 @@ namespace ff::app {
 namespace {
 // headless frames per second of the hub-beam paper scene at the default frame size
 double frames_per_second(int frames, std::string* backend) {
-  scene::LoadedScene s = scene::load_scene(resolve_scene("hub_beam_efg_tau1"));
+  scene::LoadedScene s = scene::load_scene(resolve_scene("hub_beam_efg_tau1"), {}, io::scene_context());
   std::vector<Frame> captured;
   std::atomic<bool> stop{false};
   s.simulation->run([&](Frame&& f) { if (static_cast<int>(captured.size()) < frames) captured.push_back(std::move(f)); },

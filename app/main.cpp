@@ -49,7 +49,6 @@ void print_result(const ff::app::RunResult& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ff::io::install_mesh_file_reader();  // scenes with mesh.generator = "file"
   CLI::App app{"FlexFrame: flexible multibody dynamics with a headless renderer"};
   app.require_subcommand(1);
 
@@ -199,7 +198,7 @@ int main(int argc, char** argv) {
       return ff::app::replay(replay_opt, g_stop);
     }
     if (*check) {
-      std::printf("%s\n", ff::scene::check_scene(ff::app::resolve_scene(check_scene), check_overrides).c_str());
+      std::printf("%s\n", ff::scene::check_scene(ff::app::resolve_scene(check_scene), check_overrides, ff::io::scene_context()).c_str());
       return 0;
     }
     if (*scenes) {

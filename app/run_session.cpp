@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "app/io/mesh_import.h"
 #include "app/channel.h"
 #include "app/frame_outputs.h"
 #include "app/io/results.h"
@@ -84,7 +85,7 @@ int exit_code(const RunOutcome& o) {
 }
 
 RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
-  scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides);
+  scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context());
   Simulation& sim = *scene.simulation;
   const RunInfo info = sim.info();
   scene::OutputSettings out = scene.output;

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/io/mesh_import.h"
 #include "app/process_memory.h"
 #include "app/run_session.h"
 #include "app/timed_run.h"
@@ -128,7 +129,7 @@ int check_study(const StudySpec& spec) {
       runs.push_back(*r);
   for (const StudyVariant& v : runs) {
     try {
-      std::printf("%-50s %s\n", v.label.c_str(), scene::check_scene(v.scene, v.overrides).c_str());
+      std::printf("%-50s %s\n", v.label.c_str(), scene::check_scene(v.scene, v.overrides, io::scene_context()).c_str());
     } catch (const scene::SceneError& e) {
       std::vector<scene::Issue> issues = e.issues;
       for (scene::Issue& i : issues) i.message += " (study '" + spec.name + "', variant " + v.label + ")";

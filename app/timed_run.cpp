@@ -6,6 +6,7 @@
 #include <exception>
 #include <thread>
 
+#include "app/io/mesh_import.h"
 #include "core/scene/scene.h"
 
 namespace ff::app {
@@ -24,7 +25,7 @@ TimedRun timed_run(const std::string& scene_path, const std::vector<std::string>
                    const std::atomic<bool>& stop) {
   TimedRun r;
   auto t0 = std::chrono::steady_clock::now();
-  scene::LoadedScene s = scene::load_scene(scene_path, overrides);
+  scene::LoadedScene s = scene::load_scene(scene_path, overrides, io::scene_context());
   r.setup_s = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   // the solver runs on a worker thread, as in `run`, so thread-local state and stack are the same

@@ -22,6 +22,7 @@
 #include <memory>
 #include <optional>
 
+#include "app/io/mesh_import.h"
 #include "app/gui/actions.h"
 #include "app/gui/param_editor.h"
 #include "app/gui/sim_worker.h"
@@ -767,7 +768,7 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
   // the scene is read before the window opens: bad input is reported like `flexframe run` does
   scene::LoadedScene scene;
   try {
-    scene = scene::load_scene(opt.scene_path, opt.overrides);
+    scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context());
   } catch (...) {
     glfwTerminate();
     throw;

@@ -1,4 +1,5 @@
 #include "app/gui/sim_worker.h"
+#include "app/io/mesh_import.h"
 
 #include <chrono>
 #include <cmath>
@@ -190,7 +191,7 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
     std::optional<scene::LoadedScene> built;
     std::string error;
     try {
-      built = scene::load_scene(path, overrides);
+      built = scene::load_scene(path, overrides, io::scene_context());
     } catch (const std::exception& e) {
       error = e.what();
     }

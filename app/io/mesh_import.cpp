@@ -165,9 +165,12 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
   return true;
 }
 
-void install_mesh_file_reader() {
-  ff::scene::set_mesh_file_reader(
-      [](const std::string& path, ShellMesh& out, std::string* error) { return import_shell_mesh(path, out, error); });
+ff::scene::SceneContext scene_context() {
+  ff::scene::SceneContext ctx;
+  ctx.mesh_reader = [](const std::string& path, ShellMesh& out, std::string* error) {
+    return import_shell_mesh(path, out, error);
+  };
+  return ctx;
 }
 
 bool write_shell_mesh_obj(const std::string& path, const ShellMesh& mesh, std::string* error) {

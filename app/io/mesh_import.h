@@ -19,6 +19,7 @@
 #include <string>
 
 #include "core/mesh/shell_mesh.h"
+#include "core/scene/mesh_file.h"
 
 namespace ff::io {
 
@@ -36,9 +37,9 @@ struct MeshImportOptions {
 bool import_shell_mesh(const std::string& path, ff::mesh::ShellMesh& out, std::string* error,
                        const MeshImportOptions& options = {});
 
-/// Installs import_shell_mesh (default options) as core's reader for scenes with
-/// mesh.generator = "file" (core/scene/mesh_file.h). Call once at program start.
-void install_mesh_file_reader();
+/// What the app passes to every scene load: import_shell_mesh (default options) as the reader for
+/// scenes with mesh.generator = "file" (core/scene/mesh_file.h).
+ff::scene::SceneContext scene_context();
 
 /// Writes points and quads as Wavefront OBJ (1-based "f a b c d", 17 significant digits).
 bool write_shell_mesh_obj(const std::string& path, const ff::mesh::ShellMesh& mesh, std::string* error);

@@ -1,8 +1,9 @@
 #pragma once
 /// \file mesh_file.h
 /// How `mesh.generator = "file"` reaches a mesh reader. Core reads no mesh files (no assimp in
-/// core/); the app installs its importer (app/io/mesh_import.h, ff::io::install_mesh_file_reader)
-/// before loading scenes, and a program that installs none gets a located scene error instead.
+/// core/): the caller of load_scene passes a reader in its SceneContext (the app passes its assimp
+/// importer, app/io/mesh_import.h, ff::io::scene_context()); a scene that needs a mesh file and
+/// got no reader is refused with a located error.
 
 #include <functional>
 #include <string>
@@ -15,10 +16,9 @@ namespace ff::scene {
 /// complete sentence naming the file.
 using MeshFileReader = std::function<bool(const std::string& path, mesh::ShellMesh& out, std::string* error)>;
 
-/// Installs the reader used by every later scene load (process-wide; call once at start-up,
-/// before any thread loads scenes). An empty function uninstalls it.
-void set_mesh_file_reader(MeshFileReader reader);
-/// The installed reader; empty when none is.
-const MeshFileReader& mesh_file_reader();
+/// What building a scene may need from the program around it (passed in, never global).
+struct SceneContext {
+  MeshFileReader mesh_reader;  ///< reads generator = "file" meshes; empty: such scenes are refused
+};
 
 }  // namespace ff::scene

@@ -79,7 +79,7 @@ bool has(const std::vector<std::string>& v, const char* name) {
   return std::find(v.begin(), v.end(), name) != v.end();
 }
 
-std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string& path) {
+std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string& path, const SceneContext&) {
   using namespace ff::hubbeam;
   const std::vector<std::string> effects = d.strings("scene.effects");
   for (const char* needed : {"inertia", "bending"})
@@ -227,7 +227,7 @@ std::string scene_reference_markdown() {
   return out;
 }
 
-LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
   const std::string text = read_text(path);
   const Peeked peeked = peek_model_text(text, path);
   refuse_unknown_model(peeked, path, text);
@@ -238,12 +238,12 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
   s.path = path;
   s.output = read_output(d, kind.camera_keys);
   s.output.camera_path = read_timeline(d, d.number(kind.end_key)).camera;
-  s.simulation = kind.build(d, path);
+  s.simulation = kind.build(d, path, ctx);
   return s;
 }
 
-std::string check_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  LoadedScene s = load_scene(path, overrides);
+std::string check_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
+  LoadedScene s = load_scene(path, overrides, ctx);
   const RunInfo& info = s.simulation->info();
   std::ostringstream out;
   out << s.name << ": valid; effects";

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/model/simulation.h"
+#include "core/scene/mesh_file.h"
 #include "core/scene/schema.h"
 #include "core/scene/timeline.h"
 
@@ -48,7 +49,7 @@ struct ModelKind {
   const Schema& (*schema)();
   std::string end_key;      ///< the key that ends a run (its timeline's range)
   bool camera_keys;         ///< its [output] has view, view_center, view_radius
-  std::unique_ptr<Simulation> (*build)(const Document& d, const std::string& path);
+  std::unique_ptr<Simulation> (*build)(const Document& d, const std::string& path, const SceneContext& ctx);
 };
 const std::vector<ModelKind>& model_kinds();
 /// The kind named `name`, or nullptr.
@@ -64,11 +65,14 @@ const Schema& schema_for_text(const std::string& text);
 /// Markdown reference of every scene key of every model (docs/reference/scene-keys.md).
 std::string scene_reference_markdown();
 
-/// Reads, validates and builds a scene. `overrides` are "key=value" from --set.
-LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+/// Reads, validates and builds a scene. `overrides` are "key=value" from --set; `ctx` brings what
+/// the program around provides (a mesh file reader).
+LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
+                       const SceneContext& ctx = {});
 
 /// Validation only (for `flexframe check`): also builds the model, so numerical set-up errors
 /// (e.g. an EFG support too small for its basis) are found too. Returns a one-line description.
-std::string check_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+std::string check_scene(const std::string& path, const std::vector<std::string>& overrides = {},
+                        const SceneContext& ctx = {});
 
 }  // namespace ff::scene

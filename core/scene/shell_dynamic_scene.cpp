@@ -148,7 +148,7 @@ std::vector<int> ordered(const mesh::ShellMesh& m, std::vector<int> ids) {
 }
 }  // namespace
 
-std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::string& path) {
+std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::string& path, const SceneContext&) {
   using namespace ff::shell;
   const std::vector<std::string> fx = d.strings("scene.effects");
   auto has = [&](const char* e) { return std::find(fx.begin(), fx.end(), e) != fx.end(); };

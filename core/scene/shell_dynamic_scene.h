@@ -5,12 +5,13 @@
 #include <string>
 
 #include "core/model/simulation.h"
+#include "core/scene/mesh_file.h"
 #include "core/scene/schema.h"
 
 namespace ff::scene {
 
 const Schema& shell_dynamic_schema();
 /// Builds the simulation; throws SceneError located at the offending key.
-std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::string& path);
+std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::string& path, const SceneContext& ctx);
 
 }  // namespace ff::scene

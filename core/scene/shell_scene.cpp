@@ -20,16 +20,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// generator = "file": mesh.file relative to the scene file, read by the installed reader
-mesh::ShellMesh read_mesh_file(const Document& d, const std::string& scene_path) {
+// generator = "file": mesh.file relative to the scene file, read by the context's reader
+mesh::ShellMesh read_mesh_file(const Document& d, const std::string& scene_path, const SceneContext& ctx) {
   const std::string& file = d.string("mesh.file");
   if (file.empty())
     throw SceneError({d.issue("mesh.generator", "generator = \"file\" needs mesh.file (an OBJ or PLY quad mesh, "
                                                 "relative to the scene file)")});
-  const MeshFileReader& reader = mesh_file_reader();
+  const MeshFileReader& reader = ctx.mesh_reader;
   if (!reader)
-    throw SceneError({d.issue("mesh.file", "this program reads no mesh files (no reader installed; the flexframe "
-                                           "executable installs the assimp importer)")});
+    throw SceneError({d.issue("mesh.file", "this program reads no mesh files (no reader was passed to the scene "
+                                           "loader; the flexframe executable passes its assimp importer)")});
   mesh::ShellMesh m;
   std::string error;
   if (!reader((fs::path(scene_path).parent_path() / file).string(), m, &error)) throw SceneError({d.issue("mesh.file", error)});
@@ -110,7 +110,7 @@ const Schema& shell_static_schema() {
   return schema;
 }
 
-std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path) {
+std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path, const SceneContext& ctx) {
   using namespace ff::shell;
   const std::vector<std::string> fx = d.strings("scene.effects");
   auto has = [&](const char* e) { return std::find(fx.begin(), fx.end(), e) != fx.end(); };
@@ -119,7 +119,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   ShellModelSpec spec;
   if (!mesh_from_file(d)) spec.mesh = generate_mesh(d);
   else try {
-      spec.mesh = read_mesh_file(d, path);
+      spec.mesh = read_mesh_file(d, path, ctx);
     } catch (const std::invalid_argument& e) {
       throw SceneError({d.issue("mesh.generator", e.what())});
     }

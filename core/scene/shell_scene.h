@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/model/simulation.h"
+#include "core/scene/mesh_file.h"
 #include "core/scene/schema.h"
 
 namespace ff::scene {
@@ -11,6 +12,6 @@ namespace ff::scene {
 const Schema& shell_static_schema();
 /// Builds the simulation; throws SceneError located at the offending key (empty node sets,
 /// impossible restraints, bad reference columns ...).
-std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path);
+std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path, const SceneContext& ctx);
 
 }  // namespace ff::scene

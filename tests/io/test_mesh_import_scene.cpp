@@ -36,7 +36,7 @@ std::string read_text(const std::string& path) {
 }
 
 double w_centre(const std::string& scene) {
-  ff::scene::LoadedScene s = ff::scene::load_scene(scene_file(scene));
+  ff::scene::LoadedScene s = ff::scene::load_scene(scene_file(scene), {}, ff::io::scene_context());
   std::atomic<bool> stop{false};
   const ff::RunOutcome o = s.simulation->run([](ff::Frame&&) {}, stop);
   EXPECT_EQ(o.status, ff::RunStatus::completed) << o.reason;
@@ -47,9 +47,10 @@ double w_centre(const std::string& scene) {
 }
 
 // the issues of the SceneError thrown by loading `path` with `overrides`, or none
-std::vector<ff::scene::Issue> load_issues(const std::string& path, const std::vector<std::string>& overrides = {}) {
+std::vector<ff::scene::Issue> load_issues(const std::string& path, const std::vector<std::string>& overrides = {},
+                                         const ff::scene::SceneContext& ctx = ff::io::scene_context()) {
   try {
-    ff::scene::load_scene(path, overrides);
+    ff::scene::load_scene(path, overrides, ctx);
   } catch (const ff::scene::SceneError& e) {
     return e.issues;
   }
@@ -72,7 +73,6 @@ TEST(MeshImportScene, PlateObjIsTheGeneratorMeshAsWritten) {
 // directors from the quads (area-weighted, here exactly +z), so the two runs assemble different
 // equation orders; the centre deflection agrees to round-off (bound 1e-9 relative).
 TEST(MeshImportScene, ImportedPlateMatchesGeneratorPlate) {
-  ff::io::install_mesh_file_reader();
   const double w_gen = w_centre("clamped_plate_pressure");
   const double w_obj = w_centre("clamped_plate_pressure_obj");
   std::printf("w_centre: generator %.15e, imported %.15e, rel. diff %.2e\n", w_gen, w_obj, std::abs(w_obj / w_gen - 1));
@@ -82,15 +82,13 @@ TEST(MeshImportScene, ImportedPlateMatchesGeneratorPlate) {
 
 TEST(MeshImportScene, MeshFileErrorsAreLocatedAtTheKey) {
   const std::string scene = scene_file("clamped_plate_pressure_obj");
-  // no reader installed (a program built on core alone)
-  ff::scene::set_mesh_file_reader({});
-  std::vector<ff::scene::Issue> issues = load_issues(scene);
+  // no reader passed (a program built on core alone)
+  std::vector<ff::scene::Issue> issues = load_issues(scene, {}, ff::scene::SceneContext{});
   ASSERT_EQ(issues.size(), 1u);
   EXPECT_EQ(issues[0].key, "mesh.file");
   EXPECT_GT(issues[0].line, 0);
   EXPECT_NE(issues[0].message.find("no reader"), std::string::npos) << issues[0].message;
   // a missing file: the importer's sentence, at the key
-  ff::io::install_mesh_file_reader();
   issues = load_issues(scene, {"mesh.file=no_such_mesh.obj"});
   ASSERT_EQ(issues.size(), 1u);
   EXPECT_EQ(issues[0].key, "mesh.file");

@@ -125,10 +125,10 @@ TEST(MeshGeneratorKeys, EdgeNamesSelectInScenesAndTyposNameTheEntry) {
            "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\n[solver]\n";
   };
   const scene::Document good = scene::validate(scene::shell_static_schema(), scene("rim"), "t.toml");
-  EXPECT_NO_THROW(scene::build_shell_static(good, "t.toml"));
+  EXPECT_NO_THROW(scene::build_shell_static(good, "t.toml", {}));
   const scene::Document bad = scene::validate(scene::shell_static_schema(), scene("rimm"), "t.toml");
   try {
-    scene::build_shell_static(bad, "t.toml");
+    scene::build_shell_static(bad, "t.toml", {});
     ADD_FAILURE() << "edge = \"rimm\" was accepted";
   } catch (const scene::SceneError& e) {
     EXPECT_EQ(e.issues.at(0).key, "bc[0].edge");
