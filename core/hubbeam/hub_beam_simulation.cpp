@@ -1,7 +1,6 @@
 #include "core/hubbeam/hub_beam_simulation.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -62,119 +61,91 @@ HubBeamSimulation::HubBeamSimulation(std::unique_ptr<HubBeamSystem> system, HubB
   info_.time_unit = "s";
 }
 
-RunOutcome HubBeamSimulation::run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count(); };
-  NewmarkIntegrator integrator(*sys_, s_.newmark);
-  NewmarkState st;
+HubBeamSimulation::~HubBeamSimulation() = default;
+
+void HubBeamSimulation::record() {
+  current_ = Frame{};
+  sys_->fill_frame(state_.x, state_.v, state_.t, current_);
+  t_.push_back(state_.t);
+  angle_deg_.push_back(current_.probes[0]);
+  tip_v_.push_back(current_.probes[2]);
+  tip_u_.push_back(current_.probes[3]);
+  energy_.push_back(current_.probes[5]);
+  momentum_.push_back(current_.probes[6]);
+}
+
+std::string HubBeamSimulation::start() {
+  integrator_ = std::make_unique<NewmarkIntegrator>(*sys_, s_.newmark);
   const int n = sys_->size();
-  st.x = Eigen::VectorXd::Zero(n);
-  st.v = Eigen::VectorXd::Zero(n);
-  st.a = Eigen::VectorXd::Zero(n);
-  RunOutcome out;
-  // [[timeline]] torque_scale changes: those due at (or within round-off of) the time t apply now
+  state_.x = Eigen::VectorXd::Zero(n);
+  state_.v = Eigen::VectorXd::Zero(n);
+  state_.a = Eigen::VectorXd::Zero(n);
+  apply_changes(0.0);  // [[timeline]] changes at t = 0 set the starting torque
+  const StepReport init = integrator_->initialize(state_);
+  if (!init.converged) return init.failure;
+  start_stats_ = {0.0, init.iterations, init.jacobian_updates, init.residual_norm, init.increment_norm, init.converged};
+  record();
+  return "";
+}
+
+double HubBeamSimulation::next_change(double t) const {
+  for (std::size_t k = next_change_; k < s_.torque_scale_changes.size(); ++k)
+    if (s_.torque_scale_changes[k].first > t) return s_.torque_scale_changes[k].first;
+  return std::numeric_limits<double>::infinity();
+}
+
+// [[timeline]] torque_scale changes due at (or within round-off of) the time t, and a live edit
+bool HubBeamSimulation::apply_changes(double t) {
   const auto& changes = s_.torque_scale_changes;
-  std::size_t next_change = 0;
-  auto apply_due = [&](double t) {
-    bool changed = false;
-    while (next_change < changes.size() && changes[next_change].first <= t + 1e-9 * s_.dt)
-      sys_->set_torque_scale(changes[next_change++].second), changed = true;
-    if (live_torque_scale_) {  // a live edit (change_live) made since the last step
-      sys_->set_torque_scale(*live_torque_scale_);
-      live_torque_scale_.reset();
-      changed = true;
-    }
-    return changed;
-  };
-  apply_due(0.0);
-  StepReport init = integrator.initialize(st);
-  auto record = [&](long long step, const StepReport& rep, double dt) {
-    Frame f;
-    f.step = step;
-    sys_->fill_frame(st.x, st.v, st.t, f);
-    f.stats.dt = dt;
-    f.stats.iterations = rep.iterations;
-    f.stats.jacobian_updates = rep.jacobian_updates;
-    f.stats.residual_norm = rep.residual_norm;
-    f.stats.increment_norm = rep.increment_norm;
-    f.stats.converged = rep.converged;
-    t_.push_back(st.t);
-    angle_deg_.push_back(f.probes[0]);
-    tip_v_.push_back(f.probes[2]);
-    tip_u_.push_back(f.probes[3]);
-    energy_.push_back(f.probes[5]);
-    momentum_.push_back(f.probes[6]);
-    publish(std::move(f));
-  };
-  if (!init.converged) {
-    out.status = RunStatus::failed;
-    out.reason = init.failure;
-    out.wall_time_s = wall();
-    return out;
+  bool changed = false;
+  while (next_change_ < changes.size() && changes[next_change_].first <= t + 1e-9 * s_.dt)
+    sys_->set_torque_scale(changes[next_change_++].second), changed = true;
+  if (live_torque_scale_) {  // a live edit (change_live) made since the last step
+    sys_->set_torque_scale(*live_torque_scale_);
+    live_torque_scale_.reset();
+    changed = true;
   }
-  record(0, init, 0.0);
-  const long long steps = static_cast<long long>(std::llround(s_.t_end / s_.dt));
-  long long frame_step = 0;  // = k unless a timeline change split a step
-  double remaining = 0.0;    // of the regular step k still to integrate
-  for (long long k = 0; k < steps || remaining > 1e-9 * s_.dt;) {
-    if (stop.load()) {
-      out.status = RunStatus::interrupted;
-      std::ostringstream msg;
-      msg << "interrupted by the user at t = " << st.t << " s";
-      out.reason = msg.str();
-      break;
-    }
-    if (remaining <= 1e-9 * s_.dt) {  // a new regular step
-      remaining = std::min(s_.dt, s_.t_end - st.t);
-      if (remaining <= 1e-12) break;
-      ++k;
-    }
-    // the torque jumps: restart from the current state with accelerations that balance the new
-    // torque, so the step after the change carries none of the old one (Newmark's update mixes
-    // the accelerations at both ends of a step)
-    if (apply_due(st.t)) {
-      const StepReport re = integrator.initialize(st);
-      if (!re.converged) {
-        out.status = RunStatus::failed;
-        out.reason = "restart after a timeline change at t = " + std::to_string(st.t) + " s: " + re.failure;
-        break;
-      }
-    }
-    // a change inside the step splits it: integrate up to the change, apply it, then the rest
-    double dt = remaining;
-    if (next_change < changes.size() && changes[next_change].first < st.t + remaining - 1e-9 * s_.dt)
-      dt = changes[next_change].first - st.t;
-    remaining = dt == remaining ? 0.0 : remaining - dt;
-    const double t_before = st.t, prev_v = st.v[0], prev_a = st.a[0];
-    StepReport rep = integrator.step(st, dt);
-    totals_.newton_iterations += rep.iterations;
-    totals_.jacobian_updates += rep.jacobian_updates;
-    if (!rep.converged) {
-      out.status = RunStatus::diverged;
-      std::ostringstream msg;
-      msg << "diverged in the step from t = " << t_before << " s to " << t_before + dt << " s: " << rep.failure;
-      out.reason = msg.str();
-      break;
-    }
-    ++totals_.steps;
-    record(++frame_step, rep, dt);
-    // eq. (30): the hub rate along the step's cubic Hermite interpolant, against the critical speed
-    const double peak = peak_rate(prev_v, prev_a, st.v[0], st.a[0], dt);
-    if (peak > sys_->critical_speed()) {
-      out.status = RunStatus::diverged;
-      std::ostringstream msg;
-      msg << "diverged in the step from t = " << t_before << " s to " << st.t << " s: the hub rate reached "
-          << peak << " rad/s, above this model's critical speed " << sys_->critical_speed()
-          << " rad/s where the effective bending stiffness K2 + w^2 (D1 - M2) loses definiteness "
-             "(zero-order model without dynamic stiffening); its response grows without bound";
-      out.reason = msg.str();
-      break;
-    }
+  return changed;
+}
+
+// the torque jumps: accelerations that balance the new torque, so the step after the change
+// carries none of the old one (Newmark's update mixes the accelerations at both ends of a step)
+std::string HubBeamSimulation::restart() {
+  const StepReport re = integrator_->initialize(state_);
+  return re.converged ? "" : re.failure;
+}
+
+StepDone HubBeamSimulation::step(double h) {
+  StepDone d;
+  const double t_before = state_.t, prev_v = state_.v[0], prev_a = state_.a[0];
+  const StepReport rep = integrator_->step(state_, h);
+  totals_.newton_iterations += rep.iterations;
+  totals_.jacobian_updates += rep.jacobian_updates;
+  if (!rep.converged) {
+    std::ostringstream msg;
+    msg << "diverged in the step from t = " << t_before << " s to " << t_before + h << " s: " << rep.failure;
+    d.finished = true;
+    d.status = RunStatus::diverged;
+    d.reason = msg.str();
+    return d;
   }
-  out.steps = totals_.steps;
-  out.stop_time = st.t;
-  out.wall_time_s = wall();
-  return out;
+  ++totals_.steps;
+  record();
+  d.accepted = true;
+  d.stats = {h, rep.iterations, rep.jacobian_updates, rep.residual_norm, rep.increment_norm, rep.converged};
+  // eq. (30): the hub rate along the step's cubic Hermite interpolant, against the critical speed
+  const double peak = peak_rate(prev_v, prev_a, state_.v[0], state_.a[0], h);
+  if (peak > sys_->critical_speed()) {
+    std::ostringstream msg;
+    msg << "diverged in the step from t = " << t_before << " s to " << state_.t << " s: the hub rate reached " << peak
+        << " rad/s, above this model's critical speed " << sys_->critical_speed()
+        << " rad/s where the effective bending stiffness K2 + w^2 (D1 - M2) loses definiteness "
+           "(zero-order model without dynamic stiffening); its response grows without bound";
+    d.finished = true;
+    d.status = RunStatus::diverged;
+    d.reason = msg.str();
+  }
+  return d;
 }
 
 Metrics HubBeamSimulation::metrics() const {

@@ -36,22 +36,37 @@ double peak_rate(double v0, double a0, double v1, double a1, double h);
 class HubBeamSimulation final : public Simulation {
  public:
   HubBeamSimulation(std::unique_ptr<HubBeamSystem> system, HubBeamRunSettings settings, RunInfo info);
+  ~HubBeamSimulation() override;
   const RunInfo& info() const override { return info_; }
-  RunOutcome run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) override;
+  double end_time() const override { return s_.t_end; }
+  std::string start() override;
+  StepStats start_stats() const override { return start_stats_; }
+  double time() const override { return state_.t; }
+  double nominal_step() const override { return s_.dt; }
+  double next_change(double t) const override;
+  bool apply_changes(double t) override;
+  std::string restart() override;
+  StepDone step(double h) override;
+  Frame frame() const override { return current_; }
   Metrics metrics() const override;
   SolverTotals totals() const override { return totals_; }
-  double end_time() const override { return s_.t_end; }
   std::vector<EffectStat> effect_stats() const override { return sys_->effect_stats(); }
   const HubBeamSystem& system() const { return *sys_; }
   /// Live: "torque.amplitude" (tau0 [N m]; the run goes on with the torque scaled to it).
   std::string change_live(const std::string& key, const std::string& value) override;
 
  private:
+  void record();  // the current state as current_, and its probes into the history
   std::unique_ptr<HubBeamSystem> sys_;
   HubBeamRunSettings s_;
   RunInfo info_;
   SolverTotals totals_;
+  std::unique_ptr<NewmarkIntegrator> integrator_;
+  NewmarkState state_;
+  StepStats start_stats_;
+  std::size_t next_change_ = 0;              // first torque_scale change not yet applied
   std::optional<double> live_torque_scale_;  // a live change waiting for the next step
+  Frame current_;
   std::vector<double> t_, angle_deg_, tip_v_, tip_u_, energy_, momentum_;
 };
 

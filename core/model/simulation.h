@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -42,28 +43,74 @@ struct SolverTotals {
   long long jacobian_updates = 0;
 };
 
+/// What one step of a model did, as the run loop (run_loop.h) sees it.
+struct StepDone {
+  bool accepted = false;  ///< a new converged state exists (the loop logs it and may publish it)
+  StepStats stats;        ///< of this step alone (dt: its time step, or load increment in statics)
+  bool finished = false;  ///< the run ends here: with `status` and `reason`
+  RunStatus status = RunStatus::completed;
+  std::string reason;     ///< empty when completed
+  std::vector<PathEvent> events;  ///< events of the whole run, given with the last step
+};
+
+/// A model with its integrator, advanced one step at a time. RunLoop (core/model/run_loop.h)
+/// drives every Simulation the same way: it owns the stop flag, the split of a step at a
+/// [[timeline]] change, the output cadence, the step log and the outcome; a model only knows how
+/// to start, take one step, and describe its current state. Implementations own all solver state;
+/// consumers only ever see copies (Frames).
 class Simulation {
  public:
   virtual ~Simulation() = default;
   virtual const RunInfo& info() const = 0;
-  /// Runs until the end time, a divergence, or `stop` becoming true. Publishes the initial state
-  /// and every converged step. Never throws for numerical trouble: that is the outcome.
-  virtual RunOutcome run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) = 0;
-  /// Metrics of what was computed so far (name -> number), e.g. after run() returns.
+  virtual double end_time() const = 0;  ///< for progress and ETA
+
+  // ---- stepping (called by RunLoop, on one thread) ----
+  /// Prepares the initial state (consistent accelerations ...): "" or why it cannot start.
+  virtual std::string start() = 0;
+  /// Newton statistics of that preparation (the initial frame's stats).
+  virtual StepStats start_stats() const { return {}; }
+  /// Time (or load factor, in statics) of the current state.
+  virtual double time() const = 0;
+  /// The regular step of a time-stepping model (the loop keeps later steps on its grid when a
+  /// timeline change splits one); infinity for a model that sizes its own steps (statics).
+  virtual double nominal_step() const { return std::numeric_limits<double>::infinity(); }
+  /// Time of the first planned [[timeline]] parameter change later than t (infinity: none).
+  virtual double next_change(double t) const { return std::numeric_limits<double>::infinity(); }
+  /// Applies the planned changes due at t and any pending live change; true when anything
+  /// changed (the loop then calls restart()).
+  virtual bool apply_changes(double t) { return false; }
+  /// Restarts the integrator from the current state after a change: "" or why it cannot.
+  virtual std::string restart() { return ""; }
+  /// One step of length h (time models; a self-sizing model takes its own), from the current state.
+  virtual StepDone step(double h) = 0;
+  /// The current state as a Frame (the loop sets step, stats and step_log).
+  virtual Frame frame() const = 0;
+  /// Publish every n-th step (the others are logged); the last state is always published.
+  virtual int output_every() const { return 1; }
+  /// A frame published every n-th step carries the log of every step since the previous one.
+  virtual bool logs_skipped_steps() const { return false; }
+  /// Called with every frame the loop publishes (e.g. for metrics read off published states).
+  virtual void on_publish(const Frame& frame) { (void)frame; }
+
+  /// Metrics of what was computed so far (name -> number), e.g. after the run.
   virtual Metrics metrics() const = 0;
   virtual SolverTotals totals() const = 0;
-  virtual double end_time() const = 0;  ///< for progress and ETA
   /// Effects that were evaluated, with their counts and times (summary.json "effect_stats");
   /// empty where a model does not count them.
   virtual std::vector<EffectStat> effect_stats() const { return {}; }
-  /// A parameter change while the run goes on (the GUI's live edits). Call it from inside run()'s
-  /// publish callback, i.e. between steps on the solver's own thread; it takes effect at the start
-  /// of the next step, exactly as a [[timeline]] change at that time would. Returns "" when
-  /// accepted, otherwise why not (the caller then rebuilds the model instead).
+  /// A parameter change while the run goes on (the GUI's live edits), made between steps on the
+  /// solver's own thread; it takes effect at the start of the next step, exactly as a [[timeline]]
+  /// change at that time would. Returns "" when accepted, otherwise why not (the caller then
+  /// rebuilds the model instead).
   virtual std::string change_live(const std::string& key, const std::string& value) {
     (void)value;
     return "'" + key + "' cannot change while the model runs";
   }
+
+  /// The whole run with RunLoop: publishes the initial state and the steps by the output cadence,
+  /// until the end, a divergence, or `stop` becoming true. Never throws for numerical trouble:
+  /// that is the outcome.
+  RunOutcome run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop);
 };
 
 }  // namespace ff

@@ -60,11 +60,9 @@ std::vector<double> ShellDynamicSimulation::probe_values() const {
   return v;
 }
 
-Frame ShellDynamicSimulation::make_frame(std::int64_t step, double time, const StepStats& stats) const {
+Frame ShellDynamicSimulation::frame() const {
   Frame f;
-  f.step = step;
-  f.time = time;
-  f.stats = stats;
+  f.time = integrator_->time();
   const int nn = model_->node_count();
   f.points.reserve(3 * nn);
   f.base_points.reserve(3 * nn);
@@ -83,103 +81,66 @@ Frame ShellDynamicSimulation::make_frame(std::int64_t step, double time, const S
   return f;
 }
 
-RunOutcome ShellDynamicSimulation::run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  RunOutcome out;
-  auto finish = [&](RunStatus status, std::string reason) {
-    out.status = status;
-    out.reason = std::move(reason);
-    out.stop_time = integrator_->time();
-    out.steps = totals_.steps;
-    out.wall_time_s = wall_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    simulated_ = integrator_->time();
-    totals_.newton_iterations = integrator_->total_iterations();
-    totals_.jacobian_updates = integrator_->total_updates();
-    return out;
-  };
-  // [[timeline]] gravity changes: those due at (or within round-off of) the time t apply now
-  std::size_t next_change = 0;
-  auto apply_due = [&](double t) {
-    bool changed = false;
-    while (next_change < s_.gravity_changes.size() && s_.gravity_changes[next_change].first <= t + 1e-9 * s_.dt)
-      model_->set_gravity(s_.gravity_changes[next_change++].second), changed = true;
-    if (live_gravity_) {  // a live edit (change_live) made since the last step
-      model_->set_gravity(*live_gravity_);
-      live_gravity_.reset();
-      changed = true;
-    }
-    return changed;
-  };
-  apply_due(0.0);
+void ShellDynamicSimulation::record() {
+  times_.push_back(integrator_->time());
+  const std::vector<double> v = probe_values();
+  for (std::size_t k = 0; k < v.size(); ++k) values_[k].push_back(v[k]);
+  max_violation_ = std::max(max_violation_, model_->constraint_violation());
+}
+
+void ShellDynamicSimulation::on_publish(const Frame& f) {
+  max_energy_growth_ = std::max(max_energy_growth_, f.probes.back() - energy0_);  // total energy
+}
+
+std::string ShellDynamicSimulation::start() {
+  wall0_ = std::chrono::steady_clock::now();
+  apply_changes(0.0);  // [[timeline]] gravity at t = 0
   const std::string why = integrator_->initialize(0.0, Eigen::VectorXd::Zero(model_->size()));
-  if (!why.empty()) return finish(RunStatus::failed, why);
-  auto record = [&] {
-    times_.push_back(integrator_->time());
-    const std::vector<double> v = probe_values();
-    for (std::size_t k = 0; k < v.size(); ++k) values_[k].push_back(v[k]);
-    max_violation_ = std::max(max_violation_, model_->constraint_violation());
-  };
+  if (!why.empty()) return why;
   record();
   energy0_ = model_->summary(integrator_->velocity()).total();
-  publish(make_frame(0, 0.0, StepStats{}));
-  const double dt = s_.dt, t_end = s_.end_time;
-  std::int64_t step = 0;
-  int iterations = 0, updates = 0;  // since the last published frame
-  std::vector<StepRecord> log;       // every step since the last published frame
-  log.reserve(s_.output_every);
-  // a frame of the current (converged) state carrying the steps since the previous frame
-  auto publish_state = [&](std::int64_t step) {
-    const StepRecord& newest = log.back();
-    StepStats st = newest.stats;
-    st.iterations = iterations;  // NOI and NOU of all steps since the previous frame
-    st.jacobian_updates = updates;
-    iterations = updates = 0;
-    Frame f = make_frame(step, integrator_->time(), st);
-    f.step_log.swap(log);
-    log.clear();
-    log.reserve(s_.output_every);
-    const double energy = f.probes[f.probes.size() - 1];
-    max_energy_growth_ = std::max(max_energy_growth_, energy - energy0_);
-    publish(std::move(f));
-  };
-  // a run that stops early still publishes its last converged step, so nothing computed is lost
-  auto stop_early = [&](std::int64_t step, RunStatus status, std::string reason) {
-    if (!log.empty()) publish_state(step);
-    return finish(status, std::move(reason));
-  };
-  double rest = 0.0;  // of a step split by a timeline change
-  while (integrator_->time() < t_end - 1e-9 * dt) {
-    if (stop.load())
-      return stop_early(step, RunStatus::interrupted, "interrupted at t = " + std::to_string(integrator_->time()) + " s");
-    const double t0 = integrator_->time();
-    // gravity jumps: restart from the current state with accelerations and multipliers that
-    // balance the new load (the integrator's algorithmic accelerations carry the old one)
-    if (apply_due(t0)) {
-      const std::string restart = integrator_->restart();
-      if (!restart.empty()) return stop_early(step, RunStatus::failed, "restart after a timeline change: " + restart);
-    }
-    double h = rest > 0 ? rest : std::min(dt, t_end - t0);
-    rest = 0.0;
-    // a change inside the step splits it at the change; the rest of the step follows, so later
-    // steps stay on the grid of dt
-    if (next_change < s_.gravity_changes.size() && s_.gravity_changes[next_change].first < t0 + h - 1e-9 * dt) {
-      rest = h - (s_.gravity_changes[next_change].first - t0);
-      h = s_.gravity_changes[next_change].first - t0;
-    }
-    const AlphaStepReport rep = integrator_->step(h);
-    if (t0 < s_.count_until - 1e-9 * dt) window_noi_ += rep.iterations, window_nou_ += rep.updates;
-    if (!rep.converged) return stop_early(step, RunStatus::diverged, rep.failure);
-    ++step;
-    ++totals_.steps;
-    iterations += rep.iterations;
-    updates += rep.updates;
-    log.push_back({step, integrator_->time(),
-                   StepStats{h, rep.iterations, rep.updates, rep.residual_norm, rep.increment_norm, true}});
-    record();
-    const bool last = integrator_->time() >= t_end - 1e-9 * dt;
-    if (step % s_.output_every == 0 || last) publish_state(step);
+  return "";
+}
+
+double ShellDynamicSimulation::next_change(double t) const {
+  for (std::size_t k = next_change_; k < s_.gravity_changes.size(); ++k)
+    if (s_.gravity_changes[k].first > t) return s_.gravity_changes[k].first;
+  return std::numeric_limits<double>::infinity();
+}
+
+// [[timeline]] gravity changes due at (or within round-off of) the time t, and a live edit
+bool ShellDynamicSimulation::apply_changes(double t) {
+  bool changed = false;
+  while (next_change_ < s_.gravity_changes.size() && s_.gravity_changes[next_change_].first <= t + 1e-9 * s_.dt)
+    model_->set_gravity(s_.gravity_changes[next_change_++].second), changed = true;
+  if (live_gravity_) {  // a live edit (change_live) made since the last step
+    model_->set_gravity(*live_gravity_);
+    live_gravity_.reset();
+    changed = true;
   }
-  return finish(RunStatus::completed, {});
+  return changed;
+}
+
+StepDone ShellDynamicSimulation::step(double h) {
+  StepDone d;
+  const double t0 = integrator_->time();
+  const AlphaStepReport rep = integrator_->step(h);
+  if (t0 < s_.count_until - 1e-9 * s_.dt) window_noi_ += rep.iterations, window_nou_ += rep.updates;
+  totals_.newton_iterations = integrator_->total_iterations();
+  totals_.jacobian_updates = integrator_->total_updates();
+  simulated_ = integrator_->time();
+  wall_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0_).count();
+  if (!rep.converged) {
+    d.finished = true;
+    d.status = RunStatus::diverged;
+    d.reason = rep.failure;
+    return d;
+  }
+  ++totals_.steps;
+  record();
+  d.accepted = true;
+  d.stats = StepStats{h, rep.iterations, rep.updates, rep.residual_norm, rep.increment_norm, true};
+  return d;
 }
 
 std::vector<EffectStat> ShellDynamicSimulation::effect_stats() const { return model_->effect_stats(); }

@@ -5,6 +5,7 @@
 /// displacement and arc probes, energy, and the seed's counters NOI/NOU (Tables 3-4).
 
 #include <limits>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -55,10 +56,20 @@ class ShellDynamicSimulation final : public Simulation {
  public:
   ShellDynamicSimulation(MultibodySpec spec, ShellDynamicSettings settings, RunInfo info);
   const RunInfo& info() const override { return info_; }
-  RunOutcome run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) override;
+  double end_time() const override { return s_.end_time; }
+  std::string start() override;
+  double time() const override { return integrator_->time(); }
+  double nominal_step() const override { return s_.dt; }
+  double next_change(double t) const override;
+  bool apply_changes(double t) override;
+  std::string restart() override { return integrator_->restart(); }
+  StepDone step(double h) override;
+  Frame frame() const override;
+  int output_every() const override { return s_.output_every; }
+  bool logs_skipped_steps() const override { return true; }
+  void on_publish(const Frame& frame) override;
   Metrics metrics() const override;
   SolverTotals totals() const override { return totals_; }
-  double end_time() const override { return s_.end_time; }
   std::vector<EffectStat> effect_stats() const override;
   /// Live: "gravity.g" ([gx, gy, gz] in m/s²; needs the gravity effect).
   std::string change_live(const std::string& key, const std::string& value) override;
@@ -67,10 +78,11 @@ class ShellDynamicSimulation final : public Simulation {
   double max_constraint_violation() const { return max_violation_; }
 
  private:
-  Frame make_frame(std::int64_t step, double time, const StepStats& stats) const;
+  void record();                             // probes of the current state into the history
   std::vector<double> probe_values() const;  // probes in RunInfo order
   std::unique_ptr<MultibodyModel> model_;
   std::optional<Vec3> live_gravity_;  // a live change waiting for the next step
+  std::size_t next_change_ = 0;       // first gravity change not yet applied
   std::unique_ptr<GeneralizedAlpha> integrator_;
   ShellDynamicSettings s_;
   RunInfo info_;
@@ -79,6 +91,7 @@ class ShellDynamicSimulation final : public Simulation {
   std::vector<double> times_;
   std::vector<std::vector<double>> values_;  // [probe][recorded step]
   long long window_noi_ = 0, window_nou_ = 0;
+  std::chrono::steady_clock::time_point wall0_;
   double wall_ = 0.0, simulated_ = 0.0, energy0_ = 0.0, max_energy_growth_ = 0.0, max_violation_ = 0.0;
 };
 

@@ -37,11 +37,12 @@ double ShellStaticSimulation::probe_value(const ShellProbe& p) const {
   return p.direction.dot(total);
 }
 
-Frame ShellStaticSimulation::make_frame(int step, double lambda) const {
+ShellStaticSimulation::~ShellStaticSimulation() = default;
+
+Frame ShellStaticSimulation::frame() const {
   Frame f;
-  f.step = step;
-  f.time = lambda;
-  f.load_factor = lambda;
+  f.time = lambda_;
+  f.load_factor = lambda_;
   const auto& poses = model_->poses();
   const auto& ref = model_->spec().mesh.points;
   f.points.reserve(3 * poses.size());
@@ -52,61 +53,57 @@ Frame ShellStaticSimulation::make_frame(int step, double lambda) const {
     f.base_points.insert(f.base_points.end(), {ref[i].x(), ref[i].y(), ref[i].z()});
     f.fields[0][i] = (poses[i].x - ref[i]).norm();
   }
-  f.probes = {lambda, lambda * s_.load_scale};
+  f.probes = {lambda_, lambda_ * s_.load_scale};
   for (const ShellProbe& p : s_.probes) f.probes.push_back(probe_value(p));
   return f;
 }
 
-RunOutcome ShellStaticSimulation::run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  auto record = [&](Frame&& f) {
-    loads_.push_back(f.probes[1]);
-    for (std::size_t k = 0; k < s_.probes.size(); ++k) values_[k].push_back(f.probes[2 + k]);
-    publish(std::move(f));
-  };
-  record(make_frame(0, 0.0));
-  StaticStepCallback on_step = [&](const StaticStepInfo& st) {
-    Frame f = make_frame(st.step, st.lambda);
-    f.stats.dt = st.dlambda;
-    f.stats.iterations = st.iterations;
-    f.stats.jacobian_updates = st.factorizations;
-    f.stats.residual_norm = st.residual_norm;
-    f.stats.increment_norm = st.increment_norm;
-    f.stats.converged = true;
-    ++totals_.steps;
-    record(std::move(f));
-  };
-  StaticResult r;
+void ShellStaticSimulation::record() {
+  loads_.push_back(lambda_ * s_.load_scale);
+  for (std::size_t k = 0; k < s_.probes.size(); ++k) values_[k].push_back(probe_value(s_.probes[k]));
+}
+
+std::string ShellStaticSimulation::start() {
+  lambda_ = 0.0;
+  record();
   if (s_.arc_length) {
-    ArcLengthSettings a = s_.arc;
     for (const ShellProbe& p : s_.probes)
       if (p.name == s_.monitor_probe) {
-        a.monitor = [this, &p] { return probe_value(p); };
-        a.displacement_limit = s_.displacement_limit;
+        s_.arc.monitor = [this, &p] { return probe_value(p); };
+        s_.arc.displacement_limit = s_.displacement_limit;
       }
-    a.on_step = on_step;
-    a.stop = &stop;
-    r = solve_arc_length(*model_, a);
+    arc_length_ = std::make_unique<ArcLengthPath>(*model_, s_.arc);
+    arc_length_->start();  // a run that ends at once reports it at the first step
   } else {
-    LoadControlSettings l = s_.load_control;
-    l.on_step = on_step;
-    l.stop = &stop;
-    r = solve_load_control(*model_, l);
+    load_control_ = std::make_unique<LoadControlPath>(*model_, s_.load_control);
   }
+  return "";
+}
+
+StepDone ShellStaticSimulation::step(double) {
+  StepDone d;
+  const bool accepted = arc_length_ ? !arc_length_->finished() && arc_length_->advance() : load_control_->advance();
+  const StaticResult& r = arc_length_ ? arc_length_->result() : load_control_->result();
   totals_.newton_iterations = r.iterations;
-  totals_.jacobian_updates = r.factorizations;
-  RunOutcome out;
-  out.status = r.status == StaticStatus::completed     ? RunStatus::completed
+  if (accepted) {
+    const StaticStepInfo& st = arc_length_ ? arc_length_->last_step() : load_control_->last_step();
+    lambda_ = st.lambda;
+    ++totals_.steps;
+    record();
+    d.accepted = true;
+    d.stats = {st.dlambda, st.iterations, st.factorizations, st.residual_norm, st.increment_norm, true};
+  }
+  if (arc_length_ ? arc_length_->finished() : load_control_->finished()) {
+    totals_.jacobian_updates = r.factorizations;
+    d.finished = true;
+    d.status = r.status == StaticStatus::completed     ? RunStatus::completed
                : r.status == StaticStatus::incomplete  ? RunStatus::incomplete
                : r.status == StaticStatus::interrupted ? RunStatus::interrupted
                                                        : RunStatus::diverged;
-  for (const StaticEvent& e : r.events)
-    out.events.push_back({std::string(to_string(e.kind)), e.step, e.lambda, e.detail});
-  out.reason = r.status == StaticStatus::completed ? std::string() : r.reason;
-  out.stop_time = r.lambda;
-  out.steps = r.steps;
-  out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  return out;
+    d.reason = r.status == StaticStatus::completed ? std::string() : r.reason;
+    for (const StaticEvent& e : r.events) d.events.push_back({std::string(to_string(e.kind)), e.step, e.lambda, e.detail});
+  }
+  return d;
 }
 
 namespace {

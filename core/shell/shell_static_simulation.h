@@ -51,23 +51,30 @@ struct ShellStaticSettings {
 class ShellStaticSimulation final : public Simulation {
  public:
   ShellStaticSimulation(ShellModelSpec spec, ShellStaticSettings settings, RunInfo info);
+  ~ShellStaticSimulation() override;
   const RunInfo& info() const override { return info_; }
-  RunOutcome run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) override;
+  double end_time() const override;  ///< lambda at the end
+  std::string start() override;
+  double time() const override { return lambda_; }
+  StepDone step(double h) override;  ///< one converged step of the path (h is not used: the solver sizes it)
+  Frame frame() const override;
   Metrics metrics() const override;
   SolverTotals totals() const override { return totals_; }
-  double end_time() const override;  ///< lambda at the end
   std::vector<EffectStat> effect_stats() const override { return model_->effect_stats(); }
   const ShellModel& model() const { return *model_; }
 
  private:
-  Frame make_frame(int step, double lambda) const;
   double probe_value(const ShellProbe& p) const;
+  void record();  // load and probes of the current state into the path history
   std::unique_ptr<ShellModel> model_;
   ShellStaticSettings s_;
   RunInfo info_;
   SolverTotals totals_;
-  std::vector<double> loads_;                 // load per published frame
-  std::vector<std::vector<double>> values_;   // [probe][frame]
+  std::unique_ptr<LoadControlPath> load_control_;  // one of the two, by s_.arc_length
+  std::unique_ptr<ArcLengthPath> arc_length_;
+  double lambda_ = 0.0;
+  std::vector<double> loads_;                 // load per step
+  std::vector<std::vector<double>> values_;   // [probe][step]
 };
 
 }  // namespace ff::shell

@@ -5,7 +5,7 @@
 
 namespace ff {
 
-namespace {
+namespace arclength_detail {
 
 std::string check_settings(const ArcLengthSettings& s, int n) {
   if (!(std::isfinite(s.lambda_start) && std::isfinite(s.initial_load_increment) && std::isfinite(s.arc_length) &&
@@ -29,7 +29,14 @@ class PathFollower {
  public:
   PathFollower(StaticProblem& problem, const ArcLengthSettings& s)
       : s_(s), k_(problem, s.convergence), n_(problem.size()) {}
-  StaticResult run();
+  /// Sets up (the first arc length); false when the run ends at once (result()).
+  bool start();
+  /// Attempts until a step is accepted (true; the run may have ended with it: finished()) or the
+  /// run ends without one (false).
+  bool advance();
+  bool finished() const { return finished_; }
+  const StaticResult& result() const { return res_; }
+  const StaticStepInfo& last_step() const { return last_; }
 
  private:
   AttemptOutcome crisfield_step(double dl);
@@ -55,6 +62,13 @@ class PathFollower {
   std::vector<double> state_lambda_;  // λ of converged state k
   std::vector<int> reversals_;     // states where Δλ changed sign (limit points)
   std::vector<int> turn_backs_;    // states after which the increment reversed
+  void finish(StaticStatus status, StaticStop stop, std::string reason);
+  StaticResult res_;
+  StaticStepInfo last_;            // of the last accepted step
+  bool finished_ = false;
+  double dl_ = 0.0, dl_min_ = 0.0, dl_max_ = 0.0;  // arc length of the next attempt and its bounds
+  int attempts_ = 1;               // of the step under way (1 + cut-backs)
+  bool landing_failed_ = false;
   double lambda_ = 0.0;            // last converged load factor
   double monitor_last_ = 0.0;      // the monitored displacement there
   Eigen::VectorXd dq_;             // increment of the step being attempted (Σ of the applied δ)
@@ -395,23 +409,19 @@ std::vector<StaticEvent> PathFollower::path_events(int steps) const {
   return ev;
 }
 
-StaticResult PathFollower::run() {
-  StaticResult res;
+bool PathFollower::start() {
   lambda_ = s_.lambda_start;
-  res.lambda = lambda_;
-  auto finish = [&](StaticStatus status, StaticStop stop, std::string reason) {
-    res.status = status;
-    res.stop = stop;
-    res.reason = std::move(reason);
-    res.lambda = lambda_;
-    res.factorizations = k_.factorizations();
-    res.events = path_events(res.steps);
-    return res;
-  };
+  res_.lambda = lambda_;
   if (std::string why = check_settings(s_, n_); !why.empty())
-    return finish(StaticStatus::diverged, StaticStop::invalid_settings, why);
+    {
+      finish(StaticStatus::diverged, StaticStop::invalid_settings, why);
+      return false;
+    }
   if (lambda_ >= s_.lambda_max)
-    return finish(StaticStatus::completed, StaticStop::lambda_reached, "λ_start is already at λ_max");
+    {
+      finish(StaticStatus::completed, StaticStop::lambda_reached, "λ_start is already at λ_max");
+      return false;
+    }
 
   dq_.setZero(n_);
   dq_prev_.setZero(n_);
@@ -422,7 +432,10 @@ StaticResult PathFollower::run() {
   // the first Δl from the initial load increment along the initial tangent (eq. 12)
   Eigen::VectorXd dq_f(n_);
   if (!load_tangent(lambda_, dq_f))
-    return finish(StaticStatus::diverged, StaticStop::step_too_small, "initial tangent: " + k_.failure());
+    {
+      finish(StaticStatus::diverged, StaticStop::step_too_small, "initial tangent: " + k_.failure());
+      return false;
+    }
   det_sign_.push_back(k_.determinant_sign());
   state_lambda_.push_back(lambda_);
   const double qf = k_.dot_u(dq_f, dq_f);
@@ -435,20 +448,38 @@ StaticResult PathFollower::run() {
     dl0 = std::abs(s_.initial_load_increment) * std::sqrt(2.0 * a0_);
   }
   if (s_.arc_length > 0.0) dl0 = s_.arc_length;
-  const double dl_min = s_.min_arc_length_ratio * dl0, dl_max = s_.max_arc_length_ratio * dl0;
-  double dl = dl0;
-  int attempts = 1;
-  bool landing_failed = false;
-  std::string last_failure;
+  dl_min_ = s_.min_arc_length_ratio * dl0;
+  dl_max_ = s_.max_arc_length_ratio * dl0;
+  dl_ = dl0;
+  return true;
+}
 
+void PathFollower::finish(StaticStatus status, StaticStop stop, std::string reason) {
+  res_.status = status;
+  res_.stop = stop;
+  res_.reason = std::move(reason);
+  res_.lambda = lambda_;
+  res_.factorizations = k_.factorizations();
+  res_.events = path_events(res_.steps);
+  finished_ = true;
+}
+
+bool PathFollower::advance() {
+  if (finished_) return false;
   while (true) {
     if (stop_requested(s_.stop))
-      return finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
-    AttemptOutcome a = s_.method == ArcLengthMethod::crisfield ? crisfield_step(dl) : lam_morley_step(dl);
-    res.iterations += a.iterations;
+      {
+      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+      return false;
+    }
+    AttemptOutcome a = s_.method == ArcLengthMethod::crisfield ? crisfield_step(dl_) : lam_morley_step(dl_);
+    res_.iterations += a.iterations;
     if (a.interrupted) {
       k_.restore();
-      return finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+      {
+      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+      return false;
+    }
     }
     // eq. (22): a converged increment far from its predictor may sit on another branch, and one
     // pointing back along the previous step turns the path back on itself: retry shorter
@@ -471,7 +502,7 @@ StaticResult PathFollower::run() {
         const double c = std::abs(k_.dot_u(t_end, dq_) + alpha2_ * dlambda_);
         end_turn = ne > 0.0 && nc > 0.0 ? std::acos(std::clamp(c / (ne * nc), 0.0, 1.0)) : 0.0;
       }
-      const bool can_shorten = 0.5 * dl >= dl_min;
+      const bool can_shorten = 0.5 * dl_ >= dl_min_;
       // a step that needed more than twice the desired corrections started far from the path: its
       // predictor crossed a region the path curves through (it may have landed on another branch)
       const bool laborious = a.iterations > 2 * s_.desired_iterations;
@@ -488,24 +519,29 @@ StaticResult PathFollower::run() {
     }
     if (a.converged && reversed) {
       // even the shortest arc turns back: the path cannot be followed on as one continuous curve
-      turn_backs_.push_back(res.steps);
+      turn_backs_.push_back(res_.steps);
       k_.restore();
-      return finish(StaticStatus::diverged, StaticStop::step_too_small,
-                    "the path turns back on itself at λ = " + fmt(lambda_) + " (step " + std::to_string(res.steps) +
-                        "): even at the smallest arc length " + fmt(dl) + " the converged increment points back along "
+      {
+      finish(StaticStatus::diverged, StaticStop::step_too_small,
+                    "the path turns back on itself at λ = " + fmt(lambda_) + " (step " + std::to_string(res_.steps) +
+                        "): even at the smallest arc length " + fmt(dl_) + " the converged increment points back along "
                         "the previous step (a cusp, or a path the solver lost)");
+      return false;
+    }
     }
     if (!a.converged) {
       k_.restore();
       k_.invalidate_factorization();
-      ++res.cutbacks;
-      ++attempts;
-      dl *= 0.5;
-      last_failure = a.failure;
-      if (dl < dl_min)
-        return finish(StaticStatus::diverged, StaticStop::step_too_small,
-                      "arc-length stopped at λ = " + fmt(lambda_) + " (step " + std::to_string(res.steps) +
-                          "): Δl cut below its minimum " + fmt(dl_min) + "; last attempt: " + a.failure);
+      ++res_.cutbacks;
+      ++attempts_;
+      dl_ *= 0.5;
+      if (dl_ < dl_min_)
+        {
+      finish(StaticStatus::diverged, StaticStop::step_too_small,
+                      "arc-length stopped at λ = " + fmt(lambda_) + " (step " + std::to_string(res_.steps) +
+                          "): Δl cut below its minimum " + fmt(dl_min_) + "; last attempt: " + a.failure);
+      return false;
+    }
       continue;
     }
 
@@ -513,19 +549,19 @@ StaticResult PathFollower::run() {
     // the displacement limit comes first along this step
     bool final_step = false;
     const bool crosses_max = lambda_ < s_.lambda_max && lambda_ + dlambda_ > s_.lambda_max;
-    if (s_.land_on_lambda_max && !landing_failed && crosses_max) {
+    if (s_.land_on_lambda_max && !landing_failed_ && crosses_max) {
       const double t = (s_.lambda_max - lambda_) / dlambda_;
       Eigen::VectorXd landing = t * dq_;
       const Eigen::VectorXd arc_step = dq_;
       k_.restore();
       k_.update(landing);
       const AttemptOutcome out = newton_at_fixed_load(k_, s_.lambda_max, landing, s_.stop, false);
-      res.iterations += out.iterations;
+      res_.iterations += out.iterations;
       if (!out.converged) {
         // take the arc-length step again and stop just past λ_max
         k_.restore();
         k_.invalidate_factorization();
-        landing_failed = true;
+        landing_failed_ = true;
         continue;
       }
       if ((s_.monitor || s_.monitor_dof >= 0) && std::abs(monitored_after(landing)) >= s_.displacement_limit) {
@@ -544,38 +580,48 @@ StaticResult PathFollower::run() {
     }
 
     // accept
-    const int previous_state = res.steps;
+    const int previous_state = res_.steps;
     lambda_ += dlambda_;
     k_.save();
     u_total_ += dq_;
-    ++res.steps;
+    ++res_.steps;
     state_lambda_.push_back(lambda_);
     det_sign_.push_back(0);  // filled by the next predictor's factorization
     if (has_previous_ && dlambda_ * dlambda_prev_ < 0.0) {
-      ++res.limit_points;
+      ++res_.limit_points;
       reversals_.push_back(previous_state);
     }
     if (s_.monitor || s_.monitor_dof >= 0) monitor_last_ = monitored();
-    if (s_.on_step) {
-      StaticStepInfo info = step_info(a, res.steps, lambda_, dlambda_, attempts, k_.norm_u(dq_));
-      info.arc_length = dl;
-      info.turn = std::max(turn, end_turn);
-      info.monitored = monitored();
-      s_.on_step(info);
-    }
+    last_ = step_info(a, res_.steps, lambda_, dlambda_, attempts_, k_.norm_u(dq_));
+    last_.arc_length = dl_;
+    last_.turn = std::max(turn, end_turn);
+    last_.monitored = monitored();
+    if (s_.on_step) s_.on_step(last_);
     if (final_step)
-      return finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_max = " + fmt(s_.lambda_max));
+      {
+      finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_max = " + fmt(s_.lambda_max));
+      return true;
+    }
     if ((s_.monitor || s_.monitor_dof >= 0) && std::abs(monitored()) >= s_.displacement_limit)
-      return finish(StaticStatus::completed, StaticStop::displacement_limit,
+      {
+      finish(StaticStatus::completed, StaticStop::displacement_limit,
                     "the monitored displacement reached " + fmt(monitored()) + " (limit " + fmt(s_.displacement_limit) +
                         ") at λ = " + fmt(lambda_));
+      return true;
+    }
     if (lambda_ >= s_.lambda_max)
-      return finish(StaticStatus::completed, StaticStop::lambda_reached,
+      {
+      finish(StaticStatus::completed, StaticStop::lambda_reached,
                     "reached λ_max = " + fmt(s_.lambda_max) + " (overshot to λ = " + fmt(lambda_) + ": landing failed)");
-    if (res.steps >= s_.max_steps)
-      return finish(StaticStatus::incomplete, StaticStop::max_steps,
+      return true;
+    }
+    if (res_.steps >= s_.max_steps)
+      {
+      finish(StaticStatus::incomplete, StaticStop::max_steps,
                     "step budget of " + std::to_string(s_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
-                        std::to_string(res.steps) + "), before λ_max = " + fmt(s_.lambda_max));
+                        std::to_string(res_.steps) + "), before λ_max = " + fmt(s_.lambda_max));
+      return true;
+    }
 
     // eqs. (13), (13'): Δl for the next step from this step's corrections and turn
     double factor = s_.max_growth;
@@ -584,25 +630,41 @@ StaticResult PathFollower::run() {
     const double bend = std::max(turn, end_turn);  // the step's turn seen from both of its ends
     if (s_.target_turn > 0.0 && bend > 0.0) factor = std::min(factor, s_.target_turn / bend);
     factor = std::max(factor, 0.25);
-    if (attempts > 1) factor = std::min(factor, 1.0);
-    dl = std::clamp(dl * factor, dl_min, dl_max);
+    if (attempts_ > 1) factor = std::min(factor, 1.0);
+    dl_ = std::clamp(dl_ * factor, dl_min_, dl_max_);
     dq_prev_ = dq_;
     dlambda_prev_ = dlambda_;
     has_previous_ = true;
-    attempts = 1;
-    landing_failed = false;
+    attempts_ = 1;
+    landing_failed_ = false;
     // eq. (19): A0 = ||q||²/λ² at the converged point, capped where λ passes close to zero
     if (s_.method == ArcLengthMethod::lam_morley) {
       const double cap = s_.lam_morley_a0_cap * a0_origin_;
       a0_ = lambda_ != 0.0 ? std::min(cap, k_.dot_u(u_total_, u_total_) / (lambda_ * lambda_)) : cap;
     }
+    return true;
   }
 }
 
-}  // namespace
+}  // namespace arclength_detail
+
+using arclength_detail::PathFollower;
+
+ArcLengthPath::ArcLengthPath(StaticProblem& problem, const ArcLengthSettings& settings)
+    : impl_(std::make_unique<PathFollower>(problem, settings)) {}
+ArcLengthPath::~ArcLengthPath() = default;
+bool ArcLengthPath::start() { return impl_->start(); }
+bool ArcLengthPath::advance() { return impl_->advance(); }
+bool ArcLengthPath::finished() const { return impl_->finished(); }
+const StaticResult& ArcLengthPath::result() const { return impl_->result(); }
+const StaticStepInfo& ArcLengthPath::last_step() const { return impl_->last_step(); }
 
 StaticResult solve_arc_length(StaticProblem& problem, const ArcLengthSettings& settings) {
-  return PathFollower(problem, settings).run();
+  PathFollower path(problem, settings);
+  if (path.start())
+    while (path.advance() && !path.finished()) {
+    }
+  return path.result();
 }
 
 }  // namespace ff

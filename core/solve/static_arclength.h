@@ -5,6 +5,8 @@
 /// residual absorbed into λ, automatic load scaling, reduced correction when the roots are complex).
 /// Passes limit points and snap-backs. Equations and rules: core/solve/static_solvers.md §3.
 
+#include <memory>
+
 #include "core/solve/static_common.h"
 
 namespace ff {
@@ -52,8 +54,30 @@ struct ArcLengthSettings {
   const std::atomic<bool>* stop = nullptr;
 };
 
-/// Runs path following on `problem` from its current state. On return the problem holds the last
-/// converged state (λ = result.lambda).
+namespace arclength_detail {
+class PathFollower;
+}
+
+/// Path following one step at a time: start() sets up (false: the run ended at once), then each
+/// advance() makes attempts until a step is accepted (true; the run may end with it: finished())
+/// or the run ends without one (false). result() says how it ended. The problem always holds the
+/// last converged state. `settings` must outlive the path.
+class ArcLengthPath {
+ public:
+  ArcLengthPath(StaticProblem& problem, const ArcLengthSettings& settings);
+  ~ArcLengthPath();
+  bool start();
+  bool advance();
+  bool finished() const;
+  const StaticResult& result() const;
+  const StaticStepInfo& last_step() const;  ///< of the last accepted step
+
+ private:
+  std::unique_ptr<arclength_detail::PathFollower> impl_;
+};
+
+/// Runs path following on `problem` from its current state to its end. On return the problem
+/// holds the last converged state (λ = result.lambda).
 StaticResult solve_arc_length(StaticProblem& problem, const ArcLengthSettings& settings);
 
 }  // namespace ff

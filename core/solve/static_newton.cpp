@@ -21,54 +21,68 @@ std::string check_settings(const LoadControlSettings& s) {
 
 }  // namespace
 
-StaticResult solve_load_control(StaticProblem& problem, const LoadControlSettings& s) {
-  StaticResult res;
-  res.lambda = s.lambda_start;
+struct LoadControlPath::State {
+  State(StaticProblem& problem, const LoadControlSettings& s) : kernel(problem, s.convergence), step(kernel.size()) {}
+  StaticKernel kernel;
+  Eigen::VectorXd step;
+};
+
+LoadControlPath::LoadControlPath(StaticProblem& problem, const LoadControlSettings& s) : s_(s) {
+  res_.lambda = lambda_ = s.lambda_start;
+  h_ = s.initial_step;
   if (std::string why = check_settings(s); !why.empty()) {
-    res.status = StaticStatus::diverged;
-    res.stop = StaticStop::invalid_settings;
-    res.reason = why;
-    return res;
+    finish(StaticStatus::diverged, StaticStop::invalid_settings, why);
+    return;
   }
-  StaticKernel kernel(problem, s.convergence);
-  const double direction = s.lambda_end >= s.lambda_start ? 1.0 : -1.0;
-  double lambda = s.lambda_start;
-  double h = s.initial_step;
-  int attempts = 1;
-  Eigen::VectorXd step(kernel.size());
-  kernel.save();
+  state_ = std::make_unique<State>(problem, s);
+  state_->kernel.save();
+  check_end();
+}
 
-  auto finish = [&](StaticStatus status, StaticStop stop, std::string reason) {
-    res.status = status;
-    res.stop = stop;
-    res.reason = std::move(reason);
-    res.lambda = lambda;
-    res.factorizations = kernel.factorizations();
-    return res;
-  };
+LoadControlPath::~LoadControlPath() = default;
 
+void LoadControlPath::finish(StaticStatus status, StaticStop stop, std::string reason) {
+  res_.status = status;
+  res_.stop = stop;
+  res_.reason = std::move(reason);
+  res_.lambda = lambda_;
+  if (state_) res_.factorizations = state_->kernel.factorizations();
+  finished_ = true;
+}
+
+// the ends that need no further attempt: λ_end reached, the step budget used up
+void LoadControlPath::check_end() {
+  const double remaining = std::abs(s_.lambda_end - lambda_);
+  if (remaining <= 1e-14 * std::max(1.0, std::abs(s_.lambda_end)))
+    finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_end = " + fmt(s_.lambda_end));
+  else if (res_.steps >= s_.max_steps)
+    finish(StaticStatus::incomplete, StaticStop::max_steps,
+           "step budget of " + std::to_string(s_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
+               std::to_string(res_.steps) + "), before λ_end = " + fmt(s_.lambda_end));
+}
+
+bool LoadControlPath::advance() {
+  if (finished_) return false;
+  StaticKernel& kernel = state_->kernel;
+  Eigen::VectorXd& step = state_->step;
+  const double direction = s_.lambda_end >= s_.lambda_start ? 1.0 : -1.0;
   while (true) {
-    const double remaining = std::abs(s.lambda_end - lambda);
-    if (remaining <= 1e-14 * std::max(1.0, std::abs(s.lambda_end)))
-      return finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_end = " + fmt(s.lambda_end));
-    if (res.steps >= s.max_steps)
-      return finish(StaticStatus::incomplete, StaticStop::max_steps,
-                    "step budget of " + std::to_string(s.max_steps) + " used up at λ = " + fmt(lambda) + " (step " +
-                        std::to_string(res.steps) + "), before λ_end = " + fmt(s.lambda_end));
-    if (stop_requested(s.stop))
-      return finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda));
-
+    if (stop_requested(s_.stop)) {
+      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+      return false;
+    }
+    const double remaining = std::abs(s_.lambda_end - lambda_);
     // the last step lands exactly on λ_end (and absorbs a remainder below the minimum step)
-    const bool last = h >= remaining || remaining - h < s.min_step;
-    const double dlambda = last ? s.lambda_end - lambda : direction * h;
-    const double target = last ? s.lambda_end : lambda + dlambda;
+    const bool last = h_ >= remaining || remaining - h_ < s_.min_step;
+    const double dlambda = last ? s_.lambda_end - lambda_ : direction * h_;
+    const double target = last ? s_.lambda_end : lambda_ + dlambda;
     step.setZero();
-    AttemptOutcome out = newton_at_fixed_load(kernel, target, step, s.stop, s.hold_determinant_sign);
-    res.iterations += out.iterations;
+    AttemptOutcome out = newton_at_fixed_load(kernel, target, step, s_.stop, s_.hold_determinant_sign);
+    res_.iterations += out.iterations;
     const double step_norm = kernel.norm_u(step);
 
     // eq. (8): a converged increment far beyond its linearization jumped over a limit point
-    if (out.converged && s.max_increment_ratio > 0.0 && step_norm > s.max_increment_ratio * out.first_increment_norm) {
+    if (out.converged && s_.max_increment_ratio > 0.0 && step_norm > s_.max_increment_ratio * out.first_increment_norm) {
       out.converged = false;
       out.crossed_limit = true;
       out.failure = "converged to a distant state at λ = " + fmt(target) + ": the step is " +
@@ -77,34 +91,47 @@ StaticResult solve_load_control(StaticProblem& problem, const LoadControlSetting
     }
     if (out.interrupted) {
       kernel.restore();
-      return finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda));
+      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+      return false;
     }
     if (!out.converged) {
       // cut-back: back to the last converged state, half the step, a fresh tangent
       kernel.restore();
       kernel.invalidate_factorization();
-      ++res.cutbacks;
-      ++attempts;
-      h = 0.5 * std::abs(dlambda);
-      if (h < s.min_step)
-        return finish(StaticStatus::diverged, StaticStop::step_too_small,
-                      (out.crossed_limit ? "limit point of the load path at λ = " + fmt(lambda) +
-                                               ": load control cannot pass it (arc-length can); "
-                                         : "load control stopped at λ = " + fmt(lambda) + ": ") +
-                          "no load step ≥ min_step = " + fmt(s.min_step) + " converges; last attempt: " + out.failure);
+      ++res_.cutbacks;
+      ++attempts_;
+      h_ = 0.5 * std::abs(dlambda);
+      if (h_ < s_.min_step) {
+        finish(StaticStatus::diverged, StaticStop::step_too_small,
+               (out.crossed_limit ? "limit point of the load path at λ = " + fmt(lambda_) +
+                                        ": load control cannot pass it (arc-length can); "
+                                  : "load control stopped at λ = " + fmt(lambda_) + ": ") +
+                   "no load step ≥ min_step = " + fmt(s_.min_step) + " converges; last attempt: " + out.failure);
+        return false;
+      }
       continue;
     }
 
-    lambda = target;
+    lambda_ = target;
     kernel.save();
-    ++res.steps;
-    res.lambda = lambda;
-    if (s.on_step) s.on_step(step_info(out, res.steps, lambda, dlambda, attempts, step_norm));
+    ++res_.steps;
+    res_.lambda = lambda_;
+    last_ = step_info(out, res_.steps, lambda_, dlambda, attempts_, step_norm);
+    if (s_.on_step) s_.on_step(last_);
     // growth after an easy step (never right after a cut-back)
-    h = std::abs(dlambda);
-    if (attempts == 1 && out.iterations <= s.easy_iterations) h = std::min(s.growth_factor * h, s.max_step);
-    attempts = 1;
+    h_ = std::abs(dlambda);
+    if (attempts_ == 1 && out.iterations <= s_.easy_iterations) h_ = std::min(s_.growth_factor * h_, s_.max_step);
+    attempts_ = 1;
+    check_end();
+    return true;
   }
+}
+
+StaticResult solve_load_control(StaticProblem& problem, const LoadControlSettings& s) {
+  LoadControlPath path(problem, s);
+  while (path.advance()) {
+  }
+  return path.result();
 }
 
 }  // namespace ff

@@ -5,6 +5,8 @@
 /// Equations and rules: core/solve/static_solvers.md §2. Cannot pass limit points: it stops there
 /// with status diverged and a reason naming the load reached (use static_arclength.h to go on).
 
+#include <memory>
+
 #include "core/solve/static_common.h"
 
 namespace ff {
@@ -31,8 +33,34 @@ struct LoadControlSettings {
   const std::atomic<bool>* stop = nullptr; ///< raised by another thread: return after restoring the last converged state
 };
 
-/// Runs load control on `problem` from its current state. On return the problem holds the last
-/// converged state (λ = result.lambda).
+/// Load control one step at a time: each advance() makes attempts (with cut-backs) until a step is
+/// accepted (true) or the run ends (false; result() says how). The problem always holds the last
+/// converged state. `settings` must outlive the path.
+class LoadControlPath {
+ public:
+  LoadControlPath(StaticProblem& problem, const LoadControlSettings& settings);
+  ~LoadControlPath();
+  bool advance();
+  bool finished() const { return finished_; }
+  const StaticResult& result() const { return res_; }
+  double lambda() const { return lambda_; }
+  const StaticStepInfo& last_step() const { return last_; }  ///< of the last accepted step
+
+ private:
+  struct State;
+  void finish(StaticStatus status, StaticStop stop, std::string reason);
+  void check_end();
+  const LoadControlSettings& s_;
+  std::unique_ptr<State> state_;
+  StaticResult res_;
+  StaticStepInfo last_;
+  double lambda_ = 0.0, h_ = 0.0;
+  int attempts_ = 1;
+  bool finished_ = false;
+};
+
+/// Runs load control on `problem` from its current state to its end. On return the problem holds
+/// the last converged state (λ = result.lambda).
 StaticResult solve_load_control(StaticProblem& problem, const LoadControlSettings& settings);
 
 }  // namespace ff
