@@ -1,5 +1,6 @@
 #include "app/gui/sim_worker.h"
 #include "app/io/mesh_import.h"
+#include "core/model/run_loop.h"
 
 #include <chrono>
 #include <cmath>
@@ -93,18 +94,35 @@ void SimWorker::set_message(std::string text, bool error) {
 bool SimWorker::settled() const { return !pending_ && steps_left_ == 0; }
 
 void SimWorker::main() {
+  const RunLoop::Publish publish = [this](Frame&& f) { on_frame(std::move(f)); };
   while (true) {
     stop_ = false;
-    RunOutcome outcome;
-    try {
-      outcome = scene_.simulation->run([this](Frame&& f) { on_frame(std::move(f)); }, stop_);
-    } catch (const std::exception& e) {
-      outcome.status = RunStatus::failed;
-      outcome.reason = std::string("solver error: ") + e.what();
+    RunLoop loop(*scene_.simulation);
+    // the loop steps only while running or stepping: pausing is not stepping (no wait inside a
+    // solver callback); commands are applied between steps, on this thread
+    auto guarded = [&](auto&& body) {
+      try {
+        return body();
+      } catch (const std::exception& e) {
+        failure_ = std::string("solver error: ") + e.what();
+        return false;
+      }
+    };
+    failure_.clear();
+    bool going = guarded([&] { return loop.start(publish); });
+    while (going) {
+      {
+        std::unique_lock lock(m_);
+        serve(lock);
+        if (quit_ || pending_) break;
+      }
+      going = guarded([&] { return loop.advance(publish, stop_); });
     }
     std::unique_lock lock(m_);
     if (!quit_ && !pending_) {
       // the run ended by itself: completed, diverged or failed; wait for what comes next
+      RunOutcome outcome = loop.outcome();
+      if (!failure_.empty()) outcome.status = RunStatus::failed, outcome.reason = failure_;
       finished_ = true;
       running_ = false;
       steps_left_ = 0;
@@ -147,12 +165,11 @@ void SimWorker::on_frame(Frame&& f) {
     s.node_displacement = std::sqrt(u2);
     s.node_deflection = std::sqrt(d2);
   }
-  std::unique_lock lock(m_);
+  std::lock_guard lock(m_);
   frame_ = std::move(f);
   samples_.push_back(std::move(s));
-  if (!first_frame_ && steps_left_ > 0) --steps_left_;
+  if (!first_frame_ && steps_left_ > 0) --steps_left_;  // `step N` asks for N frames
   first_frame_ = false;
-  serve(lock);
 }
 
 void SimWorker::serve(std::unique_lock<std::mutex>& lock) {
@@ -163,10 +180,7 @@ void SimWorker::serve(std::unique_lock<std::mutex>& lock) {
       queue_.pop_front();
       handle(c, lock);
     }
-    if (quit_ || pending_) {
-      stop_ = true;  // run() returns; main() swaps in the new scene
-      return;
-    }
+    if (quit_ || pending_) return;  // main() ends this run and swaps in the new scene
     status_.state = running_ ? WorkerState::running : steps_left_ > 0 ? WorkerState::stepping : WorkerState::paused;
     if (settled()) status_.settled_seq = handled_seq_;
     if (steps_left_ > 0) return;

@@ -4,9 +4,9 @@
 /// command queue (run, pause, step, reset, set, load, probe, pace, quit) and reads back plain
 /// copies (the latest Frame, probe samples, a status) with take(). No GL or ImGui here.
 ///
-/// How it works: Simulation::run() publishes every converged step through a callback on the
-/// worker thread; the callback hands the frame over and then applies the queued commands
-/// between steps — while paused it waits there, so the solver's state never leaves its thread.
+/// How it works: the worker drives the scene's Simulation with a RunLoop (core/model/run_loop.h),
+/// one advance() at a time, and applies the queued commands between steps; pausing is simply not
+/// stepping (it waits for a command), so the solver's state never leaves its thread.
 /// Commands that change the model (reset, set, load) build a new Simulation first (a refused
 /// edit leaves the running one alone and says why), then stop the current run and start the
 /// new one at t = 0, paused unless it was running. A `set` of a live key
@@ -108,7 +108,7 @@ class SimWorker {
   };
   std::uint64_t push(Command c);
   void main();
-  /// The run's frame callback (worker thread).
+  /// The run loop's publish callback (worker thread): hands a frame over to the mailbox.
   void on_frame(Frame&& f);
   void handle(const Command& c, std::unique_lock<std::mutex>& lock);
   /// Applies queued commands; waits while paused. Returns when the run should go on or stop.
@@ -128,6 +128,7 @@ class SimWorker {
   std::optional<scene::LoadedScene> pending_;
   std::vector<std::string> pending_overrides_;
   std::atomic<bool> stop_{false};
+  std::string failure_;  // an exception out of the solver ends the run as failed
   bool running_ = false;
   long long steps_left_ = 0;
   bool first_frame_ = true;
