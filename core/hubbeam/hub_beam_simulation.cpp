@@ -83,7 +83,7 @@ std::string HubBeamSimulation::start() {
   apply_changes(0.0);  // [[timeline]] changes at t = 0 set the starting torque
   const StepReport init = integrator_->initialize(state_);
   if (!init.converged) return init.failure;
-  start_stats_ = {0.0, init.iterations, init.jacobian_updates, init.residual_norm, init.increment_norm, init.converged};
+  start_stats_ = init.stats(0.0);
   record();
   return "";
 }
@@ -120,7 +120,7 @@ StepDone HubBeamSimulation::step(double h) {
   const double t_before = state_.t, prev_v = state_.v[0], prev_a = state_.a[0];
   const StepReport rep = integrator_->step(state_, h);
   totals_.newton_iterations += rep.iterations;
-  totals_.jacobian_updates += rep.jacobian_updates;
+  totals_.jacobian_updates += rep.matrix_updates;
   if (!rep.converged) {
     std::ostringstream msg;
     msg << "diverged in the step from t = " << t_before << " s to " << t_before + h << " s: " << rep.failure;
@@ -132,7 +132,7 @@ StepDone HubBeamSimulation::step(double h) {
   ++totals_.steps;
   record();
   d.accepted = true;
-  d.stats = {h, rep.iterations, rep.jacobian_updates, rep.residual_norm, rep.increment_norm, rep.converged};
+  d.stats = rep.stats(h);
   // eq. (30): the hub rate along the step's cubic Hermite interpolant, against the critical speed
   const double peak = peak_rate(prev_v, prev_a, state_.v[0], state_.a[0], h);
   if (peak > sys_->critical_speed()) {

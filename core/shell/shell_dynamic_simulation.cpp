@@ -124,8 +124,8 @@ bool ShellDynamicSimulation::apply_changes(double t) {
 StepDone ShellDynamicSimulation::step(double h) {
   StepDone d;
   const double t0 = integrator_->time();
-  const AlphaStepReport rep = integrator_->step(h);
-  if (t0 < s_.count_until - 1e-9 * s_.dt) window_noi_ += rep.iterations, window_nou_ += rep.updates;
+  const StepReport rep = integrator_->step(h);
+  if (t0 < s_.count_until - 1e-9 * s_.dt) window_noi_ += rep.iterations, window_nou_ += rep.matrix_updates;
   totals_.newton_iterations = integrator_->total_iterations();
   totals_.jacobian_updates = integrator_->total_updates();
   simulated_ = integrator_->time();
@@ -139,7 +139,7 @@ StepDone ShellDynamicSimulation::step(double h) {
   ++totals_.steps;
   record();
   d.accepted = true;
-  d.stats = StepStats{h, rep.iterations, rep.updates, rep.residual_norm, rep.increment_norm, true};
+  d.stats = rep.stats(h);
   return d;
 }
 

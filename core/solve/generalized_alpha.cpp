@@ -196,11 +196,11 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
   return out;
 }
 
-AlphaStepReport GeneralizedAlpha::step(double h) {
-  AlphaStepReport rep;
+StepReport GeneralizedAlpha::step(double h) {
+  StepReport rep;
   auto account = [&](const Attempt& a) {
     rep.iterations += a.iterations;
-    rep.updates += a.updates;
+    rep.matrix_updates += a.updates;
     rep.increment_norm = a.increment_norm;
     rep.residual_norm = a.residual_norm;
     noi_ += a.iterations;
@@ -224,13 +224,13 @@ AlphaStepReport GeneralizedAlpha::step(double h) {
   const GeneralizedAlphaSettings saved = s_;
   if (s_.max_cutbacks > 0) {
     --s_.max_cutbacks;
-    AlphaStepReport first = step(0.5 * h), second;
+    StepReport first = step(0.5 * h), second;
     if (first.converged) second = step(0.5 * h);
     s_.max_cutbacks = saved.max_cutbacks;
     rep.iterations += first.iterations + second.iterations;
-    rep.updates += first.updates + second.updates;
+    rep.matrix_updates += first.matrix_updates + second.matrix_updates;
     rep.fallbacks += first.fallbacks + second.fallbacks;
-    rep.cutbacks += 1 + first.cutbacks + second.cutbacks;
+    rep.substeps = first.substeps + second.substeps;
     if (first.converged && second.converged) {
       rep.converged = true;
       rep.increment_norm = second.increment_norm;

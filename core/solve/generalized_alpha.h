@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/solve/dynamic_problem.h"
+#include "core/solve/step_report.h"
 #include "core/solve/sparse_solver.h"
 
 namespace ff {
@@ -24,16 +25,6 @@ struct GeneralizedAlphaSettings {
   LinearBackend backend = default_linear_backend();
 };
 
-struct AlphaStepReport {
-  bool converged = false;
-  int iterations = 0;       ///< Newton corrections (NOI contribution), cut-back sub-steps included
-  int updates = 0;          ///< matrix updates (NOU contribution)
-  int fallbacks = 0;        ///< stale-matrix attempts retried with full updates
-  int cutbacks = 0;         ///< sub-steps taken instead of one step
-  double increment_norm = 0.0;
-  double residual_norm = 0.0;
-  std::string failure;      ///< why, when not converged
-};
 
 class GeneralizedAlpha {
  public:
@@ -44,7 +35,7 @@ class GeneralizedAlpha {
   std::string initialize(double t0, const Eigen::VectorXd& v0);
   /// Advances from time() by h (with cut-backs when needed). On failure the state is the last one
   /// that converged (time() tells where: a converged first half of a cut-back step is kept).
-  AlphaStepReport step(double h);
+  StepReport step(double h);
   /// Restarts at the current (converged) state after a jump of the load (a scene's [[timeline]]
   /// change): initialize() at time() with the current velocity; the counters are kept (the
   /// mass-matrix factorization, like initialize()'s, is not counted as an update).

@@ -20,7 +20,7 @@ StepReport NewmarkIntegrator::initialize(NewmarkState& st) {
   sys_.residual(st.x, st.v, st.a, st.t, r_);
   rep.converged = st.a.allFinite();
   rep.residual_norm = r_.lpNorm<Eigen::Infinity>();
-  rep.jacobian_updates = 1;
+  rep.matrix_updates = 1;
   if (!rep.converged) rep.failure = "initial accelerations are not finite (singular mass matrix?)";
   return rep;
 }
@@ -43,7 +43,7 @@ StepReport NewmarkIntegrator::attempt(NewmarkState& st, double h) {
     }
     if (first_residual < 0) first_residual = rep.residual_norm;
     sys_.iteration_matrix(x_, v_, a_, t1, 1.0, g * h, b * h * h, j_);
-    ++rep.jacobian_updates;
+    ++rep.matrix_updates;
     Eigen::PartialPivLU<Eigen::MatrixXd> lu(j_);
     da_ = -lu.solve(r_);
     if (!da_.allFinite()) {
@@ -87,12 +87,12 @@ StepReport NewmarkIntegrator::advance(NewmarkState& st, double h, int depth) {
   StepReport a = advance(st, 0.5 * h, depth + 1);
   if (!a.converged) {
     a.iterations += rep.iterations;
-    a.jacobian_updates += rep.jacobian_updates;
+    a.matrix_updates += rep.matrix_updates;
     return a;
   }
   StepReport b = advance(st, 0.5 * h, depth + 1);
   b.iterations += a.iterations + rep.iterations;
-  b.jacobian_updates += a.jacobian_updates + rep.jacobian_updates;
+  b.matrix_updates += a.matrix_updates + rep.matrix_updates;
   b.substeps += a.substeps;
   return b;
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/solve/second_order_system.h"
+#include "core/solve/step_report.h"
 
 namespace ff {
 
@@ -23,15 +24,6 @@ struct NewmarkState {
   Eigen::VectorXd x, v, a;
 };
 
-struct StepReport {
-  bool converged = false;
-  int iterations = 0;        ///< Newton iterations summed over sub-steps
-  int jacobian_updates = 0;  ///< iteration-matrix factorizations
-  double residual_norm = 0.0;
-  double increment_norm = 0.0;
-  int substeps = 1;
-  std::string failure;       ///< why the step failed (empty when converged)
-};
 
 class NewmarkIntegrator {
  public:

@@ -72,7 +72,7 @@ TEST(Stability, FastSpinningShellKeepsEnergyBoundedOverManyTurns) {
   const double T = 10 * 2 * std::numbers::pi / 20.0, h = 2e-3;
   double worst_growth = 0;
   while (ga.time() < T) {
-    const AlphaStepReport r = ga.step(h);
+    const StepReport r = ga.step(h);
     ASSERT_TRUE(r.converged) << r.failure;
     const MotionSummary e = m.summary(ga.velocity());
     ASSERT_TRUE(std::isfinite(e.total()));

@@ -18,7 +18,7 @@ const std::map<std::string, std::set<std::string>> kAllowed = {
     {"core/lie", {}},
     {"core/mesh", {}},
     {"core/assembly", {"core/lie"}},
-    {"core/solve", {}},
+    {"core/solve", {"core/frame"}},
     {"core/model", {"core/frame"}},
     {"core/shell", {"core/frame", "core/lie", "core/mesh", "core/assembly", "core/solve", "core/model"}},
     {"core/hubbeam", {"core/frame", "core/solve", "core/model"}},

@@ -74,7 +74,7 @@ Drift spin(double h, double rho, bool drilling, double T = 0.3) {
   Drift d{0, 0, 0, 0};
   const int steps = static_cast<int>(std::lround(T / h));
   for (int i = 0; i < steps; ++i) {
-    const AlphaStepReport r = ga.step(h);
+    const StepReport r = ga.step(h);
     EXPECT_TRUE(r.converged) << r.failure;
     if (!r.converged) break;
     const MotionSummary e = m.summary(ga.velocity());
