@@ -243,6 +243,21 @@ Schema& Schema::string_list(std::string path, std::string doc,
 
 // ---- lookup ---------------------------------------------------------------------------------
 
+Schema& Schema::renamed(std::string old_path, std::string new_path) {
+  renamed_[std::move(old_path)] = std::move(new_path);
+  return *this;
+}
+
+std::string Schema::renamed_to(std::string_view path) const {
+  for (std::string_view p = path;; ) {
+    if (auto it = renamed_.find(std::string(p)); it != renamed_.end())
+      return it->second + std::string(path.substr(p.size()));
+    const auto dot = p.rfind('.');
+    if (dot == std::string_view::npos) return "";
+    p = p.substr(0, dot);
+  }
+}
+
 const Schema::TableSpec* Schema::find_table(std::string_view path) const {
   for (const auto& t : tables_)
     if (t.path == path) return &t;

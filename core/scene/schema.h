@@ -169,6 +169,14 @@ class Schema {
                       std::optional<std::vector<std::string>> default_value,
                       std::vector<std::string> allowed = {});
 
+  /// A key (or a whole table) that a newer vocabulary renamed: input that still uses `old_path`
+  /// is refused at its line with "renamed to 'new_path'" instead of a bare "unknown key".
+  Schema& renamed(std::string old_path, std::string new_path);
+  /// The new name of a renamed key or table (the longest renamed prefix of `path` carries its
+  /// rest along), or "" when `path` was not renamed.
+  std::string renamed_to(std::string_view path) const;
+  const std::map<std::string, std::string>& renames() const { return renamed_; }
+
   /// Markdown reference of every table and key, in declaration order, one section per table:
   /// | key | type | default | allowed | meaning |
   /// Arrays of tables get a section "### [[bc]] (array of tables, 0 or more)" with their keys.
@@ -195,6 +203,7 @@ class Schema {
 
   std::vector<TableSpec> tables_{TableSpec{"", "top level", true}};
   std::vector<KeySpec> keys_;
+  std::map<std::string, std::string> renamed_;  // old path -> new path
 };
 
 /// Validated values of one scene, defaults filled in. Independent of the Schema's lifetime.

@@ -304,10 +304,27 @@ class DocumentBuilder {
           e.line = static_cast<int>(node.source().begin.line);
           e.column = static_cast<int>(node.source().begin.column);
         }
+      } else if (const std::string now = schema_.renamed_to(full); !now.empty()) {
+        add_at(origin, k.source(), full, "'" + full + "' was renamed to '" + now + "'");
+      } else if (const auto* sub = node.as_table(); sub && renamed_inside(full)) {
+        // a table whose keys moved (e.g. [time] into [solver]): each key says where it went
+        for (auto&& [k2, n2] : *sub) {
+          const std::string key = join_path(full, std::string(k2.str()));
+          const std::string to = schema_.renamed_to(key);
+          add_at(origin, k2.source(), key, to.empty() ? unknown_message(path, name, std::string(k2.str()))
+                                                      : "'" + key + "' was renamed to '" + to + "'");
+        }
       } else {
         add_at(origin, k.source(), full, unknown_message(path, name, ""));
       }
     }
+  }
+
+  // some renamed key lives below `table`
+  bool renamed_inside(const std::string& table) const {
+    for (const auto& [old, now] : schema_.renames())
+      if (old.rfind(table + ".", 0) == 0) return true;
+    return false;
   }
 
   /// The array of tables `a.path` (found in a present table): each element is walked like a
@@ -580,6 +597,7 @@ class DocumentBuilder {
   /// "unknown key ..." for an undeclared dotted `path`: the deepest declared table on the path
   /// holds the unknown segment.
   std::string unknown_path_message(const std::string& path) const {
+    if (const std::string now = schema_.renamed_to(path); !now.empty()) return "'" + path + "' was renamed to '" + now + "'";
     std::string table;
     std::string rest = path;
     while (true) {

@@ -175,6 +175,24 @@ INSTANTIATE_TEST_SUITE_P(Schema, BadInput, ::testing::ValuesIn(kBadCases),
 
 // ---- messages as a whole --------------------------------------------------------------------
 
+// A renamed key or table is refused at its own line with its new name, not "unknown key".
+TEST(Schema, RenamedKeyAndTableNameTheirNewPlace) {
+  Schema s = test_schema();
+  s.renamed("solver.end_time", "solver.t_end").renamed("time.dt", "solver.dt").renamed("integrator", "solver");
+  EXPECT_EQ(s.renamed_to("integrator.rho_inf"), "solver.rho_inf");
+  EXPECT_EQ(s.renamed_to("solver.dt"), "");
+  std::vector<Issue> got;
+  try {
+    validate(s, "[solver]\nend_time = 2.0\n[time]\ndt = 0.1\n[model]\nkind = \"efg\"\n[integrator]\nrho_inf = 0.5\n",
+             "scene.toml", {});
+  } catch (const SceneError& e) {
+    got = e.issues;
+  }
+  EXPECT_TRUE(has_issue(got, "scene.toml", 2, "solver.end_time", "was renamed to 'solver.t_end'")) << dump(got);
+  EXPECT_TRUE(has_issue(got, "scene.toml", 4, "time.dt", "was renamed to 'solver.dt'")) << dump(got);
+  EXPECT_TRUE(has_issue(got, "scene.toml", 7, "integrator", "was renamed to 'solver'")) << dump(got);
+}
+
 TEST(Schema, WhatListsFileLineColumnKeyAndMessage) {
   try {
     validate(test_schema(), "[solver]\ndt = -0.5\n[model]\nkind = \"efg\"\n", "scene.toml");
