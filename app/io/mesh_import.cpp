@@ -6,8 +6,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "core/mesh/generators.h"
 #include "core/scene/mesh_file.h"
@@ -23,45 +26,26 @@ using Vec3 = Eigen::Vector3d;
 // how to find the nodes and quads an error message names
 constexpr const char* kNumbering = " (0-based numbers: quads in file order, nodes in order of first use by the quads)";
 
+// corner normals of one node closer than this [rad] are one director; farther apart, a fold
+constexpr double kFoldAngle = 1e-5;
+
 bool fail(std::string* error, const std::string& message) {
   if (error) *error = message;
   return false;
 }
 
-// faces of the scene, every mesh instance placed by its node's world transform
+// What the file says, before any joining: vertices with the file's own identity, quads by
+// vertex index, the file normal at every quad corner (when the file has normals) and where each
+// face was written (OBJ: its line; otherwise 0 and faces are named by their index).
 struct RawSurface {
   std::vector<Vec3> points;
   std::vector<std::array<int, 4>> quads;
+  std::vector<std::array<Vec3, 4>> corner_normals;  // empty: the file has no normals
+  std::vector<int> quad_line;                        // per quad; 0 where unknown
   int triangles = 0, polygons = 0, points_or_lines = 0, faces = 0;
+  int first_other_line = 0, first_other_face = -1;   // where the first non-quad face is
+  std::string format;                                // "OBJ", "PLY", ...
 };
-
-void add_mesh(const aiMesh& m, const aiMatrix4x4& X_WN, RawSurface& raw) {
-  const int base = static_cast<int>(raw.points.size());
-  for (unsigned v = 0; v < m.mNumVertices; ++v) {
-    const aiVector3D p = X_WN * m.mVertices[v];
-    raw.points.emplace_back(p.x, p.y, p.z);
-  }
-  for (unsigned f = 0; f < m.mNumFaces; ++f) {
-    const aiFace& face = m.mFaces[f];
-    ++raw.faces;
-    if (face.mNumIndices == 4) {
-      raw.quads.push_back({base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[1]),
-                           base + static_cast<int>(face.mIndices[2]), base + static_cast<int>(face.mIndices[3])});
-    } else if (face.mNumIndices == 3) {
-      ++raw.triangles;
-    } else if (face.mNumIndices > 4) {
-      ++raw.polygons;
-    } else {
-      ++raw.points_or_lines;
-    }
-  }
-}
-
-void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& X_WP, RawSurface& raw) {
-  const aiMatrix4x4 X_WN = X_WP * node.mTransformation;
-  for (unsigned k = 0; k < node.mNumMeshes; ++k) add_mesh(*scene.mMeshes[node.mMeshes[k]], X_WN, raw);
-  for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], X_WN, raw);
-}
 
 std::string lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
@@ -69,28 +53,275 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// joins coincident vertices (distance <= tol) keeping the first; drops unused ones
-void join_vertices(RawSurface& raw, double tol) {
+std::string where(const RawSurface& raw, int q) {
+  if (q < static_cast<int>(raw.quad_line.size()) && raw.quad_line[q] > 0) return "line " + std::to_string(raw.quad_line[q]);
+  return "face " + std::to_string(q);
+}
+
+// ---- OBJ: read by its records, since assimp duplicates vertices per face corner ----------------
+// assimp's OBJ importer copies every face corner into a vertex of its own, so which corners were
+// one file vertex (and on which line a face was) is lost; a slit written with separate vertices
+// could not be told from a seam. The records FlexFrame needs are few: v, vn, f (and l, p, which
+// it refuses); everything else (vt, o, g, s, usemtl, mtllib) does not change the shell.
+
+bool parse_double(std::string_view& s, double& x) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  if (s.empty()) return false;
+  if (s.front() == '+') s.remove_prefix(1);
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), x);
+  if (r.ec == std::errc::result_out_of_range) {  // 1e999: report it as not finite below
+    x = std::numeric_limits<double>::infinity();
+  } else if (r.ec != std::errc()) {
+    return false;
+  }
+  s.remove_prefix(static_cast<std::size_t>(r.ptr - s.data()));
+  return s.empty() || s.front() == ' ' || s.front() == '\t';
+}
+
+bool read_obj(const std::string& path, const std::string& who, RawSurface& raw, std::string* error) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fail(error, "cannot open " + who);
+  raw.format = "OBJ";
+  std::vector<Vec3> normals;
+  struct Face {
+    int line;
+    std::vector<long long> v, n;  // as written: 1-based, or negative = relative
+  };
+  std::vector<Face> faces;
+  std::string line, logical;
+  int line_no = 0, first_line = 0;
+  const auto bad = [&](int at, const std::string& what) { return fail(error, who + " line " + std::to_string(at) + ": " + what); };
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (logical.empty()) first_line = line_no;
+    if (!line.empty() && line.back() == '\\') {  // continuation
+      line.pop_back();
+      logical += line + " ";
+      continue;
+    }
+    logical += line;
+    std::string_view s(logical);
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+    const std::size_t sp = s.find_first_of(" \t");
+    const std::string_view tag = s.substr(0, sp);
+    std::string_view rest = sp == std::string_view::npos ? std::string_view{} : s.substr(sp);
+    const int at = first_line;
+    if (tag == "v" || tag == "vn") {
+      Vec3 x;
+      for (int k = 0; k < 3; ++k)
+        if (!parse_double(rest, x[k]))
+          return bad(at, std::string(tag == "v" ? "a vertex" : "a normal") + " needs three numbers ('" + logical + "')");
+      if (!x.allFinite()) return bad(at, "the coordinates are not finite numbers ('" + logical + "')");
+      if (x.cwiseAbs().maxCoeff() > 1e150)
+        return bad(at, "a coordinate beyond 1e150 ('" + logical + "'); lengths must stay far from overflow");
+      (tag == "v" ? raw.points : normals).push_back(x);
+    } else if (tag == "f") {
+      Face f{at, {}, {}};
+      while (true) {
+        while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
+        if (rest.empty()) break;
+        const std::size_t end = rest.find_first_of(" \t");
+        const std::string_view token = rest.substr(0, end);
+        rest = end == std::string_view::npos ? std::string_view{} : rest.substr(end);
+        // v, v/t, v//n, v/t/n
+        long long idx[3] = {0, 0, 0};
+        std::string_view t = token;
+        for (int part = 0; part < 3 && !t.empty(); ++part) {
+          const std::size_t slash = t.find('/');
+          const std::string_view num = t.substr(0, slash);
+          if (!num.empty()) {
+            const auto r = std::from_chars(num.data(), num.data() + num.size(), idx[part]);
+            if (r.ec != std::errc() || r.ptr != num.data() + num.size() || idx[part] == 0)
+              return bad(at, "'" + std::string(token) + "' is not a vertex reference (1-based or negative indices)");
+          }
+          t = slash == std::string_view::npos ? std::string_view{} : t.substr(slash + 1);
+        }
+        if (idx[0] == 0) return bad(at, "'" + std::string(token) + "' names no vertex");
+        // a negative index counts back from the last record read so far
+        f.v.push_back(idx[0] < 0 ? static_cast<long long>(raw.points.size()) + idx[0] + 1 : idx[0]);
+        f.n.push_back(idx[2] < 0 ? static_cast<long long>(normals.size()) + idx[2] + 1 : idx[2]);
+      }
+      if (f.v.empty()) return bad(at, "a face with no vertex indices (a shell face is 4 vertices: 'f a b c d')");
+      ++raw.faces;
+      if (f.v.size() == 4) {
+        faces.push_back(std::move(f));
+      } else {
+        (f.v.size() == 3 ? raw.triangles : f.v.size() > 4 ? raw.polygons : raw.points_or_lines)++;
+        if (!raw.first_other_line) raw.first_other_line = at;
+      }
+    } else if (tag == "l" || tag == "p") {
+      ++raw.faces;
+      ++raw.points_or_lines;
+      if (!raw.first_other_line) raw.first_other_line = at;
+    }
+    logical.clear();
+  }
+  if (in.bad()) return fail(error, "reading " + who + " failed");
+
+  const long long nv = static_cast<long long>(raw.points.size()), nn = static_cast<long long>(normals.size());
+  bool all_normals = !faces.empty();
+  for (const Face& f : faces)
+    for (long long n : f.n) all_normals = all_normals && n != 0;
+  for (const Face& f : faces) {
+    std::array<int, 4> q;
+    std::array<Vec3, 4> cn;
+    for (int k = 0; k < 4; ++k) {
+      if (f.v[k] < 1 || f.v[k] > nv)
+        return bad(f.line, "vertex " + std::to_string(f.v[k]) + " does not exist (the file has " + std::to_string(nv) +
+                               " vertices)");
+      q[k] = static_cast<int>(f.v[k] - 1);
+      if (f.n[k] != 0 && (f.n[k] < 1 || f.n[k] > nn))
+        return bad(f.line, "normal " + std::to_string(f.n[k]) + " does not exist (the file has " + std::to_string(nn) +
+                               " normals)");
+      if (all_normals) cn[k] = normals[static_cast<std::size_t>(f.n[k] - 1)];
+    }
+    raw.quads.push_back(q);
+    raw.quad_line.push_back(f.line);
+    if (all_normals) raw.corner_normals.push_back(cn);
+  }
+  return true;
+}
+
+// ---- other formats through assimp -----------------------------------------------------------
+
+// assimp's PLY reader loops at end of file when the header never ends: refuse such a file first
+bool check_ply_header(const std::string& path, const std::string& who, std::string* error) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  int n = 0;
+  std::size_t bytes = 0;
+  while (std::getline(in, line) && bytes < (1u << 20)) {
+    bytes += line.size() + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (n++ == 0 && line != "ply") return fail(error, who + " line 1: a PLY file starts with 'ply'");
+    if (line == "end_header") return true;
+  }
+  return fail(error, who + ": the PLY header has no 'end_header' line (the file ends inside its header)");
+}
+
+void add_mesh(const aiMesh& m, const aiMatrix4x4& X_WN, RawSurface& raw, bool& all_normals) {
+  const int base = static_cast<int>(raw.points.size());
+  for (unsigned v = 0; v < m.mNumVertices; ++v) {
+    const aiVector3D p = X_WN * m.mVertices[v];
+    raw.points.emplace_back(p.x, p.y, p.z);
+  }
+  aiMatrix3x3 N_WN(X_WN);  // normals turn with the node (rigid transforms in practice)
+  all_normals = all_normals && m.HasNormals();
+  for (unsigned f = 0; f < m.mNumFaces; ++f) {
+    const aiFace& face = m.mFaces[f];
+    ++raw.faces;
+    if (face.mNumIndices == 4) {
+      std::array<int, 4> q;
+      std::array<Vec3, 4> cn;
+      for (int k = 0; k < 4; ++k) {
+        q[k] = base + static_cast<int>(face.mIndices[k]);
+        if (m.HasNormals()) {
+          const aiVector3D n = N_WN * m.mNormals[face.mIndices[k]];
+          cn[k] = Vec3(n.x, n.y, n.z);
+        }
+      }
+      raw.quads.push_back(q);
+      raw.corner_normals.push_back(cn);
+      raw.quad_line.push_back(0);
+    } else {
+      (face.mNumIndices == 3 ? raw.triangles : face.mNumIndices > 4 ? raw.polygons : raw.points_or_lines)++;
+      if (raw.first_other_face < 0) raw.first_other_face = raw.faces - 1;
+    }
+  }
+}
+
+void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& X_WP, RawSurface& raw, bool& all_normals, int depth) {
+  if (depth > 256) return;  // a cyclic or absurd node graph; validation refuses cycles anyway
+  const aiMatrix4x4 X_WN = X_WP * node.mTransformation;
+  for (unsigned k = 0; k < node.mNumMeshes; ++k) add_mesh(*scene.mMeshes[node.mMeshes[k]], X_WN, raw, all_normals);
+  for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], X_WN, raw, all_normals, depth + 1);
+}
+
+bool read_with_assimp(const std::string& path, const std::string& who, RawSurface& raw, std::string* error) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".ply" && !check_ply_header(path, who, error)) return false;
+  // ValidateDataStructure: indices in range, counts consistent, before anything reads them.
+  // PLY keeps its vertices as written; formats that store a vertex per face corner (STL, glTF
+  // and the rest) get identical corners joined, as their files carry no vertex identity.
+  unsigned flags = aiProcess_ValidateDataStructure;
+  if (ext != ".ply") flags |= aiProcess_JoinIdenticalVertices;
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path, flags);
+  if (!scene) return fail(error, "cannot read " + who + ": " + importer.GetErrorString());
+  if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) return fail(error, who + " was read only partially (incomplete scene)");
+  raw.format = ext == ".ply" ? "PLY" : ext.empty() ? "mesh" : ext.substr(1);
+  bool all_normals = true;
+  if (scene->mRootNode) collect(*scene, *scene->mRootNode, aiMatrix4x4(), raw, all_normals, 0);
+  else
+    for (unsigned k = 0; k < scene->mNumMeshes; ++k) add_mesh(*scene->mMeshes[k], aiMatrix4x4(), raw, all_normals);
+  if (!all_normals) raw.corner_normals.clear();
+  for (std::size_t v = 0; v < raw.points.size(); ++v) {
+    if (!raw.points[v].allFinite())
+      return fail(error, who + ": vertex " + std::to_string(v) + " has coordinates that are not finite numbers");
+    if (raw.points[v].cwiseAbs().maxCoeff() > 1e150)
+      return fail(error, who + ": vertex " + std::to_string(v) + " has a coordinate beyond 1e150");
+  }
+  for (std::size_t q = 0; q < raw.quads.size(); ++q)  // ValidateDataStructure checks this too; cheap to be sure
+    for (int k : raw.quads[q])
+      if (k < 0 || k >= static_cast<int>(raw.points.size()))
+        return fail(error, who + ": " + where(raw, static_cast<int>(q)) + " names vertex " + std::to_string(k) +
+                               ", which does not exist");
+  return true;
+}
+
+// ---- from the file's surface to a shell mesh -------------------------------------------------
+
+// drops vertices no quad uses and numbers the rest by first use in the face list
+void renumber_by_first_use(RawSurface& raw) {
+  std::vector<int> id(raw.points.size(), -1);
+  std::vector<Vec3> points;
+  for (auto& q : raw.quads)
+    for (int& k : q) {
+      if (id[k] < 0) {
+        id[k] = static_cast<int>(points.size());
+        points.push_back(raw.points[k]);
+      }
+      k = id[k];
+    }
+  raw.points = std::move(points);
+}
+
+// joins vertices closer than `tol` (first one kept), then renumbers by first use
+void weld(RawSurface& raw, double tol) {
   ShellMesh m;
   m.points = raw.points;
   m.normals.assign(raw.points.size(), Vec3::UnitZ());  // placeholders: assemble() needs a director
   m.quads = raw.quads;
   ff::mesh::AssemblyOptions o;
-  const double h = ff::mesh::min_edge_length(m);
-  o.merge_tolerance = h > 0 ? tol / h : 0.0;
+  o.merge_tolerance = tol / ff::mesh::min_edge_length(m);
   const ShellMesh joined = ff::mesh::assemble({m}, o);
-  // renumber by first use in the face list
-  std::vector<int> id(joined.points.size(), -1);
-  raw.points.clear();
+  raw.points = joined.points;
   raw.quads = joined.quads;
-  for (auto& q : raw.quads)
-    for (int& k : q) {
-      if (id[k] < 0) {
-        id[k] = static_cast<int>(raw.points.size());
-        raw.points.push_back(joined.points[k]);
-      }
-      k = id[k];
+  renumber_by_first_use(raw);
+}
+
+// directors from the file's normals: a node whose corner normals agree gets their mean; one whose
+// corners differ (a crease the file draws) is a fold node with a director per corner
+void directors_from_file(const RawSurface& raw, ShellMesh& m) {
+  m.corner_normals.resize(m.quads.size());
+  for (std::size_t q = 0; q < m.quads.size(); ++q)
+    for (int k = 0; k < 4; ++k) m.corner_normals[q][k] = raw.corner_normals[q][k].normalized();
+  std::vector<Vec3> first(m.points.size(), Vec3::Zero()), sum(m.points.size(), Vec3::Zero());
+  m.fold.assign(m.points.size(), 0);
+  for (std::size_t q = 0; q < m.quads.size(); ++q)
+    for (int k = 0; k < 4; ++k) {
+      const int I = m.quads[q][k];
+      const Vec3& n = m.corner_normals[q][k];
+      if (first[I].isZero()) first[I] = n;
+      else if (std::acos(std::clamp(first[I].dot(n), -1.0, 1.0)) > kFoldAngle) m.fold[I] = 1;
+      sum[I] += n;
     }
+  m.normals.resize(m.points.size());
+  for (std::size_t I = 0; I < m.points.size(); ++I) m.normals[I] = m.fold[I] ? first[I] : sum[I].normalized();
+  for (std::size_t q = 0; q < m.quads.size(); ++q)
+    for (int k = 0; k < 4; ++k)
+      if (!m.fold[m.quads[q][k]]) m.corner_normals[q][k] = m.normals[m.quads[q][k]];
 }
 
 }  // namespace
@@ -100,17 +331,12 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
   std::error_code ec;
   if (!fs::exists(path, ec)) return fail(error, who + " does not exist");
   if (fs::is_directory(path, ec)) return fail(error, who + " is a directory, not a mesh file");
-
-  // JoinIdenticalVertices only: no Triangulate, so quads stay quads
-  Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(path, aiProcess_JoinIdenticalVertices);
-  if (!scene) return fail(error, "cannot read " + who + ": " + importer.GetErrorString());
-  if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) return fail(error, who + " was read only partially (incomplete scene)");
+  if (!(options.weld_tolerance >= 0) || !std::isfinite(options.weld_tolerance))
+    return fail(error, "the weld tolerance must be a finite length >= 0");
 
   RawSurface raw;
-  if (scene->mRootNode) collect(*scene, *scene->mRootNode, aiMatrix4x4(), raw);
-  else
-    for (unsigned k = 0; k < scene->mNumMeshes; ++k) add_mesh(*scene->mMeshes[k], aiMatrix4x4(), raw);
+  const std::string ext = lower_extension(path);
+  if (!(ext == ".obj" ? read_obj(path, who, raw, error) : read_with_assimp(path, who, raw, error))) return false;
 
   if (raw.faces == 0) return fail(error, who + " contains no faces (a shell mesh needs quads)");
   const int not_quads = raw.faces - static_cast<int>(raw.quads.size());
@@ -118,42 +344,88 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
     std::string msg = who + ": " + std::to_string(not_quads) + " of " + std::to_string(raw.faces) +
                       " faces are not quads (" + std::to_string(raw.triangles) + " triangles, " +
                       std::to_string(raw.polygons) + " polygons with more than 4 vertices, " +
-                      std::to_string(raw.points_or_lines) +
-                      " points or lines); shell elements are 4-node quads and the importer neither "
+                      std::to_string(raw.points_or_lines) + " points or lines; the first " +
+                      (raw.first_other_line ? "at line " + std::to_string(raw.first_other_line)
+                                            : "is face " + std::to_string(raw.first_other_face)) +
+                      "); shell elements are 4-node quads and the importer neither "
                       "triangulates nor recombines faces, so export the surface with quad faces only";
-    const std::string ext = lower_extension(path);
     if (ext == ".stl" || ext == ".gltf" || ext == ".glb")
       msg += " (STL and glTF 2.0 store triangles only: use OBJ or PLY for quad meshes)";
     return fail(error, msg);
   }
+  const bool file_normals = !raw.corner_normals.empty();
+  for (std::size_t q = 0; q < raw.corner_normals.size(); ++q)
+    for (const Vec3& n : raw.corner_normals[q])
+      if (!n.allFinite() || !(n.norm() > 1e-12))
+        return fail(error, who + ": " + where(raw, static_cast<int>(q)) + " has a zero or non-finite normal");
 
-  Vec3 lo = raw.points.front(), hi = raw.points.front();
-  for (const auto& p : raw.points) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
+  renumber_by_first_use(raw);
+  if (options.weld_tolerance > 0) {
+    ShellMesh probe;
+    probe.points = raw.points;
+    probe.quads = raw.quads;
+    const double h = ff::mesh::min_edge_length(probe);
+    if (!(options.weld_tolerance < 0.5 * h))
+      return fail(error, who + ": the weld tolerance " + std::to_string(options.weld_tolerance) +
+                             " is not below half the shortest edge (" + std::to_string(h) +
+                             "); welding would collapse quads");
+    weld(raw, options.weld_tolerance);
   }
-  join_vertices(raw, 1e-9 * (hi - lo).norm());
 
   ShellMesh m;
   m.points = std::move(raw.points);
-  m.quads = std::move(raw.quads);
+  m.quads = raw.quads;
+  if (file_normals) {
+    // the file's normals say which side is the front: a quad wound against them is flipped only
+    // when the scene allows it
+    int against = 0, first_against = -1;
+    for (int q = 0; q < m.quad_count(); ++q) {
+      Vec3 n = Vec3::Zero();
+      for (const Vec3& c : raw.corner_normals[q]) n += c.normalized();
+      const Vec3 g = (m.points[m.quads[q][2]] - m.points[m.quads[q][0]]).cross(m.points[m.quads[q][3]] - m.points[m.quads[q][1]]);
+      if (g.dot(n) < 0) {
+        if (first_against < 0) first_against = q;
+        ++against;
+        std::swap(m.quads[q][1], m.quads[q][3]);
+        std::swap(raw.corner_normals[q][1], raw.corner_normals[q][3]);
+      }
+    }
+    if (against > 0 && !options.reorient)
+      return fail(error, who + ": " + std::to_string(against) + " of " + std::to_string(m.quad_count()) +
+                             " quads wind against the file's normals (the first at " + where(raw, first_against) +
+                             "); fix the winding or the normals, or import with reorient");
+  }
   {
     ShellMesh fixed = m;
     std::string why;
     if (!ff::mesh::orient_consistently(fixed, &why)) return fail(error, who + ": " + why + kNumbering);
     int flipped = 0;
     for (int q = 0; q < m.quad_count(); ++q) flipped += fixed.quads[q] != m.quads[q];
-    if (flipped > 0 && !options.reorient)
+    if (flipped > 0 && (file_normals || !options.reorient))
       return fail(error, who + ": the faces are not consistently oriented (" + std::to_string(flipped) + " of " +
-                             std::to_string(m.quad_count()) +
-                             " quads wind against their neighbours); fix the winding or import with reorient");
+                             std::to_string(m.quad_count()) + " quads wind against their neighbours" +
+                             (file_normals ? ", and the file's normals agree with each quad's own winding"
+                                           : "; fix the winding or import with reorient") + ")");
     m.quads = std::move(fixed.quads);
   }
-  ff::mesh::compute_area_weighted_normals(m);
+  std::string directors;
+  if (file_normals) {
+    directors_from_file(raw, m);
+    directors = "directors from the file's normals";
+    if (m.fold_count() > 0)
+      directors += " (" + std::to_string(m.fold_count()) + " crease nodes where they differ: 6 DoF there)";
+  } else {
+    ff::mesh::compute_area_weighted_normals(m);
+    directors = "no normals in the file: directors averaged from the adjacent quads";
+  }
   ff::mesh::compute_frames(m, options.frame_reference);
   m.patches.clear();
   ff::mesh::complete_layout(m, fs::path(path).stem().string());
-  m.patches[0].description = "imported from " + fs::path(path).filename().string();
+  m.patches[0].description = "imported from " + fs::path(path).filename().string() + " (" + raw.format + ", " +
+                             std::to_string(m.node_count()) + " nodes, " + std::to_string(m.quad_count()) + " quads" +
+                             (options.weld_tolerance > 0 ? ", welded within " + std::to_string(options.weld_tolerance)
+                                                         : ", vertices as written") +
+                             "; " + directors + ")";
 
   const ff::mesh::MeshCheck check = ff::mesh::validate(m);
   if (!check.ok()) {
@@ -167,31 +439,50 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
 
 ff::scene::SceneContext scene_context() {
   ff::scene::SceneContext ctx;
-  ctx.mesh_reader = [](const std::string& path, ShellMesh& out, std::string* error) {
-    return import_shell_mesh(path, out, error);
+  ctx.mesh_reader = [](const ff::scene::MeshFileRequest& request, ShellMesh& out, std::string* error) {
+    MeshImportOptions options;
+    options.weld_tolerance = request.weld_tolerance;
+    return import_shell_mesh(request.path, out, error, options);
   };
   return ctx;
 }
 
-bool write_shell_mesh_obj(const std::string& path, const ShellMesh& mesh, std::string* error) {
+bool write_shell_mesh_obj(const std::string& path, const ShellMesh& mesh, std::string* error, bool normals) {
   std::ofstream f(path);
   if (!f) return fail(error, "cannot open '" + path + "' for writing");
   f.precision(17);
   f << "# FlexFrame shell mesh: " << mesh.node_count() << " nodes, " << mesh.quad_count() << " quads\n";
   for (const auto& p : mesh.points) f << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
-  for (const auto& q : mesh.quads) f << "f " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1 << "\n";
+  if (normals) {
+    // one normal per quad corner (fold nodes carry a director per corner)
+    for (const auto& c : mesh.corner_normals)
+      for (const auto& n : c) f << "vn " << n.x() << " " << n.y() << " " << n.z() << "\n";
+    for (int q = 0; q < mesh.quad_count(); ++q) {
+      f << "f";
+      for (int k = 0; k < 4; ++k) f << " " << mesh.quads[q][k] + 1 << "//" << 4 * q + k + 1;
+      f << "\n";
+    }
+  } else {
+    for (const auto& q : mesh.quads) f << "f " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1 << "\n";
+  }
   if (!f) return fail(error, "writing '" + path + "' failed");
   return true;
 }
 
-bool write_shell_mesh_ply(const std::string& path, const ShellMesh& mesh, std::string* error) {
+bool write_shell_mesh_ply(const std::string& path, const ShellMesh& mesh, std::string* error, bool normals) {
   std::ofstream f(path);
   if (!f) return fail(error, "cannot open '" + path + "' for writing");
   f.precision(17);
   f << "ply\nformat ascii 1.0\ncomment FlexFrame shell mesh\nelement vertex " << mesh.node_count()
-    << "\nproperty double x\nproperty double y\nproperty double z\nelement face " << mesh.quad_count()
+    << "\nproperty double x\nproperty double y\nproperty double z\n"
+    << (normals ? "property double nx\nproperty double ny\nproperty double nz\n" : "") << "element face " << mesh.quad_count()
     << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const auto& p : mesh.points) f << p.x() << " " << p.y() << " " << p.z() << "\n";
+  for (int i = 0; i < mesh.node_count(); ++i) {
+    const auto& p = mesh.points[i];
+    f << p.x() << " " << p.y() << " " << p.z();
+    if (normals) f << " " << mesh.normals[i].x() << " " << mesh.normals[i].y() << " " << mesh.normals[i].z();
+    f << "\n";
+  }
   for (const auto& q : mesh.quads) f << "4 " << q[0] << " " << q[1] << " " << q[2] << " " << q[3] << "\n";
   if (!f) return fail(error, "writing '" + path + "' failed");
   return true;

@@ -7,13 +7,22 @@
 /// - quads exactly as in the file (no triangulation, no recombination); a file with any
 ///   triangle, n-gon, point or line is refused, naming the file and the counts. STL and glTF 2.0
 ///   can only store triangles, so in practice quad meshes come from OBJ or PLY;
-/// - node transforms of the file applied (glTF/OBJ groups), coincident vertices joined
-///   (distance <= 1e-9 x bounding-box diagonal), vertices used by no face dropped; node order
-///   is the order of first use by the faces;
+/// - vertices as the file writes them: two vertices at the same place stay two nodes (a slit
+///   stays open) unless options.weld_tolerance > 0 joins those closer than it; vertices used by
+///   no face dropped; node order is the order of first use by the faces. OBJ is read by its
+///   v / vn / f records (assimp copies a vertex per face corner, which loses vertex identity
+///   and line numbers); PLY and the rest through assimp with ValidateDataStructure (STL, glTF:
+///   identical corners joined, as those files keep no vertex identity); node transforms applied;
+/// - every vertex finite and within 1e150; every index in range; PLY files whose header never
+///   ends are refused before assimp sees them (its reader would loop at end of file);
 /// - orientation from the file's winding (a face counter-clockwise seen from its front);
 ///   inconsistent winding between neighbouring faces is refused unless options.reorient;
-/// - normals = area-weighted average of the adjacent quad normals; frames from
-///   options.frame_reference; one unstructured patch named after the file stem;
+///   with file normals, a quad wound against its normals is refused (or flipped with reorient);
+/// - directors: the file's normals (OBJ vn, PLY nx/ny/nz) when every face corner has one; a
+///   node whose corner normals differ by more than 1e-5 rad is a fold node (6 DoF, a director
+///   per corner). Without normals: area-weighted average of the adjacent quad normals. The
+///   patch description says which. Frames from options.frame_reference; one unstructured
+///   patch named after the file stem;
 /// - validate(out) passes, or the import fails with its summary.
 
 #include <string>
@@ -29,6 +38,8 @@ struct MeshImportOptions {
   bool reorient = false;
   /// reference direction for the nodal frames' e1 (see ff::mesh::frame_from_normal)
   Eigen::Vector3d frame_reference = Eigen::Vector3d::UnitX();
+  /// join vertices closer than this length (0: keep every file vertex, so slits stay open)
+  double weld_tolerance = 0.0;
 };
 
 /// Reads `path` into `out`. Returns false and sets *error (a complete sentence naming the file)
@@ -41,9 +52,13 @@ bool import_shell_mesh(const std::string& path, ff::mesh::ShellMesh& out, std::s
 /// scenes with mesh.generator = "file" (core/scene/mesh_file.h).
 ff::scene::SceneContext scene_context();
 
-/// Writes points and quads as Wavefront OBJ (1-based "f a b c d", 17 significant digits).
-bool write_shell_mesh_obj(const std::string& path, const ff::mesh::ShellMesh& mesh, std::string* error);
-/// Writes points and quads as ASCII PLY (double coordinates, "4 a b c d" faces).
-bool write_shell_mesh_ply(const std::string& path, const ff::mesh::ShellMesh& mesh, std::string* error);
+/// Writes points and quads as Wavefront OBJ (1-based "f a b c d", 17 significant digits); with
+/// `normals`, every quad corner's director as a vn record ("f a//i b//j ...").
+bool write_shell_mesh_obj(const std::string& path, const ff::mesh::ShellMesh& mesh, std::string* error,
+                          bool normals = false);
+/// Writes points and quads as ASCII PLY (double coordinates, "4 a b c d" faces); with `normals`,
+/// the node directors as nx ny nz (fold nodes keep only their first director: use OBJ for those).
+bool write_shell_mesh_ply(const std::string& path, const ff::mesh::ShellMesh& mesh, std::string* error,
+                          bool normals = false);
 
 }  // namespace ff::io

@@ -75,6 +75,7 @@ struct CellHash {
 };
 std::int64_t cell_of(double x, double cell) {
   const double c = std::floor(x / cell);
+  if (std::isnan(c)) return 0;  // NaN has no cell (and casting it is undefined); validate() refuses it
   return static_cast<std::int64_t>(std::clamp(c, -4e18, 4e18));
 }
 

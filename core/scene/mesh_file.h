@@ -12,9 +12,15 @@
 
 namespace ff::scene {
 
-/// Reads the quad mesh at `path` into `out`; on failure returns false and sets *error to a
+/// What a scene asks of its mesh file.
+struct MeshFileRequest {
+  std::string path;             ///< resolved against the scene file's folder
+  double weld_tolerance = 0.0;  ///< mesh.weld_tolerance: join vertices closer than this (0: none)
+};
+
+/// Reads the quad mesh of `request` into `out`; on failure returns false and sets *error to a
 /// complete sentence naming the file.
-using MeshFileReader = std::function<bool(const std::string& path, mesh::ShellMesh& out, std::string* error)>;
+using MeshFileReader = std::function<bool(const MeshFileRequest& request, mesh::ShellMesh& out, std::string* error)>;
 
 /// What building a scene may need from the program around it (passed in, never global).
 struct SceneContext {

@@ -29,7 +29,7 @@ const std::map<std::string, std::vector<std::string>>& generator_keys() {
       {"spherical_cap",
        {"n1", "n2", "name", "origin", "axis", "reference", "radius", "polar_start", "polar_end", "start_angle",
         "end_angle"}},
-      {"file", {}},
+      {"file", {"file", "weld_tolerance"}},
   };
   return keys;
 }
@@ -49,7 +49,7 @@ const std::map<std::string, std::vector<std::string>>& required_keys() {
 const std::vector<std::string> kDimensionKeys = {"n1",     "n2",          "n3",          "name",      "origin",
                                                  "axis",   "reference",   "length",      "length2",   "width",
                                                  "radius", "inner_radius", "start_angle", "end_angle", "polar_start",
-                                                 "polar_end", "fold_angle", "slit"};
+                                                 "polar_end", "fold_angle", "slit", "weld_tolerance"};
 
 double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }  // exact for 90 -> pi/2
 
@@ -271,7 +271,11 @@ void declare_mesh_keys(Schema& s) {
       .number("mesh.fold_angle",
               "folded_plate: how far leg2 turns up (towards +z) from leg1's continuation: 0 = flat, 90 = upright",
               90.0, Range::open(-180.0, 180.0), "deg")
-      .string("mesh.file", "generator = file: OBJ or PLY quad mesh, relative to the scene file", std::string{});
+      .string("mesh.file", "generator = file: OBJ or PLY quad mesh, relative to the scene file", std::string{})
+      .number("mesh.weld_tolerance",
+              "generator = file: join vertices closer than this length (0: every vertex of the file is a node of its "
+              "own, so a slit written with separate vertices stays open)",
+              0.0, Range::non_negative(), "length");
 }
 
 bool mesh_from_file(const Document& d) {

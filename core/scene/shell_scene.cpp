@@ -32,7 +32,8 @@ mesh::ShellMesh read_mesh_file(const Document& d, const std::string& scene_path,
                                            "loader; the flexframe executable passes its assimp importer)")});
   mesh::ShellMesh m;
   std::string error;
-  if (!reader((fs::path(scene_path).parent_path() / file).string(), m, &error)) throw SceneError({d.issue("mesh.file", error)});
+  const MeshFileRequest request{(fs::path(scene_path).parent_path() / file).string(), d.number("mesh.weld_tolerance")};
+  if (!reader(request, m, &error)) throw SceneError({d.issue("mesh.file", error)});
   return m;
 }
 }  // namespace

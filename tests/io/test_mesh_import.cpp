@@ -223,9 +223,9 @@ TEST(MeshImport, NonManifoldAndDegenerateFilesAreRefused) {
   EXPECT_NE(e.find("degenerate quad"), std::string::npos) << e;
 }
 
-TEST(MeshImport, SplitVerticesAreJoined) {
-  // the same two quads with every face's corners written separately (as some exporters do,
-  // with per-face normals): the importer joins them into 6 nodes
+// Issue 11 (import keeps what the file says): the same two quads with every face's corners
+// written separately stay 8 nodes (a slit stays open) unless welding is asked for.
+TEST(MeshImport, SplitVerticesStayApartUnlessWelded) {
   const std::string path = write_text("split.obj",
                                       "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
                                       "v 1 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\n"
@@ -234,6 +234,51 @@ TEST(MeshImport, SplitVerticesAreJoined) {
   ShellMesh m;
   std::string error;
   ASSERT_TRUE(ff::io::import_shell_mesh(path, m, &error)) << error;
-  EXPECT_EQ(m.node_count(), 6);
-  EXPECT_TRUE(validate(m).ok()) << validate(m).summary();
+  EXPECT_EQ(m.node_count(), 8);
+  ff::io::MeshImportOptions weld;
+  weld.weld_tolerance = 1e-6;
+  ShellMesh w;
+  ASSERT_TRUE(ff::io::import_shell_mesh(path, w, &error, weld)) << error;
+  EXPECT_EQ(w.node_count(), 6);
+  EXPECT_EQ(w.fold_count(), 0);  // the file normals agree (0.999 normalizes to +z)
+  EXPECT_TRUE(validate(w).ok()) << validate(w).summary();
+}
+
+// A generated slit annulus written as OBJ (the lips are separate vertices) imports with the
+// generator's node count, and the file's normals are its directors to round-off.
+TEST(MeshImport, SlitAnnulusKeepsItsNodesAndFileNormals) {
+  AnnularSector spec;
+  spec.phi1 = 2 * std::numbers::pi;
+  spec.slit = true;
+  const ShellMesh want = annular_sector(spec, 2, 12);
+  const std::string path = scratch("slit_annulus.obj");
+  std::string error;
+  ASSERT_TRUE(ff::io::write_shell_mesh_obj(path, want, &error, true)) << error;
+  ShellMesh got;
+  ASSERT_TRUE(ff::io::import_shell_mesh(path, got, &error)) << error;
+  EXPECT_EQ(got.node_count(), want.node_count());
+  expect_same_mesh(got, want, 1e-12);
+  EXPECT_NE(got.patches[0].description.find("directors from the file's normals"), std::string::npos);
+}
+
+// Issue 12, finding 1-3 and 8: malformed files are refused with the file named, never a crash or hang.
+TEST(MeshImport, MalformedFilesAreRefused) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                           "0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+  for (const char* face : {"4 0 1 999 3\n", "4 0 1 -1 3\n", "4 0 1 2147483647 3\n", "4 0 1 2 4\n"}) {
+    const std::string e = import_error(write_text("bad_index.ply", head + face));
+    EXPECT_NE(e.find("bad_index.ply"), std::string::npos) << e;
+  }
+  EXPECT_NE(import_error(write_text("no_end.ply", "ply\nformat ascii 1.0\nelement vertex 4\n")).find("end_header"),
+            std::string::npos);
+  for (const char* v : {"nan", "inf", "1e308"}) {
+    const std::string e = import_error(write_text("bad_coord.obj", std::string("v 0 0 0\nv 1 0 0\nv 1 1 ") + v +
+                                                                      "\nv 0 1 0\nf 1 2 3 4\n"));
+    EXPECT_NE(e.find("line 3"), std::string::npos) << e;
+  }
+  const std::string empty_face = import_error(write_text("empty_face.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf\nf 1 2 3 4\n"));
+  EXPECT_NE(empty_face.find("line 5"), std::string::npos) << empty_face;
+  const std::string range = import_error(write_text("range.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 9\n"));
+  EXPECT_NE(range.find("line 5: vertex 9 does not exist"), std::string::npos) << range;
 }
