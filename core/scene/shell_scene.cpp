@@ -163,6 +163,9 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   }
   RunInfo info;
   describe_run(d, path, info);
+  // how an imported mesh was read (vertices welded or not, where the directors came from)
+  if (mesh_from_file(d) && !spec.mesh.patches.empty())
+    info.settings.emplace_back("mesh_import", spec.mesh.patches[0].description);
   info.effects = fx;
   for (std::size_t i = 0; i < d.count("reference"); ++i) {
     const std::string probe = d.string("reference.probe", i);
