@@ -287,18 +287,24 @@ void renumber_by_first_use(RawSurface& raw) {
   raw.points = std::move(points);
 }
 
-// joins vertices closer than `tol` (first one kept), then renumbers by first use
-void weld(RawSurface& raw, double tol) {
+// joins vertices closer than `tol` (first one kept), then renumbers by first use; refuses a
+// tolerance that is not below half the shortest edge (it would collapse quads)
+bool weld(RawSurface& raw, double tol, const std::string& who, std::string* error) {
   ShellMesh m;
   m.points = raw.points;
   m.normals.assign(raw.points.size(), Vec3::UnitZ());  // placeholders: assemble() needs a director
   m.quads = raw.quads;
+  const double h = ff::mesh::min_edge_length(m);
+  if (!(tol < 0.5 * h))
+    return fail(error, who + ": the weld tolerance " + std::to_string(tol) + " is not below half the shortest edge (" +
+                           std::to_string(h) + "); welding would collapse quads");
   ff::mesh::AssemblyOptions o;
-  o.merge_tolerance = tol / ff::mesh::min_edge_length(m);
+  o.merge_tolerance = tol / h;
   const ShellMesh joined = ff::mesh::assemble({m}, o);
   raw.points = joined.points;
   raw.quads = joined.quads;
   renumber_by_first_use(raw);
+  return true;
 }
 
 // directors from the file's normals: a node whose corner normals agree gets their mean; one whose
@@ -360,17 +366,7 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
         return fail(error, who + ": " + where(raw, static_cast<int>(q)) + " has a zero or non-finite normal");
 
   renumber_by_first_use(raw);
-  if (options.weld_tolerance > 0) {
-    ShellMesh probe;
-    probe.points = raw.points;
-    probe.quads = raw.quads;
-    const double h = ff::mesh::min_edge_length(probe);
-    if (!(options.weld_tolerance < 0.5 * h))
-      return fail(error, who + ": the weld tolerance " + std::to_string(options.weld_tolerance) +
-                             " is not below half the shortest edge (" + std::to_string(h) +
-                             "); welding would collapse quads");
-    weld(raw, options.weld_tolerance);
-  }
+  if (options.weld_tolerance > 0 && !weld(raw, options.weld_tolerance, who, error)) return false;
 
   ShellMesh m;
   m.points = std::move(raw.points);
