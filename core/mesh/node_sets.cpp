@@ -133,6 +133,24 @@ NodeSet nearest_node(const ShellMesh& mesh, const Vec3& point) {
   return best < 0 ? NodeSet{} : NodeSet{best};
 }
 
+NodeSet nodes_facing(const ShellMesh& mesh, const Vec3& side) {
+  if (!(side.allFinite() && side.norm() > 0))
+    throw std::invalid_argument("side node set: the side direction must be a finite non-zero vector");
+  // 1 = every quad seen so far lies toward side, 0 = no quad yet, -1 = some quad does not
+  std::vector<signed char> state(mesh.node_count(), 0);
+  for (const auto& q : mesh.quads) {
+    const Vec3 c = 0.25 * (mesh.points[q[0]] + mesh.points[q[1]] + mesh.points[q[2]] + mesh.points[q[3]]);
+    for (int k : q) {
+      if (state[k] < 0) continue;
+      state[k] = (c - mesh.points[k]).dot(side) > 0 ? 1 : -1;
+    }
+  }
+  NodeSet out;
+  for (int i = 0; i < mesh.node_count(); ++i)
+    if (state[i] > 0) out.push_back(i);
+  return out;
+}
+
 NodeSet patch_edge_nodes(const ShellMesh& mesh, const std::string& name, PatchEdge edge) {
   const Patch& p = find_patch_or_throw(mesh, name);
   if (!p.structured())
@@ -258,6 +276,16 @@ NodeSelector NodeSelector::difference(NodeSelector a, NodeSelector b) {
   return s;
 }
 
+NodeSelector NodeSelector::facing(NodeSelector base, const Vec3& side) {
+  if (!(side.allFinite() && side.norm() > 0))
+    throw std::invalid_argument("side node set: the side direction must be a finite non-zero vector");
+  NodeSelector s;
+  s.kind_ = Kind::facing;
+  s.a_ = side.normalized();
+  s.children_ = {std::move(base)};
+  return s;
+}
+
 NodeSet NodeSelector::select(const ShellMesh& mesh) const {
   switch (kind_) {
     case Kind::all: {
@@ -288,6 +316,17 @@ NodeSet NodeSelector::select(const ShellMesh& mesh) const {
       return out;
     }
     case Kind::difference: return set_difference(children_[0].select(mesh), children_[1].select(mesh));
+    case Kind::facing: {
+      const NodeSet facing = nodes_facing(mesh, a_);
+      const NodeSelector& base = children_[0];
+      if (base.kind_ != Kind::nearest) return set_intersection(base.select(mesh), facing);
+      // nearest first would pick one of two coincident lip nodes by id, not by side
+      int best = -1;
+      double best_d = std::numeric_limits<double>::infinity();
+      for (int i : facing)
+        if (const double d = (mesh.points[i] - base.a_).squaredNorm(); d < best_d) best_d = d, best = i;
+      return best < 0 ? NodeSet{} : NodeSet{best};
+    }
   }
   return {};
 }
@@ -319,6 +358,9 @@ std::string NodeSelector::describe() const {
     case Kind::union_of: return children_.empty() ? "no nodes (empty union)" : join("or");
     case Kind::intersection_of: return join("and");
     case Kind::difference: return parens(children_[0].describe()) + " but not " + parens(children_[1].describe());
+    case Kind::facing:
+      return parens(children_[0].describe()) + ", keeping nodes whose quads all lie toward " + vec(a_) +
+             " (side)";
   }
   return "?";
 }

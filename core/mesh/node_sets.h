@@ -48,6 +48,11 @@ NodeSet nodes_in_sphere(const ShellMesh& mesh, const Eigen::Vector3d& center, do
                         double tol = kAutoTolerance);
 /// The single node closest to `point` (lowest id on a tie); empty only for an empty mesh.
 NodeSet nearest_node(const ShellMesh& mesh, const Eigen::Vector3d& point);
+/// Nodes every quad of which lies toward `side` from the node: (centroid - x) . side > 0 for each
+/// quad the node belongs to. Coincident nodes on the two lips of a slit belong to quads on opposite
+/// sides, so this is how a selection tells them apart (an interior node has quads on both sides and
+/// is never facing). Throws std::invalid_argument for a zero or non-finite `side`.
+NodeSet nodes_facing(const ShellMesh& mesh, const Eigen::Vector3d& side);
 /// Grid nodes of patch `patch` on `edge`. Throws std::invalid_argument when there is no such
 /// patch or it has no parametric grid (imported meshes), naming the patches that exist.
 NodeSet patch_edge_nodes(const ShellMesh& mesh, const std::string& patch, PatchEdge edge);
@@ -61,7 +66,7 @@ NodeSet set_difference(const NodeSet& a, const NodeSet& b);
 /// A node-set description as a scene stores it: a predicate or a boolean combination.
 class NodeSelector {
  public:
-  enum class Kind { all, ids, plane, box, sphere, nearest, patch, patch_edge, union_of, intersection_of, difference };
+  enum class Kind { all, ids, plane, box, sphere, nearest, patch, patch_edge, union_of, intersection_of, difference, facing };
 
   static NodeSelector all();
   static NodeSelector ids(std::vector<int> ids);
@@ -75,6 +80,9 @@ class NodeSelector {
   static NodeSelector intersection_of(std::vector<NodeSelector> parts);
   /// Nodes of a that are not in b.
   static NodeSelector difference(NodeSelector a, NodeSelector b);
+  /// The nodes of `base` that are facing `side` (nodes_facing); a nearest `base` takes the nearest
+  /// of the facing nodes, so one lip of a slit can be picked by a point on the seam.
+  static NodeSelector facing(NodeSelector base, const Eigen::Vector3d& side);
 
   Kind kind() const { return kind_; }
   /// The selected nodes (may throw std::invalid_argument for an unknown patch or a node id

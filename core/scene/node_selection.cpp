@@ -1,6 +1,7 @@
 #include "core/scene/node_selection.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/mesh/node_sets.h"
 
@@ -11,11 +12,16 @@ const std::vector<std::string> kSelect = {"nearest", "plane", "box", "sphere", "
 
 Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 
-mesh::NodeSelector selector(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
+mesh::NodeSelector base_selector(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
   const std::string kind = d.string(t + ".select", i);
   const double tol = d.number(t + ".tolerance", i) > 0 ? d.number(t + ".tolerance", i) : mesh::kAutoTolerance;
   if (kind == "nearest") return mesh::NodeSelector::nearest(vec(d.numbers(t + ".point", i)));
-  if (kind == "plane") return mesh::NodeSelector::plane(vec(d.numbers(t + ".point", i)), vec(d.numbers(t + ".normal", i)), tol);
+  if (kind == "plane") {
+    const Eigen::Vector3d n = vec(d.numbers(t + ".normal", i));
+    if (!(n.allFinite() && n.norm() > 0 && std::isfinite(n.squaredNorm())))
+      throw SceneError({d.issue(t + ".normal", i, "the plane normal must be a finite non-zero vector")});
+    return mesh::NodeSelector::plane(vec(d.numbers(t + ".point", i)), n, tol);
+  }
   if (kind == "box") return mesh::NodeSelector::box(vec(d.numbers(t + ".box_min", i)), vec(d.numbers(t + ".box_max", i)), tol);
   if (kind == "sphere") return mesh::NodeSelector::sphere(vec(d.numbers(t + ".point", i)), d.number(t + ".radius", i), tol);
   if (kind == "patch_edge") {
@@ -28,6 +34,15 @@ mesh::NodeSelector selector(const Document& d, const mesh::ShellMesh& m, const s
     }
   }
   return mesh::NodeSelector::all();
+}
+
+mesh::NodeSelector selector(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
+  mesh::NodeSelector base = base_selector(d, m, t, i);
+  const Eigen::Vector3d side = vec(d.numbers(t + ".side", i));
+  if (side.isZero(0.0)) return base;
+  if (!(side.allFinite() && std::isfinite(side.squaredNorm())))
+    throw SceneError({d.issue(t + ".side", i, "the side direction must be a finite vector")});
+  return mesh::NodeSelector::facing(std::move(base), side);
 }
 }  // namespace
 
@@ -44,7 +59,12 @@ void declare_selector_keys(Schema& s, const std::string& t) {
               "\"start_angle\", \"rim\", \"inner\", \"x_min\")",
               std::string("u=0"))
       .number(t + ".tolerance", "plane/box/sphere tolerance; 0 = automatic (1e-3 x shortest edge)", 0.0,
-              Range::non_negative());
+              Range::non_negative())
+      .number_list(t + ".side",
+                   "keep only the selected nodes whose quads all lie toward this direction from the node: "
+                   "picks one lip of a slit (two coincident edges) apart from the other; with nearest, the "
+                   "nearest such node; [0, 0, 0] = every selected node",
+                   std::vector<double>{0, 0, 0}, {}, 3, 3);
 }
 
 std::vector<int> select_nodes(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {

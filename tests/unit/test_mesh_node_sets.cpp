@@ -109,3 +109,28 @@ TEST(NodeSets, AutomaticToleranceScalesWithTheMesh) {
   EXPECT_EQ(nodes_on_plane(m, Vector3d::Zero(), Vector3d::UnitY()), patch_edge_nodes(m, "roof", PatchEdge::u_max));
   EXPECT_EQ(nodes_on_plane(m, Vector3d(254, 0, 0), Vector3d::UnitX()).size(), 7u);
 }
+
+// side: a node is facing a direction when every quad it belongs to lies that way from it. On the
+// 4 x 2 plate the x_min column faces +x, the x_max column -x, interior nodes face nowhere; and two
+// plates sharing the line x = 1 without sharing nodes (a slit) are told apart on that line.
+TEST(NodeSets, FacingPicksOneLipOfCoincidentEdges) {
+  const ShellMesh m = plate();
+  EXPECT_EQ(nodes_facing(m, Vector3d::UnitX()), (NodeSet{0, 5, 10}));
+  EXPECT_EQ(nodes_facing(m, -Vector3d::UnitX()), (NodeSet{4, 9, 14}));
+  EXPECT_EQ(nodes_facing(m, Vector3d(1, 1, 0)), (NodeSet{0}));  // the corner whose quad lies up and right
+  EXPECT_THROW(nodes_facing(m, Vector3d::Zero()), std::invalid_argument);
+  EXPECT_THROW(nodes_facing(m, Vector3d(NAN, 0, 0)), std::invalid_argument);
+
+  // left plate [0,1] x [0,1] (nodes 0..3), right plate [1,2] x [0,1] (nodes 4..7): x = 1 holds 1, 3, 5, 7
+  ShellMesh slit;
+  slit.points = {Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(0, 1, 0), Vector3d(1, 1, 0),
+                 Vector3d(1, 0, 0), Vector3d(2, 0, 0), Vector3d(1, 1, 0), Vector3d(2, 1, 0)};
+  slit.quads = {{0, 1, 3, 2}, {4, 5, 7, 6}};
+  const NodeSelector seam = NodeSelector::plane(Vector3d(1, 0, 0), Vector3d::UnitX());
+  EXPECT_EQ(seam.select(slit), (NodeSet{1, 3, 4, 6}));
+  EXPECT_EQ(NodeSelector::facing(seam, -Vector3d::UnitX()).select(slit), (NodeSet{1, 3}));
+  EXPECT_EQ(NodeSelector::facing(seam, Vector3d::UnitX()).select(slit), (NodeSet{4, 6}));
+  // nearest picks among the facing nodes: the lowest id would be 1 whatever the side
+  EXPECT_EQ(NodeSelector::facing(NodeSelector::nearest(Vector3d(1, 0, 0)), Vector3d::UnitX()).select(slit), (NodeSet{4}));
+  EXPECT_NE(NodeSelector::facing(seam, Vector3d::UnitX()).describe().find("toward"), std::string::npos);
+}
