@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/mesh/node_sets.h"
 
@@ -69,7 +70,14 @@ void declare_selector_keys(Schema& s, const std::string& t) {
 
 std::vector<int> select_nodes(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
   const mesh::NodeSelector sel = selector(d, m, t, i);
-  const std::vector<int> ids = sel.select(m);
+  std::vector<int> ids;
+  try {
+    ids = sel.select(m);
+  } catch (const std::invalid_argument& e) {
+    // a request the mesh cannot answer (no such patch, or a patch with no parametric grid)
+    const bool by_patch = d.string(t + ".select", i) == "patch_edge";
+    throw SceneError({d.issue(by_patch ? t + ".patch" : t + ".select", i, e.what())});
+  }
   if (ids.empty())
     throw SceneError({d.issue(t + ".select", i, mesh::empty_selection_message(t + "[" + std::to_string(i) + "]", sel, m))});
   return ids;

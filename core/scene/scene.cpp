@@ -1,6 +1,9 @@
 #include "core/scene/scene.h"
 
 #include <algorithm>
+#include <limits>
+#include <map>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <toml++/toml.h>
@@ -95,6 +98,32 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
   p.second_moment = d.number("beam.second_moment");
   p.torque_amplitude = d.number("torque.amplitude");
   p.torque_period = d.number("torque.period");
+  // The model's coefficients are products of these inputs; one that overflows or underflows
+  // double precision makes every matrix meaningless, and the failure would surface later under
+  // an unrelated key (the EFG moment matrix, say). Name the input that dominates the product.
+  struct Factor {
+    const char* key;
+    double value;
+    int power;
+  };
+  auto representable = [&](const char* what, std::initializer_list<Factor> factors) {
+    double product = 1.0;
+    for (const Factor& f : factors) product *= std::pow(f.value, f.power);
+    if (std::isfinite(product) && std::abs(product) >= std::numeric_limits<double>::min()) return;
+    const Factor* worst = factors.begin();
+    for (const Factor& f : factors)
+      if (std::abs(f.power * std::log10(f.value)) > std::abs(worst->power * std::log10(worst->value))) worst = &f;
+    std::ostringstream m;
+    m << what << " = " << product << " is outside double precision (" << worst->key << " = " << worst->value << ")";
+    fail_at(d, worst->key, m.str());
+  };
+  representable("the beam mass rho A L", {{"beam.density", p.density, 1}, {"beam.area", p.area, 1}, {"beam.length", p.length, 1}});
+  representable("the beam's rotary inertia rho A L^3", {{"beam.density", p.density, 1}, {"beam.area", p.area, 1}, {"beam.length", p.length, 3}});
+  representable("the bending stiffness E I / L^3",
+                {{"beam.youngs_modulus", p.youngs_modulus, 1}, {"beam.second_moment", p.second_moment, 1}, {"beam.length", p.length, -3}});
+  representable("the axial stiffness E A / L",
+                {{"beam.youngs_modulus", p.youngs_modulus, 1}, {"beam.area", p.area, 1}, {"beam.length", p.length, -1}});
+  representable("L^8 (the scale of the EFG moment matrices)", {{"beam.length", p.length, 8}});
   HubBeamEffects fx;
   fx.axial = has(effects, "axial");
   fx.first_order_coupling = has(effects, "first_order_coupling");
@@ -227,6 +256,26 @@ std::string scene_reference_markdown() {
   return out;
 }
 
+namespace {
+// results.h5 keeps one series per probe name and summary.json one value per metric name, so a
+// repeated name would fail only when the results file is created (or silently overwrite a
+// metric): refuse it here, where check sees it too, at the second entry's own line
+void refuse_repeated_names(const Document& d) {
+  for (const char* table : {"probe", "arc", "metric"}) {
+    if (!d.declares_array(table)) continue;
+    const std::string key = std::string(table) + ".name";
+    std::map<std::string, std::size_t> first;
+    for (std::size_t i = 0; i < d.count(table); ++i) {
+      const std::string name = d.string(key, i);
+      const auto [at, inserted] = first.emplace(name, i);
+      if (!inserted)
+        throw SceneError({d.issue(key, i, "another [[" + std::string(table) + "]] is already called '" + name + "' (" +
+                                              table + "[" + std::to_string(at->second) + "]); names must be unique")});
+    }
+  }
+}
+}  // namespace
+
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
   const std::string text = read_text(path);
   const Peeked peeked = peek_model_text(text, path);
@@ -238,6 +287,7 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
   s.path = path;
   s.output = read_output(d, kind.camera_keys);
   s.output.camera_path = read_timeline(d, d.number(kind.end_key)).camera;
+  refuse_repeated_names(d);
   s.simulation = kind.build(d, path, ctx);
   return s;
 }

@@ -240,6 +240,8 @@ class Document {
 
   // ---- arrays of tables -----------------------------------------------------------------------
 
+  /// The schema declares `array_path` as an array of tables (count() may be asked).
+  bool declares_array(const std::string& array_path) const { return arrays_.count(array_path) != 0; }
   /// Number of elements of the array of tables `array_path` (0 when absent).
   std::size_t count(const std::string& array_path) const;
   double number(const std::string& path, std::size_t index) const;

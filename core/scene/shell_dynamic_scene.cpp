@@ -353,6 +353,20 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   info.effects = fx;
   try {
     return std::make_unique<ShellDynamicSimulation>(std::move(spec), std::move(st), std::move(info));
+  } catch (const shell::BodySpecError& e) {
+    using Part = shell::BodySpecError::Part;
+    const std::size_t b = static_cast<std::size_t>(e.body());
+    switch (e.part()) {
+      case Part::shell_element:
+        // det J <= 0 through the thickness: the thickness against the curvature, or a distorted mesh
+        throw SceneError({d.issue("shell.thickness", b,
+                                  std::string(e.what()) + " (a thickness larger than the local radius of curvature, "
+                                                          "or a distorted mesh, makes the element invalid)")});
+      case Part::shell_density: throw SceneError({d.issue("shell.density", b, e.what())});
+      case Part::rigid_mass: throw SceneError({d.issue("rigid.mass", b, e.what())});
+      case Part::rigid_inertia: throw SceneError({d.issue("rigid.inertia", b, e.what())});
+    }
+    throw SceneError({d.issue("scene.effects", e.what())});
   } catch (const std::invalid_argument& e) {
     throw SceneError({d.issue("scene.effects", e.what())});
   }

@@ -171,16 +171,25 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     const std::string probe = d.string("reference.probe", i);
     if (!has_probe(probe)) throw SceneError({d.issue("reference.probe", i, "no probe named '" + probe + "'")});
     const std::string file = (fs::path(path).parent_path() / d.string("reference.file", i)).string();
+    ReferenceTable t;
     try {
-      const ReferenceTable t = read_reference_csv(file);
-      ReferenceSeries r{"load", probe, d.string("reference.label", i), t.column(d.string("reference.x_column", i)),
-                        t.column(d.string("reference.y_column", i))};
-      for (double& x : r.x) x *= d.number("reference.x_scale", i);
-      for (double& y : r.y) y *= d.number("reference.y_scale", i);
-      info.references.push_back(std::move(r));
+      t = read_reference_csv(file);
     } catch (const std::runtime_error& e) {
       throw SceneError({d.issue("reference.file", i, e.what())});
     }
+    // a column the file lacks is the column key's error, not the file's
+    auto column = [&](const std::string& key) {
+      try {
+        return t.column(d.string(key, i));
+      } catch (const std::runtime_error& e) {
+        throw SceneError({d.issue(key, i, e.what())});
+      }
+    };
+    ReferenceSeries r{"load", probe, d.string("reference.label", i), column("reference.x_column"),
+                      column("reference.y_column")};
+    for (double& x : r.x) x *= d.number("reference.x_scale", i);
+    for (double& y : r.y) y *= d.number("reference.y_scale", i);
+    info.references.push_back(std::move(r));
   }
   // solver
   StaticConvergence conv;

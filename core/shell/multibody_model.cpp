@@ -32,22 +32,27 @@ MultibodyModel::~MultibodyModel() = default;
 
 MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
   // nodes: every shell body's mesh nodes, then one node per rigid body
-  for (const ShellBodySpec& b : spec_.shells) {
+  for (int body = 0; body < static_cast<int>(spec_.shells.size()); ++body) {
+    const ShellBodySpec& b = spec_.shells[body];
     shell_offset_.push_back(static_cast<int>(reference_.size()));
     const mesh::ShellMesh& m = b.mesh;
     if (m.quad_count() == 0) throw std::invalid_argument("shell body '" + b.name + "' has no elements");
-    if (!(b.density > 0)) throw std::invalid_argument("shell body '" + b.name + "' needs a positive density");
+    if (!(b.density > 0))
+      throw BodySpecError(BodySpecError::Part::shell_density, body, "shell body '" + b.name + "' needs a positive density");
     for (int i = 0; i < m.node_count(); ++i) {
       reference_.push_back({m.frames[i], m.points[i]});
       six_.push_back(b.options.drilling || (i < static_cast<int>(m.fold.size()) && m.fold[i]) ? 1 : 0);
     }
   }
   rigid_offset_ = static_cast<int>(reference_.size());
-  for (const RigidBodySpec& r : spec_.rigid) {
-    if (!(r.mass > 0)) throw std::invalid_argument("rigid body '" + r.name + "' needs a positive mass");
+  for (int body = 0; body < static_cast<int>(spec_.rigid.size()); ++body) {
+    const RigidBodySpec& r = spec_.rigid[body];
+    if (!(r.mass > 0))
+      throw BodySpecError(BodySpecError::Part::rigid_mass, body, "rigid body '" + r.name + "' needs a positive mass");
     Eigen::SelfAdjointEigenSolver<Mat3> es(0.5 * (r.inertia + r.inertia.transpose()));
-    if (es.eigenvalues().minCoeff() <= 0)
-      throw std::invalid_argument("rigid body '" + r.name + "' needs a positive definite inertia tensor");
+    if (!(es.eigenvalues().minCoeff() > 0))
+      throw BodySpecError(BodySpecError::Part::rigid_inertia, body,
+                          "rigid body '" + r.name + "' needs a positive definite inertia tensor");
     reference_.push_back(r.pose);
     six_.push_back(1);
   }
@@ -103,7 +108,12 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
         e.plain = e.plain && (e.corner[c] - Mat3::Identity()).norm() < 1e-14;
         ref[c] = {Rc, m.points[I]};
       }
-      e.elastic = std::make_unique<CbShellElement>(ref, body.section, body.options);
+      try {
+        e.elastic = std::make_unique<CbShellElement>(ref, body.section, body.options);
+      } catch (const std::invalid_argument& err) {
+        throw BodySpecError(BodySpecError::Part::shell_element, b,
+                            "shell body '" + body.name + "', quad " + std::to_string(q) + ": " + err.what());
+      }
       hr_elements_ += body.options.hr, ans_elements_ += body.options.ans, drilling_elements_ += body.options.drilling;
       e.inertia = std::make_unique<CbShellInertia>(ref, body.section.thickness, body.density);
       elements_.push_back(std::move(e));

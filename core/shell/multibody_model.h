@@ -7,6 +7,7 @@
 /// Lie-group generalized-α integrator.
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -68,9 +69,24 @@ struct MotionSummary {
   double total() const { return kinetic + strain + gravity_potential; }
 };
 
+/// What the MultibodyModel constructor refuses about one body, with the body's index in
+/// MultibodySpec::shells (or ::rigid), so a scene can point at that body's own key.
+class BodySpecError : public std::invalid_argument {
+ public:
+  enum class Part { shell_element, shell_density, rigid_mass, rigid_inertia };
+  BodySpecError(Part part, int body, const std::string& what) : std::invalid_argument(what), part_(part), body_(body) {}
+  Part part() const { return part_; }
+  int body() const { return body_; }
+
+ private:
+  Part part_;
+  int body_;
+};
+
 class MultibodyModel final : public ff::DynamicProblem {
  public:
-  /// Throws std::invalid_argument with a plain explanation for specs that cannot be simulated.
+  /// Throws std::invalid_argument with a plain explanation for specs that cannot be simulated
+  /// (BodySpecError when one body is at fault).
   explicit MultibodyModel(MultibodySpec spec);
   ~MultibodyModel() override;
 

@@ -207,3 +207,53 @@ TEST(CliBadInputFile, UsageErrorsExitWith2) {
 
 }  // namespace
 }  // namespace ff::cli::test
+
+namespace ff::cli::test {
+namespace {
+
+// Issue 12, findings 4 and 5: an error raised while the model is built names the key that
+// caused it (not a neighbour, not the first [[bc]]), and a repeated name that `run` would
+// refuse when it creates results.h5 is refused by `check` already. Each case is the smallest
+// --set on a bundled scene that showed the wrong key.
+struct WrongKeyCase {
+  std::string name, scene;
+  std::vector<std::string> overrides;
+  std::string key;       ///< the key the message must name
+  std::string fragment;  ///< part of the explanation
+};
+
+class CliErrorKey : public ::testing::TestWithParam<WrongKeyCase> {};
+
+TEST_P(CliErrorKey, CheckNamesTheKeyThatCausedIt) {
+  const WrongKeyCase& c = GetParam();
+  const std::string dir = fresh_test_dir();
+  std::vector<std::string> args{"check", c.scene};
+  for (const std::string& o : c.overrides) args.insert(args.end(), {"--set", o});
+  const ProcResult r = run_flexframe(args, dir + "/check", dir);
+  ASSERT_EQ(r.signal, 0) << r.describe();
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find("key '" + c.key + "'"), std::string::npos) << "stderr lacks key '" << c.key << "'\n" << r.describe();
+  EXPECT_NE(r.err.find(c.fragment), std::string::npos) << "stderr lacks '" << c.fragment << "'\n" << r.describe();
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Findings, CliErrorKey,
+    ::testing::Values(
+        WrongKeyCase{"StaticThicknessNotBc", "hinged_roof_h635", {"material.thickness=1e9"}, "material.thickness", "det J"},
+        WrongKeyCase{"BodyThicknessNotEffects", "double_pendulum_shells", {"shell[1].thickness=1e9"}, "shell[1].thickness",
+                     "shell body 'II'"},
+        WrongKeyCase{"BeamLengthNotEfgScale", "hub_beam_efg_tau1", {"beam.length=1e308"}, "beam.length",
+                     "outside double precision"},
+        WrongKeyCase{"TinyBeamLength", "hub_beam_fem_tau1", {"beam.length=1e-300"}, "beam.length", "outside double precision"},
+        WrongKeyCase{"JointPatchHasALocation", "double_pendulum_shells", {"joint[0].patch=\"Z\""}, "joint[0].patch",
+                     "no patch named 'Z'"},
+        WrongKeyCase{"ZeroPlaneNormal", "pulled_cylinder", {"bc[1].normal=[0.0, 0.0, 0.0]"}, "bc[1].normal",
+                     "finite non-zero"},
+        WrongKeyCase{"ReferenceColumnNotFile", "pulled_cylinder", {"reference[0].y_column=\"nope\""},
+                     "reference[0].y_column", "no column 'nope'"},
+        WrongKeyCase{"RepeatedProbeName", "pulled_cylinder", {"probe[2].name=\"w_A\""}, "probe[2].name",
+                     "already called 'w_A'"}),
+    [](const ::testing::TestParamInfo<WrongKeyCase>& i) { return i.param.name; });
+
+}  // namespace
+}  // namespace ff::cli::test
