@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "app/io/machine_memory.h"
 #include "app/bench.h"
 #include "app/compare.h"
 #include "app/gui/gui_app.h"
@@ -180,6 +181,11 @@ int main(int argc, char** argv) {
   }
   std::signal(SIGINT, on_sigint);
   std::signal(SIGTERM, on_sigint);
+  // a memory limit that cannot be read would otherwise be ignored without a word
+  if (std::string memory_error; ff::io::machine_memory_limit_bytes(&memory_error), !memory_error.empty()) {
+    std::fprintf(stderr, "error: %s\n", memory_error.c_str());
+    return 2;
+  }
 
   try {
     if (*run) {

@@ -1,5 +1,7 @@
 #include "app/io/mesh_import.h"
 
+#include "app/io/machine_memory.h"
+
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -440,6 +442,7 @@ ff::scene::SceneContext scene_context() {
     options.weld_tolerance = request.weld_tolerance;
     return import_shell_mesh(request.path, out, error, options);
   };
+  ctx.memory_limit_bytes = machine_memory_limit_bytes();
   return ctx;
 }
 

@@ -25,6 +25,9 @@ using MeshFileReader = std::function<bool(const MeshFileRequest& request, mesh::
 /// What building a scene may need from the program around it (passed in, never global).
 struct SceneContext {
   MeshFileReader mesh_reader;  ///< reads generator = "file" meshes; empty: such scenes are refused
+  /// Memory a run may use [bytes] (the machine's, or a process/container limit); a scene whose
+  /// estimated peak exceeds it is refused at its mesh keys. 0: unknown, nothing is refused.
+  double memory_limit_bytes = 0.0;
 };
 
 }  // namespace ff::scene

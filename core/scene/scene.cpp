@@ -153,7 +153,7 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
   HubBeamRunSettings rs;
   rs.dt = d.number("solver.dt");
   rs.t_end = d.number("solver.t_end");
-  if (rs.dt > rs.t_end) fail_at(d, "solver.dt", "the time step must not exceed solver.t_end");
+  refuse_impossible_step_count(d, "solver.dt", "solver.t_end");
   rs.newmark.beta = d.number("solver.newmark_beta");
   rs.newmark.gamma = d.number("solver.newmark_gamma");
   if (rs.newmark.beta < 0.5 * rs.newmark.gamma)

@@ -1,5 +1,9 @@
 #include "core/scene/scene_common.h"
 
+#include <sstream>
+
+#include "core/shell/shell_model.h"
+
 namespace ff::scene {
 
 void declare_scene_table(Schema& s, const std::string& effects_doc, std::vector<std::string> effects) {
@@ -50,6 +54,32 @@ OutputSettings read_output(const Document& d, bool camera_keys) {
       throw SceneError({d.issue("output.view_center", "expected [] or three coordinates")});
   }
   return o;
+}
+
+void refuse_impossible_step_count(const Document& d, const std::string& dt_key, const std::string& end_key) {
+  const double dt = d.number(dt_key), end = d.number(end_key);
+  if (dt > end) throw SceneError({d.issue(dt_key, "the time step must not exceed " + end_key)});
+  const double steps = end / dt;  // a double: the quotient may exceed every integer type
+  if (!(steps <= kMaxTimeSteps)) {
+    std::ostringstream m;
+    m << end_key << " / " << dt_key << " = " << end << " / " << dt << " = " << steps << " steps, more than the "
+      << kMaxTimeSteps << " a run may take; raise " << dt_key << " or lower " << end_key;
+    // at the key the user just changed, when only one of the two came from --set
+    const bool end_set = d.where(end_key).rfind("--set", 0) == 0, dt_set = d.where(dt_key).rfind("--set", 0) == 0;
+    throw SceneError({d.issue(end_set && !dt_set ? end_key : dt_key, m.str())});
+  }
+}
+
+void refuse_oversized(const Document& d, const SceneContext& ctx, int nodes, double six_dof_fraction,
+                      const std::string& key, int index) {
+  if (!(ctx.memory_limit_bytes > 0)) return;
+  const double need = shell::estimated_peak_bytes(nodes, six_dof_fraction);
+  if (need <= ctx.memory_limit_bytes) return;
+  std::ostringstream m;
+  m.precision(3);
+  m << "a run on this mesh (" << nodes << " nodes) would need about " << need / 1e9 << " GB, more than the "
+    << ctx.memory_limit_bytes / 1e9 << " GB this machine allows; use a coarser mesh";
+  throw SceneError({index < 0 ? d.issue(key, m.str()) : d.issue(key, static_cast<std::size_t>(index), m.str())});
 }
 
 void describe_run(const Document& d, const std::string& path, RunInfo& info) {

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/frame/frame.h"
+#include "core/scene/mesh_file.h"
 #include "core/scene/scene.h"
 
 namespace ff::scene {
@@ -14,6 +15,17 @@ void declare_scene_table(Schema& s, const std::string& effects_doc, std::vector<
 void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool camera_keys);
 /// OutputSettings from a document declared with declare_output_keys.
 OutputSettings read_output(const Document& d, bool camera_keys);
+/// The most time steps a scene may ask for: beyond it no run could finish (10^9 steps at 10^5
+/// steps/s is about 3 hours of the fastest model) and step counters near 2^53 lose exactness.
+inline constexpr double kMaxTimeSteps = 1e9;
+/// Refuses, at `dt_key`, a time step larger than the end time or one that needs more than
+/// kMaxTimeSteps steps to reach it (the count is in the message); `check` sees it as `run` would.
+void refuse_impossible_step_count(const Document& d, const std::string& dt_key, const std::string& end_key);
+/// Refuses, at `key` (element `index` of an array of tables, or a plain key when index < 0), a
+/// shell run whose estimated peak memory (shell::estimated_peak_bytes) exceeds the context's
+/// limit; the message gives both figures.
+void refuse_oversized(const Document& d, const SceneContext& ctx, int nodes, double six_dof_fraction,
+                      const std::string& key, int index = -1);
 /// Scene name, path, text and every effective setting into a RunInfo.
 void describe_run(const Document& d, const std::string& path, RunInfo& info);
 

@@ -148,7 +148,7 @@ std::vector<int> ordered(const mesh::ShellMesh& m, std::vector<int> ids) {
 }
 }  // namespace
 
-std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::string& path, const SceneContext&) {
+std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::string& path, const SceneContext& ctx) {
   using namespace ff::shell;
   const std::vector<std::string> fx = d.strings("scene.effects");
   auto has = [&](const char* e) { return std::find(fx.begin(), fx.end(), e) != fx.end(); };
@@ -173,6 +173,15 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     b.options.drilling = has("drilling");
     b.options.drilling_factor = d.number("shell.drilling_factor", i);
     spec.shells.push_back(std::move(b));
+  }
+  {
+    // the static fit (shell_model.cpp) for all bodies together, at the largest body's mesh size
+    int total = 0, largest = 0;
+    for (std::size_t i = 0; i < spec.shells.size(); ++i) {
+      total += spec.shells[i].mesh.node_count();
+      if (spec.shells[i].mesh.node_count() > spec.shells[largest].mesh.node_count()) largest = static_cast<int>(i);
+    }
+    if (total > 0) refuse_oversized(d, ctx, total, has("drilling") ? 1.0 : 0.0, "shell.n1", largest);
   }
   for (std::size_t i = 0; i < d.count("rigid"); ++i) {
     RigidBodySpec r;
@@ -294,6 +303,7 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     }
   }
 
+  refuse_impossible_step_count(d, "time.dt", "time.end");
   ShellDynamicSettings st;
   st.dt = d.number("time.dt");
   st.end_time = d.number("time.end");

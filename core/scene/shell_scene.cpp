@@ -118,12 +118,23 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   if (!has("elastic")) throw SceneError({d.issue("scene.effects", "a shell_static scene needs the effect 'elastic'")});
 
   ShellModelSpec spec;
+  // n1 x n2 quads at least (a lower bound on the nodes of every generator): refuse a mesh that
+  // cannot fit before spending seconds generating it
+  if (!mesh_from_file(d))
+    refuse_oversized(d, ctx, static_cast<int>(d.integer("mesh.n1") * d.integer("mesh.n2")), has("drilling") ? 1.0 : 0.0,
+                     "mesh.n1");
   if (!mesh_from_file(d)) spec.mesh = generate_mesh(d);
   else try {
       spec.mesh = read_mesh_file(d, path, ctx);
     } catch (const std::invalid_argument& e) {
       throw SceneError({d.issue("mesh.generator", e.what())});
     }
+  {
+    int six = 0;
+    for (std::uint8_t f : spec.mesh.fold) six += f != 0;
+    const double six_fraction = has("drilling") ? 1.0 : spec.mesh.node_count() > 0 ? double(six) / spec.mesh.node_count() : 0.0;
+    refuse_oversized(d, ctx, spec.mesh.node_count(), six_fraction, mesh_from_file(d) ? "mesh.file" : "mesh.n1");
+  }
   spec.section = {d.number("material.youngs_modulus"), d.number("material.poisson_ratio"),
                   d.number("material.thickness"), d.number("material.shear_factor")};
   spec.options.hr = has("hr");

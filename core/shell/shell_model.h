@@ -94,6 +94,11 @@ class ShellSpecError : public std::invalid_argument {
   int source_;
 };
 
+/// Peak resident memory [bytes] of a shell run on `nodes` nodes, `six_dof_fraction` of them with
+/// 6 DoFs, estimated before anything is built so that `check` can refuse a mesh that cannot fit.
+/// Fitted to measured peaks (shell_model.cpp, where the measurements are); about 20 % either way.
+double estimated_peak_bytes(int nodes, double six_dof_fraction);
+
 class ShellModel final : public ff::StaticProblem {
  public:
   /// Throws std::invalid_argument with a plain explanation for restraints that cannot be exact.
