@@ -7,6 +7,8 @@ struct BenchOptions {
   std::string out_file;  ///< optional JSON
   bool effects = false;  ///< --effects: only the effects table (run_effects_bench)
   int effects_plate = 16;  ///< --plate: elements per side of the effects benchmark's plate
+  bool solve = false;      ///< --solve: only the Newton-iteration table (run_solve_bench)
+  int solve_max_n = 256;   ///< --max-n: largest plate of --solve
 };
 /// `flexframe bench`: steps/s of every bundled hub-beam scene, EFG/FEM cost ratios and headless
 /// frames/s, as a markdown table. Ratios come from one run of this command.
@@ -16,4 +18,7 @@ int run_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// (assembly and sparse factorization), hr / ans off against on, the hub-beam's zero- against
 /// first-order coupling and without axial DoFs (app/bench_effects.cpp).
 int run_effects_bench(const BenchOptions& options, const std::atomic<bool>& stop);
+/// `flexframe bench --solve`: a static Newton iteration on n x n plates (n = 16 .. 256), assembly
+/// against factorization + solve for every compiled unsymmetric backend (app/bench_solve.cpp).
+int run_solve_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 }  // namespace ff::app

@@ -122,6 +122,12 @@ int main(int argc, char** argv) {
                   "only the time saved by effects left out (no mass matrix, 5 vs 6 DoF, hr/ans, coupling order)");
   bench->add_option("--plate", bench_opt.effects_plate, "--effects: elements per side of the plate")
       ->check(CLI::Range(2, 512));
+  bench->add_flag("--solve", bench_opt.solve,
+                  "only a static Newton iteration on n x n plates: assembly against factorization + solve per linear "
+                  "backend");
+  bench->add_option("--max-n", bench_opt.solve_max_n, "--solve: largest plate (16, 32, 64, 128, 256)")
+      ->check(CLI::Range(16, 256));
+  bench->add_option("--json", bench_opt.out_file, "same as --out: write the results as JSON to this file");
 
   // study
   ff::app::StudyOptions study_opt;
@@ -221,7 +227,10 @@ int main(int argc, char** argv) {
       return ff::app::gui::run_gui(gui_opt, g_stop);
     }
     if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
-    if (*bench) return bench_opt.effects ? ff::app::run_effects_bench(bench_opt, g_stop) : ff::app::run_bench(bench_opt, g_stop);
+    if (*bench)
+      return bench_opt.solve     ? ff::app::run_solve_bench(bench_opt, g_stop)
+             : bench_opt.effects ? ff::app::run_effects_bench(bench_opt, g_stop)
+                                 : ff::app::run_bench(bench_opt, g_stop);
     if (*policies) {
       auto split = [](const std::string& s) {
         std::vector<std::string> out;

@@ -12,6 +12,9 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 #endif
+#ifdef FF_HAVE_MUMPS
+#include <dmumps_c.h>
+#endif
 
 namespace ff {
 
@@ -234,6 +237,104 @@ class CholmodImpl final : public SparseLinearSolver::Impl {
 };
 #endif
 
+
+#ifdef FF_HAVE_MUMPS
+// MUMPS (sequential build), unsymmetric multifrontal LU with a nested-dissection ordering:
+// on 2-D shell meshes nested dissection keeps the factor's fill at O(n log n), against the
+// column orderings of UMFPACK and SparseLU (static_solvers.md §4 has the measurements). The
+// analysis (ordering + symbolic) is kept across factorizations of one pattern; MUMPS wants
+// 1-based coordinate triplets, built once per analysis.
+class MumpsImpl final : public SparseLinearSolver::Impl {
+ public:
+  MumpsImpl() {
+    id_.comm_fortran = -987654;  // MPI_COMM_WORLD's Fortran handle as MUMPS documents it (a stub here)
+    id_.par = 1;                 // the host works
+    id_.sym = 0;                 // unsymmetric: shell tangents on SE(3) are not symmetric off equilibrium
+    id_.job = -1;
+    dmumps_c(&id_);
+    initialised_ = id_.infog[0] >= 0;
+    icntl(1) = icntl(2) = icntl(3) = -1;  // no output streams: failures come back as statuses
+    icntl(4) = 0;
+    icntl(28) = 1;   // sequential analysis, so ICNTL(7) picks the ordering
+    icntl(7) = 7;    // automatic: METIS when the build has it, else SCOTCH (Debian's sequential build: SCOTCH)
+    icntl(24) = 1;   // null pivot detection, so a singular K is reported, not factorized
+    icntl(33) = 1;   // the determinant (its sign marks limit and bifurcation points)
+  }
+  ~MumpsImpl() override {
+    if (!initialised_) return;
+    id_.job = -2;
+    dmumps_c(&id_);
+  }
+  MumpsImpl(const MumpsImpl&) = delete;
+  MumpsImpl& operator=(const MumpsImpl&) = delete;
+
+  LinearStatus analyze(const SparseMatrixD& a) override {
+    if (!initialised_) return fail(Code::backend_error, -1, "MUMPS could not be initialised");
+    const int n = static_cast<int>(a.rows());
+    irn_.resize(a.nonZeros());
+    jcn_.resize(a.nonZeros());
+    for (int j = 0; j < n; ++j)
+      for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p) {
+        irn_[p] = a.innerIndexPtr()[p] + 1;
+        jcn_[p] = j + 1;
+      }
+    values_.assign(a.valuePtr(), a.valuePtr() + a.nonZeros());
+    id_.n = n;
+    id_.nnz = a.nonZeros();
+    id_.irn = irn_.data();
+    id_.jcn = jcn_.data();
+    id_.a = values_.data();
+    id_.job = 1;
+    dmumps_c(&id_);
+    if (id_.infog[0] < 0) return fail(Code::backend_error, -1, "MUMPS analysis failed (INFOG(1) = " + std::to_string(id_.infog[0]) + ")");
+    return {};
+  }
+  LinearStatus factorize(const SparseMatrixD& a) override {
+    std::copy(a.valuePtr(), a.valuePtr() + a.nonZeros(), values_.begin());
+    for (int attempt = 0;; ++attempt) {
+      id_.job = 2;
+      dmumps_c(&id_);
+      // -8, -9: the workspace MUMPS estimated in the analysis was short (pivoting grew the
+      // fronts): give it more and factorize again
+      if ((id_.infog[0] == -8 || id_.infog[0] == -9) && attempt < 4) {
+        icntl(14) = std::max(icntl(14), 20) * 2;
+        continue;
+      }
+      break;
+    }
+    if (id_.infog[0] == -10 || (id_.infog[0] >= 0 && id_.infog[27] > 0)) {
+      // INFOG(28) null pivots; PIVNUL_LIST is only kept with ICNTL(24): the first one is the DoF
+      const int dof = id_.infog[27] > 0 && id_.pivnul_list ? id_.pivnul_list[0] - 1 : -1;
+      return fail(Code::singular, dof, singular_message(dof));
+    }
+    if (id_.infog[0] < 0)
+      return fail(Code::backend_error, -1, "MUMPS factorization failed (INFOG(1) = " + std::to_string(id_.infog[0]) + ")");
+    return {};
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    x = b;
+    id_.rhs = x.data();
+    id_.nrhs = 1;
+    id_.lrhs = static_cast<int>(x.size());
+    id_.job = 3;
+    dmumps_c(&id_);
+    return id_.infog[0] >= 0;
+  }
+  int determinant_sign() override {
+    // det = RINFOG(12) * 2^INFOG(34)
+    const double mantissa = id_.rinfog[11];
+    return mantissa > 0.0 ? 1 : (mantissa < 0.0 ? -1 : 0);
+  }
+
+ private:
+  int& icntl(int k) { return id_.icntl[k - 1]; }  // MUMPS documents ICNTL 1-based
+  DMUMPS_STRUC_C id_{};
+  bool initialised_ = false;
+  std::vector<int> irn_, jcn_;
+  std::vector<double> values_;
+};
+#endif
+
 std::unique_ptr<SparseLinearSolver::Impl> make_impl(LinearBackend backend) {
   switch (backend) {
     case LinearBackend::sparse_lu: return std::make_unique<SparseLuImpl>();
@@ -244,6 +345,11 @@ std::unique_ptr<SparseLinearSolver::Impl> make_impl(LinearBackend backend) {
 #else
     case LinearBackend::umfpack:
     case LinearBackend::cholmod_llt: return nullptr;
+#endif
+#ifdef FF_HAVE_MUMPS
+    case LinearBackend::mumps: return std::make_unique<MumpsImpl>();
+#else
+    case LinearBackend::mumps: return nullptr;
 #endif
   }
   return nullptr;
@@ -257,8 +363,14 @@ LinearBackend default_linear_backend() {
 }
 
 bool linear_backend_available(LinearBackend backend) {
+  if (backend == LinearBackend::mumps) {
+#ifdef FF_HAVE_MUMPS
+    return true;
+#else
+    return false;
+#endif
+  }
 #ifdef FF_HAVE_SUITESPARSE
-  (void)backend;
   return true;
 #else
   return backend == LinearBackend::sparse_lu || backend == LinearBackend::simplicial_ldlt;
@@ -275,13 +387,14 @@ std::string_view to_string(LinearBackend backend) {
     case LinearBackend::sparse_lu: return "sparse_lu";
     case LinearBackend::cholmod_llt: return "cholmod_llt";
     case LinearBackend::simplicial_ldlt: return "simplicial_ldlt";
+    case LinearBackend::mumps: return "mumps";
   }
   return "unknown";
 }
 
 std::vector<LinearBackend> all_linear_backends() {
   return {LinearBackend::umfpack, LinearBackend::sparse_lu, LinearBackend::cholmod_llt,
-          LinearBackend::simplicial_ldlt};
+          LinearBackend::simplicial_ldlt, LinearBackend::mumps};
 }
 
 std::optional<LinearBackend> parse_linear_backend(std::string_view name) {
@@ -307,7 +420,7 @@ LinearStatus SparseLinearSolver::analyze(const SparseMatrixD& pattern) {
   analyzed_ = factorized_ = false;
   if (!impl_)
     return fail(Code::unavailable, -1,
-                "linear backend '" + std::string(to_string(backend_)) + "' is not compiled in (needs SuiteSparse)");
+                "linear backend '" + std::string(to_string(backend_)) + "' is not compiled in (umfpack and cholmod_llt need SuiteSparse, mumps needs MUMPS at configure time)");
   if (pattern.rows() != pattern.cols() || pattern.rows() == 0)
     return fail(Code::invalid_input, -1, "matrix must be square and non-empty");
   if (!pattern.isCompressed()) return fail(Code::invalid_input, -1, "matrix must be compressed (makeCompressed())");

@@ -22,7 +22,8 @@ enum class LinearBackend {
   umfpack,         ///< SuiteSparse UMFPACK (multifrontal LU, AMD/COLAMD), via Eigen::UmfPackLU
   sparse_lu,       ///< Eigen::SparseLU with COLAMD ordering (supernodal LU, no external library)
   cholmod_llt,     ///< CHOLMOD supernodal LLᵀ: symmetric positive definite only (fails past a limit point)
-  simplicial_ldlt  ///< Eigen::SimplicialLDLT (AMD): symmetric, no pivoting; for symmetric indefinite use LU
+  simplicial_ldlt,  ///< Eigen::SimplicialLDLT (AMD): symmetric, no pivoting; for symmetric indefinite use LU
+  mumps             ///< MUMPS multifrontal LU (sequential) with nested dissection (METIS or SCOTCH)
 };
 
 /// The backend the static solvers use unless a scene says otherwise: UMFPACK when SuiteSparse was
@@ -32,7 +33,7 @@ LinearBackend default_linear_backend();
 bool linear_backend_available(LinearBackend backend);
 /// True for the Cholesky-type backends, which read only one triangle and need K = Kᵀ.
 bool linear_backend_is_symmetric(LinearBackend backend);
-/// Scene-file name: "umfpack", "sparse_lu", "cholmod_llt", "simplicial_ldlt".
+/// Scene-file name: "umfpack", "sparse_lu", "cholmod_llt", "simplicial_ldlt", "mumps".
 std::string_view to_string(LinearBackend backend);
 std::optional<LinearBackend> parse_linear_backend(std::string_view name);
 std::vector<LinearBackend> all_linear_backends();

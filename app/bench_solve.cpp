@@ -1,0 +1,127 @@
+// `flexframe bench --solve`: where a static Newton iteration's time goes on growing plates —
+// assembly (residual + tangent) against factorization + solve for every compiled linear backend —
+// and the CB element's own cost, all measured in one run so the ratios compare like with like
+// (issue 13, items 3 and 5). Wall time, best of --repeat (one round from 128 x 128 on).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/bench.h"
+#include "core/mesh/generators.h"
+#include "core/shell/shell_model.h"
+#include "core/solve/sparse_solver.h"
+
+namespace ff::app {
+
+namespace {
+
+double seconds_of(const std::function<void()>& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double best_of(int rounds, const std::function<void()>& f) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < rounds; ++k) best = std::min(best, seconds_of(f));
+  return best;
+}
+
+// A unit plate n x n clamped along x = 0 under pressure (hr, ans, 5 DoF), moved off its reference
+// state by small random increments so every element is deformed and the tangent is unsymmetric
+// as in a real Newton iteration.
+struct PlateIteration {
+  std::unique_ptr<shell::ShellModel> model;
+  Eigen::VectorXd r, f, x;
+  SparseMatrixD K;
+  explicit PlateIteration(int n) {
+    shell::ShellModelSpec s;
+    s.mesh = mesh::rectangular_plate(1.0, 1.0, n, n, "plate");
+    s.section = {1.0e9, 0.3, 0.01, 5.0 / 6.0};
+    s.options.hr = s.options.ans = true;
+    for (int i = 0; i < s.mesh.node_count(); ++i)
+      if (s.mesh.points[i].x() < 1e-12) s.restraints.push_back({i, shell::kClamped});
+    s.pressures.push_back({0, 1.0, false});
+    model = std::make_unique<shell::ShellModel>(std::move(s));
+    std::mt19937 g(7);
+    std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+    Eigen::VectorXd dq(model->size());
+    for (int i = 0; i < dq.size(); ++i) dq[i] = u(g);
+    model->update(dq);
+    assemble();
+  }
+  void assemble() { model->evaluate(0.5, r, &K, &f); }
+};
+
+}  // namespace
+
+int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
+  std::vector<LinearBackend> backends;
+  for (LinearBackend b : all_linear_backends())
+    // the Cholesky-type backends need K = Kᵀ, which a deformed shell's tangent is not
+    if (linear_backend_available(b) && !linear_backend_is_symmetric(b)) backends.push_back(b);
+  const LinearBackend chosen = default_linear_backend();
+
+  std::printf("Static Newton iteration on an n x n plate (CB shell, hr + ans, 5 DoF), wall time, best of %d "
+              "(1 from n = 128); default backend: %s\n\n",
+              opt.repeat, std::string(to_string(chosen)).c_str());
+  std::printf("| n | DoFs | assembly [ms] |");
+  for (LinearBackend b : backends) std::printf(" %s factorize + solve [ms] |", std::string(to_string(b)).c_str());
+  std::printf(" default / assembly | umfpack / default |\n|---|---|---|");
+  for (std::size_t k = 0; k < backends.size() + 2; ++k) std::printf("---|");
+  std::printf("\n");
+
+  nlohmann::ordered_json plates = nlohmann::ordered_json::array();
+  for (int n : {16, 32, 64, 128, 256}) {
+    if (n > opt.solve_max_n || stop) break;
+    PlateIteration it(n);
+    const int rounds = n >= 128 ? 1 : opt.repeat;
+    const double assembly = best_of(rounds, [&] { it.assemble(); });
+    nlohmann::ordered_json row = {{"n", n}, {"dofs", it.model->size()}, {"assembly_ms", 1e3 * assembly}};
+    std::printf("| %d | %d | %.4g |", n, it.model->size(), 1e3 * assembly);
+    double t_default = 0.0, t_umfpack = 0.0;
+    for (LinearBackend b : backends) {
+      // SparseLU's column ordering fills in badly on 2-D meshes: 14 s at 128 x 128, 195 s at 256
+      if (b == LinearBackend::sparse_lu && n > 64) {
+        std::printf(" (skipped) |");
+        continue;
+      }
+      SparseLinearSolver solver(b);
+      solver.analyze(it.K);  // the symbolic analysis is reused across Newton iterations: not timed
+      bool ok = true;
+      const double t = best_of(rounds, [&] {
+        ok = solver.factorize(it.K) && solver.solve(it.r, it.x);
+      });
+      std::printf(ok ? " %.4g |" : " failed |", 1e3 * t);
+      row[std::string(to_string(b)) + "_factorize_solve_ms"] = ok ? 1e3 * t : -1.0;
+      if (b == chosen) t_default = t;
+      if (b == LinearBackend::umfpack) t_umfpack = t;
+    }
+    row["backend"] = std::string(to_string(chosen));
+    row["factorize_solve_ms"] = 1e3 * t_default;
+    if (t_umfpack > 0) row["umfpack_factorize_solve_ms"] = 1e3 * t_umfpack;
+    std::printf(" %.2f | %.2f |\n", t_default / assembly, t_umfpack > 0 ? t_umfpack / t_default : 0.0);
+    std::fflush(stdout);
+    plates.push_back(row);
+  }
+  if (!opt.out_file.empty()) {
+    std::ofstream f(opt.out_file);
+    if (!f) {
+      std::fprintf(stderr, "error: cannot write %s\n", opt.out_file.c_str());
+      return 1;
+    }
+    f << nlohmann::ordered_json{{"plate", plates}}.dump(2) << "\n";
+  }
+  return stop ? 130 : 0;
+}
+
+}  // namespace ff::app
