@@ -33,7 +33,10 @@ inline void check(herr_t status, const std::string& what) {
 }
 
 /// Turns off HDF5's automatic error printing on this thread while alive (errors are reported
-/// through our messages instead), restoring the previous handler afterwards.
+/// through our messages instead), restoring the previous handler afterwards. The first Quiet
+/// also arranges for printing to be off when the library shuts down at exit: HDF5 1.10 leaks
+/// internal free-list blocks when it meets a corrupt metadata checksum, and its shutdown then
+/// prints "HDF5: infinite loop closing library" after our own message.
 class Quiet {
  public:
   Quiet();

@@ -1,7 +1,8 @@
 // flexframe replay and the movie/export options: a diverged and an interrupted run replayed
 // with another field, size and cadence (PNG count and size, the stored outcome reported), the
 // MP4 read back through libavformat, the .vtu/.pvd read back through VTK and the .glb through
-// assimp and compared with the HDF5 frames, `run --movie --export`, and bad input (exit 2).
+// assimp and compared with the HDF5 frames, `run --movie --export`, and bad input (exit 2),
+// damaged files included.
 
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
@@ -21,6 +22,7 @@
 #include "app/run_session.h"
 #include "app/view_options.h"
 #include "cli_support.h"
+#include "tests/support/h5_damage.h"
 
 namespace ff::cli::test {
 namespace {
@@ -362,6 +364,38 @@ TEST(CliReplay, BadInputExitsTwoWithAClearMessage) {
     EXPECT_NE(r.err.find(c.message), std::string::npos) << "expected '" << c.message << "'\n" << r.describe();
   }
   EXPECT_FALSE(fs::exists(dir + "/never")) << "bad input must not write anything";
+}
+
+// a short finished run of hub_beam_fem_tau1 (11 frames, t = 0 .. 0.5 s); its results.h5
+std::string short_run(const std::string& dir) {
+  const ProcResult r = run_flexframe({"run", "hub_beam_fem_tau1", "--out", dir + "/run", "--quiet", "--no-frames",
+                                      "--no-plots", "--set", "solver.t_end=0.5"},
+                                     dir + "/run");
+  EXPECT_EQ(r.exit_code, 0) << r.describe();
+  return dir + "/run/results.h5";
+}
+
+// issue 12, finding 10: a damaged metadata checksum gave the right error, then HDF5's "infinite
+// loop closing library" (its shutdown after the leak of its failed object-header load)
+TEST(CliReplay, DamagedMetadataChecksumGivesOneCleanMessage) {
+  const std::string dir = fresh_test_dir();
+  const std::string good = short_run(dir);
+  const std::string run = dir + "/damaged", h5 = run + "/results.h5";
+  fs::create_directories(run);
+  fs::copy_file(good, h5);
+  const auto at = ff::test::object_header_checksum_offset(h5, "/outcome");
+  std::vector<unsigned char> sum = ff::test::read_bytes(h5, at, 4);
+  ASSERT_EQ(sum.size(), 4u);
+  for (auto& b : sum) b = static_cast<unsigned char>(~b);
+  ff::test::overwrite(h5, at, sum);
+  const ProcResult r = run_flexframe({"replay", run, "--no-plots"}, dir + "/replay");
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find("results file '" + h5 + "'"), std::string::npos) << r.describe();
+  EXPECT_NE(r.err.find("'/outcome'"), std::string::npos) << r.describe();
+  EXPECT_NE(r.err.find("incorrect metadata checksum"), std::string::npos) << r.describe();
+  EXPECT_EQ(r.err.find("infinite loop"), std::string::npos) << r.describe();
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "only the error line:\n" << r.err;
+  EXPECT_FALSE(fs::exists(run + "/replay"));
 }
 
 }  // namespace
