@@ -1,8 +1,11 @@
 #include "app/io/h5_util.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <cstring>
+
+#include "app/io/frame_checksum.h"
 
 namespace ff::io::h5 {
 
@@ -136,7 +139,10 @@ std::string error_reason() {
 }
 
 void fail(const std::string& what) {
-  throw Failure(what.empty() ? error_reason() : what + ": " + error_reason());
+  const std::string reason = error_reason();
+  Failure f(what.empty() ? reason : what + ": " + reason);
+  f.reason = reason;
+  throw f;
 }
 
 Quiet::Quiet() {
@@ -283,13 +289,23 @@ std::vector<std::string> attr_names(hid_t obj) {
 
 void write_fixed_dataset(hid_t loc, const std::string& name, hid_t file_type, hid_t mem_type,
                          const std::vector<hsize_t>& dims, const void* data) {
+  const std::string what = "create data set '" + name + "'";
   Handle space = simple_space(dims);
-  Handle dcpl(check_id(H5Pcreate(H5P_DATASET_CREATE), "create data set '" + name + "'"));
-  check(H5Pset_obj_track_times(dcpl.get(), 0), "create data set '" + name + "'");
+  Handle dcpl(check_id(H5Pcreate(H5P_DATASET_CREATE), what));
+  check(H5Pset_obj_track_times(dcpl.get(), 0), what);
+  const bool empty = element_count(space.get()) == 0;
+  if (!empty) {  // chunks of about 1 MiB along the first dimension, each with its checksum
+    std::vector<hsize_t> chunk = dims;
+    std::size_t row_bytes = H5Tget_size(file_type);
+    for (std::size_t k = 1; k < dims.size(); ++k) row_bytes *= static_cast<std::size_t>(dims[k]);
+    chunk[0] = std::clamp<hsize_t>((1u << 20) / std::max<std::size_t>(row_bytes, 1), 1, dims[0]);
+    check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), what);
+    check(H5Pset_fletcher32(dcpl.get()), what);
+  }
   Handle d(check_id(H5Dcreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT, dcpl.get(),
                                H5P_DEFAULT),
-                    "create data set '" + name + "'"));
-  if (element_count(space.get()) > 0) {
+                    what));
+  if (!empty) {
     check(H5Dwrite(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
           "write data set '" + name + "'");
   }
@@ -306,6 +322,9 @@ void write_string_dataset(hid_t loc, const std::string& name, const std::string&
   const char* p = text.c_str();
   check(H5Dwrite(d.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &p),
         "write data set '" + name + "'");
+  const std::uint64_t sum = fnv1a(kFnvOffset, p, std::strlen(p));  // what is stored: up to a NUL
+  Handle a = attr_for_write(d.get(), "checksum", H5T_STD_U64LE, space.get());
+  check(H5Awrite(a.get(), H5T_NATIVE_UINT64, &sum), "write attribute 'checksum' of '" + name + "'");
 }
 
 std::string read_string_dataset(hid_t loc, const std::string& name) {
@@ -314,7 +333,16 @@ std::string read_string_dataset(hid_t loc, const std::string& name) {
   Handle s(check_id(H5Dget_space(d.get()), "read data set '" + name + "'"));
   if (element_count(s.get()) != 1) throw Failure("data set '" + name + "' is not a single string");
   hid_t id = d.get();
-  return read_strings(t.get(), 1, "read data set '" + name + "'", read_dset_cb, &id).at(0);
+  std::string text = read_strings(t.get(), 1, "read data set '" + name + "'", read_dset_cb, &id).at(0);
+  if (has_attr(d.get(), "checksum")) {
+    Handle a = open_attr(d.get(), "checksum");
+    std::uint64_t sum = 0;
+    check(H5Aread(a.get(), H5T_NATIVE_UINT64, &sum), "read attribute 'checksum' of '" + name + "'");
+    if (sum != fnv1a(kFnvOffset, text.data(), text.size())) {
+      throw Failure("data set '" + name + "' is damaged: its text does not match its checksum attribute");
+    }
+  }
+  return text;
 }
 
 std::vector<hsize_t> dataset_dims(hid_t dset) {

@@ -16,6 +16,11 @@ namespace ff::io::h5 {
 /// An HDF5 call failed; what() is "<what we tried>: <HDF5 reason>".
 struct Failure : std::runtime_error {
   using std::runtime_error::runtime_error;
+  /// The HDF5 reason alone, when fail() threw it ("" otherwise). Kept here because closing
+  /// handles while the exception unwinds clears HDF5's error stack.
+  std::string reason;
+  /// reason, or what() when there is none
+  std::string reason_or_what() const { return reason.empty() ? what() : reason; }
 };
 
 /// The most specific entry of this thread's HDF5 error stack as one line, "" if empty.
@@ -114,11 +119,14 @@ std::int64_t read_attr_int64(hid_t obj, const std::string& name);
 std::vector<std::string> attr_names(hid_t obj);
 
 // data sets
-/// Fixed-size contiguous data set of shape `dims` filled from `data` (may be empty).
+/// Fixed-size data set of shape `dims` filled from `data` (may be empty): chunked with the
+/// Fletcher32 checksum filter so that damaged bytes fail to read (an empty one stays contiguous).
 void write_fixed_dataset(hid_t loc, const std::string& name, hid_t file_type, hid_t mem_type,
                          const std::vector<hsize_t>& dims, const void* data);
-/// Scalar variable-length UTF-8 string data set.
+/// Scalar variable-length UTF-8 string data set with attribute `checksum` (FNV-1a 64 of its
+/// bytes): variable-length data lives in the global heap, where no HDF5 filter reaches.
 void write_string_dataset(hid_t loc, const std::string& name, const std::string& text);
+/// Throws Failure when the text does not match its `checksum` (files without one are trusted).
 std::string read_string_dataset(hid_t loc, const std::string& name);
 std::vector<hsize_t> dataset_dims(hid_t dset);
 /// Reads rows [first, first + count) along dimension 0 into `out` (count * row elements).

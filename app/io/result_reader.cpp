@@ -50,7 +50,7 @@ std::vector<T> read_matrix(hid_t loc, const std::string& name, hid_t mem_type) {
   std::vector<T> out(static_cast<std::size_t>(n));
   if (n > 0) {
     h5::check(H5Dread(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),
-              "read data set '" + name + "'");
+              "read data set '" + std::string(names::kMesh) + "/" + name + "'");
   }
   return out;
 }

@@ -1,5 +1,5 @@
-// Failures are messages, not crashes: missing, foreign, truncated and locked files, bad
-// RunInfo names, unwritable paths.
+// Failures are messages, not crashes: missing, foreign, truncated, locked and damaged files,
+// bad RunInfo names, unwritable paths.
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -12,6 +12,7 @@
 
 #include "app/io/results.h"
 #include "results_test_data.h"
+#include "tests/support/h5_damage.h"
 
 namespace ff::io {
 namespace {
@@ -21,6 +22,32 @@ using test::make_info;
 using test::out_path;
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// a finished file of `frames` frames of make_info()
+std::string finished_file(const std::string& name, int frames) {
+  const std::string path = out_path(name);
+  const RunInfo info = make_info();
+  std::string error;
+  auto w = ResultWriter::create(path, info, &error);
+  EXPECT_TRUE(w) << error;
+  if (!w) return path;
+  for (int i = 0; i < frames; ++i) EXPECT_TRUE(w->append(make_frame(info, i), &error)) << error;
+  EXPECT_TRUE(w->finish({}, {}, &error)) << error;
+  return path;
+}
+
+// the data set's creation properties name the Fletcher32 filter
+bool has_fletcher32(hid_t file, const std::string& dset) {
+  const hid_t d = H5Dopen2(file, dset.c_str(), H5P_DEFAULT);
+  if (d < 0) return false;
+  const hid_t dcpl = H5Dget_create_plist(d);
+  unsigned flags = 0;
+  std::size_t n = 0;
+  const bool found = H5Pget_filter_by_id2(dcpl, H5Z_FILTER_FLETCHER32, &flags, &n, nullptr, 0, nullptr, nullptr) >= 0;
+  H5Pclose(dcpl);
+  H5Dclose(d);
+  return found;
+}
 
 TEST(ResultStoreErrors, OpenMissingFile) {
   const std::string path = out_path("does_not_exist.h5");
@@ -85,6 +112,41 @@ TEST(ResultStoreErrors, OpenTruncatedFile) {
   EXPECT_EQ(r, nullptr);  // HDF5 checks the end of file against its superblock
   EXPECT_TRUE(contains(error, bad)) << error;
   EXPECT_GT(error.size(), bad.size() + 30) << "the message should carry the HDF5 reason: " << error;
+}
+
+// finding 9 of issue 12: raw data carries no checksum unless asked; a damaged block of frame
+// data used to read back as plausible numbers
+TEST(ResultStoreErrors, EveryDataSetWithRowsCarriesTheFletcher32Checksum) {
+  const std::string path = finished_file("fletcher32.h5", 60);
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  for (const char* d : {"/frames/time", "/frames/step", "/frames/load_factor", "/frames/points", "/frames/base_points",
+                        "/frames/checksum", "/frames/stats/dt", "/frames/stats/converged", "/frames/probes/probe_0",
+                        "/frames/fields/field_1", "/steps/step", "/steps/residual_norm", "/mesh/reference_points",
+                        "/mesh/lines", "/mesh/triangles", "/mesh/quads"})
+    EXPECT_TRUE(has_fletcher32(f, d)) << d;
+  H5Fclose(f);
+}
+
+TEST(ResultStoreErrors, DamagedMeshOrSceneTextIsRefusedAtOpen) {
+  const std::string good = finished_file("damaged_run_info.h5", 5);
+  const std::string mesh = out_path("damaged_mesh.h5"), text = out_path("damaged_text.h5");
+  std::filesystem::copy_file(good, mesh);
+  std::filesystem::copy_file(good, text);
+  // (not 0xFF over zeros: Fletcher32 sums 16-bit words modulo 65535, so 0x0000 and 0xFFFF agree)
+  ff::test::overwrite(mesh, ff::test::chunk_row_offset(mesh, "/mesh/reference_points", 10), {0x5A, 0x5A, 0x5A, 0x5A});
+  std::string error;
+  EXPECT_EQ(ResultReader::open(mesh, &error), nullptr);
+  EXPECT_TRUE(contains(error, mesh) && contains(error, "'/mesh/reference_points'") && contains(error, "Fletcher32"))
+      << error;
+  // the scene text is a variable-length string (global heap, no filter): its own checksum
+  std::ifstream in(text, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const auto where = bytes.find("# strip test scene");
+  ASSERT_NE(where, std::string::npos);
+  ff::test::overwrite(text, where + 2, {'S'});
+  EXPECT_EQ(ResultReader::open(text, &error), nullptr);
+  EXPECT_TRUE(contains(error, text) && contains(error, "scene_text") && contains(error, "checksum")) << error;
 }
 
 TEST(ResultStoreErrors, CreateInMissingDirectory) {
