@@ -67,6 +67,8 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   std::string err;
   const std::unique_ptr<io::ResultReader> reader = io::ResultReader::open(path, &err);
   if (!reader) throw InputError(err);
+  // a damaged file is bad input: found before anything is written, not midway through the frames
+  if (const std::string damage = reader->verify(); !damage.empty()) throw InputError(damage);
   const RunInfo& info = reader->info();
 
   std::string field_name = opt.field ? *opt.field : setting(info, "output.color_field");

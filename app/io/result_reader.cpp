@@ -6,6 +6,7 @@
 #include <bit>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "app/io/frame_checksum.h"
@@ -64,6 +65,42 @@ bool has_hdf5_signature(const std::string& path) {
   return in.gcount() == 8 && std::equal(head, head + 8, kSignature);
 }
 
+// Rows [first, first + count) of a data set chunked by rows, as stored, read chunk by chunk
+// past the filter (H5Dread_chunk): Fletcher32 keeps the rows unchanged and appends 4 checksum
+// bytes. Not H5Dread with the check disabled (H5Z_DISABLE_EDC), which would leave the
+// unchecked chunk in the chunk cache for every later read to return.
+void read_raw_rows(hid_t dset, std::size_t row_bytes, hsize_t first, hsize_t count, unsigned char* out) {
+  const std::string what = "read stored chunks";
+  h5::Handle dcpl(h5::check_id(H5Dget_create_plist(dset), what));
+  const std::vector<hsize_t> dims = h5::dataset_dims(dset);
+  std::vector<hsize_t> chunk(dims.size());
+  unsigned flags = 0;
+  std::size_t n = 0;
+  if (H5Pget_layout(dcpl.get()) != H5D_CHUNKED || dims.empty() ||
+      H5Pget_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()) != static_cast<int>(dims.size()) ||
+      H5Pget_nfilters(dcpl.get()) != 1 ||
+      H5Pget_filter_by_id2(dcpl.get(), H5Z_FILTER_FLETCHER32, &flags, &n, nullptr, 0, nullptr, nullptr) < 0) {
+    throw h5::Failure(what + ": not chunked by frames with the Fletcher32 filter alone");
+  }
+  for (std::size_t k = 1; k < dims.size(); ++k) {
+    if (chunk[k] != dims[k]) throw h5::Failure(what + ": a chunk holds part of a row");
+  }
+  const hsize_t per = chunk[0];
+  std::vector<unsigned char> buf;
+  for (hsize_t c = first / per; c * per < first + count; ++c) {
+    std::vector<hsize_t> origin(dims.size(), 0);
+    origin[0] = c * per;
+    hsize_t bytes = 0;
+    h5::check(H5Dget_chunk_storage_size(dset, origin.data(), &bytes), what);
+    if (bytes < per * row_bytes) throw h5::Failure(what + ": a stored chunk is short");
+    buf.resize(static_cast<std::size_t>(bytes));
+    std::uint32_t mask = 0;
+    h5::check(H5Dread_chunk(dset, H5P_DEFAULT, origin.data(), &mask, buf.data()), what);
+    const hsize_t lo = std::max(first, origin[0]), hi = std::min(first + count, origin[0] + per);
+    std::copy_n(buf.data() + (lo - origin[0]) * row_bytes, (hi - lo) * row_bytes, out + (lo - first) * row_bytes);
+  }
+}
+
 }  // namespace
 
 struct ResultReader::Impl {
@@ -82,14 +119,22 @@ struct ResultReader::Impl {
   h5::Handle checksum;  // invalid in files without one
   std::size_t damaged_frames = 0;  // announced by frames_written but failing their checksum
 
+  bool frames_verified = false;  // by count_verified_frames at open
+
   /// A frame data set in checksum order, with the memory type and bytes of one row.
   struct ColumnRef {
     const h5::Handle* dset;
     hid_t mem_type;
     std::size_t row_bytes;
+    std::string name;  // path in the file, for messages
   };
   std::vector<ColumnRef> checksum_order() const;
   std::size_t count_verified_frames(std::size_t announced) const;
+  std::string find_damage() const;
+  std::string frame_damage(const std::vector<ColumnRef>& cols, std::size_t k, std::size_t first,
+                           std::size_t count, const std::string& reason) const;
+  std::string steps_damage() const;
+  std::string frame_label(std::size_t i) const;
   void load_all();
   std::string what(const std::string& s) const { return "results file '" + path + "': " + s; }
 
@@ -221,6 +266,7 @@ void ResultReader::Impl::load_all() {
       const std::size_t announced = frame_count;
       frame_count = count_verified_frames(announced);
       damaged_frames = announced - frame_count;
+      frames_verified = true;
     }
     outcome.status = RunStatus::interrupted;
     outcome.reason = std::string(names::kUnfinished) + "; " + std::to_string(frame_count) +
@@ -263,19 +309,22 @@ void ResultReader::Impl::load_all() {
 std::vector<ResultReader::Impl::ColumnRef> ResultReader::Impl::checksum_order() const {
   const std::size_t n = info.mesh.point_count();
   hid_t conv = converged_mem_type.valid() ? converged_mem_type.get() : H5T_NATIVE_INT8;
-  std::vector<ColumnRef> cols{{&time, H5T_NATIVE_DOUBLE, 8},
-                              {&step, H5T_NATIVE_INT64, 8},
-                              {&load, H5T_NATIVE_DOUBLE, 8},
-                              {&dt, H5T_NATIVE_DOUBLE, 8},
-                              {&iterations, H5T_NATIVE_INT32, 4},
-                              {&jacobian_updates, H5T_NATIVE_INT32, 4},
-                              {&residual, H5T_NATIVE_DOUBLE, 8},
-                              {&increment, H5T_NATIVE_DOUBLE, 8},
-                              {&converged, conv, 1},
-                              {&points, H5T_NATIVE_DOUBLE, 24 * n},
-                              {&base_points, H5T_NATIVE_DOUBLE, 24 * n}};
-  for (const auto& h : probes) cols.push_back({&h, H5T_NATIVE_DOUBLE, 8});
-  for (const auto& h : fields) cols.push_back({&h, H5T_NATIVE_DOUBLE, 8 * n});
+  const std::string fr = names::kFrames, st = names::kStats;
+  std::vector<ColumnRef> cols{{&time, H5T_NATIVE_DOUBLE, 8, fr + "/time"},
+                              {&step, H5T_NATIVE_INT64, 8, fr + "/step"},
+                              {&load, H5T_NATIVE_DOUBLE, 8, fr + "/load_factor"},
+                              {&dt, H5T_NATIVE_DOUBLE, 8, st + "/dt"},
+                              {&iterations, H5T_NATIVE_INT32, 4, st + "/iterations"},
+                              {&jacobian_updates, H5T_NATIVE_INT32, 4, st + "/jacobian_updates"},
+                              {&residual, H5T_NATIVE_DOUBLE, 8, st + "/residual_norm"},
+                              {&increment, H5T_NATIVE_DOUBLE, 8, st + "/increment_norm"},
+                              {&converged, conv, 1, st + "/converged"},
+                              {&points, H5T_NATIVE_DOUBLE, 24 * n, fr + "/points"},
+                              {&base_points, H5T_NATIVE_DOUBLE, 24 * n, fr + "/base_points"}};
+  for (std::size_t k = 0; k < probes.size(); ++k)
+    cols.push_back({&probes[k], H5T_NATIVE_DOUBLE, 8, std::string(names::kProbes) + "/" + info.probes[k].name});
+  for (std::size_t k = 0; k < fields.size(); ++k)
+    cols.push_back({&fields[k], H5T_NATIVE_DOUBLE, 8 * n, std::string(names::kFields) + "/" + info.fields[k].name});
   return cols;
 }
 
@@ -318,6 +367,163 @@ std::size_t ResultReader::Impl::count_verified_frames(std::size_t announced) con
     }
   }
   return announced;
+}
+
+// "frame 5 of 11 (t = 0.25 s)"; the time is left out when it cannot be read either
+std::string ResultReader::Impl::frame_label(std::size_t i) const {
+  std::ostringstream s;
+  s << "frame " << i << " of " << frame_count;
+  double t = 0;
+  try {
+    h5::read_rows(time.get(), H5T_NATIVE_DOUBLE, i, 1, &t, "time");
+    s << " (t = " << t << (info.time_unit.empty() ? "" : " ") << info.time_unit << ")";
+  } catch (const h5::Failure&) {
+  }
+  return s.str();
+}
+
+// Every frame row once, in blocks of frames: damage is a chunk that fails its Fletcher32
+// checksum (HDF5 then refuses to read it) or a frame whose rows do not hash to /frames/checksum
+// (the only check in files written before the filter was used).
+std::string ResultReader::Impl::find_damage() const {
+  if (frames_verified) return steps_damage();
+  const std::vector<ColumnRef> cols = checksum_order();
+  std::size_t frame_bytes = 8;
+  for (const auto& c : cols) frame_bytes += c.row_bytes;
+  const std::size_t block = std::clamp<std::size_t>((8u << 20) / frame_bytes, 1, 1024);
+  std::vector<std::vector<unsigned char>> rows(cols.size());
+  std::vector<std::uint64_t> sums;
+  for (std::size_t first = 0; first < frame_count; first += block) {
+    const std::size_t count = std::min(block, frame_count - first);
+    for (std::size_t k = 0; k < cols.size(); ++k) {
+      rows[k].resize(count * cols[k].row_bytes);
+      try {
+        h5::read_rows(cols[k].dset->get(), cols[k].mem_type, first, count, rows[k].data(), "read");
+      } catch (const h5::Failure& e) {
+        return frame_damage(cols, k, first, count, e.reason_or_what());
+      }
+    }
+    if (!checksum.valid()) continue;
+    sums.resize(count);
+    try {
+      h5::read_rows(checksum.get(), H5T_NATIVE_UINT64, first, count, sums.data(), "read");
+    } catch (const h5::Failure& e) {
+      return frame_damage(cols, cols.size(), first, count, e.reason_or_what());
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+      std::uint64_t h = kFnvOffset;
+      for (std::size_t k = 0; k < cols.size(); ++k) {
+        h = fnv1a(h, rows[k].data() + i * cols[k].row_bytes, cols[k].row_bytes);
+      }
+      if (h != sums[i]) {
+        return what(frame_label(first + i) + " is damaged: its rows do not match " +
+                    std::string(names::kFrames) + "/checksum");
+      }
+    }
+  }
+  return steps_damage();
+}
+
+// Column k (cols.size(): /frames/checksum) could not be read in frames [first, first + count):
+// narrows it down to the rows that fail (Fletcher32 fails a whole chunk), then reads them past
+// the check to find the frame whose bytes changed, and says which data set and frame it is.
+std::string ResultReader::Impl::frame_damage(const std::vector<ColumnRef>& cols, std::size_t k,
+                                             std::size_t first, std::size_t count,
+                                             const std::string& reason) const {
+  const bool is_sum = k == cols.size();
+  const h5::Handle& d = is_sum ? checksum : *cols[k].dset;
+  const hid_t type = is_sum ? H5T_NATIVE_UINT64 : cols[k].mem_type;
+  const std::string name = is_sum ? std::string(names::kFrames) + "/checksum" : cols[k].name;
+  std::vector<unsigned char> row(is_sum ? 8 : std::max<std::size_t>(cols[k].row_bytes, 1));
+  const auto readable = [&](std::size_t i) {
+    try {
+      h5::read_rows(d.get(), type, i, 1, row.data(), "read");
+      return true;
+    } catch (const h5::Failure&) {
+      return false;
+    }
+  };
+  std::size_t bad = first;
+  while (bad + 1 < first + count && readable(bad)) ++bad;
+  std::size_t bad_end = bad + 1;
+  while (bad_end < first + count && !readable(bad_end)) ++bad_end;
+  std::size_t frame = bad;
+  // the rows as stored: the frame whose rows no longer hash to /frames/checksum is the damaged one
+  if (checksum.valid()) {
+    try {
+      const std::size_t n = bad_end - bad;
+      std::vector<std::uint64_t> sums(n);
+      if (is_sum) {
+        read_raw_rows(checksum.get(), 8, bad, n, reinterpret_cast<unsigned char*>(sums.data()));
+      } else {
+        h5::read_rows(checksum.get(), H5T_NATIVE_UINT64, bad, n, sums.data(), "read");
+      }
+      std::vector<std::uint64_t> h(n, kFnvOffset);
+      for (std::size_t j = 0; j < cols.size(); ++j) {
+        std::vector<unsigned char> data(n * cols[j].row_bytes);
+        if (j == k) {
+          read_raw_rows(cols[j].dset->get(), cols[j].row_bytes, bad, n, data.data());
+        } else {
+          h5::read_rows(cols[j].dset->get(), cols[j].mem_type, bad, n, data.data(), "read");
+        }
+        for (std::size_t i = 0; i < n; ++i) h[i] = fnv1a(h[i], data.data() + i * cols[j].row_bytes, cols[j].row_bytes);
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        if (h[i] != sums[i]) {
+          frame = bad + i;
+          break;
+        }
+      }
+    } catch (const h5::Failure&) {  // more is damaged: the first unreadable row it is
+    }
+  }
+  std::string s = "data set '" + name + "' is damaged at " + frame_label(frame) + ": " + reason;
+  if (bad_end - bad > 1) {
+    s += " (frames " + std::to_string(bad) + ".." + std::to_string(bad_end - 1) +
+         " share the damaged chunk)";
+  }
+  return what(s);
+}
+
+// the per-step convergence log: every data set under /steps, steps_written rows
+std::string ResultReader::Impl::steps_damage() const {
+  hid_t f = file.get();
+  if (!h5::has_link(f, names::kSteps)) return {};
+  h5::Handle g = h5::open_group(f, names::kSteps);
+  const auto n = static_cast<std::size_t>(
+      std::max<std::int64_t>(0, h5::read_attr_int64(g.get(), names::kStepsWritten)));
+  for (const char* name : {"step", "time", "dt", "iterations", "jacobian_updates", "residual_norm",
+                           "increment_norm", "converged"}) {
+    if (!h5::has_link(g.get(), name)) continue;
+    const std::string path = std::string(names::kSteps) + "/" + name;
+    h5::Handle d = h5::open_dataset(g.get(), name);
+    h5::Handle type(h5::check_id(H5Dget_type(d.get()), "type of " + path));
+    const std::size_t bytes = H5Tget_size(type.get());
+    const std::size_t rows = std::min<std::size_t>(n, h5::dataset_dims(d.get()).at(0));
+    const std::size_t block = 65536;
+    std::vector<unsigned char> buf(block * bytes);
+    for (std::size_t first = 0; first < rows; first += block) {
+      const std::size_t count = std::min(block, rows - first);
+      std::string reason;
+      try {
+        h5::read_rows(d.get(), type.get(), first, count, buf.data(), "read");
+        continue;
+      } catch (const h5::Failure& e) {
+        reason = e.reason_or_what();
+      }
+      std::size_t bad = first;
+      for (; bad + 1 < first + count; ++bad) {
+        try {
+          h5::read_rows(d.get(), type.get(), bad, 1, buf.data(), "read");
+        } catch (const h5::Failure&) {
+          break;
+        }
+      }
+      return what("data set '" + path + "' is damaged at row " + std::to_string(bad) + " of " +
+                  std::to_string(n) + " (solver steps): " + reason);
+    }
+  }
+  return {};
 }
 
 ResultReader::ResultReader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -372,39 +578,51 @@ Frame ResultReader::frame(std::size_t i) const {
                                    std::to_string(m.frame_count)));
   }
   h5::Quiet quiet;
-  const std::string what = m.what("read frame " + std::to_string(i));
   const std::size_t n = m.info.mesh.point_count();
   Frame fr;
   std::int8_t converged = 1;
+  // a failed read names the data set and the frame: "results file 'x': frame 5: data set ..."
+  const auto read = [&](const h5::Handle& d, hid_t type, void* out, const std::string& name) {
+    h5::read_rows(d.get(), type, i, 1, out, m.what("frame " + std::to_string(i) + ": data set '" + name + "'"));
+  };
+  const std::string f = names::kFrames, st = names::kStats;
   try {
-    h5::read_rows(m.time.get(), H5T_NATIVE_DOUBLE, i, 1, &fr.time, what);
-    h5::read_rows(m.step.get(), H5T_NATIVE_INT64, i, 1, &fr.step, what);
-    h5::read_rows(m.load.get(), H5T_NATIVE_DOUBLE, i, 1, &fr.load_factor, what);
-    h5::read_rows(m.dt.get(), H5T_NATIVE_DOUBLE, i, 1, &fr.stats.dt, what);
-    h5::read_rows(m.iterations.get(), H5T_NATIVE_INT32, i, 1, &fr.stats.iterations, what);
-    h5::read_rows(m.jacobian_updates.get(), H5T_NATIVE_INT32, i, 1, &fr.stats.jacobian_updates,
-                  what);
-    h5::read_rows(m.residual.get(), H5T_NATIVE_DOUBLE, i, 1, &fr.stats.residual_norm, what);
-    h5::read_rows(m.increment.get(), H5T_NATIVE_DOUBLE, i, 1, &fr.stats.increment_norm, what);
+    read(m.time, H5T_NATIVE_DOUBLE, &fr.time, f + "/time");
+    read(m.step, H5T_NATIVE_INT64, &fr.step, f + "/step");
+    read(m.load, H5T_NATIVE_DOUBLE, &fr.load_factor, f + "/load_factor");
+    read(m.dt, H5T_NATIVE_DOUBLE, &fr.stats.dt, st + "/dt");
+    read(m.iterations, H5T_NATIVE_INT32, &fr.stats.iterations, st + "/iterations");
+    read(m.jacobian_updates, H5T_NATIVE_INT32, &fr.stats.jacobian_updates, st + "/jacobian_updates");
+    read(m.residual, H5T_NATIVE_DOUBLE, &fr.stats.residual_norm, st + "/residual_norm");
+    read(m.increment, H5T_NATIVE_DOUBLE, &fr.stats.increment_norm, st + "/increment_norm");
     hid_t conv_type = m.converged_mem_type.valid() ? m.converged_mem_type.get() : H5T_NATIVE_INT8;
-    h5::read_rows(m.converged.get(), conv_type, i, 1, &converged, what);
+    read(m.converged, conv_type, &converged, st + "/converged");
     fr.stats.converged = converged != 0;
     fr.points.resize(3 * n);
     fr.base_points.resize(3 * n);
-    h5::read_rows(m.points.get(), H5T_NATIVE_DOUBLE, i, 1, fr.points.data(), what);
-    h5::read_rows(m.base_points.get(), H5T_NATIVE_DOUBLE, i, 1, fr.base_points.data(), what);
+    read(m.points, H5T_NATIVE_DOUBLE, fr.points.data(), f + "/points");
+    read(m.base_points, H5T_NATIVE_DOUBLE, fr.base_points.data(), f + "/base_points");
     fr.probes.resize(m.probes.size());
     for (std::size_t k = 0; k < m.probes.size(); ++k) {
-      h5::read_rows(m.probes[k].get(), H5T_NATIVE_DOUBLE, i, 1, &fr.probes[k], what);
+      read(m.probes[k], H5T_NATIVE_DOUBLE, &fr.probes[k], std::string(names::kProbes) + "/" + m.info.probes[k].name);
     }
     fr.fields.assign(m.fields.size(), std::vector<double>(n));
     for (std::size_t k = 0; k < m.fields.size(); ++k) {
-      h5::read_rows(m.fields[k].get(), H5T_NATIVE_DOUBLE, i, 1, fr.fields[k].data(), what);
+      read(m.fields[k], H5T_NATIVE_DOUBLE, fr.fields[k].data(), std::string(names::kFields) + "/" + m.info.fields[k].name);
     }
   } catch (const h5::Failure& e) {
     throw std::runtime_error(e.what());
   }
   return fr;
+}
+
+std::string ResultReader::verify() const {
+  h5::Quiet quiet;
+  try {
+    return impl_->find_damage();
+  } catch (const h5::Failure& e) {
+    return impl_->what(e.what());
+  }
 }
 
 std::vector<double> ResultReader::times() const {

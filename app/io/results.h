@@ -93,6 +93,11 @@ class ResultReader {
   std::size_t frame_count() const;
   /// Full frame i: step, time, load factor, points, base_points, probes, fields, stats.
   Frame frame(std::size_t i) const;
+  /// Reads every frame (and /steps row) once and checks it: HDF5's Fletcher32 checksum of each
+  /// chunk and, where the file has them, the per-frame /frames/checksum. Returns "" when all is
+  /// intact, else a message naming the file, the data set and the first damaged frame (index
+  /// and time). Frames of an unfinished file were checked by open() and are not read again.
+  std::string verify() const;
   /// Frame times, frame_count() values.
   std::vector<double> times() const;
   /// frame_count() values of the probe called `name`; empty if there is no such probe.

@@ -15,6 +15,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <csignal>
+#include <random>
 
 #include "app/frame_outputs.h"
 #include "app/io/movie_writer.h"
@@ -373,6 +374,39 @@ std::string short_run(const std::string& dir) {
                                      dir + "/run");
   EXPECT_EQ(r.exit_code, 0) << r.describe();
   return dir + "/run/results.h5";
+}
+
+// issue 12, finding 9: a block of frame data zeroed, randomised or 0xFF-filled used to replay
+// with exit 0; now it is bad input named by file, data set and frame, and nothing is written
+TEST(CliReplay, DamagedFrameDataExitsTwoNamingDataSetAndFrame) {
+  const std::string dir = fresh_test_dir();
+  const std::string good = short_run(dir);
+  std::string err;
+  std::size_t row_bytes = 0;
+  {
+    const auto h5 = io::ResultReader::open(good, &err);
+    ASSERT_TRUE(h5) << err;
+    ASSERT_EQ(h5->frame_count(), 11u);
+    EXPECT_EQ(h5->verify(), "");
+    row_bytes = 24 * h5->info().mesh.point_count();
+  }
+  std::mt19937 rng(12);
+  for (const std::string kind : {"zeroed", "random", "ff"}) {
+    const std::string run = dir + "/" + kind, h5 = run + "/results.h5";
+    fs::create_directories(run);
+    fs::copy_file(good, h5);
+    std::vector<unsigned char> block(row_bytes / 2, kind == "zeroed" ? 0x00 : 0xFF);
+    if (kind == "random")
+      for (auto& b : block) b = static_cast<unsigned char>(rng());
+    ff::test::overwrite(h5, ff::test::chunk_row_offset(h5, "/frames/points", 5) + row_bytes / 4, block);
+    const ProcResult r = run_flexframe({"replay", run, "--no-plots"}, dir + "/replay_" + kind);
+    EXPECT_EQ(r.exit_code, 2) << kind << ": " << r.describe();
+    EXPECT_NE(r.err.find("results file '" + h5 + "'"), std::string::npos) << kind << ": " << r.describe();
+    EXPECT_NE(r.err.find("data set '/frames/points'"), std::string::npos) << kind << ": " << r.describe();
+    EXPECT_NE(r.err.find("frame 5 of 11 (t = 0.25 s)"), std::string::npos) << kind << ": " << r.describe();
+    EXPECT_EQ(r.err.find("infinite loop"), std::string::npos) << kind << ": " << r.describe();
+    EXPECT_FALSE(fs::exists(run + "/replay")) << kind << ": bad input must not write anything";
+  }
 }
 
 // issue 12, finding 10: a damaged metadata checksum gave the right error, then HDF5's "infinite

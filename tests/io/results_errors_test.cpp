@@ -126,6 +126,69 @@ TEST(ResultStoreErrors, EveryDataSetWithRowsCarriesTheFletcher32Checksum) {
                         "/mesh/lines", "/mesh/triangles", "/mesh/quads"})
     EXPECT_TRUE(has_fletcher32(f, d)) << d;
   H5Fclose(f);
+  std::string error;
+  auto r = ResultReader::open(path, &error);
+  ASSERT_TRUE(r) << error;
+  EXPECT_EQ(r->verify(), "");
+}
+
+TEST(ResultStoreErrors, DamagedFrameDataIsFoundAndNamed) {
+  const std::string path = finished_file("damaged_frames.h5", 200);
+  const std::size_t row_bytes = 60 * 3 * 8;
+  const auto at = ff::test::chunk_row_offset(path, "/frames/points", 120);
+  ff::test::overwrite(path, at + 8, std::vector<unsigned char>(row_bytes / 2, 0xFF));
+  {  // HDF5 itself refuses the chunk (without the filter it returns the altered numbers)
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t d = H5Dopen2(f, "/frames/points", H5P_DEFAULT);
+    std::vector<double> all(200 * row_bytes / 8);
+    H5E_auto2_t func = nullptr;
+    void* data = nullptr;
+    H5Eget_auto2(H5E_DEFAULT, &func, &data);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    EXPECT_LT(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), 0);
+    H5Eset_auto2(H5E_DEFAULT, func, data);
+    H5Dclose(d);
+    H5Fclose(f);
+  }
+  std::string error;
+  auto r = ResultReader::open(path, &error);  // a finished file opens without reading frames
+  ASSERT_TRUE(r) << error;
+  const std::string damage = r->verify();
+  EXPECT_TRUE(contains(damage, path)) << damage;
+  EXPECT_TRUE(contains(damage, "'/frames/points'")) << damage;
+  EXPECT_TRUE(contains(damage, "frame 120 of 200 (t = 0.12 s)")) << damage;
+  EXPECT_TRUE(contains(damage, "Fletcher32")) << damage;
+  try {
+    r->frame(120);
+    ADD_FAILURE() << "frame 120 read back";
+  } catch (const std::runtime_error& e) {
+    EXPECT_TRUE(contains(e.what(), "frame 120: data set '/frames/points'")) << e.what();
+  }
+}
+
+// a rewrite through HDF5 (the chunk checksum recomputed) still differs from /frames/checksum
+TEST(ResultStoreErrors, RewrittenFrameDiffersFromItsChecksum) {
+  const std::string path = finished_file("rewritten_frame.h5", 30);
+  {
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hid_t d = H5Dopen2(f, "/frames/probes/probe_1", H5P_DEFAULT);
+    const hid_t space = H5Dget_space(d);
+    const hsize_t start = 7, count = 1;
+    H5Sselect_hyperslab(space, H5S_SELECT_SET, &start, nullptr, &count, nullptr);
+    const hid_t mem = H5Screate_simple(1, &count, nullptr);
+    const double v = 42.0;
+    EXPECT_GE(H5Dwrite(d, H5T_NATIVE_DOUBLE, mem, space, H5P_DEFAULT, &v), 0);
+    H5Sclose(mem);
+    H5Sclose(space);
+    H5Dclose(d);
+    H5Fclose(f);
+  }
+  std::string error;
+  auto r = ResultReader::open(path, &error);
+  ASSERT_TRUE(r) << error;
+  const std::string damage = r->verify();
+  EXPECT_TRUE(contains(damage, "frame 7 of 30 (t = 0.007 s) is damaged")) << damage;
+  EXPECT_TRUE(contains(damage, "/frames/checksum")) << damage;
 }
 
 TEST(ResultStoreErrors, DamagedMeshOrSceneTextIsRefusedAtOpen) {
