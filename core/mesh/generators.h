@@ -167,7 +167,7 @@ struct AssemblyOptions {
 ShellMesh assemble(const std::vector<ShellMesh>& parts, const AssemblyOptions& options = {});
 
 // ---- benchmark geometries ------------------------------------------------------------------
-// The shell examples of Zhang, Liu, Zhang & Liu (2022, seeds/000) and their sources
+// The shell examples of the shell paper (Zhang, Liu, Zhang & Liu 2022) and their sources
 // (Sze, Liu & Lo 2004, "Popular benchmark problems for geometric nonlinear analysis of
 // shells", Finite Elem. Anal. Des. 40:1551-1569; Simo, Fox & Rifai 1990, CMAME 79:21-70).
 // Each records its symmetry planes and load points in its comment; core/mesh/README.md has the
@@ -184,7 +184,7 @@ inline constexpr double kLPlateLeg = 240.0, kLPlateWidth = 30.0;  // centre-line
 }  // namespace bench
 
 /// Example 1, end-moment roll-up: strip 12 x 1 in z = 0, x in [0, 12] (clamped at x = 0,
-/// moment at x = 12), y in [0, 1]; patch "strip", u along x. Seed mesh: 20 x 2.
+/// moment at x = 12), y in [0, 1]; patch "strip", u along x. The shell paper's mesh: 20 x 2.
 ShellMesh cantilever_strip(int n_length = 20, int n_width = 2);
 
 /// Example 2, hemisphere R = 10 with an 18 deg polar hole, quarter model: theta in
@@ -197,7 +197,7 @@ ShellMesh hemisphere_quarter(int n_theta, int n_phi);
 /// 10.35; the octant z in [0, 10.35/2] (z = 0 is the mid-length plane), phi in [0, 90 deg] from
 /// +x to +y. Symmetry planes z = 0 (edge v=0), y = 0 (edge u=0), x = 0 (edge u=1); free end
 /// z = 5.175 (edge v=1); the pull-out load acts at (R, 0, 0) along +x. Patch "cylinder",
-/// u = phi (n_phi), v = z (n_axial). Normal outward. Seed: "24 x 16".
+/// u = phi (n_phi), v = z (n_axial). Normal outward. The shell paper: "24 x 16".
 ShellMesh open_cylinder_octant(int n_phi, int n_axial);
 
 /// Example 4, hinged cylindrical roof (Sze et al. 2004: R = 2540, L = 254, theta = 0.1 rad; the
@@ -210,7 +210,7 @@ ShellMesh open_cylinder_octant(int n_phi, int n_axial);
 ShellMesh hinged_roof_quarter(int n_arc, int n_axial);
 
 /// Example 5, the right-angle frame of Argyris et al. (1979) modelled as a FLAT L-shaped plate
-/// (seed 000 §5.5 after Simo, Fox & Rifai 1990): two strips of width 30 whose CENTRE LINES are
+/// (the shell paper §5.5 after Simo, Fox & Rifai 1990): two strips of width 30 whose CENTRE LINES are
 /// 240 long, measured from the clamped end / loaded end to the centre of the 30 x 30 corner
 /// square, as in the beam data of the benchmark (L = 240, section 30 x 0.6). The L lies in the
 /// plate's plane z = 0, so there is no fold. Patches "arm1" (x in [0, 225], y in [0, 30], clamped

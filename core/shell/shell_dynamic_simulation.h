@@ -2,7 +2,8 @@
 /// \file shell_dynamic_simulation.h
 /// Dynamics of a multibody system of CB shells, rigid bodies and joints with the Lie-group
 /// generalized-α (core/solve/generalized_alpha.md): one Frame every `output_every` steps,
-/// displacement and arc probes, energy, and the seed's counters NOI/NOU (Tables 3-4).
+/// displacement and arc probes, energy, and the counters NOI/NOU of the shell paper (Zhang, Liu,
+/// Zhang & Liu 2022, Tables 3-4).
 
 #include <limits>
 #include <chrono>
@@ -25,7 +26,7 @@ struct DynamicProbe {
 };
 
 /// A curve through ordered nodes (e.g. arc AC): its relative change of chord |x_last − x_first|
-/// (the "deformation rate" of the seed's example 5.6) and of polyline length (membrane strain).
+/// (the "deformation rate" of the shell paper's example 5.6) and of polyline length (membrane strain).
 struct DynamicArc {
   std::string name;
   std::vector<int> nodes;
@@ -43,7 +44,7 @@ struct ShellDynamicSettings {
   double dt = 1e-3;
   double end_time = 1.0;
   int output_every = 1;  ///< publish every n-th step (and the last)
-  double count_until = std::numeric_limits<double>::infinity();  ///< NOI/NOU window (seed: first 1 s)
+  double count_until = std::numeric_limits<double>::infinity();  ///< NOI/NOU window (the shell paper: first 1 s)
   std::vector<DynamicProbe> probes;
   std::vector<DynamicArc> arcs;
   std::vector<DynamicMetric> metrics;
