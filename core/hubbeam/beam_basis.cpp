@@ -19,7 +19,8 @@ ShapeRows BeamBasis::make_rows() const {
   return rows;
 }
 
-// eq. (18): the seed's cubic spline, C2 at r = 1/2 and r = 1
+// hub_beam.md eq. (18): the cubic spline of the hub-beam paper (Xie & Jian 2017), C2 at r = 1/2
+// and r = 1
 void cubic_spline_weight(double r, double& w, double& dw, double& ddw) {
   if (r <= 0.5) {
     w = 2.0 / 3.0 - 4.0 * r * r + 4.0 * r * r * r;

@@ -43,7 +43,8 @@ struct EfgOptions {
   double scale = 2.5;           ///< support d_mI = scale * c_I (eq. 18)
   int gauss_points = 4;         ///< per background cell
   int cells = 0;                ///< background cells; 0 = nodes - 1
-  int basis_order = 2;          ///< transverse GMLS basis degree (seed: 2, p = [1, x, x^2])
+  int basis_order = 2;          ///< transverse GMLS basis degree (the hub-beam paper,
+                                ///< Xie & Jian 2017: 2, p = [1, x, x^2])
   int axial_basis_order = 1;    ///< axial IMLS basis degree
 };
 

@@ -164,7 +164,8 @@ Metrics HubBeamSimulation::metrics() const {
   if (!tip_v_.empty()) add("tip_transverse_max_m", vmax);
   // drifts over the torque-free part, where energy and angular momentum are conserved (eq. 14):
   // (max - min) after T, relative to the mean energy after T and to the peak |momentum| of the run
-  // (the seed's torque has zero impulse, so the momentum after T is ~0 and cannot be the scale)
+  // (the torque of the hub-beam paper, Xie & Jian 2017, has zero impulse, so the momentum after T
+  // is ~0 and cannot be the scale)
   auto spread_after_T = [&](const std::vector<double>& y) {
     double lo = 1e300, hi = -1e300;
     for (std::size_t i = 0; i < t_.size(); ++i)

@@ -1,6 +1,7 @@
 #pragma once
 /// \file hub_beam_system.h
-/// Rotating hub + flexible beam (seed 004), equations (11)-(17) of hub_beam.md.
+/// Rotating hub + flexible beam (the hub-beam paper, Xie & Jian 2017), equations (11)-(17) of
+/// hub_beam.md.
 /// State layout x = [theta | q1 free | q2 free]: hub angle [rad], axial nodal displacements of
 /// nodes 2..N [m] (absent when the "axial" effect is off), then deflections v_2..v_N [m] and
 /// slopes theta_2..theta_N [rad]. The root node is clamped to the hub.

@@ -25,7 +25,7 @@ StepReport NewmarkIntegrator::initialize(NewmarkState& st) {
   return rep;
 }
 
-// eqs. (25)-(26): one Newton solve for a_{n+1}
+// hub_beam.md eqs. (25)-(26): one Newton solve for a_{n+1}
 StepReport NewmarkIntegrator::attempt(NewmarkState& st, double h) {
   StepReport rep;
   const double b = s_.beta, g = s_.gamma, t1 = st.t + h;

@@ -12,7 +12,7 @@
 namespace ff {
 
 struct NewmarkSettings {
-  double beta = 0.25;        ///< Newmark beta (0.25 = average acceleration; the hub-beam seed states 0.75)
+  double beta = 0.25;        ///< Newmark beta (0.25 = average acceleration; the hub-beam paper, Xie & Jian 2017: 0.75)
   double gamma = 0.5;        ///< Newmark gamma
   double tolerance = 1e-10;  ///< ||dx||_inf <= tolerance * (1 + ||x||_inf)
   int max_iterations = 25;   ///< Newton iterations per attempt
