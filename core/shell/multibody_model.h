@@ -118,7 +118,7 @@ class MultibodyModel final : public ff::DynamicProblem {
   /// Gravity g [m/s^2] from now on (a scene's [[timeline]] gravity); used only when spec().gravity.
   void set_gravity(const Vec3& g) { spec_.g = g; }
   double total_mass() const;
-  /// Display strain per node (cb_shell.md eq. S3, averaged over the adjacent elements); 0 at
+  /// Display strain per node (cb_shell.md eq. V3, averaged over the adjacent elements); 0 at
   /// rigid-body nodes.
   std::vector<double> nodal_surface_strain() const;
   /// Effects that ran with their counters: "elastic", "inertia", "gravity" (element evaluations),

@@ -134,7 +134,7 @@ class ShellModel final : public ff::StaticProblem {
   /// A director within this angle [rad] of a symmetry plane is moved into it (eq. R3');
   /// beyond it the plane is refused for a 5-DoF node.
   static constexpr double kSymmetryDirectorSnap = 1e-3;
-  /// Display strain per node (cb_shell.md eq. S3, averaged over the adjacent elements).
+  /// Display strain per node (cb_shell.md eq. V3, averaged over the adjacent elements).
   std::vector<double> nodal_surface_strain() const;
   /// Equation index of (node, slot) or -1 when restrained; slots 0-2 translations along the
   /// columns of translation_basis(node), 3-5 rotations (about rotation_basis(node) for 6-DoF nodes,

@@ -11,7 +11,7 @@ namespace {
 constexpr double kDxi[4] = {-0.25, 0.25, 0.25, -0.25};
 constexpr double kDeta[4] = {-0.25, -0.25, 0.25, 0.25};
 
-/// Covariant base vectors at the centre on the surface zeta (eq. S1).
+/// Covariant base vectors at the centre on the surface zeta (cb_shell.md eq. V1).
 void base_vectors(const ElementPoses& p, double half_h, double zeta, Vec3& g1, Vec3& g2) {
   g1.setZero();
   g2.setZero();
@@ -29,10 +29,10 @@ double max_surface_strain(const ElementPoses& ref, const ElementPoses& cur, doub
     Vec3 G1, G2, g1, g2;
     base_vectors(ref, 0.5 * thickness, zeta, G1, G2);
     base_vectors(cur, 0.5 * thickness, zeta, g1, g2);
-    // metric M and covariant strain E_ab = (g_a.g_b - G_a.G_b) / 2 (eq. S2)
+    // metric M and covariant strain E_ab = (g_a.g_b - G_a.G_b) / 2 (eq. V2)
     const double m11 = G1.dot(G1), m12 = G1.dot(G2), m22 = G2.dot(G2);
     const double e11 = 0.5 * (g1.dot(g1) - m11), e12 = 0.5 * (g1.dot(g2) - m12), e22 = 0.5 * (g2.dot(g2) - m22);
-    // principal strains: eigenvalues of the mixed tensor M^-1 E (eq. S3)
+    // principal strains: eigenvalues of the mixed tensor M^-1 E (eq. V3)
     const double det_m = m11 * m22 - m12 * m12;
     const double a11 = (m22 * e11 - m12 * e12) / det_m, a12 = (m22 * e12 - m12 * e22) / det_m;
     const double a21 = (m11 * e12 - m12 * e11) / det_m, a22 = (m11 * e22 - m12 * e12) / det_m;

@@ -2,7 +2,7 @@
 /// \file surface_strain.h
 /// A strain measure for colouring frames (not used by the solver): the largest absolute principal
 /// in-plane Green-Lagrange strain over the bottom, middle and top surfaces at an element's centre
-/// (cb_shell.md, eq. S1-S3). Zero under any rigid motion.
+/// (cb_shell.md, eqs. V1-V3). Zero under any rigid motion.
 
 #include <array>
 #include <cstdint>
