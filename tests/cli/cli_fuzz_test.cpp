@@ -559,11 +559,12 @@ std::string judge(const ProcResult& r, const std::string& scene, const std::vect
   return "";
 }
 
-/// The step budget that keeps a run of `model` to about a second.
-std::vector<std::string> short_run_sets(const std::string& scene_text) {
-  if (scene_text.find("\"shell_static\"") != std::string::npos) return {"solver.lambda_end=0.05", "solver.max_steps=3"};
-  if (scene_text.find("\"shell_dynamic\"") != std::string::npos) return {"time.end=2e-3"};
-  return {"solver.t_end=0.2"};
+/// The end that keeps a run of the scene's model to about a second, under the key's current name
+/// first and its older names after (a run refused at such a --set tries the next).
+std::vector<std::string> short_run_ends(const std::string& scene_text) {
+  if (scene_text.find("\"shell_static\"") != std::string::npos) return {"solver.end=0.05", "solver.lambda_end=0.05"};
+  if (scene_text.find("\"shell_dynamic\"") != std::string::npos) return {"solver.end=2e-3", "time.end=2e-3"};
+  return {"solver.end=0.2", "solver.t_end=0.2"};
 }
 
 struct Case {
@@ -587,13 +588,16 @@ class Fuzzer {
     last_check_valid_ = r.exit_code == 0;
     (last_check_valid_ ? valid_ : refused_)++;
     if (!run || !last_check_valid_) return true;
-    const std::vector<std::string> sets = short_run_sets(read_text(c.scene));
-    std::vector<std::string> args{"run", c.scene, "--out", dir_ + "/run_" + std::to_string(count_), "--no-frames",
-                                  "--no-plots", "--quiet"};
-    for (const std::string& s : sets) args.insert(args.end(), {"--set", s});
     ++runs_;
-    const ProcResult rr = run_flexframe(args, log + ".run", dir_, kRunTimeout);
-    return report(c, "run", sets, rr, judge(rr, c.scene, sets, true, kRunTimeout));
+    for (const std::string& end : short_run_ends(read_text(c.scene))) {
+      const ProcResult rr = run_flexframe({"run", c.scene, "--out", dir_ + "/run_" + std::to_string(count_), "--no-frames",
+                                           "--no-plots", "--quiet", "--set", end},
+                                          log + ".run", dir_, kRunTimeout);
+      if (rr.exit_code == 2 && rr.err.find("--set " + end) != std::string::npos) continue;  // not this key's name
+      return report(c, "run", {end}, rr, judge(rr, c.scene, {end}, true, kRunTimeout));
+    }
+    ADD_FAILURE() << c.label << ": every end key of short_run_ends() was refused; update it (" << c.scene << ")";
+    return false;
   }
 
   bool last_check_valid() const { return last_check_valid_; }
