@@ -24,8 +24,8 @@ struct Row {
 
 // "full", "frozen", "nni:3" -> scene overrides
 std::vector<std::string> policy_overrides(const std::string& p) {
-  if (p == "full" || p == "frozen") return {"integrator.policy=" + p};
-  if (p.rfind("nni:", 0) == 0) return {"integrator.policy=nni", "integrator.nni=" + p.substr(4)};
+  if (p == "full" || p == "frozen") return {"solver.policy=" + p};
+  if (p.rfind("nni:", 0) == 0) return {"solver.policy=nni", "solver.nni=" + p.substr(4)};
   throw InputError("--policies: '" + p + "' is not full, frozen or nni:<i>");
 }
 std::string policy_label(const std::string& p) {
@@ -46,7 +46,7 @@ int run_policy_table(const PolicyTableOptions& opt, const std::atomic<bool>& sto
       std::ostringstream until;
       until.precision(17);
       until << opt.until;
-      for (const std::string& s : {"time.dt=" + dt, "time.end=" + until.str(), "time.count_until=" + until.str()})
+      for (const std::string& s : {"solver.dt=" + dt, "solver.end=" + until.str(), "solver.count_until=" + until.str()})
         o.push_back(s);
       for (const std::string& s : policy_overrides(p)) o.push_back(s);
       const TimedRun r = timed_run(scene, o, stop);

@@ -24,7 +24,7 @@ struct StudyAxis {
 
 /// One run of the study.
 struct StudyVariant {
-  std::string label;                   ///< "time.dt=5e-4, integrator.policy=frozen"
+  std::string label;                   ///< "solver.dt=5e-4, solver.policy=frozen"
   std::string scene;                   ///< resolved scene path
   std::vector<std::string> overrides;  ///< --set arguments (base ones first)
   std::vector<std::string> axis_labels;  ///< value label per axis ("" for extra variants)

@@ -44,7 +44,7 @@ const Schema& hub_beam_schema() {
         .number("efg.scale", "support size d_mI = scale * nearest-node spacing", 2.5, Range::left_open(1.0, 10.0))
         .integer("efg.gauss_points", "Gauss points per background cell", 4, IntRange::closed(1, 20))
         .integer("efg.cells", "background cells; 0 = nodes - 1", 0, IntRange::closed(0, 2000))
-        .integer("efg.basis_order", "degree of the transverse GMLS basis (seed: 2)", 2, IntRange::closed(1, 4))
+        .integer("efg.basis_order", "degree of the transverse GMLS basis (the hub-beam paper: 2)", 2, IntRange::closed(1, 4))
         .integer("efg.axial_basis_order", "degree of the axial IMLS basis", 1, IntRange::closed(1, 4));
     s.table("fem", "finite-element settings (method = fem)")
         .integer("fem.elements", "number of elements", 9, IntRange::closed(1, 2000))
@@ -53,8 +53,8 @@ const Schema& hub_beam_schema() {
     s.table("solver", "time integration", true)
         .choice("solver.integrator", "time integrator", {"newmark"}, "newmark")
         .number("solver.dt", "time step", std::nullopt, Range::positive(), "s")
-        .number("solver.t_end", "end time", std::nullopt, Range::positive(), "s")
-        .number("solver.newmark_beta", "Newmark beta (0.25 average acceleration; the hub-beam seed states 0.75)",
+        .number("solver.end", "end time", std::nullopt, Range::positive(), "s")
+        .number("solver.newmark_beta", "Newmark beta (0.25 average acceleration; the hub-beam paper states 0.75)",
                 0.25, Range::left_open(0.0, 1.0))
         .number("solver.newmark_gamma", "Newmark gamma (0.5: no numerical damping)", 0.5, Range::closed(0.5, 1.0))
         .number("solver.tolerance", "Newton stops when |dx|_inf <= tolerance (1 + |x|_inf)", 1e-10,
@@ -67,6 +67,8 @@ const Schema& hub_beam_schema() {
                 "stop as diverged when |tip deflection| exceeds this multiple of L", 1.0, Range::left_open(0.0, 100.0));
     declare_output_keys(s, {"deflection", "transverse"}, false);
     declare_timeline(s, "time of the event", "s", {"torque_scale"});
+    // one vocabulary across models: the end of a run is solver.end everywhere
+    s.renamed("solver.t_end", "solver.end");
     return s;
   }();
   return schema;
@@ -152,8 +154,8 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
   }
   HubBeamRunSettings rs;
   rs.dt = d.number("solver.dt");
-  rs.t_end = d.number("solver.t_end");
-  refuse_impossible_step_count(d, "solver.dt", "solver.t_end");
+  rs.t_end = d.number("solver.end");
+  refuse_impossible_step_count(d, "solver.dt", "solver.end");
   rs.newmark.beta = d.number("solver.newmark_beta");
   rs.newmark.gamma = d.number("solver.newmark_gamma");
   if (rs.newmark.beta < 0.5 * rs.newmark.gamma)
@@ -179,10 +181,10 @@ const std::vector<ModelKind>& model_kinds() {
   // one line per model: its name in scene.model, its schema, the key that ends its run, and how
   // a validated document becomes its Simulation
   static const std::vector<ModelKind> kinds = {
-      {"hub_beam", "rotating hub with a flexible beam (EFG or FEM)", hub_beam_schema, "solver.t_end", false, build_hub_beam},
-      {"shell_static", "CB shell statics: load control or arc length", shell_static_schema, "solver.lambda_end", true,
+      {"hub_beam", "rotating hub with a flexible beam (EFG or FEM)", hub_beam_schema, "solver.end", false, build_hub_beam},
+      {"shell_static", "CB shell statics: load control or arc length", shell_static_schema, "solver.end", true,
        build_shell_static},
-      {"shell_dynamic", "CB shells, rigid bodies and joints in motion", shell_dynamic_schema, "time.end", true,
+      {"shell_dynamic", "CB shells, rigid bodies and joints in motion", shell_dynamic_schema, "solver.end", true,
        build_shell_dynamic},
   };
   return kinds;

@@ -24,21 +24,20 @@ const Schema& shell_dynamic_schema() {
                         "effects to simulate: elastic and inertia (required), gravity, hr, ans, drilling (6 DoF "
                         "per shell node), joints (the [[joint]] constraints)",
                         {"elastic", "inertia", "gravity", "hr", "ans", "drilling", "joints"});
-    s.table("time", "time stepping", true)
-        .number("time.dt", "time step [s]", std::nullopt, Range::positive())
-        .number("time.end", "end time [s]", std::nullopt, Range::positive())
-        .integer("time.output_every", "publish (store, render) every n-th step", 10, IntRange::closed(1, 1000000))
-        .number("time.count_until", "NOI/NOU are also counted up to this time (metrics NOI_window, NOU_window)",
-                1e300, Range::positive());
-    s.table("integrator", "Lie-group generalized-alpha (core/solve/generalized_alpha.md)")
-        .number("integrator.rho_inf", "spectral radius at infinity", 0.9, Range::closed(0.0, 1.0))
-        .number("integrator.tolerance", "Newton stops when the 2-norm of the correction is below this", 1e-6,
+    s.table("solver", "time stepping: Lie-group generalized-alpha (core/solve/generalized_alpha.md)", true)
+        .number("solver.dt", "time step [s]", std::nullopt, Range::positive())
+        .number("solver.end", "end time [s]", std::nullopt, Range::positive())
+        .integer("solver.output_every", "publish (store, render) every n-th step", 10, IntRange::closed(1, 1000000))
+        .number("solver.count_until", "NOI/NOU are also counted up to this time (metrics NOI_window, NOU_window)",
+                1e300, Range::positive())
+        .number("solver.rho_inf", "spectral radius at infinity", 0.9, Range::closed(0.0, 1.0))
+        .number("solver.tolerance", "Newton stops when the 2-norm of the correction is below this", 1e-6,
                 Range::left_open(0.0, 1.0))
-        .integer("integrator.max_iterations", "corrections per attempt", 30, IntRange::closed(2, 500))
-        .choice("integrator.policy", "iteration matrix: full (every iteration), nni (from iteration nni on), frozen",
+        .integer("solver.max_iterations", "corrections per attempt", 30, IntRange::closed(2, 500))
+        .choice("solver.policy", "iteration matrix: full (every iteration), nni (from iteration nni on), frozen",
                 {"full", "nni", "frozen"}, "full")
-        .integer("integrator.nni", "policy nni: update at this and later iterations of a step", 3, IntRange::closed(1, 100))
-        .integer("integrator.max_cutbacks", "halvings of a failing step before the run is declared diverged", 6,
+        .integer("solver.nni", "policy nni: update at this and later iterations of a step", 3, IntRange::closed(1, 100))
+        .integer("solver.max_cutbacks", "halvings of a failing step before the run is declared diverged", 6,
                  IntRange::closed(0, 20));
     s.table("gravity", "uniform gravity (effect gravity)")
         .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3);
@@ -96,6 +95,8 @@ const Schema& shell_dynamic_schema() {
         .string("metric.probe", "probe (or arc_rate_<arc>, arc_strain_<arc>) it reads", std::nullopt);
     declare_output_keys(s, {"displacement", "strain"}, true);
     declare_timeline(s, "time of the event", "s", {"gravity"});
+    // one vocabulary across models: time stepping and the integrator are the [solver] table
+    s.renamed("time", "solver").renamed("integrator", "solver");
     return s;
   }();
   return schema;
@@ -303,20 +304,20 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     }
   }
 
-  refuse_impossible_step_count(d, "time.dt", "time.end");
+  refuse_impossible_step_count(d, "solver.dt", "solver.end");
   ShellDynamicSettings st;
-  st.dt = d.number("time.dt");
-  st.end_time = d.number("time.end");
-  st.output_every = static_cast<int>(d.integer("time.output_every"));
-  st.count_until = d.number("time.count_until");
+  st.dt = d.number("solver.dt");
+  st.end_time = d.number("solver.end");
+  st.output_every = static_cast<int>(d.integer("solver.output_every"));
+  st.count_until = d.number("solver.count_until");
   if (st.count_until > 1e299) st.count_until = std::numeric_limits<double>::infinity();
-  st.integrator.rho_inf = d.number("integrator.rho_inf");
-  st.integrator.tolerance = d.number("integrator.tolerance");
-  st.integrator.max_iterations = static_cast<int>(d.integer("integrator.max_iterations"));
-  const std::string policy = d.string("integrator.policy");
+  st.integrator.rho_inf = d.number("solver.rho_inf");
+  st.integrator.tolerance = d.number("solver.tolerance");
+  st.integrator.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
+  const std::string policy = d.string("solver.policy");
   st.integrator.policy = policy == "full" ? MatrixPolicy::full : policy == "nni" ? MatrixPolicy::nni : MatrixPolicy::frozen;
-  st.integrator.nni_threshold = static_cast<int>(d.integer("integrator.nni"));
-  st.integrator.max_cutbacks = static_cast<int>(d.integer("integrator.max_cutbacks"));
+  st.integrator.nni_threshold = static_cast<int>(d.integer("solver.nni"));
+  st.integrator.max_cutbacks = static_cast<int>(d.integer("solver.max_cutbacks"));
   for (std::size_t i = 0; i < d.count("probe"); ++i) {
     const int b = body_index("probe", "body", i, false);
     const std::vector<int> ids = select_nodes(d, spec.shells[b].mesh, "probe", i);

@@ -50,9 +50,9 @@ const Schema& shell_static_schema() {
         .number("material.youngs_modulus", "E", std::nullopt, Range::positive())
         .number("material.poisson_ratio", "nu", 0.3, Range::right_open(0.0, 0.5))
         .number("material.thickness", "h0", std::nullopt, Range::positive())
-        .number("material.shear_factor", "transverse shear correction factor", 5.0 / 6.0, Range::left_open(0.0, 1.0));
-    s.table("drilling", "drilling penalty (effect drilling)")
-        .number("drilling.factor", "c in gamma = c G h0", 1e-3, Range::left_open(0.0, 1e3));
+        .number("material.shear_factor", "transverse shear correction factor", 5.0 / 6.0, Range::left_open(0.0, 1.0))
+        .number("material.drilling_factor", "effect drilling: c in the drilling penalty gamma = c G h0", 1e-3,
+                Range::left_open(0.0, 1e3));
     declare_bc_keys(s);
     declare_load_keys(s);
     declare_probe_keys(s);
@@ -76,7 +76,7 @@ const Schema& shell_static_schema() {
                 "load_control")
         .number("solver.load_scale", "load reported per unit lambda (for plots and metrics)", 1.0)
         .string("solver.load_label", "name of the load on plots", std::string("load"))
-        .number("solver.lambda_end", "load factor to reach", 1.0, Range::positive())
+        .number("solver.end", "load factor to reach (the end of the run)", 1.0, Range::positive())
         .number("solver.initial_step", "first load step (load control) or load increment (arc length)", 0.05,
                 Range::left_open(0.0, 1.0))
         .number("solver.max_step", "largest load step (load control)", 0.1, Range::left_open(0.0, 1.0))
@@ -112,6 +112,8 @@ const Schema& shell_static_schema() {
         .number("solver.displacement_limit", "arc length: stop when |monitor probe| reaches this", 1e300, Range::positive());
     declare_output_keys(s, {"displacement", "strain"}, true);
     declare_timeline(s, "load factor of the event (statics: camera keys only)", "", {});
+    // one vocabulary across models (the end of a run, material constants)
+    s.renamed("solver.lambda_end", "solver.end").renamed("drilling.factor", "material.drilling_factor");
     return s;
   }();
   return schema;
@@ -146,7 +148,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   spec.options.hr = has("hr");
   spec.options.ans = has("ans");
   spec.options.drilling = has("drilling");
-  spec.options.drilling_factor = d.number("drilling.factor");
+  spec.options.drilling_factor = d.number("material.drilling_factor");
   const mesh::ShellMesh& m = spec.mesh;
 
   read_bcs(d, spec);
@@ -222,7 +224,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   conv.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
   conv.tangent = d.string("solver.tangent") == "modified" ? TangentPolicy::modified : TangentPolicy::every_iteration;
   st.arc_length = d.string("solver.method") == "arc_length";
-  st.load_control.lambda_end = d.number("solver.lambda_end");
+  st.load_control.lambda_end = d.number("solver.end");
   st.load_control.initial_step = d.number("solver.initial_step");
   st.load_control.max_step = d.number("solver.max_step");
   st.load_control.min_step = d.number("solver.min_step");
@@ -230,7 +232,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   st.load_control.hold_determinant_sign = d.boolean("solver.stop_at_limit_point");
   st.arc.method = d.string("solver.arc_method") == "lam_morley" ? ArcLengthMethod::lam_morley : ArcLengthMethod::crisfield;
   st.arc.initial_load_increment = d.number("solver.initial_step");
-  st.arc.lambda_max = d.number("solver.lambda_end");
+  st.arc.lambda_max = d.number("solver.end");
   st.arc.desired_iterations = static_cast<int>(d.integer("solver.desired_iterations"));
   const double deg = std::acos(-1.0) / 180.0;
   st.arc.target_turn = d.number("solver.target_turn") * deg;

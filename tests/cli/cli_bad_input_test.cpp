@@ -29,7 +29,7 @@ const std::vector<std::string> kBase = {
     "",                                                           // 15
     "[solver]",                                                   // 16
     "dt = 0.05",                                                  // 17
-    "t_end = 1.0",                                                // 18
+    "end = 1.0",                                                  // 18
     "newmark_beta = 0.25",                                        // 19
     "newmark_gamma = 0.5",                                        // 20
 };
@@ -84,7 +84,7 @@ std::vector<BadCase> bad_cases() {
        "scene.effects", {"hub_torqe", "did you mean 'hub_torque'"}},
       {"missing_effect_bending", {{5, "effects = [\"inertia\", \"axial\", \"hub_torque\"]"}}, {}, 2, "bad.toml", 5,
        "scene.effects", {"needs the effect 'bending'"}},
-      {"toml_syntax_error", {{18, "t_end = = 1.0"}}, {}, 2, "bad.toml", 18, "", {"TOML syntax error"}},
+      {"toml_syntax_error", {{18, "end = = 1.0"}}, {}, 2, "bad.toml", 18, "", {"TOML syntax error"}},
       {"newmark_beta_below_gamma_half", {{19, "newmark_beta = 0.2"}}, {}, 2, "bad.toml", 19, "solver.newmark_beta",
        {"beta >= gamma / 2"}},
       // the issue belongs to beta's line even when gamma's value makes beta too small
@@ -251,9 +251,20 @@ INSTANTIATE_TEST_SUITE_P(
                      "finite non-zero"},
         WrongKeyCase{"ReferenceColumnNotFile", "pulled_cylinder", {"reference[0].y_column=\"nope\""},
                      "reference[0].y_column", "no column 'nope'"},
-        WrongKeyCase{"AbsurdEndTime", "hub_beam_efg_tau1", {"solver.t_end=1e300"}, "solver.t_end",
+        WrongKeyCase{"AbsurdEndTime", "hub_beam_efg_tau1", {"solver.end=1e300"}, "solver.end",
                      "2e+301 steps, more than"},
-        WrongKeyCase{"AbsurdTimeStep", "double_pendulum_shells", {"time.dt=1e-300"}, "time.dt", "steps, more than"},
+        WrongKeyCase{"AbsurdTimeStep", "double_pendulum_shells", {"solver.dt=1e-300"}, "solver.dt", "steps, more than"},
+        // issue 14: one vocabulary; the old names are refused with their new ones
+        WrongKeyCase{"RenamedEndTime", "hub_beam_efg_tau1", {"solver.t_end=2"}, "solver.t_end",
+                     "was renamed to 'solver.end'"},
+        WrongKeyCase{"RenamedTimeTable", "double_pendulum_shells", {"time.dt=0.001"}, "time.dt",
+                     "was renamed to 'solver.dt'"},
+        WrongKeyCase{"RenamedIntegratorTable", "double_pendulum_shells", {"integrator.policy=\"full\""},
+                     "integrator.policy", "was renamed to 'solver.policy'"},
+        WrongKeyCase{"RenamedLoadFactorEnd", "pulled_cylinder", {"solver.lambda_end=0.5"}, "solver.lambda_end",
+                     "was renamed to 'solver.end'"},
+        WrongKeyCase{"RenamedDrillingFactor", "l_plate_moment", {"drilling.factor=2"}, "drilling.factor",
+                     "was renamed to 'material.drilling_factor'"},
         WrongKeyCase{"RepeatedProbeName", "pulled_cylinder", {"probe[2].name=\"w_A\""}, "probe[2].name",
                      "already called 'w_A'"}),
     [](const ::testing::TestParamInfo<WrongKeyCase>& i) { return i.param.name; });

@@ -67,10 +67,10 @@ TEST(CliEffectStats, StaticShellListsOnlyTheEffectsThatRan) {
 
 TEST(CliEffectStats, HubBeamListsTheCouplingOrderThatRan) {
   const std::string dir = fresh_test_dir();
-  std::set<std::string> first = run_and_read({"solver.t_end=0.5"}, "hub_beam_fem_tau1", "first", dir);
+  std::set<std::string> first = run_and_read({"solver.end=0.5"}, "hub_beam_fem_tau1", "first", dir);
   EXPECT_EQ(first, (std::set<std::string>{"inertia", "bending", "axial", "first_order_coupling", "hub_torque"}));
   std::set<std::string> zero = run_and_read(
-      {"solver.t_end=0.5", "scene.effects=[\"inertia\",\"bending\"]"}, "hub_beam_fem_tau1", "zero", dir);
+      {"solver.end=0.5", "scene.effects=[\"inertia\",\"bending\"]"}, "hub_beam_fem_tau1", "zero", dir);
   EXPECT_EQ(zero, (std::set<std::string>{"inertia", "bending"}));
 }
 

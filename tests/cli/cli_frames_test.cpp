@@ -25,7 +25,7 @@ int drawn_pixels(const Image& img, int x0, int x1, int y0, int y1) {
 TEST(CliFrames, FramesShowTheBeamAndPlotsAreWritten) {
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
-  const ProcResult r = run_flexframe({"run", "hub_beam_efg_tau1", "--out", out, "--quiet", "--set", "solver.t_end=0.5",
+  const ProcResult r = run_flexframe({"run", "hub_beam_efg_tau1", "--out", out, "--quiet", "--set", "solver.end=0.5",
                                       "--frame-every", "5", "--width", std::to_string(kWidth), "--height",
                                       std::to_string(kHeight)},
                                      dir + "/run");

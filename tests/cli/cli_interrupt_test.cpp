@@ -14,7 +14,7 @@ TEST(CliInterrupt, SigintKeepsResultsAndSummary) {
   const std::string out = dir + "/out";
   // 60 s of simulated time at dt = 2 ms: far longer than the test waits
   Child child({"run", "hub_beam_converged_tau1", "--out", out, "--no-plots", "--frame-every", "1000000", "--set",
-               "solver.t_end=60"},
+               "solver.end=60"},
               dir + "/run");
   ASSERT_TRUE(child.started());
   const auto t0 = std::chrono::steady_clock::now();

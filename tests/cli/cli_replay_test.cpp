@@ -204,7 +204,7 @@ TEST(CliReplay, InterruptedRunSaysHowFarItGot) {
   const std::string run = dir + "/run";
   // 60 s of simulated time at dt = 2 ms: far longer than the test waits; stopped with SIGINT
   Child child({"run", "hub_beam_converged_tau1", "--out", run, "--no-plots", "--no-frames", "--quiet", "--set",
-               "solver.t_end=60"},
+               "solver.end=60"},
               dir + "/run");
   ASSERT_TRUE(child.started());
   const auto t0 = std::chrono::steady_clock::now();
@@ -246,7 +246,7 @@ TEST(CliReplay, RunWithMovieAndExport) {
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
   const ProcResult r = run_flexframe({"run", "hub_beam_fem_tau1", "--out", out, "--quiet", "--no-plots", "--set",
-                                      "solver.t_end=0.5", "--frame-every", "2", "--width", "322", "--height", "241",
+                                      "solver.end=0.5", "--frame-every", "2", "--width", "322", "--height", "241",
                                       "--movie", "--export", "vtu,obj", "--camera", "-90,0"},
                                      dir + "/run");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
@@ -296,7 +296,7 @@ TEST(CliReplay, ShellExportKeepsEveryNodeInOrder) {
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
   std::vector<std::string> args{"run", "double_pendulum_shells", "--out", out, "--quiet", "--no-frames", "--no-plots",
-                                "--export", "gltf,vtu", "--set", "time.end=0.003", "--set", "time.output_every=2"};
+                                "--export", "gltf,vtu", "--set", "solver.end=0.003", "--set", "solver.output_every=2"};
   for (const char* k : {"shell[0].n1=3", "shell[0].n2=3", "shell[1].n1=3", "shell[1].n2=3", "output.frame_every=2"})
     args.insert(args.end(), {"--set", k});
   const ProcResult r = run_flexframe(args, dir + "/run");
@@ -370,7 +370,7 @@ TEST(CliReplay, BadInputExitsTwoWithAClearMessage) {
 // a short finished run of hub_beam_fem_tau1 (11 frames, t = 0 .. 0.5 s); its results.h5
 std::string short_run(const std::string& dir) {
   const ProcResult r = run_flexframe({"run", "hub_beam_fem_tau1", "--out", dir + "/run", "--quiet", "--no-frames",
-                                      "--no-plots", "--set", "solver.t_end=0.5"},
+                                      "--no-plots", "--set", "solver.end=0.5"},
                                      dir + "/run");
   EXPECT_EQ(r.exit_code, 0) << r.describe();
   return dir + "/run/results.h5";

@@ -13,7 +13,7 @@ TEST(CliRoundTrip, SummaryAndResultsAgree) {
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
   const ProcResult r = run_flexframe(
-      {"run", "hub_beam_fem_tau1", "--out", out, "--no-frames", "--no-plots", "--quiet", "--set", "solver.t_end=2.0"},
+      {"run", "hub_beam_fem_tau1", "--out", out, "--no-frames", "--no-plots", "--quiet", "--set", "solver.end=2.0"},
       dir + "/run");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   std::string err;
@@ -74,7 +74,7 @@ TEST(CliRoundTrip, ShellDynamicsStoresEveryStepsIterations) {
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
   const ProcResult r = run_flexframe({"run", "double_pendulum_shells", "--out", out, "--no-frames", "--no-plots",
-                                      "--quiet", "--set", "time.end=0.01", "--set", "time.output_every=7", "--set",
+                                      "--quiet", "--set", "solver.end=0.01", "--set", "solver.output_every=7", "--set",
                                       "shell[0].n1=4", "--set", "shell[0].n2=4", "--set", "shell[1].n1=4", "--set",
                                       "shell[1].n2=4"},
                                      dir + "/run");

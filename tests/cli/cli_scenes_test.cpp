@@ -15,11 +15,11 @@ namespace {
 constexpr const char* kZeroOrder = "hub_beam_zero_order_tau10";
 constexpr double kShortEnd = 2.5;  // s: runs are cut to this end time
 
-/// solver.t_end of a bundled scene file (NaN if not found).
+/// solver.end of a bundled scene file (NaN if not found).
 double scene_t_end(const std::string& name) {
   const std::string text = read_text(scene_path(name));
   std::smatch m;
-  static const std::regex re(R"((^|\n)\s*t_end\s*=\s*([0-9.eE+-]+))");
+  static const std::regex re(R"((^|\n)\s*end\s*=\s*([0-9.eE+-]+))");
   return std::regex_search(text, m, re) ? std::stod(m[2].str()) : std::nan("");
 }
 
@@ -44,14 +44,14 @@ ProcResult run_short(const std::string& name, const std::string& dir, double* t_
   set.precision(17);
   if (is_static(name)) {
     *t_end = kShortLambda;
-    set << "solver.lambda_end=" << *t_end;
+    set << "solver.end=" << *t_end;
   } else if (is_shell_dynamic(name)) {
     *t_end = kShortShellDynamics;
-    set << "time.end=" << *t_end;
+    set << "solver.end=" << *t_end;
   } else {
     const double scene_end = scene_t_end(name);
     *t_end = std::isfinite(scene_end) ? std::min(scene_end, kShortEnd) : kShortEnd;
-    set << "solver.t_end=" << *t_end;
+    set << "solver.end=" << *t_end;
   }
   return run_flexframe({"run", name, "--out", dir + "/out", "--no-frames", "--no-plots", "--quiet", "--set", set.str()},
                        dir + "/run");
@@ -122,7 +122,7 @@ TEST_P(CliBundledScene, RunsShortened) {
   EXPECT_FALSE(s->get("metrics")->object.empty());
 
   if (name == kZeroOrder) {
-    // the seed's divergence: the hub rate crosses this model's critical speed at t ~ 1.77 s
+    // the hub-beam paper's divergence: the hub rate crosses this model's critical speed at t ~ 1.77 s
     EXPECT_EQ(r.exit_code, 3) << r.describe();
     EXPECT_EQ(summary_string(*s, "status"), "diverged");
     EXPECT_NE(summary_string(*s, "reason").find("critical speed"), std::string::npos) << summary_string(*s, "reason");

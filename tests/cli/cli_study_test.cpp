@@ -92,7 +92,7 @@ TEST(CliStudy, GridWithFinestReferenceWritesConsistentTableAndPlot) {
   const std::string out = dir + "/out";
   const ProcResult r = run_flexframe({"study", "hub_beam_efg_tau1", "--vary", "efg.scale=2.0,2.5", "--vary",
                                       "efg.gauss_points=4,6", "--metric", "tip_transverse_at_2s_m", "--set",
-                                      "solver.t_end=2.5", "--repeat", "2", "--out", out},
+                                      "solver.end=2.5", "--repeat", "2", "--out", out},
                                      dir + "/study");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   for (const char* f : {"/study.csv", "/study.md", "/pareto.png"}) ASSERT_TRUE(fs::is_regular_file(out + f)) << f;
@@ -139,7 +139,7 @@ TEST(CliStudy, StudyFileWithTableReferenceExtraVariantAndEach) {
   write_text(dir + "/ref.csv", "# test table\nx,y\n0,0\n10,-1\n");
   write_text(dir + "/s.toml",
              "[study]\nscene = \"hub_beam_efg_tau1\"\nmetric = \"tip_transverse_at_2s_m\"\n"
-             "set = [\"solver.t_end=2.5\"]\ncombine = \"each\"\n"
+             "set = [\"solver.end=2.5\"]\ncombine = \"each\"\n"
              "[[vary]]\nkey = [\"efg.scale\"]\nvalues = [\"2.0\", \"2.5\"]\n"
              "[[vary]]\nkey = [\"efg.gauss_points\"]\nvalues = [\"4\", \"6\"]\n"
              "[[variant]]\nlabel = \"FEM\"\nscene = \"hub_beam_fem_tau1\"\n"
@@ -167,7 +167,7 @@ TEST(CliStudy, DivergedVariantIsReportedAndSceneReferenceIsUsed) {
   const std::string out = dir + "/out";
   const ProcResult r =
       run_flexframe({"study", "hub_beam_efg_tau1", "--vary", "efg.gauss_points=2,4", "--metric",
-                     "tip_transverse_at_2s_m", "--set", "solver.t_end=2.5", "--set", "efg.scale=3.0",
+                     "tip_transverse_at_2s_m", "--set", "solver.end=2.5", "--set", "efg.scale=3.0",
                      "--reference", "scene:hub_beam_fem_tau1", "--out", out},
                     dir + "/study");
   // 2 Gauss points per cell under-integrate the scale-3 supports: that run diverges (seen at 0.8 s)
@@ -218,7 +218,7 @@ TEST(CliStudy, BadVariantKeyAndUnknownMetricAreInputErrors) {
   EXPECT_NE(bad_vary.err.find("KEY=V1,V2"), std::string::npos) << bad_vary.describe();
   const ProcResult bad_metric =
       run_flexframe({"study", "hub_beam_efg_tau1", "--vary", "efg.scale=2.5", "--metric", "no_such_metric", "--set",
-                     "solver.t_end=0.5", "--reference", "1.0", "--out", dir + "/out"},
+                     "solver.end=0.5", "--reference", "1.0", "--out", dir + "/out"},
                     dir + "/metric");
   EXPECT_EQ(bad_metric.exit_code, 2) << bad_metric.describe();
   EXPECT_NE(bad_metric.err.find("its metrics are:"), std::string::npos) << bad_metric.describe();

@@ -133,7 +133,7 @@ void expect_identical_runs(const std::vector<std::string>& args) {
 TEST(CliTimeline, HubBeamRunsAreIdentical) { expect_identical_runs({"run", "hub_beam_timeline"}); }
 
 TEST(CliTimeline, ShellDynamicRunsAreIdentical) {
-  expect_identical_runs({"run", "double_pendulum_shells", "--set", "time.end=0.005"});
+  expect_identical_runs({"run", "double_pendulum_shells", "--set", "solver.end=0.005"});
 }
 
 // the run stores the scene text; replay reads its [[timeline]] and moves the camera along it:

@@ -51,10 +51,10 @@ TEST(SceneEdit, AddsMissingKeysAndTables) {
                                       "\n"
                                       "[solver]\n"
                                       "dt = 0.05\n");
-  const std::vector<std::string> edits = {"solver.t_end=2.0", "beam.length=2.0", "solver.dt=0.01"};
+  const std::vector<std::string> edits = {"solver.end=2.0", "beam.length=2.0", "solver.dt=0.01"};
   const std::string text = scene_text_with_overrides(path, edits);
   const Document d = validate(scene_schema(path), text, "saved.toml");
-  EXPECT_DOUBLE_EQ(d.number("solver.t_end"), 2.0);
+  EXPECT_DOUBLE_EQ(d.number("solver.end"), 2.0);
   EXPECT_DOUBLE_EQ(d.number("beam.length"), 2.0);
   EXPECT_DOUBLE_EQ(d.number("solver.dt"), 0.01);
   EXPECT_NE(text.find("# sparse scene"), std::string::npos) << text;
@@ -62,13 +62,13 @@ TEST(SceneEdit, AddsMissingKeysAndTables) {
 
 TEST(SceneEdit, ArrayElementsAndBadEdits) {
   const std::string path = kScenes + "double_pendulum_shells.toml";
-  const std::string text = scene_text_with_overrides(path, {"shell[1].thickness=0.02", "time.end=0.1"});
+  const std::string text = scene_text_with_overrides(path, {"shell[1].thickness=0.02", "solver.end=0.1"});
   const Document d = validate(scene_schema(path), text, "saved.toml");
   EXPECT_DOUBLE_EQ(d.number("shell.thickness", 1), 0.02);
   EXPECT_DOUBLE_EQ(d.number("shell.thickness", 0), 0.01);
-  EXPECT_DOUBLE_EQ(d.number("time.end"), 0.1);
+  EXPECT_DOUBLE_EQ(d.number("solver.end"), 0.1);
   EXPECT_NE(text.find("# Double pendulum of two cut cylindrical shells"), std::string::npos);
-  EXPECT_THROW(scene_text_with_overrides(path, {"time.dt=-1"}), SceneError);
+  EXPECT_THROW(scene_text_with_overrides(path, {"solver.dt=-1"}), SceneError);
 }
 
 TEST(SceneParams, EveryModelListsItsKeys) {

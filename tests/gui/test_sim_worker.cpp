@@ -101,7 +101,7 @@ TEST(GuiSimWorker, StepQueuedBehindASetStepsTheNewModel) {
 }
 
 TEST(GuiSimWorker, PausesWhileRunningAndQuitsPromptly) {
-  SimWorker w(scene::load_scene(kScene), {"solver.t_end=1000"});
+  SimWorker w(scene::load_scene(kScene), {"solver.end=1000"});
   Watcher watch{w, {}, {}, {}};
   ASSERT_TRUE(watch.settled(w.pace(2000)));
   ASSERT_TRUE(watch.settled(w.run()));

@@ -1,10 +1,10 @@
 // Stability of the hard static and hub-beam cases (issue 6), each with explicit pass criteria:
-//  - the thin hemisphere, R/h = 1000 (seed 000 example 2, h = 0.01, F to 5): reaches the full load,
+//  - the thin hemisphere, R/h = 1000 (the shell paper, Zhang, Liu, Zhang & Liu 2022, example 2, h = 0.01, F to 5): reaches the full load,
 //    every step converged within 15 Newton iterations, a smooth path (no increment jumps) and every
 //    published value finite;
 //  - the hinged roof h = 6.35 (Sze et al. 2004 §3.8d) through its snap-back: the arc length follows
 //    the load down below zero and back up (no jump across the branch), to the final load;
-//  - the first-order hub-beam (seed 004) at tau0 = 10, 12 and 15: bounded below one beam length at
+//  - the first-order hub-beam (the hub-beam paper, Xie & Jian 2017) at tau0 = 10, 12 and 15: bounded below one beam length at
 //    dt = 0.05 and 0.005, the two steps agreeing on the largest deflection within 10 %;
 //  - beyond: at tau0 = 20 the deflection leaves the model's small-deformation range; the run is
 //    reported as diverged, with the reason, at the same time for both steps (so it is the model, not

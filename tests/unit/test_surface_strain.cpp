@@ -1,4 +1,4 @@
-// The display strain of cb_shell.md eq. (S1)-(S3): zero under rigid motion, the exact Green-Lagrange
+// The display strain of cb_shell.md eqs. (V1)-(V3): zero under rigid motion, the exact Green-Lagrange
 // value under a uniform stretch, and h/(2R) on the outer surface when a strip is bent to radius R.
 #include <gtest/gtest.h>
 

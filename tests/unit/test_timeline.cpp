@@ -149,7 +149,7 @@ TEST(Timeline, HubTorqueSwitchedOffAtItsTime) {
 // leaves every frame before it as without the change and alters every frame after it
 TEST(Timeline, GravityChangeShowsFromItsTime) {
   const std::string base = read_text(bundled("double_pendulum_shells"));
-  const std::vector<std::string> short_run = {"time.end=0.003", "time.output_every=1"};
+  const std::vector<std::string> short_run = {"solver.end=0.003", "solver.output_every=1"};
   auto frames_of = [&](const std::string& name, const std::string& timeline) {
     LoadedScene s = load_scene(write_scene(name, base + timeline), short_run);
     return run(*s.simulation);
@@ -254,7 +254,7 @@ TEST(LiveChange, TorqueChangedLiveEqualsTheSameTimelineChange) {
 TEST(LiveChange, GravityChangedLiveEqualsTheSameTimelineChange) {
   const std::string text = read_text(bundled("double_pendulum_shells"));
   const std::string coarse = text + "\n";  // shortened and coarsened through overrides
-  const std::vector<std::string> o = {"time.end=0.004", "time.output_every=1", "shell[0].n1=4", "shell[0].n2=4",
+  const std::vector<std::string> o = {"solver.end=0.004", "solver.output_every=1", "shell[0].n1=4", "shell[0].n2=4",
                                       "shell[1].n1=4", "shell[1].n2=4"};
   LoadedScene planned = load_scene(write_scene("live_g_planned", coarse + "[[timeline]]\nat = 0.002\ngravity = [0.0, 0.0, 9.81]\n"), o);
   const std::vector<Frame> want = run(*planned.simulation);

@@ -1,4 +1,4 @@
-// Verification of the hub-beam against the seed paper and against analysis.
+// Verification of the hub-beam against the hub-beam paper (Xie & Jian 2017) and against analysis.
 // Reference: Xie & Jian (2017), J. Vib. Eng. 30(4), section 3.1 text and
 // Table 1 (FEM row): hub angle ~20.77 deg (tau0 = 1) and ~147.1 deg (tau0 = 7) after the torque,
 // tip vibration ~1.31 Hz, FEM tip transverse displacement -0.0195 m at t = 2 s (tau0 = 1).
@@ -92,8 +92,8 @@ TEST(HubBeamConverged, FrequencyMatchesModalAnalysis) {
 
 // Converged means converged: halving dt and refining the mesh by 1.5 changes the metrics by < 0.1 %
 TEST(HubBeamConverged, MetricsStopChangingUnderRefinement) {
-  const Result a = run("hub_beam_converged_tau1", {"solver.t_end=4"});
-  const Result b = run("hub_beam_converged_tau1", {"solver.t_end=4", "solver.dt=0.001", "fem.elements=36"});
+  const Result a = run("hub_beam_converged_tau1", {"solver.end=4"});
+  const Result b = run("hub_beam_converged_tau1", {"solver.end=4", "solver.dt=0.001", "fem.elements=36"});
   for (const char* m : {"tip_transverse_at_2s_m", "hub_angle_mean_after_T_deg", "tip_frequency_hz"})
     EXPECT_LT(err(metric(a, m), metric(b, m)), 0.1) << m;
 }
@@ -114,7 +114,7 @@ TEST(HubBeamConservation, AngularMomentumAfterTorque) {
   }
 }
 
-// Seed: "the zero-order model diverges at tau0 = 10 while the first-order model stays stable".
+// The paper: "the zero-order model diverges at tau0 = 10 while the first-order model stays stable".
 TEST(HubBeamStability, ZeroOrderTau10DivergesAtItsCriticalSpeed) {
   const Result r = run("hub_beam_zero_order_tau10");
   EXPECT_EQ(r.outcome.status, ff::RunStatus::diverged);

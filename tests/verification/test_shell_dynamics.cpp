@@ -2,7 +2,7 @@
 // core/solve/generalized_alpha.md): a free spinning and deforming shell conserves linear and
 // angular momentum and (rho_inf = 1) energy up to the time-discretization error, which falls
 // at second order with the step; with rho_inf < 1 energy never grows; the double pendulum of the
-// seed's example 5.6 keeps its joints at solver tolerance and its iteration-matrix policies give
+// shell paper's example 5.6 (Zhang, Liu, Zhang & Liu 2022) keeps its joints at solver tolerance and its iteration-matrix policies give
 // the same motion.
 #include <gtest/gtest.h>
 
@@ -110,7 +110,7 @@ TEST(ShellDynamics, EnergyNeverGrowsWithNumericalDissipation) {
 }
 
 // A rigid body hanging from a spherical joint 0.5 m above its centre of mass (joint offset in the
-// body frame, (D11) with o): small oscillations about y have the compound-pendulum period
+// body frame, (D11') with o): small oscillations about y have the compound-pendulum period
 // T = 2 pi sqrt((J_yy + m L^2) / (m g L)) (any dynamics text, e.g. Meriam & Kraige ch. 6).
 TEST(ShellDynamics, RigidCompoundPendulumPeriod) {
   const double L = 0.5, m = 2.0, Jyy = 0.02, theta0 = 0.05, g = 9.81;
@@ -148,7 +148,7 @@ TEST(ShellDynamics, RigidCompoundPendulumPeriod) {
 
 // the bundled double pendulum, shortened and coarsened through scene overrides
 Metrics pendulum(const std::vector<std::string>& extra, double* violation = nullptr) {
-  std::vector<std::string> o = {"time.dt=1e-3", "output.frames=false", "output.plots=false"};
+  std::vector<std::string> o = {"solver.dt=1e-3", "output.frames=false", "output.plots=false"};
   o.insert(o.end(), extra.begin(), extra.end());
   scene::LoadedScene s = scene::load_scene(std::string(FF_SOURCE_DIR) + "/assets/scenes/double_pendulum_shells.toml", o);
   std::atomic<bool> stop{false};
@@ -167,7 +167,7 @@ double metric(const Metrics& m, const std::string& name) {
 
 TEST(ShellDynamics, DoublePendulumKeepsItsJointsAtSolverTolerance) {
   double violation = 1;
-  const Metrics m = pendulum({"time.end=0.2", "shell[0].n1=6", "shell[0].n2=6", "shell[1].n1=6", "shell[1].n2=6"},
+  const Metrics m = pendulum({"solver.end=0.2", "shell[0].n1=6", "shell[0].n2=6", "shell[1].n1=6", "shell[1].n2=6"},
                              &violation);
   EXPECT_LT(violation, 1e-6);  // |Φ| of the hinge and support rows <= the Newton tolerance (1e-6)
   // it falls: within 0.2 s the far corner F drops by a good part of g t²/2 = 0.196 m
@@ -176,14 +176,14 @@ TEST(ShellDynamics, DoublePendulumKeepsItsJointsAtSolverTolerance) {
 }
 
 TEST(ShellDynamics, DoublePendulumPoliciesAgreeAndFreezingSavesUpdates) {
-  const std::vector<std::string> common = {"time.end=0.1", "shell[0].n1=6", "shell[0].n2=6", "shell[1].n1=6",
+  const std::vector<std::string> common = {"solver.end=0.1", "shell[0].n1=6", "shell[0].n2=6", "shell[1].n1=6",
                                            "shell[1].n2=6"};
   auto with = [&](std::vector<std::string> extra) {
     extra.insert(extra.end(), common.begin(), common.end());
     return pendulum(extra);
   };
-  const Metrics full = with({"integrator.policy=full"}), nni = with({"integrator.policy=nni"}),
-                frozen = with({"integrator.policy=frozen"});
+  const Metrics full = with({"solver.policy=full"}), nni = with({"solver.policy=nni"}),
+                frozen = with({"solver.policy=frozen"});
   // the same motion to a few Newton tolerances (1e-6 per step)
   EXPECT_NEAR(metric(nni, "pointF_z_min"), metric(full, "pointF_z_min"), 1e-5);
   EXPECT_NEAR(metric(frozen, "pointF_z_min"), metric(full, "pointF_z_min"), 1e-5);
@@ -202,7 +202,7 @@ TEST(ShellDynamics, DoublePendulumConvergesUnderMeshRefinement) {
   std::vector<double> z;
   for (int n : {4, 8, 16}) {
     const std::string k = std::to_string(n);
-    z.push_back(metric(pendulum({"time.end=0.1", "shell[0].n1=" + k, "shell[0].n2=" + k, "shell[1].n1=" + k,
+    z.push_back(metric(pendulum({"solver.end=0.1", "shell[0].n1=" + k, "shell[0].n2=" + k, "shell[1].n1=" + k,
                                  "shell[1].n2=" + k}),
                        "pointF_z_final"));
   }

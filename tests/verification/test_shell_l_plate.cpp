@@ -1,4 +1,4 @@
-// Right-angle cantilever plate (seed 000 §5.5; Argyris' right-angle frame as a flat L-shaped plate:
+// Right-angle cantilever plate (the shell paper, Zhang, Liu, Zhang & Liu 2022, §5.5; Argyris' right-angle frame as a flat L-shaped plate:
 // centre-line legs 240, width 30, h = 0.6, E = 71240, nu = 0.31). Runs the bundled scenes
 // assets/scenes/l_plate_force.toml and l_plate_moment.toml with overrides. Sources and choices are
 // in the scene files. References:
@@ -41,7 +41,7 @@ double get(const ff::Metrics& m, const std::string& k) {
 // idealizations of the corner (a wrong leg length, e.g. 240 to the outer corner, falls outside)
 TEST(ShellLPlate, OutOfPlaneComplianceLiesBetweenBeamBounds) {
   for (const char* scene : {"l_plate_force", "l_plate_moment"}) {
-    const PathRun r = run(scene, {"load[0].total=[0,0,0]", "load[1].total=[0,0,1]", "solver.lambda_end=0.002",
+    const PathRun r = run(scene, {"load[0].total=[0,0,0]", "load[1].total=[0,0,1]", "solver.end=0.002",
                               "solver.initial_step=0.002"});
     ASSERT_EQ(r.outcome.status, ff::RunStatus::completed) << r.outcome.reason;
     const double compliance = get(r.metrics, "tip_z_full") / 0.002;

@@ -1,4 +1,4 @@
-// Cantilever strip rolled up by an end moment (seed 000 example 1; Sze, Liu & Lo 2004 §3.2).
+// Cantilever strip rolled up by an end moment (the shell paper, Zhang, Liu, Zhang & Liu 2022, example 1; Sze, Liu & Lo 2004 §3.2).
 // Analytic pure bending: t = M L / (E I), u/L = sin(t)/t - 1, w/L = (1 - cos t)/t; at M_max = 2 pi EI/L
 // the strip closes into a circle. Runs the bundled scene assets/scenes/cantilever_rollup.toml (L = 12,
 // B = 1, h = 0.1, E = 6.825e7, nu = 0, 20x2) with mesh and effect overrides.

@@ -1,7 +1,7 @@
 // Shell benchmark scenes run as bundled (assets/scenes), against their references:
-// - cantilever_rollup: analytic pure bending (seed 000 ex. 1; Sze et al. 2004 §3.2)
+// - cantilever_rollup: analytic pure bending (the shell paper, Zhang, Liu, Zhang & Liu 2022, ex. 1; Sze et al. 2004 §3.2)
 // - hemisphere_18deg_h004: ABAQUS S4R path of Sze et al. 2004 §3.4 (assets/reference/
-//   sze2004_34_hemisphere_18deg_hole.csv rows P/Pmax = 0.5 and 1.0) and the seed's 3.41 / 5.88 at F = 200.
+//   sze2004_34_hemisphere_18deg_hole.csv rows P/Pmax = 0.5 and 1.0) and the shell paper's 3.41 / 5.88 at F = 200.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -43,13 +43,13 @@ TEST(ShellScenes, HemisphereH004MatchesSzeAndThePaper) {
   EXPECT_LT(rel(get(m, "disp_inward_point_F200"), 5.902), 0.02);
   EXPECT_LT(rel(get(m, "disp_outward_point_F400"), 4.067), 0.02);
   EXPECT_LT(rel(get(m, "disp_inward_point_F400"), 8.178), 0.02);
-  // the seed's ABAQUS S4R 24x24 values at F = 200
+  // the shell paper's ABAQUS S4R 24x24 values at F = 200
   EXPECT_LT(rel(get(m, "disp_outward_point_F200"), 3.41), 0.02);
   EXPECT_LT(rel(get(m, "disp_inward_point_F200"), 5.88), 0.02);
 }
 
 // Pull-out of an open cylinder (Sze et al. 2004 §3.5, last row of assets/reference/
-// sze2004_35_pullout_open_cylinder.csv: 2.768, 4.551, 3.269 at P = 40000). The seed's 24x16 mesh
+// sze2004_35_pullout_open_cylinder.csv: 2.768, 4.551, 3.269 at P = 40000). The shell paper's 24x16 mesh
 // against the reference's 24x36 S4R; measured +1.2 %, +2.1 %, -1.5 % after passing the snap at P ~ 20500.
 TEST(ShellScenes, PulledCylinderMatchesSze) {
   const ff::Metrics m = run("pulled_cylinder");
