@@ -129,6 +129,12 @@ struct ResultReader::Impl {
     std::string name;  // path in the file, for messages
   };
   std::vector<ColumnRef> checksum_order() const;
+  // the frame columns in checksum order and how many frames to read at once (about 8 MB)
+  struct FrameBlocks {
+    std::vector<ColumnRef> cols;
+    std::size_t block = 1;
+  };
+  FrameBlocks frame_blocks() const;
   std::size_t count_verified_frames(std::size_t announced) const;
   std::string find_damage() const;
   std::string frame_damage(const std::vector<ColumnRef>& cols, std::size_t k, std::size_t first,
@@ -329,11 +335,17 @@ std::vector<ResultReader::Impl::ColumnRef> ResultReader::Impl::checksum_order() 
 }
 
 // the first frame (from 0) that cannot be read or fails its checksum ends the run
-std::size_t ResultReader::Impl::count_verified_frames(std::size_t announced) const {
-  const std::vector<ColumnRef> cols = checksum_order();
+ResultReader::Impl::FrameBlocks ResultReader::Impl::frame_blocks() const {
+  FrameBlocks b;
+  b.cols = checksum_order();
   std::size_t frame_bytes = 8;
-  for (const auto& c : cols) frame_bytes += c.row_bytes;
-  const std::size_t block = std::clamp<std::size_t>((8u << 20) / frame_bytes, 1, 1024);
+  for (const auto& c : b.cols) frame_bytes += c.row_bytes;
+  b.block = std::clamp<std::size_t>((8u << 20) / frame_bytes, 1, 1024);
+  return b;
+}
+
+std::size_t ResultReader::Impl::count_verified_frames(std::size_t announced) const {
+  const auto [cols, block] = frame_blocks();
   std::vector<std::vector<unsigned char>> rows(cols.size());
   std::vector<std::uint64_t> sums;
 
@@ -387,10 +399,7 @@ std::string ResultReader::Impl::frame_label(std::size_t i) const {
 // (the only check in files written before the filter was used).
 std::string ResultReader::Impl::find_damage() const {
   if (frames_verified) return steps_damage();
-  const std::vector<ColumnRef> cols = checksum_order();
-  std::size_t frame_bytes = 8;
-  for (const auto& c : cols) frame_bytes += c.row_bytes;
-  const std::size_t block = std::clamp<std::size_t>((8u << 20) / frame_bytes, 1, 1024);
+  const auto [cols, block] = frame_blocks();
   std::vector<std::vector<unsigned char>> rows(cols.size());
   std::vector<std::uint64_t> sums;
   for (std::size_t first = 0; first < frame_count; first += block) {
