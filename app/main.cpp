@@ -147,7 +147,28 @@ int main(int argc, char** argv) {
   study->add_option("--repeat", study_opt.repeat, "timing repetitions per variant (median)")->check(CLI::Range(1, 1000));
   study->add_option("--out", study_opt.out_dir, "output folder (default out/study/<name>): study.csv, study.md, pareto.png");
   study->add_flag("--check", study_opt.check_only, "validate every variant without running");
+  std::string study_timing = "shared";
+  study->add_option("--jobs,-j", study_opt.jobs,
+                    "variants at a time, each a single-threaded process (default: the machine's cores; 1 = in "
+                    "sequence in this process)")
+      ->check(CLI::Range(1, 4096));
+  study->add_option("--timing", study_timing,
+                    "shared (default): times as measured side by side, marked shared; exclusive: the timed "
+                    "repetitions run one at a time after the side-by-side pass")
+      ->check(CLI::IsMember({"shared", "exclusive"}));
+  study->add_flag("--resume", study_opt.resume,
+                  "keep the variants whose run folder (OUT/runs/NNN/summary.json) is complete; run the rest");
   bool study_list = false, study_reference = false;
+
+  // study-variant: one variant in a child process of `study --jobs N` (hidden)
+  ff::app::StudyVariantOptions variant_opt;
+  CLI::App* study_variant = app.add_subcommand("study-variant", "one variant of a study (internal)");
+  study_variant->group("");
+  study_variant->add_option("scene", variant_opt.scene)->required();
+  study_variant->add_option("--set", variant_opt.overrides)->take_all();
+  study_variant->add_option("--reps", variant_opt.reps)->check(CLI::Range(1, 1000));
+  study_variant->add_option("--result", variant_opt.result)->required();
+  study_variant->add_flag("--shared", variant_opt.shared);
   study->add_flag("--list", study_list, "list the bundled studies");
   study->add_flag("--reference-keys", study_reference, "print the study file keys as a markdown table");
 
@@ -258,8 +279,10 @@ int main(int argc, char** argv) {
       if (study_opt.target.empty()) throw ff::app::InputError("study needs a bundled study, study file or scene");
       const ff::app::StudySpec spec = ff::app::make_study_spec(study_opt);
       if (study_opt.check_only) return ff::app::check_study(spec);
-      return ff::app::run_study(spec, study_opt.out_dir, g_stop);
+      study_opt.exclusive_timing = study_timing == "exclusive";
+      return ff::app::run_study(spec, study_opt, g_stop);
     }
+    if (*study_variant) return ff::app::run_study_variant(variant_opt, g_stop);
   } catch (const ff::scene::SceneError& e) {
     std::fprintf(stderr, "error: invalid scene or study file\n%s\n", e.what());
     return 2;

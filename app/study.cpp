@@ -1,6 +1,19 @@
 #include "app/study.h"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <ctime>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <thread>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -20,6 +33,8 @@
 #include "render/graphics_context.h"
 #include "render/plot.h"
 
+extern char** environ;
+
 namespace fs = std::filesystem;
 
 namespace ff::app {
@@ -32,6 +47,8 @@ struct Row {
   std::vector<double> walls;  ///< one per repetition
   double wall_s = NAN, setup_s = NAN, run_s = NAN;
   double peak_mb = NAN;       ///< peak resident growth during the first repetition
+  double cpu_s = NAN;         ///< CPU time of the process per repetition (median)
+  bool shared = false;        ///< ran while other variants ran (wall time includes the contention)
   double metric = NAN, error = NAN, error_percent = NAN;
   long long steps = 0, iterations = 0, updates = 0;
   bool pareto = false;
@@ -88,6 +105,246 @@ std::string reference_text(const StudyReference& r, double value) {
   return b;
 }
 
+/// What one variant's repetitions record in its run folder (runs/NNN/summary.json): enough to
+/// rebuild its study row without running it again (--resume).
+struct VariantRun {
+  std::string status, reason;
+  Metrics metrics;
+  long long steps = 0, iterations = 0, updates = 0;
+  double setup_s = NAN, run_s = NAN, peak_mb = NAN;
+  std::vector<double> walls, cpus;  ///< one per repetition
+  bool shared = false;              ///< other variants ran at the same time
+};
+
+using Json = nlohmann::ordered_json;
+
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+Json finite_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+double number_at(const Json& j, const char* key) {
+  const auto it = j.find(key);
+  return it != j.end() && it->is_number() ? it->get<double>() : NAN;
+}
+
+/// Written to a temporary name first, so a killed study never leaves half a summary behind.
+void write_variant_run(const fs::path& file, const std::string& label, const std::string& scene,
+                       const std::vector<std::string>& overrides, const VariantRun& r) {
+  Json j;
+  j["label"] = label;
+  j["scene"] = scene;
+  j["overrides"] = overrides;
+  j["status"] = r.status;
+  j["reason"] = r.reason;
+  Json m = Json::object();
+  for (const auto& [name, value] : r.metrics) m[name] = finite_or_null(value);
+  j["metrics"] = m;
+  j["steps"] = r.steps;
+  j["newton_iterations"] = r.iterations;
+  j["jacobian_updates"] = r.updates;
+  j["setup_s"] = finite_or_null(r.setup_s);
+  j["run_s"] = finite_or_null(r.run_s);
+  j["peak_memory_mb"] = finite_or_null(r.peak_mb);
+  Json w = Json::array(), c = Json::array();
+  for (double v : r.walls) w.push_back(finite_or_null(v));
+  for (double v : r.cpus) c.push_back(finite_or_null(v));
+  j["wall_s"] = w;
+  j["cpu_s"] = c;
+  j["shared"] = r.shared;
+  fs::create_directories(file.parent_path());
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, file);
+}
+
+/// The run recorded in `file` when it is of this variant (same scene and overrides) and has a status.
+std::optional<VariantRun> read_variant_run(const fs::path& file, const StudyVariant& v) {
+  std::ifstream in(file);
+  if (!in) return std::nullopt;
+  Json j;
+  try {
+    j = Json::parse(in);
+    if (j.value("scene", std::string()) != v.scene ||
+        j.value("overrides", std::vector<std::string>()) != v.overrides)
+      return std::nullopt;
+    VariantRun r;
+    r.status = j.value("status", std::string());
+    if (r.status.empty()) return std::nullopt;
+    r.reason = j.value("reason", std::string());
+    for (const auto& [name, value] : j.at("metrics").items())
+      r.metrics.emplace_back(name, value.is_number() ? value.get<double>() : NAN);
+    r.steps = j.value("steps", 0LL);
+    r.iterations = j.value("newton_iterations", 0LL);
+    r.updates = j.value("jacobian_updates", 0LL);
+    r.setup_s = number_at(j, "setup_s");
+    r.run_s = number_at(j, "run_s");
+    r.peak_mb = number_at(j, "peak_memory_mb");
+    for (const Json& w : j.at("wall_s")) r.walls.push_back(w.is_number() ? w.get<double>() : NAN);
+    for (const Json& c : j.at("cpu_s")) r.cpus.push_back(c.is_number() ? c.get<double>() : NAN);
+    r.shared = j.value("shared", false);
+    return r;
+  } catch (const std::exception&) {  // unreadable: run the variant again
+    return std::nullopt;
+  }
+}
+
+/// One timed repetition in this process; the first (empty `out.status`) also records status,
+/// metrics, counts and memory. Returns false when stopped (nothing recorded then); a variant that
+/// throws (other than bad scene input, which propagates) is recorded as failed.
+bool run_repetition(const std::string& scene, const std::vector<std::string>& overrides, VariantRun& out,
+                    const std::atomic<bool>& stop) {
+  const bool first = out.status.empty();
+  const double rss0 = resident_mb();
+  const bool reset = first && reset_peak_resident();
+  const double cpu0 = cpu_seconds();
+  TimedRun r;
+  try {
+    r = timed_run(scene, overrides, stop);
+  } catch (const scene::SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    if (stop) return false;
+    out.status = "failed";
+    out.reason = e.what();
+    return true;
+  }
+  if (stop) return false;  // an interrupted run is no result: --resume runs it again
+  const double cpu = cpu_seconds() - cpu0;
+  if (out.walls.empty()) {
+    out.setup_s = r.setup_s;
+    out.run_s = r.run_s;
+  }
+  out.walls.push_back(r.total_s());
+  out.cpus.push_back(cpu);
+  if (first) {
+    out.status = to_string(r.outcome.status);
+    out.reason = r.outcome.reason;
+    out.metrics = r.metrics;
+    out.steps = r.totals.steps;
+    out.iterations = r.totals.newton_iterations;
+    out.updates = r.totals.jacobian_updates;
+    out.peak_mb = reset ? std::max(0.0, peak_resident_mb() - rss0) : NAN;
+  }
+  return true;
+}
+
+/// A variant handed to a child process.
+struct Task {
+  std::size_t entry;  ///< row index, or rows.size() for the reference run
+  StudyVariant variant;
+  fs::path folder;
+  int reps = 1;
+};
+
+/// The environment of a child: this one with the element loops on one thread, since the cores
+/// go to the variants running side by side.
+std::vector<std::string> child_environment() {
+  std::vector<std::string> env;
+  for (char** e = environ; *e; ++e) {
+    const std::string s = *e;
+    if (s.rfind("OMP_NUM_THREADS=", 0) == 0 || s.rfind("OPENBLAS_NUM_THREADS=", 0) == 0) continue;
+    env.push_back(s);
+  }
+  env.push_back("OMP_NUM_THREADS=1");
+  env.push_back("OPENBLAS_NUM_THREADS=1");
+  return env;
+}
+
+/// Starts `flexframe study-variant` for the task (the same binary, via /proc/self/exe, so a
+/// rebuilt executable cannot sneak in); its output goes to the run folder's log.txt. -1 on failure.
+pid_t spawn_task(const Task& t, bool shared, const std::vector<std::string>& env) {
+  fs::create_directories(t.folder);
+  std::vector<std::string> args{"flexframe", "study-variant", t.variant.scene, "--reps", std::to_string(t.reps),
+                                "--result", (t.folder / "summary.json").string()};
+  if (shared) args.push_back("--shared");
+  if (!t.variant.overrides.empty()) {
+    args.push_back("--set");
+    args.insert(args.end(), t.variant.overrides.begin(), t.variant.overrides.end());
+  }
+  std::vector<char*> argv, envp;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::vector<std::string> env_copy = env;
+  for (std::string& e : env_copy) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  const std::string log = (t.folder / "log.txt").string();
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), envp.data());
+  posix_spawn_file_actions_destroy(&actions);
+  return rc == 0 ? pid : -1;
+}
+
+/// Runs the tasks as child processes, at most `jobs` at a time, in order of the list as slots
+/// free up; `done` gets each task's run as it finishes and returns false to start no more.
+/// Returns false when stopped (running children are asked to stop and waited for).
+bool run_children(const std::vector<Task>& tasks, int jobs, bool shared, const std::atomic<bool>& stop,
+                  const std::function<bool(const Task&, VariantRun&)>& done) {
+  const std::vector<std::string> env = child_environment();
+  std::vector<std::pair<pid_t, std::size_t>> running;
+  std::size_t next = 0;
+  bool more = true;
+  while ((more && next < tasks.size()) || !running.empty()) {
+    while (more && !stop && next < tasks.size() && static_cast<int>(running.size()) < jobs) {
+      const Task& t = tasks[next];
+      const pid_t pid = spawn_task(t, shared, env);
+      if (pid > 0) {
+        running.emplace_back(pid, next);
+      } else {
+        VariantRun r;
+        r.status = "failed";
+        r.reason = std::string("cannot start a process for it: ") + std::strerror(errno);
+        more = done(t, r);
+      }
+      ++next;
+    }
+    if (stop) {
+      for (const auto& [pid, i] : running) kill(pid, SIGTERM);
+      for (const auto& [pid, i] : running) waitpid(pid, nullptr, 0);
+      return false;
+    }
+    bool reaped = false;
+    for (auto it = running.begin(); it != running.end();) {
+      int st = 0;
+      if (waitpid(it->first, &st, WNOHANG) != it->first) {
+        ++it;
+        continue;
+      }
+      reaped = true;
+      const Task& t = tasks[it->second];
+      it = running.erase(it);
+      std::optional<VariantRun> r = read_variant_run(t.folder / "summary.json", t.variant);
+      if (!r) {  // crashed or killed: reported with how it ended, the others go on
+        r.emplace();
+        r->status = "failed";
+        r->reason = WIFSIGNALED(st) ? "its process was killed by signal " + std::to_string(WTERMSIG(st))
+                                    : "its process exited with code " + std::to_string(WEXITSTATUS(st)) +
+                                          " without a result";
+        r->reason += " (log: " + (t.folder / "log.txt").string() + ")";
+      }
+      if (!done(t, *r)) more = false;
+    }
+    if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return true;
+}
+
+bool complete_timing(const VariantRun& r, int repeat, bool exclusive) {
+  if (r.status != "completed") return true;  // nothing more to time
+  return static_cast<int>(r.walls.size()) >= repeat && !(exclusive && r.shared);
+}
+
 }  // namespace
 
 StudySpec make_study_spec(const StudyOptions& o) {
@@ -142,19 +399,52 @@ int check_study(const StudySpec& spec) {
   return 0;
 }
 
-int run_study(const StudySpec& spec, const std::string& out_dir_option, const std::atomic<bool>& stop) {
-  const fs::path dir = out_dir_option.empty() ? fs::path("out") / "study" / spec.name : fs::path(out_dir_option);
+int run_study_variant(const StudyVariantOptions& o, const std::atomic<bool>& stop) {
+  VariantRun r;
+  r.shared = o.shared;
+  try {
+    for (int k = 0; k < std::max(1, o.reps); ++k) {
+      if (!run_repetition(o.scene, o.overrides, r, stop)) return 130;
+      if (r.status != "completed") break;
+    }
+  } catch (const scene::SceneError& e) {  // the parent refuses the study with this message
+    r.status = "invalid";
+    r.reason = e.what();
+  }
+  write_variant_run(o.result, "", o.scene, o.overrides, r);
+  return 0;
+}
+
+int run_study(const StudySpec& spec, const StudyOptions& options, const std::atomic<bool>& stop) {
+  const fs::path dir = options.out_dir.empty() ? fs::path("out") / "study" / spec.name : fs::path(options.out_dir);
+  const fs::path runs_dir = dir / "runs";
   fs::create_directories(dir);
+  if (!options.resume) fs::remove_all(runs_dir);  // stale folders of another study must not be resumed
+  fs::create_directories(runs_dir);
+  const int jobs = options.jobs > 0 ? options.jobs : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const bool exclusive = options.exclusive_timing;
+  const int repeat = std::max(1, spec.repeat);
+
   std::vector<Row> rows;
   for (const StudyVariant& v : spec.variants()) {
     rows.emplace_back();
     rows.back().variant = v;
     rows.back().status = "not run";
   }
+  // entries: the rows, then the reference run when it is none of them
+  std::vector<StudyVariant> entries;
+  std::vector<fs::path> folders;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%03zu", i);
+    entries.push_back(rows[i].variant);
+    folders.push_back(runs_dir / b);
+  }
 
   // the reference: a number, a run outside the variants, or the finest variant
   double ref = NAN;
   std::size_t ref_row = rows.size();
+  bool ref_entry = false;
   switch (spec.reference.kind) {
     case StudyReference::Kind::value: ref = spec.reference.value; break;
     case StudyReference::Kind::table: ref = interpolate_reference(spec.reference); break;
@@ -164,62 +454,142 @@ int run_study(const StudySpec& spec, const std::string& out_dir_option, const st
       for (std::size_t i = 0; i < rows.size(); ++i)
         if (rows[i].variant.same_run(target)) ref_row = i;
       if (ref_row == rows.size()) {
-        std::fprintf(stderr, "reference run %s ...\n", target.label.c_str());
-        const TimedRun r = timed_run(target.scene, target.overrides, stop);
-        ref = metric(r.metrics, spec.metric);
-        if (!std::isfinite(ref))
-          throw InputError("the reference run (" + target.label + ") has no finite metric '" + spec.metric +
-                           "' (status " + to_string(r.outcome.status) + ")");
+        ref_entry = true;
+        entries.push_back(target);
+        folders.push_back(runs_dir / "reference");
       }
     }
   }
 
-  // repetitions interleaved over the variants, so drift of the machine spreads over all of them
-  const int repeat = std::max(1, spec.repeat);
-  const std::size_t total = rows.size() * repeat;
-  std::size_t done = 0;
-  for (int k = 0; k < repeat && !stop; ++k) {
-    for (std::size_t i = 0; i < rows.size() && !stop; ++i) {
-      Row& row = rows[i];
-      ++done;
-      if (k > 0 && row.status != "completed") continue;
-      std::fprintf(stderr, "[%zu/%zu] %s ...", done, total, row.variant.label.c_str());
-      std::fflush(stderr);
-      const double rss0 = resident_mb();
-      const bool reset = k == 0 && reset_peak_resident();
-      TimedRun r;
-      try {
-        r = timed_run(row.variant.scene, row.variant.overrides, stop);
-      } catch (const scene::SceneError&) {
-        throw;
-      } catch (const std::exception& e) {
-        row.status = "failed";
-        row.reason = e.what();
-        std::fprintf(stderr, " failed: %s\n", e.what());
-        continue;
-      }
-      row.walls.push_back(r.total_s());
-      if (k == 0) {
-        row.status = to_string(r.outcome.status);
-        row.reason = r.outcome.reason;
-        row.metric = metric(r.metrics, spec.metric);
-        row.steps = r.totals.steps;
-        row.iterations = r.totals.newton_iterations;
-        row.updates = r.totals.jacobian_updates;
-        row.peak_mb = reset ? std::max(0.0, peak_resident_mb() - rss0) : NAN;
-        row.setup_s = r.setup_s;
-        row.run_s = r.run_s;
-        if (!std::isfinite(row.metric) && r.outcome.status == RunStatus::completed) {
-          std::fprintf(stderr, "\n");
-          std::string names;
-          for (const auto& [name, value] : r.metrics) names += " " + name;
-          throw InputError("scene " + fs::path(row.variant.scene).stem().string() + " has no metric '" + spec.metric +
-                           "'; its metrics are:" + names);
-        }
-      }
-      std::fprintf(stderr, " %s, %s = %.6g, %.3f s\n", row.status.c_str(), spec.metric.c_str(), row.metric,
-                   row.walls.back());
+  std::vector<std::optional<VariantRun>> runs(entries.size());
+  const auto is_ref = [&](std::size_t e) { return ref_entry && e == rows.size(); };
+  const auto label_of = [&](std::size_t e) { return is_ref(e) ? "reference " + entries[e].label : entries[e].label; };
+  const auto save = [&](std::size_t e) { write_variant_run(folders[e] / "summary.json", entries[e].label, entries[e].scene,
+                                                           entries[e].overrides, *runs[e]); };
+  // a completed run without the metric: the metric name is wrong, not the variant
+  const auto check_metric = [&](std::size_t e) {
+    const VariantRun& r = *runs[e];
+    if (r.status == "invalid")
+      throw InputError("variant " + entries[e].label + " (study '" + spec.name + "'): " + r.reason);
+    if (r.status == "completed" && !std::isfinite(metric(r.metrics, spec.metric))) {
+      std::string names;
+      for (const auto& [name, value] : r.metrics) names += " " + name;
+      throw InputError("scene " + fs::path(entries[e].scene).stem().string() + " has no metric '" + spec.metric +
+                       "'; its metrics are:" + names);
     }
+  };
+  if (options.resume) {
+    std::size_t n = 0;
+    for (std::size_t e = 0; e < entries.size(); ++e) {
+      runs[e] = read_variant_run(folders[e] / "summary.json", entries[e]);
+      if (runs[e] && !is_ref(e) && !exclusive && !complete_timing(*runs[e], repeat, false)) runs[e].reset();
+      if (runs[e]) ++n;
+    }
+    std::fprintf(stderr, "resume: %zu of %zu runs recovered from %s\n", n, entries.size(), runs_dir.string().c_str());
+  }
+
+  // 1. side by side: every run without a result, each in its own single-threaded process
+  std::vector<Task> tasks;
+  for (std::size_t e = 0; e < entries.size(); ++e)
+    if (!runs[e]) tasks.push_back({e, entries[e], folders[e], exclusive || is_ref(e) ? 1 : repeat});
+  bool stopped = false;
+  bool any_shared = false;
+  if (jobs > 1 && tasks.size() > 1) {
+    const int slots = std::min<int>(jobs, static_cast<int>(tasks.size()));
+    std::fprintf(stderr, "%zu runs, %d at a time (one thread each)%s\n", tasks.size(), slots,
+                 exclusive ? "; then the timed repetitions one at a time" : "");
+    std::size_t done = 0;
+    std::string abort_reason;
+    stopped = !run_children(tasks, slots, true, stop, [&](const Task& t, VariantRun& r) {
+      runs[t.entry] = std::move(r);
+      const VariantRun& v = *runs[t.entry];
+      std::fprintf(stderr, "[%zu/%zu] %s: %s, %s = %.6g, %.3f s wall, %.3f s CPU%s%s\n", ++done, tasks.size(),
+                   label_of(t.entry).c_str(), v.status.c_str(), spec.metric.c_str(), metric(v.metrics, spec.metric),
+                   v.walls.empty() ? NAN : v.walls.front(), v.cpus.empty() ? NAN : v.cpus.front(),
+                   v.reason.empty() ? "" : ": ", v.reason.c_str());
+      // bad input in one variant ends the study as in sequence: start no more
+      return v.status != "invalid" && (v.status != "completed" || std::isfinite(metric(v.metrics, spec.metric)));
+    });
+    for (const Task& t : tasks)
+      if (runs[t.entry]) check_metric(t.entry);
+  }
+
+  // 2. in this process, one at a time, repetitions interleaved over the variants so drift of the
+  // machine spreads over all of them: runs still without a result, and with --timing exclusive
+  // the timed repetitions of runs made side by side
+  std::vector<std::size_t> todo;
+  for (std::size_t e = 0; e < entries.size() && !stopped; ++e) {
+    if (!runs[e]) {
+      todo.push_back(e);
+    } else if (exclusive && !is_ref(e) && !complete_timing(*runs[e], repeat, true)) {
+      if (runs[e]->shared) {  // its side-by-side times are replaced by exclusive ones
+        runs[e]->walls.clear();
+        runs[e]->cpus.clear();
+        runs[e]->shared = false;
+      }
+      todo.push_back(e);
+    }
+  }
+  const std::size_t total = todo.size() * repeat;
+  std::size_t done = 0;
+  for (int k = 0; k < repeat && !stop && !stopped; ++k) {
+    for (std::size_t e : todo) {
+      if (stop) break;
+      ++done;
+      if (runs[e] && (runs[e]->status != "completed" || static_cast<int>(runs[e]->walls.size()) > k)) continue;
+      if (k > 0 && is_ref(e)) continue;
+      std::fprintf(stderr, "[%zu/%zu] %s ...", done, total, label_of(e).c_str());
+      std::fflush(stderr);
+      VariantRun r = runs[e] ? *runs[e] : VariantRun{};
+      try {
+        if (!run_repetition(entries[e].scene, entries[e].overrides, r, stop)) break;
+      } catch (const scene::SceneError&) {
+        std::fprintf(stderr, "\n");
+        throw;
+      }
+      runs[e] = r;
+      if (r.status == "failed") {
+        std::fprintf(stderr, " failed: %s\n", r.reason.c_str());
+      } else {
+        std::fprintf(stderr, " %s, %s = %.6g, %.3f s\n", r.status.c_str(), spec.metric.c_str(),
+                     metric(r.metrics, spec.metric), r.walls.back());
+      }
+      if (k == 0) {
+        if (r.status == "completed" && !std::isfinite(metric(r.metrics, spec.metric))) std::fprintf(stderr, "\n");
+        check_metric(e);
+      }
+      if (r.status != "completed" || static_cast<int>(r.walls.size()) >= repeat || is_ref(e)) save(e);
+    }
+  }
+  // a shared run re-timed only in part keeps the new times in its folder, marked not complete
+  for (std::size_t e : todo)
+    if (runs[e] && runs[e]->status == "completed" && static_cast<int>(runs[e]->walls.size()) < repeat &&
+        !is_ref(e) && !runs[e]->walls.empty())
+      save(e);
+
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (!runs[i]) continue;
+    const VariantRun& r = *runs[i];
+    Row& row = rows[i];
+    row.status = r.status;
+    row.reason = r.reason;
+    row.walls = r.walls;
+    row.cpu_s = median(r.cpus);
+    row.shared = r.shared;
+    any_shared = any_shared || r.shared;
+    row.metric = metric(r.metrics, spec.metric);
+    row.steps = r.steps;
+    row.iterations = r.iterations;
+    row.updates = r.updates;
+    row.peak_mb = r.peak_mb;
+    row.setup_s = r.setup_s;
+    row.run_s = r.run_s;
+  }
+  if (ref_entry) {
+    if (runs.back()) ref = metric(runs.back()->metrics, spec.metric);
+    if (!std::isfinite(ref) && !stop)
+      throw InputError("the reference run (" + entries.back().label + ") has no finite metric '" + spec.metric +
+                       "' (status " + (runs.back() ? runs.back()->status : std::string("not run")) + ")");
   }
   if (ref_row < rows.size()) {
     ref = rows[ref_row].metric;
@@ -252,7 +622,7 @@ int run_study(const StudySpec& spec, const std::string& out_dir_option, const st
   csv << "variant";
   for (const StudyAxis& a : spec.axes) csv << ',' << a.name();
   csv << ",status,wall_s,relative_time,setup_s,run_s,steps,newton_iterations,jacobian_updates,peak_memory_mb,"
-      << spec.metric << ",reference,error,error_percent,pareto,is_reference\n";
+      << spec.metric << ",reference,error,error_percent,pareto,is_reference,cpu_s,shared\n";
   // non-finite values (a variant that diverged has no metric) are left empty, never "nan"
   const auto num = [](double v) {
     if (!std::isfinite(v)) return std::string();
@@ -271,7 +641,8 @@ int run_study(const StudySpec& spec, const std::string& out_dir_option, const st
     csv << ',' << r.status << ',' << num(r.wall_s) << ',' << num(r.wall_s / first_wall) << ',' << num(r.setup_s)
         << ',' << num(r.run_s) << ',' << r.steps << ',' << r.iterations << ',' << r.updates << ',' << num(r.peak_mb)
         << ',' << num(r.metric) << ',' << num(ref) << ',' << num(r.error) << ',' << num(r.error_percent) << ','
-        << (r.pareto ? 1 : 0) << ',' << (r.is_reference ? 1 : 0) << '\n';
+        << (r.pareto ? 1 : 0) << ',' << (r.is_reference ? 1 : 0) << ',' << num(r.cpu_s) << ','
+        << (r.shared ? 1 : 0) << '\n';
   }
   csv.close();
 
@@ -282,15 +653,21 @@ int run_study(const StudySpec& spec, const std::string& out_dir_option, const st
   md << "- base scene: " << fs::path(spec.scene).stem().string();
   for (const std::string& s : spec.base_overrides) md << " `--set " << s << "`";
   md << "\n- metric: `" << spec.metric << "`; reference " << reference_text(spec.reference, ref) << "\n";
-  md << "- wall time: median of " << repeat << " run(s) per variant (set-up + solve, no output), repetitions"
-     << " interleaved over the variants; relative time is to the first variant, measured in the same study\n";
+  md << "- wall time: median of " << repeat << " run(s) per variant (set-up + solve, no output)";
+  if (any_shared)
+    md << "; variants marked shared ran " << jobs << " at a time, one thread each, so their times include"
+       << " the contention (`--timing exclusive` re-times them one at a time)";
+  else
+    md << ", repetitions interleaved over the variants";
+  md << "; relative time is to the first variant, measured in the same study; CPU time is the process's\n";
   md << "- peak memory: growth of the resident set during the variant's first run"
      << (std::isfinite(rows.empty() ? NAN : rows.front().peak_mb) ? "" : " (not measurable here: shown as -)")
      << "\n- Pareto: no faster variant has a smaller error\n\n";
-  md << "| variant | wall [s] | relative time | Newton it. | matrix updates | peak memory [MB] | " << spec.metric
-     << " | error [%] | Pareto | status |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  md << "| variant | wall [s] | CPU [s] | shared | relative time | Newton it. | matrix updates | peak memory [MB] | "
+     << spec.metric << " | error [%] | Pareto | status |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
-    md << "| " << r.variant.label << " | " << fmt("%.3g", r.wall_s) << " | " << fmt("%.3f", r.wall_s / first_wall)
+    md << "| " << r.variant.label << " | " << fmt("%.3g", r.wall_s) << " | " << fmt("%.3g", r.cpu_s) << " | "
+       << (r.shared ? "yes" : "") << " | " << fmt("%.3f", r.wall_s / first_wall)
        << " | " << r.iterations << " | " << r.updates << " | " << fmt("%.2f", r.peak_mb) << " | "
        << fmt("%.6g", r.metric) << " | " << (r.is_reference ? std::string("reference") : fmt("%.3g", r.error_percent))
        << " | " << (r.pareto ? "yes" : "") << " | " << r.status << (r.reason.empty() ? "" : ": " + r.reason)
