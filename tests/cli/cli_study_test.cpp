@@ -225,5 +225,126 @@ TEST(CliStudy, BadVariantKeyAndUnknownMetricAreInputErrors) {
   EXPECT_NE(bad_metric.err.find("tip_axial_max_m"), std::string::npos) << bad_metric.describe();
 }
 
+// ---- issue 16: variants side by side (--jobs), --resume ---------------------------------------
+
+/// The double pendulum step-size x policy study (9 variants) over its first 0.02 s: a few seconds.
+std::vector<std::string> short_pendulum_study(const std::string& out) {
+  return {"study", "double_pendulum_dt_policy", "--set", "solver.end=0.02", "--out", out};
+}
+
+std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
+/// Rows of two studies agree variant by variant in everything but the timing.
+void expect_same_results(const std::vector<std::map<std::string, std::string>>& a,
+                         const std::vector<std::map<std::string, std::string>>& b, const std::string& metric) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    SCOPED_TRACE(a[i].at("variant"));
+    EXPECT_EQ(a[i].at("variant"), b[i].at("variant"));  // same order
+    EXPECT_EQ(a[i].at("status"), b[i].at("status"));
+    // the same computation in another process: bit for bit (10 significant digits in the CSV)
+    for (const std::string& k : {metric, std::string("reference"), std::string("error"),
+                                 std::string("error_percent"), std::string("steps"),
+                                 std::string("newton_iterations"), std::string("jacobian_updates"),
+                                 std::string("is_reference")})
+      EXPECT_EQ(a[i].at(k), b[i].at(k)) << k;
+  }
+}
+
+// --jobs 2 gives the sequential study's rows, in the same order; the side-by-side rows are marked
+// shared and carry a CPU time; a diverging variant is reported the same way in both.
+TEST(CliStudy, JobsTwoMatchesSequentialVariantByVariant) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult seq = run_flexframe(with(short_pendulum_study(dir + "/seq"), {"--jobs", "1"}), dir + "/seq");
+  ASSERT_EQ(seq.exit_code, 0) << seq.describe();
+  const ProcResult par = run_flexframe(with(short_pendulum_study(dir + "/par"), {"--jobs", "2"}), dir + "/par");
+  ASSERT_EQ(par.exit_code, 0) << par.describe();
+  EXPECT_NE(par.err.find("2 at a time"), std::string::npos) << par.describe();
+  const auto a = read_study_csv(dir + "/seq/study.csv"), b = read_study_csv(dir + "/par/study.csv");
+  ASSERT_EQ(a.size(), 9u);
+  expect_same_results(a, b, "pointF_z_final");
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].at("shared"), "0");
+    EXPECT_EQ(b[i].at("shared"), "1");
+    EXPECT_GT(num(a[i], "cpu_s"), 0.0);
+    EXPECT_GT(num(b[i], "cpu_s"), 0.0);
+    EXPECT_GT(num(b[i], "wall_s"), 0.0);
+    char folder[16];
+    std::snprintf(folder, sizeof folder, "/%03zu", i);
+    EXPECT_TRUE(fs::is_regular_file(dir + "/par/runs" + folder + "/summary.json")) << folder;
+  }
+  for (const char* f : {"/study.md", "/pareto.png"}) EXPECT_TRUE(fs::is_regular_file(dir + "/par" + f)) << f;
+
+  // a variant that diverges (2 Gauss points under-integrate the scale-3 supports) and a reference
+  // run outside the variants: both ways alike
+  const std::vector<std::string> diverging{"study", "hub_beam_efg_tau1", "--vary", "efg.gauss_points=2,4", "--metric",
+                                           "tip_transverse_at_2s_m", "--set", "solver.end=2.5", "--set",
+                                           "efg.scale=3.0", "--reference", "scene:hub_beam_fem_tau1"};
+  const ProcResult d1 = run_flexframe(with(diverging, {"--jobs", "1", "--out", dir + "/d1"}), dir + "/d1");
+  const ProcResult d2 = run_flexframe(with(diverging, {"--jobs", "2", "--out", dir + "/d2"}), dir + "/d2");
+  ASSERT_EQ(d1.exit_code, 0) << d1.describe();
+  ASSERT_EQ(d2.exit_code, 0) << d2.describe();
+  const auto c = read_study_csv(dir + "/d1/study.csv"), d = read_study_csv(dir + "/d2/study.csv");
+  expect_same_results(c, d, "tip_transverse_at_2s_m");
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d[0].at("status"), "diverged");
+  EXPECT_NE(read_text(dir + "/d2/study.md").find("diverged: diverged in the step"), std::string::npos);
+  EXPECT_TRUE(fs::is_regular_file(dir + "/d2/runs/reference/summary.json"));
+}
+
+// --timing exclusive: the metrics from the side-by-side pass, the times from runs one at a time
+TEST(CliStudy, ExclusiveTimingRetimesOneAtATime) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_flexframe({"study", "hub_beam_efg_tau1", "--vary", "efg.scale=2.0,2.5", "--metric",
+                                      "tip_transverse_at_2s_m", "--set", "solver.end=2.5", "--jobs", "2", "--timing",
+                                      "exclusive", "--repeat", "2", "--out", dir + "/out"},
+                                     dir + "/study");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_NE(r.err.find("then the timed repetitions one at a time"), std::string::npos) << r.describe();
+  const auto rows = read_study_csv(dir + "/out/study.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("shared"), "0");
+    EXPECT_EQ(row.at("status"), "completed");
+  }
+  const std::string summary = read_text(dir + "/out/runs/001/summary.json");
+  EXPECT_NE(summary.find("\"shared\": false"), std::string::npos) << summary;
+}
+
+// A study killed mid-way (SIGKILL, so nothing is tidied up) is finished by --resume, which keeps
+// the variants already done and gives the rows of an uninterrupted study.
+TEST(CliStudy, ResumeAfterKilledStudyCompletesAndMatches) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  {
+    Child killed(with(short_pendulum_study(out), {"--jobs", "1"}), dir + "/killed");
+    ASSERT_TRUE(killed.started());
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (killed.running() && !fs::exists(out + "/runs/002/summary.json") &&
+           std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ASSERT_TRUE(killed.send(SIGKILL)) << "the study ended before it could be killed";
+    killed.wait(10);
+  }
+  ASSERT_FALSE(fs::exists(out + "/runs/008/summary.json"));
+  const ProcResult resumed = run_flexframe(with(short_pendulum_study(out), {"--jobs", "2", "--resume"}), dir + "/resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.describe();
+  std::size_t recovered = 0;
+  ASSERT_EQ(std::sscanf(resumed.err.c_str(), "resume: %zu of 9 runs recovered", &recovered), 1) << resumed.describe();
+  EXPECT_GE(recovered, 3u);
+  EXPECT_LT(recovered, 9u);
+  const ProcResult whole = run_flexframe(with(short_pendulum_study(dir + "/whole"), {"--jobs", "2"}), dir + "/whole");
+  ASSERT_EQ(whole.exit_code, 0) << whole.describe();
+  expect_same_results(read_study_csv(out + "/study.csv"), read_study_csv(dir + "/whole/study.csv"), "pointF_z_final");
+  // a second resume runs nothing
+  const ProcResult again = run_flexframe(with(short_pendulum_study(out), {"--resume"}), dir + "/again");
+  ASSERT_EQ(again.exit_code, 0) << again.describe();
+  EXPECT_NE(again.err.find("resume: 9 of 9 runs recovered"), std::string::npos) << again.describe();
+  EXPECT_EQ(again.err.find("at a time"), std::string::npos) << again.describe();
+}
+
 }  // namespace
 }  // namespace ff::cli::test
