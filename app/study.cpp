@@ -9,19 +9,30 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <cstring>
-#include <ctime>
-#include <functional>
-#include <nlohmann/json.hpp>
-#include <thread>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
+
+#ifdef FF_HAVE_MPI
+// the C API only: Open MPI's deprecated C++ bindings would need libmpi_cxx
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+#if !defined(OPEN_MPI) && !defined(MPICH_VERSION)
+#error "app/study.cpp needs the real MPI header, not the sequential MUMPS stand-in (check the include path)"
+#endif
+#endif
 
 #include "app/io/mesh_import.h"
 #include "app/process_memory.h"
@@ -286,6 +297,20 @@ pid_t spawn_task(const Task& t, bool shared, const std::vector<std::string>& env
   return rc == 0 ? pid : -1;
 }
 
+/// What a finished child left in its run folder; a crashed or killed one is reported with how it
+/// ended, so the others go on.
+VariantRun collect_child(const Task& t, int wait_status) {
+  std::optional<VariantRun> r = read_variant_run(t.folder / "summary.json", t.variant);
+  if (r) return *r;
+  VariantRun f;
+  f.status = "failed";
+  f.reason = WIFSIGNALED(wait_status) ? "its process was killed by signal " + std::to_string(WTERMSIG(wait_status))
+                                      : "its process exited with code " + std::to_string(WEXITSTATUS(wait_status)) +
+                                            " without a result";
+  f.reason += " (log: " + (t.folder / "log.txt").string() + ")";
+  return f;
+}
+
 /// Runs the tasks as child processes, at most `jobs` at a time, in order of the list as slots
 /// free up; `done` gets each task's run as it finishes and returns false to start no more.
 /// Returns false when stopped (running children are asked to stop and waited for).
@@ -324,16 +349,8 @@ bool run_children(const std::vector<Task>& tasks, int jobs, bool shared, const s
       reaped = true;
       const Task& t = tasks[it->second];
       it = running.erase(it);
-      std::optional<VariantRun> r = read_variant_run(t.folder / "summary.json", t.variant);
-      if (!r) {  // crashed or killed: reported with how it ended, the others go on
-        r.emplace();
-        r->status = "failed";
-        r->reason = WIFSIGNALED(st) ? "its process was killed by signal " + std::to_string(WTERMSIG(st))
-                                    : "its process exited with code " + std::to_string(WEXITSTATUS(st)) +
-                                          " without a result";
-        r->reason += " (log: " + (t.folder / "log.txt").string() + ")";
-      }
-      if (!done(t, *r)) more = false;
+      VariantRun r = collect_child(t, st);
+      if (!done(t, r)) more = false;
     }
     if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
@@ -344,6 +361,150 @@ bool complete_timing(const VariantRun& r, int repeat, bool exclusive) {
   if (r.status != "completed") return true;  // nothing more to time
   return static_cast<int>(r.walls.size()) >= repeat && !(exclusive && r.shared);
 }
+
+/// Ranks of the world when started by mpirun (Open MPI) or a PMI launcher such as srun; 1 otherwise.
+/// Read from the environment before any MPI call, so a plain `flexframe study` never starts MPI.
+int world_size_from_env() {
+  for (const char* key : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* v = std::getenv(key)) return std::max(1, std::atoi(v));
+  return 1;
+}
+
+#ifdef FF_HAVE_MPI
+// Every call goes through the PMPI_ names: the sequential MUMPS library in the same executable
+// defines a fake MPI_Init / MPI_Comm_rank / MPI_Finalize that the dynamic linker may pick first;
+// only the real MPI library defines PMPI_*.
+constexpr int kResultTag = 1, kTaskTag = 2;
+
+/// MPI for the study's lifetime, when launched with more than one rank.
+struct MpiSession {
+  bool active = false;
+  int rank = 0, size = 1;
+  MpiSession() {
+    if (world_size_from_env() < 2) return;
+    PMPI_Init(nullptr, nullptr);
+    PMPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    PMPI_Comm_size(MPI_COMM_WORLD, &size);
+    active = size > 1;
+  }
+  ~MpiSession() {
+    if (world_size_from_env() >= 2) PMPI_Finalize();
+  }
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+};
+
+std::string read_file_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// A rank other than 0: asks rank 0 for an entry, runs it as a child process (one thread, as with
+/// --jobs), sends back its summary.json text with the next request; the text travels so the run
+/// folders need not be on a file system rank 0 shares.
+int mpi_worker(const std::vector<StudyVariant>& entries, const std::vector<fs::path>& folders,
+               const std::atomic<bool>& stop) {
+  std::string message;  // "ENTRY\nJSON"; empty: nothing to report yet
+  for (;;) {
+    PMPI_Send(message.data(), static_cast<int>(message.size()), MPI_CHAR, 0, kResultTag, MPI_COMM_WORLD);
+    int task[2] = {-1, 1};
+    PMPI_Recv(task, 2, MPI_INT, 0, kTaskTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (task[0] < 0 || static_cast<std::size_t>(task[0]) >= entries.size()) return stop ? 130 : 0;
+    const std::size_t e = static_cast<std::size_t>(task[0]);
+    const Task t{e, entries[e], folders[e], task[1]};
+    std::optional<VariantRun> got;
+    run_children({t}, 1, true, stop, [&](const Task&, VariantRun& r) {
+      got = r;
+      return true;
+    });
+    message = std::to_string(e) + "\n";
+    if (got) {  // a crash is reported like a result (collect_child), a stop sends none
+      write_variant_run(t.folder / "summary.json", t.variant.label, t.variant.scene, t.variant.overrides, *got);
+      message += read_file_text(t.folder / "summary.json");
+    }
+  }
+}
+
+/// Rank 0: hands the tasks out one at a time as ranks ask (the longest runs need not be known in
+/// advance), runs one itself in a child process between messages, and gathers every result into
+/// its run folder. Polls with short sleeps, since a blocking receive in Open MPI spins a core
+/// that its own variant needs. Returns false when stopped.
+bool run_distributed(const std::vector<Task>& tasks, int ranks, const std::atomic<bool>& stop,
+                     const std::function<bool(const Task&, VariantRun&)>& done) {
+  const std::vector<std::string> env = child_environment();
+  std::map<std::size_t, std::size_t> task_of_entry;
+  for (std::size_t i = 0; i < tasks.size(); ++i) task_of_entry[tasks[i].entry] = i;
+  std::size_t next = 0;
+  bool more = true;
+  int workers = ranks - 1;
+  pid_t local = -1;
+  std::size_t local_task = 0;
+  for (;;) {
+    bool busy = false;
+    if (local < 0 && more && !stop && next < tasks.size()) {
+      local_task = next++;
+      local = spawn_task(tasks[local_task], true, env);
+      if (local < 0) {
+        VariantRun r;
+        r.status = "failed";
+        r.reason = std::string("cannot start a process for it: ") + std::strerror(errno);
+        more = done(tasks[local_task], r) && more;
+      }
+      busy = true;
+    }
+    if (local > 0) {
+      int st = 0;
+      if (stop) {
+        kill(local, SIGTERM);
+        waitpid(local, nullptr, 0);
+        local = -1;
+      } else if (waitpid(local, &st, WNOHANG) == local) {
+        local = -1;
+        VariantRun r = collect_child(tasks[local_task], st);
+        more = done(tasks[local_task], r) && more;
+        busy = true;
+      }
+    }
+    int flag = 0;
+    MPI_Status status;
+    PMPI_Iprobe(MPI_ANY_SOURCE, kResultTag, MPI_COMM_WORLD, &flag, &status);
+    if (flag) {
+      busy = true;
+      int n = 0;
+      PMPI_Get_count(&status, MPI_CHAR, &n);
+      std::string text(static_cast<std::size_t>(n), '\0');
+      PMPI_Recv(text.data(), n, MPI_CHAR, status.MPI_SOURCE, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      const std::size_t nl = text.find('\n');
+      if (nl != std::string::npos && nl + 1 < text.size()) {
+        const auto it = task_of_entry.find(std::stoul(text.substr(0, nl)));
+        if (it != task_of_entry.end()) {
+          const Task& t = tasks[it->second];
+          fs::create_directories(t.folder);
+          const fs::path tmp = (t.folder / "summary.json").string() + ".gathered";
+          std::ofstream(tmp, std::ios::binary) << text.substr(nl + 1);
+          fs::rename(tmp, t.folder / "summary.json");
+          VariantRun r = collect_child(t, 0);
+          more = done(t, r) && more;
+        }
+      }
+      int reply[2] = {-1, 1};
+      if (more && !stop && next < tasks.size()) {
+        reply[0] = static_cast<int>(tasks[next].entry);
+        reply[1] = tasks[next].reps;
+        ++next;
+      } else {
+        --workers;
+      }
+      PMPI_Send(reply, 2, MPI_INT, status.MPI_SOURCE, kTaskTag, MPI_COMM_WORLD);
+    }
+    if (workers == 0 && local < 0 && (stop || !more || next >= tasks.size())) break;
+    if (!busy) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return !stop;
+}
+#endif
 
 }  // namespace
 
@@ -418,9 +579,20 @@ int run_study_variant(const StudyVariantOptions& o, const std::atomic<bool>& sto
 int run_study(const StudySpec& spec, const StudyOptions& options, const std::atomic<bool>& stop) {
   const fs::path dir = options.out_dir.empty() ? fs::path("out") / "study" / spec.name : fs::path(options.out_dir);
   const fs::path runs_dir = dir / "runs";
-  fs::create_directories(dir);
-  if (!options.resume) fs::remove_all(runs_dir);  // stale folders of another study must not be resumed
-  fs::create_directories(runs_dir);
+#ifdef FF_HAVE_MPI
+  MpiSession mpi;
+  const bool worker = mpi.active && mpi.rank != 0;
+#else
+  if (world_size_from_env() > 1)
+    throw InputError("this flexframe was built without MPI: run the study without mpirun (--jobs N uses this "
+                     "machine's cores)");
+  const bool worker = false;
+#endif
+  if (!worker) {  // only rank 0 owns the output folder
+    fs::create_directories(dir);
+    if (!options.resume) fs::remove_all(runs_dir);  // stale folders of another study must not be resumed
+    fs::create_directories(runs_dir);
+  }
   const int jobs = options.jobs > 0 ? options.jobs : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   const bool exclusive = options.exclusive_timing;
   const int repeat = std::max(1, spec.repeat);
@@ -461,6 +633,9 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     }
   }
 
+#ifdef FF_HAVE_MPI
+  if (worker) return mpi_worker(entries, folders, stop);
+#endif
   std::vector<std::optional<VariantRun>> runs(entries.size());
   const auto is_ref = [&](std::size_t e) { return ref_entry && e == rows.size(); };
   const auto label_of = [&](std::size_t e) { return is_ref(e) ? "reference " + entries[e].label : entries[e].label; };
@@ -494,13 +669,24 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     if (!runs[e]) tasks.push_back({e, entries[e], folders[e], exclusive || is_ref(e) ? 1 : repeat});
   bool stopped = false;
   bool any_shared = false;
-  if (jobs > 1 && tasks.size() > 1) {
+#ifdef FF_HAVE_MPI
+  const bool distributed = mpi.active;
+#else
+  const bool distributed = false;
+#endif
+  // under MPI always: the other ranks wait for rank 0's word even when nothing is left to run
+  int side_by_side = 1;
+  if (distributed || (jobs > 1 && tasks.size() > 1)) {
     const int slots = std::min<int>(jobs, static_cast<int>(tasks.size()));
-    std::fprintf(stderr, "%zu runs, %d at a time (one thread each)%s\n", tasks.size(), slots,
-                 exclusive ? "; then the timed repetitions one at a time" : "");
+    side_by_side = distributed ? world_size_from_env() : slots;
+    if (!tasks.empty() && distributed)
+      std::fprintf(stderr, "%zu runs over %d MPI ranks, one at a time per rank (one thread each)%s\n", tasks.size(),
+                   side_by_side, exclusive ? "; then the timed repetitions one at a time" : "");
+    else if (!tasks.empty())
+      std::fprintf(stderr, "%zu runs, %d at a time (one thread each)%s\n", tasks.size(), slots,
+                   exclusive ? "; then the timed repetitions one at a time" : "");
     std::size_t done = 0;
-    std::string abort_reason;
-    stopped = !run_children(tasks, slots, true, stop, [&](const Task& t, VariantRun& r) {
+    const auto report = [&](const Task& t, VariantRun& r) {
       runs[t.entry] = std::move(r);
       const VariantRun& v = *runs[t.entry];
       std::fprintf(stderr, "[%zu/%zu] %s: %s, %s = %.6g, %.3f s wall, %.3f s CPU%s%s\n", ++done, tasks.size(),
@@ -509,7 +695,13 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
                    v.reason.empty() ? "" : ": ", v.reason.c_str());
       // bad input in one variant ends the study as in sequence: start no more
       return v.status != "invalid" && (v.status != "completed" || std::isfinite(metric(v.metrics, spec.metric)));
-    });
+    };
+#ifdef FF_HAVE_MPI
+    if (distributed)
+      stopped = !run_distributed(tasks, mpi.size, stop, report);
+    else
+#endif
+      stopped = !run_children(tasks, slots, true, stop, report);
     for (const Task& t : tasks)
       if (runs[t.entry]) check_metric(t.entry);
   }
@@ -655,7 +847,8 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
   md << "\n- metric: `" << spec.metric << "`; reference " << reference_text(spec.reference, ref) << "\n";
   md << "- wall time: median of " << repeat << " run(s) per variant (set-up + solve, no output)";
   if (any_shared)
-    md << "; variants marked shared ran " << jobs << " at a time, one thread each, so their times include"
+    md << "; variants marked shared ran " << side_by_side << (distributed ? " at a time (MPI ranks)" : " at a time")
+       << ", one thread each, so their times include"
        << " the contention (`--timing exclusive` re-times them one at a time)";
   else
     md << ", repetitions interleaved over the variants";
