@@ -346,5 +346,76 @@ TEST(CliStudy, ResumeAfterKilledStudyCompletesAndMatches) {
   EXPECT_EQ(again.err.find("at a time"), std::string::npos) << again.describe();
 }
 
+/// mpirun on the PATH, or "".
+std::string find_mpirun() {
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "");
+  for (std::string d; std::getline(dirs, d, ':');)
+    if (!d.empty() && access((d + "/mpirun").c_str(), X_OK) == 0) return d + "/mpirun";
+  return "";
+}
+
+/// `mpirun -n RANKS flexframe ARGS` to completion (60 s limit); output captured like run_flexframe.
+ProcResult run_mpirun(const std::string& mpirun, int ranks, const std::vector<std::string>& args,
+                      const std::string& log_prefix) {
+  std::vector<std::string> all{mpirun, "-n", std::to_string(ranks), "--oversubscribe", flexframe_exe()};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string out = log_prefix + ".stdout.txt", err = log_prefix + ".stderr.txt";
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (o < 0 || e < 0) _exit(126);
+    dup2(o, STDOUT_FILENO);
+    dup2(e, STDERR_FILENO);
+    // Open MPI refuses root unless told twice (containers run tests as root)
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    execv(all[0].c_str(), argv.data());
+    _exit(127);
+  }
+  ProcResult r;
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(60)) {
+      r.timed_out = true;
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.out = read_text(out);
+  r.err = read_text(err);
+  return r;
+}
+
+// mpirun -n 2: rank 0 hands the variants out and gathers them; the rows are the sequential ones
+TEST(CliStudy, MpiTwoRanksMatchSequential) {
+  const std::string mpirun = find_mpirun();
+  if (mpirun.empty()) GTEST_SKIP() << "no mpirun on the PATH";
+  const std::string dir = fresh_test_dir();
+  const ProcResult par = run_mpirun(mpirun, 2, short_pendulum_study(dir + "/mpi"), dir + "/mpi");
+  if (par.err.find("built without MPI") != std::string::npos) GTEST_SKIP() << "flexframe built without MPI";
+  ASSERT_EQ(par.exit_code, 0) << par.describe();
+  EXPECT_NE(par.err.find("9 runs over 2 MPI ranks"), std::string::npos) << par.describe();
+  // one table, written once (by rank 0)
+  const std::string table_line = "| solver.dt=5e-4, solver.policy=frozen |";
+  EXPECT_EQ(par.out.find(table_line), par.out.rfind(table_line)) << par.describe();
+  const ProcResult seq = run_flexframe(with(short_pendulum_study(dir + "/seq"), {"--jobs", "1"}), dir + "/seq");
+  ASSERT_EQ(seq.exit_code, 0) << seq.describe();
+  const auto a = read_study_csv(dir + "/seq/study.csv"), b = read_study_csv(dir + "/mpi/study.csv");
+  ASSERT_EQ(a.size(), 9u);
+  expect_same_results(a, b, "pointF_z_final");
+  for (const auto& row : b) EXPECT_EQ(row.at("shared"), "1");
+}
+
 }  // namespace
 }  // namespace ff::cli::test
