@@ -657,6 +657,8 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     std::size_t n = 0;
     for (std::size_t e = 0; e < entries.size(); ++e) {
       runs[e] = read_variant_run(folders[e] / "summary.json", entries[e]);
+      // bad input is checked again (and refused again) rather than taken over
+      if (runs[e] && runs[e]->status == "invalid") runs[e].reset();
       if (runs[e] && !is_ref(e) && !exclusive && !complete_timing(*runs[e], repeat, false)) runs[e].reset();
       if (runs[e]) ++n;
     }
