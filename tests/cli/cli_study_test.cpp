@@ -397,6 +397,44 @@ ProcResult run_mpirun(const std::string& mpirun, int ranks, const std::vector<st
   return r;
 }
 
+/// Child processes of `pid` (from /proc/PID/task/*/children), or none.
+std::vector<pid_t> children_of(pid_t pid) {
+  std::vector<pid_t> out;
+  std::error_code ec;
+  for (const auto& t : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
+    std::ifstream in(t.path() / "children");
+    for (pid_t c; in >> c;) out.push_back(c);
+  }
+  return out;
+}
+
+// A variant whose process is killed is reported as failed with the signal; the others complete.
+TEST(CliStudy, KilledVariantProcessIsReportedAndTheOthersComplete) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  Child study(with(short_pendulum_study(out), {"--jobs", "2"}), dir + "/study");
+  ASSERT_TRUE(study.started());
+  std::vector<pid_t> kids;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (study.running() && (kids = children_of(study.pid())).empty() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_FALSE(kids.empty()) << "no variant process seen";
+  kill(kids.front(), SIGKILL);
+  const ProcResult r = study.wait(60);
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_NE(r.err.find("killed by signal 9"), std::string::npos) << r.describe();
+  const auto rows = read_study_csv(out + "/study.csv");
+  ASSERT_EQ(rows.size(), 9u);
+  int failed = 0, completed = 0;
+  for (const auto& row : rows) {
+    failed += row.at("status") == "failed";
+    completed += row.at("status") == "completed";
+  }
+  // the kill may land before the child wrote anything or after it finished: at most one fails
+  EXPECT_LE(failed, 1);
+  EXPECT_EQ(failed + completed, 9);
+}
+
 // mpirun -n 2: rank 0 hands the variants out and gathers them; the rows are the sequential ones
 TEST(CliStudy, MpiTwoRanksMatchSequential) {
   const std::string mpirun = find_mpirun();
