@@ -669,6 +669,9 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
   std::vector<Task> tasks;
   for (std::size_t e = 0; e < entries.size(); ++e)
     if (!runs[e]) tasks.push_back({e, entries[e], folders[e], exclusive || is_ref(e) ? 1 : repeat});
+  // from the end of the table: axes go coarse to fine, so the costly runs start first and the
+  // cheap ones fill the gaps, instead of the finest starting last and finishing alone
+  std::reverse(tasks.begin(), tasks.end());
   bool stopped = false;
   bool any_shared = false;
 #ifdef FF_HAVE_MPI
