@@ -380,15 +380,31 @@ constexpr int kResultTag = 1, kTaskTag = 2;
 struct MpiSession {
   bool active = false;
   int rank = 0, size = 1;
+  int waiting = 0;  ///< rank 0: worker ranks not yet told to stop
   MpiSession() {
     if (world_size_from_env() < 2) return;
     PMPI_Init(nullptr, nullptr);
     PMPI_Comm_rank(MPI_COMM_WORLD, &rank);
     PMPI_Comm_size(MPI_COMM_WORLD, &size);
     active = size > 1;
+    if (active && rank == 0) waiting = size - 1;
   }
   ~MpiSession() {
-    if (world_size_from_env() >= 2) PMPI_Finalize();
+    if (world_size_from_env() < 2) return;
+    // rank 0 leaving early (an exception): answer every worker's next request with "stop", or
+    // they would wait for it forever
+    while (waiting > 0) {
+      MPI_Status status;
+      PMPI_Probe(MPI_ANY_SOURCE, kResultTag, MPI_COMM_WORLD, &status);
+      int n = 0;
+      PMPI_Get_count(&status, MPI_CHAR, &n);
+      std::string text(static_cast<std::size_t>(n), '\0');
+      PMPI_Recv(text.data(), n, MPI_CHAR, status.MPI_SOURCE, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      int reply[2] = {-1, 1};
+      PMPI_Send(reply, 2, MPI_INT, status.MPI_SOURCE, kTaskTag, MPI_COMM_WORLD);
+      --waiting;
+    }
+    PMPI_Finalize();
   }
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
@@ -430,15 +446,15 @@ int mpi_worker(const std::vector<StudyVariant>& entries, const std::vector<fs::p
 /// Rank 0: hands the tasks out one at a time as ranks ask (the longest runs need not be known in
 /// advance), runs one itself in a child process between messages, and gathers every result into
 /// its run folder. Polls with short sleeps, since a blocking receive in Open MPI spins a core
-/// that its own variant needs. Returns false when stopped.
-bool run_distributed(const std::vector<Task>& tasks, int ranks, const std::atomic<bool>& stop,
+/// that its own variant needs. `workers` counts down the ranks told to stop. Returns false when
+/// stopped.
+bool run_distributed(const std::vector<Task>& tasks, int& workers, const std::atomic<bool>& stop,
                      const std::function<bool(const Task&, VariantRun&)>& done) {
   const std::vector<std::string> env = child_environment();
   std::map<std::size_t, std::size_t> task_of_entry;
   for (std::size_t i = 0; i < tasks.size(); ++i) task_of_entry[tasks[i].entry] = i;
   std::size_t next = 0;
   bool more = true;
-  int workers = ranks - 1;
   pid_t local = -1;
   std::size_t local_task = 0;
   for (;;) {
@@ -703,7 +719,7 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     };
 #ifdef FF_HAVE_MPI
     if (distributed)
-      stopped = !run_distributed(tasks, mpi.size, stop, report);
+      stopped = !run_distributed(tasks, mpi.waiting, stop, report);
     else
 #endif
       stopped = !run_children(tasks, slots, true, stop, report);
