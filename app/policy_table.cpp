@@ -22,15 +22,18 @@ struct Row {
   double noi = 0, nou = 0, wall_s = 0, fallbacks = 0;
 };
 
-// "full", "frozen", "nni:3" -> scene overrides
+// "full", "frozen", "nni:3", "lazy", "lazy:0.2" -> scene overrides
 std::vector<std::string> policy_overrides(const std::string& p) {
-  if (p == "full" || p == "frozen") return {"solver.policy=" + p};
+  if (p == "full" || p == "frozen" || p == "lazy") return {"solver.policy=" + p};
   if (p.rfind("nni:", 0) == 0) return {"solver.policy=nni", "solver.nni=" + p.substr(4)};
-  throw InputError("--policies: '" + p + "' is not full, frozen or nni:<i>");
+  if (p.rfind("lazy:", 0) == 0) return {"solver.policy=lazy", "solver.refresh_ratio=" + p.substr(5)};
+  throw InputError("--policies: '" + p + "' is not full, frozen, nni:<i>, lazy or lazy:<ratio>");
 }
 std::string policy_label(const std::string& p) {
   if (p == "full") return "every iteration";
   if (p == "frozen") return "frozen";
+  if (p == "lazy") return "lazy";
+  if (p.rfind("lazy:", 0) == 0) return "lazy, ratio " + p.substr(5);
   return "NNI >= " + p.substr(4);
 }
 }  // namespace

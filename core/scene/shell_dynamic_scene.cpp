@@ -34,9 +34,15 @@ const Schema& shell_dynamic_schema() {
         .number("solver.tolerance", "Newton stops when the 2-norm of the correction is below this", 1e-6,
                 Range::left_open(0.0, 1.0))
         .integer("solver.max_iterations", "corrections per attempt", 30, IntRange::closed(2, 500))
-        .choice("solver.policy", "iteration matrix: full (every iteration), nni (from iteration nni on), frozen",
-                {"full", "nni", "frozen"}, "full")
+        .choice("solver.policy",
+                "iteration matrix: full (every iteration), nni (from iteration nni on), frozen (the first one, "
+                "kept), lazy (kept until a correction shrinks by less than refresh_ratio, then refreshed)",
+                {"full", "nni", "frozen", "lazy"}, "full")
         .integer("solver.nni", "policy nni: update at this and later iterations of a step", 3, IntRange::closed(1, 100))
+        .number("solver.refresh_ratio",
+                "policy lazy: refresh the matrix at an iteration whose correction was more than this fraction of "
+                "the one before (a slow contraction means it has aged)",
+                0.3, Range::open(0.0, 1.0))
         .integer("solver.max_cutbacks", "halvings of a failing step before the run is declared diverged", 6,
                  IntRange::closed(0, 20));
     s.table("gravity", "uniform gravity (effect gravity)")
@@ -315,8 +321,12 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   st.integrator.tolerance = d.number("solver.tolerance");
   st.integrator.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
   const std::string policy = d.string("solver.policy");
-  st.integrator.policy = policy == "full" ? MatrixPolicy::full : policy == "nni" ? MatrixPolicy::nni : MatrixPolicy::frozen;
+  st.integrator.policy = policy == "full"   ? MatrixPolicy::full
+                         : policy == "nni"  ? MatrixPolicy::nni
+                         : policy == "lazy" ? MatrixPolicy::lazy
+                                            : MatrixPolicy::frozen;
   st.integrator.nni_threshold = static_cast<int>(d.integer("solver.nni"));
+  st.integrator.refresh_ratio = d.number("solver.refresh_ratio");
   st.integrator.max_cutbacks = static_cast<int>(d.integer("solver.max_cutbacks"));
   for (std::size_t i = 0; i < d.count("probe"); ++i) {
     const int b = body_index("probe", "body", i, false);

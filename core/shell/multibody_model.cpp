@@ -165,9 +165,14 @@ Vec6 MultibodyModel::node_vector(const Eigen::VectorXd& x, int node) const {
 }
 
 void MultibodyModel::configure(const Eigen::VectorXd& step) {
+  step_tangent_.resize(poses_.size());
+  step_is_zero_ = true;
   for (int I = 0; I < node_count(); ++I) {  // H = H_n exp(step_I) on SE(3) (generalized_alpha.md (G3))
-    const ff::lie::Pose H = ff::lie::Pose{committed_[I].R, committed_[I].x} * ff::lie::exp_se3(node_vector(step, I));
+    const Vec6 h = node_vector(step, I);
+    const ff::lie::Pose H = ff::lie::Pose{committed_[I].R, committed_[I].x} * ff::lie::exp_se3(h);
     poses_[I] = {H.R, H.x};
+    step_tangent_[I] = ff::lie::tangent_se3(h);  // (G9)
+    if (!h.isZero()) step_is_zero_ = false;
   }
 }
 
@@ -175,6 +180,9 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
                               const Eigen::VectorXd& lambda, Eigen::VectorXd& r, Eigen::VectorXd& phi,
                               const IterationWeights* w, SparseMatrixD* S, SparseMatrixD* B) {
   const bool tangent = w && S;
+  // (G9)-(G10): position derivatives taken in local increments at the current poses are turned
+  // into derivatives with respect to the step by T_SE3(step) on the column side
+  const bool with_T = exact_matrix_ && !step_is_zero_;
   r.setZero(dofs_.size());
   phi.setZero(m_);
   if (tangent) pattern_.zeroed(*S);
@@ -183,9 +191,17 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     const int a = dofs_.equation(I, si), b = dofs_.equation(J, sj);
     if (a >= 0 && b >= 0) values[pattern_.value_index(a, b)] += x;
   };
-  auto add_block = [&](int I, int oi, int J, int oj, const Mat3& blk) {
+  auto add_block = [&](int I, int oi, int J, int oj, const Mat3& blk) {  // rate terms (mass, damping)
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) add(I, oi + i, J, oj + j, blk(i, j));
+  };
+  // a position derivative blk = ∂r(I, oi..)/∂θ(J, oj..) in local increments: times the rows oj..oj+2
+  // of T_SE3(step_J) it is the derivative with respect to the step (G10)
+  auto add_position_block = [&](int I, int oi, int J, int oj, const Mat3& blk) {
+    if (!with_T) return add_block(I, oi, J, oj, blk);
+    const Eigen::Matrix<double, 3, 6> blk_T = blk * step_tangent_[J].middleRows<3>(oj);
+    for (int i = 0; i < 3; ++i)
+      for (int s = 0; s < 6; ++s) add(I, oi + i, J, s, blk_T(i, s));
   };
 
   // ---- shell elements: elastic (S15-S17), inertia (D4-D7), gravity (D8), in parallel ----
@@ -211,22 +227,33 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     }
     ElementResult& out = results_[k];
     Vec24 f;
-    Mat24 K, M, C, Kin;
+    Mat24 K, M, C, Kin, Kg;
     auto t0 = Clock::now();
     e.elastic->evaluate(cur, out.r, tangent ? &K : nullptr);
     auto t1 = Clock::now();
     e.inertia->evaluate(cur, vel, acc, f, tangent ? InertiaJacobians{&M, &C, &Kin} : InertiaJacobians{});
     out.r += f;
-    if (tangent) out.S = w->stiffness * (K + Kin) + w->mass * M + w->damping * C;
+    if (tangent) K += Kin;  // position derivatives: elastic, inertia, gravity below
     auto t2 = Clock::now();
     t_el += std::chrono::duration<double>(t1 - t0).count();
     t_in += std::chrono::duration<double>(t2 - t1).count();
     if (gravity) {
-      e.inertia->gravity(cur, spec_.g, f, tangent ? &K : nullptr);
+      e.inertia->gravity(cur, spec_.g, f, tangent ? &Kg : nullptr);
       out.r -= f;
-      if (tangent) out.S -= w->stiffness * K;
+      if (tangent) K -= Kg;
       t_gr += std::chrono::duration<double>(Clock::now() - t2).count();
     }
+    if (!tangent) continue;
+    if (with_T)  // (G10) per corner, in the corner frame: blockdiag(Cᵀ, Cᵀ) T_SE3(step_I) blockdiag(C, C)
+      for (int c = 0; c < 4; ++c) {
+        Mat6 T = step_tangent_[e.nodes[c]];
+        if (!e.plain)
+          for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j)
+              T.block<3, 3>(3 * i, 3 * j) = e.corner[c].transpose() * T.block<3, 3>(3 * i, 3 * j) * e.corner[c];
+        K.middleCols<6>(6 * c) = (K.middleCols<6>(6 * c) * T).eval();
+      }
+    out.S = w->stiffness * K + w->mass * M + w->damping * C;
   }
   elastic_.evaluations += ne, elastic_.seconds += t_el;
   ++assemblies_;
@@ -281,13 +308,13 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     add_block(I, 0, I, 0, w->mass * body.mass * Mat3::Identity() + w->damping * body.mass * hat(om));
     add_block(I, 0, I, 3, -w->damping * body.mass * hat(vel));
     add_block(I, 3, I, 3, w->mass * J + w->damping * (hat(om) * J - hat(J * om)));
-    if (spec_.gravity) add_block(I, 0, I, 3, -w->stiffness * hat(Fg));
+    if (spec_.gravity) add_position_block(I, 0, I, 3, -w->stiffness * hat(Fg));
   }
   if (!spec_.rigid.empty()) rigid_.evaluations += 1, rigid_.seconds += seconds_since(t_rigid);
 
   // ---- joints: Φ, Bᵀλ and its variation (D11')-(D13) ----
   if (m_ == 0) {
-    if (B) *B = b_pattern_;
+    if (B) *B = b_pattern_, b_has_T_ = false;
     if (!pinned_.empty()) joints_.evaluations += 1;  // the pins act through the missing unknowns
     return;
   }
@@ -295,9 +322,21 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   if (B) {
     *B = b_pattern_;
     std::fill(B->valuePtr(), B->valuePtr() + B->nonZeros(), 0.0);
+    b_has_T_ = with_T;
+    if (with_T) g_ = *B;
   }
+  // x = ∂Φ_row/∂(I, slot) in local increments: a constraint-force direction (G); with respect to
+  // the step it is x times the row `slot` of T_SE3(step_I) (G10)
   auto bset = [&](int row, int I, int slot, double x) {
-    if (B && dofs_.equation(I, slot) >= 0) B->coeffRef(row, dofs_.equation(I, slot)) += x;
+    if (!B) return;
+    if (!with_T) {
+      if (dofs_.equation(I, slot) >= 0) B->coeffRef(row, dofs_.equation(I, slot)) += x;
+      return;
+    }
+    if (dofs_.equation(I, slot) >= 0) g_.coeffRef(row, dofs_.equation(I, slot)) += x;
+    for (int s = 0; s < 6; ++s)
+      if (dofs_.equation(I, s) >= 0 && step_tangent_[I](slot, s) != 0.0)
+        B->coeffRef(row, dofs_.equation(I, s)) += x * step_tangent_[I](slot, s);
   };
   int row = 0;
   for (const PositionConstraint& c : spec_.positions) {
@@ -322,8 +361,8 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     }
     const Mat3 L = hat(lam);
     if (tangent) {  // (−Φ × λ)' = λ̃ δΦ
-      add_block(c.a, 3, c.a, 0, w->stiffness * L);
-      add_block(c.a, 3, c.a, 3, w->stiffness * L * Ba_rot);
+      add_position_block(c.a, 3, c.a, 0, w->stiffness * L);
+      add_position_block(c.a, 3, c.a, 3, w->stiffness * L * Ba_rot);
     }
     if (c.b >= 0) {
       const Mat3& Rb = poses_[c.b].R;
@@ -342,13 +381,13 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
         }
       if (tangent) {
         const Mat3 Rba = Rab.transpose();
-        add_block(c.a, 3, c.b, 0, -w->stiffness * L * Rab);
-        add_block(c.a, 3, c.b, 3, w->stiffness * L * Bb_rot);
+        add_position_block(c.a, 3, c.b, 0, -w->stiffness * L * Rab);
+        add_position_block(c.a, 3, c.b, 3, w->stiffness * L * Bb_rot);
         // δμ = μ̃ δθ_b − R_ba λ̃ δθ_a (δR_bᵀ = −δθ̃_b R_bᵀ, δR_a = R_a δθ̃_a); forces −μ and −õ_b μ
-        add_block(c.b, 0, c.b, 3, -w->stiffness * hat(mu));
-        add_block(c.b, 0, c.a, 3, w->stiffness * Rba * L);
-        add_block(c.b, 3, c.b, 3, -w->stiffness * hat(c.b_offset) * hat(mu));
-        add_block(c.b, 3, c.a, 3, w->stiffness * hat(c.b_offset) * Rba * L);
+        add_position_block(c.b, 0, c.b, 3, -w->stiffness * hat(mu));
+        add_position_block(c.b, 0, c.a, 3, w->stiffness * Rba * L);
+        add_position_block(c.b, 3, c.b, 3, -w->stiffness * hat(c.b_offset) * hat(mu));
+        add_position_block(c.b, 3, c.a, 3, w->stiffness * hat(c.b_offset) * Rba * L);
       }
     }
     row += 3;
@@ -362,16 +401,16 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     const Vec3 pa = Ra.transpose() * p;
     const Vec3 ga = c.a_local.cross(pa);  // ∂Φ/∂θ_a (D13)
     for (int j = 0; j < 3; ++j) r[dofs_.equation(c.a, 3 + j)] += lam * ga[j], bset(row, c.a, 3 + j, ga[j]);
-    if (tangent) add_block(c.a, 3, c.a, 3, w->stiffness * lam * hat(c.a_local) * hat(pa));
+    if (tangent) add_position_block(c.a, 3, c.a, 3, w->stiffness * lam * hat(c.a_local) * hat(pa));
     if (c.b >= 0) {
       const Mat3& Rb = poses_[c.b].R;
       const Vec3 ab = Rb.transpose() * a;
       const Vec3 gb = c.b_vector.cross(ab);  // ∂Φ/∂θ_b
       for (int j = 0; j < 3; ++j) r[dofs_.equation(c.b, 3 + j)] += lam * gb[j], bset(row, c.b, 3 + j, gb[j]);
       if (tangent) {
-        add_block(c.b, 3, c.b, 3, w->stiffness * lam * hat(c.b_vector) * hat(ab));
-        add_block(c.a, 3, c.b, 3, -w->stiffness * lam * hat(c.a_local) * Ra.transpose() * Rb * hat(c.b_vector));
-        add_block(c.b, 3, c.a, 3, -w->stiffness * lam * hat(c.b_vector) * Rb.transpose() * Ra * hat(c.a_local));
+        add_position_block(c.b, 3, c.b, 3, w->stiffness * lam * hat(c.b_vector) * hat(ab));
+        add_position_block(c.a, 3, c.b, 3, -w->stiffness * lam * hat(c.a_local) * Ra.transpose() * Rb * hat(c.b_vector));
+        add_position_block(c.b, 3, c.a, 3, -w->stiffness * lam * hat(c.b_vector) * Rb.transpose() * Ra * hat(c.a_local));
       }
     }
     ++row;

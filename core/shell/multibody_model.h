@@ -14,6 +14,7 @@
 #include "core/assembly/block_pattern.h"
 #include "core/assembly/dof_map.h"
 #include "core/assembly/effect_counter.h"
+#include "core/lie/se3.h"
 #include "core/mesh/shell_mesh.h"
 #include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
@@ -92,9 +93,15 @@ class MultibodyModel final : public ff::DynamicProblem {
 
   int size() const override { return dofs_.size(); }
   int constraint_count() const override { return m_; }
+  /// Also keeps each node's T_SE3(step_I) for the exact iteration matrix (generalized_alpha.md (G9)).
   void configure(const Eigen::VectorXd& step) override;
-  void commit() override { committed_ = poses_; }
-  void rollback() override { poses_ = committed_; }
+  void commit() override { committed_ = poses_, step_is_zero_ = true; }
+  void rollback() override { poses_ = committed_, step_is_zero_ = true; }
+  /// true (default): S and B are the exact derivatives with respect to the step (position terms
+  /// times T_SE3(step), (G9)-(G10)); false: the shell paper's matrix without T (Newton then
+  /// converges linearly). For comparisons and tests.
+  void set_exact_iteration_matrix(bool exact) { exact_matrix_ = exact; }
+  const SparseMatrixD* constraint_force_directions() const override { return b_has_T_ ? &g_ : nullptr; }
   void evaluate(double t, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda,
                 Eigen::VectorXd& r, Eigen::VectorXd& phi, const IterationWeights* w, SparseMatrixD* S,
                 SparseMatrixD* B) override;
@@ -132,6 +139,11 @@ class MultibodyModel final : public ff::DynamicProblem {
 
   MultibodySpec spec_;
   std::vector<NodePose> reference_, poses_, committed_;
+  std::vector<ff::lie::Mat6> step_tangent_;  // T_SE3(step_I) of the configured step, per node (G9)
+  bool step_is_zero_ = true;        // poses_ == committed_: every T is the identity
+  bool exact_matrix_ = true;
+  SparseMatrixD g_;      // constraint-force directions G (local increments): B = G T (G10)
+  bool b_has_T_ = false;  // the last B returned differs from G_
   std::vector<int> pinned_;  // nodes held in space by ground points: translations not unknowns
   std::vector<std::uint8_t> six_;
   assembly::DofMap dofs_;

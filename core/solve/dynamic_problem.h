@@ -27,12 +27,17 @@ class DynamicProblem {
   virtual void configure(const Eigen::VectorXd& step) = 0;
   virtual void commit() = 0;    ///< q_n ← q (the step is accepted)
   virtual void rollback() = 0;  ///< q ← q_n
-  /// Residual r = F_inertia(q, v, v̇) + F_int(q) − F_ext(q, t) + Bᵀλ (size n) and Φ(q) (size m).
+  /// Residual r = F_inertia(q, v, v̇) + F_int(q) − F_ext(q, t) + Gᵀλ (size n) and Φ(q) (size m).
   /// With `w` non-null also S (n × n, the same sparsity pattern on every call) and B = ∂Φ/∂q
-  /// (m × n, constant pattern).
+  /// (m × n, constant pattern), with respect to the configured step (generalized_alpha.md (G10)).
   virtual void evaluate(double t, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda,
                         Eigen::VectorXd& r, Eigen::VectorXd& phi, const IterationWeights* w, SparseMatrixD* S,
                         SparseMatrixD* B) = 0;
+  /// ∂r/∂λ = Gᵀ when it differs from B: G holds the constraint-force directions in local
+  /// increments at q, while B = ∂Φ/∂x is taken with respect to the step x, so on a Lie group
+  /// B = G T(x) (generalized_alpha.md (G10)). Null when G = B. Valid after an evaluate() that
+  /// returned B; same sparsity pattern as B.
+  virtual const SparseMatrixD* constraint_force_directions() const { return nullptr; }
 };
 
 }  // namespace ff

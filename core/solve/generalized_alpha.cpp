@@ -35,6 +35,7 @@ GeneralizedAlpha::GeneralizedAlpha(DynamicProblem& problem, GeneralizedAlphaSett
   vdot_.setZero(n);
   a_.setZero(n);
   lambda_.setZero(m);
+  corrections_.reserve(static_cast<std::size_t>(std::max(s_.max_iterations, 1)));
 }
 
 void GeneralizedAlpha::build_augmented_pattern() {
@@ -63,7 +64,7 @@ void GeneralizedAlpha::build_augmented_pattern() {
     }
 }
 
-// A = [S kBᵀ; kB 0] (G7) from the current S_ and B_, then its factorization
+// A = [S kGᵀ; kB 0] (G7), (G10) from the current S_ and B_ (and G), then its factorization
 bool GeneralizedAlpha::update_matrix(std::string& why) {
   if (static_cast<int>(s_map_.size()) != S_.nonZeros() || static_cast<int>(b_map_.size()) != B_.nonZeros() ||
       A_.rows() != p_.size() + p_.constraint_count())
@@ -71,9 +72,12 @@ bool GeneralizedAlpha::update_matrix(std::string& why) {
   double* a = A_.valuePtr();
   std::fill(a, a + A_.nonZeros(), 0.0);
   for (std::size_t i = 0; i < s_map_.size(); ++i) a[s_map_[i]] += S_.valuePtr()[i];
+  // rows kB = k ∂Φ/∂x, columns kGᵀ = k ∂r/∂λ (G7), (G10): G = B unless the problem says otherwise
+  const SparseMatrixD* G = p_.constraint_force_directions();
+  const double* g = G && G->nonZeros() == B_.nonZeros() ? G->valuePtr() : B_.valuePtr();
   for (std::size_t i = 0; i < b_map_.size(); ++i) {
     a[b_map_[i]] += k_ * B_.valuePtr()[i];
-    a[bt_map_[i]] += k_ * B_.valuePtr()[i];
+    a[bt_map_[i]] += k_ * g[i];
   }
   const LinearStatus st = solver_.factorize(A_);
   if (!st) {
@@ -138,9 +142,14 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
   Eigen::VectorXd lam = lambda_, r, phi, rhs(n + m), dx;
   Attempt out{false, 0, 0, 0.0, 0.0, {}};
   if (have_matrix_ && std::abs(matrix_h_ - h) > 1e-12 * h) force_full = true;  // β', γ' changed
+  double last_norm = 0.0, norm_before = 0.0;  // ‖Δx‖ of the last two corrections of this attempt
+  corrections_.clear();
   for (int it = 1; it <= s_.max_iterations; ++it) {
     p_.configure(x);
-    const bool update = force_full || !have_matrix_ || s_.policy == MatrixPolicy::full ||
+    // lazy (G8): a matrix whose last correction shrank the one before by less than refresh_ratio
+    // has aged; it is refreshed here and kept for the following steps
+    const bool aged = s_.policy == MatrixPolicy::lazy && it >= 3 && last_norm > s_.refresh_ratio * norm_before;
+    const bool update = force_full || !have_matrix_ || s_.policy == MatrixPolicy::full || aged ||
                         (s_.policy == MatrixPolicy::nni && it >= s_.nni_threshold);
     p_.evaluate(t_ + h, v1, vd, lam, r, phi, update ? &w : nullptr, update ? &S_ : nullptr, update ? &B_ : nullptr);
     out.residual_norm = std::sqrt(r.squaredNorm() + phi.squaredNorm());
@@ -175,6 +184,8 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
     vd += bp * dq;
     lam += k_ * dx.tail(m);
     out.increment_norm = dq.norm();
+    norm_before = last_norm, last_norm = out.increment_norm;
+    corrections_.push_back(out.increment_norm);
     if (!std::isfinite(out.increment_norm)) {
       out.failure = "non-finite Newton correction at iteration " + std::to_string(it);
       return out;

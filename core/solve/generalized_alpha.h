@@ -13,7 +13,8 @@
 
 namespace ff {
 
-enum class MatrixPolicy { full, nni, frozen };
+/// Iteration-matrix policies (generalized_alpha.md §4).
+enum class MatrixPolicy { full, nni, frozen, lazy };
 
 struct GeneralizedAlphaSettings {
   double rho_inf = 0.9;          ///< spectral radius at infinity, (G2)
@@ -21,6 +22,7 @@ struct GeneralizedAlphaSettings {
   int max_iterations = 30;       ///< corrections per attempt
   MatrixPolicy policy = MatrixPolicy::full;
   int nni_threshold = 3;         ///< policy nni: update at this and later iterations of a step
+  double refresh_ratio = 0.3;    ///< policy lazy: update when ‖Δx_k‖ > refresh_ratio ‖Δx_{k−1}‖ (G8)
   int max_cutbacks = 6;          ///< halvings of h before giving up
   LinearBackend backend = default_linear_backend();
 };
@@ -48,6 +50,8 @@ class GeneralizedAlpha {
   long long total_iterations() const { return noi_; }
   long long total_updates() const { return nou_; }
   long long total_fallbacks() const { return fallbacks_; }  ///< stale-matrix steps redone with updates
+  /// ‖Δx‖₂ of each correction of the last attempt, in order (convergence-rate checks).
+  const std::vector<double>& last_corrections() const { return corrections_; }
   const GeneralizedAlphaSettings& settings() const { return s_; }
 
  private:
@@ -73,6 +77,7 @@ class GeneralizedAlpha {
   SparseLinearSolver solver_;
   bool have_matrix_ = false;
   long long noi_ = 0, nou_ = 0, fallbacks_ = 0;
+  std::vector<double> corrections_;  // reserved once: no allocation in the Newton loop
 };
 
 }  // namespace ff

@@ -173,7 +173,8 @@ TEST(GeneralizedAlpha, PoliciesCountIterationsAndUpdates) {
     for (int i = 0; i < 500; ++i) EXPECT_TRUE(ga.step(h).converged);
     return Run{ga.total_iterations(), ga.total_updates(), ga.total_fallbacks(), p.q()[0]};
   };
-  const Run full = run(MatrixPolicy::full, 0), nni = run(MatrixPolicy::nni, 3), frozen = run(MatrixPolicy::frozen, 0);
+  const Run full = run(MatrixPolicy::full, 0), nni = run(MatrixPolicy::nni, 3), frozen = run(MatrixPolicy::frozen, 0),
+            lazy = run(MatrixPolicy::lazy, 0);
   EXPECT_EQ(full.nou, full.noi);            // one update per iteration
   EXPECT_LT(nni.nou, full.nou);
   EXPECT_GE(nni.noi, full.noi);
@@ -184,9 +185,16 @@ TEST(GeneralizedAlpha, PoliciesCountIterationsAndUpdates) {
   EXPECT_LE(frozen.nou, 1 + frozen.fallbacks * 30);
   EXPECT_LT(frozen.nou, nni.nou);
   EXPECT_GT(frozen.noi, full.noi);
+  // lazy (G8) refreshes the aging matrix before a step fails: no fallbacks, fewer updates than
+  // nni, fewer iterations than frozen
+  EXPECT_EQ(lazy.fallbacks, 0);
+  EXPECT_LT(lazy.nou, nni.nou);
+  EXPECT_GT(lazy.nou, 1);
+  EXPECT_LT(lazy.noi, frozen.noi);
   // same trajectory up to the Newton tolerance accumulated over 500 steps
   EXPECT_NEAR(nni.x, full.x, 1e-6);
   EXPECT_NEAR(frozen.x, full.x, 1e-6);
+  EXPECT_NEAR(lazy.x, full.x, 1e-6);
 }
 
 }  // namespace

@@ -113,6 +113,53 @@ TEST(MultibodyModel, IterationMatrixAndConstraintJacobianMatchCentralDifferences
   }
 }
 
+// Newton's unknown is the step x of q = q_n exp(x) (generalized_alpha.md (G3)); its exact matrix
+// is the position part times T_SE3(x) per node (G9)-(G10). At a step of 0.05-0.3 rad the matrix
+// without T (the shell paper's) is off by O(|x|), which this test also shows.
+TEST(MultibodyModel, IterationMatrixIsTheExactDerivativeWithRespectToTheStep) {
+  MultibodyModel model(system_spec(true, true));
+  const int n = model.size(), m = model.constraint_count();
+  model.configure(random_vector(n, 1, 0.05));
+  model.commit();
+  Eigen::VectorXd x0 = random_vector(n, 9, 0.1);
+  for (int I = 0; I < model.node_count(); ++I)  // larger turns at some nodes: T far from I
+    if (I % 3 == 0)
+      for (int s = 3; s < 6; ++s)
+        if (model.equation(I, s) >= 0) x0[model.equation(I, s)] *= 3.0;
+  const Eigen::VectorXd v = random_vector(n, 2, 1.0), vd = random_vector(n, 3, 4.0), lam = random_vector(m, 4, 50.0);
+  const IterationWeights stiffness{0, 0, 1};
+  Eigen::VectorXd r, phi, rp, rm, pp, pm;
+  SparseMatrixD S, B, S_paper, B_paper;
+  model.configure(x0);
+  model.evaluate(0, v, vd, lam, r, phi, &stiffness, &S, &B);
+  model.set_exact_iteration_matrix(false);
+  model.evaluate(0, v, vd, lam, r, phi, &stiffness, &S_paper, &B_paper);
+  model.set_exact_iteration_matrix(true);
+  model.evaluate(0, v, vd, lam, r, phi, &stiffness, &S, &B);
+  // the constraint forces Gᵀλ keep the local-increment directions: ∂r/∂λ = Gᵀ = B_paperᵀ (G10)
+  ASSERT_NE(model.constraint_force_directions(), nullptr);
+  EXPECT_LT((Eigen::MatrixXd(*model.constraint_force_directions()) - Eigen::MatrixXd(B_paper)).norm(),
+            1e-14 * Eigen::MatrixXd(B_paper).norm());
+  Eigen::MatrixXd fd(n, n), bfd(m, n);
+  const double eps = 1e-6;
+  for (int k = 0; k < n; ++k) {
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+    e[k] = eps;
+    model.configure(x0 + e);
+    model.evaluate(0, v, vd, lam, rp, pp, nullptr, nullptr, nullptr);
+    model.configure(x0 - e);
+    model.evaluate(0, v, vd, lam, rm, pm, nullptr, nullptr, nullptr);
+    fd.col(k) = (rp - rm) / (2 * eps);
+    bfd.col(k) = (pp - pm) / (2 * eps);
+  }
+  model.rollback();
+  EXPECT_LT((Eigen::MatrixXd(S) - fd).norm(), 1e-6 * fd.norm());
+  EXPECT_LT((Eigen::MatrixXd(B) - bfd).norm(), 1e-7 * bfd.norm());
+  // without T the error is first order in the step, far above the differencing error
+  EXPECT_GT((Eigen::MatrixXd(S_paper) - fd).norm(), 1e-3 * fd.norm());
+  EXPECT_GT((Eigen::MatrixXd(B_paper) - bfd).norm(), 1e-3 * bfd.norm());
+}
+
 TEST(MultibodyModel, ResidualAndMatrixInvariantUnderRigidMotionOfTheSystem) {
   MultibodySpec spec = system_spec(false, false);
   // 6 DoF everywhere: a 5-DoF node cannot reach the frame Q R by local increments without a
