@@ -19,33 +19,47 @@ namespace fs = std::filesystem;
 namespace ff::app {
 
 namespace {
-// headless frames per second of the hub-beam paper scene at the default frame size
-double frames_per_second(int frames, std::string* backend) {
-  scene::LoadedScene s = scene::load_scene(resolve_scene("hub_beam_efg_tau1"), {}, io::scene_context());
+struct RenderRate {
+  double frames_per_second = 0.0;
+  std::size_t quads = 0;
+  std::string backend;
+};
+
+// Headless PNG frames per second of `scene` at width x height: a short run captures up to
+// `captured_frames` frames, the first render builds the shaders, then `renders` frames are
+// rendered and written as PNG, cycling through the captured ones (the geometry changes every time).
+RenderRate render_rate(const std::string& scene, const std::vector<std::string>& overrides, int width, int height,
+                       int captured_frames, int renders) {
+  RenderRate out;
+  scene::LoadedScene s = scene::load_scene(resolve_scene(scene), overrides, io::scene_context());
   std::vector<Frame> captured;
   std::atomic<bool> stop{false};
-  s.simulation->run([&](Frame&& f) { if (static_cast<int>(captured.size()) < frames) captured.push_back(std::move(f)); },
-                    stop);
+  s.simulation->run(
+      [&](Frame&& f) { if (static_cast<int>(captured.size()) < captured_frames) captured.push_back(std::move(f)); },
+      stop);
   std::string err;
   auto gc = render::GraphicsContext::create(&err);
-  if (!gc) return 0.0;
-  *backend = gc->backend() + " / " + gc->gl_renderer();
+  if (!gc || captured.empty()) return out;
+  out.backend = gc->backend() + " / " + gc->gl_renderer();
+  out.quads = s.simulation->info().mesh.quads.size() / 4;
   render::FrameStyle style;
-  style.width = s.output.width;
-  style.height = s.output.height;
+  style.width = width > 0 ? width : s.output.width;
+  style.height = height > 0 ? height : s.output.height;
   style.color_field = s.output.color_field == "none" ? "" : s.output.color_field;
   style.title = s.name;
   render::FrameRenderer renderer(*gc, s.simulation->info(), style);
   const fs::path dir = fs::temp_directory_path() / "flexframe_bench_frames";
   fs::create_directories(dir);
-  renderer.render_png(captured.front(), (dir / "warmup.png").string(), &err);  // first frame builds shaders
+  renderer.render_png(captured.front(), (dir / "warmup.png").string(), &err);
   const auto t0 = std::chrono::steady_clock::now();
   int n = 0;
-  for (const Frame& f : captured)
-    if (renderer.render_png(f, (dir / ("f" + std::to_string(n) + ".png")).string(), &err)) ++n;
-  const double s_elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (int i = 0; i < renders; ++i)
+    if (renderer.render_png(captured[i % captured.size()], (dir / ("f" + std::to_string(i) + ".png")).string(), &err))
+      ++n;
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   fs::remove_all(dir);
-  return n / s_elapsed;
+  out.frames_per_second = n / elapsed;
+  return out;
 }
 }  // namespace
 
@@ -73,9 +87,20 @@ int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   std::printf("| EFG / FEM wall time, set-up + stepping | %.3f | %.3f |\n", efg_total[0] / fem_total[0],
               efg_total[1] / fem_total[1]);
   std::printf("| EFG / FEM wall time, stepping only | %.3f | %.3f |\n", efg_run[0] / fem_run[0], efg_run[1] / fem_run[1]);
-  std::string backend;
-  const double fps = stop ? 0.0 : frames_per_second(60, &backend);
+  // the hub-beam paper scene at its own frame size, then a shell mesh of about 10k quads (the double
+  // pendulum at 71x71 elements per shell, three steps) at 1280x720
+  const RenderRate hub = stop ? RenderRate{} : render_rate("hub_beam_efg_tau1", {}, 0, 0, 60, 60);
+  const std::string backend = hub.backend;
+  const double fps = hub.frames_per_second;
   std::printf("\nheadless frames/s at the default size (960x720, %s): %.1f\n", backend.c_str(), fps);
+  const RenderRate shell =
+      stop ? RenderRate{}
+           : render_rate("double_pendulum_shells",
+                         {"shell[0].n1=71", "shell[0].n2=71", "shell[1].n1=71", "shell[1].n2=71", "solver.end=1.5e-3",
+                          "solver.output_every=1", "solver.policy=\"full\""},
+                         1280, 720, 4, 30);
+  std::printf("headless frames/s, %zu-quad shell mesh with PNG at 1280x720: %.1f\n", shell.quads,
+              shell.frames_per_second);
   if (!opt.out_file.empty()) {
     const nlohmann::ordered_json root = {{"repeat", opt.repeat},
                                          {"scenes", scenes},
@@ -84,6 +109,8 @@ int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
                                          {"efg_over_fem_stepping_tau1", efg_run[0] / fem_run[0]},
                                          {"efg_over_fem_stepping_tau7", efg_run[1] / fem_run[1]},
                                          {"frames_per_second", fps},
+                                         {"shell_quads", shell.quads},
+                                         {"shell_frames_per_second_1280x720", shell.frames_per_second},
                                          {"render_backend", backend}};
     std::ofstream(opt.out_file) << root.dump(2) << "\n";
   }
