@@ -37,6 +37,25 @@ void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool 
               Range::non_negative());
 }
 
+void declare_linear_solver(Schema& s, const std::string& default_doc) {
+  s.choice("solver.linear_solver",
+           "sparse direct solver of each Newton correction: default (" + default_doc +
+               "), umfpack, mumps (nested dissection), sparse_lu (Eigen, no external library), cholmod_llt (statics "
+               "only: symmetric positive definite tangents, no follower loads, nothing past a limit point)",
+           {"default", "umfpack", "mumps", "sparse_lu", "cholmod_llt"}, "default");
+}
+
+LinearBackend read_linear_solver(const Document& d, LinearBackend preferred) {
+  const std::string& name = d.string("solver.linear_solver");
+  if (name == "default") return linear_backend_available(preferred) ? preferred : default_linear_backend();
+  const std::optional<LinearBackend> b = parse_linear_backend(name);
+  if (!b || !linear_backend_available(*b))
+    throw SceneError({d.issue("solver.linear_solver", "'" + name + "' is not compiled into this build (umfpack and "
+                                                      "cholmod_llt need SuiteSparse, mumps needs libmumps-seq-dev "
+                                                      "at configure time)")});
+  return *b;
+}
+
 OutputSettings read_output(const Document& d, bool camera_keys) {
   OutputSettings o;
   o.frames = d.boolean("output.frames");

@@ -6,6 +6,7 @@
 #include "core/frame/frame.h"
 #include "core/scene/mesh_file.h"
 #include "core/scene/scene.h"
+#include "core/solve/sparse_solver.h"
 
 namespace ff::scene {
 
@@ -26,6 +27,12 @@ void refuse_impossible_step_count(const Document& d, const std::string& dt_key, 
 /// limit; the message gives both figures.
 void refuse_oversized(const Document& d, const SceneContext& ctx, int nodes, double six_dof_fraction,
                       const std::string& key, int index = -1);
+/// solver.linear_solver: the sparse direct solver of every Newton correction (both shell models);
+/// `default_doc` says what "default" means for the model.
+void declare_linear_solver(Schema& s, const std::string& default_doc);
+/// The backend asked for ("default": `preferred` when compiled in, else default_linear_backend());
+/// refuses, at the key, one that is not compiled into this build.
+LinearBackend read_linear_solver(const Document& d, LinearBackend preferred = default_linear_backend());
 /// Scene name, path, text and every effective setting into a RunInfo.
 void describe_run(const Document& d, const std::string& path, RunInfo& info);
 

@@ -45,6 +45,8 @@ const Schema& shell_dynamic_schema() {
                 0.3, Range::open(0.0, 1.0))
         .integer("solver.max_cutbacks", "halvings of a failing step before the run is declared diverged", 6,
                  IntRange::closed(0, 20));
+    declare_linear_solver(s, "mumps where compiled in, else umfpack: 14 % less wall time on the double pendulum, "
+                             "docs/validation/shell-dynamics.md");
     s.table("gravity", "uniform gravity (effect gravity)")
         .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3);
     s.table_array("shell", "flexible CB shell bodies", 1, 16)
@@ -328,6 +330,12 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   st.integrator.nni_threshold = static_cast<int>(d.integer("solver.nni"));
   st.integrator.refresh_ratio = d.number("solver.refresh_ratio");
   st.integrator.max_cutbacks = static_cast<int>(d.integer("solver.max_cutbacks"));
+  st.integrator.backend = read_linear_solver(d, LinearBackend::mumps);
+  if (linear_backend_is_symmetric(st.integrator.backend))  // [S kGᵀ; kB 0] is indefinite (G7)
+    throw SceneError({d.issue("solver.linear_solver", "'" + d.string("solver.linear_solver") +
+                                                      "' needs a symmetric positive definite matrix; the dynamic "
+                                                      "iteration matrix with joints is indefinite (use umfpack, "
+                                                      "mumps or sparse_lu)")});
   for (std::size_t i = 0; i < d.count("probe"); ++i) {
     const int b = body_index("probe", "body", i, false);
     const std::vector<int> ids = select_nodes(d, spec.shells[b].mesh, "probe", i);

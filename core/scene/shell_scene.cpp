@@ -101,15 +101,10 @@ const Schema& shell_static_schema() {
                 "full: a new tangent at every correction (quadratic Newton); modified: keep the factorization while "
                 "the residual contracts by at least half per correction, refactor after 4 on one", {"full", "modified"},
                 "full")
-        .choice("solver.linear_solver",
-                "sparse direct solver of each Newton correction: default (umfpack, chosen by measurement: "
-                "core/solve/static_solvers.md §7), umfpack, mumps (nested dissection), sparse_lu (Eigen, no "
-                "external library), cholmod_llt (symmetric positive definite tangents only: no follower loads, "
-                "nothing past a limit point)",
-                {"default", "umfpack", "mumps", "sparse_lu", "cholmod_llt"}, "default")
         .integer("solver.max_steps", "arc length: step budget", 400, IntRange::closed(1, 100000))
         .string("solver.monitor_probe", "arc length: probe whose displacement limit ends the run", std::string{})
         .number("solver.displacement_limit", "arc length: stop when |monitor probe| reaches this", 1e300, Range::positive());
+    declare_linear_solver(s, "umfpack, chosen by measurement: core/solve/static_solvers.md §7");
     declare_output_keys(s, {"displacement", "strain"}, true);
     declare_timeline(s, "load factor of the event (statics: camera keys only)", "", {});
     // one vocabulary across models (the end of a run, material constants)
@@ -212,14 +207,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   }
   // solver
   StaticConvergence conv;
-  if (const std::string& name = d.string("solver.linear_solver"); name != "default") {
-    const std::optional<LinearBackend> b = parse_linear_backend(name);
-    if (!b || !linear_backend_available(*b))
-      throw SceneError({d.issue("solver.linear_solver", "'" + name + "' is not compiled into this build (" +
-                                                            "umfpack and cholmod_llt need SuiteSparse, mumps needs "
-                                                            "libmumps-seq-dev at configure time)")});
-    conv.linear_backend = *b;
-  }
+  conv.linear_backend = read_linear_solver(d);
   conv.residual_tolerance = conv.increment_tolerance = d.number("solver.tolerance");
   conv.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
   conv.tangent = d.string("solver.tangent") == "modified" ? TangentPolicy::modified : TangentPolicy::every_iteration;
