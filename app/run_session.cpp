@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -21,6 +22,7 @@
 #include "app/io/results.h"
 #include "app/plots.h"
 #include "app/view_options.h"
+#include "core/assembly/element_threads.h"
 #include "core/scene/scene.h"
 #include "render/frame_renderer.h"
 #include "render/graphics_context.h"
@@ -199,6 +201,10 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   // solver on the worker thread
   RunOutcome outcome;
   std::thread worker([&] {
+    // frames render beside the solver: the element loop leaves one core to the renderer, unless
+    // the user set OMP_NUM_THREADS (main job on 2 cores: 16.7 s instead of 20.7 s, docs/performance.md)
+    if (want_frames && !std::getenv("OMP_NUM_THREADS") && std::thread::hardware_concurrency() > 1)
+      assembly::set_element_threads(static_cast<int>(std::thread::hardware_concurrency()) - 1);
     try {
       outcome = sim.run([&](Frame&& f) { store_ch.push(std::move(f)); }, stop);
     } catch (const std::exception& e) {

@@ -1,0 +1,29 @@
+#include "core/assembly/element_threads.h"
+
+#include <algorithm>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace ff::assembly {
+
+bool set_element_threads(int n) {
+#ifdef _OPENMP
+  omp_set_num_threads(std::max(1, n));  // the calling thread's nthreads-var: its later parallel regions
+  return true;
+#else
+  (void)n;
+  return false;
+#endif
+}
+
+int element_threads() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+}  // namespace ff::assembly
