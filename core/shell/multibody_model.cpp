@@ -165,13 +165,13 @@ Vec6 MultibodyModel::node_vector(const Eigen::VectorXd& x, int node) const {
 }
 
 void MultibodyModel::configure(const Eigen::VectorXd& step) {
-  step_tangent_.resize(poses_.size());
+  node_step_.resize(poses_.size());
   step_is_zero_ = true;
   for (int I = 0; I < node_count(); ++I) {  // H = H_n exp(step_I) on SE(3) (generalized_alpha.md (G3))
     const Vec6 h = node_vector(step, I);
     const ff::lie::Pose H = ff::lie::Pose{committed_[I].R, committed_[I].x} * ff::lie::exp_se3(h);
     poses_[I] = {H.R, H.x};
-    step_tangent_[I] = ff::lie::tangent_se3(h);  // (G9)
+    node_step_[I] = h;
     if (!h.isZero()) step_is_zero_ = false;
   }
 }
@@ -182,7 +182,11 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   const bool tangent = w && S;
   // (G9)-(G10): position derivatives taken in local increments at the current poses are turned
   // into derivatives with respect to the step by T_SE3(step) on the column side
-  const bool with_T = exact_matrix_ && !step_is_zero_;
+  const bool with_T = (tangent || B) && exact_matrix_ && !step_is_zero_;
+  if (with_T) {  // (G9), only when a matrix is asked for: most iterations of a kept matrix are not
+    step_tangent_.resize(poses_.size());
+    for (int I = 0; I < node_count(); ++I) step_tangent_[I] = ff::lie::tangent_se3(node_step_[I]);
+  }
   r.setZero(dofs_.size());
   phi.setZero(m_);
   if (tangent) pattern_.zeroed(*S);

@@ -93,7 +93,7 @@ class MultibodyModel final : public ff::DynamicProblem {
 
   int size() const override { return dofs_.size(); }
   int constraint_count() const override { return m_; }
-  /// Also keeps each node's T_SE3(step_I) for the exact iteration matrix (generalized_alpha.md (G9)).
+  /// Also keeps each node's step for the exact iteration matrix (generalized_alpha.md (G9)).
   void configure(const Eigen::VectorXd& step) override;
   void commit() override { committed_ = poses_, step_is_zero_ = true; }
   void rollback() override { poses_ = committed_, step_is_zero_ = true; }
@@ -139,7 +139,8 @@ class MultibodyModel final : public ff::DynamicProblem {
 
   MultibodySpec spec_;
   std::vector<NodePose> reference_, poses_, committed_;
-  std::vector<ff::lie::Mat6> step_tangent_;  // T_SE3(step_I) of the configured step, per node (G9)
+  std::vector<Vec6> node_step_;              // the configured step of each node (G3)
+  std::vector<ff::lie::Mat6> step_tangent_;  // T_SE3(step_I), per node, when a matrix is evaluated (G9)
   bool step_is_zero_ = true;        // poses_ == committed_: every T is the identity
   bool exact_matrix_ = true;
   SparseMatrixD g_;      // constraint-force directions G (local increments): B = G T (G10)
