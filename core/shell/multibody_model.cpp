@@ -41,7 +41,7 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
       throw BodySpecError(BodySpecError::Part::shell_density, body, "shell body '" + b.name + "' needs a positive density");
     for (int i = 0; i < m.node_count(); ++i) {
       reference_.push_back({m.frames[i], m.points[i]});
-      six_.push_back(b.options.drilling || (i < static_cast<int>(m.fold.size()) && m.fold[i]) ? 1 : 0);
+      six_dof_.push_back(b.options.drilling || (i < static_cast<int>(m.fold.size()) && m.fold[i]) ? 1 : 0);
     }
   }
   rigid_offset_ = static_cast<int>(reference_.size());
@@ -54,7 +54,7 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
       throw BodySpecError(BodySpecError::Part::rigid_inertia, body,
                           "rigid body '" + r.name + "' needs a positive definite inertia tensor");
     reference_.push_back(r.pose);
-    six_.push_back(1);
+    six_dof_.push_back(1);
   }
   const int nn = static_cast<int>(reference_.size());
   auto check_node = [&](int id, const char* what) {
@@ -68,7 +68,7 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
     check_node(c.a, "rotation constraint");
     if (c.b >= 0) check_node(c.b, "rotation constraint");
     for (int id : {c.a, c.b})
-      if (id >= 0 && !six_[id])
+      if (id >= 0 && !six_dof_[id])
         throw std::invalid_argument("a rotational joint row acts on node " + std::to_string(id) +
                                     ", which has 5 DoFs (no drilling): its frame's spin about the director is not "
                                     "a physical rotation. Enable the drilling effect for that shell, join rigid "
@@ -87,8 +87,8 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
     else rows.push_back(c);
   }
   spec_.positions = std::move(rows);
-  dofs_ = assembly::DofMap(nn, [&](int i, int slot) { return slot >= (pinned[i] ? 3 : 0) && slot < (six_[i] ? 6 : 5); });
-  m_ = 3 * static_cast<int>(spec_.positions.size()) + static_cast<int>(spec_.perpendiculars.size());
+  dofs_ = assembly::DofMap(nn, [&](int i, int slot) { return slot >= (pinned[i] ? 3 : 0) && slot < (six_dof_[i] ? 6 : 5); });
+  constraint_rows_ = 3 * static_cast<int>(spec_.positions.size()) + static_cast<int>(spec_.perpendiculars.size());
 
   for (int b = 0; b < static_cast<int>(spec_.shells.size()); ++b) {
     const ShellBodySpec& body = spec_.shells[b];
@@ -152,7 +152,7 @@ void MultibodyModel::build_pattern() {
     }
     ++row;
   }
-  b_pattern_.resize(m_, dofs_.size());
+  b_pattern_.resize(constraint_rows_, dofs_.size());
   b_pattern_.setFromTriplets(t.begin(), t.end());
   b_pattern_.makeCompressed();
 }
@@ -188,7 +188,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     for (int I = 0; I < node_count(); ++I) step_tangent_[I] = ff::lie::tangent_se3(node_step_[I]);
   }
   r.setZero(dofs_.size());
-  phi.setZero(m_);
+  phi.setZero(constraint_rows_);
   if (tangent) pattern_.zeroed(*S);
   double* values = tangent ? S->valuePtr() : nullptr;
   auto add = [&](int I, int si, int J, int sj, double x) {
@@ -317,7 +317,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   if (!spec_.rigid.empty()) rigid_.evaluations += 1, rigid_.seconds += seconds_since(t_rigid);
 
   // ---- joints: Φ, Bᵀλ and its variation (D11')-(D13) ----
-  if (m_ == 0) {
+  if (constraint_rows_ == 0) {
     if (B) *B = b_pattern_, b_has_T_ = false;
     if (!pinned_.empty()) joints_.evaluations += 1;  // the pins act through the missing unknowns
     return;

@@ -92,7 +92,7 @@ class MultibodyModel final : public ff::DynamicProblem {
   ~MultibodyModel() override;
 
   int size() const override { return dofs_.size(); }
-  int constraint_count() const override { return m_; }
+  int constraint_count() const override { return constraint_rows_; }
   /// Also keeps each node's step for the exact iteration matrix (generalized_alpha.md (G9)).
   void configure(const Eigen::VectorXd& step) override;
   void commit() override { committed_ = poses_, step_is_zero_ = true; }
@@ -112,7 +112,7 @@ class MultibodyModel final : public ff::DynamicProblem {
   int rigid_node(int r) const { return rigid_offset_ + r; }
   const std::vector<NodePose>& poses() const { return poses_; }
   const NodePose& reference_pose(int node) const { return reference_[node]; }
-  int dofs_of_node(int node) const { return six_[node] ? 6 : 5; }
+  int dofs_of_node(int node) const { return six_dof_[node] ? 6 : 5; }
   int equation(int node, int slot) const { return dofs_.equation(node, slot); }  ///< -1 when absent
   /// Local 6-vector of node `node` from a solver vector (zero in the absent drilling slot).
   Vec6 node_vector(const Eigen::VectorXd& x, int node) const;
@@ -146,11 +146,11 @@ class MultibodyModel final : public ff::DynamicProblem {
   SparseMatrixD g_;      // constraint-force directions G (local increments): B = G T (G10)
   bool b_has_T_ = false;  // the last B returned differs from G_
   std::vector<int> pinned_;  // nodes held in space by ground points: translations not unknowns
-  std::vector<std::uint8_t> six_;
+  std::vector<std::uint8_t> six_dof_;  // per node: 1 when it has the drilling rotation
   assembly::DofMap dofs_;
   std::vector<int> shell_offset_;
   int rigid_offset_ = 0;
-  int m_ = 0;
+  int constraint_rows_ = 0;  // m: rows of Φ
   std::vector<Element> elements_;
   assembly::BlockPattern pattern_;
   SparseMatrixD b_pattern_;

@@ -24,22 +24,22 @@ std::string num(double x) {  // short, exact enough for a message: 3.2e-07, 0.01
 }  // namespace
 
 GeneralizedAlpha::GeneralizedAlpha(DynamicProblem& problem, GeneralizedAlphaSettings settings)
-    : p_(problem), s_(settings), solver_(settings.backend) {
-  const double r = std::clamp(s_.rho_inf, 0.0, 1.0);  // (G2)
+    : problem_(problem), settings_(settings), solver_(settings.backend) {
+  const double r = std::clamp(settings_.rho_inf, 0.0, 1.0);  // (G2)
   am_ = (2 * r - 1) / (r + 1);
   af_ = r / (r + 1);
   gamma_ = 0.5 + af_ - am_;
   beta_ = 0.25 * (gamma_ + 0.5) * (gamma_ + 0.5);
-  const int n = p_.size(), m = p_.constraint_count();
+  const int n = problem_.size(), m = problem_.constraint_count();
   v_.setZero(n);
   vdot_.setZero(n);
   a_.setZero(n);
   lambda_.setZero(m);
-  corrections_.reserve(static_cast<std::size_t>(std::max(s_.max_iterations, 1)));
+  corrections_.reserve(static_cast<std::size_t>(std::max(settings_.max_iterations, 1)));
 }
 
 void GeneralizedAlpha::build_augmented_pattern() {
-  const int n = p_.size(), m = p_.constraint_count();
+  const int n = problem_.size(), m = problem_.constraint_count();
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(S_.nonZeros() + 2 * B_.nonZeros());
   for (int c = 0; c < S_.outerSize(); ++c)
@@ -67,17 +67,17 @@ void GeneralizedAlpha::build_augmented_pattern() {
 // A = [S kGᵀ; kB 0] (G7), (G10) from the current S_ and B_ (and G), then its factorization
 bool GeneralizedAlpha::update_matrix(std::string& why) {
   if (static_cast<int>(s_map_.size()) != S_.nonZeros() || static_cast<int>(b_map_.size()) != B_.nonZeros() ||
-      A_.rows() != p_.size() + p_.constraint_count())
+      A_.rows() != problem_.size() + problem_.constraint_count())
     build_augmented_pattern();
   double* a = A_.valuePtr();
   std::fill(a, a + A_.nonZeros(), 0.0);
   for (std::size_t i = 0; i < s_map_.size(); ++i) a[s_map_[i]] += S_.valuePtr()[i];
   // rows kB = k ∂Φ/∂x, columns kGᵀ = k ∂r/∂λ (G7), (G10): G = B unless the problem says otherwise
-  const SparseMatrixD* G = p_.constraint_force_directions();
+  const SparseMatrixD* G = problem_.constraint_force_directions();
   const double* g = G && G->nonZeros() == B_.nonZeros() ? G->valuePtr() : B_.valuePtr();
   for (std::size_t i = 0; i < b_map_.size(); ++i) {
-    a[b_map_[i]] += k_ * B_.valuePtr()[i];
-    a[bt_map_[i]] += k_ * g[i];
+    a[b_map_[i]] += constraint_scale_ * B_.valuePtr()[i];
+    a[bt_map_[i]] += constraint_scale_ * g[i];
   }
   const LinearStatus st = solver_.factorize(A_);
   if (!st) {
@@ -92,11 +92,11 @@ bool GeneralizedAlpha::update_matrix(std::string& why) {
 std::string GeneralizedAlpha::initialize(double t0, const Eigen::VectorXd& v0) {
   t_ = t0;
   v_ = v0;
-  const int n = p_.size(), m = p_.constraint_count();
+  const int n = problem_.size(), m = problem_.constraint_count();
   Eigen::VectorXd r, phi, zero_n = Eigen::VectorXd::Zero(n), zero_m = Eigen::VectorXd::Zero(m);
-  p_.configure(zero_n);
+  problem_.configure(zero_n);
   const IterationWeights mass_only{1.0, 0.0, 0.0};
-  p_.evaluate(t0, v_, zero_n, zero_m, r, phi, &mass_only, &S_, &B_);
+  problem_.evaluate(t0, v_, zero_n, zero_m, r, phi, &mass_only, &S_, &B_);
   if (!finite(r)) return "the initial state gives a non-finite residual";
   // unknowns without inertia (the drilling rotation of a 6-DoF shell node moves no mass) have no
   // initial acceleration of their own: a unit-scale diagonal gives them v̇0 = −r_i / mean(M_ii),
@@ -106,7 +106,7 @@ std::string GeneralizedAlpha::initialize(double t0, const Eigen::VectorXd& v0) {
   for (int i = 0; i < n; ++i)
     if (std::abs(S_.coeff(i, i)) <= 1e-12 * diag_max) S_.coeffRef(i, i) = diag_sum / n;
   // [M Bᵀ; B 0][v̇0; λ0] = [−g; 0] with unit row scale, then the counters start from zero
-  k_ = 1.0;
+  constraint_scale_ = 1.0;
   std::string why;
   if (!update_matrix(why)) return "initial accelerations: " + why;
   nou_ = 0;
@@ -118,7 +118,7 @@ std::string GeneralizedAlpha::initialize(double t0, const Eigen::VectorXd& v0) {
   a_ = vdot_;
   lambda_ = x.tail(m);
   have_matrix_ = false;  // the mass-only matrix is not an iteration matrix
-  k_ = 0.0;
+  constraint_scale_ = 0.0;
   return {};
 }
 
@@ -131,7 +131,7 @@ std::string GeneralizedAlpha::restart() {
 }
 
 GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
-  const int n = p_.size(), m = p_.constraint_count();
+  const int n = problem_.size(), m = problem_.constraint_count();
   const double bp = (1 - am_) / (h * h * beta_ * (1 - af_)), gp = gamma_ / (h * beta_);  // (G6)
   const IterationWeights w{bp, gp, 1.0};
   // predictor (§3)
@@ -144,24 +144,24 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
   if (have_matrix_ && std::abs(matrix_h_ - h) > 1e-12 * h) force_full = true;  // β', γ' changed
   double last_norm = 0.0, norm_before = 0.0;  // ‖Δx‖ of the last two corrections of this attempt
   corrections_.clear();
-  for (int it = 1; it <= s_.max_iterations; ++it) {
-    p_.configure(x);
+  for (int it = 1; it <= settings_.max_iterations; ++it) {
+    problem_.configure(x);
     // lazy (G8): a matrix whose last correction shrank the one before by less than refresh_ratio
     // has aged; it is refreshed here and kept for the following steps
-    const bool aged = s_.policy == MatrixPolicy::lazy && it >= 3 && last_norm > s_.refresh_ratio * norm_before;
-    const bool update = force_full || !have_matrix_ || s_.policy == MatrixPolicy::full || aged ||
-                        (s_.policy == MatrixPolicy::nni && it >= s_.nni_threshold);
-    p_.evaluate(t_ + h, v1, vd, lam, r, phi, update ? &w : nullptr, update ? &S_ : nullptr, update ? &B_ : nullptr);
+    const bool aged = settings_.policy == MatrixPolicy::lazy && it >= 3 && last_norm > settings_.refresh_ratio * norm_before;
+    const bool update = force_full || !have_matrix_ || settings_.policy == MatrixPolicy::full || aged ||
+                        (settings_.policy == MatrixPolicy::nni && it >= settings_.nni_threshold);
+    problem_.evaluate(t_ + h, v1, vd, lam, r, phi, update ? &w : nullptr, update ? &S_ : nullptr, update ? &B_ : nullptr);
     out.residual_norm = std::sqrt(r.squaredNorm() + phi.squaredNorm());
     if (!finite(r) || !finite(phi)) {
       out.failure = "non-finite residual at iteration " + std::to_string(it);
       return out;
     }
     if (update) {
-      if (k_ == 0.0) {  // (G7): constraint rows scaled to the mean |S_ii| of the first matrix
+      if (constraint_scale_ == 0.0) {  // (G7): constraint rows scaled to the mean |S_ii| of the first matrix
         double sum = 0.0;
         for (int i = 0; i < n; ++i) sum += std::abs(S_.coeff(i, i));
-        k_ = n > 0 && sum > 0 ? sum / n : 1.0;
+        constraint_scale_ = n > 0 && sum > 0 ? sum / n : 1.0;
       }
       std::string why;
       if (!update_matrix(why)) {
@@ -171,7 +171,7 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
       matrix_h_ = h;
       ++out.updates;
     }
-    rhs << -r, -k_ * phi;
+    rhs << -r, -constraint_scale_ * phi;
     const LinearStatus st = solver_.solve(rhs, dx);
     ++out.iterations;
     if (!st) {
@@ -182,7 +182,7 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
     x += dq;
     v1 += gp * dq;
     vd += bp * dq;
-    lam += k_ * dx.tail(m);
+    lam += constraint_scale_ * dx.tail(m);
     out.increment_norm = dq.norm();
     norm_before = last_norm, last_norm = out.increment_norm;
     corrections_.push_back(out.increment_norm);
@@ -190,9 +190,9 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
       out.failure = "non-finite Newton correction at iteration " + std::to_string(it);
       return out;
     }
-    if (out.increment_norm < s_.tolerance) {
-      p_.configure(x);
-      p_.commit();
+    if (out.increment_norm < settings_.tolerance) {
+      problem_.configure(x);
+      problem_.commit();
       t_ += h;
       a_ = a1 + (1 - af_) / (1 - am_) * vd;  // (G5)
       v_ = v1;
@@ -202,8 +202,8 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
       return out;
     }
   }
-  out.failure = "no convergence in " + std::to_string(s_.max_iterations) + " iterations (|dx| = " +
-                num(out.increment_norm) + " against the tolerance " + num(s_.tolerance) + ")";
+  out.failure = "no convergence in " + std::to_string(settings_.max_iterations) + " iterations (|dx| = " +
+                num(out.increment_norm) + " against the tolerance " + num(settings_.tolerance) + ")";
   return out;
 }
 
@@ -218,8 +218,8 @@ StepReport GeneralizedAlpha::step(double h) {
   };
   Attempt a = attempt(h, false);
   account(a);
-  if (!a.converged && s_.policy != MatrixPolicy::full) {  // stale matrix: once more with fresh ones
-    p_.rollback();
+  if (!a.converged && settings_.policy != MatrixPolicy::full) {  // stale matrix: once more with fresh ones
+    problem_.rollback();
     ++rep.fallbacks;
     ++fallbacks_;
     a = attempt(h, true);
@@ -229,15 +229,15 @@ StepReport GeneralizedAlpha::step(double h) {
     rep.converged = true;
     return rep;
   }
-  p_.rollback();
+  problem_.rollback();
   // cut-backs: two half steps, recursively, up to max_cutbacks halvings
   std::string failure = a.failure;
-  const GeneralizedAlphaSettings saved = s_;
-  if (s_.max_cutbacks > 0) {
-    --s_.max_cutbacks;
+  const GeneralizedAlphaSettings saved = settings_;
+  if (settings_.max_cutbacks > 0) {
+    --settings_.max_cutbacks;
     StepReport first = step(0.5 * h), second;
     if (first.converged) second = step(0.5 * h);
-    s_.max_cutbacks = saved.max_cutbacks;
+    settings_.max_cutbacks = saved.max_cutbacks;
     rep.iterations += first.iterations + second.iterations;
     rep.matrix_updates += first.matrix_updates + second.matrix_updates;
     rep.fallbacks += first.fallbacks + second.fallbacks;

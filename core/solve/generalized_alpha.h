@@ -52,7 +52,7 @@ class GeneralizedAlpha {
   long long total_fallbacks() const { return fallbacks_; }  ///< stale-matrix steps redone with updates
   /// ‖Δx‖₂ of each correction of the last attempt, in order (convergence-rate checks).
   const std::vector<double>& last_corrections() const { return corrections_; }
-  const GeneralizedAlphaSettings& settings() const { return s_; }
+  const GeneralizedAlphaSettings& settings() const { return settings_; }
 
  private:
   struct Attempt {
@@ -65,12 +65,12 @@ class GeneralizedAlpha {
   bool update_matrix(std::string& why);  // refills A from S_, B_ and factorizes it
   void build_augmented_pattern();
 
-  DynamicProblem& p_;
-  GeneralizedAlphaSettings s_;
+  DynamicProblem& problem_;
+  GeneralizedAlphaSettings settings_;
   double am_, af_, gamma_, beta_;
   double t_ = 0.0;
   Eigen::VectorXd v_, vdot_, a_, lambda_;
-  double k_ = 0.0;  // constraint row scale (G7)
+  double constraint_scale_ = 0.0;  // constraint row scale (G7)
   double matrix_h_ = 0.0;  // step size the factorized matrix was built for
   SparseMatrixD S_, B_, A_;
   std::vector<int> s_map_, b_map_, bt_map_;  // value positions of S, B, Bᵀ inside A
