@@ -180,10 +180,10 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
                               const Eigen::VectorXd& lambda, Eigen::VectorXd& r, Eigen::VectorXd& phi,
                               const IterationWeights* w, SparseMatrixD* S, SparseMatrixD* B) {
   const bool tangent = w && S;
-  // (G9)-(G10): position derivatives taken in local increments at the current poses are turned
+  // (G8)-(G9): position derivatives taken in local increments at the current poses are turned
   // into derivatives with respect to the step by T_SE3(step) on the column side
   const bool with_T = (tangent || B) && exact_matrix_ && !step_is_zero_;
-  if (with_T) {  // (G9), only when a matrix is asked for: most iterations of a kept matrix are not
+  if (with_T) {  // (G8), only when a matrix is asked for: most iterations of a kept matrix are not
     step_tangent_.resize(poses_.size());
     for (int I = 0; I < node_count(); ++I) step_tangent_[I] = ff::lie::tangent_se3(node_step_[I]);
   }
@@ -200,7 +200,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
       for (int j = 0; j < 3; ++j) add(I, oi + i, J, oj + j, blk(i, j));
   };
   // a position derivative blk = ∂r(I, oi..)/∂θ(J, oj..) in local increments: times the rows oj..oj+2
-  // of T_SE3(step_J) it is the derivative with respect to the step (G10)
+  // of T_SE3(step_J) it is the derivative with respect to the step (G9)
   auto add_position_block = [&](int I, int oi, int J, int oj, const Mat3& blk) {
     if (!with_T) return add_block(I, oi, J, oj, blk);
     const Eigen::Matrix<double, 3, 6> blk_T = blk * step_tangent_[J].middleRows<3>(oj);
@@ -248,7 +248,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
       t_gr += std::chrono::duration<double>(Clock::now() - t2).count();
     }
     if (!tangent) continue;
-    if (with_T)  // (G10) per corner, in the corner frame: blockdiag(Cᵀ, Cᵀ) T_SE3(step_I) blockdiag(C, C)
+    if (with_T)  // (G9) per corner, in the corner frame: blockdiag(Cᵀ, Cᵀ) T_SE3(step_I) blockdiag(C, C)
       for (int c = 0; c < 4; ++c) {
         Mat6 T = step_tangent_[e.nodes[c]];
         if (!e.plain)
@@ -330,7 +330,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     if (with_T) g_ = *B;
   }
   // x = ∂Φ_row/∂(I, slot) in local increments: a constraint-force direction (G); with respect to
-  // the step it is x times the row `slot` of T_SE3(step_I) (G10)
+  // the step it is x times the row `slot` of T_SE3(step_I) (G9)
   auto bset = [&](int row, int I, int slot, double x) {
     if (!B) return;
     if (!with_T) {

@@ -93,12 +93,12 @@ class MultibodyModel final : public ff::DynamicProblem {
 
   int size() const override { return dofs_.size(); }
   int constraint_count() const override { return constraint_rows_; }
-  /// Also keeps each node's step for the exact iteration matrix (generalized_alpha.md (G9)).
+  /// Also keeps each node's step for the exact iteration matrix (generalized_alpha.md (G8)).
   void configure(const Eigen::VectorXd& step) override;
   void commit() override { committed_ = poses_, step_is_zero_ = true; }
   void rollback() override { poses_ = committed_, step_is_zero_ = true; }
   /// true (default): S and B are the exact derivatives with respect to the step (position terms
-  /// times T_SE3(step), (G9)-(G10)); false: the shell paper's matrix without T (Newton then
+  /// times T_SE3(step), (G8)-(G9)); false: the shell paper's matrix without T (Newton then
   /// converges linearly). For comparisons and tests.
   void set_exact_iteration_matrix(bool exact) { exact_matrix_ = exact; }
   const SparseMatrixD* constraint_force_directions() const override { return b_has_T_ ? &g_ : nullptr; }
@@ -140,10 +140,10 @@ class MultibodyModel final : public ff::DynamicProblem {
   MultibodySpec spec_;
   std::vector<NodePose> reference_, poses_, committed_;
   std::vector<Vec6> node_step_;              // the configured step of each node (G3)
-  std::vector<ff::lie::Mat6> step_tangent_;  // T_SE3(step_I), per node, when a matrix is evaluated (G9)
+  std::vector<ff::lie::Mat6> step_tangent_;  // T_SE3(step_I), per node, when a matrix is evaluated (G8)
   bool step_is_zero_ = true;        // poses_ == committed_: every T is the identity
   bool exact_matrix_ = true;
-  SparseMatrixD g_;      // constraint-force directions G (local increments): B = G T (G10)
+  SparseMatrixD g_;      // constraint-force directions G (local increments): B = G T (G9)
   bool b_has_T_ = false;  // the last B returned differs from G_
   std::vector<int> pinned_;  // nodes held in space by ground points: translations not unknowns
   std::vector<std::uint8_t> six_dof_;  // per node: 1 when it has the drilling rotation

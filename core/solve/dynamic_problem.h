@@ -29,13 +29,13 @@ class DynamicProblem {
   virtual void rollback() = 0;  ///< q ← q_n
   /// Residual r = F_inertia(q, v, v̇) + F_int(q) − F_ext(q, t) + Gᵀλ (size n) and Φ(q) (size m).
   /// With `w` non-null also S (n × n, the same sparsity pattern on every call) and B = ∂Φ/∂q
-  /// (m × n, constant pattern), with respect to the configured step (generalized_alpha.md (G10)).
+  /// (m × n, constant pattern), with respect to the configured step (generalized_alpha.md (G9)).
   virtual void evaluate(double t, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda,
                         Eigen::VectorXd& r, Eigen::VectorXd& phi, const IterationWeights* w, SparseMatrixD* S,
                         SparseMatrixD* B) = 0;
   /// ∂r/∂λ = Gᵀ when it differs from B: G holds the constraint-force directions in local
   /// increments at q, while B = ∂Φ/∂x is taken with respect to the step x, so on a Lie group
-  /// B = G T(x) (generalized_alpha.md (G10)). Null when G = B. Valid after an evaluate() that
+  /// B = G T(x) (generalized_alpha.md (G9)). Null when G = B. Valid after an evaluate() that
   /// returned B; same sparsity pattern as B.
   virtual const SparseMatrixD* constraint_force_directions() const { return nullptr; }
 };

@@ -64,7 +64,7 @@ void GeneralizedAlpha::build_augmented_pattern() {
     }
 }
 
-// A = [S kGᵀ; kB 0] (G7), (G10) from the current S_ and B_ (and G), then its factorization
+// A = [S kGᵀ; kB 0] (G7), (G9) from the current S_ and B_ (and G), then its factorization
 bool GeneralizedAlpha::update_matrix(std::string& why) {
   if (static_cast<int>(s_map_.size()) != S_.nonZeros() || static_cast<int>(b_map_.size()) != B_.nonZeros() ||
       A_.rows() != problem_.size() + problem_.constraint_count())
@@ -72,7 +72,7 @@ bool GeneralizedAlpha::update_matrix(std::string& why) {
   double* a = A_.valuePtr();
   std::fill(a, a + A_.nonZeros(), 0.0);
   for (std::size_t i = 0; i < s_map_.size(); ++i) a[s_map_[i]] += S_.valuePtr()[i];
-  // rows kB = k ∂Φ/∂x, columns kGᵀ = k ∂r/∂λ (G7), (G10): G = B unless the problem says otherwise
+  // rows kB = k ∂Φ/∂x, columns kGᵀ = k ∂r/∂λ (G7), (G9): G = B unless the problem says otherwise
   const SparseMatrixD* G = problem_.constraint_force_directions();
   const double* g = G && G->nonZeros() == B_.nonZeros() ? G->valuePtr() : B_.valuePtr();
   for (std::size_t i = 0; i < b_map_.size(); ++i) {
@@ -146,7 +146,7 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
   corrections_.clear();
   for (int it = 1; it <= settings_.max_iterations; ++it) {
     problem_.configure(x);
-    // lazy (G8): a matrix whose last correction shrank the one before by less than refresh_ratio
+    // lazy (G10): a matrix whose last correction shrank the one before by less than refresh_ratio
     // has aged; it is refreshed here and kept for the following steps
     const bool aged = settings_.policy == MatrixPolicy::lazy && it >= 3 && last_norm > settings_.refresh_ratio * norm_before;
     const bool update = force_full || !have_matrix_ || settings_.policy == MatrixPolicy::full || aged ||

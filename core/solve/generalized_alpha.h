@@ -22,7 +22,7 @@ struct GeneralizedAlphaSettings {
   int max_iterations = 30;       ///< corrections per attempt
   MatrixPolicy policy = MatrixPolicy::full;
   int nni_threshold = 3;         ///< policy nni: update at this and later iterations of a step
-  double refresh_ratio = 0.3;    ///< policy lazy: update when ‖Δx_k‖ > refresh_ratio ‖Δx_{k−1}‖ (G8)
+  double refresh_ratio = 0.3;    ///< policy lazy: update when ‖Δx_k‖ > refresh_ratio ‖Δx_{k−1}‖ (G10)
   int max_cutbacks = 6;          ///< halvings of h before giving up
   LinearBackend backend = default_linear_backend();
 };

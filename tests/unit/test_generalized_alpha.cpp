@@ -185,7 +185,7 @@ TEST(GeneralizedAlpha, PoliciesCountIterationsAndUpdates) {
   EXPECT_LE(frozen.nou, 1 + frozen.fallbacks * 30);
   EXPECT_LT(frozen.nou, nni.nou);
   EXPECT_GT(frozen.noi, full.noi);
-  // lazy (G8) refreshes the aging matrix before a step fails: no fallbacks, fewer updates than
+  // lazy (G10) refreshes the aging matrix before a step fails: no fallbacks, fewer updates than
   // nni, fewer iterations than frozen
   EXPECT_EQ(lazy.fallbacks, 0);
   EXPECT_LT(lazy.nou, nni.nou);

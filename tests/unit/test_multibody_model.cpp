@@ -114,7 +114,7 @@ TEST(MultibodyModel, IterationMatrixAndConstraintJacobianMatchCentralDifferences
 }
 
 // Newton's unknown is the step x of q = q_n exp(x) (generalized_alpha.md (G3)); its exact matrix
-// is the position part times T_SE3(x) per node (G9)-(G10). At a step of 0.05-0.3 rad the matrix
+// is the position part times T_SE3(x) per node (G8)-(G9). At a step of 0.05-0.3 rad the matrix
 // without T (the shell paper's) is off by O(|x|), which this test also shows.
 TEST(MultibodyModel, IterationMatrixIsTheExactDerivativeWithRespectToTheStep) {
   MultibodyModel model(system_spec(true, true));
@@ -136,7 +136,7 @@ TEST(MultibodyModel, IterationMatrixIsTheExactDerivativeWithRespectToTheStep) {
   model.evaluate(0, v, vd, lam, r, phi, &stiffness, &S_paper, &B_paper);
   model.set_exact_iteration_matrix(true);
   model.evaluate(0, v, vd, lam, r, phi, &stiffness, &S, &B);
-  // the constraint forces Gᵀλ keep the local-increment directions: ∂r/∂λ = Gᵀ = B_paperᵀ (G10)
+  // the constraint forces Gᵀλ keep the local-increment directions: ∂r/∂λ = Gᵀ = B_paperᵀ (G9)
   ASSERT_NE(model.constraint_force_directions(), nullptr);
   EXPECT_LT((Eigen::MatrixXd(*model.constraint_force_directions()) - Eigen::MatrixXd(B_paper)).norm(),
             1e-14 * Eigen::MatrixXd(B_paper).norm());

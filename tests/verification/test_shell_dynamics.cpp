@@ -165,7 +165,7 @@ double metric(const Metrics& m, const std::string& name) {
   return v.value_or(std::nan(""));
 }
 
-// Newton on the Lie group with the exact iteration matrix (generalized_alpha.md (G9)-(G10))
+// Newton on the Lie group with the exact iteration matrix (generalized_alpha.md (G8)-(G9))
 // converges quadratically: a soft panel hinged to the ground about z at a point off its corner
 // node, swinging under gravity and spinning at 8 rad/s, with large steps (h omega = 0.016 rad).
 // Order estimates p_k = log(e_{k+1}/e_k) / log(e_k/e_{k-1}) of the correction norms e_k are about 2;
@@ -256,7 +256,7 @@ TEST(ShellDynamics, DoublePendulumPoliciesAgreeAndFreezingSavesUpdates) {
   EXPECT_NEAR(metric(nni, "pointF_z_min"), metric(full, "pointF_z_min"), 1e-5);
   EXPECT_NEAR(metric(frozen, "pointF_z_min"), metric(full, "pointF_z_min"), 1e-5);
   EXPECT_NEAR(metric(lazy, "pointF_z_min"), metric(full, "pointF_z_min"), 1e-5);
-  // lazy refreshes only when the contraction slows (generalized_alpha.md (G8)): fewer updates than
+  // lazy refreshes only when the contraction slows (generalized_alpha.md (G10)): fewer updates than
   // nni, no more iterations than frozen
   EXPECT_LT(metric(lazy, "NOU"), metric(nni, "NOU"));
   EXPECT_LE(metric(lazy, "NOI"), metric(frozen, "NOI"));
