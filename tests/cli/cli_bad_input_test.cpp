@@ -300,6 +300,11 @@ TEST(CliMemoryEstimate, OversizedMeshIsRefusedWithTheEstimate) {
 }
 
 TEST(CliMemoryEstimate, EstimateMatchesAMeasuredPeak) {
+#if defined(__SANITIZE_ADDRESS__)
+  // scripts/sanitize: the child is instrumented too, and ASan's shadow memory and quarantine
+  // (measured: 1274 MB against 539 MB estimated) are not what the estimate is for
+  GTEST_SKIP() << "AddressSanitizer build: resident memory is not the program's";
+#endif
   const std::string dir = fresh_test_dir();
   const std::string exe = flexframe_exe(), out = dir + "/out";
   std::vector<std::string> args{exe, "run", "clamped_plate_pressure", "--out", out, "--no-frames", "--no-plots", "--quiet",
