@@ -358,43 +358,16 @@ std::string find_mpirun() {
 /// `mpirun -n RANKS flexframe ARGS` to completion (60 s limit); output captured like run_flexframe.
 ProcResult run_mpirun(const std::string& mpirun, int ranks, const std::vector<std::string>& args,
                       const std::string& log_prefix) {
-  std::vector<std::string> all{mpirun, "-n", std::to_string(ranks), "--oversubscribe", flexframe_exe()};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const std::string out = log_prefix + ".stdout.txt", err = log_prefix + ".stderr.txt";
-  const auto t0 = std::chrono::steady_clock::now();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (o < 0 || e < 0) _exit(126);
-    dup2(o, STDOUT_FILENO);
-    dup2(e, STDERR_FILENO);
-    // Open MPI refuses root unless told twice (containers run tests as root)
-    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-    execv(all[0].c_str(), argv.data());
-    _exit(127);
+  // Open MPI refuses root unless told twice (containers run tests as root); the child inherits it
+  setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+  setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  Child c(args, log_prefix, "", {mpirun, "-n", std::to_string(ranks), "--oversubscribe"});
+  if (!c.started()) {
+    ProcResult r;
+    r.err = "fork failed";
+    return r;
   }
-  ProcResult r;
-  int status = 0;
-  while (waitpid(pid, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(60)) {
-      r.timed_out = true;
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.out = read_text(out);
-  r.err = read_text(err);
-  return r;
+  return c.wait(60.0);
 }
 
 /// Child processes of `pid` (from /proc/PID/task/*/children), or none.

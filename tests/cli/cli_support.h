@@ -93,12 +93,15 @@ struct ProcResult {
 class Child {
  public:
   /// Starts FF_BINARY_DIR/flexframe with `args`; logs to <log_prefix>.stdout.txt/.stderr.txt;
-  /// the child runs in `cwd` when given.
-  Child(const std::vector<std::string>& args, const std::string& log_prefix, const std::string& cwd = "")
+  /// the child runs in `cwd` when given. A non-empty `launcher` (e.g. {mpirun, -n, 2}) is
+  /// executed instead, with flexframe and `args` after it.
+  Child(const std::vector<std::string>& args, const std::string& log_prefix, const std::string& cwd = "",
+        const std::vector<std::string>& launcher = {})
       : out_file_(log_prefix + ".stdout.txt"), err_file_(log_prefix + ".stderr.txt") {
-    const std::string exe = flexframe_exe();
-    std::vector<std::string> all{exe};
+    std::vector<std::string> all = launcher;
+    all.push_back(flexframe_exe());
     all.insert(all.end(), args.begin(), args.end());
+    const std::string exe = all.front();
     std::vector<char*> argv;
     for (std::string& a : all) argv.push_back(a.data());
     argv.push_back(nullptr);
