@@ -90,9 +90,8 @@ int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   // the hub-beam paper scene at its own frame size, then a shell mesh of about 10k quads (the double
   // pendulum at 71x71 elements per shell, three steps) at 1280x720
   const RenderRate hub = stop ? RenderRate{} : render_rate("hub_beam_efg_tau1", {}, 0, 0, 60, 60);
-  const std::string backend = hub.backend;
-  const double fps = hub.frames_per_second;
-  std::printf("\nheadless frames/s at the default size (960x720, %s): %.1f\n", backend.c_str(), fps);
+  std::printf("\nheadless frames/s at the default size (960x720, %s): %.1f\n", hub.backend.c_str(),
+              hub.frames_per_second);
   const RenderRate shell =
       stop ? RenderRate{}
            : render_rate("double_pendulum_shells",
@@ -108,10 +107,10 @@ int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
                                          {"efg_over_fem_total_tau7", efg_total[1] / fem_total[1]},
                                          {"efg_over_fem_stepping_tau1", efg_run[0] / fem_run[0]},
                                          {"efg_over_fem_stepping_tau7", efg_run[1] / fem_run[1]},
-                                         {"frames_per_second", fps},
+                                         {"frames_per_second", hub.frames_per_second},
                                          {"shell_quads", shell.quads},
                                          {"shell_frames_per_second_1280x720", shell.frames_per_second},
-                                         {"render_backend", backend}};
+                                         {"render_backend", hub.backend}};
     std::ofstream(opt.out_file) << root.dump(2) << "\n";
   }
   return stop ? 130 : 0;

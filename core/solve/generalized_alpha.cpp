@@ -142,13 +142,14 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
   Eigen::VectorXd lam = lambda_, r, phi, rhs(n + m), dx;
   Attempt out{false, 0, 0, 0.0, 0.0, {}};
   if (have_matrix_ && std::abs(matrix_h_ - h) > 1e-12 * h) force_full = true;  // β', γ' changed
-  double last_norm = 0.0, norm_before = 0.0;  // ‖Δx‖ of the last two corrections of this attempt
   corrections_.clear();
   for (int it = 1; it <= settings_.max_iterations; ++it) {
     problem_.configure(x);
     // lazy (G10): a matrix whose last correction shrank the one before by less than refresh_ratio
     // has aged; it is refreshed here and kept for the following steps
-    const bool aged = settings_.policy == MatrixPolicy::lazy && it >= 3 && last_norm > settings_.refresh_ratio * norm_before;
+    const std::size_t k = corrections_.size();
+    const bool aged = settings_.policy == MatrixPolicy::lazy && k >= 2 &&
+                      corrections_[k - 1] > settings_.refresh_ratio * corrections_[k - 2];
     const bool update = force_full || !have_matrix_ || settings_.policy == MatrixPolicy::full || aged ||
                         (settings_.policy == MatrixPolicy::nni && it >= settings_.nni_threshold);
     problem_.evaluate(t_ + h, v1, vd, lam, r, phi, update ? &w : nullptr, update ? &S_ : nullptr, update ? &B_ : nullptr);
@@ -184,7 +185,6 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
     vd += bp * dq;
     lam += constraint_scale_ * dx.tail(m);
     out.increment_norm = dq.norm();
-    norm_before = last_norm, last_norm = out.increment_norm;
     corrections_.push_back(out.increment_norm);
     if (!std::isfinite(out.increment_norm)) {
       out.failure = "non-finite Newton correction at iteration " + std::to_string(it);
