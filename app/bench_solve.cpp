@@ -3,6 +3,7 @@
 // and the CB element's own cost, all measured in one run so the ratios compare like with like
 // (issue 13, items 3 and 5). Wall time, best of --repeat (one round from 128 x 128 on).
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -17,6 +18,8 @@
 
 #include "app/bench.h"
 #include "core/mesh/generators.h"
+#include "core/shell/cb_shell.h"
+#include "core/shell/sample_elements.h"
 #include "core/shell/shell_model.h"
 #include "core/solve/sparse_solver.h"
 
@@ -62,6 +65,64 @@ struct PlateIteration {
   void assemble() { model->evaluate(0.5, r, &K, &f); }
 };
 
+// Wall time of one call of f, as the best over `rounds` of the mean of `calls` back-to-back calls
+double best_mean_us(int rounds, int calls, const std::function<void()>& f) {
+  return 1e6 * best_of(rounds, [&] {
+           for (int i = 0; i < calls; ++i) f();
+         }) /
+         calls;
+}
+
+// Item 2 of the solve benchmark: the CB element (curved, distorted, deformed; 5 DoF, hr, ans) on
+// one core, its flop count (cb_shell.md, "Flop count"), and a dense matrix product doing the same
+// number of flops timed in the same run, so the ratio says how far the element is from the rate
+// this machine reaches on regular arithmetic.
+nlohmann::ordered_json element_figures(int rounds) {
+  using namespace shell;
+  const ElementPoses ref = samples::curved();
+  const ElementPoses cur = samples::deformed(ref, 5);
+  ShellOptions o;
+  o.hr = o.ans = true;
+  o.drilling = false;
+  const CbShellElement el(ref, {2.0e5, 0.3, 0.05, 5.0 / 6.0}, o);
+  Vec24 f;
+  Mat24 K;
+  // the compiler must not drop evaluations whose results are unused
+  double sink = 0.0;
+  const double force_us = best_mean_us(rounds, 20000, [&] {
+    el.evaluate(cur, f, nullptr);
+    sink += f[0];
+  });
+  const double tangent_us = best_mean_us(rounds, 5000, [&] {
+    el.evaluate(cur, f, &K);
+    sink += K(0, 0);
+  });
+  const ElementFlops flops = count_element_flops(el, cur);
+  // square product with 2 n^3 closest to the element's flops, its time scaled to exactly that count
+  const int n = std::max(2, static_cast<int>(std::lround(std::cbrt(flops.force_tangent / 2.0))));
+  Eigen::MatrixXd A = Eigen::MatrixXd::Random(n, n), B = Eigen::MatrixXd::Random(n, n), C(n, n);
+  const double product_us = best_mean_us(rounds, 5000, [&] {
+    C.noalias() = A * B;
+    sink += C(0, 0);
+    A(0, 0) = 1e-30 * sink;  // a data dependence between calls
+  });
+  const double same_flop_us = product_us * flops.force_tangent / (2.0 * n * n * n);
+  if (!std::isfinite(sink)) std::printf("(non-finite sink)\n");
+  std::printf("CB element (curved, distorted, deformed; 5 DoF, hr + ans), one core:\n"
+              "  force %.3f us, %lld flops (%.2f Gflop/s)\n"
+              "  force + tangent %.3f us, %lld flops (%.2f Gflop/s)\n"
+              "  dense %d x %d product scaled to the same flops: %.3f us (%.2f Gflop/s); element / product: %.2f\n\n",
+              force_us, static_cast<long long>(flops.force), 1e-3 * flops.force / force_us, tangent_us,
+              static_cast<long long>(flops.force_tangent), 1e-3 * flops.force_tangent / tangent_us, n, n, same_flop_us,
+              1e-3 * flops.force_tangent / same_flop_us, tangent_us / same_flop_us);
+  return {{"force_us", force_us},
+          {"force_tangent_us", tangent_us},
+          {"force_flops", flops.force},
+          {"force_tangent_flops", flops.force_tangent},
+          {"same_flop_product_us", same_flop_us},
+          {"product_size", n}};
+}
+
 }  // namespace
 
 int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
@@ -70,6 +131,10 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
     // the Cholesky-type backends need K = Kᵀ, which a deformed shell's tangent is not
     if (linear_backend_available(b) && !linear_backend_is_symmetric(b)) backends.push_back(b);
   const LinearBackend chosen = default_linear_backend();
+  const int eigen_threads = Eigen::nbThreads();
+  Eigen::setNbThreads(1);  // the element figures are for one core
+  const nlohmann::ordered_json element = element_figures(opt.repeat);
+  Eigen::setNbThreads(eigen_threads);
 
   std::printf("Static Newton iteration on an n x n plate (CB shell, hr + ans, 5 DoF), wall time, best of %d "
               "(1 from n = 128); default backend: %s\n\n",
@@ -119,7 +184,7 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
       std::fprintf(stderr, "error: cannot write %s\n", opt.out_file.c_str());
       return 1;
     }
-    f << nlohmann::ordered_json{{"plate", plates}}.dump(2) << "\n";
+    f << nlohmann::ordered_json{{"element", element}, {"plate", plates}}.dump(2) << "\n";
   }
   return stop ? 130 : 0;
 }

@@ -21,9 +21,12 @@ namespace ff::lie {
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 
-/// Skew matrix ã with ã b = a × b (eq. 1).
-inline Mat3 hat(const Vec3& a) {
-  Mat3 m;
+/// Skew matrix ã with ã b = a × b (eq. 1). Generic in the scalar so that the shell kernel can
+/// also run in counting arithmetic (core/shell/counted_scalar.h).
+template <class Derived>
+Eigen::Matrix<typename Derived::Scalar, 3, 3> hat(const Eigen::MatrixBase<Derived>& a) {
+  static_assert(Derived::SizeAtCompileTime == 3, "hat takes a 3-vector");
+  Eigen::Matrix<typename Derived::Scalar, 3, 3> m;
   m << 0.0, -a.z(), a.y(),  //
       a.z(), 0.0, -a.x(),   //
       -a.y(), a.x(), 0.0;

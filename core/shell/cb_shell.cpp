@@ -1,5 +1,9 @@
 #include "core/shell/cb_shell.h"
 
+#include <type_traits>
+
+#include "core/shell/counted_scalar.h"
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -14,6 +18,9 @@ using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Vec10 = Eigen::Matrix<double, 10, 1>;
 using Mat20 = Eigen::Matrix<double, 20, 20>;
 using Mat20x5 = Eigen::Matrix<double, 20, 5>;
+// the kernels' types in the element's scalar T (double, or CountedDouble to count flops)
+template <class T, int R, int C>
+using Mat = Eigen::Matrix<T, R, C>;
 
 constexpr double kXiNode[4] = {-1.0, 1.0, 1.0, -1.0};
 constexpr double kEtaNode[4] = {-1.0, -1.0, 1.0, 1.0};
@@ -49,27 +56,28 @@ Mat83 master_derivatives(double xi, double eta, double zeta) {
 }
 
 // columns x_I and (h0/2) d_I, eq. (1)
-Mat38 node_columns(const ElementPoses& p, double hh) {
-  Mat38 X;
+template <class T>
+Mat<T, 3, 8> node_columns(const ElementPoses& p, T hh) {
+  Mat<T, 3, 8> X;
   for (int I = 0; I < 4; ++I) {
-    X.col(I) = p[I].x;
-    X.col(4 + I) = hh * p[I].R.col(2);
+    X.col(I) = p[I].x.template cast<T>();
+    X.col(4 + I) = hh * p[I].R.col(2).template cast<T>();
   }
   return X;
 }
 
 // K = Y Y^T for Y 20 x N (column-major): upper 4 x 4 tiles, mirrored (the material stiffness is
 // symmetric; this is the largest product of the element)
-template <int N, typename Derived>
-void gram20(const Eigen::MatrixBase<Derived>& Y, Mat20& K) {
+template <int N, typename Derived, class T>
+void gram20(const Eigen::MatrixBase<Derived>& Y, Mat<T, 20, 20>& K) {
   static_assert(Derived::RowsAtCompileTime == 20 && Derived::ColsAtCompileTime == N);
-  const double* data = Y.derived().data();
+  const T* data = Y.derived().data();
   const Eigen::Index stride = Y.derived().outerStride();
   for (int jb = 0; jb < 20; jb += 4)
     for (int ib = 0; ib <= jb; ib += 4) {
-      double acc[4][4] = {};
+      T acc[4][4] = {};
       for (int k = 0; k < N; ++k) {
-        const double* y = data + stride * k;
+        const T* y = data + stride * k;
         for (int c = 0; c < 4; ++c)
           for (int r = 0; r < 4; ++r) acc[c][r] += y[ib + r] * y[jb + c];
       }
@@ -80,12 +88,12 @@ void gram20(const Eigen::MatrixBase<Derived>& Y, Mat20& K) {
 
 // master rows from the kernels of one point: u rows (R_I^T g) Ku_I, theta rows
 // [-(R_I^T g) row 1; (R_I^T g) row 0] Kt_I (theta = (h0/2) e3~ R_I^T sum_s s b, eq. 2)
-template <int NC>
-void master_rows(const std::array<Mat3, 4>& Rt, const Mat3& g, const std::array<Eigen::Matrix<double, 3, 7>, 4>& Ku,
-                 const std::array<Eigen::Matrix<double, 3, 7>, 4>& Kt, Eigen::Matrix<double, 20, NC>& B) {
+template <int NC, class T>
+void master_rows(const std::array<Mat<T, 3, 3>, 4>& Rt, const Mat<T, 3, 3>& g, const std::array<Mat<T, 3, 7>, 4>& Ku,
+                 const std::array<Mat<T, 3, 7>, 4>& Kt, Mat<T, 20, NC>& B) {
   for (int I = 0; I < 4; ++I) {
-    const Mat3 gl = Rt[I].lazyProduct(g);
-    Eigen::Matrix<double, 2, 3> glr;
+    const Mat<T, 3, 3> gl = Rt[I].lazyProduct(g);
+    Mat<T, 2, 3> glr;
     glr << -gl.row(1), gl.row(0);
     B.template block<3, NC>(5 * I, 0).noalias() = gl.lazyProduct(Ku[I].template leftCols<NC>());
     B.template block<2, NC>(5 * I + 3, 0).noalias() = glr.lazyProduct(Kt[I].template leftCols<NC>());
@@ -93,8 +101,9 @@ void master_rows(const std::array<Mat3, 4>& Rt, const Mat3& g, const std::array<
 }
 
 // symmetric 3 x 3 S with sum_c v_c (a_i b_j + a_j b_i) / 2 = a^T S b over covariant components c
-Mat3 covariant_matrix(const Vec5& v, bool with_shear) {
-  Mat3 S = Mat3::Zero();
+template <class T>
+Mat<T, 3, 3> covariant_matrix(const Mat<T, 5, 1>& v, bool with_shear) {
+  Mat<T, 3, 3> S = Mat<T, 3, 3>::Zero();
   for (int c = 0; c < (with_shear ? 5 : 3); ++c) {
     const int i = kPair[c][0], j = kPair[c][1];
     if (i == j) S(i, i) += v[c];
@@ -107,36 +116,40 @@ Mat3 covariant_matrix(const Vec5& v, bool with_shear) {
 // (master_derivatives, eq. 5 of the tied components, the drilling points' quad functions).
 // Shared by all elements, so the per-element data a force evaluation streams stay small.
 constexpr int kPoints = 8;
+template <class T = double>
 struct SolidConst {
-  double xi, eta, zeta;
-  int layer;   // thickness layer (tying values)
-  Mat83 phi;   // rows I: sum over the two slaves of master I of dN/d(xi, eta, zeta); rows 4 + I:
-               // the same weighted by s, so g = [x_I, h0/2 d_I] * phi (eqs. 1, 3)
+  T xi, eta, zeta;
+  int layer;       // thickness layer (tying values)
+  Mat<T, 8, 3> phi;  // rows I: sum over the two slaves of master I of dN/d(xi, eta, zeta); rows 4 + I:
+                   // the same weighted by s, so g = [x_I, h0/2 d_I] * phi (eqs. 1, 3)
 };
+template <class T = double>
 struct TyingConst {  // eq. (8) at one thickness layer
-  Mat83 phi;         // as SolidConst::phi
-  Mat8 M;            // eq. (5) of the tied component in phi's basis
+  Mat<T, 8, 3> phi;  // as SolidConst::phi
+  Mat<T, 8, 8> M;    // eq. (5) of the tied component in phi's basis
   int i;             // 1 (eta-zeta) or 0 (xi-zeta)
 };
+template <class T = double>
 struct DrillConst {
-  Eigen::Vector4d N, dNxi, dNeta;
+  Mat<T, 4, 1> N, dNxi, dNeta;
 };
+template <class T = double>
 struct Tables {
-  std::array<SolidConst, kPoints> pts;
-  std::array<std::array<TyingConst, 4>, 2> tying;  // [layer][A, B, C, D]
-  std::array<DrillConst, 4> drill;
-  double gpts[2];
+  std::array<SolidConst<T>, kPoints> pts;
+  std::array<std::array<TyingConst<T>, 4>, 2> tying;  // [layer][A, B, C, D]
+  std::array<DrillConst<T>, 4> drill;
+  T gpts[2];
 };
 
-Tables make_tables() {
-  Tables t;
+Tables<> make_tables() {
+  Tables<> t;
   const double gp = 1.0 / std::sqrt(3.0);
   t.gpts[0] = -gp, t.gpts[1] = gp;
   int k = 0;
   for (int l = 0; l < 2; ++l)
     for (int jy = 0; jy < 2; ++jy)
       for (int jx = 0; jx < 2; ++jx, ++k) {
-        SolidConst& p = t.pts[k];
+        SolidConst<>& p = t.pts[k];
         p.xi = t.gpts[jx];
         p.eta = t.gpts[jy];
         p.zeta = t.gpts[l];
@@ -147,49 +160,81 @@ Tables make_tables() {
   const double tp[4][2] = {{-1, 0}, {0, -1}, {1, 0}, {0, 1}};
   for (int l = 0; l < 2; ++l)
     for (int q = 0; q < 4; ++q) {
-      TyingConst& c = t.tying[l][q];
+      TyingConst<>& c = t.tying[l][q];
       c.phi = master_derivatives(tp[q][0], tp[q][1], t.gpts[l]);
       c.i = (q == 0 || q == 2) ? 1 : 0;
       c.M = 0.5 * (c.phi.col(c.i) * c.phi.col(2).transpose() + c.phi.col(2) * c.phi.col(c.i).transpose());
     }
   k = 0;
   for (int jy = 0; jy < 2; ++jy)
-    for (int jx = 0; jx < 2; ++jx, ++k) quad_shape(t.gpts[jx], t.gpts[jy], t.drill[k].N, t.drill[k].dNxi, t.drill[k].dNeta);
+    for (int jx = 0; jx < 2; ++jx, ++k) {
+      Eigen::Vector4d N, dxi, deta;
+      quad_shape(t.gpts[jx], t.gpts[jy], N, dxi, deta);
+      t.drill[k] = {N, dxi, deta};
+    }
   return t;
 }
 
-const Tables& tables() {
-  static const Tables t = make_tables();
+// the tables in another scalar: the same numbers (a conversion, no arithmetic)
+template <class T>
+Tables<T> convert_tables(const Tables<>& d) {
+  Tables<T> t;
+  for (int k = 0; k < kPoints; ++k)
+    t.pts[k] = {d.pts[k].xi, d.pts[k].eta, d.pts[k].zeta, d.pts[k].layer, d.pts[k].phi.template cast<T>()};
+  for (int l = 0; l < 2; ++l)
+    for (int q = 0; q < 4; ++q) {
+      const TyingConst<>& c = d.tying[l][q];
+      t.tying[l][q] = {c.phi.template cast<T>(), c.M.template cast<T>(), c.i};
+    }
+  for (int k = 0; k < 4; ++k)
+    t.drill[k] = {d.drill[k].N.template cast<T>(), d.drill[k].dNxi.template cast<T>(), d.drill[k].dNeta.template cast<T>()};
+  t.gpts[0] = d.gpts[0], t.gpts[1] = d.gpts[1];
   return t;
+}
+
+template <class T = double>
+const Tables<T>& tables() {
+  if constexpr (std::is_same_v<T, double>) {
+    static const Tables<> t = make_tables();
+    return t;
+  } else {
+    static const Tables<T> t = convert_tables<T>(tables<double>());
+    return t;
+  }
 }
 
 // P-hat of eq. (9) at a point from the element's coefficients a1^2, b1^2, a1 b1, a2^2, b2^2, a2 b2
-Eigen::Matrix<double, 3, 10> p_hat(const std::array<double, 6>& c, const SolidConst& p) {
-  Eigen::Matrix<double, 3, 5> P;
+template <class T>
+Mat<T, 3, 10> p_hat(const std::array<T, 6>& c, const SolidConst<T>& p) {
+  Mat<T, 3, 5> P;
   P << 1, 0, 0, c[0] * p.eta, c[3] * p.xi, 0, 1, 0, c[1] * p.eta, c[4] * p.xi, 0, 0, 1, c[2] * p.eta, c[5] * p.xi;
-  Eigen::Matrix<double, 3, 10> Ph;
+  Mat<T, 3, 10> Ph;
   Ph << P, p.zeta * P;
   return Ph;
 }
 }  // namespace
 
 // The tangent-only kernels (cb_shell.md, "Implementation notes"), one heap block per element
-struct CbShellElement::TangentData {
-  using Mat37 = Eigen::Matrix<double, 3, 7>;
+template <class Scalar>
+struct BasicCbShellElement<Scalar>::TangentData {
+  using Mat37 = Eigen::Matrix<Scalar, 3, 7>;
   struct Point {
     // master rows of node I from R_I^T g: u part Ku, theta part Kt; columns: with hr the five
     // columns of w B_m^T P (eq. 11, per layer) then the two scaled shear rows; without hr the
     // three membrane rows times sqrt(w) L_c (C_m = L_c L_c^T), the two shear rows, two unused
     std::array<Mat37, 4> Ku, Kt;
-    Eigen::Matrix<double, 4, 2> ans;  // tying rows into the shear rows, eq. (8)
+    Eigen::Matrix<Scalar, 4, 2> ans;  // tying rows into the shear rows, eq. (8)
   };
   std::array<Point, kPoints> pts;
-  Eigen::Matrix<double, 10, 10> h_inv_factor;  // L with L L^T = h_inv_
+  Eigen::Matrix<Scalar, 10, 10> h_inv_factor;  // L with L L^T = h_inv_
 };
 
-CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec, const ShellOptions& opt)
+// The reference data are computed in double only (other scalars convert a built element).
+template <>
+BasicCbShellElement<double>::BasicCbShellElement(const ElementPoses& ref, const ShellSection& sec,
+                                                 const ShellOptions& opt)
     : sec_(sec), opt_(opt) {
-  const Tables& tab = tables();
+  const Tables<>& tab = tables();
   const double h = sec.thickness, hh = 0.5 * h, E = sec.youngs_modulus, nu = sec.poisson_ratio;
   const double shear_modulus = E / (2.0 * (1.0 + nu));
   // eq. (7)
@@ -216,7 +261,7 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
   const Eigen::Matrix3d Lc = Cm_.llt().matrixL();
   Eigen::Matrix<double, 10, 10> H = Eigen::Matrix<double, 10, 10>::Zero();
   for (int k = 0; k < kPoints; ++k) {
-    const SolidConst& pc = tab.pts[k];
+    const SolidConst<>& pc = tab.pts[k];
     SolidPoint& p = pts_[k];
     TangentData::Point& pt = td->pts[k];
     const Mat3 J = X0 * pc.phi;  // columns G_xi, G_eta, G_zeta
@@ -305,7 +350,7 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
   for (auto& layer : tie_ref_) layer.fill(kUnused);
   for (int l = 0; l < 2 && opt.ans; ++l)
     for (int t = 0; t < 4; ++t) {
-      const TyingConst& tc = tab.tying[l][t];
+      const TyingConst<>& tc = tab.tying[l][t];
       const Mat3 G = X0 * tc.phi;
       tie_ref_[l][t] = G.col(tc.i).dot(G.col(2));
     }
@@ -317,7 +362,7 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
     d.g2_local.fill(Vec3::Constant(kUnused));
   }
   for (int k = 0; k < 4 && opt.drilling; ++k) {
-    const DrillConst& dc = tab.drill[k];
+    const DrillConst<>& dc = tab.drill[k];
     DrillPoint& d = drill_[k];
     Vec3 Gx = Vec3::Zero(), Ge = Vec3::Zero();
     for (int I = 0; I < 4; ++I) Gx += dc.dNxi[I] * ref[I].x, Ge += dc.dNeta[I] * ref[I].x;
@@ -335,22 +380,31 @@ CbShellElement::CbShellElement(const ElementPoses& ref, const ShellSection& sec,
 // force from the stress vectors g Sigma (eq. 4), geometric stiffness from the 8 x 8 scalar
 // matrix of eq. (5) in the (sum, s-weighted) slave basis, material stiffness K = Y Y^T with Y
 // the scaled master B rows (and H^{-1/2} G for the assumed stress). See cb_shell.md, speed notes.
-double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) const {
-  const double hh = 0.5 * sec_.thickness;
-  const Tables& tab = tables();
+template <class Scalar>
+Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector24& F, Matrix24* K) const {
+  using Vec3 = Mat<Scalar, 3, 1>;
+  using Mat3 = Mat<Scalar, 3, 3>;
+  using Mat38 = Mat<Scalar, 3, 8>;
+  using Mat8 = Mat<Scalar, 8, 8>;
+  using Vec5 = Mat<Scalar, 5, 1>;
+  using Vec10 = Mat<Scalar, 10, 1>;
+  using Mat20 = Mat<Scalar, 20, 20>;
+  using Mat20x5 = Mat<Scalar, 20, 5>;
+  const Scalar hh = 0.5 * sec_.thickness;
+  const Tables<Scalar>& tab = tables<Scalar>();
   const TangentData* td = K ? tan_.get() : nullptr;  // only the tangent reads its kernels
   const Mat38 X = node_columns(cur, hh);
   std::array<Mat3, 4> Rt;
-  for (int I = 0; I < 4; ++I) Rt[I] = cur[I].R.transpose();
+  for (int I = 0; I < 4; ++I) Rt[I] = cur[I].R.transpose().template cast<Scalar>();
 
   // tying values and their master B rows, eq. (8)
-  double e_tie[2][4] = {};
+  Scalar e_tie[2][4] = {};
   Vec3 g_tie[2][4][2];  // g_i, g_zeta
-  Eigen::Matrix<double, 20, 4> B_tie[2];
+  Eigen::Matrix<Scalar, 20, 4> B_tie[2];
   if (opt_.ans)
     for (int l = 0; l < 2; ++l)
       for (int t = 0; t < 4; ++t) {
-        const TyingConst& tp = tab.tying[l][t];
+        const TyingConst<Scalar>& tp = tab.tying[l][t];
         const Vec3 gi = X * tp.phi.col(tp.i), gz = X * tp.phi.col(2);
         g_tie[l][t][0] = gi;
         g_tie[l][t][1] = gz;
@@ -358,10 +412,10 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
         if (!K) continue;
         for (int I = 0; I < 4; ++I) {
           const Vec3 gzl = Rt[I] * gz;
-          const double gx = Rt[I].row(0).dot(gi), gy = Rt[I].row(1).dot(gi);
-          B_tie[l].block<3, 1>(5 * I, t) = (0.5 * tp.phi(I, tp.i)) * gzl;
-          const double wx = 0.5 * (tp.phi(4 + I, tp.i) * gzl.x() + tp.phi(4 + I, 2) * gx);
-          const double wy = 0.5 * (tp.phi(4 + I, tp.i) * gzl.y() + tp.phi(4 + I, 2) * gy);
+          const Scalar gx = Rt[I].row(0).dot(gi), gy = Rt[I].row(1).dot(gi);
+          B_tie[l].template block<3, 1>(5 * I, t) = (0.5 * tp.phi(I, tp.i)) * gzl;
+          const Scalar wx = 0.5 * (tp.phi(4 + I, tp.i) * gzl.x() + tp.phi(4 + I, 2) * gx);
+          const Scalar wy = 0.5 * (tp.phi(4 + I, tp.i) * gzl.y() + tp.phi(4 + I, 2) * gy);
           B_tie[l](5 * I + 3, t) = -hh * wy;
           B_tie[l](5 * I + 4, t) = hh * wx;
         }
@@ -369,46 +423,46 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
 
   // strains at the points; B rows when a tangent is wanted
   const int shear_col = opt_.hr ? 10 : 24;
-  Eigen::Matrix<double, 20, 40> Y;  // K_material = Y Y^T (first 26 columns with hr)
+  Eigen::Matrix<Scalar, 20, 40> Y;  // K_material = Y Y^T (first 26 columns with hr)
   Mat20x5 G_layer[2];                // G^T per layer (hr), eq. (11)
   if (K && opt_.hr) G_layer[0].setZero(), G_layer[1].setZero();
   std::array<Mat3, kPoints> g;
   std::array<Vec3, kPoints> em;
-  std::array<Eigen::Vector2d, kPoints> es;
-  std::array<Eigen::Matrix<double, 3, 10>, kPoints> Ph;  // eq. (9) at the points (hr)
+  std::array<Mat<Scalar, 2, 1>, kPoints> es;
+  std::array<Eigen::Matrix<Scalar, 3, 10>, kPoints> Ph;  // eq. (9) at the points (hr)
   Vec10 gv = Vec10::Zero();
-  double energy = 0.0;
+  Scalar energy = 0.0;
   for (int k = 0; k < kPoints; ++k) {
     const SolidPoint& p = pts_[k];
-    const SolidConst& pc = tab.pts[k];
+    const SolidConst<Scalar>& pc = tab.pts[k];
     g[k].noalias() = X * pc.phi;
     Vec5 e;
     for (int c = 0; c < 5; ++c) e[c] = 0.5 * (g[k].col(kPair[c][0]).dot(g[k].col(kPair[c][1])) - p.ref_metric[c]);
     if (opt_.ans) {  // eq. (8)
-      const double* et = e_tie[pc.layer];
+      const Scalar* et = e_tie[pc.layer];
       e[kEtaZeta] = 0.5 * (1 - pc.xi) * et[0] + 0.5 * (1 + pc.xi) * et[2];
       e[kXiZeta] = 0.5 * (1 - pc.eta) * et[1] + 0.5 * (1 + pc.eta) * et[3];
     }
-    em[k].noalias() = p.Qm * e.head<3>();
+    em[k].noalias() = p.Qm * e.template head<3>();
     es[k].noalias() = p.Qs * e;
     if (opt_.hr) {
       Ph[k] = p_hat(p_coef_, pc);
       gv.noalias() += p.weight * (Ph[k].transpose() * em[k]);  // eq. (10)
     }
     if (!K) continue;
-    const TangentData::Point& pt = td->pts[k];
+    const typename TangentData::Point& pt = td->pts[k];
     if (opt_.hr) {
-      Eigen::Matrix<double, 20, 7> B;
+      Eigen::Matrix<Scalar, 20, 7> B;
       master_rows<7>(Rt, g[k], pt.Ku, pt.Kt, B);
-      G_layer[pc.layer] += B.leftCols<5>();
-      if (opt_.ans) B.rightCols<2>().noalias() += B_tie[pc.layer] * pt.ans;
-      Y.middleCols<2>(shear_col + 2 * k) = B.rightCols<2>();
+      G_layer[pc.layer] += B.template leftCols<5>();
+      if (opt_.ans) B.template rightCols<2>().noalias() += B_tie[pc.layer] * pt.ans;
+      Y.template middleCols<2>(shear_col + 2 * k) = B.template rightCols<2>();
     } else {
-      Eigen::Matrix<double, 20, 5> B;
+      Eigen::Matrix<Scalar, 20, 5> B;
       master_rows<5>(Rt, g[k], pt.Ku, pt.Kt, B);
-      if (opt_.ans) B.rightCols<2>().noalias() += B_tie[pc.layer] * pt.ans;
-      Y.middleCols<2>(shear_col + 2 * k) = B.rightCols<2>();
-      Y.middleCols<3>(3 * k) = B.leftCols<3>();
+      if (opt_.ans) B.template rightCols<2>().noalias() += B_tie[pc.layer] * pt.ans;
+      Y.template middleCols<2>(shear_col + 2 * k) = B.template rightCols<2>();
+      Y.template middleCols<3>(3 * k) = B.template leftCols<3>();
     }
   }
   Vec10 beta;
@@ -418,16 +472,16 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
   }
 
   // stresses: force and the scalar geometric matrix, eqs. (4), (5), (11)
-  const double kG = kG_;
+  const Scalar kG = kG_;
   Mat38 Fg = Mat38::Zero();  // columns: sum over s of slave forces of I, and weighted by s
   // eq. (5) weighted by stresses in the basis of phi: rows I of phi are (D_I, 0), rows 4 + I are
   // (zeta D_I, N_I), so the 8 x 8 matrix is [[A0, A1], [A1, A2]] + the N terms
-  Eigen::Matrix4d A0, A1, A2, V1, V2;
+  Mat<Scalar, 4, 4> A0, A1, A2, V1, V2;
   if (K) A0.setZero(), A1.setZero(), A2.setZero(), V1.setZero(), V2.setZero();
-  double sig_tie[2][4] = {};
+  Scalar sig_tie[2][4] = {};
   for (int k = 0; k < kPoints; ++k) {
     const SolidPoint& p = pts_[k];
-    const SolidConst& pc = tab.pts[k];
+    const SolidConst<Scalar>& pc = tab.pts[k];
     Vec3 Sm;
     if (opt_.hr) {
       Sm.noalias() = Ph[k] * beta;  // assumed stress at the point
@@ -435,13 +489,13 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
       Sm.noalias() = Cm_ * em[k];
       energy += 0.5 * p.weight * em[k].dot(Sm);
     }
-    const Eigen::Vector2d Ss = kG * es[k];
+    const Mat<Scalar, 2, 1> Ss = kG * es[k];
     energy += 0.5 * p.weight * es[k].dot(Ss);
     Vec5 sig = p.Qs.transpose() * Ss;
-    sig.head<3>().noalias() += p.Qm.transpose() * Sm;
+    sig.template head<3>().noalias() += p.Qm.transpose() * Sm;
     sig *= p.weight;  // covariant stress x weight
     if (opt_.ans) {
-      double* st = sig_tie[pc.layer];
+      Scalar* st = sig_tie[pc.layer];
       st[0] += 0.5 * (1 - pc.xi) * sig[kEtaZeta];
       st[2] += 0.5 * (1 + pc.xi) * sig[kEtaZeta];
       st[1] += 0.5 * (1 - pc.eta) * sig[kXiZeta];
@@ -451,13 +505,13 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
     const Mat3 T = g[k] * S;  // stress vectors
     Fg.noalias() += T * pc.phi.transpose();
     if (K) {
-      const Eigen::Matrix<double, 4, 2> D = pc.phi.topLeftCorner<4, 2>();
-      const Eigen::Matrix4d A = D.lazyProduct(S.topLeftCorner<2, 2>().lazyProduct(D.transpose()));
+      const Eigen::Matrix<Scalar, 4, 2> D = pc.phi.template topLeftCorner<4, 2>();
+      const Mat<Scalar, 4, 4> A = D.lazyProduct(S.template topLeftCorner<2, 2>().lazyProduct(D.transpose()));
       A0 += A;
       A1 += pc.zeta * A;
       A2 += (pc.zeta * pc.zeta) * A;
       if (!opt_.ans) {  // S(0:2, 2) with phi(4 + J, 2) = N_J
-        const Eigen::Matrix4d vN = (D * S.block<2, 1>(0, 2)) * pc.phi.block<4, 1>(4, 2).transpose();
+        const Mat<Scalar, 4, 4> vN = (D * S.template block<2, 1>(0, 2)) * pc.phi.template block<4, 1>(4, 2).transpose();
         V1 += vN;
         V2 += pc.zeta * vN;
       }
@@ -465,16 +519,16 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
   }
   Mat8 Gb;
   if (K) {
-    Gb.topLeftCorner<4, 4>() = A0;
-    Gb.topRightCorner<4, 4>() = A1 + V1;
-    Gb.bottomLeftCorner<4, 4>() = A1 + V1.transpose();
-    Gb.bottomRightCorner<4, 4>() = A2 + V2 + V2.transpose();
+    Gb.template topLeftCorner<4, 4>() = A0;
+    Gb.template topRightCorner<4, 4>() = A1 + V1;
+    Gb.template bottomLeftCorner<4, 4>() = A1 + V1.transpose();
+    Gb.template bottomRightCorner<4, 4>() = A2 + V2 + V2.transpose();
   }
   if (opt_.ans)
     for (int l = 0; l < 2; ++l)
       for (int t = 0; t < 4; ++t) {
-        const TyingConst& tp = tab.tying[l][t];
-        const double s = sig_tie[l][t];
+        const TyingConst<Scalar>& tp = tab.tying[l][t];
+        const Scalar s = sig_tie[l][t];
         Fg.noalias() += (0.5 * s) * (g_tie[l][t][1] * tp.phi.col(tp.i).transpose() +
                                      g_tie[l][t][0] * tp.phi.col(2).transpose());
         if (K) Gb.noalias() += s * tp.M;
@@ -485,61 +539,70 @@ double CbShellElement::solid_terms(const ElementPoses& cur, Vec24& F, Mat24* K) 
   for (int I = 0; I < 4; ++I) {
     fu[I].noalias() = Rt[I] * Fg.col(I);
     fs[I].noalias() = Rt[I] * Fg.col(4 + I);
-    F.segment<3>(6 * I) = fu[I];
-    F.segment<3>(6 * I + 3) << -hh * fs[I].y(), hh * fs[I].x(), 0.0;
+    F.template segment<3>(6 * I) = fu[I];
+    F.template segment<3>(6 * I + 3) << -hh * fs[I].y(), hh * fs[I].x(), 0.0;
   }
   if (!K) return energy;
 
   // material stiffness on the 5 bending DoFs per node (u0 u1 u2 theta0 theta1)
   Mat20 Km;
   if (opt_.hr) {
-    Eigen::Matrix<double, 20, 10> Gt;
-    Gt.leftCols<5>() = G_layer[0] + G_layer[1];
-    Gt.rightCols<5>() = tab.pts[0].zeta * G_layer[0] + tab.pts[kPoints - 1].zeta * G_layer[1];
-    const Eigen::Matrix<double, 10, 10>& Lh = td->h_inv_factor;
+    Eigen::Matrix<Scalar, 20, 10> Gt;
+    Gt.template leftCols<5>() = G_layer[0] + G_layer[1];
+    Gt.template rightCols<5>() = tab.pts[0].zeta * G_layer[0] + tab.pts[kPoints - 1].zeta * G_layer[1];
+    const Eigen::Matrix<Scalar, 10, 10>& Lh = td->h_inv_factor;
     for (int j = 0; j < 10; ++j) {  // W = G^T L, L lower triangular: W W^T = G^T H^{-1} G
       Y.col(j) = Lh(j, j) * Gt.col(j);
       for (int i = j + 1; i < 10; ++i) Y.col(j) += Lh(i, j) * Gt.col(i);
     }
-    gram20<26>(Y.leftCols<26>(), Km);
+    gram20<26>(Y.template leftCols<26>(), Km);
   } else {
     gram20<40>(Y, Km);
   }
   // geometric stiffness and the variation of T, eqs. (15), (16), node block by node block
-  const double hh2 = hh * hh;
+  const Scalar hh2 = hh * hh;
   for (int I = 0; I < 4; ++I)
     for (int J = 0; J < 4; ++J) {
-      const Mat3 Rij = Rt[I] * cur[J].R;
-      const double g00 = Gb(I, J), g01 = Gb(I, 4 + J), g10 = Gb(4 + I, J), g11 = Gb(4 + I, 4 + J);
-      auto blk = K->block<6, 6>(6 * I, 6 * J);
-      blk.topLeftCorner<3, 3>() = Km.block<3, 3>(5 * I, 5 * J) + g00 * Rij;
+      const Mat3 Rij = Rt[I] * cur[J].R.template cast<Scalar>();
+      const Scalar g00 = Gb(I, J), g01 = Gb(I, 4 + J), g10 = Gb(4 + I, J), g11 = Gb(4 + I, 4 + J);
+      auto blk = K->template block<6, 6>(6 * I, 6 * J);
+      blk.template topLeftCorner<3, 3>() = Km.template block<3, 3>(5 * I, 5 * J) + g00 * Rij;
       // -(h0/2) g01 R_ij e3~ and (h0/2) g10 e3~ R_ij
-      blk.block<3, 1>(0, 3) = Km.block<3, 1>(5 * I, 5 * J + 3) - (hh * g01) * Rij.col(1);
-      blk.block<3, 1>(0, 4) = Km.block<3, 1>(5 * I, 5 * J + 4) + (hh * g01) * Rij.col(0);
-      blk.block<1, 3>(3, 0) = Km.block<1, 3>(5 * I + 3, 5 * J) - (hh * g10) * Rij.row(1);
-      blk.block<1, 3>(4, 0) = Km.block<1, 3>(5 * I + 4, 5 * J) + (hh * g10) * Rij.row(0);
+      blk.template block<3, 1>(0, 3) = Km.template block<3, 1>(5 * I, 5 * J + 3) - (hh * g01) * Rij.col(1);
+      blk.template block<3, 1>(0, 4) = Km.template block<3, 1>(5 * I, 5 * J + 4) + (hh * g01) * Rij.col(0);
+      blk.template block<1, 3>(3, 0) = Km.template block<1, 3>(5 * I + 3, 5 * J) - (hh * g10) * Rij.row(1);
+      blk.template block<1, 3>(4, 0) = Km.template block<1, 3>(5 * I + 4, 5 * J) + (hh * g10) * Rij.row(0);
       // -(h0/2)^2 g11 e3~ R_ij e3~
       blk(3, 3) = Km(5 * I + 3, 5 * J + 3) + hh2 * g11 * Rij(1, 1);
       blk(3, 4) = Km(5 * I + 3, 5 * J + 4) - hh2 * g11 * Rij(1, 0);
       blk(4, 3) = Km(5 * I + 4, 5 * J + 3) - hh2 * g11 * Rij(0, 1);
       blk(4, 4) = Km(5 * I + 4, 5 * J + 4) + hh2 * g11 * Rij(0, 0);
       blk.col(5).setZero();
-      blk.row(5).head<5>().setZero();
+      blk.row(5).template head<5>().setZero();
     }
   const Mat3 e3x = hat(Vec3::UnitZ());
   for (int I = 0; I < 4; ++I) {
     const Mat3 fl = hat(fs[I]);
-    K->block<3, 3>(6 * I, 6 * I + 3) += hat(fu[I]);
-    K->block<3, 3>(6 * I + 3, 6 * I + 3) += hh * e3x * fl;
+    K->template block<3, 3>(6 * I, 6 * I + 3) += hat(fu[I]);
+    K->template block<3, 3>(6 * I + 3, 6 * I + 3) += hh * e3x * fl;
   }
   return energy;
 }
 
 // eqs. (12)-(14), (17); the second-variation terms are summed over the points first (they are
 // linear in the point data) and rotated once per node pair
-double CbShellElement::drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* K) const {
-  double energy = 0.0;
-  Eigen::Matrix<double, 24, 4> c, c_scaled;  // local gradients of omega per point, eq. (14)
+template <class Scalar>
+Scalar BasicCbShellElement<Scalar>::drilling_terms(const ElementPoses& cur, Vector24& f, Matrix24* K) const {
+  using Vec3 = Mat<Scalar, 3, 1>;
+  using Mat3 = Mat<Scalar, 3, 3>;
+  using Mat38 = Mat<Scalar, 3, 8>;
+  using Mat8 = Mat<Scalar, 8, 8>;
+  using Vec5 = Mat<Scalar, 5, 1>;
+  using Vec10 = Mat<Scalar, 10, 1>;
+  using Mat20 = Mat<Scalar, 20, 20>;
+  using Mat20x5 = Mat<Scalar, 20, 5>;
+  Scalar energy = 0.0;
+  Eigen::Matrix<Scalar, 24, 4> c, c_scaled;  // local gradients of omega per point, eq. (14)
   Vec3 v_cross[4][4];                        // (theta_I, u_J) blocks before R_I^T R_J
   Mat3 k_tt[4];                              // (theta_I, theta_I), eq. (17)
   Vec3 p_ut[4];                              // (u_I, theta_I) = hat(sum p_x)
@@ -551,24 +614,24 @@ double CbShellElement::drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* 
     }
   for (int q = 0; q < 4; ++q) {
     const DrillPoint& d = drill_[q];
-    const DrillConst& dc = tables().drill[q];
+    const DrillConst<Scalar>& dc = tables<Scalar>().drill[q];
     Vec3 gx = Vec3::Zero(), ge = Vec3::Zero(), abar = Vec3::Zero(), bbar = Vec3::Zero();
     for (int I = 0; I < 4; ++I) {
-      gx += dc.dNxi[I] * cur[I].x;
-      ge += dc.dNeta[I] * cur[I].x;
-      abar += dc.N[I] * (cur[I].R * d.g1_local[I]);
-      bbar += dc.N[I] * (cur[I].R * d.g2_local[I]);
+      gx += dc.dNxi[I] * cur[I].x.template cast<Scalar>();
+      ge += dc.dNeta[I] * cur[I].x.template cast<Scalar>();
+      abar += dc.N[I] * (cur[I].R.template cast<Scalar>() * d.g1_local[I]);
+      bbar += dc.N[I] * (cur[I].R.template cast<Scalar>() * d.g2_local[I]);
     }
-    const double omega = d.inv2A * (abar.dot(ge) - bbar.dot(gx));  // eq. (12)
+    const Scalar omega = d.inv2A * (abar.dot(ge) - bbar.dot(gx));  // eq. (12)
     energy += 0.5 * gamma_ * d.weight * omega * omega;              // eq. (13)
-    const double scale = gamma_ * d.weight, so = scale * omega;
+    const Scalar scale = gamma_ * d.weight, so = scale * omega;
     for (int I = 0; I < 4; ++I) {
-      const Mat3 Rt = cur[I].R.transpose();
+      const Mat3 Rt = cur[I].R.transpose().template cast<Scalar>();
       const Vec3 px = Rt * (d.inv2A * (dc.dNeta[I] * abar - dc.dNxi[I] * bbar));
       const Vec3 pa = Rt * (d.inv2A * dc.N[I] * ge);
       const Vec3 pb = Rt * (-d.inv2A * dc.N[I] * gx);
-      c.block<3, 1>(6 * I, q) = px;
-      c.block<3, 1>(6 * I + 3, q) = d.g1_local[I].cross(pa) + d.g2_local[I].cross(pb);
+      c.template block<3, 1>(6 * I, q) = px;
+      c.template block<3, 1>(6 * I + 3, q) = d.g1_local[I].cross(pa) + d.g2_local[I].cross(pb);
       if (!K) continue;
       // second variations of the primitives at fixed local directions, eq. (17)
       k_tt[I] += so * (pa * d.g1_local[I].transpose() + pb * d.g2_local[I].transpose());
@@ -585,26 +648,87 @@ double CbShellElement::drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* 
   K->noalias() += c.lazyProduct(c_scaled.transpose());
   for (int I = 0; I < 4; ++I) {
     for (int J = 0; J < 4; ++J) {
-      const Mat3 blk = hat(v_cross[I][J]) * (cur[I].R.transpose() * cur[J].R);
-      K->block<3, 3>(6 * I + 3, 6 * J) += blk;
-      K->block<3, 3>(6 * J, 6 * I + 3) += blk.transpose();
+      const Mat3 blk = hat(v_cross[I][J]) * (cur[I].R.transpose().template cast<Scalar>() * cur[J].R.template cast<Scalar>());
+      K->template block<3, 3>(6 * I + 3, 6 * J) += blk;
+      K->template block<3, 3>(6 * J, 6 * I + 3) += blk.transpose();
     }
-    K->block<3, 3>(6 * I + 3, 6 * I + 3) += k_tt[I];
-    K->block<3, 3>(6 * I, 6 * I + 3) += hat(p_ut[I]);
+    K->template block<3, 3>(6 * I + 3, 6 * I + 3) += k_tt[I];
+    K->template block<3, 3>(6 * I, 6 * I + 3) += hat(p_ut[I]);
   }
   return energy;
 }
 
-void CbShellElement::evaluate(const ElementPoses& cur, Vec24& F, Mat24* K) const {
+template <class Scalar>
+void BasicCbShellElement<Scalar>::evaluate(const ElementPoses& cur, Vector24& F, Matrix24* K) const {
   solid_terms(cur, F, K);
   if (opt_.drilling) drilling_terms(cur, F, K);
 }
 
-double CbShellElement::energy(const ElementPoses& cur) const {
-  Vec24 f;
-  double e = solid_terms(cur, f, nullptr);
+template <class Scalar>
+Scalar BasicCbShellElement<Scalar>::energy(const ElementPoses& cur) const {
+  Vector24 f;
+  Scalar e = solid_terms(cur, f, nullptr);
   if (opt_.drilling) e += drilling_terms(cur, f, nullptr);
   return e;
+}
+
+// Converting copy: every reference datum in the other scalar (a conversion, no arithmetic).
+template <class Scalar>
+template <class Other>
+BasicCbShellElement<Scalar>::BasicCbShellElement(const BasicCbShellElement<Other>& o)
+    : sec_(o.sec_), opt_(o.opt_), kG_(Scalar(o.kG_)), gamma_(Scalar(o.gamma_)) {
+  for (int k = 0; k < kPoints; ++k) {
+    pts_[k].weight = Scalar(o.pts_[k].weight);
+    pts_[k].ref_metric = o.pts_[k].ref_metric.template cast<Scalar>();
+    pts_[k].Qm = o.pts_[k].Qm.template cast<Scalar>();
+    pts_[k].Qs = o.pts_[k].Qs.template cast<Scalar>();
+  }
+  for (int l = 0; l < 2; ++l)
+    for (int t = 0; t < 4; ++t) tie_ref_[l][t] = Scalar(o.tie_ref_[l][t]);
+  for (int c = 0; c < 6; ++c) p_coef_[c] = Scalar(o.p_coef_[c]);
+  h_inv_ = o.h_inv_.template cast<Scalar>();
+  Cm_ = o.Cm_.template cast<Scalar>();
+  auto td = std::make_shared<TangentData>();
+  for (int k = 0; k < kPoints; ++k) {
+    for (int I = 0; I < 4; ++I) {
+      td->pts[k].Ku[I] = o.tan_->pts[k].Ku[I].template cast<Scalar>();
+      td->pts[k].Kt[I] = o.tan_->pts[k].Kt[I].template cast<Scalar>();
+    }
+    td->pts[k].ans = o.tan_->pts[k].ans.template cast<Scalar>();
+  }
+  td->h_inv_factor = o.tan_->h_inv_factor.template cast<Scalar>();
+  tan_ = std::move(td);
+  for (int q = 0; q < 4; ++q) {
+    drill_[q].weight = Scalar(o.drill_[q].weight);
+    drill_[q].inv2A = Scalar(o.drill_[q].inv2A);
+    for (int I = 0; I < 4; ++I) {
+      drill_[q].g1_local[I] = o.drill_[q].g1_local[I].template cast<Scalar>();
+      drill_[q].g2_local[I] = o.drill_[q].g2_local[I].template cast<Scalar>();
+    }
+  }
+}
+
+template class BasicCbShellElement<double>;
+// the counting instance: only what count_element_flops runs
+template BasicCbShellElement<CountedDouble>::BasicCbShellElement(const BasicCbShellElement<double>&);
+template void BasicCbShellElement<CountedDouble>::evaluate(const ElementPoses&, Vector24&, Matrix24*) const;
+
+ElementFlops count_element_flops(const CbShellElement& element, const ElementPoses& current) {
+  const BasicCbShellElement<CountedDouble> counting(element);
+  BasicCbShellElement<CountedDouble>::Vector24 f;
+  BasicCbShellElement<CountedDouble>::Matrix24 K;
+  ElementFlops out;
+  counted_flops = 0;
+  counting.evaluate(current, f, nullptr);
+  out.force = counted_flops;
+  counted_flops = 0;
+  counting.evaluate(current, f, &K);
+  out.force_tangent = counted_flops;
+  for (int i = 0; i < 24; ++i) {
+    out.counted_force[i] = f[i].value;
+    for (int j = 0; j < 24; ++j) out.counted_tangent(i, j) = K(i, j).value;
+  }
+  return out;
 }
 
 }  // namespace ff::shell

@@ -39,51 +39,80 @@ struct ShellOptions {
   double drilling_factor = 1e-3;   ///< c in gamma = c G h0, eq. (13)
 };
 
-class CbShellElement {
+/// The element, templated on its scalar only so that one evaluation can be run in counting
+/// arithmetic (CountedDouble, count_element_flops below); the solver uses CbShellElement.
+template <class Scalar>
+class BasicCbShellElement {
  public:
-  CbShellElement(const ElementPoses& reference, const ShellSection& section, const ShellOptions& options);
+  using Vector24 = Eigen::Matrix<Scalar, 24, 1>;
+  using Matrix24 = Eigen::Matrix<Scalar, 24, 24>;
+
+  BasicCbShellElement(const ElementPoses& reference, const ShellSection& section, const ShellOptions& options);
+  /// The same element in another scalar type (every reference datum converted, no recomputation).
+  template <class Other>
+  explicit BasicCbShellElement(const BasicCbShellElement<Other>& other);
 
   /// Internal force (24) and, if `tangent` is non-null, the tangent (24 x 24), eqs. (15)-(17).
-  void evaluate(const ElementPoses& current, Vec24& force, Mat24* tangent) const;
+  void evaluate(const ElementPoses& current, Vector24& force, Matrix24* tangent) const;
   /// Strain energy (condensed HR functional when hr is on), for consistency checks.
-  double energy(const ElementPoses& current) const;
+  Scalar energy(const ElementPoses& current) const;
 
   const ShellOptions& options() const { return opt_; }
   const ShellSection& section() const { return sec_; }
 
  private:
+  template <class>
+  friend class BasicCbShellElement;
+  using V3 = Eigen::Matrix<Scalar, 3, 1>;
+  using M3 = Eigen::Matrix<Scalar, 3, 3>;
   // Reference-only data of the kernels, precomputed here (cb_shell.md, "Implementation notes").
   // The element keeps inline only what the force needs (about 2.6 kB, contiguous); the tangent's
   // kernels live in one heap block (TangentData) that a force-only evaluation never touches, and
   // what is the same for every element (shape derivatives at the fixed points) is shared.
   static constexpr int kPoints = 8;  // 2 x 2 in plane x 2 through the thickness
   struct SolidPoint {                              // force data of one integration point
-    double weight;                                 // Gauss weight x det J (reference volume)
-    Eigen::Matrix<double, 5, 1> ref_metric;        // G_i.G_j for xx, ee, xe, eta-zeta, xi-zeta
-    Eigen::Matrix3d Qm;                            // eq. (6): in-plane rows, columns xx ee xe
-    Eigen::Matrix<double, 2, 5> Qs;                // eq. (6): shear rows, columns xx ee xe ez xz
+    Scalar weight;                                 // Gauss weight x det J (reference volume)
+    Eigen::Matrix<Scalar, 5, 1> ref_metric;        // G_i.G_j for xx, ee, xe, eta-zeta, xi-zeta
+    M3 Qm;                                         // eq. (6): in-plane rows, columns xx ee xe
+    Eigen::Matrix<Scalar, 2, 5> Qs;                // eq. (6): shear rows, columns xx ee xe ez xz
   };
   struct DrillPoint {
-    double weight;                                 // Gauss weight x A
-    double inv2A;                                  // 1 / (2A)
-    std::array<Vec3, 4> g1_local, g2_local;        // R0_I^T G_xi, R0_I^T G_eta
+    Scalar weight;                                 // Gauss weight x A
+    Scalar inv2A;                                  // 1 / (2A)
+    std::array<V3, 4> g1_local, g2_local;          // R0_I^T G_xi, R0_I^T G_eta
   };
   struct TangentData;                              // Ku, Kt, ANS rows, H^{-1} factor (cb_shell.cpp)
 
-  double solid_terms(const ElementPoses& cur, Vec24& f, Mat24* K) const;
-  double drilling_terms(const ElementPoses& cur, Vec24& f, Mat24* K) const;
+  Scalar solid_terms(const ElementPoses& cur, Vector24& f, Matrix24* K) const;
+  Scalar drilling_terms(const ElementPoses& cur, Vector24& f, Matrix24* K) const;
 
   ShellSection sec_;
   ShellOptions opt_;
   std::array<SolidPoint, kPoints> pts_;
-  std::array<std::array<double, 4>, 2> tie_ref_;   // G_i.G_zeta of the tied components [layer][A..D]
-  std::array<double, 6> p_coef_;                   // eq. (9): a1^2, b1^2, a1 b1, a2^2, b2^2, a2 b2
-  Eigen::Matrix<double, 10, 10> h_inv_;            // eq. (10)
-  Eigen::Matrix3d Cm_;                             // eq. (7), membrane block
-  double kG_ = 0.0;                                // eq. (7), shear
-  double gamma_ = 0.0;                             // eq. (13)
+  std::array<std::array<Scalar, 4>, 2> tie_ref_;   // G_i.G_zeta of the tied components [layer][A..D]
+  std::array<Scalar, 6> p_coef_;                   // eq. (9): a1^2, b1^2, a1 b1, a2^2, b2^2, a2 b2
+  Eigen::Matrix<Scalar, 10, 10> h_inv_;            // eq. (10)
+  M3 Cm_;                                          // eq. (7), membrane block
+  Scalar kG_ = 0.0;                                // eq. (7), shear
+  Scalar gamma_ = 0.0;                             // eq. (13)
   std::shared_ptr<const TangentData> tan_;         // immutable, shared by copies
   std::array<DrillPoint, 4> drill_;
 };
+
+template <>
+BasicCbShellElement<double>::BasicCbShellElement(const ElementPoses& reference, const ShellSection& section,
+                                                 const ShellOptions& options);
+using CbShellElement = BasicCbShellElement<double>;
+
+/// Floating-point operations of one evaluation of `element` at `current` (cb_shell.md, "Flop
+/// count"), counted by running the kernel in CountedDouble arithmetic; the counted force comes
+/// back too, so a caller can check that the counted run computed what the solver computes.
+struct ElementFlops {
+  long long force = 0;          ///< force alone
+  long long force_tangent = 0;  ///< force and tangent
+  Vec24 counted_force;          ///< the force of the counted run, in double
+  Mat24 counted_tangent;        ///< the tangent of the counted run, in double
+};
+ElementFlops count_element_flops(const CbShellElement& element, const ElementPoses& current);
 
 }  // namespace ff::shell
