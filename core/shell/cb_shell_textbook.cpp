@@ -126,7 +126,7 @@ void increment(std::array<CbShellTextbook::Node<HyperDual>, 4>& n, int k, const 
   else node.R = node.R * exp_infinitesimal(e);
 }
 
-// bilinear quad functions (counter-clockwise corners) and the trilinear slave functions of (S2 §2):
+// bilinear quad functions (counter-clockwise corners) and the trilinear slave functions of §2:
 // N_I^s = N_I(ξ, η)(1 + sζ)/2; slave A = I (s = +1) or 4 + I (s = −1)
 constexpr double kXi[4] = {-1, 1, 1, -1}, kEta[4] = {-1, -1, 1, 1};
 double quad_N(int I, double xi, double eta) { return 0.25 * (1 + kXi[I] * xi) * (1 + kEta[I] * eta); }
