@@ -27,7 +27,6 @@ HyperDual operator*(const HyperDual& a, const HyperDual& b) {
           a.v * b.e12 + a.e1 * b.e2 + a.e2 * b.e1 + a.e12 * b.v};
 }
 HyperDual operator*(double s, const HyperDual& a) { return {s * a.v, s * a.e1, s * a.e2, s * a.e12}; }
-HyperDual operator*(const HyperDual& a, double s) { return s * a; }
 HyperDual& operator+=(HyperDual& a, const HyperDual& b) { return a = a + b; }
 
 // ---- tiny 3-vectors and 3 x 3 matrices in any scalar (no Eigen custom scalar needed) ----------
