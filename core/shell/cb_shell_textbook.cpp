@@ -102,7 +102,8 @@ std::array<CbShellTextbook::Node<T>, 4> lift(const ElementPoses& poses) {
 
 // exp(v~) for a purely infinitesimal hyper-dual v (zero real part): every product of three
 // infinitesimal parts contains ε1² or ε2² and vanishes, so v~³ = 0 and the series
-// I + v~ + v~²/2 is exact, not an approximation (for one infinitesimal even v~² = 0).
+// I + v~ + v~²/2 is exact, not an approximation (for one infinitesimal even v~² = 0). increment()
+// only ever passes such v.
 M3<HyperDual> exp_infinitesimal(const V3<HyperDual>& v) {
   M3<HyperDual> h;  // v~
   h.m[0][1] = -v[2], h.m[0][2] = v[1];

@@ -24,7 +24,7 @@ class CbShellTextbook {
   void evaluate(const ElementPoses& current, Vec24& force, Mat24& tangent) const;
 
   template <class T>
-  struct Node;  // a pose in scalar T (cb_shell_textbook.cpp)
+  struct Node;  // a pose in scalar T; defined in cb_shell_textbook.cpp, whose helpers name it
 
  private:
   template <class T>
