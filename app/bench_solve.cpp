@@ -166,8 +166,10 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
       const double t = best_of(rounds, [&] {
         ok = solver.factorize(it.K) && solver.solve(it.r, it.x);
       });
-      std::printf(ok ? " %.4g |" : " failed |", 1e3 * t);
+      const bool ldlt = ok && solver.symmetric_factorization() && !linear_backend_is_symmetric(b);
+      std::printf(ok ? (ldlt ? " %.4g (LDLᵀ) |" : " %.4g |") : " failed |", 1e3 * t);
       row[std::string(to_string(b)) + "_factorize_solve_ms"] = ok ? 1e3 * t : -1.0;
+      if (ldlt) row[std::string(to_string(b)) + "_factorization"] = "ldlt";
       if (b == chosen) t_default = t;
       if (b == LinearBackend::umfpack) t_umfpack = t;
     }

@@ -595,12 +595,6 @@ template <class Scalar>
 Scalar BasicCbShellElement<Scalar>::drilling_terms(const ElementPoses& cur, Vector24& f, Matrix24* K) const {
   using Vec3 = Mat<Scalar, 3, 1>;
   using Mat3 = Mat<Scalar, 3, 3>;
-  using Mat38 = Mat<Scalar, 3, 8>;
-  using Mat8 = Mat<Scalar, 8, 8>;
-  using Vec5 = Mat<Scalar, 5, 1>;
-  using Vec10 = Mat<Scalar, 10, 1>;
-  using Mat20 = Mat<Scalar, 20, 20>;
-  using Mat20x5 = Mat<Scalar, 20, 5>;
   Scalar energy = 0.0;
   Eigen::Matrix<Scalar, 24, 4> c, c_scaled;  // local gradients of omega per point, eq. (14)
   Vec3 v_cross[4][4];                        // (theta_I, u_J) blocks before R_I^T R_J

@@ -69,6 +69,8 @@ class SparseLinearSolver::Impl {
   virtual bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
   /// sign of det K of the current factorization (+1, −1), 0 when zero or unknown
   virtual int determinant_sign() = 0;
+  /// true when the last factorization used the matrix's symmetry (LDLᵀ or LLᵀ)
+  virtual bool symmetric_factorization() const { return false; }
 };
 
 namespace {
@@ -239,58 +241,67 @@ class CholmodImpl final : public SparseLinearSolver::Impl {
 
 
 #ifdef FF_HAVE_MUMPS
-// MUMPS (sequential build), unsymmetric multifrontal LU with a nested-dissection ordering:
-// on 2-D shell meshes nested dissection keeps the factor's fill at O(n log n), against the
-// column orderings of UMFPACK and SparseLU (static_solvers.md §4 has the measurements). The
-// analysis (ordering + symbolic) is kept across factorizations of one pattern; MUMPS wants
-// 1-based coordinate triplets, built once per analysis.
-class MumpsImpl final : public SparseLinearSolver::Impl {
+// One MUMPS instance (sequential build) of one symmetry type: SYM = 0, multifrontal LU, or
+// SYM = 2, LDLᵀ with pivoting for symmetric indefinite matrices (a tangent past a limit point
+// is indefinite), on the lower triangle only: about half the flops and memory of LU.
+class MumpsInstance {
  public:
-  MumpsImpl() {
+  explicit MumpsInstance(int sym) {
     id_.comm_fortran = -987654;  // MPI_COMM_WORLD's Fortran handle as MUMPS documents it (a stub here)
     id_.par = 1;                 // the host works
-    id_.sym = 0;                 // unsymmetric: shell tangents on SE(3) are not symmetric off equilibrium
+    id_.sym = sym;
     id_.job = -1;
     dmumps_c(&id_);
     initialised_ = id_.infog[0] >= 0;
     icntl(1) = icntl(2) = icntl(3) = -1;  // no output streams: failures come back as statuses
     icntl(4) = 0;
     icntl(28) = 1;   // sequential analysis, so ICNTL(7) picks the ordering
-    icntl(7) = 7;    // automatic: METIS when the build has it, else SCOTCH (Debian's sequential build: SCOTCH)
+    // LU: automatic, METIS when the build has it, else SCOTCH (Debian's sequential build: SCOTCH).
+    // LDLᵀ: PORD, which every MUMPS build carries: on the plates of `bench --solve` it is 9-30 %
+    // faster than SCOTCH and METIS (static_solvers.md §7)
+    icntl(7) = sym == 0 ? 7 : 4;
     icntl(24) = 1;   // null pivot detection, so a singular K is reported, not factorized
     icntl(33) = 1;   // the determinant (its sign marks limit and bifurcation points)
   }
-  ~MumpsImpl() override {
+  ~MumpsInstance() {
     if (!initialised_) return;
     id_.job = -2;
     dmumps_c(&id_);
   }
-  MumpsImpl(const MumpsImpl&) = delete;
-  MumpsImpl& operator=(const MumpsImpl&) = delete;
+  MumpsInstance(const MumpsInstance&) = delete;
+  MumpsInstance& operator=(const MumpsInstance&) = delete;
 
-  LinearStatus analyze(const SparseMatrixD& a) override {
+  bool analyzed() const { return analyzed_; }
+  void forget_analysis() { analyzed_ = false; }
+
+  // 1-based coordinates of the entries `positions` of the CSC matrix a (all, or the lower triangle)
+  LinearStatus analyze(const SparseMatrixD& a, const std::vector<int>& positions) {
     if (!initialised_) return fail(Code::backend_error, -1, "MUMPS could not be initialised");
     const int n = static_cast<int>(a.rows());
-    irn_.resize(a.nonZeros());
-    jcn_.resize(a.nonZeros());
-    for (int j = 0; j < n; ++j)
-      for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p) {
-        irn_[p] = a.innerIndexPtr()[p] + 1;
-        jcn_[p] = j + 1;
-      }
-    values_.assign(a.valuePtr(), a.valuePtr() + a.nonZeros());
+    irn_.resize(positions.size());
+    jcn_.resize(positions.size());
+    values_.resize(positions.size());
+    for (int j = 0, q = 0; j < n; ++j)
+      for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p)
+        if (q < static_cast<int>(positions.size()) && positions[q] == p) {
+          irn_[q] = a.innerIndexPtr()[p] + 1;
+          jcn_[q] = j + 1;
+          values_[q] = a.valuePtr()[p];
+          ++q;
+        }
     id_.n = n;
-    id_.nnz = a.nonZeros();
+    id_.nnz = static_cast<int>(positions.size());
     id_.irn = irn_.data();
     id_.jcn = jcn_.data();
     id_.a = values_.data();
     id_.job = 1;
     dmumps_c(&id_);
     if (id_.infog[0] < 0) return fail(Code::backend_error, -1, "MUMPS analysis failed (INFOG(1) = " + std::to_string(id_.infog[0]) + ")");
+    analyzed_ = true;
     return {};
   }
-  LinearStatus factorize(const SparseMatrixD& a) override {
-    std::copy(a.valuePtr(), a.valuePtr() + a.nonZeros(), values_.begin());
+  LinearStatus factorize(const SparseMatrixD& a, const std::vector<int>& positions) {
+    for (std::size_t q = 0; q < positions.size(); ++q) values_[q] = a.valuePtr()[positions[q]];
     for (int attempt = 0;; ++attempt) {
       id_.job = 2;
       dmumps_c(&id_);
@@ -311,7 +322,7 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
       return fail(Code::backend_error, -1, "MUMPS factorization failed (INFOG(1) = " + std::to_string(id_.infog[0]) + ")");
     return {};
   }
-  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     x = b;
     id_.rhs = x.data();
     id_.nrhs = 1;
@@ -320,7 +331,7 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
     dmumps_c(&id_);
     return id_.infog[0] >= 0;
   }
-  int determinant_sign() override {
+  int determinant_sign() const {
     // det = RINFOG(12) * 2^INFOG(34)
     const double mantissa = id_.rinfog[11];
     return mantissa > 0.0 ? 1 : (mantissa < 0.0 ? -1 : 0);
@@ -329,9 +340,70 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
  private:
   int& icntl(int k) { return id_.icntl[k - 1]; }  // MUMPS documents ICNTL 1-based
   DMUMPS_STRUC_C id_{};
-  bool initialised_ = false;
+  bool initialised_ = false, analyzed_ = false;
   std::vector<int> irn_, jcn_;
   std::vector<double> values_;
+};
+
+// MUMPS with a nested-dissection ordering: on 2-D shell meshes it keeps the factor's fill at
+// O(n log n), against the column orderings of UMFPACK and SparseLU (static_solvers.md §4 has the
+// measurements). Each factorization looks at the values: a symmetric matrix (a static tangent
+// without drilling or follower loads, static_solvers.md §7) goes to the LDLᵀ instance, any
+// other to LU, so one backend serves statics and dynamics and a user never has to know which
+// tangent is symmetric. Each instance analyzes the pattern once, when first needed.
+class MumpsImpl final : public SparseLinearSolver::Impl {
+ public:
+  MumpsImpl() : lu_(0), ldlt_(2) {}
+
+  LinearStatus analyze(const SparseMatrixD& a) override {
+    lu_.forget_analysis();
+    ldlt_.forget_analysis();
+    const int n = static_cast<int>(a.rows());
+    all_.resize(a.nonZeros());
+    for (int p = 0; p < a.nonZeros(); ++p) all_[p] = p;
+    lower_.clear();
+    mirror_.assign(a.nonZeros(), -1);
+    bool structurally_symmetric = true;
+    for (int j = 0; j < n; ++j)
+      for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p) {
+        const int i = a.innerIndexPtr()[p];
+        if (i >= j) lower_.push_back(p);
+        // position of (j, i) in column i: the pattern's rows are sorted in each column
+        const int* begin = a.innerIndexPtr() + a.outerIndexPtr()[i];
+        const int* end = a.innerIndexPtr() + a.outerIndexPtr()[i + 1];
+        const int* m = std::lower_bound(begin, end, j);
+        if (m == end || *m != j) structurally_symmetric = false;
+        else mirror_[p] = static_cast<int>(m - a.innerIndexPtr());
+      }
+    if (!structurally_symmetric) mirror_.clear();
+    return lu_.analyze(a, all_);
+  }
+  LinearStatus factorize(const SparseMatrixD& a) override {
+    last_ = symmetric_values(a) ? &ldlt_ : &lu_;
+    const std::vector<int>& positions = last_ == &ldlt_ ? lower_ : all_;
+    if (!last_->analyzed())
+      if (LinearStatus s = last_->analyze(a, positions); !s) return s;
+    return last_->factorize(a, positions);
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override { return last_ && last_->solve(b, x); }
+  int determinant_sign() override { return last_ ? last_->determinant_sign() : 0; }
+  bool symmetric_factorization() const override { return last_ == &ldlt_; }
+
+ private:
+  // a(i, j) = a(j, i) to round-off (1e-12 of the largest entry), read through the mirror table
+  bool symmetric_values(const SparseMatrixD& a) const {
+    if (mirror_.empty()) return false;
+    const double* v = a.valuePtr();
+    double largest = 0.0, worst = 0.0;
+    for (std::size_t p = 0; p < mirror_.size(); ++p) {
+      largest = std::max(largest, std::abs(v[p]));
+      worst = std::max(worst, std::abs(v[p] - v[mirror_[p]]));
+    }
+    return worst <= 1e-12 * largest;
+  }
+  MumpsInstance lu_, ldlt_;
+  MumpsInstance* last_ = nullptr;
+  std::vector<int> all_, lower_, mirror_;  // CSC positions: every entry, lower triangle, mirrored entry
 };
 #endif
 
@@ -359,7 +431,9 @@ std::unique_ptr<SparseLinearSolver::Impl> make_impl(LinearBackend backend) {
 
 // ---------------------------------------------------------------------------------------------
 LinearBackend default_linear_backend() {
-  return linear_backend_available(LinearBackend::umfpack) ? LinearBackend::umfpack : LinearBackend::sparse_lu;
+  for (LinearBackend b : {LinearBackend::mumps, LinearBackend::umfpack})
+    if (linear_backend_available(b)) return b;
+  return LinearBackend::sparse_lu;
 }
 
 bool linear_backend_available(LinearBackend backend) {
@@ -455,6 +529,10 @@ LinearStatus SparseLinearSolver::factorize(const SparseMatrixD& k) {
 }
 
 int SparseLinearSolver::determinant_sign() const { return factorized_ ? impl_->determinant_sign() : 0; }
+
+bool SparseLinearSolver::symmetric_factorization() const {
+  return factorized_ && (linear_backend_is_symmetric(backend_) || impl_->symmetric_factorization());
+}
 
 LinearStatus SparseLinearSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
   if (!factorized_) return fail(Code::invalid_input, -1, "solve() without a successful factorize()");

@@ -23,11 +23,12 @@ enum class LinearBackend {
   sparse_lu,       ///< Eigen::SparseLU with COLAMD ordering (supernodal LU, no external library)
   cholmod_llt,     ///< CHOLMOD supernodal LLᵀ: symmetric positive definite only (fails past a limit point)
   simplicial_ldlt,  ///< Eigen::SimplicialLDLT (AMD): symmetric, no pivoting; for symmetric indefinite use LU
-  mumps             ///< MUMPS multifrontal LU (sequential) with nested dissection (METIS or SCOTCH)
+  mumps             ///< MUMPS (sequential), nested dissection: LDLᵀ when K = Kᵀ, else LU (per factorization)
 };
 
-/// The backend the static solvers use unless a scene says otherwise: UMFPACK when SuiteSparse was
-/// found at configure time, otherwise Eigen's SparseLU (static_solvers.md §4 gives the measurements).
+/// The backend every solver uses unless a scene says otherwise: MUMPS when compiled in (LDLᵀ for
+/// the symmetric static tangents, LU otherwise), else UMFPACK, else Eigen's SparseLU
+/// (static_solvers.md §7 gives the measurements).
 LinearBackend default_linear_backend();
 /// Compiled in (UMFPACK and CHOLMOD need SuiteSparse at configure time).
 bool linear_backend_available(LinearBackend backend);
@@ -77,6 +78,10 @@ class SparseLinearSolver {
   /// Sign of det K for the last factorization: +1 or −1, 0 when singular or not factorized. Its
   /// change along a load path marks a limit or bifurcation point (static_solvers.md §4.4). O(n).
   int determinant_sign() const;
+
+  /// True when the last factorization used K's symmetry: the Cholesky-type backends always, MUMPS
+  /// when K = Kᵀ to round-off (LDLᵀ instead of LU, static_solvers.md §7).
+  bool symmetric_factorization() const;
 
   bool factorized() const { return factorized_; }
   int rows() const { return n_; }

@@ -191,6 +191,53 @@ TEST(SparseSolver, IndefiniteMatrixFailsCholeskyButSolvesWithLu) {
   }
 }
 
+// MUMPS looks at each matrix's values: symmetric (to round-off) goes to LDLᵀ, anything else to LU,
+// on one solver object and one pattern analysis (static_solvers.md §7). LDLᵀ pivots, so a
+// symmetric indefinite matrix (a tangent past a limit point) solves, with the sign of det K.
+TEST(SparseSolver, MumpsFactorsSymmetricMatricesByLdltAndOthersByLu) {
+  if (!linear_backend_available(LinearBackend::mumps)) GTEST_SKIP() << "MUMPS not compiled in";
+  SparseLinearSolver solver(LinearBackend::mumps);
+  const auto solves = [&](const SparseMatrixD& k) {
+    const Eigen::VectorXd x_true = Eigen::VectorXd::LinSpaced(k.rows(), -1.0, 2.0).array().cos();
+    Eigen::VectorXd x;
+    if (!solver.factorize(k) || !solver.solve(k * x_true, x)) return false;
+    return (x - x_true).norm() < 1e-11 * x_true.norm();
+  };
+  const SparseMatrixD symmetric = shell_grid_matrix(20, 0.0, 4), unsymmetric = shell_grid_matrix(20, 0.05, 4);
+  ASSERT_TRUE(solves(symmetric));
+  EXPECT_TRUE(solver.symmetric_factorization());
+  ASSERT_TRUE(solves(unsymmetric));
+  EXPECT_FALSE(solver.symmetric_factorization());
+  // an asymmetry at round-off level (a 5-DoF shell tangent's) still counts as symmetric
+  SparseMatrixD nearly = symmetric;
+  nearly.coeffRef(3, 0) *= 1.0 + 1e-15;
+  ASSERT_TRUE(solves(nearly));
+  EXPECT_TRUE(solver.symmetric_factorization());
+  EXPECT_EQ(solver.analyses(), 1);  // one pattern: the two instances analyze it once each
+
+  // symmetric indefinite: det sign against dense LU
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int negatives = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::MatrixXd d = Eigen::MatrixXd::Zero(30, 30);
+    for (int i = 0; i < 30; ++i)
+      for (int j = 0; j <= i; ++j)
+        if (i == j || u(gen) > 0.6) d(i, j) = d(j, i) = u(gen);
+    SparseLinearSolver ldlt(LinearBackend::mumps);
+    const SparseMatrixD k = from_dense(d);
+    ASSERT_TRUE(ldlt.factorize(k));
+    EXPECT_TRUE(ldlt.symmetric_factorization());
+    const double det = d.partialPivLu().determinant();
+    EXPECT_EQ(ldlt.determinant_sign(), det > 0 ? 1 : -1) << "trial " << trial;
+    Eigen::VectorXd x;
+    ASSERT_TRUE(ldlt.solve(Eigen::VectorXd::Ones(30), x));
+    EXPECT_LT((d * x - Eigen::VectorXd::Ones(30)).norm(), 1e-9 * d.norm() * x.norm());
+    negatives += det < 0;
+  }
+  EXPECT_GT(negatives, 4);
+}
+
 TEST(SparseSolver, MisuseIsReportedNotAsserted) {
   SparseLinearSolver solver(LinearBackend::sparse_lu);
   Eigen::VectorXd x;
