@@ -251,8 +251,9 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
       for (const std::string& o : overrides)
         if (o.substr(0, o.find('=')) != c.a) next.push_back(o);
       next.push_back(c.a + "=" + c.b);
-      // a live parameter (Simulation::change_live) changes at the next step; the run goes on
-      if (!finished_ && !pending_ && scene_.simulation->change_live(c.a, c.b).empty()) {
+      // a key the schema declares live changes the running model at the next step; the run goes
+      // on. Anything else (another key, a refused value) rebuilds, whose validation says why.
+      if (!finished_ && !pending_ && scene::change_live(scene_, c.a, c.b).empty()) {
         status_.overrides = next;
         set_message("set " + c.a + " = " + c.b + " live: the run goes on with it from the next step", false);
         break;

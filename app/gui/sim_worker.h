@@ -9,8 +9,8 @@
 /// stepping (it waits for a command), so the solver's state never leaves its thread.
 /// Commands that change the model (reset, set, load) build a new Simulation first (a refused
 /// edit leaves the running one alone and says why), then stop the current run and start the
-/// new one at t = 0, paused unless it was running. A `set` of a live key
-/// (Simulation::change_live: torque.amplitude, gravity.g) changes the running model instead.
+/// new one at t = 0, paused unless it was running. A `set` of a key the scene schema declares
+/// live (scene::change_live: torque.amplitude, gravity.g) changes the running model instead.
 
 #include <array>
 #include <atomic>

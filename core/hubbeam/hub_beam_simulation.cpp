@@ -183,14 +183,14 @@ Metrics HubBeamSimulation::metrics() const {
   return m;
 }
 
-std::string HubBeamSimulation::change_live(const std::string& key, const std::string& value) {
+std::string HubBeamSimulation::change_live(const std::string& key, const LiveValue& value) {
   if (key != "torque.amplitude") return "'" + key + "' cannot change while the model runs (live: torque.amplitude)";
-  char* end = nullptr;
-  const double tau0 = std::strtod(value.c_str(), &end);
-  if (value.empty() || *end != '\0' || !std::isfinite(tau0)) return "torque.amplitude needs a number, got '" + value + "'";
+  // the scene schema has checked the value (a finite number >= 0); this only guards the type
+  const double* tau0 = std::get_if<double>(&value);
+  if (!tau0) return "torque.amplitude takes a number";
   const double base = sys_->params().torque_amplitude;
   if (base == 0.0) return "the scene's torque amplitude is 0, so it cannot be scaled live";
-  live_torque_scale_ = tau0 / base;
+  live_torque_scale_ = *tau0 / base;
   return "";
 }
 

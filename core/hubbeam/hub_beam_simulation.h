@@ -53,7 +53,7 @@ class HubBeamSimulation final : public Simulation {
   std::vector<EffectStat> effect_stats() const override { return sys_->effect_stats(); }
   const HubBeamSystem& system() const { return *sys_; }
   /// Live: "torque.amplitude" (tau0 [N m]; the run goes on with the torque scaled to it).
-  std::string change_live(const std::string& key, const std::string& value) override;
+  std::string change_live(const std::string& key, const LiveValue& value) override;
 
  private:
   void record();  // the current state as current_, and its probes into the history

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 namespace ff::shell {
 
@@ -190,18 +189,13 @@ Metrics ShellDynamicSimulation::metrics() const {
   return m;
 }
 
-std::string ShellDynamicSimulation::change_live(const std::string& key, const std::string& value) {
+std::string ShellDynamicSimulation::change_live(const std::string& key, const LiveValue& value) {
   if (key != "gravity.g") return "'" + key + "' cannot change while the model runs (live: gravity.g)";
   if (!model_->spec().gravity) return "gravity.g changes live only when the scene has the gravity effect";
-  // "[gx, gy, gz]": three finite numbers
-  std::string text = value;
-  for (char& c : text)
-    if (c == '[' || c == ']' || c == ',') c = ' ';
-  std::istringstream in(text);
-  Vec3 g;
-  if (!(in >> g.x() >> g.y() >> g.z()) || !g.allFinite() || (in >> std::ws, !in.eof()))
-    return "gravity.g needs [gx, gy, gz], got '" + value + "'";
-  live_gravity_ = g;
+  // the scene schema has checked the value (three finite numbers); this only guards the type
+  const auto* g = std::get_if<std::vector<double>>(&value);
+  if (!g || g->size() != 3) return "gravity.g takes a list of 3 numbers";
+  live_gravity_ = Vec3((*g)[0], (*g)[1], (*g)[2]);
   return "";
 }
 

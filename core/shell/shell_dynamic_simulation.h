@@ -72,8 +72,8 @@ class ShellDynamicSimulation final : public Simulation {
   Metrics metrics() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override;
-  /// Live: "gravity.g" ([gx, gy, gz] in m/s²; needs the gravity effect).
-  std::string change_live(const std::string& key, const std::string& value) override;
+  /// Live: "gravity.g" (a list [gx, gy, gz] in m/s²; needs the gravity effect).
+  std::string change_live(const std::string& key, const LiveValue& value) override;
   const MultibodyModel& model() const { return *model_; }
   /// Largest |Φ| seen after a converged step (constraint violation), in length units.
   double max_constraint_violation() const { return max_violation_; }
