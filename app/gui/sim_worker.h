@@ -117,7 +117,7 @@ class SimWorker {
   void set_message(std::string text, bool error);
   bool settled() const;
 
-  std::mutex m_;
+  std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<Command> queue_;
   std::uint64_t next_seq_ = 1;
@@ -138,7 +138,7 @@ class SimWorker {
   double pace_ = 0.0;
   std::chrono::steady_clock::time_point last_release_;
 
-  // the mailbox (under m_)
+  // the mailbox (under mutex_)
   WorkerStatus status_;
   std::optional<Frame> frame_;
   std::vector<Sample> samples_;

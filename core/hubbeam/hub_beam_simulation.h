@@ -38,11 +38,11 @@ class HubBeamSimulation final : public Simulation {
   HubBeamSimulation(std::unique_ptr<HubBeamSystem> system, HubBeamRunSettings settings, RunInfo info);
   ~HubBeamSimulation() override;
   const RunInfo& info() const override { return info_; }
-  double end_time() const override { return s_.t_end; }
+  double end_time() const override { return settings_.t_end; }
   std::string start() override;
   StepStats start_stats() const override { return start_stats_; }
   double time() const override { return state_.t; }
-  double nominal_step() const override { return s_.dt; }
+  double nominal_step() const override { return settings_.dt; }
   double next_change(double t) const override;
   bool apply_changes(double t) override;
   std::string restart() override;
@@ -58,7 +58,7 @@ class HubBeamSimulation final : public Simulation {
  private:
   void record();  // the current state as current_, and its probes into the history
   std::unique_ptr<HubBeamSystem> sys_;
-  HubBeamRunSettings s_;
+  HubBeamRunSettings settings_;
   RunInfo info_;
   SolverTotals totals_;
   std::unique_ptr<NewmarkIntegrator> integrator_;

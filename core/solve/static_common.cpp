@@ -61,10 +61,10 @@ StaticStepInfo step_info(const AttemptOutcome& outcome, int step, double lambda,
 bool stop_requested(const std::atomic<bool>* stop) { return stop && stop->load(std::memory_order_relaxed); }
 
 StaticKernel::StaticKernel(StaticProblem& problem, const StaticConvergence& convergence)
-    : p_(problem), c_(convergence), n_(problem.size()), linear_(convergence.linear_backend) {
+    : problem_(problem), c_(convergence), n_(problem.size()), linear_(convergence.linear_backend) {
   w2_.resize(n_);
   for (int i = 0; i < n_; ++i) {
-    const double s = p_.dof_scale(i);
+    const double s = problem_.dof_scale(i);
     w2_[i] = s * s;
   }
   iw2_ = w2_.cwiseInverse();
@@ -81,7 +81,7 @@ double StaticKernel::dot_r(const Eigen::VectorXd& a, const Eigen::VectorXd& b) c
 }
 
 bool StaticKernel::evaluate(double lambda, bool with_tangent) {
-  p_.evaluate(lambda, r_, with_tangent ? &k_ : nullptr, &f_);
+  problem_.evaluate(lambda, r_, with_tangent ? &tangent_ : nullptr, &f_);
   evaluated_ = true;
   evaluated_lambda_ = lambda;
   if (with_tangent) {
@@ -106,8 +106,8 @@ bool StaticKernel::evaluate(double lambda, bool with_tangent) {
 
 bool StaticKernel::refresh_tangent(double lambda) {
   if (!(tangent_current_ && tangent_lambda_ == lambda) && !evaluate(lambda, true)) return false;
-  k_.makeCompressed();
-  const LinearStatus s = linear_.factorize(k_);
+  tangent_.makeCompressed();
+  const LinearStatus s = linear_.factorize(tangent_);
   if (!s) {
     factorized_ = false;
     failure_ = "tangent factorization failed: " + s.message;
@@ -136,27 +136,27 @@ bool StaticKernel::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
 }
 
 void StaticKernel::update(const Eigen::VectorXd& delta) {
-  p_.update(delta);
+  problem_.update(delta);
   tangent_current_ = evaluated_ = false;
 }
 
-void StaticKernel::save() { p_.save_state(); }
+void StaticKernel::save() { problem_.save_state(); }
 
 void StaticKernel::restore() {
-  p_.restore_state();
+  problem_.restore_state();
   tangent_current_ = evaluated_ = false;
 }
 
 // eq. (3'): r_i changes by sum_j K_ij e_j for state errors e_j; independent one-ulp errors
 // e_j ~ eps m_j (m_j the coordinate's magnitude) give rho_i = eps sqrt(sum_j (K_ij m_j)^2)
 void StaticKernel::estimate_round_off() {
-  if (c_.round_off_factor <= 0.0 || k_.nonZeros() == 0) return;
+  if (c_.round_off_factor <= 0.0 || tangent_.nonZeros() == 0) return;
   magnitude_.resize(n_);
-  for (int j = 0; j < n_; ++j) magnitude_[j] = p_.state_magnitude(j);
+  for (int j = 0; j < n_; ++j) magnitude_[j] = problem_.state_magnitude(j);
   if (magnitude_.maxCoeff() <= 0.0) return;
   Eigen::VectorXd acc = Eigen::VectorXd::Zero(n_);
-  for (int j = 0; j < k_.outerSize(); ++j)
-    for (SparseMatrixD::InnerIterator it(k_, j); it; ++it) {
+  for (int j = 0; j < tangent_.outerSize(); ++j)
+    for (SparseMatrixD::InnerIterator it(tangent_, j); it; ++it) {
       const double v = it.value() * magnitude_[j];
       acc[it.row()] += v * v;
     }

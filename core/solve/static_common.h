@@ -111,8 +111,8 @@ class StaticKernel {
  public:
   StaticKernel(StaticProblem& problem, const StaticConvergence& convergence);
 
-  StaticProblem& problem() { return p_; }
-  const StaticProblem& problem() const { return p_; }
+  StaticProblem& problem() { return problem_; }
+  const StaticProblem& problem() const { return problem_; }
   const StaticConvergence& convergence() const { return c_; }
   int size() const { return n_; }
 
@@ -159,15 +159,15 @@ class StaticKernel {
 
  private:
   void estimate_round_off();
-  StaticProblem& p_;
+  StaticProblem& problem_;
   StaticConvergence c_;
   int n_;
   Eigen::VectorXd w2_, iw2_;  // s_i², 1/s_i²
   Eigen::VectorXd magnitude_;  // state magnitudes m_j of eq. (3')
   Eigen::VectorXd r_, f_;
-  SparseMatrixD k_;
+  SparseMatrixD tangent_;
   SparseLinearSolver linear_;
-  bool tangent_current_ = false;  // k_ was evaluated at the current state, at λ = tangent_lambda_
+  bool tangent_current_ = false;  // tangent_ was evaluated at the current state, at λ = tangent_lambda_
   double tangent_lambda_ = 0.0;
   bool evaluated_ = false;  // r_, f_ were evaluated at the current state, at λ = evaluated_lambda_
   double evaluated_lambda_ = 0.0;
