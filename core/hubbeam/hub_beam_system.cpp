@@ -118,7 +118,8 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
   const double rho_a = params_.density * params_.area, a = params_.hub_radius;
   m2_minus_d1_ = first_order ? MatrixXd(matrices_.m2 - matrices_.d1) : matrices_.m2;
   matrices_.jb = rho_a * (std::pow(a + params_.length, 3) - std::pow(a, 3)) / 3.0;  // eq. (8)
-  matrices_.s_tip = first_order ? pick(coupling_shape_matrix(*basis_, params_.length), it, it) : MatrixXd::Constant(n2_, n2_, unused);
+  matrices_.s_tip =
+      first_order ? pick(coupling_shape_matrix(*basis_, params_.length), it, it) : MatrixXd::Constant(n2_, n2_, unused);
   ShapeRows s = basis_->make_rows();
   basis_->evaluate(params_.length, s);
   matrices_.n1_tip = pick(s.n1, ia_used);
@@ -188,8 +189,8 @@ void HubBeamSystem::residual(const VectorXd& x, const VectorXd& v, const VectorX
   r[0] = mtt * dw - rq2.dot(aq1) + (matrices_.u12.transpose() + rtq1).dot(aq2) + 2.0 * w * gyro;
   if (fx_.hub_torque) r[0] -= torque(t);
   // eq. (12)
-  r.segment(1, n1_) = matrices_.m1 * aq1 - rq2 * dw - 2.0 * w * (matrices_.r * dq2) + matrices_.k1 * q1 - (w * w) * m1q1 -
-                      (w * w) * matrices_.u11.transpose();
+  r.segment(1, n1_) = matrices_.m1 * aq1 - rq2 * dw - 2.0 * w * (matrices_.r * dq2) + matrices_.k1 * q1 -
+                      (w * w) * m1q1 - (w * w) * matrices_.u11.transpose();
   // eq. (13)
   if (first_order)
     r.segment(1 + n1_, n2_) = matrices_.m2 * aq2 + (matrices_.u12.transpose() + rtq1) * dw +
@@ -287,7 +288,8 @@ double HubBeamSystem::kinetic_energy(const VectorXd& x, const VectorXd& v) const
   const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
   const double w = v[0];
   // eq. (5)
-  return 0.5 * hub_axis_inertia(x) * w * w + w * (matrices_.u12.dot(dq2) + q1.dot(matrices_.r * dq2) - q2.dot(matrices_.r.transpose() * dq1)) +
+  return 0.5 * hub_axis_inertia(x) * w * w +
+         w * (matrices_.u12.dot(dq2) + q1.dot(matrices_.r * dq2) - q2.dot(matrices_.r.transpose() * dq1)) +
          0.5 * dq1.dot(matrices_.m1 * dq1) + 0.5 * dq2.dot(matrices_.m2 * dq2);
 }
 
@@ -300,7 +302,8 @@ double HubBeamSystem::angular_momentum(const VectorXd& x, const VectorXd& v) con
   const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
   const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
   // eq. (14)
-  return hub_axis_inertia(x) * v[0] + matrices_.u12.dot(dq2) + q1.dot(matrices_.r * dq2) - q2.dot(matrices_.r.transpose() * dq1);
+  return hub_axis_inertia(x) * v[0] + matrices_.u12.dot(dq2) + q1.dot(matrices_.r * dq2) -
+         q2.dot(matrices_.r.transpose() * dq1);
 }
 
 double HubBeamSystem::tip_transverse(const VectorXd& x) const {

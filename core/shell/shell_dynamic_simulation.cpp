@@ -110,7 +110,8 @@ double ShellDynamicSimulation::next_change(double t) const {
 // [[timeline]] gravity changes due at (or within round-off of) the time t, and a live edit
 bool ShellDynamicSimulation::apply_changes(double t) {
   bool changed = false;
-  while (next_change_ < settings_.gravity_changes.size() && settings_.gravity_changes[next_change_].first <= t + 1e-9 * settings_.dt)
+  while (next_change_ < settings_.gravity_changes.size() &&
+         settings_.gravity_changes[next_change_].first <= t + 1e-9 * settings_.dt)
     model_->set_gravity(settings_.gravity_changes[next_change_++].second), changed = true;
   if (live_gravity_) {  // a live edit (change_live) made since the last step
     model_->set_gravity(*live_gravity_);
@@ -124,7 +125,8 @@ StepDone ShellDynamicSimulation::step(double h) {
   StepDone d;
   const double t0 = integrator_->time();
   const StepReport rep = integrator_->step(h);
-  if (t0 < settings_.count_until - 1e-9 * settings_.dt) window_noi_ += rep.iterations, window_nou_ += rep.matrix_updates;
+  if (t0 < settings_.count_until - 1e-9 * settings_.dt)
+    window_noi_ += rep.iterations, window_nou_ += rep.matrix_updates;
   totals_.newton_iterations = integrator_->total_iterations();
   totals_.jacobian_updates = integrator_->total_updates();
   simulated_ = integrator_->time();

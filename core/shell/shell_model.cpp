@@ -289,7 +289,8 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
     if (m.fold[i]) six_dof_[i] = 1;
   std::vector<unsigned> fixed(nn, 0u);  // slot mask, bits 0-5
   build_node_bases(fixed);
-  dofs_ = assembly::DofMap(nn, [&](int i, int slot) { return slot < (six_dof_[i] ? 6 : 5) && !(fixed[i] & (1u << slot)); });
+  dofs_ =
+      assembly::DofMap(nn, [&](int i, int slot) { return slot < (six_dof_[i] ? 6 : 5) && !(fixed[i] & (1u << slot)); });
 
   poses_.resize(nn);
   for (int i = 0; i < nn; ++i) poses_[i] = {m.frames[i], m.points[i]};
@@ -497,7 +498,8 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     if (!K) continue;
     if (l.follower) {
       Mat3 tf = six_dof_[I] ? Mat3(lambda * hat(R * l.force)) : Mat3(lambda * R * hat(l.force));
-      if (has_basis_[I]) tf = six_dof_[I] ? Mat3(basis_u_[I].transpose() * tf * basis_r_[I]) : Mat3(basis_u_[I].transpose() * tf);
+      if (has_basis_[I])
+        tf = six_dof_[I] ? Mat3(basis_u_[I].transpose() * tf * basis_r_[I]) : Mat3(basis_u_[I].transpose() * tf);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < (six_dof_[I] ? 3 : 2); ++j) add(I, i, I, 3 + j, tf(i, j));
       if (six_dof_[I]) {

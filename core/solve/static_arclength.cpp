@@ -326,7 +326,8 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
       const double fh = kernel_.dot_u(dq_f, dq_h), fd = kernel_.dot_u(dq_f, dq_);
       const double ea = qa * kernel_.dot_u(dq_h, dq_h) - fh * fh;
       const double eb = qa * kernel_.dot_u(dq_, dq_h) - (a0_ * s + fd) * fh;
-      const double ec = qa * (kernel_.dot_u(dq_, dq_) - dl * dl) - (2.0 * a0_ * s + fd) * fd + a0_ * s * s * kernel_.dot_u(dq_f, dq_f);
+      const double ec = qa * (kernel_.dot_u(dq_, dq_) - dl * dl) - (2.0 * a0_ * s + fd) * fd +
+                        a0_ * s * s * kernel_.dot_u(dq_f, dq_f);
       const double edisc = eb * eb - ea * ec;
       if (ea > 0.0 && edisc >= 0.0) {
         const double e1 = (-eb - std::sqrt(edisc)) / ea, e2 = (-eb + std::sqrt(edisc)) / ea;
@@ -442,7 +443,8 @@ bool PathFollower::start() {
   alpha2_ = qf;
   double dl0 = 0.0;
   if (settings_.method == ArcLengthMethod::crisfield) {
-    dl0 = std::abs(settings_.initial_load_increment) * std::sqrt(qf + settings_.psi * settings_.psi * kernel_.dot_r(kernel_.load(), kernel_.load()));
+    dl0 = std::abs(settings_.initial_load_increment) *
+          std::sqrt(qf + settings_.psi * settings_.psi * kernel_.dot_r(kernel_.load(), kernel_.load()));
   } else {
     a0_ = a0_origin_ = qf;  // eq. (20) at the origin
     dl0 = std::abs(settings_.initial_load_increment) * std::sqrt(2.0 * a0_);
@@ -506,10 +508,12 @@ bool PathFollower::advance() {
       // a step that needed more than twice the desired corrections started far from the path: its
       // predictor crossed a region the path curves through (it may have landed on another branch)
       const bool laborious = a.iterations > 2 * settings_.desired_iterations;
-      if (can_shorten && (reversed || laborious || (settings_.max_turn > 0.0 && std::max(turn, end_turn) > settings_.max_turn))) {
+      if (can_shorten &&
+          (reversed || laborious || (settings_.max_turn > 0.0 && std::max(turn, end_turn) > settings_.max_turn))) {
         a.converged = false;
         a.failure = laborious ? "the step needed " + std::to_string(a.iterations) + " corrections, more than twice the "
-                                "desired " + std::to_string(settings_.desired_iterations) + " (its predictor was far from the path)"
+                                "desired " + std::to_string(settings_.desired_iterations) +
+                                " (its predictor was far from the path)"
                     : reversed ? "the converged increment points back along the previous step (the path would turn back "
                                "on itself)"
                              : "the converged increment turned " + fmt(std::max(turn, end_turn) * 180.0 / std::acos(-1.0)) +
@@ -564,7 +568,8 @@ bool PathFollower::advance() {
         landing_failed_ = true;
         continue;
       }
-      if ((settings_.monitor || settings_.monitor_dof >= 0) && std::abs(monitored_after(landing)) >= settings_.displacement_limit) {
+      if ((settings_.monitor || settings_.monitor_dof >= 0) &&
+          std::abs(monitored_after(landing)) >= settings_.displacement_limit) {
         // the displacement limit comes before λ_max along this step: keep the arc-length state,
         // which ends the run at the limit below
         kernel_.restore();
@@ -605,21 +610,21 @@ bool PathFollower::advance() {
     if ((settings_.monitor || settings_.monitor_dof >= 0) && std::abs(monitored()) >= settings_.displacement_limit)
       {
       finish(StaticStatus::completed, StaticStop::displacement_limit,
-                    "the monitored displacement reached " + fmt(monitored()) + " (limit " + fmt(settings_.displacement_limit) +
-                        ") at λ = " + fmt(lambda_));
+             "the monitored displacement reached " + fmt(monitored()) + " (limit " + fmt(settings_.displacement_limit) +
+                 ") at λ = " + fmt(lambda_));
       return true;
     }
     if (lambda_ >= settings_.lambda_max)
       {
       finish(StaticStatus::completed, StaticStop::lambda_reached,
-                    "reached λ_max = " + fmt(settings_.lambda_max) + " (overshot to λ = " + fmt(lambda_) + ": landing failed)");
+             "reached λ_max = " + fmt(settings_.lambda_max) + " (overshot to λ = " + fmt(lambda_) + ": landing failed)");
       return true;
     }
     if (res_.steps >= settings_.max_steps)
       {
       finish(StaticStatus::incomplete, StaticStop::max_steps,
-                    "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
-                        std::to_string(res_.steps) + "), before λ_max = " + fmt(settings_.lambda_max));
+             "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
+                 std::to_string(res_.steps) + "), before λ_max = " + fmt(settings_.lambda_max));
       return true;
     }
 

@@ -61,7 +61,7 @@ StaticStepInfo step_info(const AttemptOutcome& outcome, int step, double lambda,
 bool stop_requested(const std::atomic<bool>* stop) { return stop && stop->load(std::memory_order_relaxed); }
 
 StaticKernel::StaticKernel(StaticProblem& problem, const StaticConvergence& convergence)
-    : problem_(problem), c_(convergence), n_(problem.size()), linear_(convergence.linear_backend) {
+    : problem_(problem), convergence_(convergence), n_(problem.size()), linear_(convergence.linear_backend) {
   w2_.resize(n_);
   for (int i = 0; i < n_; ++i) {
     const double s = problem_.dof_scale(i);
@@ -119,9 +119,9 @@ bool StaticKernel::refresh_tangent(double lambda) {
 }
 
 bool StaticKernel::wants_new_tangent(int k, double residual_norm, double previous_residual_norm) {
-  const bool fresh = c_.tangent == TangentPolicy::every_iteration || !factorized_ ||
-                     (k > 0 && residual_norm > c_.refactor_contraction * previous_residual_norm) ||
-                     iterations_on_factorization_ >= c_.refactor_iterations;
+  const bool fresh = convergence_.tangent == TangentPolicy::every_iteration || !factorized_ ||
+                     (k > 0 && residual_norm > convergence_.refactor_contraction * previous_residual_norm) ||
+                     iterations_on_factorization_ >= convergence_.refactor_iterations;
   iterations_on_factorization_ = fresh ? 1 : iterations_on_factorization_ + 1;
   return fresh;
 }
@@ -150,7 +150,7 @@ void StaticKernel::restore() {
 // eq. (3'): r_i changes by sum_j K_ij e_j for state errors e_j; independent one-ulp errors
 // e_j ~ eps m_j (m_j the coordinate's magnitude) give rho_i = eps sqrt(sum_j (K_ij m_j)^2)
 void StaticKernel::estimate_round_off() {
-  if (c_.round_off_factor <= 0.0 || tangent_.nonZeros() == 0) return;
+  if (convergence_.round_off_factor <= 0.0 || tangent_.nonZeros() == 0) return;
   magnitude_.resize(n_);
   for (int j = 0; j < n_; ++j) magnitude_[j] = problem_.state_magnitude(j);
   if (magnitude_.maxCoeff() <= 0.0) return;
@@ -164,7 +164,8 @@ void StaticKernel::estimate_round_off() {
 }
 
 double StaticKernel::residual_limit() const {
-  return c_.residual_tolerance * norm_r(f_) + c_.residual_floor + c_.round_off_factor * round_off_;
+  return convergence_.residual_tolerance * norm_r(f_) + convergence_.residual_floor +
+         convergence_.round_off_factor * round_off_;
 }
 
 bool StaticKernel::converged(double residual_norm, double increment_norm, double previous_increment_norm,
@@ -173,7 +174,8 @@ bool StaticKernel::converged(double residual_norm, double increment_norm, double
   // (a contracting iteration); without a clear contraction, ||δ_k|| itself
   const double theta = previous_increment_norm > 0.0 ? increment_norm / previous_increment_norm : 1.0;
   const double error = theta < 0.5 ? increment_norm * theta / (1.0 - theta) : increment_norm;
-  return residual_norm <= residual_limit() && error <= c_.increment_tolerance * step_norm + c_.increment_floor;
+  return residual_norm <= residual_limit() &&
+         error <= convergence_.increment_tolerance * step_norm + convergence_.increment_floor;
 }
 
 std::string DivergenceMonitor::check(int k, double rn, double converged_level) {
@@ -185,11 +187,11 @@ std::string DivergenceMonitor::check(int k, double rn, double converged_level) {
     increases_ = 0;
     return why;
   }
-  if (k > 0 && rn > c_.divergence_ratio * smallest_)
-    why = "residual grew to " + fmt(rn) + ", more than " + fmt(c_.divergence_ratio) + "× its smallest value " +
-          fmt(smallest_) + " in this attempt";
+  if (k > 0 && rn > convergence_.divergence_ratio * smallest_)
+    why = "residual grew to " + fmt(rn) + ", more than " + fmt(convergence_.divergence_ratio) +
+          "× its smallest value " + fmt(smallest_) + " in this attempt";
   increases_ = rn > previous_ ? increases_ + 1 : 0;
-  if (why.empty() && increases_ >= c_.max_residual_increases)
+  if (why.empty() && increases_ >= convergence_.max_residual_increases)
     why = "residual increased in " + std::to_string(increases_) + " consecutive iterations (now " + fmt(rn) + ")";
   smallest_ = std::min(smallest_, rn);
   previous_ = rn;

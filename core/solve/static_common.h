@@ -113,7 +113,7 @@ class StaticKernel {
 
   StaticProblem& problem() { return problem_; }
   const StaticProblem& problem() const { return problem_; }
-  const StaticConvergence& convergence() const { return c_; }
+  const StaticConvergence& convergence() const { return convergence_; }
   int size() const { return n_; }
 
   // weighted norms (static_solvers.md eq. 2): displacement-like u, force-like r
@@ -160,7 +160,7 @@ class StaticKernel {
  private:
   void estimate_round_off();
   StaticProblem& problem_;
-  StaticConvergence c_;
+  StaticConvergence convergence_;
   int n_;
   Eigen::VectorXd w2_, iw2_;  // s_i², 1/s_i²
   Eigen::VectorXd magnitude_;  // state magnitudes m_j of eq. (3')
@@ -202,13 +202,13 @@ AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::
 /// Residual-growth and non-finite checks shared by the Newton and arc-length correctors.
 class DivergenceMonitor {
  public:
-  explicit DivergenceMonitor(const StaticConvergence& c) : c_(c) {}
+  explicit DivergenceMonitor(const StaticConvergence& c) : convergence_(c) {}
   /// empty when fine, otherwise why the iteration is diverging; residuals at or below
   /// converged_level (the residual criterion) are never a divergence
   std::string check(int k, double residual_norm, double converged_level);
 
  private:
-  const StaticConvergence& c_;
+  const StaticConvergence& convergence_;
   double smallest_ = std::numeric_limits<double>::infinity();
   double previous_ = std::numeric_limits<double>::infinity();
   int increases_ = 0;

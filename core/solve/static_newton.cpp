@@ -82,7 +82,8 @@ bool LoadControlPath::advance() {
     const double step_norm = kernel.norm_u(step);
 
     // eq. (8): a converged increment far beyond its linearization jumped over a limit point
-    if (out.converged && settings_.max_increment_ratio > 0.0 && step_norm > settings_.max_increment_ratio * out.first_increment_norm) {
+    if (out.converged && settings_.max_increment_ratio > 0.0 &&
+        step_norm > settings_.max_increment_ratio * out.first_increment_norm) {
       out.converged = false;
       out.crossed_limit = true;
       out.failure = "converged to a distant state at λ = " + fmt(target) + ": the step is " +
@@ -120,7 +121,8 @@ bool LoadControlPath::advance() {
     if (settings_.on_step) settings_.on_step(last_);
     // growth after an easy step (never right after a cut-back)
     h_ = std::abs(dlambda);
-    if (attempts_ == 1 && out.iterations <= settings_.easy_iterations) h_ = std::min(settings_.growth_factor * h_, settings_.max_step);
+    if (attempts_ == 1 && out.iterations <= settings_.easy_iterations)
+      h_ = std::min(settings_.growth_factor * h_, settings_.max_step);
     attempts_ = 1;
     check_end();
     return true;
