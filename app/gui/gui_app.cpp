@@ -601,7 +601,11 @@ class GuiApp {
       }
     }
     if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
-      ImGui::TextDisabled("edits rebuild the model and restart at t = 0; live, the run goes on: torque.amplitude, gravity.g");
+      // the live keys are the schema's, so a model that declares more shows them here too
+      std::string hint = "edits rebuild the model and restart at t = 0";
+      const std::vector<std::string> live = params_.live_keys();
+      for (std::size_t i = 0; i < live.size(); ++i) hint += (i == 0 ? "; live, the run goes on: " : ", ") + live[i];
+      ImGui::TextDisabled("%s", hint.c_str());
       ImGui::BeginChild("params", ImVec2(0, 0), false);
       for (const auto& [key, value] : params_.draw()) worker_->set(key, value);
       ImGui::EndChild();

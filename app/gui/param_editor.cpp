@@ -112,6 +112,13 @@ std::vector<ParamItem> scene_params(const std::string& path, const std::vector<s
   return items;
 }
 
+std::vector<std::string> ParamEditor::live_keys() const {
+  std::vector<std::string> keys;
+  for (const Row& r : rows_)
+    if (r.item.spec->live) keys.push_back(r.item.key);
+  return keys;
+}
+
 void ParamEditor::load(const std::string& path, const std::vector<std::string>& overrides) {
   rows_.clear();
   error_.clear();
@@ -187,6 +194,7 @@ std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
             ImGui::TextWrapped("%s", spec.doc.c_str());
             if (!spec.unit.empty()) ImGui::Text("unit: %s", spec.unit.c_str());
             ImGui::Text("allowed: %s", allowed_text(spec).c_str());
+            if (spec.live) ImGui::Text("live: an edit changes the running model from its next step");
             ImGui::Text("from: %s", it.where.c_str());
             ImGui::PopTextWrapPos();
             ImGui::EndTooltip();

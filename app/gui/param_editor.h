@@ -35,6 +35,8 @@ class ParamEditor {
   void load(const std::string& scene_path, const std::vector<std::string>& overrides);
   std::vector<std::pair<std::string, std::string>> draw();
   const std::string& error() const { return error_; }
+  /// The listed keys the scene's schema declares live (an edit changes the running model).
+  std::vector<std::string> live_keys() const;
 
  private:
   struct Row {

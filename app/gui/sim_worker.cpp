@@ -33,7 +33,7 @@ SimWorker::~SimWorker() {
 }
 
 std::uint64_t SimWorker::push(Command c) {
-  std::lock_guard lock(m_);
+  std::lock_guard lock(mutex_);
   c.seq = next_seq_++;
   queue_.push_back(std::move(c));
   cv_.notify_all();
@@ -54,7 +54,7 @@ std::uint64_t SimWorker::pace(double steps_per_second) {
 }
 
 WorkerUpdate SimWorker::take() {
-  std::lock_guard lock(m_);
+  std::lock_guard lock(mutex_);
   WorkerUpdate u;
   u.status = status_;
   u.frame = std::move(frame_);
@@ -112,13 +112,13 @@ void SimWorker::main() {
     bool going = guarded([&] { return loop.start(publish); });
     while (going) {
       {
-        std::unique_lock lock(m_);
+        std::unique_lock lock(mutex_);
         serve(lock);
         if (quit_ || pending_) break;
       }
       going = guarded([&] { return loop.advance(publish, stop_); });
     }
-    std::unique_lock lock(m_);
+    std::unique_lock lock(mutex_);
     if (!quit_ && !pending_) {
       // the run ended by itself: completed, diverged or failed; wait for what comes next
       RunOutcome outcome = loop.outcome();
@@ -165,7 +165,7 @@ void SimWorker::on_frame(Frame&& f) {
     s.node_displacement = std::sqrt(u2);
     s.node_deflection = std::sqrt(d2);
   }
-  std::lock_guard lock(m_);
+  std::lock_guard lock(mutex_);
   frame_ = std::move(f);
   samples_.push_back(std::move(s));
   if (!first_frame_ && steps_left_ > 0) --steps_left_;  // `step N` asks for N frames
@@ -251,8 +251,9 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
       for (const std::string& o : overrides)
         if (o.substr(0, o.find('=')) != c.a) next.push_back(o);
       next.push_back(c.a + "=" + c.b);
-      // a live parameter (Simulation::change_live) changes at the next step; the run goes on
-      if (!finished_ && !pending_ && scene_.simulation->change_live(c.a, c.b).empty()) {
+      // a key the schema declares live changes the running model at the next step; the run goes
+      // on. Anything else (another key, a refused value) rebuilds, whose validation says why.
+      if (!finished_ && !pending_ && scene::change_live(scene_, c.a, c.b).empty()) {
         status_.overrides = next;
         set_message("set " + c.a + " = " + c.b + " live: the run goes on with it from the next step", false);
         break;

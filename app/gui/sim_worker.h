@@ -9,8 +9,8 @@
 /// stepping (it waits for a command), so the solver's state never leaves its thread.
 /// Commands that change the model (reset, set, load) build a new Simulation first (a refused
 /// edit leaves the running one alone and says why), then stop the current run and start the
-/// new one at t = 0, paused unless it was running. A `set` of a live key
-/// (Simulation::change_live: torque.amplitude, gravity.g) changes the running model instead.
+/// new one at t = 0, paused unless it was running. A `set` of a key the scene schema declares
+/// live (scene::change_live: torque.amplitude, gravity.g) changes the running model instead.
 
 #include <array>
 #include <atomic>
@@ -117,7 +117,7 @@ class SimWorker {
   void set_message(std::string text, bool error);
   bool settled() const;
 
-  std::mutex m_;
+  std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<Command> queue_;
   std::uint64_t next_seq_ = 1;
@@ -138,7 +138,7 @@ class SimWorker {
   double pace_ = 0.0;
   std::chrono::steady_clock::time_point last_release_;
 
-  // the mailbox (under m_)
+  // the mailbox (under mutex_)
   WorkerStatus status_;
   std::optional<Frame> frame_;
   std::vector<Sample> samples_;

@@ -53,7 +53,7 @@ double peak_rate(double v0, double a0, double v1, double a1, double h) {
 
 HubBeamSimulation::HubBeamSimulation(std::unique_ptr<HubBeamSystem> system, HubBeamRunSettings settings,
                                      RunInfo info)
-    : sys_(std::move(system)), s_(settings), info_(std::move(info)) {
+    : sys_(std::move(system)), settings_(settings), info_(std::move(info)) {
   info_.mesh = sys_->mesh();
   info_.probes = sys_->probes();
   info_.fields = sys_->fields();
@@ -75,7 +75,7 @@ void HubBeamSimulation::record() {
 }
 
 std::string HubBeamSimulation::start() {
-  integrator_ = std::make_unique<NewmarkIntegrator>(*sys_, s_.newmark);
+  integrator_ = std::make_unique<NewmarkIntegrator>(*sys_, settings_.newmark);
   const int n = sys_->size();
   state_.x = Eigen::VectorXd::Zero(n);
   state_.v = Eigen::VectorXd::Zero(n);
@@ -89,16 +89,16 @@ std::string HubBeamSimulation::start() {
 }
 
 double HubBeamSimulation::next_change(double t) const {
-  for (std::size_t k = next_change_; k < s_.torque_scale_changes.size(); ++k)
-    if (s_.torque_scale_changes[k].first > t) return s_.torque_scale_changes[k].first;
+  for (std::size_t k = next_change_; k < settings_.torque_scale_changes.size(); ++k)
+    if (settings_.torque_scale_changes[k].first > t) return settings_.torque_scale_changes[k].first;
   return std::numeric_limits<double>::infinity();
 }
 
 // [[timeline]] torque_scale changes due at (or within round-off of) the time t, and a live edit
 bool HubBeamSimulation::apply_changes(double t) {
-  const auto& changes = s_.torque_scale_changes;
+  const auto& changes = settings_.torque_scale_changes;
   bool changed = false;
-  while (next_change_ < changes.size() && changes[next_change_].first <= t + 1e-9 * s_.dt)
+  while (next_change_ < changes.size() && changes[next_change_].first <= t + 1e-9 * settings_.dt)
     sys_->set_torque_scale(changes[next_change_++].second), changed = true;
   if (live_torque_scale_) {  // a live edit (change_live) made since the last step
     sys_->set_torque_scale(*live_torque_scale_);
@@ -183,14 +183,14 @@ Metrics HubBeamSimulation::metrics() const {
   return m;
 }
 
-std::string HubBeamSimulation::change_live(const std::string& key, const std::string& value) {
+std::string HubBeamSimulation::change_live(const std::string& key, const LiveValue& value) {
   if (key != "torque.amplitude") return "'" + key + "' cannot change while the model runs (live: torque.amplitude)";
-  char* end = nullptr;
-  const double tau0 = std::strtod(value.c_str(), &end);
-  if (value.empty() || *end != '\0' || !std::isfinite(tau0)) return "torque.amplitude needs a number, got '" + value + "'";
+  // the scene schema has checked the value (a finite number >= 0); this only guards the type
+  const double* tau0 = std::get_if<double>(&value);
+  if (!tau0) return "torque.amplitude takes a number";
   const double base = sys_->params().torque_amplitude;
   if (base == 0.0) return "the scene's torque amplitude is 0, so it cannot be scaled live";
-  live_torque_scale_ = tau0 / base;
+  live_torque_scale_ = *tau0 / base;
   return "";
 }
 

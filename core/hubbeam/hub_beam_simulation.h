@@ -38,11 +38,11 @@ class HubBeamSimulation final : public Simulation {
   HubBeamSimulation(std::unique_ptr<HubBeamSystem> system, HubBeamRunSettings settings, RunInfo info);
   ~HubBeamSimulation() override;
   const RunInfo& info() const override { return info_; }
-  double end_time() const override { return s_.t_end; }
+  double end_time() const override { return settings_.t_end; }
   std::string start() override;
   StepStats start_stats() const override { return start_stats_; }
   double time() const override { return state_.t; }
-  double nominal_step() const override { return s_.dt; }
+  double nominal_step() const override { return settings_.dt; }
   double next_change(double t) const override;
   bool apply_changes(double t) override;
   std::string restart() override;
@@ -53,12 +53,12 @@ class HubBeamSimulation final : public Simulation {
   std::vector<EffectStat> effect_stats() const override { return sys_->effect_stats(); }
   const HubBeamSystem& system() const { return *sys_; }
   /// Live: "torque.amplitude" (tau0 [N m]; the run goes on with the torque scaled to it).
-  std::string change_live(const std::string& key, const std::string& value) override;
+  std::string change_live(const std::string& key, const LiveValue& value) override;
 
  private:
   void record();  // the current state as current_, and its probes into the history
   std::unique_ptr<HubBeamSystem> sys_;
-  HubBeamRunSettings s_;
+  HubBeamRunSettings settings_;
   RunInfo info_;
   SolverTotals totals_;
   std::unique_ptr<NewmarkIntegrator> integrator_;

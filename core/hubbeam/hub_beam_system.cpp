@@ -97,36 +97,37 @@ RowVectorXd pick(const RowVectorXd& v, const std::vector<int>& cols) {
 
 HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& effects,
                              std::unique_ptr<BeamBasis> basis, double validity_deflection_ratio)
-    : p_(params), fx_(effects), basis_(std::move(basis)), validity_ratio_(validity_deflection_ratio) {
+    : params_(params), fx_(effects), basis_(std::move(basis)), validity_ratio_(validity_deflection_ratio) {
   const int n = basis_->node_count();
   const std::vector<int> ia = free_axial(n), it = free_transverse(n);
   const bool first_order = fx_.first_order_coupling;
-  const FullMatrices f = assemble_full(p_, *basis_, first_order);
+  const FullMatrices f = assemble_full(params_, *basis_, first_order);
   n1_ = fx_.axial ? static_cast<int>(ia.size()) : 0;
   n2_ = static_cast<int>(it.size());
   const std::vector<int> ia_used = fx_.axial ? ia : std::vector<int>{};
-  m_.m1 = pick(f.m1, ia_used, ia_used);
-  m_.k1 = pick(f.k1, ia_used, ia_used);
-  m_.r = pick(f.r, ia_used, it);
-  m_.u11 = pick(f.u11, ia_used);
-  m_.m2 = pick(f.m2, it, it);
-  m_.k2 = pick(f.k2, it, it);
-  m_.u12 = pick(f.u12, it);
+  matrices_.m1 = pick(f.m1, ia_used, ia_used);
+  matrices_.k1 = pick(f.k1, ia_used, ia_used);
+  matrices_.r = pick(f.r, ia_used, it);
+  matrices_.u11 = pick(f.u11, ia_used);
+  matrices_.m2 = pick(f.m2, it, it);
+  matrices_.k2 = pick(f.k2, it, it);
+  matrices_.u12 = pick(f.u12, it);
   // the zero-order model never evaluates D1 or S(L): NaN, so a term multiplied by zero would show
   const double unused = std::numeric_limits<double>::quiet_NaN();
-  m_.d1 = first_order ? pick(f.d1, it, it) : MatrixXd::Constant(n2_, n2_, unused);
-  const double rho_a = p_.density * p_.area, a = p_.hub_radius;
-  m2_minus_d1_ = first_order ? MatrixXd(m_.m2 - m_.d1) : m_.m2;
-  m_.jb = rho_a * (std::pow(a + p_.length, 3) - std::pow(a, 3)) / 3.0;  // eq. (8)
-  m_.s_tip = first_order ? pick(coupling_shape_matrix(*basis_, p_.length), it, it) : MatrixXd::Constant(n2_, n2_, unused);
+  matrices_.d1 = first_order ? pick(f.d1, it, it) : MatrixXd::Constant(n2_, n2_, unused);
+  const double rho_a = params_.density * params_.area, a = params_.hub_radius;
+  m2_minus_d1_ = first_order ? MatrixXd(matrices_.m2 - matrices_.d1) : matrices_.m2;
+  matrices_.jb = rho_a * (std::pow(a + params_.length, 3) - std::pow(a, 3)) / 3.0;  // eq. (8)
+  matrices_.s_tip =
+      first_order ? pick(coupling_shape_matrix(*basis_, params_.length), it, it) : MatrixXd::Constant(n2_, n2_, unused);
   ShapeRows s = basis_->make_rows();
-  basis_->evaluate(p_.length, s);
-  m_.n1_tip = pick(s.n1, ia_used);
-  m_.n2_tip = pick(s.n2, it);
+  basis_->evaluate(params_.length, s);
+  matrices_.n1_tip = pick(s.n1, ia_used);
+  matrices_.n2_tip = pick(s.n2, it);
 
   // eq. (29): K2 phi = w^2 (M2 - D1) phi; the smallest positive w is the critical speed
   {
-    Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(m2_minus_d1_, m_.k2, Eigen::EigenvaluesOnly);
+    Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(m2_minus_d1_, matrices_.k2, Eigen::EigenvaluesOnly);
     const double mu = es.eigenvalues().maxCoeff();
     critical_speed_ = mu > 0 ? 1.0 / std::sqrt(mu) : std::numeric_limits<double>::infinity();
   }
@@ -138,7 +139,7 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
   const GaussRule rule = gauss_legendre(3);
   MatrixXd s_acc = MatrixXd::Zero(2 * n, 2 * n);  // S(x_k) accumulated interval by interval (display only)
   for (int k = 0; k < samples; ++k) {
-    draw_x_[k] = p_.length * k / (samples - 1);
+    draw_x_[k] = params_.length * k / (samples - 1);
     if (fx_.first_order_coupling && k > 0) {
       const double h = draw_x_[k] - draw_x_[k - 1];
       for (std::size_t g = 0; g < rule.points.size(); ++g) {
@@ -151,22 +152,22 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
     draw_n2_.row(k) = pick(s.n2, it);
     if (fx_.first_order_coupling) draw_s_.push_back(pick(s_acc, it, it));
   }
-  mesh_ = build_mesh(p_.hub_radius, draw_x_, kHubSegments);
+  mesh_ = build_mesh(params_.hub_radius, draw_x_, kHubSegments);
 }
 
 double HubBeamSystem::hub_axis_inertia(const VectorXd& x) const {
   const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
   // eq. (6), summed in this order; the D1 term only in the first-order model
-  double m = p_.hub_inertia + m_.jb + 2.0 * m_.u11.dot(q1);
-  if (fx_.first_order_coupling) m -= q2.dot(m_.d1 * q2);
-  m += q1.dot(m_.m1 * q1);
-  m += q2.dot(m_.m2 * q2);
+  double m = params_.hub_inertia + matrices_.jb + 2.0 * matrices_.u11.dot(q1);
+  if (fx_.first_order_coupling) m -= q2.dot(matrices_.d1 * q2);
+  m += q1.dot(matrices_.m1 * q1);
+  m += q2.dot(matrices_.m2 * q2);
   return m;
 }
 
 double HubBeamSystem::torque(double t) const {
-  if (!fx_.hub_torque || t < 0.0 || t > p_.torque_period) return 0.0;
-  return torque_scale_ * p_.torque_amplitude * std::sin(2.0 * M_PI * t / p_.torque_period);  // eq. (10)
+  if (!fx_.hub_torque || t < 0.0 || t > params_.torque_period) return 0.0;
+  return torque_scale_ * params_.torque_amplitude * std::sin(2.0 * M_PI * t / params_.torque_period);  // eq. (10)
 }
 
 void HubBeamSystem::residual(const VectorXd& x, const VectorXd& v, const VectorXd& a, double t,
@@ -178,25 +179,25 @@ void HubBeamSystem::residual(const VectorXd& x, const VectorXd& v, const VectorX
   const auto aq1 = a.segment(1, n1_), aq2 = a.segment(1 + n1_, n2_);
   const double w = v[0], dw = a[0];
   const bool first_order = fx_.first_order_coupling;
-  const VectorXd m1q1 = m_.m1 * q1, m2q2 = m_.m2 * q2, rq2 = m_.r * q2;
-  const VectorXd d1q2 = first_order ? VectorXd(m_.d1 * q2) : VectorXd();
-  const VectorXd rtq1 = m_.r.transpose() * q1;
+  const VectorXd m1q1 = matrices_.m1 * q1, m2q2 = matrices_.m2 * q2, rq2 = matrices_.r * q2;
+  const VectorXd d1q2 = first_order ? VectorXd(matrices_.d1 * q2) : VectorXd();
+  const VectorXd rtq1 = matrices_.r.transpose() * q1;
   const double mtt = hub_axis_inertia(x);
   // eq. (11); the zero-order model leaves the D1 terms out (not multiplied by zero)
-  double gyro = m1q1.dot(dq1) + m2q2.dot(dq2) + m_.u11.dot(dq1);
+  double gyro = m1q1.dot(dq1) + m2q2.dot(dq2) + matrices_.u11.dot(dq1);
   if (first_order) gyro -= d1q2.dot(dq2);
-  r[0] = mtt * dw - rq2.dot(aq1) + (m_.u12.transpose() + rtq1).dot(aq2) + 2.0 * w * gyro;
+  r[0] = mtt * dw - rq2.dot(aq1) + (matrices_.u12.transpose() + rtq1).dot(aq2) + 2.0 * w * gyro;
   if (fx_.hub_torque) r[0] -= torque(t);
   // eq. (12)
-  r.segment(1, n1_) = m_.m1 * aq1 - rq2 * dw - 2.0 * w * (m_.r * dq2) + m_.k1 * q1 - (w * w) * m1q1 -
-                      (w * w) * m_.u11.transpose();
+  r.segment(1, n1_) = matrices_.m1 * aq1 - rq2 * dw - 2.0 * w * (matrices_.r * dq2) + matrices_.k1 * q1 -
+                      (w * w) * m1q1 - (w * w) * matrices_.u11.transpose();
   // eq. (13)
   if (first_order)
-    r.segment(1 + n1_, n2_) = m_.m2 * aq2 + (m_.u12.transpose() + rtq1) * dw +
-                              2.0 * w * (m_.r.transpose() * dq1) + m_.k2 * q2 + (w * w) * (d1q2 - m2q2);
+    r.segment(1 + n1_, n2_) = matrices_.m2 * aq2 + (matrices_.u12.transpose() + rtq1) * dw +
+                              2.0 * w * (matrices_.r.transpose() * dq1) + matrices_.k2 * q2 + (w * w) * (d1q2 - m2q2);
   else
-    r.segment(1 + n1_, n2_) = m_.m2 * aq2 + (m_.u12.transpose() + rtq1) * dw +
-                              2.0 * w * (m_.r.transpose() * dq1) + m_.k2 * q2 - (w * w) * m2q2;
+    r.segment(1 + n1_, n2_) = matrices_.m2 * aq2 + (matrices_.u12.transpose() + rtq1) * dw +
+                              2.0 * w * (matrices_.r.transpose() * dq1) + matrices_.k2 * q2 - (w * w) * m2q2;
   ++residual_calls_;
   eval_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -211,39 +212,39 @@ void HubBeamSystem::jacobians(const VectorXd& x, const VectorXd& v, const Vector
   const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
   const auto aq1 = a.segment(1, n1_), aq2 = a.segment(1 + n1_, n2_);
   const double w = v[0], dw = a[0];
-  const VectorXd m1q1 = m_.m1 * q1, m2q2 = m_.m2 * q2, rq2 = m_.r * q2;
-  const VectorXd rtq1 = m_.r.transpose() * q1;
+  const VectorXd m1q1 = matrices_.m1 * q1, m2q2 = matrices_.m2 * q2, rq2 = matrices_.r * q2;
+  const VectorXd rtq1 = matrices_.r.transpose() * q1;
   const MatrixXd& m2d1 = m2_minus_d1_;  // M2 alone in the zero-order model
   // eq. (15)
   A(0, 0) = hub_axis_inertia(x);
   A.block(0, o1, 1, n1_) = -rq2.transpose();
-  A.block(0, o2, 1, n2_) = m_.u12 + rtq1.transpose();
+  A.block(0, o2, 1, n2_) = matrices_.u12 + rtq1.transpose();
   A.block(o1, 0, n1_, 1) = -rq2;
-  A.block(o1, o1, n1_, n1_) = m_.m1;
-  A.block(o2, 0, n2_, 1) = m_.u12.transpose() + rtq1;
-  A.block(o2, o2, n2_, n2_) = m_.m2;
+  A.block(o1, o1, n1_, n1_) = matrices_.m1;
+  A.block(o2, 0, n2_, 1) = matrices_.u12.transpose() + rtq1;
+  A.block(o2, o2, n2_, n2_) = matrices_.m2;
   // eq. (16)
-  double gyro = m1q1.dot(dq1) + m2q2.dot(dq2) + m_.u11.dot(dq1);
+  double gyro = m1q1.dot(dq1) + m2q2.dot(dq2) + matrices_.u11.dot(dq1);
   if (fx_.first_order_coupling) {
-    const VectorXd d1q2 = m_.d1 * q2;
+    const VectorXd d1q2 = matrices_.d1 * q2;
     gyro -= d1q2.dot(dq2);
   }
   C(0, 0) = 2.0 * gyro;
-  C.block(0, o1, 1, n1_) = 2.0 * w * (m1q1.transpose() + m_.u11);
+  C.block(0, o1, 1, n1_) = 2.0 * w * (m1q1.transpose() + matrices_.u11);
   C.block(0, o2, 1, n2_) = 2.0 * w * (m2d1 * q2).transpose();
-  C.block(o1, 0, n1_, 1) = -2.0 * (m_.r * dq2) - 2.0 * w * (m1q1 + m_.u11.transpose());
-  C.block(o1, o2, n1_, n2_) = -2.0 * w * m_.r;
-  C.block(o2, 0, n2_, 1) = 2.0 * (m_.r.transpose() * dq1) - 2.0 * w * (m2d1 * q2);
-  C.block(o2, o1, n2_, n1_) = 2.0 * w * m_.r.transpose();
+  C.block(o1, 0, n1_, 1) = -2.0 * (matrices_.r * dq2) - 2.0 * w * (m1q1 + matrices_.u11.transpose());
+  C.block(o1, o2, n1_, n2_) = -2.0 * w * matrices_.r;
+  C.block(o2, 0, n2_, 1) = 2.0 * (matrices_.r.transpose() * dq1) - 2.0 * w * (m2d1 * q2);
+  C.block(o2, o1, n2_, n1_) = 2.0 * w * matrices_.r.transpose();
   // eq. (17)
-  K.block(0, o1, 1, n1_) = dw * (2.0 * m_.u11 + 2.0 * m1q1.transpose()) + (m_.r * aq2).transpose() +
-                           2.0 * w * (m_.m1 * dq1).transpose();
-  K.block(0, o2, 1, n2_) = dw * 2.0 * (m2d1 * q2).transpose() - (m_.r.transpose() * aq1).transpose() +
+  K.block(0, o1, 1, n1_) = dw * (2.0 * matrices_.u11 + 2.0 * m1q1.transpose()) + (matrices_.r * aq2).transpose() +
+                           2.0 * w * (matrices_.m1 * dq1).transpose();
+  K.block(0, o2, 1, n2_) = dw * 2.0 * (m2d1 * q2).transpose() - (matrices_.r.transpose() * aq1).transpose() +
                            2.0 * w * (m2d1 * dq2).transpose();
-  K.block(o1, o1, n1_, n1_) = m_.k1 - (w * w) * m_.m1;
-  K.block(o1, o2, n1_, n2_) = -dw * m_.r;
-  K.block(o2, o1, n2_, n1_) = dw * m_.r.transpose();
-  K.block(o2, o2, n2_, n2_) = m_.k2 - (w * w) * m2d1;
+  K.block(o1, o1, n1_, n1_) = matrices_.k1 - (w * w) * matrices_.m1;
+  K.block(o1, o2, n1_, n2_) = -dw * matrices_.r;
+  K.block(o2, o1, n2_, n1_) = dw * matrices_.r.transpose();
+  K.block(o2, o2, n2_, n2_) = matrices_.k2 - (w * w) * m2d1;
 }
 
 void HubBeamSystem::iteration_matrix(const VectorXd& x, const VectorXd& v, const VectorXd& a,
@@ -273,7 +274,7 @@ std::vector<EffectStat> HubBeamSystem::effect_stats() const {
 std::string HubBeamSystem::check_state(const VectorXd& x, const VectorXd& v) const {
   if (!x.allFinite() || !v.allFinite()) return "the state became non-finite";
   const double tip = tip_transverse(x);
-  if (std::abs(tip) > validity_ratio_ * p_.length) {
+  if (std::abs(tip) > validity_ratio_ * params_.length) {
     std::ostringstream msg;
     msg << "tip deflection " << tip << " m exceeds " << validity_ratio_
         << " x beam length: the response grew without bound (small-deformation model no longer valid)";
@@ -287,30 +288,32 @@ double HubBeamSystem::kinetic_energy(const VectorXd& x, const VectorXd& v) const
   const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
   const double w = v[0];
   // eq. (5)
-  return 0.5 * hub_axis_inertia(x) * w * w + w * (m_.u12.dot(dq2) + q1.dot(m_.r * dq2) - q2.dot(m_.r.transpose() * dq1)) +
-         0.5 * dq1.dot(m_.m1 * dq1) + 0.5 * dq2.dot(m_.m2 * dq2);
+  return 0.5 * hub_axis_inertia(x) * w * w +
+         w * (matrices_.u12.dot(dq2) + q1.dot(matrices_.r * dq2) - q2.dot(matrices_.r.transpose() * dq1)) +
+         0.5 * dq1.dot(matrices_.m1 * dq1) + 0.5 * dq2.dot(matrices_.m2 * dq2);
 }
 
 double HubBeamSystem::potential_energy(const VectorXd& x) const {
   const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
-  return 0.5 * q1.dot(m_.k1 * q1) + 0.5 * q2.dot(m_.k2 * q2);
+  return 0.5 * q1.dot(matrices_.k1 * q1) + 0.5 * q2.dot(matrices_.k2 * q2);
 }
 
 double HubBeamSystem::angular_momentum(const VectorXd& x, const VectorXd& v) const {
   const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
   const auto dq1 = v.segment(1, n1_), dq2 = v.segment(1 + n1_, n2_);
   // eq. (14)
-  return hub_axis_inertia(x) * v[0] + m_.u12.dot(dq2) + q1.dot(m_.r * dq2) - q2.dot(m_.r.transpose() * dq1);
+  return hub_axis_inertia(x) * v[0] + matrices_.u12.dot(dq2) + q1.dot(matrices_.r * dq2) -
+         q2.dot(matrices_.r.transpose() * dq1);
 }
 
 double HubBeamSystem::tip_transverse(const VectorXd& x) const {
-  return m_.n2_tip.dot(x.segment(1 + n1_, n2_));
+  return matrices_.n2_tip.dot(x.segment(1 + n1_, n2_));
 }
 
 double HubBeamSystem::tip_axial(const VectorXd& x) const {
   const auto q2 = x.segment(1 + n1_, n2_);
-  double u = n1_ > 0 ? m_.n1_tip.dot(x.segment(1, n1_)) : 0.0;
-  if (fx_.first_order_coupling) u -= 0.5 * q2.dot(m_.s_tip * q2);  // eq. (4), wc(L)
+  double u = n1_ > 0 ? matrices_.n1_tip.dot(x.segment(1, n1_)) : 0.0;
+  if (fx_.first_order_coupling) u -= 0.5 * q2.dot(matrices_.s_tip * q2);  // eq. (4), wc(L)
   return u;
 }
 
@@ -386,8 +389,8 @@ void HubBeamSystem::fill_frame(const VectorXd& x, const VectorXd& v, double t, F
     const double w1 = n1_ > 0 ? draw_n1_.row(k).dot(q1) : 0.0;
     const double w2 = draw_n2_.row(k).dot(q2);
     const double wc = fx_.first_order_coupling ? -0.5 * q2.dot(draw_s_[k] * q2) : 0.0;
-    const double rx = p_.hub_radius + draw_x_[k] + w1 + wc, ry = w2;  // eq. (1)
-    const double bx = p_.hub_radius + draw_x_[k];
+    const double rx = params_.hub_radius + draw_x_[k] + w1 + wc, ry = w2;  // eq. (1)
+    const double bx = params_.hub_radius + draw_x_[k];
     const int i = hub_points + k;
     frame.points[3 * i] = c * rx - s * ry;
     frame.points[3 * i + 1] = s * rx + c * ry;

@@ -108,22 +108,22 @@ class HubBeamSystem final : public SecondOrderSystem {
   /// and say `included_in` "inertia".
   std::vector<EffectStat> effect_stats() const;
 
-  const HubBeamMatrices& matrices() const { return m_; }
-  const HubBeamParams& params() const { return p_; }
+  const HubBeamMatrices& matrices() const { return matrices_; }
+  const HubBeamParams& params() const { return params_; }
   const HubBeamEffects& effects() const { return fx_; }
   const BeamBasis& basis() const { return *basis_; }
   int axial_dofs() const { return n1_; }
   int transverse_dofs() const { return n2_; }
 
  private:
-  HubBeamParams p_;
+  HubBeamParams params_;
   HubBeamEffects fx_;
   double torque_scale_ = 1.0;
   std::unique_ptr<BeamBasis> basis_;
   double validity_ratio_;
   double critical_speed_ = 0.0;
   int n1_ = 0, n2_ = 0;
-  HubBeamMatrices m_;
+  HubBeamMatrices matrices_;
   Eigen::MatrixXd m2_minus_d1_;               ///< M2 - D1, constant
   mutable Eigen::MatrixXd work_a_, work_c_, work_k_;  ///< iteration-matrix workspace (sized once)
   mutable long long residual_calls_ = 0, matrix_calls_ = 0;  ///< effect counters (single thread)

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "core/frame/frame.h"
@@ -52,6 +53,12 @@ struct StepDone {
   std::string reason;     ///< empty when completed
   std::vector<PathEvent> events;  ///< events of the whole run, given with the last step
 };
+
+/// The value of a live edit, already typed: core/scene reads the text and validates it against
+/// the key's declaration in the scene schema (scene::validate_live), so a model gets the
+/// alternative its key is declared as (a number as double, a list of numbers as
+/// vector<double>, ...) and never parses text itself.
+using LiveValue = std::variant<double, long long, bool, std::string, std::vector<double>, std::vector<std::string>>;
 
 /// A model with its integrator, advanced one step at a time. RunLoop (core/model/run_loop.h)
 /// drives every Simulation the same way: it owns the stop flag, the split of a step at a
@@ -100,9 +107,10 @@ class Simulation {
   virtual std::vector<EffectStat> effect_stats() const { return {}; }
   /// A parameter change while the run goes on (the GUI's live edits), made between steps on the
   /// solver's own thread; it takes effect at the start of the next step, exactly as a [[timeline]]
-  /// change at that time would. Returns "" when accepted, otherwise why not (the caller then
-  /// rebuilds the model instead).
-  virtual std::string change_live(const std::string& key, const std::string& value) {
+  /// change at that time would. `key` is one the scene schema declares live and `value` has been
+  /// validated against it (scene::change_live does both). Returns "" when accepted, otherwise
+  /// why not, e.g. a state the value cannot apply to (the caller then rebuilds the model instead).
+  virtual std::string change_live(const std::string& key, const LiveValue& value) {
     (void)value;
     return "'" + key + "' cannot change while the model runs";
   }

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
+#include <type_traits>
+#include <variant>
 #include <toml++/toml.h>
 
 #include "core/hubbeam/hub_beam_simulation.h"
@@ -35,7 +38,8 @@ const Schema& hub_beam_schema() {
         .number("beam.second_moment", "second moment of area I", 1.3021e-10, Range::positive(), "m^4");
     s.table("torque", "hub torque tau(t) = amplitude sin(2 pi t / period) for t <= period, 0 after")
         .number("torque.amplitude", "tau0", 1.0, Range::non_negative(), "N m")
-        .number("torque.period", "T", 2.0, Range::positive(), "s");
+        .number("torque.period", "T", 2.0, Range::positive(), "s")
+        .live("torque.amplitude");
     s.table("discretization", "how the beam is discretized")
         .choice("discretization.method", "efg (IGMLS meshless) or fem (Hermite + linear elements)",
                 {"efg", "fem"}, "efg");
@@ -291,7 +295,28 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
   s.output.camera_path = read_timeline(d, d.number(kind.end_key)).camera;
   refuse_repeated_names(d);
   s.simulation = kind.build(d, path, ctx);
+  s.schema = &kind.schema();
   return s;
+}
+
+std::string change_live(LoadedScene& scene, const std::string& key, const std::string& value) {
+  if (!scene.schema || !scene.simulation) throw std::logic_error("change_live: the scene was not loaded by load_scene");
+  Value v;
+  try {
+    v = validate_live(*scene.schema, key, value);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  // the schema's kinds map one to one onto LiveValue; monostate never comes back
+  const LiveValue typed = std::visit(
+      [](auto&& x) -> LiveValue {
+        if constexpr (std::is_same_v<std::decay_t<decltype(x)>, std::monostate>)
+          throw std::logic_error("validate_live returned no value");
+        else
+          return x;
+      },
+      v);
+  return scene.simulation->change_live(key, typed);
 }
 
 std::string check_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {

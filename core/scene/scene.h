@@ -33,6 +33,7 @@ struct OutputSettings {
 struct LoadedScene {
   std::string name;
   std::string path;
+  const Schema* schema = nullptr;  ///< what the scene was validated against (its live keys)
   std::unique_ptr<Simulation> simulation;
   OutputSettings output;
 };
@@ -69,6 +70,12 @@ std::string scene_reference_markdown();
 /// the program around provides (a mesh file reader).
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                        const SceneContext& ctx = {});
+
+/// A live edit of the scene's running model (the GUI's `set` of a live key): `value` validated
+/// against the scene's schema (validate_live), then handed typed to Simulation::change_live.
+/// Returns "" when the model took it (from its next step), otherwise why not: the SceneError
+/// text for a key that is not live or a value that does not validate, or the model's reason.
+std::string change_live(LoadedScene& scene, const std::string& key, const std::string& value);
 
 /// Validation only (for `flexframe check`): also builds the model, so numerical set-up errors
 /// (e.g. an EFG support too small for its basis) are found too. Returns a one-line description.

@@ -241,6 +241,23 @@ Schema& Schema::string_list(std::string path, std::string doc,
   return add_key(std::move(k));
 }
 
+Schema& Schema::live(std::string_view path) {
+  const std::string p(path);
+  auto it = std::find_if(keys_.begin(), keys_.end(), [&](const KeySpec& k) { return k.path == path; });
+  if (it == keys_.end()) bad_declaration(p, "declared live but not declared as a key (declare it first)");
+  // a live edit names one key of the running model; an element of [[array]] has no such name
+  if (!array_of(path).empty()) bad_declaration(p, "keys of an array of tables cannot be live");
+  it->live = true;
+  return *this;
+}
+
+std::vector<std::string> Schema::live_keys() const {
+  std::vector<std::string> out;
+  for (const auto& k : keys_)
+    if (k.live) out.push_back(k.path);
+  return out;
+}
+
 // ---- lookup ---------------------------------------------------------------------------------
 
 Schema& Schema::renamed(std::string old_path, std::string new_path) {
@@ -389,7 +406,8 @@ std::string Schema::markdown_reference() const {
         def += "`";
       }
       out += "| `" + k->path + "` | " + cell(type_text(*k)) + " | " + cell(def) + " | " +
-             cell(allowed_text(*k)) + " | " + cell(k->doc) + " |\n";
+             cell(allowed_text(*k)) + " | " + cell(k->doc) +
+             (k->live ? " (live: changes while the run goes on)" : "") + " |\n";
     }
     out += "\n";
   }

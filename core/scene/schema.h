@@ -136,6 +136,7 @@ class Schema {
     std::vector<std::string> choices;     ///< Choice; StringList allowed values (empty = any)
     std::size_t min_len = 0;              ///< lists
     std::size_t max_len = SIZE_MAX;       ///< lists
+    bool live = false;                    ///< may change while a run goes on (see live())
     bool required() const { return std::holds_alternative<std::monostate>(default_value); }
   };
 
@@ -168,6 +169,13 @@ class Schema {
   Schema& string_list(std::string path, std::string doc,
                       std::optional<std::vector<std::string>> default_value,
                       std::vector<std::string> allowed = {});
+
+  /// Marks the declared key `path` (outside arrays of tables) as live: it may change while a run
+  /// goes on (the GUI's `set`), through validate_live() and Simulation::change_live, instead of
+  /// rebuilding the model. The model's change_live must accept it.
+  Schema& live(std::string_view path);
+  /// The live keys, in declaration order.
+  std::vector<std::string> live_keys() const;
 
   /// A key (or a whole table) that a newer vocabulary renamed: input that still uses `old_path`
   /// is refused at its line with "renamed to 'new_path'" instead of a bare "unknown key".
@@ -311,6 +319,13 @@ class Document {
 /// must already have; a whole array cannot be set.
 Document validate(const Schema& schema, std::string_view text, const std::string& file_name,
                   const std::vector<std::string>& overrides = {});
+
+/// The value of a live edit `key=value` (the GUI's `set` while a run goes on): `value` is read as
+/// --set reads it (TOML value syntax; a bare word is a string) and checked by the same code as a
+/// scene file value, so types, ranges and messages are those of a scene file. Never monostate.
+/// Throws SceneError with one Issue naming the key (its file is "live key=value") when the value
+/// does not validate, or when `key` is not declared live (the message lists the live keys).
+Value validate_live(const Schema& schema, const std::string& key, const std::string& value);
 
 /// validate() on the contents of `path`; an unreadable file is a SceneError naming it.
 Document validate_file(const Schema& schema, const std::string& path,

@@ -157,6 +157,26 @@ class DocumentBuilder {
     }
   }
 
+  /// One live edit `key=value`, checked as an override of a live key would be; throws SceneError.
+  Value live_value(const std::string& key, const std::string& value) {
+    const Origin o{"live " + key + "=" + value, false};
+    const Schema::KeySpec* spec = schema_.find_key(key);
+    Value v;
+    if (!spec || !spec->live) {
+      const std::vector<std::string> live = schema_.live_keys();
+      add({o.file, 0, 0, key,
+           "'" + key + "' cannot change while the model runs (" +
+               (live.empty() ? std::string("this model has no live keys")
+                             : "live keys: " + text::join(live, ", ")) +
+               ")"},
+          2);
+    } else if (toml::table holder; override_value(*spec, key, value, o, holder)) {
+      v = check(*spec, *holder.get("v"), o, key);
+    }
+    if (!ranked_.empty()) throw SceneError(sorted_issues());
+    return v;
+  }
+
   Document run() {
     bool parsed = false;
     try {
@@ -830,6 +850,11 @@ class DocumentBuilder {
 Document validate(const Schema& schema, std::string_view text, const std::string& file_name,
                   const std::vector<std::string>& overrides) {
   return DocumentBuilder(schema, text, file_name, overrides).run();
+}
+
+Value validate_live(const Schema& schema, const std::string& key, const std::string& value) {
+  const std::string no_file;
+  return DocumentBuilder(schema, "", no_file, {}).live_value(trim(key), trim(value));
 }
 
 Document validate_file(const Schema& schema, const std::string& path,

@@ -48,7 +48,8 @@ const Schema& shell_dynamic_schema() {
     declare_linear_solver(s, "mumps where compiled in, else umfpack: 14 % less wall time on the double pendulum, "
                              "docs/validation/shell-dynamics.md");
     s.table("gravity", "uniform gravity (effect gravity)")
-        .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3);
+        .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3)
+        .live("gravity.g");
     s.table_array("shell", "flexible CB shell bodies", 1, 16)
         .string("shell.name", "body name (joints, probes and patch_edge selections use it)", std::nullopt)
         .choice("shell.generator", "cut_cylinder: cylinder with axis along y cut by two parallel end planes "

@@ -38,7 +38,7 @@ CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, double
   // (D3) with 3x3x3 Gauss points: N_A N_B det J has degree <= 4 per direction
   const double gp[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
   const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
-  m_.setZero();
+  mass_matrix_.setZero();
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       for (int k = 0; k < 3; ++k) {
@@ -55,9 +55,9 @@ CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, double
           G[2] += nq * 0.5 * s * X[A];
         }
         const double detJ = std::abs(G[0].dot(G[1].cross(G[2])));
-        m_.noalias() += (density * gw[i] * gw[j] * gw[k] * detJ) * (N * N.transpose());
+        mass_matrix_.noalias() += (density * gw[i] * gw[j] * gw[k] * detJ) * (N * N.transpose());
       }
-  slave_mass_ = m_.rowwise().sum();
+  slave_mass_ = mass_matrix_.rowwise().sum();
 }
 
 void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, const ElementRates& a, Vec24& F,
@@ -78,7 +78,7 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
   for (int A = 0; A < 8; ++A) {
     const int I = A % 4;
     Vec3 f = Vec3::Zero();
-    for (int B = 0; B < 8; ++B) f += m_(A, B) * acc[B];
+    for (int B = 0; B < 8; ++B) f += mass_matrix_(A, B) * acc[B];
     phi[A] = cur[I].R.transpose() * f;                        // (D4)
     F.segment<3>(6 * I) += phi[A];
     F.segment<3>(6 * I + 3) += side(A) * half_h_ * e3.cross(phi[A]);
@@ -94,7 +94,7 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
       for (int si = 0; si < 2; ++si)
         for (int sj = 0; sj < 2; ++sj) {
           const int A = I + 4 * si, B = J + 4 * sj;
-          const double mAB = m_(A, B), shA = side(A) * half_h_, shB = side(B) * half_h_;
+          const double mAB = mass_matrix_(A, B), shA = side(A) * half_h_, shB = side(B) * half_h_;
           if (jac.mass) jac.mass->block<6, 6>(6 * I, 6 * J) += mAB * sandwich(Q, shA, shB, e3x);  // (D5)
           if (jac.gyroscopic) {                                                                   // (D6)
             Eigen::Matrix<double, 3, 6> G;
@@ -153,7 +153,7 @@ double CbShellInertia::kinetic_energy(const ElementPoses& cur, const ElementRate
   slave_states(cur, v, half_h_, x, xd);
   double t = 0.0;
   for (int A = 0; A < 8; ++A)
-    for (int B = 0; B < 8; ++B) t += m_(A, B) * xd[A].dot(xd[B]);
+    for (int B = 0; B < 8; ++B) t += mass_matrix_(A, B) * xd[A].dot(xd[B]);
   return 0.5 * t;
 }
 
@@ -162,7 +162,7 @@ void CbShellInertia::add_momenta(const ElementPoses& cur, const ElementRates& v,
   slave_states(cur, v, half_h_, x, xd);
   for (int A = 0; A < 8; ++A) {
     Vec3 pa = Vec3::Zero();
-    for (int B = 0; B < 8; ++B) pa += m_(A, B) * xd[B];
+    for (int B = 0; B < 8; ++B) pa += mass_matrix_(A, B) * xd[B];
     p += pa;
     L += x[A].cross(pa);  // (D15)
   }

@@ -39,11 +39,11 @@ class CbShellInertia {
   /// −Σ f^g_A · x_A (D8).
   double gravity_potential(const ElementPoses& current, const Vec3& g) const;
   double mass() const { return slave_mass_.sum(); }
-  const Eigen::Matrix<double, 8, 8>& slave_mass() const { return m_; }
+  const Eigen::Matrix<double, 8, 8>& slave_mass() const { return mass_matrix_; }
 
  private:
   double half_h_;
-  Eigen::Matrix<double, 8, 8> m_;       // m_AB (D3); slave A = master A % 4, side + for A < 4
+  Eigen::Matrix<double, 8, 8> mass_matrix_;  // m_AB (D3); slave A = master A % 4, side + for A < 4
   Eigen::Matrix<double, 8, 1> slave_mass_;  // row sums: Σ_B m_AB
 };
 

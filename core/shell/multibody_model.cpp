@@ -327,7 +327,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     *B = b_pattern_;
     std::fill(B->valuePtr(), B->valuePtr() + B->nonZeros(), 0.0);
     b_has_T_ = with_T;
-    if (with_T) g_ = *B;
+    if (with_T) force_directions_ = *B;
   }
   // x = ∂Φ_row/∂(I, slot) in local increments: a constraint-force direction (G); with respect to
   // the step it is x times the row `slot` of T_SE3(step_I) (G9)
@@ -337,7 +337,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
       if (dofs_.equation(I, slot) >= 0) B->coeffRef(row, dofs_.equation(I, slot)) += x;
       return;
     }
-    if (dofs_.equation(I, slot) >= 0) g_.coeffRef(row, dofs_.equation(I, slot)) += x;
+    if (dofs_.equation(I, slot) >= 0) force_directions_.coeffRef(row, dofs_.equation(I, slot)) += x;
     for (int s = 0; s < 6; ++s)
       if (dofs_.equation(I, s) >= 0 && step_tangent_[I](slot, s) != 0.0)
         B->coeffRef(row, dofs_.equation(I, s)) += x * step_tangent_[I](slot, s);

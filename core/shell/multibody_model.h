@@ -101,7 +101,7 @@ class MultibodyModel final : public ff::DynamicProblem {
   /// times T_SE3(step), (G8)-(G9)); false: the shell paper's matrix without T (Newton then
   /// converges linearly). For comparisons and tests.
   void set_exact_iteration_matrix(bool exact) { exact_matrix_ = exact; }
-  const SparseMatrixD* constraint_force_directions() const override { return b_has_T_ ? &g_ : nullptr; }
+  const SparseMatrixD* constraint_force_directions() const override { return b_has_T_ ? &force_directions_ : nullptr; }
   void evaluate(double t, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda,
                 Eigen::VectorXd& r, Eigen::VectorXd& phi, const IterationWeights* w, SparseMatrixD* S,
                 SparseMatrixD* B) override;
@@ -143,8 +143,8 @@ class MultibodyModel final : public ff::DynamicProblem {
   std::vector<ff::lie::Mat6> step_tangent_;  // T_SE3(step_I), per node, when a matrix is evaluated (G8)
   bool step_is_zero_ = true;        // poses_ == committed_: every T is the identity
   bool exact_matrix_ = true;
-  SparseMatrixD g_;      // constraint-force directions G (local increments): B = G T (G9)
-  bool b_has_T_ = false;  // the last B returned differs from G_
+  SparseMatrixD force_directions_;  // constraint-force directions G (local increments): B = G T (G9)
+  bool b_has_T_ = false;  // the last B returned differs from G (force_directions_)
   std::vector<int> pinned_;  // nodes held in space by ground points: translations not unknowns
   std::vector<std::uint8_t> six_dof_;  // per node: 1 when it has the drilling rotation
   assembly::DofMap dofs_;

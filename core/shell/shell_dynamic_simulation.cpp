@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 namespace ff::shell {
 
@@ -19,9 +18,9 @@ double polyline(const MultibodyModel& m, const DynamicArc& a) {
 }  // namespace
 
 ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicSettings settings, RunInfo info)
-    : s_(std::move(settings)), info_(std::move(info)) {
+    : settings_(std::move(settings)), info_(std::move(info)) {
   model_ = std::make_unique<MultibodyModel>(std::move(spec));
-  integrator_ = std::make_unique<GeneralizedAlpha>(*model_, s_.integrator);
+  integrator_ = std::make_unique<GeneralizedAlpha>(*model_, settings_.integrator);
   // drawn mesh: every shell body's quads (model-wide node ids), rigid-body nodes as points
   info_.time_unit = "s";
   info_.mesh = {};
@@ -34,8 +33,8 @@ ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicS
     for (const auto& q : model_->spec().shells[b].mesh.quads)
       for (int c = 0; c < 4; ++c) info_.mesh.quads.push_back(off + q[c]);
   }
-  for (const DynamicProbe& p : s_.probes) info_.probes.push_back({p.name, "m", p.label});
-  for (const DynamicArc& a : s_.arcs) {
+  for (const DynamicProbe& p : settings_.probes) info_.probes.push_back({p.name, "m", p.label});
+  for (const DynamicArc& a : settings_.arcs) {
     if (a.nodes.size() < 2) throw std::invalid_argument("arc '" + a.name + "' needs at least two nodes");
     info_.probes.push_back({"arc_rate_" + a.name, "", "relative chord change of arc " + a.name});
     info_.probes.push_back({"arc_strain_" + a.name, "", "relative length change of arc " + a.name});
@@ -46,16 +45,16 @@ ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicS
   info_.probes.push_back({"strain_energy", "J", "strain energy"});
   info_.probes.push_back({"total_energy", "J", "kinetic + strain + gravity potential energy"});
   info_.fields = {{"displacement", "m", "displacement magnitude"}, {"strain", "", "largest principal surface strain"}};
-  values_.resize(s_.probes.size() + 2 * s_.arcs.size());
+  values_.resize(settings_.probes.size() + 2 * settings_.arcs.size());
 }
 
 std::vector<double> ShellDynamicSimulation::probe_values() const {
   std::vector<double> v;
   v.reserve(values_.size());
-  for (const DynamicProbe& p : s_.probes) v.push_back(p.direction.dot(model_->node_displacement(p.node)));
-  for (std::size_t k = 0; k < s_.arcs.size(); ++k) {
-    v.push_back(chord(*model_, s_.arcs[k]) / arc_chord0_[k] - 1.0);
-    v.push_back(polyline(*model_, s_.arcs[k]) / arc_length0_[k] - 1.0);
+  for (const DynamicProbe& p : settings_.probes) v.push_back(p.direction.dot(model_->node_displacement(p.node)));
+  for (std::size_t k = 0; k < settings_.arcs.size(); ++k) {
+    v.push_back(chord(*model_, settings_.arcs[k]) / arc_chord0_[k] - 1.0);
+    v.push_back(polyline(*model_, settings_.arcs[k]) / arc_length0_[k] - 1.0);
   }
   return v;
 }
@@ -103,16 +102,17 @@ std::string ShellDynamicSimulation::start() {
 }
 
 double ShellDynamicSimulation::next_change(double t) const {
-  for (std::size_t k = next_change_; k < s_.gravity_changes.size(); ++k)
-    if (s_.gravity_changes[k].first > t) return s_.gravity_changes[k].first;
+  for (std::size_t k = next_change_; k < settings_.gravity_changes.size(); ++k)
+    if (settings_.gravity_changes[k].first > t) return settings_.gravity_changes[k].first;
   return std::numeric_limits<double>::infinity();
 }
 
 // [[timeline]] gravity changes due at (or within round-off of) the time t, and a live edit
 bool ShellDynamicSimulation::apply_changes(double t) {
   bool changed = false;
-  while (next_change_ < s_.gravity_changes.size() && s_.gravity_changes[next_change_].first <= t + 1e-9 * s_.dt)
-    model_->set_gravity(s_.gravity_changes[next_change_++].second), changed = true;
+  while (next_change_ < settings_.gravity_changes.size() &&
+         settings_.gravity_changes[next_change_].first <= t + 1e-9 * settings_.dt)
+    model_->set_gravity(settings_.gravity_changes[next_change_++].second), changed = true;
   if (live_gravity_) {  // a live edit (change_live) made since the last step
     model_->set_gravity(*live_gravity_);
     live_gravity_.reset();
@@ -125,7 +125,8 @@ StepDone ShellDynamicSimulation::step(double h) {
   StepDone d;
   const double t0 = integrator_->time();
   const StepReport rep = integrator_->step(h);
-  if (t0 < s_.count_until - 1e-9 * s_.dt) window_noi_ += rep.iterations, window_nou_ += rep.matrix_updates;
+  if (t0 < settings_.count_until - 1e-9 * settings_.dt)
+    window_noi_ += rep.iterations, window_nou_ += rep.matrix_updates;
   totals_.newton_iterations = integrator_->total_iterations();
   totals_.jacobian_updates = integrator_->total_updates();
   simulated_ = integrator_->time();
@@ -148,15 +149,15 @@ std::vector<EffectStat> ShellDynamicSimulation::effect_stats() const { return mo
 Metrics ShellDynamicSimulation::metrics() const {
   Metrics m;
   auto index = [&](const std::string& name) {
-    for (std::size_t k = 0; k < s_.probes.size(); ++k)
-      if (s_.probes[k].name == name) return static_cast<int>(k);
-    for (std::size_t k = 0; k < s_.arcs.size(); ++k) {
-      if ("arc_rate_" + s_.arcs[k].name == name) return static_cast<int>(s_.probes.size() + 2 * k);
-      if ("arc_strain_" + s_.arcs[k].name == name) return static_cast<int>(s_.probes.size() + 2 * k + 1);
+    for (std::size_t k = 0; k < settings_.probes.size(); ++k)
+      if (settings_.probes[k].name == name) return static_cast<int>(k);
+    for (std::size_t k = 0; k < settings_.arcs.size(); ++k) {
+      if ("arc_rate_" + settings_.arcs[k].name == name) return static_cast<int>(settings_.probes.size() + 2 * k);
+      if ("arc_strain_" + settings_.arcs[k].name == name) return static_cast<int>(settings_.probes.size() + 2 * k + 1);
     }
     return -1;
   };
-  for (const DynamicMetric& mt : s_.metrics) {
+  for (const DynamicMetric& mt : settings_.metrics) {
     const int k = index(mt.probe);
     if (k < 0 || values_[k].empty()) continue;
     const std::vector<double>& v = values_[k];
@@ -169,16 +170,16 @@ Metrics ShellDynamicSimulation::metrics() const {
     }
     m.emplace_back(mt.name, x);
   }
-  for (std::size_t k = 0; k < s_.arcs.size(); ++k) {  // largest |relative change| of each arc
+  for (std::size_t k = 0; k < settings_.arcs.size(); ++k) {  // largest |relative change| of each arc
     double rate = 0, strain = 0;
-    for (double y : values_[s_.probes.size() + 2 * k]) rate = std::max(rate, std::abs(y));
-    for (double y : values_[s_.probes.size() + 2 * k + 1]) strain = std::max(strain, std::abs(y));
-    m.emplace_back("arc_rate_max_" + s_.arcs[k].name, rate);
-    m.emplace_back("arc_strain_max_" + s_.arcs[k].name, strain);
+    for (double y : values_[settings_.probes.size() + 2 * k]) rate = std::max(rate, std::abs(y));
+    for (double y : values_[settings_.probes.size() + 2 * k + 1]) strain = std::max(strain, std::abs(y));
+    m.emplace_back("arc_rate_max_" + settings_.arcs[k].name, rate);
+    m.emplace_back("arc_strain_max_" + settings_.arcs[k].name, strain);
   }
   m.emplace_back("NOI", static_cast<double>(integrator_->total_iterations()));
   m.emplace_back("NOU", static_cast<double>(integrator_->total_updates()));
-  if (std::isfinite(s_.count_until)) {
+  if (std::isfinite(settings_.count_until)) {
     m.emplace_back("NOI_window", static_cast<double>(window_noi_));
     m.emplace_back("NOU_window", static_cast<double>(window_nou_));
   }
@@ -190,18 +191,13 @@ Metrics ShellDynamicSimulation::metrics() const {
   return m;
 }
 
-std::string ShellDynamicSimulation::change_live(const std::string& key, const std::string& value) {
+std::string ShellDynamicSimulation::change_live(const std::string& key, const LiveValue& value) {
   if (key != "gravity.g") return "'" + key + "' cannot change while the model runs (live: gravity.g)";
   if (!model_->spec().gravity) return "gravity.g changes live only when the scene has the gravity effect";
-  // "[gx, gy, gz]": three finite numbers
-  std::string text = value;
-  for (char& c : text)
-    if (c == '[' || c == ']' || c == ',') c = ' ';
-  std::istringstream in(text);
-  Vec3 g;
-  if (!(in >> g.x() >> g.y() >> g.z()) || !g.allFinite() || (in >> std::ws, !in.eof()))
-    return "gravity.g needs [gx, gy, gz], got '" + value + "'";
-  live_gravity_ = g;
+  // the scene schema has checked the value (three finite numbers); this only guards the type
+  const auto* g = std::get_if<std::vector<double>>(&value);
+  if (!g || g->size() != 3) return "gravity.g takes a list of 3 numbers";
+  live_gravity_ = Vec3((*g)[0], (*g)[1], (*g)[2]);
   return "";
 }
 

@@ -57,23 +57,23 @@ class ShellDynamicSimulation final : public Simulation {
  public:
   ShellDynamicSimulation(MultibodySpec spec, ShellDynamicSettings settings, RunInfo info);
   const RunInfo& info() const override { return info_; }
-  double end_time() const override { return s_.end_time; }
+  double end_time() const override { return settings_.end_time; }
   std::string start() override;
   double time() const override { return integrator_->time(); }
-  double nominal_step() const override { return s_.dt; }
+  double nominal_step() const override { return settings_.dt; }
   double next_change(double t) const override;
   bool apply_changes(double t) override;
   std::string restart() override { return integrator_->restart(); }
   StepDone step(double h) override;
   Frame frame() const override;
-  int output_every() const override { return s_.output_every; }
+  int output_every() const override { return settings_.output_every; }
   bool logs_skipped_steps() const override { return true; }
   void on_publish(const Frame& frame) override;
   Metrics metrics() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override;
-  /// Live: "gravity.g" ([gx, gy, gz] in m/s²; needs the gravity effect).
-  std::string change_live(const std::string& key, const std::string& value) override;
+  /// Live: "gravity.g" (a list [gx, gy, gz] in m/s²; needs the gravity effect).
+  std::string change_live(const std::string& key, const LiveValue& value) override;
   const MultibodyModel& model() const { return *model_; }
   /// Largest |Φ| seen after a converged step (constraint violation), in length units.
   double max_constraint_violation() const { return max_violation_; }
@@ -85,7 +85,7 @@ class ShellDynamicSimulation final : public Simulation {
   std::optional<Vec3> live_gravity_;  // a live change waiting for the next step
   std::size_t next_change_ = 0;       // first gravity change not yet applied
   std::unique_ptr<GeneralizedAlpha> integrator_;
-  ShellDynamicSettings s_;
+  ShellDynamicSettings settings_;
   RunInfo info_;
   SolverTotals totals_;
   std::vector<double> arc_chord0_, arc_length0_;

@@ -204,10 +204,10 @@ void ShellModel::build_node_bases(std::vector<unsigned>& fixed) {
     // the normal
     for (const Vec3& p : n.planes) {
       n.u_dirs.push_back(p), n.u_values.push_back(0.0);
-      if (six_[I])
+      if (six_dof_[I])
         for (const Vec3& t : in_plane_axes(p)) n.r_dirs.push_back(t);
     }
-    if (!six_[I] && !n.planes.empty()) {
+    if (!six_dof_[I] && !n.planes.empty()) {
       // 5 DoFs: every plane must contain the director; one that misses by a hair is moved into
       // all of them at once (eq. R3')
       Mat3& R0 = m.frames[I];
@@ -248,7 +248,7 @@ void ShellModel::build_node_bases(std::vector<unsigned>& fixed) {
         prescribed_.push_back({I, s, tu.value[s]});
       }
     // rotations
-    if (six_[I]) {
+    if (six_dof_[I]) {
       const SlotBasis tr = slot_basis(n.r_dirs, std::vector<double>(n.r_dirs.size(), 0.0));
       basis_r_[I] = tr.T;
       fixed[I] |= tr.restrained << 3;
@@ -284,12 +284,13 @@ void ShellModel::build_node_bases(std::vector<unsigned>& fixed) {
 ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   mesh::ShellMesh& m = spec_.mesh;
   const int nn = m.node_count();
-  six_.assign(nn, spec_.options.drilling ? 1 : 0);
+  six_dof_.assign(nn, spec_.options.drilling ? 1 : 0);
   for (int i = 0; i < nn && i < static_cast<int>(m.fold.size()); ++i)
-    if (m.fold[i]) six_[i] = 1;
+    if (m.fold[i]) six_dof_[i] = 1;
   std::vector<unsigned> fixed(nn, 0u);  // slot mask, bits 0-5
   build_node_bases(fixed);
-  dofs_ = assembly::DofMap(nn, [&](int i, int slot) { return slot < (six_[i] ? 6 : 5) && !(fixed[i] & (1u << slot)); });
+  dofs_ =
+      assembly::DofMap(nn, [&](int i, int slot) { return slot < (six_dof_[i] ? 6 : 5) && !(fixed[i] & (1u << slot)); });
 
   poses_.resize(nn);
   for (int i = 0; i < nn; ++i) poses_[i] = {m.frames[i], m.points[i]};
@@ -410,9 +411,9 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     for (int c = 0; c < 4; ++c) {
       const int I = e.nodes[c];
       L[2 * c] = poses_[I].R * e.corner[c];
-      L[2 * c + 1] = six_[I] ? L[2 * c] : e.corner[c];
+      L[2 * c + 1] = six_dof_[I] ? L[2 * c] : e.corner[c];
       if (has_basis_[I]) {
-        L[2 * c + 1] = six_[I] ? Mat3(basis_r_[I].transpose() * L[2 * c + 1]) : L[2 * c + 1];
+        L[2 * c + 1] = six_dof_[I] ? Mat3(basis_r_[I].transpose() * L[2 * c + 1]) : L[2 * c + 1];
         L[2 * c] = basis_u_[I].transpose() * L[2 * c];
       }
     }
@@ -450,12 +451,12 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     reaction_[I] = fu;
     Vec6 g;
     g.head<3>() = rows_u(I, fu);
-    g.tail<3>() = six_[I] ? rows_r(I, R * node_force[I].tail<3>()) : Vec3(node_force[I].tail<3>());
+    g.tail<3>() = six_dof_[I] ? rows_r(I, R * node_force[I].tail<3>()) : Vec3(node_force[I].tail<3>());
     for (int s = 0; s < 6; ++s)
       if (dofs_.equation(I, s) >= 0) r[dofs_.equation(I, s)] += g[s];
     if (!K) continue;
     // the rotating basis of A_I along the node's own rotation increment
-    if (six_[I]) {
+    if (six_dof_[I]) {
       Mat3 tu = -hat(fu), tt = -hat(R * node_force[I].tail<3>());
       if (has_basis_[I]) {
         tu = basis_u_[I].transpose() * tu * basis_r_[I];
@@ -482,7 +483,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     reaction_[I] -= lambda * fw;
     Vec6 f = Vec6::Zero();
     f.head<3>() = rows_u(I, fw);
-    if (six_[I]) {
+    if (six_dof_[I]) {
       f.tail<3>() = rows_r(I, l.follower ? Vec3(R * l.moment) : l.moment);
     } else {
       f.tail<3>() = l.follower ? l.moment : Vec3(R.transpose() * l.moment);
@@ -496,17 +497,18 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     }
     if (!K) continue;
     if (l.follower) {
-      Mat3 tf = six_[I] ? Mat3(lambda * hat(R * l.force)) : Mat3(lambda * R * hat(l.force));
-      if (has_basis_[I]) tf = six_[I] ? Mat3(basis_u_[I].transpose() * tf * basis_r_[I]) : Mat3(basis_u_[I].transpose() * tf);
+      Mat3 tf = six_dof_[I] ? Mat3(lambda * hat(R * l.force)) : Mat3(lambda * R * hat(l.force));
+      if (has_basis_[I])
+        tf = six_dof_[I] ? Mat3(basis_u_[I].transpose() * tf * basis_r_[I]) : Mat3(basis_u_[I].transpose() * tf);
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < (six_[I] ? 3 : 2); ++j) add(I, i, I, 3 + j, tf(i, j));
-      if (six_[I]) {
+        for (int j = 0; j < (six_dof_[I] ? 3 : 2); ++j) add(I, i, I, 3 + j, tf(i, j));
+      if (six_dof_[I]) {
         Mat3 tm = lambda * hat(R * l.moment);
         if (has_basis_[I]) tm = basis_r_[I].transpose() * tm * basis_r_[I];
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
       }
-    } else if (!six_[I]) {
+    } else if (!six_dof_[I]) {
       // local components of a fixed global moment turn with the node
       const Mat3 tm = -lambda * hat(R.transpose() * l.moment);
       for (int i = 0; i < 2; ++i)
@@ -593,10 +595,10 @@ void ShellModel::update(const Eigen::VectorXd& delta) {
     // eq. R2: slot increments along the node bases
     if (has_basis_[I]) {
       d[I].head<3>() = basis_u_[I] * d[I].head<3>();
-      if (six_[I]) d[I].tail<3>() = basis_r_[I] * d[I].tail<3>();
+      if (six_dof_[I]) d[I].tail<3>() = basis_r_[I] * d[I].tail<3>();
     }
     poses_[I].x += d[I].head<3>();
-    if (six_[I]) poses_[I].R = lie::exp_so3(d[I].tail<3>()) * poses_[I].R;
+    if (six_dof_[I]) poses_[I].R = lie::exp_so3(d[I].tail<3>()) * poses_[I].R;
     else poses_[I].R = poses_[I].R * lie::exp_so3(Vec3(d[I][3], d[I][4], 0.0));
   }
 }

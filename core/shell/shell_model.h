@@ -114,7 +114,7 @@ class ShellModel final : public ff::StaticProblem {
 
   const std::vector<NodePose>& poses() const { return poses_; }
   const ShellModelSpec& spec() const { return spec_; }
-  int dofs_of_node(int node) const { return six_[node] ? 6 : 5; }
+  int dofs_of_node(int node) const { return six_dof_[node] ? 6 : 5; }
   /// Global displacement of a node from its reference position.
   Vec3 node_displacement(int node) const { return poses_[node].x - spec_.mesh.points[node]; }
   /// Reaction at a node at the last evaluate(): f_int - lambda f_ext on its translations, world
@@ -158,7 +158,7 @@ class ShellModel final : public ff::StaticProblem {
   ShellModelSpec spec_;
   std::vector<NodePose> poses_, saved_;
   std::vector<NodePose> reference_;     // initial node poses (display strain)
-  std::vector<std::uint8_t> six_;       // node has 6 DoFs
+  std::vector<std::uint8_t> six_dof_;   // per node: 1 when it has 6 DoFs
   // node bases (eq. R2): slot directions of translations and 6-DoF rotations, world components;
   // identity unless a restraint needs other directions (then has_basis_ = 1)
   std::vector<Mat3> basis_u_, basis_r_;

@@ -8,7 +8,7 @@
 namespace ff::shell {
 
 ShellStaticSimulation::ShellStaticSimulation(ShellModelSpec spec, ShellStaticSettings settings, RunInfo info)
-    : s_(std::move(settings)), info_(std::move(info)) {
+    : settings_(std::move(settings)), info_(std::move(info)) {
   model_ = std::make_unique<ShellModel>(std::move(spec));
   const mesh::ShellMesh& m = model_->spec().mesh;
   if (model_->snapped_directors() > 0)  // directors moved into symmetry planes they nearly contained
@@ -19,15 +19,15 @@ ShellStaticSimulation::ShellStaticSimulation(ShellModelSpec spec, ShellStaticSet
   info_.mesh.reference_points.clear();
   for (const Vec3& p : m.points) info_.mesh.reference_points.insert(info_.mesh.reference_points.end(), {p.x(), p.y(), p.z()});
   for (const auto& q : m.quads) info_.mesh.quads.insert(info_.mesh.quads.end(), q.begin(), q.end());
-  info_.probes = {{"lambda", "", "load factor"}, {"load", s_.load_unit, s_.load_label}};
-  for (const ShellProbe& p : s_.probes) info_.probes.push_back({p.name, "", p.label});
+  info_.probes = {{"lambda", "", "load factor"}, {"load", settings_.load_unit, settings_.load_label}};
+  for (const ShellProbe& p : settings_.probes) info_.probes.push_back({p.name, "", p.label});
   info_.fields = {{"displacement", "", "displacement magnitude"}, {"strain", "", "largest principal surface strain"}};
   info_.plot_x_probe = "load";
-  values_.resize(s_.probes.size());
+  values_.resize(settings_.probes.size());
 }
 
 double ShellStaticSimulation::end_time() const {
-  return s_.arc_length ? s_.arc.lambda_max : s_.load_control.lambda_end;
+  return settings_.arc_length ? settings_.arc.lambda_max : settings_.load_control.lambda_end;
 }
 
 double ShellStaticSimulation::probe_value(const ShellProbe& p) const {
@@ -53,29 +53,29 @@ Frame ShellStaticSimulation::frame() const {
     f.base_points.insert(f.base_points.end(), {ref[i].x(), ref[i].y(), ref[i].z()});
     f.fields[0][i] = (poses[i].x - ref[i]).norm();
   }
-  f.probes = {lambda_, lambda_ * s_.load_scale};
-  for (const ShellProbe& p : s_.probes) f.probes.push_back(probe_value(p));
+  f.probes = {lambda_, lambda_ * settings_.load_scale};
+  for (const ShellProbe& p : settings_.probes) f.probes.push_back(probe_value(p));
   return f;
 }
 
 void ShellStaticSimulation::record() {
-  loads_.push_back(lambda_ * s_.load_scale);
-  for (std::size_t k = 0; k < s_.probes.size(); ++k) values_[k].push_back(probe_value(s_.probes[k]));
+  loads_.push_back(lambda_ * settings_.load_scale);
+  for (std::size_t k = 0; k < settings_.probes.size(); ++k) values_[k].push_back(probe_value(settings_.probes[k]));
 }
 
 std::string ShellStaticSimulation::start() {
   lambda_ = 0.0;
   record();
-  if (s_.arc_length) {
-    for (const ShellProbe& p : s_.probes)
-      if (p.name == s_.monitor_probe) {
-        s_.arc.monitor = [this, &p] { return probe_value(p); };
-        s_.arc.displacement_limit = s_.displacement_limit;
+  if (settings_.arc_length) {
+    for (const ShellProbe& p : settings_.probes)
+      if (p.name == settings_.monitor_probe) {
+        settings_.arc.monitor = [this, &p] { return probe_value(p); };
+        settings_.arc.displacement_limit = settings_.displacement_limit;
       }
-    arc_length_ = std::make_unique<ArcLengthPath>(*model_, s_.arc);
+    arc_length_ = std::make_unique<ArcLengthPath>(*model_, settings_.arc);
     arc_length_->start();  // a run that ends at once reports it at the first step
   } else {
-    load_control_ = std::make_unique<LoadControlPath>(*model_, s_.load_control);
+    load_control_ = std::make_unique<LoadControlPath>(*model_, settings_.load_control);
   }
   return "";
 }
@@ -128,11 +128,11 @@ Metrics ShellStaticSimulation::metrics() const {
       break;
     }
   auto probe_index = [&](const std::string& name) {
-    for (std::size_t k = 0; k < s_.probes.size(); ++k)
-      if (s_.probes[k].name == name) return static_cast<int>(k);
+    for (std::size_t k = 0; k < settings_.probes.size(); ++k)
+      if (settings_.probes[k].name == name) return static_cast<int>(k);
     return -1;
   };
-  for (const ShellMetric& mt : s_.metrics) {
+  for (const ShellMetric& mt : settings_.metrics) {
     const int k = probe_index(mt.probe);
     double v = nan;
     switch (mt.kind) {

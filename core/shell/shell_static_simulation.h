@@ -67,10 +67,10 @@ class ShellStaticSimulation final : public Simulation {
   double probe_value(const ShellProbe& p) const;
   void record();  // load and probes of the current state into the path history
   std::unique_ptr<ShellModel> model_;
-  ShellStaticSettings s_;
+  ShellStaticSettings settings_;
   RunInfo info_;
   SolverTotals totals_;
-  std::unique_ptr<LoadControlPath> load_control_;  // one of the two, by s_.arc_length
+  std::unique_ptr<LoadControlPath> load_control_;  // one of the two, by settings_.arc_length
   std::unique_ptr<ArcLengthPath> arc_length_;
   double lambda_ = 0.0;
   std::vector<double> loads_;                 // load per step

@@ -6,7 +6,7 @@
 namespace ff {
 
 NewmarkIntegrator::NewmarkIntegrator(const SecondOrderSystem& system, NewmarkSettings settings)
-    : sys_(system), s_(settings) {}
+    : sys_(system), settings_(settings) {}
 
 StepReport NewmarkIntegrator::initialize(NewmarkState& st) {
   StepReport rep;
@@ -28,10 +28,10 @@ StepReport NewmarkIntegrator::initialize(NewmarkState& st) {
 // hub_beam.md eqs. (25)-(26): one Newton solve for a_{n+1}
 StepReport NewmarkIntegrator::attempt(NewmarkState& st, double h) {
   StepReport rep;
-  const double b = s_.beta, g = s_.gamma, t1 = st.t + h;
+  const double b = settings_.beta, g = settings_.gamma, t1 = st.t + h;
   a_ = st.a;  // predictor: constant acceleration
   double first_residual = -1.0;
-  for (int k = 1; k <= s_.max_iterations; ++k) {
+  for (int k = 1; k <= settings_.max_iterations; ++k) {
     x_ = st.x + h * st.v + (h * h) * ((0.5 - b) * st.a + b * a_);
     v_ = st.v + h * ((1.0 - g) * st.a + g * a_);
     sys_.residual(x_, v_, a_, t1, r_);
@@ -53,7 +53,7 @@ StepReport NewmarkIntegrator::attempt(NewmarkState& st, double h) {
     a_ += da_;
     rep.increment_norm = b * h * h * da_.lpNorm<Eigen::Infinity>();
     const double scale = 1.0 + x_.lpNorm<Eigen::Infinity>();
-    if (rep.increment_norm <= s_.tolerance * scale) {
+    if (rep.increment_norm <= settings_.tolerance * scale) {
       x_ = st.x + h * st.v + (h * h) * ((0.5 - b) * st.a + b * a_);
       v_ = st.v + h * ((1.0 - g) * st.a + g * a_);
       sys_.residual(x_, v_, a_, t1, r_);
@@ -72,7 +72,7 @@ StepReport NewmarkIntegrator::attempt(NewmarkState& st, double h) {
     }
   }
   std::ostringstream msg;
-  msg << "Newton did not converge in " << s_.max_iterations << " iterations (last increment "
+  msg << "Newton did not converge in " << settings_.max_iterations << " iterations (last increment "
       << rep.increment_norm << ", residual " << rep.residual_norm << ")";
   rep.failure = msg.str();
   return rep;
@@ -81,7 +81,7 @@ StepReport NewmarkIntegrator::attempt(NewmarkState& st, double h) {
 StepReport NewmarkIntegrator::advance(NewmarkState& st, double h, int depth) {
   const NewmarkState saved = st;
   StepReport rep = attempt(st, h);
-  if (rep.converged || depth >= s_.max_cutbacks) return rep;
+  if (rep.converged || depth >= settings_.max_cutbacks) return rep;
   // cut back: two half steps from the saved state
   st = saved;
   StepReport a = advance(st, 0.5 * h, depth + 1);

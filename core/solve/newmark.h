@@ -33,13 +33,13 @@ class NewmarkIntegrator {
   /// Advances state by dt (halving on failure up to max_cutbacks levels). On failure the state
   /// is left at the last converged sub-step.
   StepReport step(NewmarkState& state, double dt);
-  const NewmarkSettings& settings() const { return s_; }
+  const NewmarkSettings& settings() const { return settings_; }
 
  private:
   StepReport attempt(NewmarkState& state, double dt);
   StepReport advance(NewmarkState& state, double dt, int depth);
   const SecondOrderSystem& sys_;
-  NewmarkSettings s_;
+  NewmarkSettings settings_;
   // workspace reused across steps (no allocation per iteration once sized)
   Eigen::VectorXd r_, x_, v_, a_, da_;
   Eigen::MatrixXd j_;

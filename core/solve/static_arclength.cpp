@@ -28,7 +28,7 @@ std::string check_settings(const ArcLengthSettings& s, int n) {
 class PathFollower {
  public:
   PathFollower(StaticProblem& problem, const ArcLengthSettings& s)
-      : s_(s), k_(problem, s.convergence), n_(problem.size()) {}
+      : settings_(s), kernel_(problem, s.convergence), n_(problem.size()) {}
   /// Sets up (the first arc length); false when the run ends at once (result()).
   bool start();
   /// Attempts until a step is accepted (true; the run may have ended with it: finished()) or the
@@ -52,8 +52,8 @@ class PathFollower {
   void secant(double dl, double load_weight);
   std::vector<StaticEvent> path_events(int steps) const;
 
-  const ArcLengthSettings& s_;
-  StaticKernel k_;
+  const ArcLengthSettings& settings_;
+  StaticKernel kernel_;
   int n_;
   double alpha2_ = 0.0;            // λ weight of the orientation metric (eq. 23): ||K0⁻¹ f||² at the start
   Eigen::VectorXd dq_pred_;        // the predictor of the attempt (eq. 22)
@@ -82,34 +82,34 @@ class PathFollower {
 };
 
 bool PathFollower::load_tangent(double lambda, Eigen::VectorXd& dq_f) {
-  const bool full = s_.convergence.tangent == TangentPolicy::every_iteration;
-  if (!k_.evaluated_at(lambda) && !k_.evaluate(lambda, full)) return false;
-  if (k_.wants_new_tangent(0, 0.0, 0.0) && !k_.refresh_tangent(lambda)) return false;
-  return k_.solve(k_.load(), dq_f);
+  const bool full = settings_.convergence.tangent == TangentPolicy::every_iteration;
+  if (!kernel_.evaluated_at(lambda) && !kernel_.evaluate(lambda, full)) return false;
+  if (kernel_.wants_new_tangent(0, 0.0, 0.0) && !kernel_.refresh_tangent(lambda)) return false;
+  return kernel_.solve(kernel_.load(), dq_f);
 }
 
 double PathFollower::monitored() const {
-  if (s_.monitor) return s_.monitor();
-  if (s_.monitor_dof < 0) return std::numeric_limits<double>::quiet_NaN();
-  const std::optional<double> u = k_.problem().displacement(s_.monitor_dof);
-  return u ? *u : u_total_[s_.monitor_dof];
+  if (settings_.monitor) return settings_.monitor();
+  if (settings_.monitor_dof < 0) return std::numeric_limits<double>::quiet_NaN();
+  const std::optional<double> u = kernel_.problem().displacement(settings_.monitor_dof);
+  return u ? *u : u_total_[settings_.monitor_dof];
 }
 
 double PathFollower::monitored_after(const Eigen::VectorXd& step) const {
-  if (s_.monitor) return s_.monitor();
-  if (s_.monitor_dof < 0) return std::numeric_limits<double>::quiet_NaN();
-  const std::optional<double> u = k_.problem().displacement(s_.monitor_dof);
-  return u ? *u : u_total_[s_.monitor_dof] + step[s_.monitor_dof];
+  if (settings_.monitor) return settings_.monitor();
+  if (settings_.monitor_dof < 0) return std::numeric_limits<double>::quiet_NaN();
+  const std::optional<double> u = kernel_.problem().displacement(settings_.monitor_dof);
+  return u ? *u : u_total_[settings_.monitor_dof] + step[settings_.monitor_dof];
 }
 
 // stop flag and evaluation at the current iterate (K too under full Newton); false ends the attempt
 bool PathFollower::evaluate_iterate(double lambda, AttemptOutcome& a) {
-  if (stop_requested(s_.stop)) {
+  if (stop_requested(settings_.stop)) {
     a.interrupted = true;
     return false;
   }
-  if (!k_.evaluate(lambda, s_.convergence.tangent == TangentPolicy::every_iteration)) {
-    a.failure = k_.failure();
+  if (!kernel_.evaluate(lambda, settings_.convergence.tangent == TangentPolicy::every_iteration)) {
+    a.failure = kernel_.failure();
     return false;
   }
   return true;
@@ -118,18 +118,18 @@ bool PathFollower::evaluate_iterate(double lambda, AttemptOutcome& a) {
 // after the convergence test: iteration budget, divergence, tangent policy
 bool PathFollower::start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor,
                                    AttemptOutcome& a) {
-  if (k >= s_.convergence.max_iterations) {
+  if (k >= settings_.convergence.max_iterations) {
     a.failure = "no convergence in " + std::to_string(k) + " iterations near λ = " + fmt(lambda) + " (residual " +
-                fmt(rn) + " vs limit " + fmt(k_.residual_limit()) + ", increment " + fmt(a.increment_norm) + ")";
+                fmt(rn) + " vs limit " + fmt(kernel_.residual_limit()) + ", increment " + fmt(a.increment_norm) + ")";
     return false;
   }
-  if (std::string why = monitor.check(k, rn, k_.residual_limit()); !why.empty()) {
+  if (std::string why = monitor.check(k, rn, kernel_.residual_limit()); !why.empty()) {
     a.failure = "diverging near λ = " + fmt(lambda) + ": " + why;
     return false;
   }
-  if (k_.wants_new_tangent(k, rn, previous)) {
-    if (!k_.refresh_tangent(lambda)) {
-      a.failure = k_.failure() + " (iteration " + std::to_string(k) + ")";
+  if (kernel_.wants_new_tangent(k, rn, previous)) {
+    if (!kernel_.refresh_tangent(lambda)) {
+      a.failure = kernel_.failure() + " (iteration " + std::to_string(k) + ")";
       return false;
     }
   }
@@ -138,7 +138,7 @@ bool PathFollower::start_iteration(int k, double lambda, double rn, double previ
 
 // the previous converged increment scaled to Δl (the secant predictor, eq. 18 with the load weight)
 void PathFollower::secant(double dl, double load_weight) {
-  const double mu = dl / std::sqrt(k_.dot_u(dq_prev_, dq_prev_) + load_weight * dlambda_prev_ * dlambda_prev_);
+  const double mu = dl / std::sqrt(kernel_.dot_u(dq_prev_, dq_prev_) + load_weight * dlambda_prev_ * dlambda_prev_);
   dq_ = mu * dq_prev_;
   dlambda_ = mu * dlambda_prev_;
 }
@@ -148,47 +148,47 @@ void PathFollower::secant(double dl, double load_weight) {
 // part does not); when that cosine is nearly zero (δq_f almost orthogonal to the path, as near a
 // bifurcation) the secant predictor continues the path instead
 bool PathFollower::predict(double dl, Eigen::VectorXd& dq_f, std::string& failure) {
-  const double psi2 = s_.psi * s_.psi;
+  const double psi2 = settings_.psi * settings_.psi;
   // under modified Newton the held factorization may be older: then det K is not recorded
-  const bool full = s_.convergence.tangent == TangentPolicy::every_iteration;
+  const bool full = settings_.convergence.tangent == TangentPolicy::every_iteration;
   const bool tangent = load_tangent(lambda_, dq_f);
-  if (!det_sign_.empty() && det_sign_.back() == 0) det_sign_.back() = tangent && full ? k_.determinant_sign() : 0;
-  const double ff = psi2 * k_.dot_r(k_.load(), k_.load());
+  if (!det_sign_.empty() && det_sign_.back() == 0) det_sign_.back() = tangent && full ? kernel_.determinant_sign() : 0;
+  const double ff = psi2 * kernel_.dot_r(kernel_.load(), kernel_.load());
   if (!tangent) {
     if (!has_previous_) {
-      failure = "predictor: " + k_.failure();
+      failure = "predictor: " + kernel_.failure();
       return false;
     }
     secant(dl, ff);  // K singular at the converged point
   } else {
-    double sign = s_.initial_load_increment < 0.0 ? -1.0 : 1.0;
+    double sign = settings_.initial_load_increment < 0.0 ? -1.0 : 1.0;
     bool use_secant = false;
     if (has_previous_) {
-      const double o = k_.dot_u(dq_prev_, dq_f);
-      const double np = std::sqrt(k_.dot_u(dq_prev_, dq_prev_)), nt = std::sqrt(k_.dot_u(dq_f, dq_f));
-      use_secant = !(std::abs(o) >= s_.ambiguous_orientation * np * nt);
+      const double o = kernel_.dot_u(dq_prev_, dq_f);
+      const double np = std::sqrt(kernel_.dot_u(dq_prev_, dq_prev_)), nt = std::sqrt(kernel_.dot_u(dq_f, dq_f));
+      use_secant = !(std::abs(o) >= settings_.ambiguous_orientation * np * nt);
       sign = o >= 0.0 ? 1.0 : -1.0;
     }
     if (use_secant) {
       secant(dl, ff);
     } else {
-      dlambda_ = sign * dl / std::sqrt(k_.dot_u(dq_f, dq_f) + ff);
+      dlambda_ = sign * dl / std::sqrt(kernel_.dot_u(dq_f, dq_f) + ff);
       dq_ = dlambda_ * dq_f;
       // eq. (24): on a path of constant curvature the next chord turns from the tangent by as much
       // as the tangent turned from the last chord: direction 2 τ - c (unit vectors in the metric of
       // eq. 23), used while that turn is moderate
-      if (has_previous_ && s_.curvature_predictor) {
-        const double nt = std::sqrt(k_.dot_u(dq_f, dq_f) + alpha2_);
-        const double nc = std::sqrt(k_.dot_u(dq_prev_, dq_prev_) + alpha2_ * dlambda_prev_ * dlambda_prev_);
-        const double cos_tc = sign * (k_.dot_u(dq_f, dq_prev_) + alpha2_ * dlambda_prev_) / (nt * nc);
+      if (has_previous_ && settings_.curvature_predictor) {
+        const double nt = std::sqrt(kernel_.dot_u(dq_f, dq_f) + alpha2_);
+        const double nc = std::sqrt(kernel_.dot_u(dq_prev_, dq_prev_) + alpha2_ * dlambda_prev_ * dlambda_prev_);
+        const double cos_tc = sign * (kernel_.dot_u(dq_f, dq_prev_) + alpha2_ * dlambda_prev_) / (nt * nc);
         const Eigen::VectorXd dq_dir = (2.0 * sign / nt) * dq_f - dq_prev_ / nc;
         const double dl_dir = 2.0 * sign / nt - dlambda_prev_ / nc;
         // ... and keeps at least half of the tangent's own displacement direction: where the path
         // stands nearly vertical in λ the correction could flip the displacement part, which the
         // arc-length constraint then scales up
-        const double along = sign * k_.dot_u(dq_dir, dq_f) / (k_.dot_u(dq_f, dq_f) / nt);
-        if (cos_tc > std::cos(2.0 * s_.target_turn) && along >= 0.5) {
-          const double mu = dl / std::sqrt(k_.dot_u(dq_dir, dq_dir) + ff * dl_dir * dl_dir);
+        const double along = sign * kernel_.dot_u(dq_dir, dq_f) / (kernel_.dot_u(dq_f, dq_f) / nt);
+        if (cos_tc > std::cos(2.0 * settings_.target_turn) && along >= 0.5) {
+          const double mu = dl / std::sqrt(kernel_.dot_u(dq_dir, dq_dir) + ff * dl_dir * dl_dir);
           dq_ = mu * dq_dir;
           dlambda_ = mu * dl_dir;
         }
@@ -203,8 +203,8 @@ bool PathFollower::predict(double dl, Eigen::VectorXd& dq_f, std::string& failur
 // Crisfield (1981): tangent predictor (eq. 9), exact quadratic corrector (eqs. 10–11)
 AttemptOutcome PathFollower::crisfield_step(double dl) {
   AttemptOutcome a;
-  const int f0 = k_.factorizations();
-  const double psi2 = s_.psi * s_.psi;
+  const int f0 = kernel_.factorizations();
+  const double psi2 = settings_.psi * settings_.psi;
   Eigen::VectorXd dq_f(n_), dq_r(n_), delta(n_), rhs;
   dq_.setZero(n_);
 
@@ -213,30 +213,30 @@ AttemptOutcome PathFollower::crisfield_step(double dl) {
     a.failure = failure;
     return a;
   }
-  k_.update(dq_);
+  kernel_.update(dq_);
 
-  DivergenceMonitor monitor(s_.convergence);
+  DivergenceMonitor monitor(settings_.convergence);
   double previous = std::numeric_limits<double>::infinity();
   for (int k = 0;; ++k) {
     const double lambda = lambda_ + dlambda_;
     if (!evaluate_iterate(lambda, a)) break;
-    a.residual_norm = k_.norm_r(k_.residual());
-    if (k > 0 && k_.converged(a.residual_norm, a.increment_norm, a.previous_increment_norm, k_.norm_u(dq_))) {
+    a.residual_norm = kernel_.norm_r(kernel_.residual());
+    if (k > 0 && kernel_.converged(a.residual_norm, a.increment_norm, a.previous_increment_norm, kernel_.norm_u(dq_))) {
       a.converged = true;
       break;
     }
     if (!start_iteration(k, lambda, a.residual_norm, previous, monitor, a)) break;
-    rhs = -k_.residual();
-    if (!k_.solve(rhs, dq_r) || !k_.solve(k_.load(), dq_f)) {
-      a.failure = k_.failure();
+    rhs = -kernel_.residual();
+    if (!kernel_.solve(rhs, dq_r) || !kernel_.solve(kernel_.load(), dq_f)) {
+      a.failure = kernel_.failure();
       break;
     }
     // eq. (10): ||Δq + δq_r + δλ δq_f||² + ψ²||f||²(Δλ + δλ)² = Δl²
-    const double ff = psi2 * k_.dot_r(k_.load(), k_.load());
+    const double ff = psi2 * kernel_.dot_r(kernel_.load(), kernel_.load());
     const Eigen::VectorXd base = dq_ + dq_r;
-    const double qa = k_.dot_u(dq_f, dq_f) + ff;
-    const double qb = 2.0 * (k_.dot_u(base, dq_f) + ff * dlambda_);
-    const double qc = k_.dot_u(base, base) + ff * dlambda_ * dlambda_ - dl * dl;
+    const double qa = kernel_.dot_u(dq_f, dq_f) + ff;
+    const double qb = 2.0 * (kernel_.dot_u(base, dq_f) + ff * dlambda_);
+    const double qc = kernel_.dot_u(base, base) + ff * dlambda_ * dlambda_ - dl * dl;
     const double disc = qb * qb - 4.0 * qa * qc;
     if (!(disc >= 0.0)) {
       a.failure = "the arc-length constraint has complex roots near λ = " + fmt(lambda) + " (Δl = " + fmt(dl) +
@@ -247,86 +247,87 @@ AttemptOutcome PathFollower::crisfield_step(double dl) {
     const double sq = std::sqrt(disc);
     const double q = -0.5 * (qb + (qb >= 0.0 ? sq : -sq));
     const double r1 = q / qa, r2 = q != 0.0 ? qc / q : -r1;
-    auto alignment = [&](double x) { return k_.dot_u(base + x * dq_f, dq_); };
+    auto alignment = [&](double x) { return kernel_.dot_u(base + x * dq_f, dq_); };
     const double x = alignment(r1) >= alignment(r2) ? r1 : r2;
     delta = dq_r + x * dq_f;
-    k_.update(delta);
+    kernel_.update(delta);
     dq_ += delta;
     dlambda_ += x;
     a.previous_increment_norm = a.increment_norm;
-    a.increment_norm = k_.norm_u(delta);
+    a.increment_norm = kernel_.norm_u(delta);
     a.iterations = k + 1;
     previous = a.residual_norm;
   }
-  a.factorizations = k_.factorizations() - f0;
+  a.factorizations = kernel_.factorizations() - f0;
   return a;
 }
 
 // Lam & Morley (1992): secant predictor (eq. 18), residual split (eq. 14), corrector (eqs. 15–17)
 AttemptOutcome PathFollower::lam_morley_step(double dl) {
   AttemptOutcome a;
-  const int f0 = k_.factorizations();
+  const int f0 = kernel_.factorizations();
   Eigen::VectorXd dq_f(n_), dq_h(n_), delta(n_), rhs, r_perp;
   // det K at the converged state, for the path's events (§4.4)
-  if (!det_sign_.empty() && det_sign_.back() == 0 && s_.convergence.tangent == TangentPolicy::every_iteration &&
-      k_.refresh_tangent(lambda_))
-    det_sign_.back() = k_.determinant_sign();
+  if (!det_sign_.empty() && det_sign_.back() == 0 && settings_.convergence.tangent == TangentPolicy::every_iteration &&
+      kernel_.refresh_tangent(lambda_))
+    det_sign_.back() = kernel_.determinant_sign();
   if (has_previous_) {
-    const double mu = dl / std::sqrt(k_.dot_u(dq_prev_, dq_prev_) + a0_ * dlambda_prev_ * dlambda_prev_);
+    const double mu = dl / std::sqrt(kernel_.dot_u(dq_prev_, dq_prev_) + a0_ * dlambda_prev_ * dlambda_prev_);
     dq_ = mu * dq_prev_;
     dlambda_ = mu * dlambda_prev_;
   } else {
     if (!load_tangent(lambda_, dq_f)) {
-      a.failure = "predictor: " + k_.failure();
+      a.failure = "predictor: " + kernel_.failure();
       return a;
     }
-    const double sign = s_.initial_load_increment < 0.0 ? -1.0 : 1.0;
-    dlambda_ = sign * dl / std::sqrt(k_.dot_u(dq_f, dq_f) + a0_);
+    const double sign = settings_.initial_load_increment < 0.0 ? -1.0 : 1.0;
+    dlambda_ = sign * dl / std::sqrt(kernel_.dot_u(dq_f, dq_f) + a0_);
     dq_ = dlambda_ * dq_f;
   }
   dq_pred_ = dq_;
   dlambda_pred_ = dlambda_;
-  k_.update(dq_);
+  kernel_.update(dq_);
 
-  DivergenceMonitor monitor(s_.convergence);
+  DivergenceMonitor monitor(settings_.convergence);
   double previous = std::numeric_limits<double>::infinity();
   for (int k = 0;; ++k) {
     const double lambda = lambda_ + dlambda_;
     if (!evaluate_iterate(lambda, a)) break;
     // eq. (14): the load-parallel part of r is a load-factor error g, the rest h = r − g f
-    const Eigen::VectorXd& f = k_.load();
-    const double ff = k_.dot_r(f, f);
-    const double g = ff > 0.0 ? k_.dot_r(k_.residual(), f) / ff : 0.0;
-    r_perp = k_.residual() - g * f;
-    a.residual_norm = k_.norm_r(r_perp);
-    if (k > 0 && k_.converged(a.residual_norm, a.increment_norm, a.previous_increment_norm, k_.norm_u(dq_))) {
+    const Eigen::VectorXd& f = kernel_.load();
+    const double ff = kernel_.dot_r(f, f);
+    const double g = ff > 0.0 ? kernel_.dot_r(kernel_.residual(), f) / ff : 0.0;
+    r_perp = kernel_.residual() - g * f;
+    a.residual_norm = kernel_.norm_r(r_perp);
+    if (k > 0 && kernel_.converged(a.residual_norm, a.increment_norm, a.previous_increment_norm, kernel_.norm_u(dq_))) {
       dlambda_ += g;  // λ that leaves only h: r(q, λ + g) = h
       a.converged = true;
       break;
     }
     if (!start_iteration(k, lambda, a.residual_norm, previous, monitor, a)) break;
     rhs = -r_perp;
-    if (!k_.solve(k_.load(), dq_f) || !k_.solve(rhs, dq_h)) {
-      a.failure = k_.failure();
+    if (!kernel_.solve(kernel_.load(), dq_f) || !kernel_.solve(rhs, dq_h)) {
+      a.failure = kernel_.failure();
       break;
     }
     // eq. (15): ||Δq + η δq_h + x δq_f||² + A0 (Δλ + g + x)² = Δl²
     const double s = dlambda_ + g;
-    const double qa = a0_ + k_.dot_u(dq_f, dq_f);
+    const double qa = a0_ + kernel_.dot_u(dq_f, dq_f);
     auto coefficients = [&](double eta, double& qb, double& qc) {
       const Eigen::VectorXd v = dq_ + eta * dq_h;
-      qb = a0_ * s + k_.dot_u(dq_f, v);
-      qc = a0_ * s * s + k_.dot_u(v, v) - dl * dl;
+      qb = a0_ * s + kernel_.dot_u(dq_f, v);
+      qc = a0_ * s * s + kernel_.dot_u(v, v) - dl * dl;
       return qb * qb - qa * qc;
     };
     double eta = 1.0, qb = 0.0, qc = 0.0;
     double disc = coefficients(eta, qb, qc);
     if (!(disc >= 0.0)) {
       // eq. (16): real roots need η in [η1, η2]; take the end nearest to 1, 5 % inside
-      const double fh = k_.dot_u(dq_f, dq_h), fd = k_.dot_u(dq_f, dq_);
-      const double ea = qa * k_.dot_u(dq_h, dq_h) - fh * fh;
-      const double eb = qa * k_.dot_u(dq_, dq_h) - (a0_ * s + fd) * fh;
-      const double ec = qa * (k_.dot_u(dq_, dq_) - dl * dl) - (2.0 * a0_ * s + fd) * fd + a0_ * s * s * k_.dot_u(dq_f, dq_f);
+      const double fh = kernel_.dot_u(dq_f, dq_h), fd = kernel_.dot_u(dq_f, dq_);
+      const double ea = qa * kernel_.dot_u(dq_h, dq_h) - fh * fh;
+      const double eb = qa * kernel_.dot_u(dq_, dq_h) - (a0_ * s + fd) * fh;
+      const double ec = qa * (kernel_.dot_u(dq_, dq_) - dl * dl) - (2.0 * a0_ * s + fd) * fd +
+                        a0_ * s * s * kernel_.dot_u(dq_f, dq_f);
       const double edisc = eb * eb - ea * ec;
       if (ea > 0.0 && edisc >= 0.0) {
         const double e1 = (-eb - std::sqrt(edisc)) / ea, e2 = (-eb + std::sqrt(edisc)) / ea;
@@ -336,20 +337,20 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
       } else {
         // eq. (17): take the full correction, read λ off the equilibrium there, scale back to Δl
         const Eigen::VectorXd dq_cr = dq_ + dq_h;
-        k_.update(dq_h);
-        if (!k_.evaluate(lambda, false)) {
-          a.failure = k_.failure();
+        kernel_.update(dq_h);
+        if (!kernel_.evaluate(lambda, false)) {
+          a.failure = kernel_.failure();
           break;
         }
-        const Eigen::VectorXd f_int = k_.residual() + lambda * k_.load();
-        const double fl = k_.dot_r(k_.load(), k_.load());
-        const double dlambda_cr = (fl > 0.0 ? k_.dot_r(f_int, k_.load()) / fl : lambda) - lambda_;
-        const double mu = dl / std::sqrt(k_.dot_u(dq_cr, dq_cr) + a0_ * dlambda_cr * dlambda_cr);
-        k_.restore();
+        const Eigen::VectorXd f_int = kernel_.residual() + lambda * kernel_.load();
+        const double fl = kernel_.dot_r(kernel_.load(), kernel_.load());
+        const double dlambda_cr = (fl > 0.0 ? kernel_.dot_r(f_int, kernel_.load()) / fl : lambda) - lambda_;
+        const double mu = dl / std::sqrt(kernel_.dot_u(dq_cr, dq_cr) + a0_ * dlambda_cr * dlambda_cr);
+        kernel_.restore();
         delta = mu * dq_cr;
-        k_.update(delta);
+        kernel_.update(delta);
         a.previous_increment_norm = a.increment_norm;
-        a.increment_norm = k_.norm_u(delta - dq_);
+        a.increment_norm = kernel_.norm_u(delta - dq_);
         dq_ = delta;
         dlambda_ = mu * dlambda_cr;
         a.iterations = k + 1;
@@ -359,19 +360,19 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
     }
     const double sq = std::sqrt(disc);
     const Eigen::VectorXd base = dq_ + eta * dq_h;
-    auto alignment = [&](double x) { return k_.dot_u(base + x * dq_f, dq_); };
+    auto alignment = [&](double x) { return kernel_.dot_u(base + x * dq_f, dq_); };
     const double x1 = (-qb - sq) / qa, x2 = (-qb + sq) / qa;
     const double x = alignment(x1) >= alignment(x2) ? x1 : x2;
     delta = eta * dq_h + x * dq_f;
-    k_.update(delta);
+    kernel_.update(delta);
     dq_ += delta;
     dlambda_ = s + x;
     a.previous_increment_norm = a.increment_norm;
-    a.increment_norm = k_.norm_u(delta);
+    a.increment_norm = kernel_.norm_u(delta);
     a.iterations = k + 1;
     previous = a.residual_norm;
   }
-  a.factorizations = k_.factorizations() - f0;
+  a.factorizations = kernel_.factorizations() - f0;
   return a;
 }
 
@@ -410,14 +411,14 @@ std::vector<StaticEvent> PathFollower::path_events(int steps) const {
 }
 
 bool PathFollower::start() {
-  lambda_ = s_.lambda_start;
+  lambda_ = settings_.lambda_start;
   res_.lambda = lambda_;
-  if (std::string why = check_settings(s_, n_); !why.empty())
+  if (std::string why = check_settings(settings_, n_); !why.empty())
     {
       finish(StaticStatus::diverged, StaticStop::invalid_settings, why);
       return false;
     }
-  if (lambda_ >= s_.lambda_max)
+  if (lambda_ >= settings_.lambda_max)
     {
       finish(StaticStatus::completed, StaticStop::lambda_reached, "λ_start is already at λ_max");
       return false;
@@ -426,30 +427,31 @@ bool PathFollower::start() {
   dq_.setZero(n_);
   dq_prev_.setZero(n_);
   u_total_.setZero(n_);
-  k_.save();
-  if (s_.monitor || s_.monitor_dof >= 0) monitor_last_ = monitored();
+  kernel_.save();
+  if (settings_.monitor || settings_.monitor_dof >= 0) monitor_last_ = monitored();
 
   // the first Δl from the initial load increment along the initial tangent (eq. 12)
   Eigen::VectorXd dq_f(n_);
   if (!load_tangent(lambda_, dq_f))
     {
-      finish(StaticStatus::diverged, StaticStop::step_too_small, "initial tangent: " + k_.failure());
+      finish(StaticStatus::diverged, StaticStop::step_too_small, "initial tangent: " + kernel_.failure());
       return false;
     }
-  det_sign_.push_back(k_.determinant_sign());
+  det_sign_.push_back(kernel_.determinant_sign());
   state_lambda_.push_back(lambda_);
-  const double qf = k_.dot_u(dq_f, dq_f);
+  const double qf = kernel_.dot_u(dq_f, dq_f);
   alpha2_ = qf;
   double dl0 = 0.0;
-  if (s_.method == ArcLengthMethod::crisfield) {
-    dl0 = std::abs(s_.initial_load_increment) * std::sqrt(qf + s_.psi * s_.psi * k_.dot_r(k_.load(), k_.load()));
+  if (settings_.method == ArcLengthMethod::crisfield) {
+    dl0 = std::abs(settings_.initial_load_increment) *
+          std::sqrt(qf + settings_.psi * settings_.psi * kernel_.dot_r(kernel_.load(), kernel_.load()));
   } else {
     a0_ = a0_origin_ = qf;  // eq. (20) at the origin
-    dl0 = std::abs(s_.initial_load_increment) * std::sqrt(2.0 * a0_);
+    dl0 = std::abs(settings_.initial_load_increment) * std::sqrt(2.0 * a0_);
   }
-  if (s_.arc_length > 0.0) dl0 = s_.arc_length;
-  dl_min_ = s_.min_arc_length_ratio * dl0;
-  dl_max_ = s_.max_arc_length_ratio * dl0;
+  if (settings_.arc_length > 0.0) dl0 = settings_.arc_length;
+  dl_min_ = settings_.min_arc_length_ratio * dl0;
+  dl_max_ = settings_.max_arc_length_ratio * dl0;
   dl_ = dl0;
   return true;
 }
@@ -459,7 +461,7 @@ void PathFollower::finish(StaticStatus status, StaticStop stop, std::string reas
   res_.stop = stop;
   res_.reason = std::move(reason);
   res_.lambda = lambda_;
-  res_.factorizations = k_.factorizations();
+  res_.factorizations = kernel_.factorizations();
   res_.events = path_events(res_.steps);
   finished_ = true;
 }
@@ -467,15 +469,15 @@ void PathFollower::finish(StaticStatus status, StaticStop stop, std::string reas
 bool PathFollower::advance() {
   if (finished_) return false;
   while (true) {
-    if (stop_requested(s_.stop))
+    if (stop_requested(settings_.stop))
       {
       finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
       return false;
     }
-    AttemptOutcome a = s_.method == ArcLengthMethod::crisfield ? crisfield_step(dl_) : lam_morley_step(dl_);
+    AttemptOutcome a = settings_.method == ArcLengthMethod::crisfield ? crisfield_step(dl_) : lam_morley_step(dl_);
     res_.iterations += a.iterations;
     if (a.interrupted) {
-      k_.restore();
+      kernel_.restore();
       {
       finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
       return false;
@@ -487,29 +489,31 @@ bool PathFollower::advance() {
     bool reversed = false;
     if (a.converged) {
       // in the metric of eq. (23): a jump that keeps the direction of Δq but not the sign of Δλ turns too
-      const double np = std::sqrt(k_.dot_u(dq_pred_, dq_pred_) + alpha2_ * dlambda_pred_ * dlambda_pred_);
-      const double nc = std::sqrt(k_.dot_u(dq_, dq_) + alpha2_ * dlambda_ * dlambda_);
-      const double c = k_.dot_u(dq_pred_, dq_) + alpha2_ * dlambda_pred_ * dlambda_;
+      const double np = std::sqrt(kernel_.dot_u(dq_pred_, dq_pred_) + alpha2_ * dlambda_pred_ * dlambda_pred_);
+      const double nc = std::sqrt(kernel_.dot_u(dq_, dq_) + alpha2_ * dlambda_ * dlambda_);
+      const double c = kernel_.dot_u(dq_pred_, dq_) + alpha2_ * dlambda_pred_ * dlambda_;
       turn = np > 0.0 && nc > 0.0 ? std::acos(std::clamp(c / (np * nc), -1.0, 1.0)) : 0.0;
-      reversed = has_previous_ && k_.dot_u(dq_, dq_prev_) < 0.0;
+      reversed = has_previous_ && kernel_.dot_u(dq_, dq_prev_) < 0.0;
       // eq. (22'): the tangent at the converged end must fit the chord as the start tangent does;
       // an increment that landed on another branch has an end tangent unrelated to it. The
       // factorization is the next predictor's (no extra cost under full Newton).
       Eigen::VectorXd t_end(n_);
-      if (s_.convergence.tangent == TangentPolicy::every_iteration && load_tangent(lambda_ + dlambda_, t_end)) {
-        const double ne = std::sqrt(k_.dot_u(t_end, t_end) + alpha2_);
-        const double nc = std::sqrt(k_.dot_u(dq_, dq_) + alpha2_ * dlambda_ * dlambda_);
-        const double c = std::abs(k_.dot_u(t_end, dq_) + alpha2_ * dlambda_);
+      if (settings_.convergence.tangent == TangentPolicy::every_iteration && load_tangent(lambda_ + dlambda_, t_end)) {
+        const double ne = std::sqrt(kernel_.dot_u(t_end, t_end) + alpha2_);
+        const double nc = std::sqrt(kernel_.dot_u(dq_, dq_) + alpha2_ * dlambda_ * dlambda_);
+        const double c = std::abs(kernel_.dot_u(t_end, dq_) + alpha2_ * dlambda_);
         end_turn = ne > 0.0 && nc > 0.0 ? std::acos(std::clamp(c / (ne * nc), 0.0, 1.0)) : 0.0;
       }
       const bool can_shorten = 0.5 * dl_ >= dl_min_;
       // a step that needed more than twice the desired corrections started far from the path: its
       // predictor crossed a region the path curves through (it may have landed on another branch)
-      const bool laborious = a.iterations > 2 * s_.desired_iterations;
-      if (can_shorten && (reversed || laborious || (s_.max_turn > 0.0 && std::max(turn, end_turn) > s_.max_turn))) {
+      const bool laborious = a.iterations > 2 * settings_.desired_iterations;
+      if (can_shorten &&
+          (reversed || laborious || (settings_.max_turn > 0.0 && std::max(turn, end_turn) > settings_.max_turn))) {
         a.converged = false;
         a.failure = laborious ? "the step needed " + std::to_string(a.iterations) + " corrections, more than twice the "
-                                "desired " + std::to_string(s_.desired_iterations) + " (its predictor was far from the path)"
+                                "desired " + std::to_string(settings_.desired_iterations) +
+                                " (its predictor was far from the path)"
                     : reversed ? "the converged increment points back along the previous step (the path would turn back "
                                "on itself)"
                              : "the converged increment turned " + fmt(std::max(turn, end_turn) * 180.0 / std::acos(-1.0)) +
@@ -520,7 +524,7 @@ bool PathFollower::advance() {
     if (a.converged && reversed) {
       // even the shortest arc turns back: the path cannot be followed on as one continuous curve
       turn_backs_.push_back(res_.steps);
-      k_.restore();
+      kernel_.restore();
       {
       finish(StaticStatus::diverged, StaticStop::step_too_small,
                     "the path turns back on itself at λ = " + fmt(lambda_) + " (step " + std::to_string(res_.steps) +
@@ -530,8 +534,8 @@ bool PathFollower::advance() {
     }
     }
     if (!a.converged) {
-      k_.restore();
-      k_.invalidate_factorization();
+      kernel_.restore();
+      kernel_.invalidate_factorization();
       ++res_.cutbacks;
       ++attempts_;
       dl_ *= 0.5;
@@ -548,32 +552,33 @@ bool PathFollower::advance() {
     // land exactly on λ_max: Newton at fixed λ_max from the interpolated increment (eq. 21), unless
     // the displacement limit comes first along this step
     bool final_step = false;
-    const bool crosses_max = lambda_ < s_.lambda_max && lambda_ + dlambda_ > s_.lambda_max;
-    if (s_.land_on_lambda_max && !landing_failed_ && crosses_max) {
-      const double t = (s_.lambda_max - lambda_) / dlambda_;
+    const bool crosses_max = lambda_ < settings_.lambda_max && lambda_ + dlambda_ > settings_.lambda_max;
+    if (settings_.land_on_lambda_max && !landing_failed_ && crosses_max) {
+      const double t = (settings_.lambda_max - lambda_) / dlambda_;
       Eigen::VectorXd landing = t * dq_;
       const Eigen::VectorXd arc_step = dq_;
-      k_.restore();
-      k_.update(landing);
-      const AttemptOutcome out = newton_at_fixed_load(k_, s_.lambda_max, landing, s_.stop, false);
+      kernel_.restore();
+      kernel_.update(landing);
+      const AttemptOutcome out = newton_at_fixed_load(kernel_, settings_.lambda_max, landing, settings_.stop, false);
       res_.iterations += out.iterations;
       if (!out.converged) {
         // take the arc-length step again and stop just past λ_max
-        k_.restore();
-        k_.invalidate_factorization();
+        kernel_.restore();
+        kernel_.invalidate_factorization();
         landing_failed_ = true;
         continue;
       }
-      if ((s_.monitor || s_.monitor_dof >= 0) && std::abs(monitored_after(landing)) >= s_.displacement_limit) {
+      if ((settings_.monitor || settings_.monitor_dof >= 0) &&
+          std::abs(monitored_after(landing)) >= settings_.displacement_limit) {
         // the displacement limit comes before λ_max along this step: keep the arc-length state,
         // which ends the run at the limit below
-        k_.restore();
-        k_.update(arc_step);
-        k_.evaluate(lambda_ + dlambda_, false);  // the model's derived quantities (reactions) of this state
+        kernel_.restore();
+        kernel_.update(arc_step);
+        kernel_.evaluate(lambda_ + dlambda_, false);  // the model's derived quantities (reactions) of this state
         dq_ = arc_step;
       } else {
         dq_ = landing;
-        dlambda_ = s_.lambda_max - lambda_;
+        dlambda_ = settings_.lambda_max - lambda_;
         a = out;
         final_step = true;
       }
@@ -582,7 +587,7 @@ bool PathFollower::advance() {
     // accept
     const int previous_state = res_.steps;
     lambda_ += dlambda_;
-    k_.save();
+    kernel_.save();
     u_total_ += dq_;
     ++res_.steps;
     state_lambda_.push_back(lambda_);
@@ -591,44 +596,44 @@ bool PathFollower::advance() {
       ++res_.limit_points;
       reversals_.push_back(previous_state);
     }
-    if (s_.monitor || s_.monitor_dof >= 0) monitor_last_ = monitored();
-    last_ = step_info(a, res_.steps, lambda_, dlambda_, attempts_, k_.norm_u(dq_));
+    if (settings_.monitor || settings_.monitor_dof >= 0) monitor_last_ = monitored();
+    last_ = step_info(a, res_.steps, lambda_, dlambda_, attempts_, kernel_.norm_u(dq_));
     last_.arc_length = dl_;
     last_.turn = std::max(turn, end_turn);
     last_.monitored = monitored();
-    if (s_.on_step) s_.on_step(last_);
+    if (settings_.on_step) settings_.on_step(last_);
     if (final_step)
       {
-      finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_max = " + fmt(s_.lambda_max));
+      finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_max = " + fmt(settings_.lambda_max));
       return true;
     }
-    if ((s_.monitor || s_.monitor_dof >= 0) && std::abs(monitored()) >= s_.displacement_limit)
+    if ((settings_.monitor || settings_.monitor_dof >= 0) && std::abs(monitored()) >= settings_.displacement_limit)
       {
       finish(StaticStatus::completed, StaticStop::displacement_limit,
-                    "the monitored displacement reached " + fmt(monitored()) + " (limit " + fmt(s_.displacement_limit) +
-                        ") at λ = " + fmt(lambda_));
+             "the monitored displacement reached " + fmt(monitored()) + " (limit " + fmt(settings_.displacement_limit) +
+                 ") at λ = " + fmt(lambda_));
       return true;
     }
-    if (lambda_ >= s_.lambda_max)
+    if (lambda_ >= settings_.lambda_max)
       {
       finish(StaticStatus::completed, StaticStop::lambda_reached,
-                    "reached λ_max = " + fmt(s_.lambda_max) + " (overshot to λ = " + fmt(lambda_) + ": landing failed)");
+             "reached λ_max = " + fmt(settings_.lambda_max) + " (overshot to λ = " + fmt(lambda_) + ": landing failed)");
       return true;
     }
-    if (res_.steps >= s_.max_steps)
+    if (res_.steps >= settings_.max_steps)
       {
       finish(StaticStatus::incomplete, StaticStop::max_steps,
-                    "step budget of " + std::to_string(s_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
-                        std::to_string(res_.steps) + "), before λ_max = " + fmt(s_.lambda_max));
+             "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
+                 std::to_string(res_.steps) + "), before λ_max = " + fmt(settings_.lambda_max));
       return true;
     }
 
     // eqs. (13), (13'): Δl for the next step from this step's corrections and turn
-    double factor = s_.max_growth;
-    if (a.iterations > s_.desired_iterations)
-      factor = std::sqrt(static_cast<double>(s_.desired_iterations) / a.iterations);
+    double factor = settings_.max_growth;
+    if (a.iterations > settings_.desired_iterations)
+      factor = std::sqrt(static_cast<double>(settings_.desired_iterations) / a.iterations);
     const double bend = std::max(turn, end_turn);  // the step's turn seen from both of its ends
-    if (s_.target_turn > 0.0 && bend > 0.0) factor = std::min(factor, s_.target_turn / bend);
+    if (settings_.target_turn > 0.0 && bend > 0.0) factor = std::min(factor, settings_.target_turn / bend);
     factor = std::max(factor, 0.25);
     if (attempts_ > 1) factor = std::min(factor, 1.0);
     dl_ = std::clamp(dl_ * factor, dl_min_, dl_max_);
@@ -638,9 +643,9 @@ bool PathFollower::advance() {
     attempts_ = 1;
     landing_failed_ = false;
     // eq. (19): A0 = ||q||²/λ² at the converged point, capped where λ passes close to zero
-    if (s_.method == ArcLengthMethod::lam_morley) {
-      const double cap = s_.lam_morley_a0_cap * a0_origin_;
-      a0_ = lambda_ != 0.0 ? std::min(cap, k_.dot_u(u_total_, u_total_) / (lambda_ * lambda_)) : cap;
+    if (settings_.method == ArcLengthMethod::lam_morley) {
+      const double cap = settings_.lam_morley_a0_cap * a0_origin_;
+      a0_ = lambda_ != 0.0 ? std::min(cap, kernel_.dot_u(u_total_, u_total_) / (lambda_ * lambda_)) : cap;
     }
     return true;
   }

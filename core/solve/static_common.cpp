@@ -61,10 +61,10 @@ StaticStepInfo step_info(const AttemptOutcome& outcome, int step, double lambda,
 bool stop_requested(const std::atomic<bool>* stop) { return stop && stop->load(std::memory_order_relaxed); }
 
 StaticKernel::StaticKernel(StaticProblem& problem, const StaticConvergence& convergence)
-    : p_(problem), c_(convergence), n_(problem.size()), linear_(convergence.linear_backend) {
+    : problem_(problem), convergence_(convergence), n_(problem.size()), linear_(convergence.linear_backend) {
   w2_.resize(n_);
   for (int i = 0; i < n_; ++i) {
-    const double s = p_.dof_scale(i);
+    const double s = problem_.dof_scale(i);
     w2_[i] = s * s;
   }
   iw2_ = w2_.cwiseInverse();
@@ -81,7 +81,7 @@ double StaticKernel::dot_r(const Eigen::VectorXd& a, const Eigen::VectorXd& b) c
 }
 
 bool StaticKernel::evaluate(double lambda, bool with_tangent) {
-  p_.evaluate(lambda, r_, with_tangent ? &k_ : nullptr, &f_);
+  problem_.evaluate(lambda, r_, with_tangent ? &tangent_ : nullptr, &f_);
   evaluated_ = true;
   evaluated_lambda_ = lambda;
   if (with_tangent) {
@@ -106,8 +106,8 @@ bool StaticKernel::evaluate(double lambda, bool with_tangent) {
 
 bool StaticKernel::refresh_tangent(double lambda) {
   if (!(tangent_current_ && tangent_lambda_ == lambda) && !evaluate(lambda, true)) return false;
-  k_.makeCompressed();
-  const LinearStatus s = linear_.factorize(k_);
+  tangent_.makeCompressed();
+  const LinearStatus s = linear_.factorize(tangent_);
   if (!s) {
     factorized_ = false;
     failure_ = "tangent factorization failed: " + s.message;
@@ -119,9 +119,9 @@ bool StaticKernel::refresh_tangent(double lambda) {
 }
 
 bool StaticKernel::wants_new_tangent(int k, double residual_norm, double previous_residual_norm) {
-  const bool fresh = c_.tangent == TangentPolicy::every_iteration || !factorized_ ||
-                     (k > 0 && residual_norm > c_.refactor_contraction * previous_residual_norm) ||
-                     iterations_on_factorization_ >= c_.refactor_iterations;
+  const bool fresh = convergence_.tangent == TangentPolicy::every_iteration || !factorized_ ||
+                     (k > 0 && residual_norm > convergence_.refactor_contraction * previous_residual_norm) ||
+                     iterations_on_factorization_ >= convergence_.refactor_iterations;
   iterations_on_factorization_ = fresh ? 1 : iterations_on_factorization_ + 1;
   return fresh;
 }
@@ -136,27 +136,27 @@ bool StaticKernel::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
 }
 
 void StaticKernel::update(const Eigen::VectorXd& delta) {
-  p_.update(delta);
+  problem_.update(delta);
   tangent_current_ = evaluated_ = false;
 }
 
-void StaticKernel::save() { p_.save_state(); }
+void StaticKernel::save() { problem_.save_state(); }
 
 void StaticKernel::restore() {
-  p_.restore_state();
+  problem_.restore_state();
   tangent_current_ = evaluated_ = false;
 }
 
 // eq. (3'): r_i changes by sum_j K_ij e_j for state errors e_j; independent one-ulp errors
 // e_j ~ eps m_j (m_j the coordinate's magnitude) give rho_i = eps sqrt(sum_j (K_ij m_j)^2)
 void StaticKernel::estimate_round_off() {
-  if (c_.round_off_factor <= 0.0 || k_.nonZeros() == 0) return;
+  if (convergence_.round_off_factor <= 0.0 || tangent_.nonZeros() == 0) return;
   magnitude_.resize(n_);
-  for (int j = 0; j < n_; ++j) magnitude_[j] = p_.state_magnitude(j);
+  for (int j = 0; j < n_; ++j) magnitude_[j] = problem_.state_magnitude(j);
   if (magnitude_.maxCoeff() <= 0.0) return;
   Eigen::VectorXd acc = Eigen::VectorXd::Zero(n_);
-  for (int j = 0; j < k_.outerSize(); ++j)
-    for (SparseMatrixD::InnerIterator it(k_, j); it; ++it) {
+  for (int j = 0; j < tangent_.outerSize(); ++j)
+    for (SparseMatrixD::InnerIterator it(tangent_, j); it; ++it) {
       const double v = it.value() * magnitude_[j];
       acc[it.row()] += v * v;
     }
@@ -164,7 +164,8 @@ void StaticKernel::estimate_round_off() {
 }
 
 double StaticKernel::residual_limit() const {
-  return c_.residual_tolerance * norm_r(f_) + c_.residual_floor + c_.round_off_factor * round_off_;
+  return convergence_.residual_tolerance * norm_r(f_) + convergence_.residual_floor +
+         convergence_.round_off_factor * round_off_;
 }
 
 bool StaticKernel::converged(double residual_norm, double increment_norm, double previous_increment_norm,
@@ -173,7 +174,8 @@ bool StaticKernel::converged(double residual_norm, double increment_norm, double
   // (a contracting iteration); without a clear contraction, ||δ_k|| itself
   const double theta = previous_increment_norm > 0.0 ? increment_norm / previous_increment_norm : 1.0;
   const double error = theta < 0.5 ? increment_norm * theta / (1.0 - theta) : increment_norm;
-  return residual_norm <= residual_limit() && error <= c_.increment_tolerance * step_norm + c_.increment_floor;
+  return residual_norm <= residual_limit() &&
+         error <= convergence_.increment_tolerance * step_norm + convergence_.increment_floor;
 }
 
 std::string DivergenceMonitor::check(int k, double rn, double converged_level) {
@@ -185,11 +187,11 @@ std::string DivergenceMonitor::check(int k, double rn, double converged_level) {
     increases_ = 0;
     return why;
   }
-  if (k > 0 && rn > c_.divergence_ratio * smallest_)
-    why = "residual grew to " + fmt(rn) + ", more than " + fmt(c_.divergence_ratio) + "× its smallest value " +
-          fmt(smallest_) + " in this attempt";
+  if (k > 0 && rn > convergence_.divergence_ratio * smallest_)
+    why = "residual grew to " + fmt(rn) + ", more than " + fmt(convergence_.divergence_ratio) +
+          "× its smallest value " + fmt(smallest_) + " in this attempt";
   increases_ = rn > previous_ ? increases_ + 1 : 0;
-  if (why.empty() && increases_ >= c_.max_residual_increases)
+  if (why.empty() && increases_ >= convergence_.max_residual_increases)
     why = "residual increased in " + std::to_string(increases_) + " consecutive iterations (now " + fmt(rn) + ")";
   smallest_ = std::min(smallest_, rn);
   previous_ = rn;

@@ -111,9 +111,9 @@ class StaticKernel {
  public:
   StaticKernel(StaticProblem& problem, const StaticConvergence& convergence);
 
-  StaticProblem& problem() { return p_; }
-  const StaticProblem& problem() const { return p_; }
-  const StaticConvergence& convergence() const { return c_; }
+  StaticProblem& problem() { return problem_; }
+  const StaticProblem& problem() const { return problem_; }
+  const StaticConvergence& convergence() const { return convergence_; }
   int size() const { return n_; }
 
   // weighted norms (static_solvers.md eq. 2): displacement-like u, force-like r
@@ -159,15 +159,15 @@ class StaticKernel {
 
  private:
   void estimate_round_off();
-  StaticProblem& p_;
-  StaticConvergence c_;
+  StaticProblem& problem_;
+  StaticConvergence convergence_;
   int n_;
   Eigen::VectorXd w2_, iw2_;  // s_i², 1/s_i²
   Eigen::VectorXd magnitude_;  // state magnitudes m_j of eq. (3')
   Eigen::VectorXd r_, f_;
-  SparseMatrixD k_;
+  SparseMatrixD tangent_;
   SparseLinearSolver linear_;
-  bool tangent_current_ = false;  // k_ was evaluated at the current state, at λ = tangent_lambda_
+  bool tangent_current_ = false;  // tangent_ was evaluated at the current state, at λ = tangent_lambda_
   double tangent_lambda_ = 0.0;
   bool evaluated_ = false;  // r_, f_ were evaluated at the current state, at λ = evaluated_lambda_
   double evaluated_lambda_ = 0.0;
@@ -202,13 +202,13 @@ AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::
 /// Residual-growth and non-finite checks shared by the Newton and arc-length correctors.
 class DivergenceMonitor {
  public:
-  explicit DivergenceMonitor(const StaticConvergence& c) : c_(c) {}
+  explicit DivergenceMonitor(const StaticConvergence& c) : convergence_(c) {}
   /// empty when fine, otherwise why the iteration is diverging; residuals at or below
   /// converged_level (the residual criterion) are never a divergence
   std::string check(int k, double residual_norm, double converged_level);
 
  private:
-  const StaticConvergence& c_;
+  const StaticConvergence& convergence_;
   double smallest_ = std::numeric_limits<double>::infinity();
   double previous_ = std::numeric_limits<double>::infinity();
   int increases_ = 0;

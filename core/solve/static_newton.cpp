@@ -27,7 +27,7 @@ struct LoadControlPath::State {
   Eigen::VectorXd step;
 };
 
-LoadControlPath::LoadControlPath(StaticProblem& problem, const LoadControlSettings& s) : s_(s) {
+LoadControlPath::LoadControlPath(StaticProblem& problem, const LoadControlSettings& s) : settings_(s) {
   res_.lambda = lambda_ = s.lambda_start;
   h_ = s.initial_step;
   if (std::string why = check_settings(s); !why.empty()) {
@@ -52,37 +52,38 @@ void LoadControlPath::finish(StaticStatus status, StaticStop stop, std::string r
 
 // the ends that need no further attempt: λ_end reached, the step budget used up
 void LoadControlPath::check_end() {
-  const double remaining = std::abs(s_.lambda_end - lambda_);
-  if (remaining <= 1e-14 * std::max(1.0, std::abs(s_.lambda_end)))
-    finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_end = " + fmt(s_.lambda_end));
-  else if (res_.steps >= s_.max_steps)
+  const double remaining = std::abs(settings_.lambda_end - lambda_);
+  if (remaining <= 1e-14 * std::max(1.0, std::abs(settings_.lambda_end)))
+    finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_end = " + fmt(settings_.lambda_end));
+  else if (res_.steps >= settings_.max_steps)
     finish(StaticStatus::incomplete, StaticStop::max_steps,
-           "step budget of " + std::to_string(s_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
-               std::to_string(res_.steps) + "), before λ_end = " + fmt(s_.lambda_end));
+           "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
+               std::to_string(res_.steps) + "), before λ_end = " + fmt(settings_.lambda_end));
 }
 
 bool LoadControlPath::advance() {
   if (finished_) return false;
   StaticKernel& kernel = state_->kernel;
   Eigen::VectorXd& step = state_->step;
-  const double direction = s_.lambda_end >= s_.lambda_start ? 1.0 : -1.0;
+  const double direction = settings_.lambda_end >= settings_.lambda_start ? 1.0 : -1.0;
   while (true) {
-    if (stop_requested(s_.stop)) {
+    if (stop_requested(settings_.stop)) {
       finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
       return false;
     }
-    const double remaining = std::abs(s_.lambda_end - lambda_);
+    const double remaining = std::abs(settings_.lambda_end - lambda_);
     // the last step lands exactly on λ_end (and absorbs a remainder below the minimum step)
-    const bool last = h_ >= remaining || remaining - h_ < s_.min_step;
-    const double dlambda = last ? s_.lambda_end - lambda_ : direction * h_;
-    const double target = last ? s_.lambda_end : lambda_ + dlambda;
+    const bool last = h_ >= remaining || remaining - h_ < settings_.min_step;
+    const double dlambda = last ? settings_.lambda_end - lambda_ : direction * h_;
+    const double target = last ? settings_.lambda_end : lambda_ + dlambda;
     step.setZero();
-    AttemptOutcome out = newton_at_fixed_load(kernel, target, step, s_.stop, s_.hold_determinant_sign);
+    AttemptOutcome out = newton_at_fixed_load(kernel, target, step, settings_.stop, settings_.hold_determinant_sign);
     res_.iterations += out.iterations;
     const double step_norm = kernel.norm_u(step);
 
     // eq. (8): a converged increment far beyond its linearization jumped over a limit point
-    if (out.converged && s_.max_increment_ratio > 0.0 && step_norm > s_.max_increment_ratio * out.first_increment_norm) {
+    if (out.converged && settings_.max_increment_ratio > 0.0 &&
+        step_norm > settings_.max_increment_ratio * out.first_increment_norm) {
       out.converged = false;
       out.crossed_limit = true;
       out.failure = "converged to a distant state at λ = " + fmt(target) + ": the step is " +
@@ -101,12 +102,12 @@ bool LoadControlPath::advance() {
       ++res_.cutbacks;
       ++attempts_;
       h_ = 0.5 * std::abs(dlambda);
-      if (h_ < s_.min_step) {
+      if (h_ < settings_.min_step) {
         finish(StaticStatus::diverged, StaticStop::step_too_small,
                (out.crossed_limit ? "limit point of the load path at λ = " + fmt(lambda_) +
                                         ": load control cannot pass it (arc-length can); "
                                   : "load control stopped at λ = " + fmt(lambda_) + ": ") +
-                   "no load step ≥ min_step = " + fmt(s_.min_step) + " converges; last attempt: " + out.failure);
+                   "no load step ≥ min_step = " + fmt(settings_.min_step) + " converges; last attempt: " + out.failure);
         return false;
       }
       continue;
@@ -117,10 +118,11 @@ bool LoadControlPath::advance() {
     ++res_.steps;
     res_.lambda = lambda_;
     last_ = step_info(out, res_.steps, lambda_, dlambda, attempts_, step_norm);
-    if (s_.on_step) s_.on_step(last_);
+    if (settings_.on_step) settings_.on_step(last_);
     // growth after an easy step (never right after a cut-back)
     h_ = std::abs(dlambda);
-    if (attempts_ == 1 && out.iterations <= s_.easy_iterations) h_ = std::min(s_.growth_factor * h_, s_.max_step);
+    if (attempts_ == 1 && out.iterations <= settings_.easy_iterations)
+      h_ = std::min(settings_.growth_factor * h_, settings_.max_step);
     attempts_ = 1;
     check_end();
     return true;

@@ -50,7 +50,7 @@ class LoadControlPath {
   struct State;
   void finish(StaticStatus status, StaticStop stop, std::string reason);
   void check_end();
-  const LoadControlSettings& s_;
+  const LoadControlSettings& settings_;
   std::unique_ptr<State> state_;
   StaticResult res_;
   StaticStepInfo last_;

@@ -115,7 +115,7 @@ TEST(GuiSimWorker, PausesWhileRunningAndQuitsPromptly) {
   // the destructor quits while paused
 }
 
-// A live key (Simulation::change_live) changes the running model: same generation, time goes on
+// A live key (scene::change_live) changes the running model: same generation, time goes on
 // from where it was, the edit is kept for saving; the torque probe shows the new amplitude.
 TEST(GuiSimWorker, LiveKeyChangesTheRunWithoutRestart) {
   SimWorker w(scene::load_scene(kScene), {});
@@ -132,8 +132,33 @@ TEST(GuiSimWorker, LiveKeyChangesTheRunWithoutRestart) {
   ASSERT_TRUE(watch.frame.has_value());
   EXPECT_EQ(watch.frame->step, 6);  // went on from step 4
   const RunInfo& info = *watch.status.info;
-  for (std::size_t k = 0; k < info.probes.size(); ++k)
-    if (info.probes[k].name == "torque") EXPECT_EQ(watch.frame->probes[k], 0.0);
+  for (std::size_t k = 0; k < info.probes.size(); ++k) {
+    if (info.probes[k].name == "torque") {
+      EXPECT_EQ(watch.frame->probes[k], 0.0);
+    }
+  }
+}
+
+// A live key's value the schema refuses changes nothing: same generation, same edits, time where
+// it was, and an error naming the key and what it expects.
+TEST(GuiSimWorker, RefusedLiveValueLeavesTheRunAlone) {
+  SimWorker w(scene::load_scene(kScene), {});
+  Watcher watch{w, {}, {}, {}};
+  ASSERT_TRUE(watch.until([&] { return watch.frame.has_value(); }));
+  const std::uint64_t gen0 = watch.status.generation;
+  ASSERT_TRUE(watch.settled(w.step(2)));
+  for (const char* bad : {"-1", "fast", "[1, 2]"}) {
+    const std::uint64_t msg = watch.status.message_seq;
+    ASSERT_TRUE(watch.settled(w.set("torque.amplitude", bad)));
+    EXPECT_EQ(watch.status.generation, gen0) << bad;
+    EXPECT_TRUE(watch.status.overrides.empty()) << bad;
+    EXPECT_GT(watch.status.message_seq, msg) << bad;
+    EXPECT_TRUE(watch.status.message_is_error) << bad;
+    EXPECT_NE(watch.status.message.find("key 'torque.amplitude': expected a number >= 0"), std::string::npos)
+        << watch.status.message;
+  }
+  ASSERT_TRUE(watch.settled(w.step(1)));
+  EXPECT_EQ(watch.frame->step, 3);  // went on from step 2
 }
 
 }  // namespace

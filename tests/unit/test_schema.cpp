@@ -959,6 +959,74 @@ TEST(SchemaArrays, BadDeclarationsAreLogicErrors) {
   EXPECT_EQ(s.array_of("plain.y"), "");
 }
 
+// Live edits (the GUI's `set` while a run goes on) are read and checked like --set values, but
+// only for keys declared live; the issue names the key and the "live key=value" it came from.
+Schema live_schema() {
+  Schema s = test_schema();
+  s.live("solver.rho_inf").live("model.beam.gravity").live("solver.max_iter");
+  return s;
+}
+
+std::string live_error(const Schema& s, const std::string& key, const std::string& value) {
+  try {
+    validate_live(s, key, value);
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.issues.size(), 1u) << e.what();
+    if (!e.issues.empty()) {
+      EXPECT_EQ(e.issues[0].key, key) << e.what();
+    }
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SchemaLive, ValuesComeBackTyped) {
+  const Schema s = live_schema();
+  EXPECT_EQ(s.live_keys(), (std::vector<std::string>{"solver.rho_inf", "solver.max_iter", "model.beam.gravity"}));
+  EXPECT_EQ(std::get<double>(validate_live(s, "solver.rho_inf", "0.5")), 0.5);
+  EXPECT_EQ(std::get<double>(validate_live(s, "solver.rho_inf", " 1 ")), 1.0);  // an integer is a number
+  EXPECT_EQ(std::get<long long>(validate_live(s, "solver.max_iter", "7")), 7);
+  EXPECT_EQ(std::get<std::vector<double>>(validate_live(s, "model.beam.gravity", "[0, 0, 9.81]")),
+            (std::vector<double>{0, 0, 9.81}));
+}
+
+TEST(SchemaLive, BadValuesAreRefusedLikeAnOverride) {
+  const Schema s = live_schema();
+  EXPECT_EQ(live_error(s, "solver.rho_inf", "1.5"),
+            "live solver.rho_inf=1.5: key 'solver.rho_inf': expected a number in [0, 1], got 1.5");
+  std::string e = live_error(s, "solver.rho_inf", "x");
+  EXPECT_NE(e.find("expected a number in [0, 1], got a string (\"x\")"), std::string::npos) << e;
+  e = live_error(s, "solver.max_iter", "2.0");
+  EXPECT_NE(e.find("expected an integer >= 1"), std::string::npos) << e;
+  e = live_error(s, "model.beam.gravity", "[1, 2]");
+  EXPECT_NE(e.find("expected a list of numbers (length 3), got 2 elements"), std::string::npos) << e;
+  e = live_error(s, "model.beam.gravity", "[0, 0, nan]");
+  EXPECT_NE(e.find("expected a finite number"), std::string::npos) << e;
+  e = live_error(s, "solver.rho_inf", "");
+  EXPECT_NE(e.find("no value"), std::string::npos) << e;
+}
+
+TEST(SchemaLive, KeysNotDeclaredLiveAreRefusedWithTheLiveKeys) {
+  const Schema s = live_schema();
+  const std::string live = "(live keys: solver.rho_inf, solver.max_iter, model.beam.gravity)";
+  EXPECT_EQ(live_error(s, "solver.dt", "0.1"),
+            "live solver.dt=0.1: key 'solver.dt': 'solver.dt' cannot change while the model runs " + live);
+  std::string e = live_error(s, "solver.nope", "1");
+  EXPECT_NE(e.find(live), std::string::npos) << e;
+  e = live_error(test_schema(), "solver.dt", "0.1");
+  EXPECT_NE(e.find("this model has no live keys"), std::string::npos) << e;
+}
+
+TEST(SchemaLive, DeclarationMistakesAreLogicErrorsAndTheReferenceSaysLive) {
+  Schema s = live_schema();
+  EXPECT_THROW(s.live("solver.undeclared"), std::logic_error);
+  s.table_array("bc", "supports").number("bc.x", "fine", 1.0);
+  EXPECT_THROW(s.live("bc.x"), std::logic_error);
+  const std::string md = s.markdown_reference();
+  EXPECT_NE(md.find("| spectral radius at infinity (live: changes while the run goes on) |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| time step |"), std::string::npos) << md;  // not live: as before
+}
+
 TEST(SchemaArrays, SuggestionForAWordCutShort) {
   EXPECT_EQ(text::closest("clamp", {"clamped", "hinged", "symmetry", "fix"}), "clamped");
   EXPECT_EQ(text::closest("sym", {"clamped", "hinged", "symmetry", "fix"}), "");  // too short a part

@@ -218,7 +218,7 @@ TEST(Timeline, BadEntriesAreRefusedAtTheirKey) {
   EXPECT_NE(e.find("lacks gravity"), std::string::npos) << e;
 }
 
-// Live edits (Simulation::change_live, the GUI's `set` of a live key): a change made from the
+// Live edits (scene::change_live, the GUI's `set` of a live key): a change made from the
 // publish callback at a frame takes effect from the next step and gives bitwise the same run as
 // the same change written as a [[timeline]] entry at that frame's time (a step boundary).
 TEST(LiveChange, TorqueChangedLiveEqualsTheSameTimelineChange) {
@@ -230,14 +230,15 @@ TEST(LiveChange, TorqueChangedLiveEqualsTheSameTimelineChange) {
   LoadedScene live = load_scene(write_scene("live_base", base));
   Simulation& sim = *live.simulation;
   const double tau0 = 1.0;  // hub_beam_timeline's torque amplitude
-  EXPECT_NE(sim.change_live("torque.period", "3"), "");  // not a live key: the caller rebuilds
+  EXPECT_NE(change_live(live, "torque.period", "3"), "");  // not a live key: the caller rebuilds
   std::vector<Frame> got;
   std::atomic<bool> stop{false};
   sim.run(
       [&](Frame&& f) {
         if (std::abs(f.time - 1.0) < 1e-12) {
-          EXPECT_NE(sim.change_live("torque.amplitude", "x"), "");
-          EXPECT_EQ(sim.change_live("torque.amplitude", std::to_string(0.25 * tau0)), "");
+          EXPECT_NE(change_live(live, "torque.amplitude", "x"), "");
+          EXPECT_NE(change_live(live, "torque.amplitude", "-1"), "");
+          EXPECT_EQ(change_live(live, "torque.amplitude", std::to_string(0.25 * tau0)), "");
         }
         got.push_back(std::move(f));
       },
@@ -264,13 +265,42 @@ TEST(LiveChange, GravityChangedLiveEqualsTheSameTimelineChange) {
   std::atomic<bool> stop{false};
   sim.run(
       [&](Frame&& f) {
-        if (std::abs(f.time - 0.002) < 1e-12) EXPECT_EQ(sim.change_live("gravity.g", "[0.0, 0.0, 9.81]"), "");
+        if (std::abs(f.time - 0.002) < 1e-12) EXPECT_EQ(change_live(live, "gravity.g", "[0.0, 0.0, 9.81]"), "");
         got.push_back(std::move(f));
       },
       stop);
   ASSERT_EQ(got.size(), want.size());
   for (std::size_t i = 0; i < want.size(); ++i) EXPECT_EQ(got[i].points, want[i].points) << "t = " << want[i].time;
-  EXPECT_NE(sim.change_live("gravity.g", "[1, 2]"), "");
+  EXPECT_NE(change_live(live, "gravity.g", "[1, 2]"), "");
+}
+
+// What the schema refuses never reaches the model, and the message says which key and why, as
+// a scene file's value would; a key that is not live says which ones are.
+TEST(LiveChange, RefusedValuesNameTheKey) {
+  LoadedScene hub = load_scene(bundled("hub_beam_timeline"));
+  std::string e = change_live(hub, "torque.amplitude", "x");
+  EXPECT_NE(e.find("key 'torque.amplitude': expected a number >= 0, got a string (\"x\")"), std::string::npos) << e;
+  e = change_live(hub, "torque.amplitude", "-1");
+  EXPECT_NE(e.find("key 'torque.amplitude': expected a number >= 0, got -1"), std::string::npos) << e;
+  e = change_live(hub, "torque.period", "3");
+  EXPECT_NE(e.find("'torque.period' cannot change while the model runs (live keys: torque.amplitude)"), std::string::npos)
+      << e;
+  e = change_live(hub, "gravity.g", "[0, 0, 1]");  // another model's live key
+  EXPECT_NE(e.find("(live keys: torque.amplitude)"), std::string::npos) << e;
+  EXPECT_EQ(change_live(hub, "torque.amplitude", "2"), "");
+
+  LoadedScene shells = load_scene(bundled("double_pendulum_shells"), {"shell[0].n1=4", "shell[0].n2=4", "shell[1].n1=4",
+                                                                      "shell[1].n2=4"});
+  e = change_live(shells, "gravity.g", "[1, 2]");
+  EXPECT_NE(e.find("key 'gravity.g': expected a list of numbers (length 3), got 2 elements"), std::string::npos) << e;
+  e = change_live(shells, "gravity.g", "9.81");
+  EXPECT_NE(e.find("key 'gravity.g': expected a list of numbers (length 3), got a floating-point number (9.81)"), std::string::npos) << e;
+  e = change_live(shells, "solver.dt", "0.1");
+  EXPECT_NE(e.find("'solver.dt' cannot change while the model runs (live keys: gravity.g)"), std::string::npos) << e;
+  EXPECT_EQ(change_live(shells, "gravity.g", "[0, 0, -1]"), "");
+  // the model itself guards its type, should a caller skip the schema
+  EXPECT_NE(shells.simulation->change_live("gravity.g", LiveValue{1.0}), "");
+  EXPECT_EQ(shells.simulation->change_live("gravity.g", LiveValue{std::vector<double>{0, 0, -1}}), "");
 }
 
 }  // namespace
