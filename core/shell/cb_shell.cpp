@@ -381,7 +381,7 @@ BasicCbShellElement<double>::BasicCbShellElement(const ElementPoses& ref, const 
 // matrix of eq. (5) in the (sum, s-weighted) slave basis, material stiffness K = Y Y^T with Y
 // the scaled master B rows (and H^{-1/2} G for the assumed stress). See cb_shell.md, speed notes.
 template <class Scalar>
-Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector24& F, Matrix24* K) const {
+[[gnu::flatten]] Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector24& F, Matrix24* K) const {
   using Vec3 = Mat<Scalar, 3, 1>;
   using Mat3 = Mat<Scalar, 3, 3>;
   using Mat38 = Mat<Scalar, 3, 8>;
@@ -402,12 +402,19 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
   Vec3 g_tie[2][4][2];  // g_i, g_zeta
   Eigen::Matrix<Scalar, 20, 4> B_tie[2];
   if (opt_.ans)
+    for (int t = 0; t < 4; ++t) {  // per thickness pair: g_i = X_x d + zeta X_d d, g_zeta = X_d N on both
+      const Mat<Scalar, 8, 3>& phi = tab.tying[0][t].phi;
+      const int i = tab.tying[0][t].i;
+      const Vec3 gx = X.template leftCols<4>().lazyProduct(phi.col(i).template head<4>());
+      const Vec3 gd = X.template rightCols<4>().lazyProduct(phi.col(i).template head<4>());
+      const Vec3 gz = X.template rightCols<4>().lazyProduct(phi.col(2).template tail<4>());
+      for (int l = 0; l < 2; ++l) g_tie[l][t][0].noalias() = gx + tab.gpts[l] * gd, g_tie[l][t][1] = gz;
+    }
+  if (opt_.ans)
     for (int l = 0; l < 2; ++l)
       for (int t = 0; t < 4; ++t) {
         const TyingConst<Scalar>& tp = tab.tying[l][t];
-        const Vec3 gi = X * tp.phi.col(tp.i), gz = X * tp.phi.col(2);
-        g_tie[l][t][0] = gi;
-        g_tie[l][t][1] = gz;
+        const Vec3 &gi = g_tie[l][t][0], &gz = g_tie[l][t][1];
         e_tie[l][t] = 0.5 * (gi.dot(gz) - tie_ref_[l][t]);
         if (!K) continue;
         for (int I = 0; I < 4; ++I) {
@@ -429,13 +436,24 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
   std::array<Mat3, kPoints> g;
   std::array<Vec3, kPoints> em;
   std::array<Mat<Scalar, 2, 1>, kPoints> es;
-  std::array<Eigen::Matrix<Scalar, 3, 10>, kPoints> Ph;  // eq. (9) at the points (hr)
   Vec10 gv = Vec10::Zero();
   Scalar energy = 0.0;
+  // Thickness pairs: point q (layer 0) and q + 4 (layer 1) share the in-plane derivatives D and
+  // the quad functions N of their phi (rows I: (D, 0), rows 4 + I: (zeta D, N)), so
+  // g = [X_x D + zeta X_d D, X_d N] is formed once per pair (cb_shell.md, speed notes)
+  for (int q = 0; q < 4; ++q) {
+    const Mat<Scalar, 8, 3>& phi = tab.pts[q].phi;
+    const Mat<Scalar, 3, 2> Ax = X.template leftCols<4>().lazyProduct(phi.template topLeftCorner<4, 2>());
+    const Mat<Scalar, 3, 2> Ad = X.template rightCols<4>().lazyProduct(phi.template topLeftCorner<4, 2>());
+    const Vec3 c = X.template rightCols<4>().lazyProduct(phi.template block<4, 1>(4, 2));
+    for (int k = q; k < kPoints; k += 4) {
+      g[k].template leftCols<2>().noalias() = Ax + tab.pts[k].zeta * Ad;
+      g[k].col(2) = c;
+    }
+  }
   for (int k = 0; k < kPoints; ++k) {
     const SolidPoint& p = pts_[k];
     const SolidConst<Scalar>& pc = tab.pts[k];
-    g[k].noalias() = X * pc.phi;
     Vec5 e;
     for (int c = 0; c < 5; ++c) e[c] = 0.5 * (g[k].col(kPair[c][0]).dot(g[k].col(kPair[c][1])) - p.ref_metric[c]);
     if (opt_.ans) {  // eq. (8)
@@ -443,11 +461,18 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
       e[kEtaZeta] = 0.5 * (1 - pc.xi) * et[0] + 0.5 * (1 + pc.xi) * et[2];
       e[kXiZeta] = 0.5 * (1 - pc.eta) * et[1] + 0.5 * (1 + pc.eta) * et[3];
     }
-    em[k].noalias() = p.Qm * e.template head<3>();
-    es[k].noalias() = p.Qs * e;
-    if (opt_.hr) {
-      Ph[k] = p_hat(p_coef_, pc);
-      gv.noalias() += p.weight * (Ph[k].transpose() * em[k]);  // eq. (10)
+    em[k].noalias() = p.Qm.lazyProduct(e.template head<3>());
+    es[k].noalias() = p.Qs.lazyProduct(e);
+    if (opt_.hr) {  // eq. (10): w P-hat^T em, with P-hat = [P, zeta P] and P = [I, c eta, c' xi] of (9)
+      const Vec3& m = em[k];
+      Mat<Scalar, 5, 1> pe;
+      pe << m[0], m[1], m[2], pc.eta * (p_coef_[0] * m[0] + p_coef_[1] * m[1] + p_coef_[2] * m[2]),
+          pc.xi * (p_coef_[3] * m[0] + p_coef_[4] * m[1] + p_coef_[5] * m[2]);
+      for (int c = 0; c < 5; ++c) {
+        const Scalar wpe = p.weight * pe[c];
+        gv[c] += wpe;
+        gv[5 + c] += pc.zeta * wpe;
+      }
     }
     if (!K) continue;
     const typename TangentData::Point& pt = td->pts[k];
@@ -455,12 +480,12 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
       Eigen::Matrix<Scalar, 20, 7> B;
       master_rows<7>(Rt, g[k], pt.Ku, pt.Kt, B);
       G_layer[pc.layer] += B.template leftCols<5>();
-      if (opt_.ans) B.template rightCols<2>().noalias() += B_tie[pc.layer] * pt.ans;
+      if (opt_.ans) B.template rightCols<2>().noalias() += B_tie[pc.layer].lazyProduct(pt.ans);
       Y.template middleCols<2>(shear_col + 2 * k) = B.template rightCols<2>();
     } else {
       Eigen::Matrix<Scalar, 20, 5> B;
       master_rows<5>(Rt, g[k], pt.Ku, pt.Kt, B);
-      if (opt_.ans) B.template rightCols<2>().noalias() += B_tie[pc.layer] * pt.ans;
+      if (opt_.ans) B.template rightCols<2>().noalias() += B_tie[pc.layer].lazyProduct(pt.ans);
       Y.template middleCols<2>(shear_col + 2 * k) = B.template rightCols<2>();
       Y.template middleCols<3>(3 * k) = B.template leftCols<3>();
     }
@@ -479,20 +504,24 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
   Mat<Scalar, 4, 4> A0, A1, A2, V1, V2;
   if (K) A0.setZero(), A1.setZero(), A2.setZero(), V1.setZero(), V2.setZero();
   Scalar sig_tie[2][4] = {};
+  std::array<Mat3, kPoints> S, T;  // covariant stress matrix (weighted) and stress vectors g S
   for (int k = 0; k < kPoints; ++k) {
     const SolidPoint& p = pts_[k];
     const SolidConst<Scalar>& pc = tab.pts[k];
     Vec3 Sm;
-    if (opt_.hr) {
-      Sm.noalias() = Ph[k] * beta;  // assumed stress at the point
+    if (opt_.hr) {  // assumed stress at the point, P-hat beta = P (beta_0:5 + zeta beta_5:10), eq. (9)
+      const Mat<Scalar, 5, 1> b = beta.template head<5>() + pc.zeta * beta.template tail<5>();
+      const Scalar b3 = pc.eta * b[3], b4 = pc.xi * b[4];
+      Sm << b[0] + p_coef_[0] * b3 + p_coef_[3] * b4, b[1] + p_coef_[1] * b3 + p_coef_[4] * b4,
+          b[2] + p_coef_[2] * b3 + p_coef_[5] * b4;
     } else {
       Sm.noalias() = Cm_ * em[k];
       energy += 0.5 * p.weight * em[k].dot(Sm);
     }
     const Mat<Scalar, 2, 1> Ss = kG * es[k];
     energy += 0.5 * p.weight * es[k].dot(Ss);
-    Vec5 sig = p.Qs.transpose() * Ss;
-    sig.template head<3>().noalias() += p.Qm.transpose() * Sm;
+    Vec5 sig = p.Qs.transpose().lazyProduct(Ss);
+    sig.template head<3>().noalias() += p.Qm.transpose().lazyProduct(Sm);
     sig *= p.weight;  // covariant stress x weight
     if (opt_.ans) {
       Scalar* st = sig_tie[pc.layer];
@@ -501,20 +530,32 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
       st[1] += 0.5 * (1 - pc.eta) * sig[kXiZeta];
       st[3] += 0.5 * (1 + pc.eta) * sig[kXiZeta];
     }
-    const Mat3 S = covariant_matrix(sig, !opt_.ans);
-    const Mat3 T = g[k] * S;  // stress vectors
-    Fg.noalias() += T * pc.phi.transpose();
-    if (K) {
-      const Eigen::Matrix<Scalar, 4, 2> D = pc.phi.template topLeftCorner<4, 2>();
-      const Mat<Scalar, 4, 4> A = D.lazyProduct(S.template topLeftCorner<2, 2>().lazyProduct(D.transpose()));
-      A0 += A;
-      A1 += pc.zeta * A;
-      A2 += (pc.zeta * pc.zeta) * A;
-      if (!opt_.ans) {  // S(0:2, 2) with phi(4 + J, 2) = N_J
-        const Mat<Scalar, 4, 4> vN = (D * S.template block<2, 1>(0, 2)) * pc.phi.template block<4, 1>(4, 2).transpose();
-        V1 += vN;
-        V2 += pc.zeta * vN;
-      }
+    S[k] = covariant_matrix(sig, !opt_.ans);
+    T[k].noalias() = g[k].lazyProduct(S[k]);  // stress vectors
+  }
+  // per thickness pair (as g above): T phi^T summed over the pair is
+  // [(T0 + T1)_xy D^T, zeta1 (T1 - T0)_xy D^T + (T0 + T1)_z N^T], and the geometric 4 x 4 blocks
+  // D (sum zeta^j S_xy) D^T (zeta0 = -zeta1)
+  for (int q = 0; q < 4; ++q) {
+    const Mat<Scalar, 8, 3>& phi = tab.pts[q].phi;
+    const auto D = phi.template topLeftCorner<4, 2>();
+    const Scalar z1 = tab.pts[q + 4].zeta;
+    const Mat3 Tsum = T[q] + T[q + 4];
+    const Mat<Scalar, 3, 2> Tmom = z1 * (T[q + 4].template leftCols<2>() - T[q].template leftCols<2>());
+    Fg.template leftCols<4>().noalias() += Tsum.template leftCols<2>().lazyProduct(D.transpose());
+    Fg.template rightCols<4>().noalias() += Tmom.lazyProduct(D.transpose());
+    Fg.template rightCols<4>().noalias() += Tsum.col(2).lazyProduct(phi.template block<4, 1>(4, 2).transpose());
+    if (!K) continue;
+    const Mat<Scalar, 2, 2> Ssum = S[q].template topLeftCorner<2, 2>() + S[q + 4].template topLeftCorner<2, 2>();
+    const Mat<Scalar, 2, 2> Smom = z1 * (S[q + 4].template topLeftCorner<2, 2>() - S[q].template topLeftCorner<2, 2>());
+    const Mat<Scalar, 2, 2> Ssq = (z1 * z1) * Ssum;
+    A0.noalias() += D.lazyProduct(Ssum.lazyProduct(D.transpose()));
+    A1.noalias() += D.lazyProduct(Smom.lazyProduct(D.transpose()));
+    A2.noalias() += D.lazyProduct(Ssq.lazyProduct(D.transpose()));
+    if (!opt_.ans) {  // S(0:2, 2) with phi(4 + J, 2) = N_J
+      const auto N = phi.template block<4, 1>(4, 2);
+      V1.noalias() += (D * (S[q].template block<2, 1>(0, 2) + S[q + 4].template block<2, 1>(0, 2))) * N.transpose();
+      V2.noalias() += (D * (z1 * (S[q + 4].template block<2, 1>(0, 2) - S[q].template block<2, 1>(0, 2)))) * N.transpose();
     }
   }
   Mat8 Gb;
@@ -524,21 +565,28 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
     Gb.template bottomLeftCorner<4, 4>() = A1 + V1.transpose();
     Gb.template bottomRightCorner<4, 4>() = A2 + V2 + V2.transpose();
   }
+  // tying forces 1/2 s (g_zeta phi_i^T + g_i phi_zeta^T), eqs. (4), (8), per thickness pair: phi_i
+  // is (d, zeta d) and phi_zeta (0, N) with d, N the same on both layers, and g_zeta too
   if (opt_.ans)
-    for (int l = 0; l < 2; ++l)
-      for (int t = 0; t < 4; ++t) {
-        const TyingConst<Scalar>& tp = tab.tying[l][t];
-        const Scalar s = sig_tie[l][t];
-        Fg.noalias() += (0.5 * s) * (g_tie[l][t][1] * tp.phi.col(tp.i).transpose() +
-                                     g_tie[l][t][0] * tp.phi.col(2).transpose());
-        if (K) Gb.noalias() += s * tp.M;
-      }
+    for (int t = 0; t < 4; ++t) {
+      const TyingConst<Scalar>& tp = tab.tying[0][t];
+      const auto d = tp.phi.col(tp.i).template head<4>();
+      const auto N = tp.phi.col(2).template tail<4>();
+      const Scalar s0 = 0.5 * sig_tie[0][t], s1 = 0.5 * sig_tie[1][t], zeta1 = tab.gpts[1];
+      const Vec3& gz = g_tie[0][t][1];
+      const Vec3 gz_sum = (s0 + s1) * gz, gz_mom = (zeta1 * (s1 - s0)) * gz;
+      const Vec3 gi_sum = s0 * g_tie[0][t][0] + s1 * g_tie[1][t][0];
+      Fg.template leftCols<4>().noalias() += gz_sum.lazyProduct(d.transpose());
+      Fg.template rightCols<4>().noalias() += gz_mom.lazyProduct(d.transpose());
+      Fg.template rightCols<4>().noalias() += gi_sum.lazyProduct(N.transpose());
+      if (K) Gb.noalias() += sig_tie[0][t] * tp.M + sig_tie[1][t] * tab.tying[1][t].M;
+    }
 
   // master force, eq. (15): F_u = R^T sum f, F_theta = (h0/2) e3~ R^T sum s f
   std::array<Vec3, 4> fu, fs;
   for (int I = 0; I < 4; ++I) {
-    fu[I].noalias() = Rt[I] * Fg.col(I);
-    fs[I].noalias() = Rt[I] * Fg.col(4 + I);
+    fu[I].noalias() = Rt[I].lazyProduct(Fg.col(I));
+    fs[I].noalias() = Rt[I].lazyProduct(Fg.col(4 + I));
     F.template segment<3>(6 * I) = fu[I];
     F.template segment<3>(6 * I + 3) << -hh * fs[I].y(), hh * fs[I].x(), 0.0;
   }

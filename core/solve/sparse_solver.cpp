@@ -256,10 +256,10 @@ class MumpsInstance {
     icntl(1) = icntl(2) = icntl(3) = -1;  // no output streams: failures come back as statuses
     icntl(4) = 0;
     icntl(28) = 1;   // sequential analysis, so ICNTL(7) picks the ordering
-    // LU: automatic, METIS when the build has it, else SCOTCH (Debian's sequential build: SCOTCH).
-    // LDLᵀ: PORD, which every MUMPS build carries: on the plates of `bench --solve` it is 9-30 %
-    // faster than SCOTCH and METIS (static_solvers.md §7)
-    icntl(7) = sym == 0 ? 7 : 4;
+    // automatic: METIS when the build has it, else SCOTCH (Debian's sequential build: SCOTCH).
+    // Not PORD, although it was 9-30 % faster for LDLᵀ on the larger plates: it ends the process
+    // (exit, no status) on matrices of a few unknowns (static_solvers.md §7.1)
+    icntl(7) = 7;
     icntl(24) = 1;   // null pivot detection, so a singular K is reported, not factorized
     icntl(33) = 1;   // the determinant (its sign marks limit and bifurcation points)
   }
