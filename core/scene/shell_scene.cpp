@@ -104,7 +104,7 @@ const Schema& shell_static_schema() {
         .integer("solver.max_steps", "arc length: step budget", 400, IntRange::closed(1, 100000))
         .string("solver.monitor_probe", "arc length: probe whose displacement limit ends the run", std::string{})
         .number("solver.displacement_limit", "arc length: stop when |monitor probe| reaches this", 1e300, Range::positive());
-    declare_linear_solver(s, "mumps where compiled in, LDLᵀ when the tangent is symmetric: 2.3-2.5x faster than umfpack up to 64 x 64 plates, chosen by measurement: core/solve/static_solvers.md §7");
+    declare_linear_solver(s, "mumps where compiled in, LDLᵀ when the tangent is symmetric: 1.4-2.3x faster than umfpack on 16 x 16 to 128 x 128 plates, chosen by measurement: core/solve/static_solvers.md §7");
     declare_output_keys(s, {"displacement", "strain"}, true);
     declare_timeline(s, "load factor of the event (statics: camera keys only)", "", {});
     // one vocabulary across models (the end of a run, material constants)
