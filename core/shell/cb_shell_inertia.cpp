@@ -34,7 +34,7 @@ CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, double
   if (!(thickness > 0) || !(density > 0))
     throw std::invalid_argument("CB shell inertia needs a positive thickness and density");
   Vec3 X[8];
-  for (int A = 0; A < 8; ++A) X[A] = ref[A % 4].x + side(A) * half_h_ * ref[A % 4].R.col(2);  // (S1)
+  for (int A = 0; A < 8; ++A) X[A] = ref[A % 4].p + side(A) * half_h_ * ref[A % 4].R.col(2);  // (S1)
   // (D3) with 3x3x3 Gauss points: N_A N_B det J has degree <= 4 per direction
   const double gp[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
   const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
@@ -142,7 +142,7 @@ void slave_states(const ElementPoses& cur, const ElementRates& v, double h2, Vec
   for (int A = 0; A < 8; ++A) {
     const int I = A % 4;
     const double sh = side(A) * h2;
-    x[A] = cur[I].x + sh * cur[I].R.col(2);
+    x[A] = cur[I].p + sh * cur[I].R.col(2);
     xd[A] = cur[I].R * (v[I].head<3>() + sh * Vec3(v[I].tail<3>()).cross(e3));  // (D1)
   }
 }
@@ -172,7 +172,7 @@ double CbShellInertia::gravity_potential(const ElementPoses& cur, const Vec3& g)
   double u = 0.0;
   for (int A = 0; A < 8; ++A) {
     const int I = A % 4;
-    u -= slave_mass_[A] * g.dot(cur[I].x + side(A) * half_h_ * cur[I].R.col(2));
+    u -= slave_mass_[A] * g.dot(cur[I].p + side(A) * half_h_ * cur[I].R.col(2));
   }
   return u;
 }

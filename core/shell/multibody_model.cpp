@@ -81,7 +81,7 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
   std::vector<PositionConstraint> rows;
   for (const PositionConstraint& c : spec_.positions) {
     const bool pin = c.b < 0 && c.a < rigid_offset_ && c.a_offset.isZero(0.0) &&
-                     (c.target - reference_[c.a].x).norm() <= 1e-12 * std::max(1.0, c.target.norm());
+                     (c.target - reference_[c.a].p).norm() <= 1e-12 * std::max(1.0, c.target.norm());
     if (pin && !pinned[c.a]) pinned_.push_back(c.a);
     if (pin) pinned[c.a] = 1;
     else rows.push_back(c);
@@ -169,8 +169,8 @@ void MultibodyModel::configure(const Eigen::VectorXd& step) {
   step_is_zero_ = true;
   for (int I = 0; I < node_count(); ++I) {  // H = H_n exp(step_I) on SE(3) (generalized_alpha.md (G3))
     const Vec6 h = node_vector(step, I);
-    const ff::lie::Pose H = ff::lie::Pose{committed_[I].R, committed_[I].x} * ff::lie::exp_se3(h);
-    poses_[I] = {H.R, H.x};
+    const ff::lie::Pose H = ff::lie::Pose{committed_[I].R, committed_[I].p} * ff::lie::exp_se3(h);
+    poses_[I] = {H.R, H.p};
     node_step_[I] = h;
     if (!h.isZero()) step_is_zero_ = false;
   }
@@ -219,7 +219,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     ElementRates vel, acc;
     for (int c = 0; c < 4; ++c) {
       const int I = e.nodes[c];
-      cur[c] = {poses_[I].R * e.corner[c], poses_[I].x};
+      cur[c] = {poses_[I].R * e.corner[c], poses_[I].p};
       vel[c] = node_vector(v, I);
       acc[c] = node_vector(vdot, I);
       if (!e.plain) {  // corner-local rates: blockdiag(Cᵀ, Cᵀ) of the node's
@@ -349,8 +349,8 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     // so a frozen iteration matrix does not age as the bodies turn.
     const Vec3 lam = lambda.segment<3>(row);
     const Mat3& Ra = poses_[c.a].R;
-    const Vec3 pa = poses_[c.a].x + Ra * c.a_offset;
-    const Vec3 pb = c.b >= 0 ? Vec3(poses_[c.b].x + poses_[c.b].R * c.b_offset) : c.target;
+    const Vec3 pa = poses_[c.a].p + Ra * c.a_offset;
+    const Vec3 pb = c.b >= 0 ? Vec3(poses_[c.b].p + poses_[c.b].R * c.b_offset) : c.target;
     const Vec3 ph = Ra.transpose() * (pa - pb);
     phi.segment<3>(row) = ph;
     const Mat3 Ba_rot = -hat(c.a_offset) + hat(ph);
@@ -429,7 +429,7 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
     ElementRates vel;
     for (int c = 0; c < 4; ++c) {
       const int I = e.nodes[c];
-      cur[c] = {poses_[I].R * e.corner[c], poses_[I].x};
+      cur[c] = {poses_[I].R * e.corner[c], poses_[I].p};
       vel[c] = node_vector(v, I);
       vel[c].head<3>() = e.corner[c].transpose() * vel[c].head<3>();
       vel[c].tail<3>() = e.corner[c].transpose() * vel[c].tail<3>();
@@ -447,8 +447,8 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
     s.kinetic += 0.5 * (body.mass * vel.squaredNorm() + om.dot(body.inertia * om));
     const Vec3 p = body.mass * (poses_[I].R * vel);
     s.linear_momentum += p;
-    s.angular_momentum += poses_[I].x.cross(p) + poses_[I].R * (body.inertia * om);
-    if (spec_.gravity) s.gravity_potential -= body.mass * spec_.g.dot(poses_[I].x);
+    s.angular_momentum += poses_[I].p.cross(p) + poses_[I].R * (body.inertia * om);
+    if (spec_.gravity) s.gravity_potential -= body.mass * spec_.g.dot(poses_[I].p);
   }
   return s;
 }
@@ -456,8 +456,8 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
 double MultibodyModel::constraint_violation() const {
   double worst = 0.0;
   for (const PositionConstraint& c : spec_.positions) {
-    const Vec3 pa = poses_[c.a].x + poses_[c.a].R * c.a_offset;
-    const Vec3 pb = c.b >= 0 ? Vec3(poses_[c.b].x + poses_[c.b].R * c.b_offset) : c.target;
+    const Vec3 pa = poses_[c.a].p + poses_[c.a].R * c.a_offset;
+    const Vec3 pb = c.b >= 0 ? Vec3(poses_[c.b].p + poses_[c.b].R * c.b_offset) : c.target;
     worst = std::max(worst, (pa - pb).cwiseAbs().maxCoeff());
   }
   for (const PerpendicularConstraint& c : spec_.perpendiculars) {

@@ -116,7 +116,7 @@ class MultibodyModel final : public ff::DynamicProblem {
   int equation(int node, int slot) const { return dofs_.equation(node, slot); }  ///< -1 when absent
   /// Local 6-vector of node `node` from a solver vector (zero in the absent drilling slot).
   Vec6 node_vector(const Eigen::VectorXd& x, int node) const;
-  Vec3 node_displacement(int node) const { return poses_[node].x - reference_[node].x; }
+  Vec3 node_displacement(int node) const { return poses_[node].p - reference_[node].p; }
   Vec3 node_velocity(const Eigen::VectorXd& v, int node) const { return poses_[node].R * node_vector(v, node).head<3>(); }
   MotionSummary summary(const Eigen::VectorXd& v) const;
   /// Largest |Φ_i| of the current configuration (length units for positions, cosines for axes).

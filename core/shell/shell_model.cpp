@@ -355,13 +355,13 @@ void ShellModel::apply_prescribed(double lambda) {
   // eq. R4: the prescribed slot component of x_I is its reference value plus lambda * value
   for (const Prescribed& p : prescribed_) {
     const Vec3 t = basis_u_[p.node].col(p.slot);
-    Vec3& x = poses_[p.node].x;
+    Vec3& x = poses_[p.node].p;
     x += (t.dot(spec_.mesh.points[p.node]) + lambda * p.value - t.dot(x)) * t;
   }
 }
 
 double ShellModel::state_magnitude(int i) const {
-  return dofs_.unknown(i).slot < 3 ? poses_[dofs_.unknown(i).node].x.cwiseAbs().maxCoeff() : 1.0;
+  return dofs_.unknown(i).slot < 3 ? poses_[dofs_.unknown(i).node].p.cwiseAbs().maxCoeff() : 1.0;
 }
 
 void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix<double>* K, Eigen::VectorXd* load) {
@@ -402,7 +402,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   for (int k = 0; k < ne; ++k) {
     const Element& e = elements_[k];
     ElementPoses cur;
-    for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].x};
+    for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].p};
     const bool tangent = K || (prescribed_load && element_prescribed_[k]);
     e.el->evaluate(cur, el_force_[k], tangent ? &el_tangent_[k] : nullptr);
     if (!tangent) continue;
@@ -530,7 +530,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     const bool with_stiffness = pl.follower && (K || prescribed_load);
     if (pl.follower) {
       std::array<Vec3, 4> x;
-      for (int c = 0; c < 4; ++c) x[c] = poses_[q[c]].x;
+      for (int c = 0; c < 4; ++c) x[c] = poses_[q[c]].p;
       pressure_forces(x, pl.pressure, f, with_stiffness ? &dfdx : nullptr);
     } else {
       f = dead_pressure_[k];
@@ -597,7 +597,7 @@ void ShellModel::update(const Eigen::VectorXd& delta) {
       d[I].head<3>() = basis_u_[I] * d[I].head<3>();
       if (six_dof_[I]) d[I].tail<3>() = basis_r_[I] * d[I].tail<3>();
     }
-    poses_[I].x += d[I].head<3>();
+    poses_[I].p += d[I].head<3>();
     if (six_dof_[I]) poses_[I].R = lie::exp_so3(d[I].tail<3>()) * poses_[I].R;
     else poses_[I].R = poses_[I].R * lie::exp_so3(Vec3(d[I][3], d[I][4], 0.0));
   }

@@ -16,7 +16,7 @@ void base_vectors(const ElementPoses& p, double half_h, double zeta, Vec3& g1, V
   g1.setZero();
   g2.setZero();
   for (int c = 0; c < 4; ++c) {
-    const Vec3 point = p[c].x + zeta * half_h * p[c].R.col(2);
+    const Vec3 point = p[c].p + zeta * half_h * p[c].R.col(2);
     g1 += kDxi[c] * point;
     g2 += kDeta[c] * point;
   }

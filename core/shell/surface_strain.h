@@ -31,8 +31,8 @@ std::vector<double> nodal_surface_strain(const Elements& elements, const std::ve
     ElementPoses ref, cur;
     for (int c = 0; c < 4; ++c) {
       const int I = e.nodes[c];
-      ref[c] = {reference[I].R * e.corner[c], reference[I].x};
-      cur[c] = {current[I].R * e.corner[c], current[I].x};
+      ref[c] = {reference[I].R * e.corner[c], reference[I].p};
+      cur[c] = {current[I].R * e.corner[c], current[I].p};
     }
     values[k] = max_surface_strain(ref, cur, thickness(e));
     nodes[k] = e.nodes;
