@@ -89,22 +89,22 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
   if (jac.stiffness) jac.stiffness->setZero();
   for (int I = 0; I < 4; ++I)
     for (int J = 0; J < 4; ++J) {
-      const Mat3 Q = cur[I].R.transpose() * cur[J].R;  // R_I^T R_J
+      const Mat3 R_IJ = cur[I].R.transpose() * cur[J].R;  // R_IJ = R_WIᵀ R_WJ, I and J the node (corner) frames
       const Vec3 omJ = v[J].tail<3>();
       for (int si = 0; si < 2; ++si)
         for (int sj = 0; sj < 2; ++sj) {
           const int A = I + 4 * si, B = J + 4 * sj;
           const double mAB = mass_matrix_(A, B), shA = side(A) * half_h_, shB = side(B) * half_h_;
-          if (jac.mass) jac.mass->block<6, 6>(6 * I, 6 * J) += mAB * sandwich(Q, shA, shB, e3x);  // (D5)
+          if (jac.mass) jac.mass->block<6, 6>(6 * I, 6 * J) += mAB * sandwich(R_IJ, shA, shB, e3x);  // (D5)
           if (jac.gyroscopic) {                                                                   // (D6)
             Eigen::Matrix<double, 3, 6> G;
-            G.leftCols<3>() = Q * hat(omJ);
-            G.rightCols<3>() = Q * (-hat(w[B]) - shB * hat(omJ) * e3x);
+            G.leftCols<3>() = R_IJ * hat(omJ);
+            G.rightCols<3>() = R_IJ * (-hat(w[B]) - shB * hat(omJ) * e3x);
             jac.gyroscopic->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
           }
           if (jac.stiffness) {                                                                    // (D7)
             Eigen::Matrix<double, 3, 6> G = Eigen::Matrix<double, 3, 6>::Zero();
-            G.rightCols<3>() = -Q * hat(b[B]);
+            G.rightCols<3>() = -R_IJ * hat(b[B]);
             jac.stiffness->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
           }
         }
