@@ -11,10 +11,10 @@ Eigen::Matrix3d align(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
                    : Eigen::Matrix3d(Eigen::AngleAxisd(std::atan2(s, c), axis / s).toRotationMatrix());
 }
 
-CornerFrame corner_frame(const Eigen::Matrix3d& node_frame, const Eigen::Vector3d& corner_director) {
+CornerFrame corner_frame(const Eigen::Matrix3d& R_WN0, const Eigen::Vector3d& corner_director) {
   CornerFrame c;
-  c.frame = align(node_frame.col(2), corner_director.normalized()) * node_frame;
-  c.turn = node_frame.transpose() * c.frame;
+  c.frame = align(R_WN0.col(2), corner_director.normalized()) * R_WN0;
+  c.turn = R_WN0.transpose() * c.frame;
   return c;
 }
 

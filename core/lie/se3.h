@@ -4,12 +4,13 @@
 /// tangent operator and its inverse, adjoint and ad. Equation numbers refer to core/lie/lie.md.
 ///
 /// Conventions (lie.md §6-§9):
-///  - Pose X_AB = (R, x): R = R_AB (columns: B's axes in A), x = p_AoBo_A (origin of B in A).
-///    As a 4×4 matrix [[R, x], [0, 1]]; X_AC = X_AB * X_BC; p_A = X_AB.act(p_B).
+///  - Pose X_AB = (R, p) in Drake's monogram notation: X_AB.R = R_AB (columns: B's axes in A),
+///    X_AB.p = p_AB, short for p_AoBo_A (origin of B in A). A vector v_A is expressed in A.
+///    As a 4×4 matrix [[R, p], [0, 1]]; X_AC = X_AB * X_BC; p_AQ = X_AB.act(p_BQ).
 ///  - a twist h = [u; θ] ∈ R⁶ is TRANSLATION FIRST, expressed in the body frame:
 ///    ĥ = [[θ̃, u], [0, 0]] and exp(h) = (exp(θ), T(θ)ᵀ u) (eq. 25), so u is not the
 ///    translation of exp(h) unless θ ∥ u or θ = 0.
-///  - increments are right (body) increments, H ← H exp(Δh):  δx = R δu, δR = R δθ̃ (eq. 23),
+///  - increments are right (body) increments, X ← X exp(Δh):  δp = R δu, δR = R δθ̃ (eq. 23),
 ///    and exp(h + δh) = exp(h) exp(T_SE3(h) δh) + O(δh²) (eq. 32).
 
 #include "core/lie/so3.h"
@@ -22,29 +23,29 @@ using Mat4 = Eigen::Matrix4d;
 
 /// Pose X_AB of frame B in frame A (eq. 20). Plain value type, 96 bytes, no heap.
 struct Pose {
-  Mat3 R = Mat3::Identity();  ///< R_AB, orthonormal, det +1
-  Vec3 x = Vec3::Zero();      ///< p_AoBo_A: origin of B expressed in A [m]
+  Mat3 R = Mat3::Identity();  ///< X_AB.R = R_AB, orthonormal, det +1
+  Vec3 p = Vec3::Zero();      ///< X_AB.p = p_AB = p_AoBo_A: origin of B expressed in A [m]
 
   static Pose Identity() { return Pose{}; }
 
-  /// X_BA = X_AB⁻¹ = (Rᵀ, −Rᵀ x) (eq. 22).
-  Pose inverse() const { return Pose{R.transpose(), -(R.transpose() * x)}; }
+  /// X_BA = X_AB⁻¹ = (R_ABᵀ, −R_ABᵀ p_AB) (eq. 22).
+  Pose inverse() const { return Pose{R.transpose(), -(R.transpose() * p)}; }
 
-  /// p_A = R p_B + x (eq. 22).
-  Vec3 act(const Vec3& p_B) const { return R * p_B + x; }
+  /// p_AQ = R_AB p_BQ + p_AB (eq. 22).
+  Vec3 act(const Vec3& p_BQ) const { return R * p_BQ + p; }
 
-  /// [[R, x], [0, 1]] (eq. 20).
+  /// [[R, p], [0, 1]] (eq. 20).
   Mat4 matrix() const {
     Mat4 m = Mat4::Identity();
     m.topLeftCorner<3, 3>() = R;
-    m.topRightCorner<3, 1>() = x;
+    m.topRightCorner<3, 1>() = p;
     return m;
   }
 };
 
-/// X_AC = X_AB * X_BC = (R_AB R_BC, x_AB + R_AB x_BC) (eq. 21).
+/// X_AC = X_AB * X_BC = (R_AB R_BC, p_AB + R_AB p_BC) (eq. 21).
 inline Pose operator*(const Pose& X_AB, const Pose& X_BC) {
-  return Pose{X_AB.R * X_BC.R, X_AB.x + X_AB.R * X_BC.x};
+  return Pose{X_AB.R * X_BC.R, X_AB.p + X_AB.R * X_BC.p};
 }
 
 /// Twist blocks: h = [u; θ] (translation first).
@@ -80,14 +81,14 @@ inline Mat6 ad_se3(const Vec6& h) {
   return A;
 }
 
-/// Ad_H = [[R, x̃ R], [0, R]] (eq. 29): H exp(h) H⁻¹ = exp(Ad_H h).
-/// Maps a twist in B coordinates to A coordinates for H = X_AB.
-inline Mat6 adjoint(const Pose& H) {
+/// Ad_X = [[R_AB, p̃_AB R_AB], [0, R_AB]] (eq. 29) for X = X_AB: X exp(h) X⁻¹ = exp(Ad_X h).
+/// Maps a twist in B coordinates to A coordinates.
+inline Mat6 adjoint(const Pose& X_AB) {
   Mat6 A;
-  A.topLeftCorner<3, 3>() = H.R;
-  A.topRightCorner<3, 3>() = hat(H.x) * H.R;
+  A.topLeftCorner<3, 3>() = X_AB.R;
+  A.topRightCorner<3, 3>() = hat(X_AB.p) * X_AB.R;
   A.bottomLeftCorner<3, 3>().setZero();
-  A.bottomRightCorner<3, 3>() = H.R;
+  A.bottomRightCorner<3, 3>() = X_AB.R;
   return A;
 }
 
@@ -103,21 +104,21 @@ inline Pose exp_se3(const Vec6& h) {
     a = detail::Angle::of(phi);
   }
   const double k1 = detail::c1(a), k2 = detail::c2(a);
-  Pose H;
-  H.R = detail::rotation(theta, detail::c0(a), k1, a.phi2);
+  Pose X;
+  X.R = detail::rotation(theta, detail::c0(a), k1, a.phi2);
   // T(θ)ᵀ u = u + c1 θ×u + c2 θ×(θ×u), with θ×(θ×u) = θ(θ·u) − φ² u (eq. 26)
-  H.x = (1.0 - k2 * a.phi2) * u + k1 * theta.cross(u) + (k2 * theta.dot(u)) * theta;
-  return H;
+  X.p = (1.0 - k2 * a.phi2) * u + k1 * theta.cross(u) + (k2 * theta.dot(u)) * theta;
+  return X;
 }
 
-/// log(H) = [T(θ)⁻ᵀ x; θ], θ = log(R), |θ| ≤ π (eq. 28). No transcendental call beyond atan2.
-inline Vec6 log_se3(const Pose& H) {
-  const auto lr = detail::log_so3_with_angle(H.R);
+/// log(X) = [T(θ)⁻ᵀ p; θ], θ = log(R), |θ| ≤ π (eq. 28). No transcendental call beyond atan2.
+inline Vec6 log_se3(const Pose& X) {
+  const auto lr = detail::log_so3_with_angle(X.R);
   const Vec3& theta = lr.theta;
   const double k5 = detail::c5(lr.angle);
-  // T⁻ᵀ x = x − ½ θ×x + c5 θ×(θ×x)
-  const Vec3 u = (1.0 - k5 * lr.angle.phi2) * H.x - 0.5 * theta.cross(H.x) +
-                 (k5 * theta.dot(H.x)) * theta;
+  // T⁻ᵀ p = p − ½ θ×p + c5 θ×(θ×p)
+  const Vec3 u = (1.0 - k5 * lr.angle.phi2) * X.p - 0.5 * theta.cross(X.p) +
+                 (k5 * theta.dot(X.p)) * theta;
   return make_twist(u, theta);
 }
 

@@ -199,7 +199,7 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     if (std::find(names.begin(), names.end(), r.name) != names.end())
       throw SceneError({d.issue("rigid.name", i, "another body is already called '" + r.name + "'")});
     names.push_back(r.name);
-    r.pose.x = vec(d.numbers("rigid.position", i));
+    r.pose.p = vec(d.numbers("rigid.position", i));
     r.mass = d.number("rigid.mass", i);
     const std::vector<double> J = d.numbers("rigid.inertia", i);
     if (*std::min_element(J.begin(), J.end()) <= 0)
@@ -231,7 +231,7 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   };
   auto position_of = [&](int body, int local) {
     return body < static_cast<int>(spec.shells.size()) ? spec.shells[body].mesh.points[local]
-                                                       : spec.rigid[body - spec.shells.size()].pose.x;
+                                                       : spec.rigid[body - spec.shells.size()].pose.p;
   };
 
   if (d.count("joint") > 0 && !has("joints"))
@@ -274,7 +274,7 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
       pc.b = nb;
       pc.target = position_of(a, na - offsets[a]);
       // a rigid body carries the joint point at its offset from the centre of mass (body axes = W at t = 0)
-      if (other_rigid) pc.b_offset = pc.target - spec.rigid[b - spec.shells.size()].pose.x;
+      if (other_rigid) pc.b_offset = pc.target - spec.rigid[b - spec.shells.size()].pose.p;
       spec.positions.push_back(pc);
     }
     if (type == "revolute" || type == "fixed") {

@@ -60,7 +60,7 @@ template <class T>
 Mat<T, 3, 8> node_columns(const ElementPoses& p, T hh) {
   Mat<T, 3, 8> X;
   for (int I = 0; I < 4; ++I) {
-    X.col(I) = p[I].x.template cast<T>();
+    X.col(I) = p[I].p.template cast<T>();
     X.col(4 + I) = hh * p[I].R.col(2).template cast<T>();
   }
   return X;
@@ -365,7 +365,7 @@ BasicCbShellElement<double>::BasicCbShellElement(const ElementPoses& ref, const 
     const DrillConst<>& dc = tab.drill[k];
     DrillPoint& d = drill_[k];
     Vec3 Gx = Vec3::Zero(), Ge = Vec3::Zero();
-    for (int I = 0; I < 4; ++I) Gx += dc.dNxi[I] * ref[I].x, Ge += dc.dNeta[I] * ref[I].x;
+    for (int I = 0; I < 4; ++I) Gx += dc.dNxi[I] * ref[I].p, Ge += dc.dNeta[I] * ref[I].p;
     const double A = Gx.cross(Ge).norm();
     d.weight = A;
     d.inv2A = 0.5 / A;
@@ -659,8 +659,8 @@ Scalar BasicCbShellElement<Scalar>::drilling_terms(const ElementPoses& cur, Vect
     const DrillConst<Scalar>& dc = tables<Scalar>().drill[q];
     Vec3 gx = Vec3::Zero(), ge = Vec3::Zero(), abar = Vec3::Zero(), bbar = Vec3::Zero();
     for (int I = 0; I < 4; ++I) {
-      gx += dc.dNxi[I] * cur[I].x.template cast<Scalar>();
-      ge += dc.dNeta[I] * cur[I].x.template cast<Scalar>();
+      gx += dc.dNxi[I] * cur[I].p.template cast<Scalar>();
+      ge += dc.dNeta[I] * cur[I].p.template cast<Scalar>();
       abar += dc.N[I] * (cur[I].R.template cast<Scalar>() * d.g1_local[I]);
       bbar += dc.N[I] * (cur[I].R.template cast<Scalar>() * d.g2_local[I]);
     }

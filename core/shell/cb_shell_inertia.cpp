@@ -34,7 +34,7 @@ CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, double
   if (!(thickness > 0) || !(density > 0))
     throw std::invalid_argument("CB shell inertia needs a positive thickness and density");
   Vec3 X[8];
-  for (int A = 0; A < 8; ++A) X[A] = ref[A % 4].x + side(A) * half_h_ * ref[A % 4].R.col(2);  // (S1)
+  for (int A = 0; A < 8; ++A) X[A] = ref[A % 4].p + side(A) * half_h_ * ref[A % 4].R.col(2);  // (S1)
   // (D3) with 3x3x3 Gauss points: N_A N_B det J has degree <= 4 per direction
   const double gp[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
   const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
@@ -89,22 +89,22 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
   if (jac.stiffness) jac.stiffness->setZero();
   for (int I = 0; I < 4; ++I)
     for (int J = 0; J < 4; ++J) {
-      const Mat3 Q = cur[I].R.transpose() * cur[J].R;  // R_I^T R_J
+      const Mat3 R_IJ = cur[I].R.transpose() * cur[J].R;  // R_IJ = R_WIᵀ R_WJ, I and J the node (corner) frames
       const Vec3 omJ = v[J].tail<3>();
       for (int si = 0; si < 2; ++si)
         for (int sj = 0; sj < 2; ++sj) {
           const int A = I + 4 * si, B = J + 4 * sj;
           const double mAB = mass_matrix_(A, B), shA = side(A) * half_h_, shB = side(B) * half_h_;
-          if (jac.mass) jac.mass->block<6, 6>(6 * I, 6 * J) += mAB * sandwich(Q, shA, shB, e3x);  // (D5)
+          if (jac.mass) jac.mass->block<6, 6>(6 * I, 6 * J) += mAB * sandwich(R_IJ, shA, shB, e3x);  // (D5)
           if (jac.gyroscopic) {                                                                   // (D6)
             Eigen::Matrix<double, 3, 6> G;
-            G.leftCols<3>() = Q * hat(omJ);
-            G.rightCols<3>() = Q * (-hat(w[B]) - shB * hat(omJ) * e3x);
+            G.leftCols<3>() = R_IJ * hat(omJ);
+            G.rightCols<3>() = R_IJ * (-hat(w[B]) - shB * hat(omJ) * e3x);
             jac.gyroscopic->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
           }
           if (jac.stiffness) {                                                                    // (D7)
             Eigen::Matrix<double, 3, 6> G = Eigen::Matrix<double, 3, 6>::Zero();
-            G.rightCols<3>() = -Q * hat(b[B]);
+            G.rightCols<3>() = -R_IJ * hat(b[B]);
             jac.stiffness->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
           }
         }
@@ -142,7 +142,7 @@ void slave_states(const ElementPoses& cur, const ElementRates& v, double h2, Vec
   for (int A = 0; A < 8; ++A) {
     const int I = A % 4;
     const double sh = side(A) * h2;
-    x[A] = cur[I].x + sh * cur[I].R.col(2);
+    x[A] = cur[I].p + sh * cur[I].R.col(2);
     xd[A] = cur[I].R * (v[I].head<3>() + sh * Vec3(v[I].tail<3>()).cross(e3));  // (D1)
   }
 }
@@ -172,7 +172,7 @@ double CbShellInertia::gravity_potential(const ElementPoses& cur, const Vec3& g)
   double u = 0.0;
   for (int A = 0; A < 8; ++A) {
     const int I = A % 4;
-    u -= slave_mass_[A] * g.dot(cur[I].x + side(A) * half_h_ * cur[I].R.col(2));
+    u -= slave_mass_[A] * g.dot(cur[I].p + side(A) * half_h_ * cur[I].R.col(2));
   }
   return u;
 }

@@ -95,7 +95,7 @@ std::array<CbShellTextbook::Node<T>, 4> lift(const ElementPoses& poses) {
   for (int I = 0; I < 4; ++I) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) n[I].R.m[i][j] = T(poses[I].R(i, j));
-    n[I].x = lift<T>(poses[I].x);
+    n[I].x = lift<T>(poses[I].p);
   }
   return n;
 }
@@ -159,7 +159,7 @@ CbShellTextbook::CbShellTextbook(const ElementPoses& ref, const ShellSection& se
     : sec_(sec), opt_(opt) {
   const double hh = 0.5 * sec.thickness, E = sec.youngs_modulus, nu = sec.poisson_ratio;
   for (int A = 0; A < 8; ++A)  // (S1)
-    ref_slaves_[A] = ref[A % 4].x + (slave_sign(A) * hh) * ref[A % 4].R.col(2);
+    ref_slaves_[A] = ref[A % 4].p + (slave_sign(A) * hh) * ref[A % 4].R.col(2);
   std::array<V3<double>, 8> X;
   for (int A = 0; A < 8; ++A) X[A] = to_v3(ref_slaves_[A]);
 
@@ -229,7 +229,7 @@ CbShellTextbook::CbShellTextbook(const ElementPoses& ref, const ShellSection& se
       DrillPoint& d = drill_[k++];
       d.xi = xi, d.eta = eta;
       Vec3 Gx = Vec3::Zero(), Ge = Vec3::Zero();
-      for (int I = 0; I < 4; ++I) Gx += quad_dxi(I, eta) * ref[I].x, Ge += quad_deta(I, xi) * ref[I].x;
+      for (int I = 0; I < 4; ++I) Gx += quad_dxi(I, eta) * ref[I].p, Ge += quad_deta(I, xi) * ref[I].p;
       d.area = Gx.cross(Ge).norm();
       for (int I = 0; I < 4; ++I) {
         d.g1_local[I] = ref[I].R.transpose() * Gx;

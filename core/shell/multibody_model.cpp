@@ -81,7 +81,7 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
   std::vector<PositionConstraint> rows;
   for (const PositionConstraint& c : spec_.positions) {
     const bool pin = c.b < 0 && c.a < rigid_offset_ && c.a_offset.isZero(0.0) &&
-                     (c.target - reference_[c.a].x).norm() <= 1e-12 * std::max(1.0, c.target.norm());
+                     (c.target - reference_[c.a].p).norm() <= 1e-12 * std::max(1.0, c.target.norm());
     if (pin && !pinned[c.a]) pinned_.push_back(c.a);
     if (pin) pinned[c.a] = 1;
     else rows.push_back(c);
@@ -103,10 +103,10 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
         e.nodes[c] = shell_offset_[b] + I;
         const Vec3 nc = q < static_cast<int>(m.corner_normals.size()) ? m.corner_normals[q][c] : m.normals[I];
         const assembly::CornerFrame corner = assembly::corner_frame(m.frames[I], nc);
-        const Mat3& Rc = corner.frame;
+        const Mat3& R_WC = corner.frame;
         e.corner[c] = corner.turn;
         e.plain = e.plain && (e.corner[c] - Mat3::Identity()).norm() < 1e-14;
-        ref[c] = {Rc, m.points[I]};
+        ref[c] = {R_WC, m.points[I]};
       }
       try {
         e.elastic = std::make_unique<CbShellElement>(ref, body.section, body.options);
@@ -167,10 +167,10 @@ Vec6 MultibodyModel::node_vector(const Eigen::VectorXd& x, int node) const {
 void MultibodyModel::configure(const Eigen::VectorXd& step) {
   node_step_.resize(poses_.size());
   step_is_zero_ = true;
-  for (int I = 0; I < node_count(); ++I) {  // H = H_n exp(step_I) on SE(3) (generalized_alpha.md (G3))
+  for (int I = 0; I < node_count(); ++I) {  // X_WN = X_WN,n exp(step_I) on SE(3) (generalized_alpha.md (G3))
     const Vec6 h = node_vector(step, I);
-    const ff::lie::Pose H = ff::lie::Pose{committed_[I].R, committed_[I].x} * ff::lie::exp_se3(h);
-    poses_[I] = {H.R, H.x};
+    const ff::lie::Pose X_WN = ff::lie::Pose{committed_[I].R, committed_[I].p} * ff::lie::exp_se3(h);
+    poses_[I] = {X_WN.R, X_WN.p};
     node_step_[I] = h;
     if (!h.isZero()) step_is_zero_ = false;
   }
@@ -219,7 +219,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     ElementRates vel, acc;
     for (int c = 0; c < 4; ++c) {
       const int I = e.nodes[c];
-      cur[c] = {poses_[I].R * e.corner[c], poses_[I].x};
+      cur[c] = {poses_[I].R * e.corner[c], poses_[I].p};
       vel[c] = node_vector(v, I);
       acc[c] = node_vector(vdot, I);
       if (!e.plain) {  // corner-local rates: blockdiag(Cᵀ, Cᵀ) of the node's
@@ -344,14 +344,15 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   };
   int row = 0;
   for (const PositionConstraint& c : spec_.positions) {
-    // in node a's frame (D11'), (D12'): Φ = R_aᵀ d, d = p_a − p_b, p = x + R o. Its Jacobian
-    // is constant under rigid motions of the pair ([1, −õ_a + Φ̃ | −R_ab, R_ab õ_b], R_ab = R_aᵀR_b),
-    // so a frozen iteration matrix does not age as the bodies turn.
+    // in node a's frame A (D11'), (D12'): Φ = R_WAᵀ (p_WPa − p_WPb), Pa and Pb the points carried by
+    // nodes a and b (frames A, B), p_WP = p_WN + R_WN o. Its Jacobian is constant under rigid motions of the
+    // pair ([1, −õ_a + Φ̃ | −R_AB, R_AB õ_b], R_AB = R_WAᵀR_WB), so a frozen iteration matrix does not age
+    // as the bodies turn.
     const Vec3 lam = lambda.segment<3>(row);
-    const Mat3& Ra = poses_[c.a].R;
-    const Vec3 pa = poses_[c.a].x + Ra * c.a_offset;
-    const Vec3 pb = c.b >= 0 ? Vec3(poses_[c.b].x + poses_[c.b].R * c.b_offset) : c.target;
-    const Vec3 ph = Ra.transpose() * (pa - pb);
+    const Mat3& R_WA = poses_[c.a].R;
+    const Vec3 p_WPa = poses_[c.a].p + R_WA * c.a_offset;
+    const Vec3 p_WPb = c.b >= 0 ? Vec3(poses_[c.b].p + poses_[c.b].R * c.b_offset) : c.target;
+    const Vec3 ph = R_WA.transpose() * (p_WPa - p_WPb);
     phi.segment<3>(row) = ph;
     const Mat3 Ba_rot = -hat(c.a_offset) + hat(ph);
     for (int j = 0; j < 3; ++j)
@@ -369,10 +370,10 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
       add_position_block(c.a, 3, c.a, 3, w->stiffness * L * Ba_rot);
     }
     if (c.b >= 0) {
-      const Mat3& Rb = poses_[c.b].R;
-      const Mat3 Rab = Ra.transpose() * Rb;
-      const Mat3 Bb_rot = Rab * hat(c.b_offset);
-      const Vec3 mu = Rab.transpose() * lam;  // λ in b's frame
+      const Mat3& R_WB = poses_[c.b].R;
+      const Mat3 R_AB = R_WA.transpose() * R_WB;
+      const Mat3 Bb_rot = R_AB * hat(c.b_offset);
+      const Vec3 mu = R_AB.transpose() * lam;  // λ in b's frame
       for (int j = 0; j < 3; ++j)
         if (dofs_.equation(c.b, j) >= 0) r[dofs_.equation(c.b, j)] -= mu[j];
       const Vec3 fb = Bb_rot.transpose() * lam;
@@ -380,41 +381,43 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
         if (dofs_.equation(c.b, 3 + j) >= 0) r[dofs_.equation(c.b, 3 + j)] += fb[j];
       for (int k = 0; k < 3; ++k)
         for (int j = 0; j < 3; ++j) {
-          bset(row + k, c.b, j, -Rab(k, j));
+          bset(row + k, c.b, j, -R_AB(k, j));
           bset(row + k, c.b, 3 + j, Bb_rot(k, j));
         }
       if (tangent) {
-        const Mat3 Rba = Rab.transpose();
-        add_position_block(c.a, 3, c.b, 0, -w->stiffness * L * Rab);
+        const Mat3 R_BA = R_AB.transpose();
+        add_position_block(c.a, 3, c.b, 0, -w->stiffness * L * R_AB);
         add_position_block(c.a, 3, c.b, 3, w->stiffness * L * Bb_rot);
-        // δμ = μ̃ δθ_b − R_ba λ̃ δθ_a (δR_bᵀ = −δθ̃_b R_bᵀ, δR_a = R_a δθ̃_a); forces −μ and −õ_b μ
+        // δμ = μ̃ δθ_b − R_BA λ̃ δθ_a (δR_WBᵀ = −δθ̃_b R_WBᵀ, δR_WA = R_WA δθ̃_a); forces −μ and −õ_b μ
         add_position_block(c.b, 0, c.b, 3, -w->stiffness * hat(mu));
-        add_position_block(c.b, 0, c.a, 3, w->stiffness * Rba * L);
+        add_position_block(c.b, 0, c.a, 3, w->stiffness * R_BA * L);
         add_position_block(c.b, 3, c.b, 3, -w->stiffness * hat(c.b_offset) * hat(mu));
-        add_position_block(c.b, 3, c.a, 3, w->stiffness * hat(c.b_offset) * Rba * L);
+        add_position_block(c.b, 3, c.a, 3, w->stiffness * hat(c.b_offset) * R_BA * L);
       }
     }
     row += 3;
   }
   for (const PerpendicularConstraint& c : spec_.perpendiculars) {
     const double lam = lambda[row];
-    const Mat3& Ra = poses_[c.a].R;
-    const Vec3 a = Ra * c.a_local;
-    const Vec3 p = c.b >= 0 ? Vec3(poses_[c.b].R * c.b_vector) : c.b_vector;
-    phi[row] = a.dot(p);
-    const Vec3 pa = Ra.transpose() * p;
-    const Vec3 ga = c.a_local.cross(pa);  // ∂Φ/∂θ_a (D13)
+    const Mat3& R_WA = poses_[c.a].R;
+    const Vec3 a_W = R_WA * c.a_local;
+    const Vec3 b_W = c.b >= 0 ? Vec3(poses_[c.b].R * c.b_vector) : c.b_vector;
+    phi[row] = a_W.dot(b_W);
+    const Vec3 b_A = R_WA.transpose() * b_W;
+    const Vec3 ga = c.a_local.cross(b_A);  // ∂Φ/∂θ_a (D13)
     for (int j = 0; j < 3; ++j) r[dofs_.equation(c.a, 3 + j)] += lam * ga[j], bset(row, c.a, 3 + j, ga[j]);
-    if (tangent) add_position_block(c.a, 3, c.a, 3, w->stiffness * lam * hat(c.a_local) * hat(pa));
+    if (tangent) add_position_block(c.a, 3, c.a, 3, w->stiffness * lam * hat(c.a_local) * hat(b_A));
     if (c.b >= 0) {
-      const Mat3& Rb = poses_[c.b].R;
-      const Vec3 ab = Rb.transpose() * a;
-      const Vec3 gb = c.b_vector.cross(ab);  // ∂Φ/∂θ_b
+      const Mat3& R_WB = poses_[c.b].R;
+      const Vec3 a_B = R_WB.transpose() * a_W;
+      const Vec3 gb = c.b_vector.cross(a_B);  // ∂Φ/∂θ_b
       for (int j = 0; j < 3; ++j) r[dofs_.equation(c.b, 3 + j)] += lam * gb[j], bset(row, c.b, 3 + j, gb[j]);
       if (tangent) {
-        add_position_block(c.b, 3, c.b, 3, w->stiffness * lam * hat(c.b_vector) * hat(ab));
-        add_position_block(c.a, 3, c.b, 3, -w->stiffness * lam * hat(c.a_local) * Ra.transpose() * Rb * hat(c.b_vector));
-        add_position_block(c.b, 3, c.a, 3, -w->stiffness * lam * hat(c.b_vector) * Rb.transpose() * Ra * hat(c.a_local));
+        add_position_block(c.b, 3, c.b, 3, w->stiffness * lam * hat(c.b_vector) * hat(a_B));
+        add_position_block(c.a, 3, c.b, 3,
+                           -w->stiffness * lam * hat(c.a_local) * R_WA.transpose() * R_WB * hat(c.b_vector));
+        add_position_block(c.b, 3, c.a, 3,
+                           -w->stiffness * lam * hat(c.b_vector) * R_WB.transpose() * R_WA * hat(c.a_local));
       }
     }
     ++row;
@@ -429,7 +432,7 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
     ElementRates vel;
     for (int c = 0; c < 4; ++c) {
       const int I = e.nodes[c];
-      cur[c] = {poses_[I].R * e.corner[c], poses_[I].x};
+      cur[c] = {poses_[I].R * e.corner[c], poses_[I].p};
       vel[c] = node_vector(v, I);
       vel[c].head<3>() = e.corner[c].transpose() * vel[c].head<3>();
       vel[c].tail<3>() = e.corner[c].transpose() * vel[c].tail<3>();
@@ -445,10 +448,10 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
     const Vec6 V = node_vector(v, I);
     const Vec3 vel = V.head<3>(), om = V.tail<3>();
     s.kinetic += 0.5 * (body.mass * vel.squaredNorm() + om.dot(body.inertia * om));
-    const Vec3 p = body.mass * (poses_[I].R * vel);
-    s.linear_momentum += p;
-    s.angular_momentum += poses_[I].x.cross(p) + poses_[I].R * (body.inertia * om);
-    if (spec_.gravity) s.gravity_potential -= body.mass * spec_.g.dot(poses_[I].x);
+    const Vec3 momentum_W = body.mass * (poses_[I].R * vel);
+    s.linear_momentum += momentum_W;
+    s.angular_momentum += poses_[I].p.cross(momentum_W) + poses_[I].R * (body.inertia * om);
+    if (spec_.gravity) s.gravity_potential -= body.mass * spec_.g.dot(poses_[I].p);
   }
   return s;
 }
@@ -456,13 +459,13 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
 double MultibodyModel::constraint_violation() const {
   double worst = 0.0;
   for (const PositionConstraint& c : spec_.positions) {
-    const Vec3 pa = poses_[c.a].x + poses_[c.a].R * c.a_offset;
-    const Vec3 pb = c.b >= 0 ? Vec3(poses_[c.b].x + poses_[c.b].R * c.b_offset) : c.target;
-    worst = std::max(worst, (pa - pb).cwiseAbs().maxCoeff());
+    const Vec3 p_WPa = poses_[c.a].p + poses_[c.a].R * c.a_offset;
+    const Vec3 p_WPb = c.b >= 0 ? Vec3(poses_[c.b].p + poses_[c.b].R * c.b_offset) : c.target;
+    worst = std::max(worst, (p_WPa - p_WPb).cwiseAbs().maxCoeff());
   }
   for (const PerpendicularConstraint& c : spec_.perpendiculars) {
-    const Vec3 p = c.b >= 0 ? Vec3(poses_[c.b].R * c.b_vector) : c.b_vector;
-    worst = std::max(worst, std::abs((poses_[c.a].R * c.a_local).dot(p)));
+    const Vec3 b_W = c.b >= 0 ? Vec3(poses_[c.b].R * c.b_vector) : c.b_vector;
+    worst = std::max(worst, std::abs((poses_[c.a].R * c.a_local).dot(b_W)));
   }
   return worst;
 }

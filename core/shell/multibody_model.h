@@ -33,22 +33,23 @@ struct ShellBodySpec {
 
 struct RigidBodySpec {
   std::string name;
-  NodePose pose;                      ///< centre of mass and body axes in W
+  NodePose pose;                      ///< X_WB: centre of mass and body axes in W
   double mass = 1.0;
   Mat3 inertia = Mat3::Identity();    ///< about the centre of mass, body axes
 };
 
-/// Points carried by the nodes coincide: x_a + R_a o_a = x_b + R_b o_b (b >= 0) or
-/// x_a + R_a o_a = target (b < 0), as rows in node a's frame: (D11'), (D12'). A ground point at
-/// node a's own reference position with no offset is a pin instead: the model drops a's
-/// translations from the unknowns and the constraint from spec().positions. Offsets o are in the node frames (zero for shell
-/// nodes; a rigid body's joint point relative to its centre of mass). Node ids are model-wide.
+/// Points carried by the nodes coincide: p_WA + R_WA o_a = p_WB + R_WB o_b (b >= 0) or
+/// p_WA + R_WA o_a = target (b < 0), A and B the frames of nodes a and b, as rows in A: (D11'), (D12').
+/// A ground point at node a's own reference position with no offset is a pin instead: the model drops
+/// a's translations from the unknowns and the constraint from spec().positions. Offsets o are in the
+/// node frames (zero for shell nodes; a rigid body's joint point relative to its centre of mass).
+/// Node ids are model-wide.
 struct PositionConstraint {
   int a = -1, b = -1;
   Vec3 target = Vec3::Zero();
   Vec3 a_offset = Vec3::Zero(), b_offset = Vec3::Zero();
 };
-/// (R_a â)·(R_b p̂) = 0, or (R_a â)·p = 0 with a fixed global p when b < 0: (D13).
+/// (R_WA â)·(R_WB p̂) = 0, or (R_WA â)·p_W = 0 with a fixed global p_W when b < 0: (D13).
 struct PerpendicularConstraint {
   int a = -1, b = -1;
   Vec3 a_local = Vec3::UnitX(), b_vector = Vec3::UnitY();
@@ -116,7 +117,7 @@ class MultibodyModel final : public ff::DynamicProblem {
   int equation(int node, int slot) const { return dofs_.equation(node, slot); }  ///< -1 when absent
   /// Local 6-vector of node `node` from a solver vector (zero in the absent drilling slot).
   Vec6 node_vector(const Eigen::VectorXd& x, int node) const;
-  Vec3 node_displacement(int node) const { return poses_[node].x - reference_[node].x; }
+  Vec3 node_displacement(int node) const { return poses_[node].p - reference_[node].p; }
   Vec3 node_velocity(const Eigen::VectorXd& v, int node) const { return poses_[node].R * node_vector(v, node).head<3>(); }
   MotionSummary summary(const Eigen::VectorXd& v) const;
   /// Largest |Φ_i| of the current configuration (length units for positions, cosines for axes).

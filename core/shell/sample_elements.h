@@ -43,7 +43,7 @@ inline ElementPoses deformed(const ElementPoses& ref, unsigned seed, double amp 
   const Mat3 Q = rot(Vec3(0.9, -1.4, 1.1));
   ElementPoses p = ref;
   for (auto& n : p) {
-    n.x = Q * n.x + Vec3(0.3, -0.2, 0.5) + amp * Vec3(u(g), u(g), u(g));
+    n.p = Q * n.p + Vec3(0.3, -0.2, 0.5) + amp * Vec3(u(g), u(g), u(g));
     n.R = Q * n.R * rot(2 * amp * Vec3(u(g), u(g), u(g)));
   }
   return p;

@@ -8,11 +8,11 @@ namespace ff::shell {
 
 namespace {
 double chord(const MultibodyModel& m, const DynamicArc& a) {
-  return (m.poses()[a.nodes.back()].x - m.poses()[a.nodes.front()].x).norm();
+  return (m.poses()[a.nodes.back()].p - m.poses()[a.nodes.front()].p).norm();
 }
 double polyline(const MultibodyModel& m, const DynamicArc& a) {
   double l = 0.0;
-  for (std::size_t k = 1; k < a.nodes.size(); ++k) l += (m.poses()[a.nodes[k]].x - m.poses()[a.nodes[k - 1]].x).norm();
+  for (std::size_t k = 1; k < a.nodes.size(); ++k) l += (m.poses()[a.nodes[k]].p - m.poses()[a.nodes[k - 1]].p).norm();
   return l;
 }
 }  // namespace
@@ -25,7 +25,7 @@ ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicS
   info_.time_unit = "s";
   info_.mesh = {};
   for (int I = 0; I < model_->node_count(); ++I) {
-    const Vec3& x = model_->reference_pose(I).x;
+    const Vec3& x = model_->reference_pose(I).p;
     info_.mesh.reference_points.insert(info_.mesh.reference_points.end(), {x.x(), x.y(), x.z()});
   }
   for (std::size_t b = 0; b < model_->spec().shells.size(); ++b) {
@@ -68,8 +68,8 @@ Frame ShellDynamicSimulation::frame() const {
   f.fields.assign(1, std::vector<double>(nn));
   f.fields.push_back(model_->nodal_surface_strain());
   for (int I = 0; I < nn; ++I) {
-    const Vec3& x = model_->poses()[I].x;
-    const Vec3& X = model_->reference_pose(I).x;
+    const Vec3& x = model_->poses()[I].p;
+    const Vec3& X = model_->reference_pose(I).p;
     f.points.insert(f.points.end(), {x.x(), x.y(), x.z()});
     f.base_points.insert(f.base_points.end(), {X.x(), X.y(), X.z()});
     f.fields[0][I] = (x - X).norm();

@@ -210,8 +210,8 @@ void ShellModel::build_node_bases(std::vector<unsigned>& fixed) {
     if (!six_dof_[I] && !n.planes.empty()) {
       // 5 DoFs: every plane must contain the director; one that misses by a hair is moved into
       // all of them at once (eq. R3')
-      Mat3& R0 = m.frames[I];
-      const Vec3 d = R0.col(2);
+      Mat3& R_WN0 = m.frames[I];
+      const Vec3 d = R_WN0.col(2);
       Eigen::MatrixXd P(n.planes.size(), 3);
       for (std::size_t j = 0; j < n.planes.size(); ++j) P.row(j) = n.planes[j].transpose();
       Eigen::JacobiSVD<Eigen::MatrixXd> svd(P, Eigen::ComputeFullV);
@@ -233,9 +233,9 @@ void ShellModel::build_node_bases(std::vector<unsigned>& fixed) {
           for (int c = 0; c < 4; ++c)
             if (m.quads[q][c] == I && (m.corner_normals[q][c] - m.normals[I]).norm() < 1e-12) m.corner_normals[q][c] = snapped;
         m.normals[I] = snapped;
-        R0 = mesh::frame_from_normal(snapped, m.frame_reference);
+        R_WN0 = mesh::frame_from_normal(snapped, m.frame_reference);
       }
-      for (const Vec3& p : n.planes) n.r_dirs.push_back(p.cross(R0.col(2)).normalized());  // in-plane tangent axis
+      for (const Vec3& p : n.planes) n.r_dirs.push_back(p.cross(R_WN0.col(2)).normalized());  // in-plane tangent axis
     }
     // translations (and their prescribed values)
     const SlotBasis tu = slot_basis(n.u_dirs, n.u_values);
@@ -257,8 +257,8 @@ void ShellModel::build_node_bases(std::vector<unsigned>& fixed) {
     }
     has_basis_[I] = !tu.identity;
     // 5 DoFs (eq. R5): only rotations about tangent axes exist; project the restrained directions
-    Mat3& R0 = m.frames[I];
-    const Vec3 d = R0.col(2);
+    Mat3& R_WN0 = m.frames[I];
+    const Vec3 d = R_WN0.col(2);
     std::vector<Vec3> tangent;
     for (const Vec3& r : n.r_dirs)
       if (const Vec3 t = r - r.dot(d) * d; t.norm() > 1e-9) tangent.push_back(t.normalized());
@@ -276,7 +276,7 @@ void ShellModel::build_node_bases(std::vector<unsigned>& fixed) {
     Vec3 a = d.cross(b).normalized();
     for (const Vec3& p : n.planes)
       if (std::abs(a.dot(p)) > 1.0 - 1e-9) a = p;  // a symmetry plane: exactly its normal
-    R0 << a, d.cross(a), d;
+    R_WN0 << a, d.cross(a), d;
     fixed[I] |= 1u << 4;
   }
 }
@@ -355,13 +355,13 @@ void ShellModel::apply_prescribed(double lambda) {
   // eq. R4: the prescribed slot component of x_I is its reference value plus lambda * value
   for (const Prescribed& p : prescribed_) {
     const Vec3 t = basis_u_[p.node].col(p.slot);
-    Vec3& x = poses_[p.node].x;
-    x += (t.dot(spec_.mesh.points[p.node]) + lambda * p.value - t.dot(x)) * t;
+    Vec3& p_WN = poses_[p.node].p;
+    p_WN += (t.dot(spec_.mesh.points[p.node]) + lambda * p.value - t.dot(p_WN)) * t;
   }
 }
 
 double ShellModel::state_magnitude(int i) const {
-  return dofs_.unknown(i).slot < 3 ? poses_[dofs_.unknown(i).node].x.cwiseAbs().maxCoeff() : 1.0;
+  return dofs_.unknown(i).slot < 3 ? poses_[dofs_.unknown(i).node].p.cwiseAbs().maxCoeff() : 1.0;
 }
 
 void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix<double>* K, Eigen::VectorXd* load) {
@@ -402,7 +402,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   for (int k = 0; k < ne; ++k) {
     const Element& e = elements_[k];
     ElementPoses cur;
-    for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].x};
+    for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].p};
     const bool tangent = K || (prescribed_load && element_prescribed_[k]);
     e.el->evaluate(cur, el_force_[k], tangent ? &el_tangent_[k] : nullptr);
     if (!tangent) continue;
@@ -446,18 +446,18 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       }
   }
   for (int I = 0; I < nn; ++I) {
-    const Mat3& R = poses_[I].R;
-    const Vec3 fu = R * node_force[I].head<3>();  // world components
+    const Mat3& R_WN = poses_[I].R;
+    const Vec3 fu = R_WN * node_force[I].head<3>();  // world components
     reaction_[I] = fu;
     Vec6 g;
     g.head<3>() = rows_u(I, fu);
-    g.tail<3>() = six_dof_[I] ? rows_r(I, R * node_force[I].tail<3>()) : Vec3(node_force[I].tail<3>());
+    g.tail<3>() = six_dof_[I] ? rows_r(I, R_WN * node_force[I].tail<3>()) : Vec3(node_force[I].tail<3>());
     for (int s = 0; s < 6; ++s)
       if (dofs_.equation(I, s) >= 0) r[dofs_.equation(I, s)] += g[s];
     if (!K) continue;
     // the rotating basis of A_I along the node's own rotation increment
     if (six_dof_[I]) {
-      Mat3 tu = -hat(fu), tt = -hat(R * node_force[I].tail<3>());
+      Mat3 tu = -hat(fu), tt = -hat(R_WN * node_force[I].tail<3>());
       if (has_basis_[I]) {
         tu = basis_u_[I].transpose() * tu * basis_r_[I];
         tt = basis_r_[I].transpose() * tt * basis_r_[I];
@@ -465,7 +465,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) add(I, i, I, 3 + j, tu(i, j)), add(I, 3 + i, I, 3 + j, tt(i, j));
     } else {
-      Mat3 tu = -R * hat(node_force[I].head<3>());
+      Mat3 tu = -R_WN * hat(node_force[I].head<3>());
       if (has_basis_[I]) tu = basis_u_[I].transpose() * tu;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 2; ++j) add(I, i, I, 3 + j, tu(i, j));
@@ -478,15 +478,15 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   // external loads: r -= lambda f_ext
   for (const NodalLoad& l : spec_.loads) {
     const int I = l.node;
-    const Mat3& R = poses_[I].R;
-    const Vec3 fw = l.follower ? Vec3(R * l.force) : l.force;  // world components
-    reaction_[I] -= lambda * fw;
+    const Mat3& R_WN = poses_[I].R;
+    const Vec3 f_W = l.follower ? Vec3(R_WN * l.force) : l.force;  // world components
+    reaction_[I] -= lambda * f_W;
     Vec6 f = Vec6::Zero();
-    f.head<3>() = rows_u(I, fw);
+    f.head<3>() = rows_u(I, f_W);
     if (six_dof_[I]) {
-      f.tail<3>() = rows_r(I, l.follower ? Vec3(R * l.moment) : l.moment);
+      f.tail<3>() = rows_r(I, l.follower ? Vec3(R_WN * l.moment) : l.moment);
     } else {
-      f.tail<3>() = l.follower ? l.moment : Vec3(R.transpose() * l.moment);
+      f.tail<3>() = l.follower ? l.moment : Vec3(R_WN.transpose() * l.moment);
       f[5] = 0.0;
     }
     for (int s = 0; s < 6; ++s) {
@@ -497,20 +497,20 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     }
     if (!K) continue;
     if (l.follower) {
-      Mat3 tf = six_dof_[I] ? Mat3(lambda * hat(R * l.force)) : Mat3(lambda * R * hat(l.force));
+      Mat3 tf = six_dof_[I] ? Mat3(lambda * hat(R_WN * l.force)) : Mat3(lambda * R_WN * hat(l.force));
       if (has_basis_[I])
         tf = six_dof_[I] ? Mat3(basis_u_[I].transpose() * tf * basis_r_[I]) : Mat3(basis_u_[I].transpose() * tf);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < (six_dof_[I] ? 3 : 2); ++j) add(I, i, I, 3 + j, tf(i, j));
       if (six_dof_[I]) {
-        Mat3 tm = lambda * hat(R * l.moment);
+        Mat3 tm = lambda * hat(R_WN * l.moment);
         if (has_basis_[I]) tm = basis_r_[I].transpose() * tm * basis_r_[I];
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
       }
     } else if (!six_dof_[I]) {
       // local components of a fixed global moment turn with the node
-      const Mat3 tm = -lambda * hat(R.transpose() * l.moment);
+      const Mat3 tm = -lambda * hat(R_WN.transpose() * l.moment);
       for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 2; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
     }
@@ -529,9 +529,9 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     std::array<Mat3, 16> dfdx;
     const bool with_stiffness = pl.follower && (K || prescribed_load);
     if (pl.follower) {
-      std::array<Vec3, 4> x;
-      for (int c = 0; c < 4; ++c) x[c] = poses_[q[c]].x;
-      pressure_forces(x, pl.pressure, f, with_stiffness ? &dfdx : nullptr);
+      std::array<Vec3, 4> p_WN;
+      for (int c = 0; c < 4; ++c) p_WN[c] = poses_[q[c]].p;
+      pressure_forces(p_WN, pl.pressure, f, with_stiffness ? &dfdx : nullptr);
     } else {
       f = dead_pressure_[k];
     }
@@ -597,7 +597,7 @@ void ShellModel::update(const Eigen::VectorXd& delta) {
       d[I].head<3>() = basis_u_[I] * d[I].head<3>();
       if (six_dof_[I]) d[I].tail<3>() = basis_r_[I] * d[I].tail<3>();
     }
-    poses_[I].x += d[I].head<3>();
+    poses_[I].p += d[I].head<3>();
     if (six_dof_[I]) poses_[I].R = lie::exp_so3(d[I].tail<3>()) * poses_[I].R;
     else poses_[I].R = poses_[I].R * lie::exp_so3(Vec3(d[I][3], d[I][4], 0.0));
   }

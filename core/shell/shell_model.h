@@ -116,7 +116,7 @@ class ShellModel final : public ff::StaticProblem {
   const ShellModelSpec& spec() const { return spec_; }
   int dofs_of_node(int node) const { return six_dof_[node] ? 6 : 5; }
   /// Global displacement of a node from its reference position.
-  Vec3 node_displacement(int node) const { return poses_[node].x - spec_.mesh.points[node]; }
+  Vec3 node_displacement(int node) const { return poses_[node].p - spec_.mesh.points[node]; }
   /// Reaction at a node at the last evaluate(): f_int - lambda f_ext on its translations, world
   /// components (zero up to the residual at a free node in equilibrium; the support force where
   /// translations are restrained or prescribed).

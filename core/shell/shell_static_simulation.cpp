@@ -49,9 +49,9 @@ Frame ShellStaticSimulation::frame() const {
   f.fields.assign(1, std::vector<double>(poses.size()));
   f.fields.push_back(model_->nodal_surface_strain());
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    f.points.insert(f.points.end(), {poses[i].x.x(), poses[i].x.y(), poses[i].x.z()});
+    f.points.insert(f.points.end(), {poses[i].p.x(), poses[i].p.y(), poses[i].p.z()});
     f.base_points.insert(f.base_points.end(), {ref[i].x(), ref[i].y(), ref[i].z()});
-    f.fields[0][i] = (poses[i].x - ref[i]).norm();
+    f.fields[0][i] = (poses[i].p - ref[i]).norm();
   }
   f.probes = {lambda_, lambda_ * settings_.load_scale};
   for (const ShellProbe& p : settings_.probes) f.probes.push_back(probe_value(p));

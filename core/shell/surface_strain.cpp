@@ -12,11 +12,12 @@ constexpr double kDxi[4] = {-0.25, 0.25, 0.25, -0.25};
 constexpr double kDeta[4] = {-0.25, -0.25, 0.25, 0.25};
 
 /// Covariant base vectors at the centre on the surface zeta (cb_shell.md eq. V1).
-void base_vectors(const ElementPoses& p, double half_h, double zeta, Vec3& g1, Vec3& g2) {
+/// X_WC: the element's corner poses.
+void base_vectors(const ElementPoses& X_WC, double half_h, double zeta, Vec3& g1, Vec3& g2) {
   g1.setZero();
   g2.setZero();
   for (int c = 0; c < 4; ++c) {
-    const Vec3 point = p[c].x + zeta * half_h * p[c].R.col(2);
+    const Vec3 point = X_WC[c].p + zeta * half_h * X_WC[c].R.col(2);
     g1 += kDxi[c] * point;
     g2 += kDeta[c] * point;
   }

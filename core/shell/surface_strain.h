@@ -20,10 +20,11 @@ std::vector<double> average_to_nodes(const std::vector<double>& element_values,
                                      const std::vector<std::array<int, 4>>& element_nodes, int node_count);
 
 /// Nodal display strain of a model's elements: each element needs `nodes` (4 node ids) and
-/// `corner` (4 corner rotations C, director frame = R_node C); `thickness(element)` gives h0.
+/// `corner` (4 corner rotations C = R_NC, director frame R_WC = R_WN C); `thickness(element)` gives h0.
+/// X_WN0 and X_WN: every node's reference and current pose.
 template <class Elements, class Thickness>
-std::vector<double> nodal_surface_strain(const Elements& elements, const std::vector<NodePose>& reference,
-                                         const std::vector<NodePose>& current, Thickness thickness) {
+std::vector<double> nodal_surface_strain(const Elements& elements, const std::vector<NodePose>& X_WN0,
+                                         const std::vector<NodePose>& X_WN, Thickness thickness) {
   std::vector<double> values(elements.size());
   std::vector<std::array<int, 4>> nodes(elements.size());
   for (std::size_t k = 0; k < elements.size(); ++k) {
@@ -31,13 +32,13 @@ std::vector<double> nodal_surface_strain(const Elements& elements, const std::ve
     ElementPoses ref, cur;
     for (int c = 0; c < 4; ++c) {
       const int I = e.nodes[c];
-      ref[c] = {reference[I].R * e.corner[c], reference[I].x};
-      cur[c] = {current[I].R * e.corner[c], current[I].x};
+      ref[c] = {X_WN0[I].R * e.corner[c], X_WN0[I].p};
+      cur[c] = {X_WN[I].R * e.corner[c], X_WN[I].p};
     }
     values[k] = max_surface_strain(ref, cur, thickness(e));
     nodes[k] = e.nodes;
   }
-  return average_to_nodes(values, nodes, static_cast<int>(current.size()));
+  return average_to_nodes(values, nodes, static_cast<int>(X_WN.size()));
 }
 
 }  // namespace ff::shell

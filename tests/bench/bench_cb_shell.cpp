@@ -94,7 +94,7 @@ ElementArray element_array(int n, const ShellOptions& o) {
     const Mat3 Q = rot(Vec3(u(g), u(g), u(g)));
     ElementPoses cur = ref;
     for (auto& p : cur) {
-      p.x = Q * p.x + Vec3(0.1, -0.2, 0.3) + 0.002 * Vec3(u(g), u(g), u(g));
+      p.p = Q * p.p + Vec3(0.1, -0.2, 0.3) + 0.002 * Vec3(u(g), u(g), u(g));
       p.R = Q * p.R * rot(0.02 * Vec3(u(g), u(g), u(g)));
     }
     a.current.push_back(cur);

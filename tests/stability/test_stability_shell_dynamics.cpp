@@ -59,7 +59,7 @@ TEST(Stability, FastSpinningShellKeepsEnergyBoundedOverManyTurns) {
   Eigen::VectorXd v = Eigen::VectorXd::Zero(m.size());
   for (int I = 0; I < m.node_count(); ++I) {
     const NodePose& H = m.poses()[I];
-    const Vec3 xd = Omega.cross(H.x - c), w = H.R.transpose() * Omega;
+    const Vec3 xd = Omega.cross(H.p - c), w = H.R.transpose() * Omega;
     for (int k = 0; k < 3; ++k) v[m.equation(I, k)] = (H.R.transpose() * xd)[k];
     for (int k = 0; k < 2; ++k) v[m.equation(I, 3 + k)] = w[k];
   }
@@ -91,7 +91,7 @@ TEST(Stability, NearlyDegenerateElementStaysConsistent) {
   for (int i = 0; i < 4; ++i) ref[i] = {frame(Vec3::UnitZ()), X[i]};
   // a non-convex (inverted) quad is refused with a reason, never evaluated into NaNs
   ElementPoses bad = ref;
-  bad[2].x = Vec3(0.5, 0.02, 0);
+  bad[2].p = Vec3(0.5, 0.02, 0);
   EXPECT_THROW(CbShellElement(bad, {2.0e5, 0.3, 0.01, 5.0 / 6.0}, ShellOptions{}), std::exception);
   for (bool drilling : {false, true}) {
     ShellOptions o;

@@ -25,14 +25,14 @@ inline ElementPoses perturb(ElementPoses p, int k, double eps) {
   const int I = k / 6, c = k % 6;
   Vec3 e = Vec3::Zero();
   e[c % 3] = eps;
-  if (c < 3) p[I].x += p[I].R * e;
+  if (c < 3) p[I].p += p[I].R * e;
   else p[I].R = p[I].R * rot(e);
   return p;
 }
 
 /// The same superposed rigid motion (Q, c) on every node.
 inline ElementPoses moved(ElementPoses p, const Mat3& Q, const Vec3& c) {
-  for (auto& n : p) n.x = Q * n.x + c, n.R = Q * n.R;
+  for (auto& n : p) n.p = Q * n.p + c, n.R = Q * n.R;
   return p;
 }
 

@@ -69,7 +69,7 @@ TEST_P(CbShellConsistency, RigidMotionInvariance) {
   // a rigid motion of the reference gives zero force
   ElementPoses rigid = ref;
   const Mat3 Q = rot(Vec3(2.1, 0.4, -1.3));
-  for (auto& n : rigid) n.x = Q * n.x + Vec3(5, -3, 1), n.R = Q * n.R;
+  for (auto& n : rigid) n.p = Q * n.p + Vec3(5, -3, 1), n.R = Q * n.R;
   Vec24 F0;
   el.evaluate(rigid, F0, nullptr);
   EXPECT_LT(F0.cwiseAbs().maxCoeff(), 1e-9) << name(c);
@@ -77,7 +77,7 @@ TEST_P(CbShellConsistency, RigidMotionInvariance) {
   const ElementPoses cur = deformed(ref, 7);
   ElementPoses moved = cur;
   const Mat3 Q2 = rot(Vec3(-0.7, 2.9, 0.2));
-  for (auto& n : moved) n.x = Q2 * n.x + Vec3(-1, 4, 2), n.R = Q2 * n.R;
+  for (auto& n : moved) n.p = Q2 * n.p + Vec3(-1, 4, 2), n.R = Q2 * n.R;
   Vec24 F1, F2;
   Mat24 K1, K2;
   el.evaluate(cur, F1, &K1);
@@ -124,13 +124,13 @@ TEST(CbShell, AffineMembraneStateIsExact) {
   Eigen::Matrix3d Fd = Eigen::Matrix3d::Identity();
   Fd.topLeftCorner<2, 2>() = F2;
   ElementPoses cur = ref;
-  for (auto& n : cur) n.x = Fd * n.x;
+  for (auto& n : cur) n.p = Fd * n.p;
   const Eigen::Matrix2d E = 0.5 * (F2.transpose() * F2 - Eigen::Matrix2d::Identity());
   const double Em = sec.youngs_modulus / (1 - sec.poisson_ratio * sec.poisson_ratio), nu = sec.poisson_ratio;
   const double w = 0.5 * Em * (E(0, 0) * E(0, 0) + E(1, 1) * E(1, 1) + 2 * nu * E(0, 0) * E(1, 1) +
                                2 * (1 - nu) * E(0, 1) * E(0, 1));
   // area of the quad
-  const Vec3 d1 = ref[2].x - ref[0].x, d2 = ref[3].x - ref[1].x;
+  const Vec3 d1 = ref[2].p - ref[0].p, d2 = ref[3].p - ref[1].p;
   const double area = 0.5 * d1.cross(d2).norm();
   for (bool hr : {false, true}) {
     ShellOptions o;

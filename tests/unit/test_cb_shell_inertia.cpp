@@ -29,8 +29,8 @@ double area(const ElementPoses& p) {  // 2x2 Gauss area of the bilinear mid-surf
     for (double y : {-gp, gp}) {
       Vec3 gx = Vec3::Zero(), gy = Vec3::Zero();
       for (int I = 0; I < 4; ++I) {
-        gx += 0.25 * xi[I] * (1 + eta[I] * y) * p[I].x;
-        gy += 0.25 * eta[I] * (1 + xi[I] * x) * p[I].x;
+        gx += 0.25 * xi[I] * (1 + eta[I] * y) * p[I].p;
+        gy += 0.25 * eta[I] * (1 + xi[I] * x) * p[I].p;
       }
       a += gx.cross(gy).norm();
     }
@@ -57,7 +57,7 @@ double solid_volume(const ElementPoses& p) {
         Vec3 G[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
         for (int I = 0; I < 4; ++I)
           for (double s : {1.0, -1.0}) {
-            const Vec3 X = p[I].x + s * 0.5 * kH * p[I].R.col(2);
+            const Vec3 X = p[I].p + s * 0.5 * kH * p[I].R.col(2);
             const double nz = 0.5 * (1 + s * gp[k]);
             G[0] += 0.25 * xi[I] * (1 + eta[I] * gp[j]) * nz * X;
             G[1] += 0.25 * eta[I] * (1 + xi[I] * gp[i]) * nz * X;
@@ -171,7 +171,7 @@ TEST_P(InertiaOn, RigidSpinHasRigidBodyMomenta) {
   const Vec3 Omega(0.3, -0.7, 1.1);  // spatial angular velocity about the origin
   ElementRates v;
   for (int I = 0; I < 4; ++I) {
-    const Vec3 xdot = Omega.cross(r[I].x);
+    const Vec3 xdot = Omega.cross(r[I].p);
     v[I] << r[I].R.transpose() * xdot, r[I].R.transpose() * Omega;
   }
   Vec3 p = Vec3::Zero(), L = Vec3::Zero();
@@ -181,7 +181,7 @@ TEST_P(InertiaOn, RigidSpinHasRigidBodyMomenta) {
   Vec3 xc = Vec3::Zero();
   {
     Vec3 x[8];
-    for (int A = 0; A < 8; ++A) x[A] = r[A % 4].x + (A < 4 ? 1 : -1) * 0.5 * kH * r[A % 4].R.col(2);
+    for (int A = 0; A < 8; ++A) x[A] = r[A % 4].p + (A < 4 ? 1 : -1) * 0.5 * kH * r[A % 4].R.col(2);
     for (int A = 0; A < 8; ++A) xc += in.slave_mass().row(A).sum() * x[A];
     xc /= in.mass();
   }

@@ -45,7 +45,7 @@ ElementPoses deform(const ElementPoses& ref, unsigned seed) {
   const Mat3 Q = rot(Vec3(0.7, -1.1, 0.4));
   ElementPoses p = ref;
   for (auto& n : p) {
-    n.x = Q * n.x + Vec3(0.2, 0.1, -0.3) + 0.02 * Vec3(u(g), u(g), u(g));
+    n.p = Q * n.p + Vec3(0.2, 0.1, -0.3) + 0.02 * Vec3(u(g), u(g), u(g));
     n.R = Q * n.R * rot(0.17 * Vec3(u(g), u(g), u(g)));
   }
   return p;

@@ -142,7 +142,7 @@ MultibodySpec pendulum_spec(const ShellOptions& o, bool gravity, bool joint, boo
   if (rigid) {
     RigidBodySpec rb;
     rb.name = "block";
-    rb.pose.x = Vec3(0.5, 1.0, 0.2);
+    rb.pose.p = Vec3(0.5, 1.0, 0.2);
     rb.mass = 3.0;
     s.rigid = {rb};
   }

@@ -367,7 +367,7 @@ TEST(LieSe3, BodyIncrementMovesTheOriginAlongRAndRotatesOnTheRight) {
     const Pose H = rng.pose();
     const Vec3 du = rng.unit(), dth = rng.unit();
     const Pose Hn = H * exp_se3(make_twist(d * du, d * dth));
-    EXPECT_LE(((Hn.x - H.x) / d - H.R * du).norm(), 1e-6);
+    EXPECT_LE(((Hn.p - H.p) / d - H.R * du).norm(), 1e-6);
     EXPECT_LE(max_abs((Hn.R - H.R) / d - H.R * hat(dth)), 1e-6);
   }
 }
@@ -383,23 +383,23 @@ TEST(LieSe3, ExpClosedFormsAndTranslationConvention) {
       // pure rotation and pure translation
       const Pose Hr = exp_se3(make_twist(Vec3::Zero(), theta));
       EXPECT_LE(max_abs(Hr.R - exp_so3(theta)), 0.0);
-      EXPECT_EQ(Hr.x, Vec3::Zero());
+      EXPECT_EQ(Hr.p, Vec3::Zero());
       const Pose Ht = exp_se3(make_twist(u, Vec3::Zero()));
       EXPECT_EQ(Ht.R, Mat3::Identity());
-      EXPECT_LE((Ht.x - u).norm(), 0.0);
+      EXPECT_LE((Ht.p - u).norm(), 0.0);
       // screw about the axis n through p with advance d (eq. 27): x = (I − R) p + d n
       const Vec3 p = rng.vec(1.0);
       const double adv = 0.7;
       const Pose Hs = exp_se3(make_twist(p.cross(theta) + adv * n, theta));
-      EXPECT_LE((Hs.x - ((Mat3::Identity() - Hs.R) * p + adv * n)).norm(), 1e-14) << phi;
+      EXPECT_LE((Hs.p - ((Mat3::Identity() - Hs.R) * p + adv * n)).norm(), 1e-14) << phi;
       // translation block is T(θ)ᵀ u (eq. 25)
       const Pose H = exp_se3(make_twist(u, theta));
-      EXPECT_LE((H.x - tangent_so3(theta).transpose() * u).norm(), 4 * kEps * (1 + u.norm()));
+      EXPECT_LE((H.p - tangent_so3(theta).transpose() * u).norm(), 4 * kEps * (1 + u.norm()));
     }
   }
   // ... and not T(θ) u: the two differ by 2 c1 θ×u
   const Vec3 u(1.0, 0.0, 0.0), theta(0.0, 0.0, 1.0);
-  EXPECT_GT((exp_se3(make_twist(u, theta)).x - tangent_so3(theta) * u).norm(), 0.5);
+  EXPECT_GT((exp_se3(make_twist(u, theta)).p - tangent_so3(theta) * u).norm(), 0.5);
 }
 
 // scaled-and-squared Taylor exponential of a 4×4 matrix in long double (eps 1.1e-19)
@@ -448,7 +448,7 @@ TEST(LieSe3, LogInvertsExp) {
       }
       // at φ = π, log may return the other logarithm; exp(log H) = H always
       const Pose H2 = exp_se3(back);
-      EXPECT_LE(max_abs(H2.matrix() - H.matrix()), 16 * kEps * (1.0 + H.x.norm())) << phi;
+      EXPECT_LE(max_abs(H2.matrix() - H.matrix()), 16 * kEps * (1.0 + H.p.norm())) << phi;
     }
   }
   // exactly π with a translation, built without trigonometry

@@ -37,7 +37,7 @@ MultibodySpec system_spec(bool gravity, bool ground) {
   s.shells = {plate, panel};
   RigidBodySpec rb;
   rb.name = "block";
-  rb.pose.x = Vec3(0.5, 1.0, 0.2);
+  rb.pose.p = Vec3(0.5, 1.0, 0.2);
   rb.mass = 3.0;
   rb.inertia << 0.4, 0.05, 0.0, 0.05, 0.3, 0.02, 0.0, 0.02, 0.2;
   s.rigid = {rb};
@@ -179,7 +179,7 @@ TEST(MultibodyModel, ResidualAndMatrixInvariantUnderRigidMotionOfTheSystem) {
     const NodePose& H = a.poses()[I];
     const NodePose& R0 = b.reference_pose(I);
     const Mat3 R = R0.R.transpose() * Q * H.R;
-    const Vec3 x = R0.R.transpose() * (Q * H.x + c - R0.x);
+    const Vec3 x = R0.R.transpose() * (Q * H.p + c - R0.p);
     const Eigen::Matrix<double, 6, 1> xi = ff::lie::log_se3(ff::lie::Pose{R, x});
     for (int s = 0; s < 6; ++s)
       if (b.equation(I, s) >= 0) step[b.equation(I, s)] = xi[s];
@@ -187,7 +187,7 @@ TEST(MultibodyModel, ResidualAndMatrixInvariantUnderRigidMotionOfTheSystem) {
   b.configure(step);
   b.commit();
   for (int I = 0; I < b.node_count(); ++I) {
-    ASSERT_LT((b.poses()[I].x - (Q * a.poses()[I].x + c)).norm(), 1e-9);
+    ASSERT_LT((b.poses()[I].p - (Q * a.poses()[I].p + c)).norm(), 1e-9);
     ASSERT_LT((b.poses()[I].R - Q * a.poses()[I].R).norm(), 1e-9);
   }
   const Eigen::VectorXd v = random_vector(a.size(), 6, 1.0), vd = random_vector(a.size(), 7, 4.0);
@@ -223,15 +223,15 @@ TEST(MultibodyModel, PinOnTheSpotLeavesTheUnknowns) {
   MultibodySpec rows = system_spec(false, false);
   MultibodySpec pins = rows;
   MultibodyModel free_model(rows);
-  pins.positions.push_back({0, -1, free_model.reference_pose(0).x});
-  pins.positions.push_back({1, -1, free_model.reference_pose(1).x});
+  pins.positions.push_back({0, -1, free_model.reference_pose(0).p});
+  pins.positions.push_back({1, -1, free_model.reference_pose(1).p});
   MultibodyModel pinned(pins);
   EXPECT_EQ(pinned.size(), free_model.size() - 6);
   EXPECT_EQ(pinned.constraint_count(), free_model.constraint_count());
   EXPECT_EQ(pinned.spec().positions.size(), rows.positions.size());
   pinned.configure(random_vector(pinned.size(), 9, 0.3));
   pinned.commit();
-  for (int I : {0, 1}) EXPECT_EQ((pinned.poses()[I].x - pinned.reference_pose(I).x).norm(), 0.0);
+  for (int I : {0, 1}) EXPECT_EQ((pinned.poses()[I].p - pinned.reference_pose(I).p).norm(), 0.0);
   EXPECT_GT((pinned.poses()[0].R - pinned.reference_pose(0).R).norm(), 1e-3);  // free to turn
   Eigen::VectorXd r, phi;
   pinned.evaluate(0, Eigen::VectorXd::Zero(pinned.size()), Eigen::VectorXd::Zero(pinned.size()),

@@ -23,7 +23,7 @@ TEST(SurfaceStrain, RigidMotionGivesZero) {
   const Mat3 Q = Eigen::AngleAxisd(1.1, Vec3(0.3, -0.5, 0.8).normalized()).toRotationMatrix();
   const Vec3 t(2.0, -1.0, 0.5);
   ElementPoses cur;
-  for (int c = 0; c < 4; ++c) cur[c] = {Q * ref[c].R, Q * ref[c].x + t};
+  for (int c = 0; c < 4; ++c) cur[c] = {Q * ref[c].R, Q * ref[c].p + t};
   EXPECT_LT(max_surface_strain(ref, cur, 0.01), 1e-14);
 }
 
@@ -31,10 +31,10 @@ TEST(SurfaceStrain, UniformStretchGivesGreenLagrange) {
   const ElementPoses ref = flat_square(0.3);
   ElementPoses cur = ref;
   const double s = 1.1;  // stretch along x: E_xx = (s^2 - 1) / 2 = 0.105
-  for (int c = 0; c < 4; ++c) cur[c].x.x() *= s;
+  for (int c = 0; c < 4; ++c) cur[c].p.x() *= s;
   EXPECT_NEAR(max_surface_strain(ref, cur, 0.01), 0.5 * (s * s - 1.0), 1e-14);
   // a contraction of the same size shows as its absolute value
-  for (int c = 0; c < 4; ++c) cur[c].x.x() = ref[c].x.x() * 0.9;
+  for (int c = 0; c < 4; ++c) cur[c].p.x() = ref[c].p.x() * 0.9;
   EXPECT_NEAR(max_surface_strain(ref, cur, 0.01), 0.5 * (1.0 - 0.81), 1e-14);
 }
 
@@ -46,13 +46,13 @@ TEST(SurfaceStrain, BentStripShowsHalfThicknessOverRadius) {
   const ElementPoses ref = flat_square(a);
   ElementPoses cur;
   for (int c = 0; c < 4; ++c) {
-    const double phi = ref[c].x.x() / R;
+    const double phi = ref[c].p.x() / R;
     const Vec3 d(-std::sin(phi), 0.0, std::cos(phi));  // outward normal of the cylinder of centre (0,0,-R)
     Mat3 Rm;
     Rm.col(0) = Vec3(std::cos(phi), 0.0, std::sin(phi));
     Rm.col(1) = Vec3(0.0, 1.0, 0.0);
     Rm.col(2) = d;
-    cur[c] = {Rm, Vec3(R * std::sin(phi), ref[c].x.y(), R * std::cos(phi) - R)};
+    cur[c] = {Rm, Vec3(R * std::sin(phi), ref[c].p.y(), R * std::cos(phi) - R)};
   }
   const double expected = h / (2.0 * R) + 0.5 * std::pow(h / (2.0 * R), 2);  // top surface, exact G-L of a ring
   EXPECT_NEAR(max_surface_strain(ref, cur, h), expected, 5e-5);  // chord error ~ theta^2 / 24 = 2e-5

@@ -49,7 +49,7 @@ Eigen::VectorXd spin_velocity(const MultibodyModel& m, const Vec3& Omega) {
   std::uniform_real_distribution<double> u(-1, 1);
   for (int I = 0; I < m.node_count(); ++I) {
     const NodePose& H = m.poses()[I];
-    const Vec3 xdot = Omega.cross(H.x) + 0.3 * Vec3(u(g), u(g), u(g));
+    const Vec3 xdot = Omega.cross(H.p) + 0.3 * Vec3(u(g), u(g), u(g));
     const Vec3 w = H.R.transpose() * Omega;
     for (int k = 0; k < 3; ++k) v[m.equation(I, k)] = (H.R.transpose() * xdot)[k];
     for (int k = 0; k < 3; ++k)
@@ -120,7 +120,7 @@ TEST(ShellDynamics, RigidCompoundPendulumPeriod) {
   rb.mass = m;
   rb.inertia = Vec3(0.01, Jyy, 0.03).asDiagonal();
   rb.pose.R = Eigen::AngleAxisd(theta0, Vec3::UnitY()).toRotationMatrix();
-  rb.pose.x = -(rb.pose.R * Vec3(0, 0, L));
+  rb.pose.p = -(rb.pose.R * Vec3(0, 0, L));
   s.rigid = {rb};
   s.gravity = true;
   s.g = Vec3(0, 0, -g);
@@ -133,11 +133,11 @@ TEST(ShellDynamics, RigidCompoundPendulumPeriod) {
   ASSERT_EQ(ga.initialize(0.0, Eigen::VectorXd::Zero(model.size())), "");
   const double T = 2 * std::numbers::pi * std::sqrt((Jyy + m * L * L) / (m * g * L)) * (1 + theta0 * theta0 / 16);
   const double h = T / 2000;
-  double previous = model.poses()[0].x.x(), crossing = -1;
+  double previous = model.poses()[0].p.x(), crossing = -1;
   const double e0 = model.summary(ga.velocity()).total();
   while (ga.time() < 0.3 * T) {
     ASSERT_TRUE(ga.step(h).converged);
-    const double x = model.poses()[0].x.x();
+    const double x = model.poses()[0].p.x();
     if (crossing < 0 && previous < 0 && x >= 0) crossing = ga.time() - h * x / (x - previous);
     previous = x;
     EXPECT_LT(model.constraint_violation(), 1e-10);
@@ -180,7 +180,7 @@ Convergence newton_orders(bool exact) {
   spec.g = Vec3(0, -9.81, 0);
   const NodePose H0 = MultibodyModel(spec).reference_pose(0);
   const Vec3 offset_world(0.02, -0.05, 0.0);  // the hinge point, off the node (rows, not a pin)
-  const Vec3 pivot = H0.x + offset_world;
+  const Vec3 pivot = H0.p + offset_world;
   spec.positions.push_back({0, -1, pivot, H0.R.transpose() * offset_world, Vec3::Zero()});
   spec.perpendiculars.push_back({0, -1, H0.R.transpose() * Vec3::UnitZ(), Vec3::UnitX()});
   MultibodyModel model(spec);
@@ -189,7 +189,7 @@ Convergence newton_orders(bool exact) {
   Eigen::VectorXd v0 = Eigen::VectorXd::Zero(model.size());
   for (int I = 0; I < model.node_count(); ++I) {
     const NodePose& H = model.poses()[I];
-    const Vec3 u = H.R.transpose() * Omega.cross(H.x - pivot), w = H.R.transpose() * Omega;
+    const Vec3 u = H.R.transpose() * Omega.cross(H.p - pivot), w = H.R.transpose() * Omega;
     for (int k = 0; k < 3; ++k) {
       if (model.equation(I, k) >= 0) v0[model.equation(I, k)] = u[k];
       if (model.equation(I, 3 + k) >= 0) v0[model.equation(I, 3 + k)] = w[k];

@@ -94,7 +94,7 @@ double ring_expansion(const Ring& g, double p, bool follower, int n_phi, double*
   EXPECT_EQ(r.status, ff::StaticStatus::completed) << r.reason;
   double lo = INFINITY, hi = -INFINITY, sum = 0.0;
   for (int I = 0; I < s.mesh.node_count(); ++I) {
-    const Vec3 X = s.mesh.points[I], x = m.poses()[I].x;
+    const Vec3 X = s.mesh.points[I], x = m.poses()[I].p;
     const double u = std::hypot(x.x(), x.y()) - std::hypot(X.x(), X.y());
     lo = std::min(lo, u), hi = std::max(hi, u), sum += u;
   }
