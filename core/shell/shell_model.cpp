@@ -587,6 +587,14 @@ std::vector<EffectStat> ShellModel::effect_stats() const {
   return out;
 }
 
+bool ShellModel::tangent_symmetric_at_equilibrium() const {
+  for (const NodalLoad& l : spec_.loads)
+    if (l.follower || l.moment.squaredNorm() > 0.0) return false;
+  for (const PressureLoad& p : spec_.pressures)
+    if (p.follower) return false;
+  return true;
+}
+
 void ShellModel::update(const Eigen::VectorXd& delta) {
   const int nn = static_cast<int>(poses_.size());
   std::vector<Vec6> d(nn, Vec6::Zero());

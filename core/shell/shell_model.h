@@ -111,6 +111,9 @@ class ShellModel final : public ff::StaticProblem {
   void save_state() override { saved_ = poses_; }
   void restore_state() override { poses_ = saved_; }
   double dof_scale(int i) const override { return dofs_.unknown(i).slot >= 3 ? rotation_scale_ : 1.0; }
+  /// Dead forces and pressures and prescribed displacements are conservative; follower loads and
+  /// moments (not conservative on finite rotations) are not (tests/unit/test_tangent_symmetry.cpp).
+  bool tangent_symmetric_at_equilibrium() const override;
 
   const std::vector<NodePose>& poses() const { return poses_; }
   const ShellModelSpec& spec() const { return spec_; }

@@ -107,6 +107,14 @@ bool StaticKernel::evaluate(double lambda, bool with_tangent) {
 bool StaticKernel::refresh_tangent(double lambda) {
   if (!(tangent_current_ && tangent_lambda_ == lambda) && !evaluate(lambda, true)) return false;
   tangent_.makeCompressed();
+  // the symmetric part where it is as good as K (eq. 7.1) and the backend gains from it
+  const bool exploits_symmetry =
+      linear_.backend() == LinearBackend::mumps || linear_backend_is_symmetric(linear_.backend());
+  if (exploits_symmetry && problem_.tangent_symmetric_at_equilibrium()) {
+    const SparseMatrixD transposed = tangent_.transpose();
+    tangent_ = 0.5 * (tangent_ + transposed);
+    tangent_.makeCompressed();
+  }
   const LinearStatus s = linear_.factorize(tangent_);
   if (!s) {
     factorized_ = false;

@@ -55,6 +55,11 @@ class StaticProblem {
   /// applied, exact on a vector space and for a rotation about a fixed axis.
   virtual std::optional<double> displacement(int i) const { return std::nullopt; }
 
+  /// True when K − Kᵀ vanishes wherever r = 0, as for conservative loads on a local-frame
+  /// parametrization: the solver may then factor the symmetric part ½(K + Kᵀ), which differs from
+  /// K by O(||r||), so Newton keeps its quadratic rate (static_solvers.md §7.1). Default false.
+  virtual bool tangent_symmetric_at_equilibrium() const { return false; }
+
   /// Magnitude of the state coordinate behind DoF i (e.g. |x|_inf of a node for a translation,
   /// 1 for a rotation angle): the state is known to about eps × this, so the residual cannot be
   /// computed more accurately than the change such an error makes (the round-off floor of the
