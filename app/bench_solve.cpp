@@ -1,7 +1,7 @@
 // `flexframe bench --solve`: where a static Newton iteration's time goes on growing plates —
 // assembly (residual + tangent) against factorization + solve for every compiled linear backend —
 // and the CB element's own cost, all measured in one run so the ratios compare like with like
-// (issue 13, items 3 and 5). Wall time, best of --repeat (one round from 128 x 128 on).
+// (docs/performance.md). Wall time, best of --repeat (one round from 128 x 128 on).
 #include <algorithm>
 #include <cmath>
 #include <chrono>

@@ -1,6 +1,6 @@
 #pragma once
 /// \file cb_shell_textbook.h
-/// Test oracle for CbShellElement (issue 13): the CB shell energy written straight from
+/// Test oracle for CbShellElement: the CB shell energy written straight from
 /// core/shell/cb_shell.md eqs. (S1)-(S13), one integration point at a time, with the force and
 /// the tangent obtained by exact differentiation (hyper-dual numbers) instead of the hand-derived
 /// variations (S4), (S5), (S14)-(S17). It shares no code with cb_shell.cpp, so an error in the

@@ -346,7 +346,7 @@ TEST(MeshBenchmarks, FlatLPlateOfSimoFoxRifai) {
   expect_valid(m);
 }
 
-// ---- pole-free caps and disks, slits, folds, L plates (issue 11: parametric geometry) ----------
+// ---- pole-free caps and disks, slits, folds, L plates (parametric geometry) ---------------------
 
 TEST(MeshGenerators, ClosedCapHasNoCollapsedQuadsAndItsAreaConverges) {
   for (double span_deg : {90.0, 180.0, 360.0}) {

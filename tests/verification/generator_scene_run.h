@@ -1,6 +1,6 @@
 #pragma once
 // Runs a static shell scene given as TOML text (written to the build tree) and returns the probes'
-// final values by name: the verification tests of the mesh generators (issue 11) build their
+// final values by name: the verification tests of the mesh generators build their
 // problems from the [mesh] keys exactly as a user's scene would.
 #include <gtest/gtest.h>
 

@@ -266,7 +266,7 @@ TEST(ShellDynamics, DoublePendulumPoliciesAgreeAndFreezingSavesUpdates) {
   EXPECT_GE(metric(frozen, "NOI"), metric(full, "NOI"));
 }
 
-// Mesh convergence of the double pendulum (issue 4): z of F at t = 0.1 s on 4x4, 8x8 and 16x16
+// Mesh convergence of the double pendulum: z of F at t = 0.1 s on 4x4, 8x8 and 16x16
 // per shell. Measured -0.04825, -0.04873, -0.04886 m at dt = 5e-4: the change shrinks 3.7x per
 // halving (second order). Over 0.25 s the coarse meshes are pre-asymptotic (docs/validation/shell-dynamics.md, "Mesh
 // convergence of the pendulum", bundled study double_pendulum_mesh), so the test uses the early,
