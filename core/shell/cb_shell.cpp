@@ -102,7 +102,7 @@ void master_rows(const std::array<Mat<T, 3, 3>, 4>& Rt, const Mat<T, 3, 3>& g, c
 
 // symmetric 3 x 3 S with sum_c v_c (a_i b_j + a_j b_i) / 2 = a^T S b over covariant components c
 template <class T>
-Mat<T, 3, 3> covariant_matrix(const Mat<T, 5, 1>& v, bool with_shear) {
+[[gnu::always_inline]] inline Mat<T, 3, 3> covariant_matrix(const Mat<T, 5, 1>& v, bool with_shear) {
   Mat<T, 3, 3> S = Mat<T, 3, 3>::Zero();
   for (int c = 0; c < (with_shear ? 5 : 3); ++c) {
     const int i = kPair[c][0], j = kPair[c][1];
@@ -492,7 +492,7 @@ template <class Scalar>
   }
   Vec10 beta;
   if (opt_.hr) {
-    beta.noalias() = h_inv_ * gv;  // eq. (10)
+    beta.noalias() = h_inv_.lazyProduct(gv);  // eq. (10)
     energy += 0.5 * gv.dot(beta);
   }
 
