@@ -381,7 +381,7 @@ BasicCbShellElement<double>::BasicCbShellElement(const ElementPoses& ref, const 
 // matrix of eq. (5) in the (sum, s-weighted) slave basis, material stiffness K = Y Y^T with Y
 // the scaled master B rows (and H^{-1/2} G for the assumed stress). See cb_shell.md, speed notes.
 template <class Scalar>
-[[gnu::flatten]] Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector24& F, Matrix24* K) const {
+Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector24& F, Matrix24* K) const {
   using Vec3 = Mat<Scalar, 3, 1>;
   using Mat3 = Mat<Scalar, 3, 3>;
   using Mat38 = Mat<Scalar, 3, 8>;
