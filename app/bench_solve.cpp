@@ -128,7 +128,7 @@ nlohmann::ordered_json element_figures(int rounds) {
 int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   std::vector<LinearBackend> backends;
   for (LinearBackend b : all_linear_backends())
-    // the Cholesky-type backends need K = Kᵀ, which a deformed shell's tangent is not
+    // the Cholesky-type backends take symmetric positive definite tangents only: not candidates
     if (linear_backend_available(b) && !linear_backend_is_symmetric(b)) backends.push_back(b);
   const LinearBackend chosen = default_linear_backend();
   const int eigen_threads = Eigen::nbThreads();

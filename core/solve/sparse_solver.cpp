@@ -38,17 +38,6 @@ int first_non_finite_column(const SparseMatrixD& k) {
   return -1;
 }
 
-// a column where K and Kᵀ differ by more than a round-off bound, -1 when symmetric
-int first_asymmetric_column(const SparseMatrixD& k) {
-  const SparseMatrixD t = k.transpose();
-  const double bound = 1e-10 * std::max(1e-300, k.coeffs().cwiseAbs().maxCoeff());
-  const SparseMatrixD d = k - t;
-  for (int j = 0; j < d.outerSize(); ++j)
-    for (SparseMatrixD::InnerIterator it(d, j); it; ++it)
-      if (std::abs(it.value()) > bound) return j;
-  return -1;
-}
-
 std::string singular_message(int dof) {
   std::ostringstream m;
   m << "singular matrix: zero pivot";
@@ -64,7 +53,9 @@ class SparseLinearSolver::Impl {
  public:
   virtual ~Impl() = default;
   virtual LinearStatus analyze(const SparseMatrixD& a) = 0;
-  virtual LinearStatus factorize(const SparseMatrixD& a) = 0;
+  /// `symmetric`: K = Kᵀ to round-off (SparseLinearSolver::first_asymmetric_column, 1e-12); a
+  /// backend may use it to pick a symmetric factorization
+  virtual LinearStatus factorize(const SparseMatrixD& a, bool symmetric) = 0;
   /// false when the library reports a failure during the solve
   virtual bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
   /// sign of det K of the current factorization (+1, −1), 0 when zero or unknown
@@ -82,7 +73,7 @@ class SparseLuImpl final : public SparseLinearSolver::Impl {
     lu_.analyzePattern(a);
     return {};
   }
-  LinearStatus factorize(const SparseMatrixD& a) override {
+  LinearStatus factorize(const SparseMatrixD& a, bool symmetric) override {
     lu_.factorize(a);
     if (lu_.info() == Eigen::Success) return {};
     // SparseLU reports "... ZERO COLUMN AT <j+1>" with j in the column-permuted numbering
@@ -115,7 +106,7 @@ class SimplicialLdltImpl final : public SparseLinearSolver::Impl {
     ldlt_.analyzePattern(a);
     return {};
   }
-  LinearStatus factorize(const SparseMatrixD& a) override {
+  LinearStatus factorize(const SparseMatrixD& a, bool symmetric) override {
     ldlt_.factorize(a);
     if (ldlt_.info() == Eigen::Success) return {};
     // D(k,k) = 0 stops the factorization at k; the entries before k are non-zero
@@ -167,7 +158,7 @@ class UmfpackImpl final : public SparseLinearSolver::Impl {
       return fail(Code::backend_error, -1, "UMFPACK symbolic analysis failed");
     return {};
   }
-  LinearStatus factorize(const SparseMatrixD& a) override {
+  LinearStatus factorize(const SparseMatrixD& a, bool symmetric) override {
     std::copy(a.valuePtr(), a.valuePtr() + a.nonZeros(), a_.valuePtr());
     lu_.factorize(a_);
     if (lu_.info() == Eigen::Success) return {};
@@ -218,7 +209,7 @@ class CholmodImpl final : public SparseLinearSolver::Impl {
       return fail(Code::backend_error, -1, "CHOLMOD analysis failed (status " + std::to_string(llt_.cholmod().status) + ")");
     return {};
   }
-  LinearStatus factorize(const SparseMatrixD& a) override {
+  LinearStatus factorize(const SparseMatrixD& a, bool symmetric) override {
     llt_.factorize(a);
     if (llt_.info() == Eigen::Success) return {};
     const int dof = llt_.failed_dof();
@@ -358,29 +349,17 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
   LinearStatus analyze(const SparseMatrixD& a) override {
     lu_.forget_analysis();
     ldlt_.forget_analysis();
-    const int n = static_cast<int>(a.rows());
     all_.resize(a.nonZeros());
     for (int p = 0; p < a.nonZeros(); ++p) all_[p] = p;
     lower_.clear();
-    mirror_.assign(a.nonZeros(), -1);
-    bool structurally_symmetric = true;
-    for (int j = 0; j < n; ++j)
-      for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p) {
-        const int i = a.innerIndexPtr()[p];
-        if (i >= j) lower_.push_back(p);
-        // position of (j, i) in column i: the pattern's rows are sorted in each column
-        const int* begin = a.innerIndexPtr() + a.outerIndexPtr()[i];
-        const int* end = a.innerIndexPtr() + a.outerIndexPtr()[i + 1];
-        const int* m = std::lower_bound(begin, end, j);
-        if (m == end || *m != j) structurally_symmetric = false;
-        else mirror_[p] = static_cast<int>(m - a.innerIndexPtr());
-      }
-    if (!structurally_symmetric) mirror_.clear();
+    for (int j = 0; j < a.outerSize(); ++j)
+      for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p)
+        if (a.innerIndexPtr()[p] >= j) lower_.push_back(p);
     return lu_.analyze(a, all_);
   }
-  LinearStatus factorize(const SparseMatrixD& a) override {
-    last_ = symmetric_values(a) ? &ldlt_ : &lu_;
-    const std::vector<int>& positions = last_ == &ldlt_ ? lower_ : all_;
+  LinearStatus factorize(const SparseMatrixD& a, bool symmetric) override {
+    last_ = symmetric ? &ldlt_ : &lu_;
+    const std::vector<int>& positions = symmetric ? lower_ : all_;
     if (!last_->analyzed())
       if (LinearStatus s = last_->analyze(a, positions); !s) return s;
     return last_->factorize(a, positions);
@@ -390,20 +369,9 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
   bool symmetric_factorization() const override { return last_ == &ldlt_; }
 
  private:
-  // a(i, j) = a(j, i) to round-off (1e-12 of the largest entry), read through the mirror table
-  bool symmetric_values(const SparseMatrixD& a) const {
-    if (mirror_.empty()) return false;
-    const double* v = a.valuePtr();
-    double largest = 0.0, worst = 0.0;
-    for (std::size_t p = 0; p < mirror_.size(); ++p) {
-      largest = std::max(largest, std::abs(v[p]));
-      worst = std::max(worst, std::abs(v[p] - v[mirror_[p]]));
-    }
-    return worst <= 1e-12 * largest;
-  }
   MumpsInstance lu_, ldlt_;
   MumpsInstance* last_ = nullptr;
-  std::vector<int> all_, lower_, mirror_;  // CSC positions: every entry, lower triangle, mirrored entry
+  std::vector<int> all_, lower_;  // CSC positions: every entry, the lower triangle
 };
 #endif
 
@@ -503,6 +471,15 @@ LinearStatus SparseLinearSolver::analyze(const SparseMatrixD& pattern) {
   n_ = static_cast<int>(pattern.rows());
   outer_.assign(pattern.outerIndexPtr(), pattern.outerIndexPtr() + n_ + 1);
   inner_.assign(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros());
+  mirror_.assign(inner_.size(), -1);
+  for (int j = 0; j < n_; ++j)
+    for (int p = outer_[j]; p < outer_[j + 1]; ++p) {
+      // position of (j, i) in column i = inner_[p]: the rows are sorted in each column
+      const int i = inner_[p];
+      const auto begin = inner_.begin() + outer_[i], end = inner_.begin() + outer_[i + 1];
+      const auto m = std::lower_bound(begin, end, j);
+      if (m != end && *m == j) mirror_[p] = static_cast<int>(m - inner_.begin());
+    }
   analyzed_ = true;
   ++analyses_;
   return s;
@@ -517,15 +494,34 @@ LinearStatus SparseLinearSolver::factorize(const SparseMatrixD& k) {
   if (const int j = first_non_finite_column(k); j >= 0)
     return fail(Code::non_finite_matrix, j, "matrix has a NaN/Inf entry in column (DoF) " + std::to_string(j));
   if (linear_backend_is_symmetric(backend_))
-    if (const int j = first_asymmetric_column(k); j >= 0)
+    if (const int j = first_asymmetric_column(k, 1e-10); j >= 0)
       return fail(Code::not_symmetric, j,
                   "matrix is not symmetric (column " + std::to_string(j) + "); backend '" +
                       std::string(to_string(backend_)) + "' reads one triangle only: use umfpack or sparse_lu");
-  LinearStatus s = impl_->factorize(k);
+  // MUMPS picks LDLᵀ for a symmetric K (static_solvers.md §7.1); the others do not ask
+  const bool symmetric = backend_ == LinearBackend::mumps && first_asymmetric_column(k, 1e-12) < 0;
+  LinearStatus s = impl_->factorize(k, symmetric);
   if (!s) return s;
   factorized_ = true;
   ++factorizations_;
   return s;
+}
+
+int SparseLinearSolver::first_asymmetric_column(const SparseMatrixD& k, double relative_bound) const {
+  const double* v = k.valuePtr();
+  double largest = 0.0;
+  for (int p = 0; p < k.nonZeros(); ++p) largest = std::max(largest, std::abs(v[p]));
+  const double bound = relative_bound * std::max(1e-300, largest);
+  int first = -1;  // the first column of K − Kᵀ with an entry above the bound
+  for (int j = 0; j < n_; ++j)
+    for (int p = outer_[j]; p < outer_[j + 1]; ++p) {
+      const double mirrored = mirror_[p] >= 0 ? v[mirror_[p]] : 0.0;  // absent: a structural zero
+      if (std::abs(v[p] - mirrored) > bound) {
+        const int column = std::min(j, inner_[p]);
+        if (first < 0 || column < first) first = column;
+      }
+    }
+  return first;
 }
 
 int SparseLinearSolver::determinant_sign() const { return factorized_ ? impl_->determinant_sign() : 0; }

@@ -92,12 +92,16 @@ class SparseLinearSolver {
 
  private:
   bool same_pattern(const SparseMatrixD& k) const;
+  /// The first column where K and Kᵀ differ by more than relative_bound × max|K_ij|, −1 when
+  /// symmetric; read through mirror_, no transpose.
+  int first_asymmetric_column(const SparseMatrixD& k, double relative_bound) const;
   LinearBackend backend_;
   std::unique_ptr<Impl> impl_;
   int n_ = 0;
   bool analyzed_ = false, factorized_ = false;
   int analyses_ = 0, factorizations_ = 0;
   std::vector<int> outer_, inner_;  // analyzed pattern
+  std::vector<int> mirror_;         // CSC position of (j, i) for each (i, j), −1 when absent
 };
 
 }  // namespace ff
