@@ -6,7 +6,8 @@
 /// which on the shell dynamics costs more than the arithmetic (docs/performance.md, "one
 /// right-hand side"). dgemv and dtrsv read the panel once in place. The app's flexframe binary
 /// routes MUMPS's, UMFPACK's and CHOLMOD's dgemm_/dtrsm_ through these (app/blas_interpose.cpp);
-/// every other call goes to the BLAS unchanged.
+/// every other call goes to the BLAS unchanged. FLEXFRAME_BLAS_ROUTING=off in the environment
+/// turns the routing off (before/after measurements).
 
 namespace ff::blas {
 
