@@ -8,6 +8,7 @@
 #include <vtkRendererCollection.h>
 #include <vtkUnsignedCharArray.h>
 
+#include "render/png_file.h"
 #include "render/vtk_messages.h"
 
 namespace ff::render {
@@ -76,20 +77,10 @@ RenderSurface::RenderSurface(GraphicsContext& gc, int width, int height) : gc_(g
   window_->SetSize(width, height);
   window_->SetAlphaBitPlanes(0);
 
-  grab_->SetInput(window_);
-  grab_->SetInputBufferTypeToRGB();
-  grab_->ReadFrontBufferOff();
-  grab_->ShouldRerenderOff();  // render_to_png renders explicitly
-  writer_->SetInputConnection(grab_->GetOutputPort());
-  // zlib level 1 instead of VTK's 5: the frames stay lossless and grow by about a third (main
-  // job: 9.5 MB against 7.0 MB for 151 frames), and writing them stops dominating the render:
-  // 16.4 against 13.8 frames/s at 1280x720 (docs/performance.md)
-  writer_->SetCompressionLevel(1);
   ok_ = true;
 }
 
 RenderSurface::~RenderSurface() {
-  grab_->SetInput(nullptr);
   if (window_ != nullptr) {
     // free VTK's GL objects while their context can still be made current (the observers
     // hold &egl_, which outlives the window), then drop the window
@@ -107,23 +98,11 @@ void RenderSurface::make_current() {
 }
 
 bool RenderSurface::render_to_png(const std::string& path, std::string* error) {
-  auto fail = [&](const std::string& why) {
-    if (error) *error = why;
-    return false;
-  };
-  if (!ok_) return fail(error_);
-  MessageCapture vtk_errors;
-  window_->Render();
-  grab_->Modified();
-  writer_->SetFileName(path.c_str());
-  writer_->Write();
-  if (writer_->GetErrorCode() != 0) {
-    std::string why = "could not write PNG '" + path + "'";
-    if (!vtk_errors.empty()) why += ": " + vtk_errors.text();
-    return fail(why);
-  }
-  if (!vtk_errors.empty()) return fail("VTK reported: " + vtk_errors.text());
-  return true;
+  // read back and encode here rather than through vtkWindowToImageFilter + vtkPNGWriter: two
+  // image copies fewer, and libpng with one fixed filter (png_file.h)
+  if (!render_to_rgb(&pixels_, error)) return false;
+  const int* size = window_->GetSize();
+  return write_png_rgb(path, pixels_.data(), size[0], size[1], /*bottom_up=*/true, error);
 }
 
 bool RenderSurface::render_to_rgb(std::vector<unsigned char>* rgb, std::string* error) {

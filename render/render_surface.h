@@ -4,10 +4,8 @@
 /// render window bound to it, with PNG read-back. Used by frame_renderer.cpp and plot.cpp.
 
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
 #include <vtkRenderWindow.h>
 #include <vtkSmartPointer.h>
-#include <vtkWindowToImageFilter.h>
 
 #include <string>
 #include <vector>
@@ -62,8 +60,7 @@ class RenderSurface {
   GraphicsContext::Impl& gc_;
   EglTarget egl_;
   vtkSmartPointer<vtkRenderWindow> window_;
-  vtkNew<vtkWindowToImageFilter> grab_;
-  vtkNew<vtkPNGWriter> writer_;
+  std::vector<unsigned char> pixels_;  // read-back buffer, kept between frames
   unsigned long observer_tags_[2] = {0, 0};
   bool ok_ = false;
   std::string error_;
