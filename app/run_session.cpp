@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -157,6 +158,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   });
 
   // render thread: owns its GL context
+  std::atomic<bool> render_busy{false};
   std::thread render([&] {
     std::unique_ptr<render::GraphicsContext> gc;
     std::unique_ptr<render::FrameRenderer> renderer;
@@ -164,6 +166,11 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     const auto t0 = std::chrono::steady_clock::now();
     while (std::optional<Frame> f = render_ch.pop()) {
       if (!render_error.empty()) continue;  // keep draining so the solver never blocks
+      render_busy = true;  // the element loops leave this core to the renderer until the frame is out
+      struct Idle {
+        std::atomic<bool>& flag;
+        ~Idle() { flag = false; }
+      } idle{render_busy};
       if (!gc) {
         gc = render::GraphicsContext::create(&render_error);
         if (!gc) continue;
@@ -201,10 +208,11 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   // solver on the worker thread
   RunOutcome outcome;
   std::thread worker([&] {
-    // frames render beside the solver: the element loop leaves one core to the renderer, unless
-    // the user set OMP_NUM_THREADS (main job on 2 cores: 16.7 s instead of 20.7 s, docs/performance.md)
+    // frames render beside the solver: while a frame is being rendered the element loops leave
+    // one core to the renderer, otherwise they use all (unless the user set OMP_NUM_THREADS); a
+    // loop thread never waits at a barrier for a core the renderer holds (docs/performance.md)
     if (want_frames && !std::getenv("OMP_NUM_THREADS") && std::thread::hardware_concurrency() > 1)
-      assembly::set_element_threads(static_cast<int>(std::thread::hardware_concurrency()) - 1);
+      assembly::share_cores_with(&render_busy);
     try {
       outcome = sim.run([&](Frame&& f) { store_ch.push(std::move(f)); }, stop);
     } catch (const std::exception& e) {

@@ -18,6 +18,17 @@ bool set_element_threads(int n) {
 #endif
 }
 
+namespace {
+thread_local const std::atomic<bool>* other_busy = nullptr;
+}
+
+void share_cores_with(const std::atomic<bool>* busy) { other_busy = busy; }
+
+int element_threads_now() {
+  const int n = element_threads();
+  return other_busy && other_busy->load(std::memory_order_relaxed) ? std::max(1, n - 1) : n;
+}
+
 int element_threads() {
 #ifdef _OPENMP
   return omp_get_max_threads();

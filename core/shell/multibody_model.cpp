@@ -1,5 +1,7 @@
 #include "core/shell/multibody_model.h"
 
+#include "core/assembly/element_threads.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -213,7 +215,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   constexpr int timing_stride = 8;
   double t_el = 0, t_in = 0, t_gr = 0;
   const bool gravity = spec_.gravity;
-#pragma omp parallel for schedule(static) reduction(+ : t_el, t_in, t_gr)
+#pragma omp parallel for schedule(static) num_threads(assembly::element_threads_now()) reduction(+ : t_el, t_in, t_gr)
   for (int k = 0; k < ne; ++k) {
     const Element& e = elements_[k];
     ElementPoses cur;

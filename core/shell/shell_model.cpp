@@ -1,5 +1,7 @@
 #include "core/shell/shell_model.h"
 
+#include "core/assembly/element_threads.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -398,7 +400,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   // elements in parallel (each writes only its own buffers), then a serial scatter
   const int ne = static_cast<int>(elements_.size());
   const bool prescribed_load = load && !prescribed_.empty();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(assembly::element_threads_now())
   for (int k = 0; k < ne; ++k) {
     const Element& e = elements_[k];
     ElementPoses cur;
