@@ -61,7 +61,7 @@ CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, double
 }
 
 void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, const ElementRates& a, Vec24& F,
-                              const InertiaJacobians& jac) const {
+                              const InertiaJacobians& jac, const Vec3* g) const {
   const Vec3 e3 = Vec3::UnitZ();
   const Mat3 e3x = hat(e3);
   Vec3 w[8], b[8], acc[8];
@@ -79,6 +79,7 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
     const int I = A % 4;
     Vec3 f = Vec3::Zero();
     for (int B = 0; B < 8; ++B) f += mass_matrix_(A, B) * acc[B];
+    if (g) f -= slave_mass_[A] * *g;                           // (D8), same slave and frame
     phi[A] = cur[I].R.transpose() * f;                        // (D4)
     F.segment<3>(6 * I) += phi[A];
     F.segment<3>(6 * I + 3) += side(A) * half_h_ * e3.cross(phi[A]);
@@ -110,7 +111,7 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
         }
     }
   if (jac.stiffness)
-    for (int A = 0; A < 8; ++A) {  // D term of (D7): the local components of f_A turn with R_I
+    for (int A = 0; A < 8; ++A) {  // D term of (D7) (and of (D8) with g): the local components of f_A turn with R_I
       const int I = A % 4;
       const Mat3 px = hat(phi[A]);
       jac.stiffness->block<3, 3>(6 * I, 6 * I + 3) += px;

@@ -27,9 +27,11 @@ class CbShellInertia {
   CbShellInertia(const ElementPoses& reference, double thickness, double density);
 
   /// Inertia force F (D4) for velocities `v` and accelerations `a` (local, per node), with the
-  /// Jacobians that are asked for.
+  /// Jacobians that are asked for. With `g` given, F is the inertia force minus the gravity
+  /// force (D4) − (D8), and jac.stiffness likewise ∂(F − F^g)/∂q, in one pass over the slave
+  /// points: the gravity of a slave joins its inertia force before both turn into the node frame.
   void evaluate(const ElementPoses& current, const ElementRates& v, const ElementRates& a, Vec24& force,
-                const InertiaJacobians& jac = {}) const;
+                const InertiaJacobians& jac = {}, const Vec3* g = nullptr) const;
   /// Generalized gravity force F^g (D8) and, if asked, its derivative ∂F^g/∂q.
   void gravity(const ElementPoses& current, const Vec3& g, Vec24& force, Mat24* dforce_dq) const;
 

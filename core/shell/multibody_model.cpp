@@ -168,14 +168,18 @@ Vec6 MultibodyModel::node_vector(const Eigen::VectorXd& x, int node) const {
 
 void MultibodyModel::configure(const Eigen::VectorXd& step) {
   node_step_.resize(poses_.size());
-  step_is_zero_ = true;
-  for (int I = 0; I < node_count(); ++I) {  // X_WN = X_WN,n exp(step_I) on SE(3) (generalized_alpha.md (G3))
+  const int nn = node_count();
+  bool zero = true;
+  // nodes are independent; an exponential per node is ~5 % of a correction on one thread
+#pragma omp parallel for schedule(static) num_threads(assembly::element_threads_now()) reduction(&& : zero)
+  for (int I = 0; I < nn; ++I) {  // X_WN = X_WN,n exp(step_I) on SE(3) (generalized_alpha.md (G3))
     const Vec6 h = node_vector(step, I);
     const ff::lie::Pose X_WN = ff::lie::Pose{committed_[I].R, committed_[I].p} * ff::lie::exp_se3(h);
     poses_[I] = {X_WN.R, X_WN.p};
     node_step_[I] = h;
-    if (!h.isZero()) step_is_zero_ = false;
+    zero = zero && h.isZero();
   }
+  step_is_zero_ = zero;
 }
 
 void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot,
@@ -213,9 +217,9 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   // ---- shell elements: elastic (S15-S17), inertia (D4-D7), gravity (D8), in parallel ----
   const int ne = static_cast<int>(elements_.size());
   constexpr int timing_stride = 8;
-  double t_el = 0, t_in = 0, t_gr = 0;
+  double t_el = 0, t_in = 0;
   const bool gravity = spec_.gravity;
-#pragma omp parallel for schedule(static) num_threads(assembly::element_threads_now()) reduction(+ : t_el, t_in, t_gr)
+#pragma omp parallel for schedule(static) num_threads(assembly::element_threads_now()) reduction(+ : t_el, t_in)
   for (int k = 0; k < ne; ++k) {
     const Element& e = elements_[k];
     ElementPoses cur;
@@ -234,27 +238,22 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     }
     ElementResult& out = results_[k];
     Vec24 f;
-    Mat24 K, M, C, Kin, Kg;
+    Mat24 K, M, C, Kin;
     // effect_stats: every timing_stride-th element is timed (a clock read costs about as much as
     // a tenth of an element's force), the totals are scaled to all elements below
     const bool timed = k % timing_stride == 0;
-    Clock::time_point t0, t1, t2;
+    Clock::time_point t0, t1;
     if (timed) t0 = Clock::now();
     e.elastic->evaluate(cur, out.r, tangent ? &K : nullptr);
     if (timed) t1 = Clock::now();
-    e.inertia->evaluate(cur, vel, acc, f, tangent ? InertiaJacobians{&M, &C, &Kin} : InertiaJacobians{});
+    // inertia and gravity in one pass (gravity's time is counted in inertia's)
+    e.inertia->evaluate(cur, vel, acc, f, tangent ? InertiaJacobians{&M, &C, &Kin} : InertiaJacobians{},
+                        gravity ? &spec_.g : nullptr);
     out.r += f;
-    if (tangent) K += Kin;  // position derivatives: elastic, inertia, gravity below
+    if (tangent) K += Kin;  // position derivatives: elastic, inertia and gravity
     if (timed) {
-      t2 = Clock::now();
       t_el += std::chrono::duration<double>(t1 - t0).count();
-      t_in += std::chrono::duration<double>(t2 - t1).count();
-    }
-    if (gravity) {
-      e.inertia->gravity(cur, spec_.g, f, tangent ? &Kg : nullptr);
-      out.r -= f;
-      if (tangent) K -= Kg;
-      if (timed) t_gr += std::chrono::duration<double>(Clock::now() - t2).count();
+      t_in += std::chrono::duration<double>(Clock::now() - t1).count();
     }
     if (!tangent) continue;
     if (with_T)  // (G9) per corner, in the corner frame: blockdiag(Cᵀ, Cᵀ) T_SE3(step_I) blockdiag(C, C)
@@ -272,7 +271,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   elastic_.evaluations += ne, elastic_.seconds += scale * t_el;
   ++assemblies_;
   inertia_.evaluations += ne, inertia_.seconds += scale * t_in;
-  if (gravity) gravity_.evaluations += ne, gravity_.seconds += scale * t_gr;
+  if (gravity) gravity_.evaluations += ne;
   for (int k = 0; k < ne; ++k) {
     const Element& e = elements_[k];
     Vec24 F = results_[k].r;
@@ -502,7 +501,8 @@ std::vector<EffectStat> MultibodyModel::effect_stats() const {
   fused("ans", ans_elements_);
   fused("drilling", drilling_elements_);
   own("inertia", inertia_);
-  own("gravity", gravity_);
+  if (gravity_.evaluations)  // one pass with the inertia (cb_shell_inertia.h): its time is inertia's
+    out.push_back({"gravity", gravity_.evaluations, std::numeric_limits<double>::quiet_NaN(), "inertia"});
   own("rigid_body", rigid_);
   own("joints", joints_);
   return out;

@@ -147,6 +147,33 @@ TEST_P(InertiaOn, GravityDerivativeMatchesCentralDifferences) {
   }
 }
 
+// The one-pass inertia-with-gravity (what the multibody model calls) against the two separate
+// kernels: F = F_inertia − F^g and ∂F/∂q = K_inertia − ∂F^g/∂q, the rate Jacobians unchanged,
+// to round-off; and its stiffness against central differences of its own force.
+TEST_P(InertiaOn, OnePassGravityEqualsInertiaMinusGravity) {
+  const ElementPoses r = ref(), cur = deformed(r, 17, 0.1);
+  CbShellInertia in(r, kH, kRho);
+  const ElementRates v = random_rates(21, 2.0), a = random_rates(23, 5.0);
+  const Vec3 g(0.3, -1.0, -9.81);
+  Vec24 f_in, f_g, f_one;
+  Mat24 M, C, K, Kg, M1, C1, K1;
+  in.evaluate(cur, v, a, f_in, {&M, &C, &K});
+  in.gravity(cur, g, f_g, &Kg);
+  in.evaluate(cur, v, a, f_one, {&M1, &C1, &K1}, &g);
+  EXPECT_LT((f_one - (f_in - f_g)).norm(), 1e-13 * (f_in.norm() + f_g.norm()));
+  EXPECT_LT((K1 - (K - Kg)).norm(), 1e-13 * (K.norm() + Kg.norm()));
+  EXPECT_EQ(M1, M);
+  EXPECT_EQ(C1, C);
+  EXPECT_GT(f_g.norm(), 1e-2 * f_in.norm());  // gravity is not negligible here: the check bites
+  Mat24 Kfd;
+  for (int k = 0; k < 24; ++k) {
+    Vec24 fp, fm;
+    in.evaluate(perturb(cur, k, 1e-6), v, a, fp, {}, &g), in.evaluate(perturb(cur, k, -1e-6), v, a, fm, {}, &g);
+    Kfd.col(k) = (fp - fm) / 2e-6;
+  }
+  EXPECT_LT((K1 - Kfd).norm(), 1e-6 * K1.norm());
+}
+
 // Rigid-motion invariance (cb_shell_dynamics.md §2): same local rates, superposed (Q, c)
 TEST_P(InertiaOn, ForceAndJacobiansInvariantUnderRigidMotion) {
   const ElementPoses r = ref(), cur = deformed(r, 17, 0.1);
