@@ -58,6 +58,48 @@ CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, double
         mass_matrix_.noalias() += (density * gw[i] * gw[j] * gw[k] * detJ) * (N * N.transpose());
       }
   slave_mass_ = mass_matrix_.rowwise().sum();
+  for (int I = 0; I < 4; ++I)
+    for (int J = 0; J < 4; ++J) {
+      PairSums& ps = pair_sums_[I][J];
+      ps = PairSums{};
+      for (int si = 0; si < 2; ++si)
+        for (int sj = 0; sj < 2; ++sj) {
+          const int A = I + 4 * si, B = J + 4 * sj;
+          const double m = mass_matrix_(A, B), sa = side(A) * half_h_, sb = side(B) * half_h_;
+          ps.m += m, ps.m_a += m * sa, ps.m_b += m * sb, ps.m_ab += m * sa * sb;
+          ps.c0[sj] += m, ps.c1[sj] += m * sa;
+        }
+    }
+}
+
+// (D5)-(D7) without the D term, term by term over the slave pairs A, B: the plain form of the
+// sum, kept as the oracle of the per-pair form in evaluate()
+void CbShellInertia::add_rate_and_position_blocks_plain(const ElementPoses& cur, const ElementRates& v,
+                                                        const Vec3 w[8], const Vec3 b[8],
+                                                        const InertiaJacobians& jac) const {
+  const Mat3 e3x = hat(Vec3::UnitZ());
+  for (int I = 0; I < 4; ++I)
+    for (int J = 0; J < 4; ++J) {
+      const Mat3 R_IJ = cur[I].R.transpose() * cur[J].R;  // R_IJ = R_WIᵀ R_WJ, I and J the node (corner) frames
+      const Vec3 omJ = v[J].tail<3>();
+      for (int si = 0; si < 2; ++si)
+        for (int sj = 0; sj < 2; ++sj) {
+          const int A = I + 4 * si, B = J + 4 * sj;
+          const double mAB = mass_matrix_(A, B), shA = side(A) * half_h_, shB = side(B) * half_h_;
+          if (jac.mass) jac.mass->block<6, 6>(6 * I, 6 * J) += mAB * sandwich(R_IJ, shA, shB, e3x);  // (D5)
+          if (jac.gyroscopic) {                                                                   // (D6)
+            Eigen::Matrix<double, 3, 6> G;
+            G.leftCols<3>() = R_IJ * hat(omJ);
+            G.rightCols<3>() = R_IJ * (-hat(w[B]) - shB * hat(omJ) * e3x);
+            jac.gyroscopic->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
+          }
+          if (jac.stiffness) {                                                                    // (D7)
+            Eigen::Matrix<double, 3, 6> G = Eigen::Matrix<double, 3, 6>::Zero();
+            G.rightCols<3>() = -R_IJ * hat(b[B]);
+            jac.stiffness->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
+          }
+        }
+    }
 }
 
 void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, const ElementRates& a, Vec24& F,
@@ -88,28 +130,57 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
   if (jac.mass) jac.mass->setZero();
   if (jac.gyroscopic) jac.gyroscopic->setZero();
   if (jac.stiffness) jac.stiffness->setZero();
-  for (int I = 0; I < 4; ++I)
-    for (int J = 0; J < 4; ++J) {
-      const Mat3 R_IJ = cur[I].R.transpose() * cur[J].R;  // R_IJ = R_WIᵀ R_WJ, I and J the node (corner) frames
-      const Vec3 omJ = v[J].tail<3>();
-      for (int si = 0; si < 2; ++si)
-        for (int sj = 0; sj < 2; ++sj) {
-          const int A = I + 4 * si, B = J + 4 * sj;
-          const double mAB = mass_matrix_(A, B), shA = side(A) * half_h_, shB = side(B) * half_h_;
-          if (jac.mass) jac.mass->block<6, 6>(6 * I, 6 * J) += mAB * sandwich(R_IJ, shA, shB, e3x);  // (D5)
-          if (jac.gyroscopic) {                                                                   // (D6)
-            Eigen::Matrix<double, 3, 6> G;
-            G.leftCols<3>() = R_IJ * hat(omJ);
-            G.rightCols<3>() = R_IJ * (-hat(w[B]) - shB * hat(omJ) * e3x);
-            jac.gyroscopic->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
-          }
-          if (jac.stiffness) {                                                                    // (D7)
-            Eigen::Matrix<double, 3, 6> G = Eigen::Matrix<double, 3, 6>::Zero();
-            G.rightCols<3>() = -R_IJ * hat(b[B]);
-            jac.stiffness->block<6, 6>(6 * I, 6 * J) += mAB * left(G, shA, e3x);
-          }
+  if (plain_jacobians_) {
+    add_rate_and_position_blocks_plain(cur, v, w, b, jac);
+  } else {
+    // (D5)-(D7) per node pair: the slaves' four thickness combinations enter only through
+    // m_AB, s_A h/2 and s_B h/2, so their sums (pair_sums_, from the constructor) replace the
+    // four blocks; the rate-dependent parts (w_B, b_B) keep the two slaves of J apart.
+    // add_rate_and_position_blocks_plain is the same sum term by term (the test oracle).
+    for (int I = 0; I < 4; ++I)
+      for (int J = 0; J < 4; ++J) {
+        const PairSums& ps = pair_sums_[I][J];
+        const Mat3 R_IJ = cur[I].R.transpose() * cur[J].R;
+        if (jac.mass) {  // (D5)
+          auto blk = jac.mass->block<6, 6>(6 * I, 6 * J);
+          const Mat3 Xe = R_IJ * e3x;
+          blk.topLeftCorner<3, 3>() = ps.m * R_IJ;
+          blk.topRightCorner<3, 3>() = -ps.m_b * Xe;
+          blk.bottomLeftCorner<3, 3>() = ps.m_a * (e3x * R_IJ);
+          blk.bottomRightCorner<3, 3>() = -ps.m_ab * (e3x * Xe);
         }
-    }
+        if (jac.gyroscopic) {  // (D6)
+          const Mat3 hom = hat(v[J].tail<3>());
+          const Mat3 left3 = R_IJ * hom;
+          Eigen::Matrix<double, 3, 6> G0, G1;
+          G0.leftCols<3>() = (ps.c0[0] + ps.c0[1]) * left3;
+          G1.leftCols<3>() = (ps.c1[0] + ps.c1[1]) * left3;
+          Mat3 r0 = Mat3::Zero(), r1 = Mat3::Zero();
+          for (int sj = 0; sj < 2; ++sj) {
+            const int B = J + 4 * sj;
+            const Mat3 right = R_IJ * (-hat(w[B]) - (side(B) * half_h_) * hom * e3x);
+            r0 += ps.c0[sj] * right;
+            r1 += ps.c1[sj] * right;
+          }
+          G0.rightCols<3>() = r0;
+          G1.rightCols<3>() = r1;
+          auto blk = jac.gyroscopic->block<6, 6>(6 * I, 6 * J);
+          blk.topRows<3>() = G0;
+          blk.bottomRows<3>() = e3x * G1;
+        }
+        if (jac.stiffness) {  // (D7) without its D term
+          Mat3 r0 = Mat3::Zero(), r1 = Mat3::Zero();
+          for (int sj = 0; sj < 2; ++sj) {
+            const Mat3 right = -R_IJ * hat(b[J + 4 * sj]);
+            r0 += ps.c0[sj] * right;
+            r1 += ps.c1[sj] * right;
+          }
+          auto blk = jac.stiffness->block<6, 6>(6 * I, 6 * J);
+          blk.topRightCorner<3, 3>() = r0;
+          blk.bottomRightCorner<3, 3>() = e3x * r1;
+        }
+      }
+  }
   if (jac.stiffness)
     for (int A = 0; A < 8; ++A) {  // D term of (D7) (and of (D8) with g): the local components of f_A turn with R_I
       const int I = A % 4;

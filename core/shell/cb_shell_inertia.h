@@ -41,10 +41,23 @@ class CbShellInertia {
   /// −Σ f^g_A · x_A (D8).
   double gravity_potential(const ElementPoses& current, const Vec3& g) const;
   double mass() const { return slave_mass_.sum(); }
+  /// Test oracle: true makes evaluate() form the Jacobians (D5)-(D7) term by term over the 64
+  /// slave pairs instead of the per-node-pair sums (cb_shell_dynamics.md §3).
+  void set_plain_jacobians(bool plain) { plain_jacobians_ = plain; }
   const Eigen::Matrix<double, 8, 8>& slave_mass() const { return mass_matrix_; }
 
  private:
+  // Σ over the thickness combinations of node pair (I, J) (A = I + 4 s_i, B = J + 4 s_j):
+  // m_AB, m_AB s_A h/2, m_AB s_B h/2, m_AB s_A s_B h²/4, and per s_j: m_AB and m_AB s_A h/2
+  struct PairSums {
+    double m = 0, m_a = 0, m_b = 0, m_ab = 0;
+    double c0[2] = {0, 0}, c1[2] = {0, 0};
+  };
+  void add_rate_and_position_blocks_plain(const ElementPoses& current, const ElementRates& v, const Vec3 w[8],
+                                          const Vec3 b[8], const InertiaJacobians& jac) const;
   double half_h_;
+  PairSums pair_sums_[4][4];
+  bool plain_jacobians_ = false;
   Eigen::Matrix<double, 8, 8> mass_matrix_;  // m_AB (D3); slave A = master A % 4, side + for A < 4
   Eigen::Matrix<double, 8, 1> slave_mass_;  // row sums: Σ_B m_AB
 };

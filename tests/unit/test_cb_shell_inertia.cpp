@@ -147,6 +147,25 @@ TEST_P(InertiaOn, GravityDerivativeMatchesCentralDifferences) {
   }
 }
 
+// The per-node-pair Jacobians (what evaluate() uses) against the plain sum over the 64 slave
+// pairs (set_plain_jacobians, the oracle): the same matrices to round-off.
+TEST_P(InertiaOn, PairSumJacobiansEqualThePlainSlaveSum) {
+  const ElementPoses r = ref(), cur = deformed(r, 29, 0.1);
+  CbShellInertia fast(r, kH, kRho), plain(r, kH, kRho);
+  plain.set_plain_jacobians(true);
+  const ElementRates v = random_rates(31, 2.0), a = random_rates(33, 5.0);
+  const Vec3 g(0.3, -1.0, -9.81);
+  Vec24 f1, f2;
+  Mat24 M1, C1, K1, M2, C2, K2;
+  fast.evaluate(cur, v, a, f1, {&M1, &C1, &K1}, &g);
+  plain.evaluate(cur, v, a, f2, {&M2, &C2, &K2}, &g);
+  EXPECT_EQ(f1, f2);  // the force path is shared
+  EXPECT_LT((M1 - M2).norm(), 1e-14 * M2.norm());
+  EXPECT_LT((C1 - C2).norm(), 1e-14 * C2.norm());
+  EXPECT_LT((K1 - K2).norm(), 1e-14 * K2.norm());
+  EXPECT_GT(C2.norm(), 1e-3 * M2.norm());  // not vacuous
+}
+
 // The one-pass inertia-with-gravity (what the multibody model calls) against the two separate
 // kernels: F = F_inertia − F^g and ∂F/∂q = K_inertia − ∂F^g/∂q, the rate Jacobians unchanged,
 // to round-off; and its stiffness against central differences of its own force.
