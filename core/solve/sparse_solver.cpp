@@ -38,6 +38,21 @@ int first_non_finite_column(const SparseMatrixD& k) {
   return -1;
 }
 
+// CSC position of (j, i) for each entry (i, j) of a compressed square pattern, −1 when absent
+// (the rows are sorted in each column)
+std::vector<int> mirror_positions(const SparseMatrixD& k) {
+  const int* outer = k.outerIndexPtr();
+  const int* inner = k.innerIndexPtr();
+  std::vector<int> mirror(static_cast<std::size_t>(k.nonZeros()), -1);
+  for (int j = 0; j < k.outerSize(); ++j)
+    for (int p = outer[j]; p < outer[j + 1]; ++p) {
+      const int i = inner[p];
+      const int* m = std::lower_bound(inner + outer[i], inner + outer[i + 1], j);
+      if (m != inner + outer[i + 1] && *m == j) mirror[p] = static_cast<int>(m - inner);
+    }
+  return mirror;
+}
+
 std::string singular_message(int dof) {
   std::ostringstream m;
   m << "singular matrix: zero pivot";
@@ -471,21 +486,36 @@ LinearStatus SparseLinearSolver::analyze(const SparseMatrixD& pattern) {
   n_ = static_cast<int>(pattern.rows());
   outer_.assign(pattern.outerIndexPtr(), pattern.outerIndexPtr() + n_ + 1);
   inner_.assign(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros());
-  mirror_.assign(inner_.size(), -1);
-  for (int j = 0; j < n_; ++j)
-    for (int p = outer_[j]; p < outer_[j + 1]; ++p) {
-      // position of (j, i) in column i = inner_[p]: the rows are sorted in each column
-      const int i = inner_[p];
-      const auto begin = inner_.begin() + outer_[i], end = inner_.begin() + outer_[i + 1];
-      const auto m = std::lower_bound(begin, end, j);
-      if (m != end && *m == j) mirror_[p] = static_cast<int>(m - inner_.begin());
-    }
+  mirror_ = mirror_positions(pattern);
   analyzed_ = true;
   ++analyses_;
   return s;
 }
 
-LinearStatus SparseLinearSolver::factorize(const SparseMatrixD& k) {
+LinearStatus SparseLinearSolver::factorize(const SparseMatrixD& k) { return factorize_values(k, false); }
+
+LinearStatus SparseLinearSolver::factorize_symmetric_part(SparseMatrixD& k) {
+  if (k.rows() != k.cols() || !k.isCompressed()) return factorize(k);  // which says what is wrong
+  const bool analyzed_pattern = same_pattern(k);
+  const std::vector<int> fresh = analyzed_pattern ? std::vector<int>{} : mirror_positions(k);  // a new pattern's
+  const std::vector<int>& mirror = analyzed_pattern ? mirror_ : fresh;
+  if (std::find(mirror.begin(), mirror.end(), -1) != mirror.end()) {
+    const SparseMatrixD transposed = k.transpose();
+    k = 0.5 * (k + transposed);
+    k.makeCompressed();
+  } else {
+    double* v = k.valuePtr();
+    for (std::size_t p = 0; p < mirror.size(); ++p) {
+      const auto m = static_cast<std::size_t>(mirror[p]);
+      if (m < p) continue;  // the pair was averaged from its first entry
+      const double mean = 0.5 * (v[p] + v[m]);  // as 0.5 (K + Kᵀ) forms it
+      v[p] = v[m] = mean;
+    }
+  }
+  return factorize_values(k, true);
+}
+
+LinearStatus SparseLinearSolver::factorize_values(const SparseMatrixD& k, bool known_symmetric) {
   factorized_ = false;
   if (!same_pattern(k)) {
     LinearStatus s = analyze(k);
@@ -493,13 +523,13 @@ LinearStatus SparseLinearSolver::factorize(const SparseMatrixD& k) {
   }
   if (const int j = first_non_finite_column(k); j >= 0)
     return fail(Code::non_finite_matrix, j, "matrix has a NaN/Inf entry in column (DoF) " + std::to_string(j));
-  if (linear_backend_is_symmetric(backend_))
+  if (linear_backend_is_symmetric(backend_) && !known_symmetric)
     if (const int j = first_asymmetric_column(k, 1e-10); j >= 0)
       return fail(Code::not_symmetric, j,
                   "matrix is not symmetric (column " + std::to_string(j) + "); backend '" +
                       std::string(to_string(backend_)) + "' reads one triangle only: use umfpack or sparse_lu");
   // MUMPS picks LDLᵀ for a symmetric K (static_solvers.md §7.1); the others do not ask
-  const bool symmetric = backend_ == LinearBackend::mumps && first_asymmetric_column(k, 1e-12) < 0;
+  const bool symmetric = backend_ == LinearBackend::mumps && (known_symmetric || first_asymmetric_column(k, 1e-12) < 0);
   LinearStatus s = impl_->factorize(k, symmetric);
   if (!s) return s;
   factorized_ = true;

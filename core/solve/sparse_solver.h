@@ -72,6 +72,10 @@ class SparseLinearSolver {
   /// Numeric factorization. Re-analyzes by itself when K's pattern differs from the analyzed one
   /// (compared index by index, O(nnz)), so callers may simply call factorize() every iteration.
   LinearStatus factorize(const SparseMatrixD& k);
+  /// Replaces K by its symmetric part ½(K + Kᵀ), in place through the mirror table of the
+  /// pattern (a structurally unsymmetric pattern takes the transpose and the sum: the same
+  /// numbers), and factorizes that: a backend that can use symmetry does (static_solvers.md §7.1).
+  LinearStatus factorize_symmetric_part(SparseMatrixD& k);
   /// x = K⁻¹ b with the last successful factorization.
   LinearStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
 
@@ -92,6 +96,8 @@ class SparseLinearSolver {
 
  private:
   bool same_pattern(const SparseMatrixD& k) const;
+  /// factorize() for a K known to be exactly symmetric (no check) or not (checked as it says)
+  LinearStatus factorize_values(const SparseMatrixD& k, bool known_symmetric);
   /// The first column where K and Kᵀ differ by more than relative_bound × max|K_ij|, −1 when
   /// symmetric; read through mirror_, no transpose.
   int first_asymmetric_column(const SparseMatrixD& k, double relative_bound) const;

@@ -1,7 +1,5 @@
 #include "core/solve/static_common.h"
 
-#include <algorithm>
-
 #include <cstdio>
 
 namespace ff {
@@ -106,46 +104,15 @@ bool StaticKernel::evaluate(double lambda, bool with_tangent) {
   return true;
 }
 
-// ½(K + Kᵀ) in place, through a table of mirrored positions built once per pattern: the same
-// numbers as forming the transpose and the sum (0.5 (a + b) either way), without either matrix.
-// A pattern that is not structurally symmetric (an entry without its mirror) takes the sum.
-void StaticKernel::symmetrize_tangent() {
-  const int n = static_cast<int>(tangent_.cols());
-  const int* outer = tangent_.outerIndexPtr();
-  const int* inner = tangent_.innerIndexPtr();
-  if (static_cast<Eigen::Index>(tangent_mirror_.size()) != tangent_.nonZeros()) {
-    tangent_mirror_.assign(static_cast<std::size_t>(tangent_.nonZeros()), -1);
-    for (int j = 0; j < n; ++j)
-      for (int p = outer[j]; p < outer[j + 1]; ++p) {
-        const int i = inner[p];
-        const int* m = std::lower_bound(inner + outer[i], inner + outer[i + 1], j);
-        if (m != inner + outer[i + 1] && *m == j) tangent_mirror_[p] = static_cast<int>(m - inner);
-      }
-  }
-  if (std::find(tangent_mirror_.begin(), tangent_mirror_.end(), -1) != tangent_mirror_.end()) {
-    const SparseMatrixD transposed = tangent_.transpose();
-    tangent_ = 0.5 * (tangent_ + transposed);
-    tangent_.makeCompressed();
-    tangent_mirror_.clear();
-    return;
-  }
-  double* v = tangent_.valuePtr();
-  for (std::size_t p = 0; p < tangent_mirror_.size(); ++p) {
-    const std::size_t m = static_cast<std::size_t>(tangent_mirror_[p]);
-    if (m < p) continue;  // the pair was done from its first entry
-    const double mean = 0.5 * (v[p] + v[m]);
-    v[p] = v[m] = mean;
-  }
-}
-
 bool StaticKernel::refresh_tangent(double lambda) {
   if (!(tangent_current_ && tangent_lambda_ == lambda) && !evaluate(lambda, true)) return false;
   tangent_.makeCompressed();
   // the symmetric part where it is as good as K (eq. 7.1) and the backend gains from it
   const bool exploits_symmetry =
       linear_.backend() == LinearBackend::mumps || linear_backend_is_symmetric(linear_.backend());
-  if (exploits_symmetry && problem_.tangent_symmetric_at_equilibrium()) symmetrize_tangent();
-  const LinearStatus s = linear_.factorize(tangent_);
+  const LinearStatus s = exploits_symmetry && problem_.tangent_symmetric_at_equilibrium()
+                             ? linear_.factorize_symmetric_part(tangent_)
+                             : linear_.factorize(tangent_);
   if (!s) {
     factorized_ = false;
     failure_ = "tangent factorization failed: " + s.message;

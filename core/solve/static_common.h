@@ -165,9 +165,7 @@ class StaticKernel {
   Eigen::VectorXd w2_, iw2_;  // s_i², 1/s_i²
   Eigen::VectorXd magnitude_;  // state magnitudes m_j of eq. (3')
   Eigen::VectorXd r_, f_;
-  void symmetrize_tangent();
   SparseMatrixD tangent_;
-  std::vector<int> tangent_mirror_;  // CSC position of (j, i) for each entry (i, j) of tangent_, −1 when absent
   SparseLinearSolver linear_;
   bool tangent_current_ = false;  // tangent_ was evaluated at the current state, at λ = tangent_lambda_
   double tangent_lambda_ = 0.0;
