@@ -100,12 +100,22 @@ void RenderSurface::make_current() {
 bool RenderSurface::render_to_png(const std::string& path, std::string* error) {
   // read back and encode here rather than through vtkWindowToImageFilter + vtkPNGWriter: two
   // image copies fewer, and libpng with one fixed filter (png_file.h)
-  if (!render_to_rgb(&pixels_, error)) return false;
+  std::string vtk_messages;
+  if (!render_and_read(&pixels_, &vtk_messages, error)) return false;
+  if (!vtk_messages.empty()) {  // a frame VTK complained about is not written as if it were fine
+    if (error) *error = "VTK reported: " + vtk_messages;
+    return false;
+  }
   const int* size = window_->GetSize();
   return write_png_rgb(path, pixels_.data(), size[0], size[1], /*bottom_up=*/true, error);
 }
 
 bool RenderSurface::render_to_rgb(std::vector<unsigned char>* rgb, std::string* error) {
+  std::string vtk_messages;
+  return render_and_read(rgb, &vtk_messages, error);
+}
+
+bool RenderSurface::render_and_read(std::vector<unsigned char>* rgb, std::string* vtk_messages, std::string* error) {
   if (!ok_) {
     if (error) *error = error_;
     return false;
@@ -115,8 +125,9 @@ bool RenderSurface::render_to_rgb(std::vector<unsigned char>* rgb, std::string* 
   const int* size = window_->GetSize();
   const int w = size[0], h = size[1];
   vtkNew<vtkUnsignedCharArray> pixels;
-  // the back buffer: where VTK's off-screen framebuffer is read from (as the PNG path does)
+  // the back buffer: where VTK's off-screen framebuffer is read from
   window_->GetPixelData(0, 0, w - 1, h - 1, 0, pixels, 0);
+  *vtk_messages = vtk_errors.text();
   if (pixels->GetNumberOfValues() != static_cast<vtkIdType>(3) * w * h) {
     if (error) *error = "could not read the rendered image back" + (vtk_errors.empty() ? "" : ": " + vtk_errors.text());
     return false;

@@ -49,14 +49,17 @@ class RenderSurface {
   vtkRenderWindow* window() { return window_; }
   void make_current();
 
-  /// Renders the window and writes its colour buffer (RGB) as PNG. Errors raised by VTK
-  /// during the call (e.g. an unwritable path) make it fail with their text in *error.
+  /// Renders the window and writes its colour buffer (RGB) as PNG. Errors raised by VTK during
+  /// the render make it fail with their text in *error, as does a file that cannot be written
+  /// (with the path and the system's reason).
   bool render_to_png(const std::string& path, std::string* error);
   /// Renders the window and reads its colour buffer into *rgb: 3 bytes per pixel, rows from the
   /// bottom up (OpenGL order), width x height of the window.
   bool render_to_rgb(std::vector<unsigned char>* rgb, std::string* error);
 
  private:
+  // renders and reads the colour buffer; VTK errors and warnings raised meanwhile go to *vtk_messages
+  bool render_and_read(std::vector<unsigned char>* rgb, std::string* vtk_messages, std::string* error);
   GraphicsContext::Impl& gc_;
   EglTarget egl_;
   vtkSmartPointer<vtkRenderWindow> window_;
