@@ -32,7 +32,8 @@ class CbShellInertia {
   /// points: the gravity of a slave joins its inertia force before both turn into the node frame.
   void evaluate(const ElementPoses& current, const ElementRates& v, const ElementRates& a, Vec24& force,
                 const InertiaJacobians& jac = {}, const Vec3* g = nullptr) const;
-  /// Generalized gravity force F^g (D8) and, if asked, its derivative ∂F^g/∂q.
+  /// Generalized gravity force F^g (D8) and, if asked, its derivative ∂F^g/∂q, on its own. The
+  /// multibody model takes gravity in evaluate()'s pass instead; this is that pass's oracle.
   void gravity(const ElementPoses& current, const Vec3& g, Vec24& force, Mat24* dforce_dq) const;
 
   double kinetic_energy(const ElementPoses& current, const ElementRates& v) const;  ///< (D15)
