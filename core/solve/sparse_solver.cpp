@@ -1,5 +1,7 @@
 #include "core/solve/sparse_solver.h"
 
+#include "core/solve/equilibrate.h"
+
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
@@ -268,6 +270,7 @@ class MumpsInstance {
     icntl(7) = 7;
     icntl(24) = 1;   // null pivot detection, so a singular K is reported, not factorized
     icntl(33) = 1;   // the determinant (its sign marks limit and bifurcation points)
+    icntl(8) = -1;   // the row and column scaling is ours, kept across factorizations (static_solvers.md §7.2)
   }
   ~MumpsInstance() {
     if (!initialised_) return;
@@ -304,10 +307,53 @@ class MumpsInstance {
     dmumps_c(&id_);
     if (id_.infog[0] < 0) return fail(Code::backend_error, -1, "MUMPS analysis failed (INFOG(1) = " + std::to_string(id_.infog[0]) + ")");
     analyzed_ = true;
+    scaled_ = false;
     return {};
   }
   LinearStatus factorize(const SparseMatrixD& a, const std::vector<int>& positions) {
     for (std::size_t q = 0; q < positions.size(); ++q) values_[q] = a.valuePtr()[positions[q]];
+    // §7.2: the scaling of an earlier matrix of the pattern is kept while it still balances this
+    // one's rows and columns to within a factor scaling_spread; a factorization that fails on a kept
+    // scaling is tried once more on a current one
+    const bool kept = scaled_ && scaling_still_balances(id_.n, values_.size(), irn_.data(), jcn_.data(), 1,
+                                                        values_.data(), id_.sym != 0, row_scale_, col_scale_,
+                                                        scaling_spread);
+    if (!kept) rescale();
+    LinearStatus st = factorize_scaled();
+    if (!st && kept) {
+      rescale();
+      st = factorize_scaled();
+    }
+    return st;
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+    x = b;
+    id_.rhs = x.data();
+    id_.nrhs = 1;
+    id_.lrhs = static_cast<int>(x.size());
+    id_.job = 3;
+    dmumps_c(&id_);
+    return id_.infog[0] >= 0;
+  }
+  int determinant_sign() const {
+    // det = RINFOG(12) * 2^INFOG(34)
+    const double mantissa = id_.rinfog[11];
+    return mantissa > 0.0 ? 1 : (mantissa < 0.0 ? -1 : 0);
+  }
+
+ private:
+  // MUMPS recomputes its automatic scaling (ICNTL(8) = 77) at every factorization, about a tenth of
+  // a factorization at these sizes, for magnitudes that hardly move between two Newton matrices
+  static constexpr double scaling_spread = 4.0;
+  void rescale() {
+    equilibrate_inf_norm(id_.n, values_.size(), irn_.data(), jcn_.data(), 1, values_.data(), id_.sym != 0,
+                         row_scale_, col_scale_);
+    id_.rowsca = row_scale_.data();
+    id_.colsca = col_scale_.data();
+    id_.rowsca_from_mumps = id_.colsca_from_mumps = 0;
+    scaled_ = true;
+  }
+  LinearStatus factorize_scaled() {
     for (int attempt = 0;; ++attempt) {
       id_.job = 2;
       dmumps_c(&id_);
@@ -328,27 +374,14 @@ class MumpsInstance {
       return fail(Code::backend_error, -1, "MUMPS factorization failed (INFOG(1) = " + std::to_string(id_.infog[0]) + ")");
     return {};
   }
-  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-    x = b;
-    id_.rhs = x.data();
-    id_.nrhs = 1;
-    id_.lrhs = static_cast<int>(x.size());
-    id_.job = 3;
-    dmumps_c(&id_);
-    return id_.infog[0] >= 0;
-  }
-  int determinant_sign() const {
-    // det = RINFOG(12) * 2^INFOG(34)
-    const double mantissa = id_.rinfog[11];
-    return mantissa > 0.0 ? 1 : (mantissa < 0.0 ? -1 : 0);
-  }
 
- private:
   int& icntl(int k) { return id_.icntl[k - 1]; }  // MUMPS documents ICNTL 1-based
   DMUMPS_STRUC_C id_{};
   bool initialised_ = false, analyzed_ = false;
   std::vector<int> irn_, jcn_;
   std::vector<double> values_;
+  std::vector<double> row_scale_, col_scale_;
+  bool scaled_ = false;  // row_scale_, col_scale_ hold a scaling of this analysis's pattern
 };
 
 // MUMPS with a nested-dissection ordering: on 2-D shell meshes it keeps the factor's fill at
