@@ -7,6 +7,7 @@
 #include <vtkColorTransferFunction.h>
 #include <vtkDoubleArray.h>
 #include <vtkLookupTable.h>
+#include <vtkMath.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -35,6 +36,9 @@ namespace {
 constexpr double kBodyColor[3] = {0.22, 0.42, 0.69};   // uniform colour without a field
 constexpr double kGhostColor[3] = {0.74, 0.74, 0.76};  // undeformed body
 constexpr double kEdgeColor[3] = {0.20, 0.22, 0.26};
+// the ghost surface looks like this opacity over the background (drawn opaque beneath the body:
+// a translucent actor sends llvmpipe through VTK's order-independent translucency passes, which
+// cost 43 % of a replay of the main job; docs/performance.md)
 constexpr double kGhostSurfaceOpacity = 0.20;
 constexpr double kGhostTubeFraction = 0.55;  // ghost tube radius / body tube radius
 constexpr int kTubeSides = 20;
@@ -86,7 +90,8 @@ struct FrameRenderer::Impl {
   std::array<double, 2> range{0, 0};
 
   std::unique_ptr<RenderSurface> surface;
-  vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkRenderer> renderer;  // layer 1: the body, overlay text and colour bar
+  vtkNew<vtkRenderer> underlay;  // layer 0: background and ghost surface, beneath the body
   vtkNew<vtkPoints> points, base_points;
   vtkNew<vtkDoubleArray> scalars;
   vtkNew<vtkPolyData> lines, surfaces, ghost_lines, ghost_surfaces;
@@ -104,6 +109,7 @@ struct FrameRenderer::Impl {
   bool update(const Frame& frame, std::string* why);
   void update_range(const std::vector<double>& values);
   void apply_camera(const Camera& c);
+  void reset_clipping_range();  // near and far planes around what both layers draw
   void set_bar_labels();
   // layout of the overlay, in pixels
   double margin_px() const { return std::round(0.018 * style.height); }
@@ -293,19 +299,45 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
       // pushed behind coincident body surfaces (rigid parts) so it never shows through them
       ghost_surface_mapper->SetRelativeCoincidentTopologyPolygonOffsetParameters(2.0, 20.0);
       ghost_surface_actor->SetMapper(ghost_surface_mapper);
-      ghost_surface_actor->GetProperty()->SetColor(kGhostColor[0], kGhostColor[1], kGhostColor[2]);
-      ghost_surface_actor->GetProperty()->SetOpacity(kGhostSurfaceOpacity);
-      renderer->AddActor(ghost_surface_actor);
+      // opaque, beneath the body, lit as a = kGhostSurfaceOpacity of the ghost over the background
+      // would be: (1 − a) background + a ghost cos θ, by the ambient and diffuse colours
+      vtkProperty* ghost = ghost_surface_actor->GetProperty();
+      const double a = kGhostSurfaceOpacity;
+      ghost->SetAmbientColor((1 - a) * style.background[0], (1 - a) * style.background[1], (1 - a) * style.background[2]);
+      ghost->SetDiffuseColor(a * kGhostColor[0], a * kGhostColor[1], a * kGhostColor[2]);
+      ghost->SetAmbient(1.0);
+      ghost->SetDiffuse(1.0);
+      ghost->SetSpecular(0.0);
+      underlay->AddActor(ghost_surface_actor);
     }
   }
 
   apply_camera(camera);
 
-  renderer->SetBackground(style.background[0], style.background[1], style.background[2]);
+  // two layers on one camera: the body's layer keeps the colour the underlay drew and clears only
+  // depth, so the body is always drawn over the ghost (VTK's default for layers above 0)
+  underlay->SetLayer(0);
+  renderer->SetLayer(1);
+  underlay->SetActiveCamera(renderer->GetActiveCamera());
+  underlay->SetBackground(style.background[0], style.background[1], style.background[2]);
   renderer->SetUseFXAA(style.antialias);
+  underlay->SetUseFXAA(style.antialias);
   build_overlay(info);
+  surface->window()->SetNumberOfLayers(2);
+  surface->window()->AddRenderer(underlay);
   surface->window()->AddRenderer(renderer);
+  reset_clipping_range();
   return true;
+}
+
+void FrameRenderer::Impl::reset_clipping_range() {
+  double body[6], ghost[6];
+  renderer->ComputeVisiblePropBounds(body);
+  underlay->ComputeVisiblePropBounds(ghost);
+  if (!vtkMath::AreBoundsInitialized(ghost)) return renderer->ResetCameraClippingRange();
+  if (vtkMath::AreBoundsInitialized(body))
+    for (int k = 0; k < 3; ++k) ghost[2 * k] = std::min(ghost[2 * k], body[2 * k]), ghost[2 * k + 1] = std::max(ghost[2 * k + 1], body[2 * k + 1]);
+  renderer->ResetCameraClippingRange(ghost);
 }
 
 void FrameRenderer::Impl::apply_camera(const Camera& c) {
@@ -316,7 +348,7 @@ void FrameRenderer::Impl::apply_camera(const Camera& c) {
   cam->SetParallelProjection(c.parallel);
   cam->SetParallelScale(c.parallel_scale);
   cam->SetViewAngle(30.0);
-  renderer->ResetCameraClippingRange();
+  reset_clipping_range();
 }
 
 void FrameRenderer::Impl::build_overlay(const RunInfo& info) {
@@ -455,7 +487,7 @@ bool FrameRenderer::Impl::update(const Frame& frame, std::string* why) {
   ghost_surface_actor->SetVisibility(have_base);
 
   status->SetInput(status_line(status_info, frame, s).c_str());
-  renderer->ResetCameraClippingRange();
+  reset_clipping_range();
   return true;
 }
 
@@ -504,7 +536,7 @@ void FrameRenderer::orbit(double azimuth_deg, double elevation_deg) {
   cam->Azimuth(azimuth_deg);
   cam->Elevation(elevation_deg);
   cam->OrthogonalizeViewUp();
-  impl_->renderer->ResetCameraClippingRange();
+  impl_->reset_clipping_range();
 }
 
 void FrameRenderer::zoom(double factor) {
@@ -515,7 +547,7 @@ void FrameRenderer::zoom(double factor) {
     cam->SetParallelScale(cam->GetParallelScale() / factor);
   else
     cam->Dolly(factor);
-  impl_->renderer->ResetCameraClippingRange();
+  impl_->reset_clipping_range();
 }
 
 void FrameRenderer::pan(double dx_px, double dy_px) {
@@ -537,7 +569,7 @@ void FrameRenderer::pan(double dx_px, double dy_px) {
   for (int k = 0; k < 3; ++k) shift[k] = w * (-dx_px * right[k] + dy_px * up[k]);
   cam->SetFocalPoint(f[0] + shift[0], f[1] + shift[1], f[2] + shift[2]);
   cam->SetPosition(p[0] + shift[0], p[1] + shift[1], p[2] + shift[2]);
-  impl_->renderer->ResetCameraClippingRange();
+  impl_->reset_clipping_range();
 }
 
 void FrameRenderer::reset_camera() {

@@ -9,8 +9,9 @@
 ///  - triangles and quads as lit, shaded surfaces, with thin element edges when elements are
 ///    at least ~14 px across in the image;
 ///  - with FrameStyle::show_base, a faint grey ghost of Frame::base_points (the undeformed
-///    body carried by its rigid motion): thin grey tubes inside/behind the beams, translucent
-///    surfaces pushed behind coincident body surfaces; hidden when a frame has no base_points;
+///    body carried by its rigid motion): thin grey tubes inside/behind the beams, and surfaces
+///    drawn beneath the body (a layer under it, opaque but coloured as 20 % grey over the
+///    background: cheaper than translucency on llvmpipe); hidden when a frame has no base_points;
 ///  - a colour bar titled "label [unit]" when a field is chosen ('cool to warm' map with a
 ///    mid grey, round tick values) in a strip at the right (15 % of the width); the
 ///    automatic camera centres the body in the area left of it;

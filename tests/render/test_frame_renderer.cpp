@@ -293,6 +293,53 @@ TEST_F(FrameRendererTest, ShellIsShadedInAnIsometricView) {
   EXPECT_GT(distinct, 10);
 }
 
+// The ghost of a shell (its base_points) is drawn beneath the body, opaque but coloured as 20 %
+// grey over the background: where the moved body lies behind the ghost the body shows, where only
+// the ghost is the pixel is (1 - 0.2) background + 0.2 ghost colour (top view, lit head-on), and
+// the rest is background (frame_renderer.cpp, kGhostSurfaceOpacity).
+TEST_F(FrameRendererTest, ShellGhostLiesBeneathTheBodyAsAFaintGrey) {
+  RunInfo info;
+  info.scene_name = "plate";
+  auto& p = info.mesh.reference_points;
+  const int nx = 8, ny = 4;  // 2 m x 1 m in the xy-plane
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) p.insert(p.end(), {2.0 * i / nx, 1.0 * j / ny, 0.0});
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int a = j * (nx + 1) + i;
+      info.mesh.quads.insert(info.mesh.quads.end(), {a, a + 1, a + nx + 2, a + nx + 1});
+    }
+  Frame f;
+  f.base_points = p;
+  f.points = p;
+  for (std::size_t i = 0; i < f.points.size(); i += 3) f.points[i] += 0.8, f.points[i + 2] -= 0.3;  // right, behind
+  FrameStyle style;
+  style.fit_points = f.points;
+  style.camera.view_direction = {0, 0, 1};  // from above, y up
+  style.camera.view_up = {0, 1, 0};
+  FrameRenderer renderer(*gc_, info, style);
+  ASSERT_TRUE(renderer.ok()) << renderer.error();
+  const std::string path = test::out_dir() + "/ghost_beneath.png";
+  std::string err;
+  ASSERT_TRUE(renderer.render_png(f, path, &err)) << err;
+  const test::Image img = test::read_png(path);
+  const Camera cam = renderer.camera();
+  ASSERT_GT(cam.position[2] - cam.focal_point[2], 0);  // looking down on the plane
+  const auto blue = [](const std::array<std::uint8_t, 3>& q) { return q[2] > q[0] + 60; };
+  const auto at = [&](double x, double y) {
+    const auto px = test::to_pixel(cam, img.width, img.height, x, y);
+    return img.at(px[0], px[1]);
+  };
+  // body behind the ghost: drawn over it, untinted, the same colour as where it is alone (both
+  // points mid-quad, away from the drawn edges)
+  EXPECT_TRUE(blue(at(2.425, 0.375)));
+  EXPECT_EQ(at(1.425, 0.375), at(2.425, 0.375));
+  const auto ghost = at(0.4, 0.375);  // ghost alone
+  const double expected[3] = {255 * (0.8 + 0.2 * 0.74), 255 * (0.8 + 0.2 * 0.74), 255 * (0.8 + 0.2 * 0.76)};
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(ghost[c], expected[c], 6.0) << "channel " << c;
+  EXPECT_TRUE(is_background(at(1.4, 1.3)));  // above both
+}
+
 TEST_F(FrameRendererTest, AutomaticColourRangeIsKeptAndOnlyWidened) {
   FrameRenderer renderer(*gc_, info_, field_style());
   const std::string path = test::out_dir() + "/range.png";
