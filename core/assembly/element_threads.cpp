@@ -1,26 +1,48 @@
 #include "core/assembly/element_threads.h"
 
-#include <algorithm>
+#include <oneapi/tbb/info.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
+#include <oneapi/tbb/task_arena.h>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include <algorithm>
+#include <array>
+#include <cstdlib>
+#include <memory>
+#include <mutex>
 
 namespace ff::assembly {
 
-bool set_element_threads(int n) {
-#ifdef _OPENMP
-  omp_set_num_threads(std::max(1, n));  // the calling thread's nthreads-var: its later parallel regions
-  return true;
-#else
-  (void)n;
-  return false;
-#endif
+namespace {
+thread_local int chosen_threads = 0;  // set_element_threads on this thread; 0 = not set
+thread_local const std::atomic<bool>* other_busy = nullptr;
+
+int default_threads() {
+  static const int n = [] {
+    if (const char* v = std::getenv("OMP_NUM_THREADS")) {
+      const int t = std::atoi(v);
+      if (t >= 1) return t;
+    }
+    return std::max(1, tbb::info::default_concurrency());  // honours the process's CPU mask
+  }();
+  return n;
 }
 
-namespace {
-thread_local const std::atomic<bool>* other_busy = nullptr;
+// one arena per thread count, made on first use and kept: an arena's workers stay with it
+tbb::task_arena& arena(int threads) {
+  constexpr int kMax = 256;
+  static std::array<std::unique_ptr<tbb::task_arena>, kMax + 1> arenas;
+  static std::mutex made;
+  const int t = std::clamp(threads, 1, kMax);
+  std::lock_guard<std::mutex> lock(made);
+  if (!arenas[t]) arenas[t] = std::make_unique<tbb::task_arena>(t);
+  return *arenas[t];
 }
+}  // namespace
+
+void set_element_threads(int n) { chosen_threads = std::max(1, n); }
+
+int element_threads() { return chosen_threads > 0 ? chosen_threads : default_threads(); }
 
 void share_cores_with(const std::atomic<bool>* busy) { other_busy = busy; }
 
@@ -29,12 +51,14 @@ int element_threads_now() {
   return other_busy && other_busy->load(std::memory_order_relaxed) ? std::max(1, n - 1) : n;
 }
 
-int element_threads() {
-#ifdef _OPENMP
-  return omp_get_max_threads();
-#else
-  return 1;
-#endif
+void for_each_chunk(int count, const std::function<void(int begin, int end)>& chunk) {
+  if (count <= 0) return;
+  const int t = std::min(element_threads_now(), count);
+  if (t == 1) return chunk(0, count);
+  auto range = [count, t](int c) { return static_cast<int>(static_cast<long long>(count) * c / t); };
+  arena(t).execute([&] {
+    tbb::parallel_for(0, t, [&](int c) { chunk(range(c), range(c + 1)); }, tbb::static_partitioner());
+  });
 }
 
 }  // namespace ff::assembly

@@ -1,5 +1,8 @@
 #include "core/shell/multibody_model.h"
 
+#include <atomic>
+#include <mutex>
+
 #include "core/assembly/element_threads.h"
 
 #include <algorithm>
@@ -169,17 +172,20 @@ Vec6 MultibodyModel::node_vector(const Eigen::VectorXd& x, int node) const {
 void MultibodyModel::configure(const Eigen::VectorXd& step) {
   node_step_.resize(poses_.size());
   const int nn = node_count();
-  bool zero = true;
+  std::atomic<bool> nonzero{false};
   // nodes are independent; an exponential per node is ~5 % of a correction on one thread
-#pragma omp parallel for schedule(static) num_threads(assembly::element_threads_now()) reduction(&& : zero)
-  for (int I = 0; I < nn; ++I) {  // X_WN = X_WN,n exp(step_I) on SE(3) (generalized_alpha.md (G3))
-    const Vec6 h = node_vector(step, I);
-    const ff::lie::Pose X_WN = ff::lie::Pose{committed_[I].R, committed_[I].p} * ff::lie::exp_se3(h);
-    poses_[I] = {X_WN.R, X_WN.p};
-    node_step_[I] = h;
-    zero = zero && h.isZero();
-  }
-  step_is_zero_ = zero;
+  assembly::for_each_chunk(nn, [&](int begin, int end) {
+    bool nz = false;
+    for (int I = begin; I < end; ++I) {  // X_WN = X_WN,n exp(step_I) on SE(3) (generalized_alpha.md (G3))
+      const Vec6 h = node_vector(step, I);
+      const ff::lie::Pose X_WN = ff::lie::Pose{committed_[I].R, committed_[I].p} * ff::lie::exp_se3(h);
+      poses_[I] = {X_WN.R, X_WN.p};
+      node_step_[I] = h;
+      nz = nz || !h.isZero();
+    }
+    if (nz) nonzero = true;
+  });
+  step_is_zero_ = !nonzero;
 }
 
 void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot,
@@ -219,8 +225,10 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   constexpr int timing_stride = 8;
   double t_el = 0, t_in = 0;
   const bool gravity = spec_.gravity;
-#pragma omp parallel for schedule(static) num_threads(assembly::element_threads_now()) reduction(+ : t_el, t_in)
-  for (int k = 0; k < ne; ++k) {
+  std::mutex timing_sum;
+  assembly::for_each_chunk(ne, [&](int begin, int end) {
+  double t_el_chunk = 0, t_in_chunk = 0;
+  for (int k = begin; k < end; ++k) {
     const Element& e = elements_[k];
     ElementPoses cur;
     ElementRates vel, acc;
@@ -252,8 +260,8 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
     out.r += f;
     if (tangent) K += Kin;  // position derivatives: elastic, inertia and gravity
     if (timed) {
-      t_el += std::chrono::duration<double>(t1 - t0).count();
-      t_in += std::chrono::duration<double>(Clock::now() - t1).count();
+      t_el_chunk += std::chrono::duration<double>(t1 - t0).count();
+      t_in_chunk += std::chrono::duration<double>(Clock::now() - t1).count();
     }
     if (!tangent) continue;
     if (with_T)  // (G9) per corner, in the corner frame: blockdiag(Cᵀ, Cᵀ) T_SE3(step_I) blockdiag(C, C)
@@ -267,6 +275,9 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
       }
     out.S = w->stiffness * K + w->mass * M + w->damping * C;
   }
+  std::lock_guard<std::mutex> lock(timing_sum);
+  t_el += t_el_chunk, t_in += t_in_chunk;
+  });
   const double scale = ne > 0 ? static_cast<double>(ne) / ((ne + timing_stride - 1) / timing_stride) : 0.0;
   elastic_.evaluations += ne, elastic_.seconds += scale * t_el;
   ++assemblies_;

@@ -400,8 +400,8 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   // elements in parallel (each writes only its own buffers), then a serial scatter
   const int ne = static_cast<int>(elements_.size());
   const bool prescribed_load = load && !prescribed_.empty();
-#pragma omp parallel for schedule(static) num_threads(assembly::element_threads_now())
-  for (int k = 0; k < ne; ++k) {
+  assembly::for_each_chunk(ne, [&](int begin, int end) {
+  for (int k = begin; k < end; ++k) {
     const Element& e = elements_[k];
     ElementPoses cur;
     for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].p};
@@ -426,6 +426,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
         Ke.block<3, 3>(3 * a, 3 * b).noalias() = blk * L[b].transpose();
       }
   }
+  });
   for (int k = 0; k < ne; ++k) {
     const Element& e = elements_[k];
     const Vec24& F = el_force_[k];

@@ -3,7 +3,7 @@
 // array of distinct curved elements evaluated in turn, as the assembly loops do (the element data
 // then come from outside L1/L2, which a single hot element hides); ShellModel
 // assembly per Newton iteration (force + tangent) and the sparse factorize + solve of that
-// tangent for clamped square plates n×n, n = 16 ... 256; assembly with 1 and 2 OpenMP threads.
+// tangent for clamped square plates n×n, n = 16 ... 256; assembly with 1 and 2 element-loop threads.
 //   build/tests/bench/bench_cb_shell [--benchmark_filter=element]   (element/... and elements/...)
 #include <benchmark/benchmark.h>
 
@@ -21,9 +21,7 @@
 #include "core/solve/sparse_solver.h"
 #include "tests/support/shell_fixtures.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include "core/assembly/element_threads.h"
 
 namespace {
 
@@ -154,15 +152,9 @@ PlateProblem& plate(int n) {
   return pp;
 }
 
-void set_threads(int threads) {
-#ifdef _OPENMP
-  omp_set_num_threads(threads);
-#else
-  (void)threads;
-#endif
-}
+void set_threads(int threads) { ff::assembly::set_element_threads(threads); }
 
-// range(0) = n, range(1) = OpenMP threads
+// range(0) = n, range(1) = element-loop threads
 void bm_assembly(benchmark::State& state) {
   PlateProblem& pp = plate(static_cast<int>(state.range(0)));
   set_threads(static_cast<int>(state.range(1)));

@@ -2,10 +2,17 @@
 // scatter, checked against a plain dense assembly of the same element blocks.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
+#include <mutex>
 #include <random>
+#include <stdexcept>
+#include <thread>
+#include <vector>
 
 #include "core/assembly/block_pattern.h"
 #include "core/assembly/dof_map.h"
+#include "core/assembly/element_threads.h"
 #include "core/assembly/node_frames.h"
 
 using namespace ff::assembly;
@@ -62,4 +69,48 @@ TEST(Assembly, CornerFrameTurnsTheNodeFrameOntoTheCornerDirector) {
   EXPECT_LT((c.turn.transpose() * c.turn - Eigen::Matrix3d::Identity()).norm(), 1e-14);
   const CornerFrame plain = corner_frame(R0, R0.col(2));
   EXPECT_EQ((plain.frame - R0).norm(), 0.0);  // a plain corner keeps the node frame exactly
+}
+
+// The element loop (element_threads.h): every item once, in contiguous ranges that are the same
+// on every call, for any thread count (more threads than items included); one thread fewer while
+// the renderer is busy; an exception inside reaches the caller.
+TEST(Assembly, ElementLoopCoversEveryItemOnceInFixedChunks) {
+  for (int threads : {1, 2, 3, 7}) {
+    set_element_threads(threads);
+    EXPECT_EQ(element_threads(), threads);
+    for (int count : {0, 1, 2, 5, 450, 1001}) {
+      std::vector<std::atomic<int>> seen(count);
+      std::vector<std::pair<int, int>> first, second;
+      std::mutex m;
+      for (auto* ranges : {&first, &second})
+        for_each_chunk(count, [&](int begin, int end) {
+          ASSERT_LE(0, begin);
+          ASSERT_LE(begin, end);
+          ASSERT_LE(end, count);
+          if (ranges == &first)
+            for (int k = begin; k < end; ++k) ++seen[k];
+          std::lock_guard<std::mutex> lock(m);
+          ranges->emplace_back(begin, end);
+        });
+      for (int k = 0; k < count; ++k) EXPECT_EQ(seen[k], 1) << "item " << k << ", " << threads << " threads";
+      std::sort(first.begin(), first.end());
+      std::sort(second.begin(), second.end());
+      EXPECT_EQ(first, second);
+      if (count > 0) {
+        EXPECT_EQ(static_cast<int>(first.size()), std::min(threads, count));
+      }
+    }
+  }
+  set_element_threads(3);
+  std::atomic<bool> busy{true};
+  share_cores_with(&busy);
+  EXPECT_EQ(element_threads_now(), 2);
+  busy = false;
+  EXPECT_EQ(element_threads_now(), 3);
+  share_cores_with(nullptr);
+  EXPECT_THROW(for_each_chunk(100, [](int begin, int) {
+                 if (begin > 0) throw std::runtime_error("element failed");
+               }),
+               std::runtime_error);
+  set_element_threads(1);
 }
