@@ -227,56 +227,56 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   const bool gravity = spec_.gravity;
   std::mutex timing_sum;
   assembly::for_each_chunk(ne, [&](int begin, int end) {
-  double t_el_chunk = 0, t_in_chunk = 0;
-  for (int k = begin; k < end; ++k) {
-    const Element& e = elements_[k];
-    ElementPoses cur;
-    ElementRates vel, acc;
-    for (int c = 0; c < 4; ++c) {
-      const int I = e.nodes[c];
-      cur[c] = {poses_[I].R * e.corner[c], poses_[I].p};
-      vel[c] = node_vector(v, I);
-      acc[c] = node_vector(vdot, I);
-      if (!e.plain) {  // corner-local rates: blockdiag(Cᵀ, Cᵀ) of the node's
-        vel[c].head<3>() = e.corner[c].transpose() * vel[c].head<3>();
-        vel[c].tail<3>() = e.corner[c].transpose() * vel[c].tail<3>();
-        acc[c].head<3>() = e.corner[c].transpose() * acc[c].head<3>();
-        acc[c].tail<3>() = e.corner[c].transpose() * acc[c].tail<3>();
-      }
-    }
-    ElementResult& out = results_[k];
-    Vec24 f;
-    Mat24 K, M, C, Kin;
-    // effect_stats: every timing_stride-th element is timed (a clock read costs about as much as
-    // a tenth of an element's force), the totals are scaled to all elements below
-    const bool timed = k % timing_stride == 0;
-    Clock::time_point t0, t1;
-    if (timed) t0 = Clock::now();
-    e.elastic->evaluate(cur, out.r, tangent ? &K : nullptr);
-    if (timed) t1 = Clock::now();
-    // inertia and gravity in one pass (gravity's time is counted in inertia's)
-    e.inertia->evaluate(cur, vel, acc, f, tangent ? InertiaJacobians{&M, &C, &Kin} : InertiaJacobians{},
-                        gravity ? &spec_.g : nullptr);
-    out.r += f;
-    if (tangent) K += Kin;  // position derivatives: elastic, inertia and gravity
-    if (timed) {
-      t_el_chunk += std::chrono::duration<double>(t1 - t0).count();
-      t_in_chunk += std::chrono::duration<double>(Clock::now() - t1).count();
-    }
-    if (!tangent) continue;
-    if (with_T)  // (G9) per corner, in the corner frame: blockdiag(Cᵀ, Cᵀ) T_SE3(step_I) blockdiag(C, C)
+    double t_el_chunk = 0, t_in_chunk = 0;
+    for (int k = begin; k < end; ++k) {
+      const Element& e = elements_[k];
+      ElementPoses cur;
+      ElementRates vel, acc;
       for (int c = 0; c < 4; ++c) {
-        Mat6 T = step_tangent_[e.nodes[c]];
-        if (!e.plain)
-          for (int i = 0; i < 2; ++i)
-            for (int j = 0; j < 2; ++j)
-              T.block<3, 3>(3 * i, 3 * j) = e.corner[c].transpose() * T.block<3, 3>(3 * i, 3 * j) * e.corner[c];
-        K.middleCols<6>(6 * c) = (K.middleCols<6>(6 * c) * T).eval();
+        const int I = e.nodes[c];
+        cur[c] = {poses_[I].R * e.corner[c], poses_[I].p};
+        vel[c] = node_vector(v, I);
+        acc[c] = node_vector(vdot, I);
+        if (!e.plain) {  // corner-local rates: blockdiag(Cᵀ, Cᵀ) of the node's
+          vel[c].head<3>() = e.corner[c].transpose() * vel[c].head<3>();
+          vel[c].tail<3>() = e.corner[c].transpose() * vel[c].tail<3>();
+          acc[c].head<3>() = e.corner[c].transpose() * acc[c].head<3>();
+          acc[c].tail<3>() = e.corner[c].transpose() * acc[c].tail<3>();
+        }
       }
-    out.S = w->stiffness * K + w->mass * M + w->damping * C;
-  }
-  std::lock_guard<std::mutex> lock(timing_sum);
-  t_el += t_el_chunk, t_in += t_in_chunk;
+      ElementResult& out = results_[k];
+      Vec24 f;
+      Mat24 K, M, C, Kin;
+      // effect_stats: every timing_stride-th element is timed (a clock read costs about as much as
+      // a tenth of an element's force), the totals are scaled to all elements below
+      const bool timed = k % timing_stride == 0;
+      Clock::time_point t0, t1;
+      if (timed) t0 = Clock::now();
+      e.elastic->evaluate(cur, out.r, tangent ? &K : nullptr);
+      if (timed) t1 = Clock::now();
+      // inertia and gravity in one pass (gravity's time is counted in inertia's)
+      e.inertia->evaluate(cur, vel, acc, f, tangent ? InertiaJacobians{&M, &C, &Kin} : InertiaJacobians{},
+                          gravity ? &spec_.g : nullptr);
+      out.r += f;
+      if (tangent) K += Kin;  // position derivatives: elastic, inertia and gravity
+      if (timed) {
+        t_el_chunk += std::chrono::duration<double>(t1 - t0).count();
+        t_in_chunk += std::chrono::duration<double>(Clock::now() - t1).count();
+      }
+      if (!tangent) continue;
+      if (with_T)  // (G9) per corner, in the corner frame: blockdiag(Cᵀ, Cᵀ) T_SE3(step_I) blockdiag(C, C)
+        for (int c = 0; c < 4; ++c) {
+          Mat6 T = step_tangent_[e.nodes[c]];
+          if (!e.plain)
+            for (int i = 0; i < 2; ++i)
+              for (int j = 0; j < 2; ++j)
+                T.block<3, 3>(3 * i, 3 * j) = e.corner[c].transpose() * T.block<3, 3>(3 * i, 3 * j) * e.corner[c];
+          K.middleCols<6>(6 * c) = (K.middleCols<6>(6 * c) * T).eval();
+        }
+      out.S = w->stiffness * K + w->mass * M + w->damping * C;
+    }
+    std::lock_guard<std::mutex> lock(timing_sum);
+    t_el += t_el_chunk, t_in += t_in_chunk;
   });
   const double scale = ne > 0 ? static_cast<double>(ne) / ((ne + timing_stride - 1) / timing_stride) : 0.0;
   elastic_.evaluations += ne, elastic_.seconds += scale * t_el;

@@ -401,31 +401,31 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   const int ne = static_cast<int>(elements_.size());
   const bool prescribed_load = load && !prescribed_.empty();
   assembly::for_each_chunk(ne, [&](int begin, int end) {
-  for (int k = begin; k < end; ++k) {
-    const Element& e = elements_[k];
-    ElementPoses cur;
-    for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].p};
-    const bool tangent = K || (prescribed_load && element_prescribed_[k]);
-    e.el->evaluate(cur, el_force_[k], tangent ? &el_tangent_[k] : nullptr);
-    if (!tangent) continue;
-    // to solver rows here, in parallel: A_I blockdiag(C, C) is block diagonal in 3 x 3
-    std::array<Mat3, 8> L;  // per corner: translations, rotations
-    for (int c = 0; c < 4; ++c) {
-      const int I = e.nodes[c];
-      L[2 * c] = poses_[I].R * e.corner[c];
-      L[2 * c + 1] = six_dof_[I] ? L[2 * c] : e.corner[c];
-      if (has_basis_[I]) {
-        L[2 * c + 1] = six_dof_[I] ? Mat3(basis_r_[I].transpose() * L[2 * c + 1]) : L[2 * c + 1];
-        L[2 * c] = basis_u_[I].transpose() * L[2 * c];
+    for (int k = begin; k < end; ++k) {
+      const Element& e = elements_[k];
+      ElementPoses cur;
+      for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].p};
+      const bool tangent = K || (prescribed_load && element_prescribed_[k]);
+      e.el->evaluate(cur, el_force_[k], tangent ? &el_tangent_[k] : nullptr);
+      if (!tangent) continue;
+      // to solver rows here, in parallel: A_I blockdiag(C, C) is block diagonal in 3 x 3
+      std::array<Mat3, 8> L;  // per corner: translations, rotations
+      for (int c = 0; c < 4; ++c) {
+        const int I = e.nodes[c];
+        L[2 * c] = poses_[I].R * e.corner[c];
+        L[2 * c + 1] = six_dof_[I] ? L[2 * c] : e.corner[c];
+        if (has_basis_[I]) {
+          L[2 * c + 1] = six_dof_[I] ? Mat3(basis_r_[I].transpose() * L[2 * c + 1]) : L[2 * c + 1];
+          L[2 * c] = basis_u_[I].transpose() * L[2 * c];
+        }
       }
+      Mat24& Ke = el_tangent_[k];
+      for (int a = 0; a < 8; ++a)
+        for (int b = 0; b < 8; ++b) {
+          const Mat3 blk = L[a] * Ke.block<3, 3>(3 * a, 3 * b);
+          Ke.block<3, 3>(3 * a, 3 * b).noalias() = blk * L[b].transpose();
+        }
     }
-    Mat24& Ke = el_tangent_[k];
-    for (int a = 0; a < 8; ++a)
-      for (int b = 0; b < 8; ++b) {
-        const Mat3 blk = L[a] * Ke.block<3, 3>(3 * a, 3 * b);
-        Ke.block<3, 3>(3 * a, 3 * b).noalias() = blk * L[b].transpose();
-      }
-  }
   });
   for (int k = 0; k < ne; ++k) {
     const Element& e = elements_[k];
