@@ -14,17 +14,21 @@ void PlotHistory::add(const Frame& f) {
 }
 
 std::vector<std::string> write_run_plots(const RunInfo& info, const PlotHistory& history, const std::string& dir,
-                                         std::string* error) {
+                                         std::string* error, render::GraphicsContext* gc) {
   LabelledRun run{info.scene_name, info, history};
-  return write_overlay_plots({run}, dir, error);
+  return write_overlay_plots({run}, dir, error, gc);
 }
 
 std::vector<std::string> write_overlay_plots(const std::vector<LabelledRun>& runs, const std::string& dir,
-                                             std::string* error) {
+                                             std::string* error, render::GraphicsContext* given) {
   std::vector<std::string> written;
   if (runs.empty()) return written;
-  std::unique_ptr<render::GraphicsContext> gc = render::GraphicsContext::create(error);
-  if (!gc) return written;
+  std::unique_ptr<render::GraphicsContext> own;
+  if (!given) {
+    own = render::GraphicsContext::create(error);
+    if (!own) return written;
+  }
+  render::GraphicsContext* gc = given ? given : own.get();
   const RunInfo& first = runs.front().info;
   auto probe_index = [](const RunInfo& info, const std::string& name) {
     for (std::size_t k = 0; k < info.probes.size(); ++k)

@@ -5,6 +5,10 @@
 
 #include "core/frame/frame.h"
 
+namespace ff::render {
+class GraphicsContext;
+}
+
 namespace ff::app {
 
 /// Probe time series gathered while frames stream past.
@@ -21,11 +25,13 @@ struct LabelledRun {
   PlotHistory history;
 };
 
-/// plots/<probe>.png for every probe. Returns the file names written (relative to dir).
+/// plots/<probe>.png for every probe. Returns the file names written (relative to dir). Both
+/// draw on `gc` when given (a context of the calling thread, e.g. the one that rendered the
+/// frames), else on a context of their own.
 std::vector<std::string> write_run_plots(const RunInfo& info, const PlotHistory& history, const std::string& dir,
-                                         std::string* error);
+                                         std::string* error, render::GraphicsContext* gc = nullptr);
 /// plots/<probe>.png with one series per run, for every probe the runs share.
 std::vector<std::string> write_overlay_plots(const std::vector<LabelledRun>& runs, const std::string& dir,
-                                             std::string* error);
+                                             std::string* error, render::GraphicsContext* gc = nullptr);
 
 }  // namespace ff::app

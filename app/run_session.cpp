@@ -13,6 +13,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <condition_variable>
+#include <future>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -128,9 +130,13 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   std::atomic<double> progress_time{0.0};
   std::atomic<long long> progress_steps{0};
   std::atomic<bool> solver_done{false};
+  std::mutex done_mutex;
+  std::condition_variable done_signal;  // wakes the progress loop at once when the solver ends
   std::mutex history_mutex;
   PlotHistory history;  // probe time series for the plots
-  std::string store_error, render_error, render_backend, gl_renderer;
+  std::string store_error, render_error, render_backend, gl_renderer, plot_error;
+  std::vector<std::string> plot_files;
+  std::promise<void> frames_done;
 
   // store thread: every frame to HDF5, every n-th to the renderer
   std::thread store([&] {
@@ -203,6 +209,13 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     }
     result.frames_rendered = n;
     result.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    frames_done.set_value();  // render_backend, gl_renderer, render_error and the counts are final
+    // the plots, on this thread's GL context while the main thread closes results.h5: the store
+    // thread closed render_ch after its last history.add, so the history is complete
+    if (opt.plots && out.plots) {
+      std::lock_guard lock(history_mutex);
+      plot_files = write_run_plots(info, history, plots_dir.string(), &plot_error, gc.get());
+    }
   });
 
   // solver on the worker thread
@@ -220,7 +233,11 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       outcome.reason = std::string("solver error: ") + e.what();
     }
     store_ch.close();
-    solver_done = true;
+    {
+      std::lock_guard lock(done_mutex);
+      solver_done = true;
+    }
+    done_signal.notify_all();
   });
 
   // progress on this thread
@@ -229,7 +246,11 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   auto last_print = wall0;
   const double t_end = sim.end_time();
   while (!solver_done) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    {
+      std::unique_lock lock(done_mutex);
+      done_signal.wait_for(lock, std::chrono::milliseconds(100), [&] { return solver_done.load(); });
+    }
+    if (solver_done) break;
     const auto now = std::chrono::steady_clock::now();
     const double since = std::chrono::duration<double>(now - last_print).count();
     if (!opt.progress || since < (tty ? 0.25 : 2.0)) continue;
@@ -243,27 +264,22 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   }
   worker.join();
   store.join();
-  render.join();
   if (opt.progress && tty) std::fprintf(stderr, "\n");
 
   result.outcome = outcome;
   result.metrics = sim.metrics();
   result.totals = sim.totals();
+  frames_done.get_future().wait();
   if (!render_backend.empty()) {
     writer->set_attribute("render_backend", render_backend);
     writer->set_attribute("gl_renderer", gl_renderer);
   }
   if (!writer->finish(outcome, result.metrics, &err) && store_error.empty()) store_error = err;
   writer.reset();
+  render.join();  // its last frames and the plots
   if (!store_error.empty()) std::fprintf(stderr, "warning: results.h5: %s\n", store_error.c_str());
   if (!render_error.empty()) std::fprintf(stderr, "warning: frames not rendered: %s\n", render_error.c_str());
-
-  std::vector<std::string> plot_files;
-  if (opt.plots && out.plots) {
-    std::string plot_error;
-    plot_files = write_run_plots(info, history, plots_dir.string(), &plot_error);
-    if (!plot_error.empty()) std::fprintf(stderr, "warning: plots: %s\n", plot_error.c_str());
-  }
+  if (!plot_error.empty()) std::fprintf(stderr, "warning: plots: %s\n", plot_error.c_str());
 
   // movie of the frames; mesh exports of the same frames, read back from results.h5
   const fs::path movie_path = dir / "movie.mp4";
