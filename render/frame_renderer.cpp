@@ -296,8 +296,6 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
     if (have_surfaces) {
       ghost_surface_mapper->SetInputData(ghost_surfaces);
       ghost_surface_mapper->ScalarVisibilityOff();
-      // pushed behind coincident body surfaces (rigid parts) so it never shows through them
-      ghost_surface_mapper->SetRelativeCoincidentTopologyPolygonOffsetParameters(2.0, 20.0);
       ghost_surface_actor->SetMapper(ghost_surface_mapper);
       // opaque, beneath the body, lit as a = kGhostSurfaceOpacity of the ghost over the background
       // would be: (1 − a) background + a ghost cos θ, by the ambient and diffuse colours
@@ -331,13 +329,16 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
 }
 
 void FrameRenderer::Impl::reset_clipping_range() {
-  double body[6], ghost[6];
+  double body[6], both[6];
   renderer->ComputeVisiblePropBounds(body);
-  underlay->ComputeVisiblePropBounds(ghost);
-  if (!vtkMath::AreBoundsInitialized(ghost)) return renderer->ResetCameraClippingRange();
+  underlay->ComputeVisiblePropBounds(both);
+  if (!vtkMath::AreBoundsInitialized(both)) return renderer->ResetCameraClippingRange();  // no ghost shown
   if (vtkMath::AreBoundsInitialized(body))
-    for (int k = 0; k < 3; ++k) ghost[2 * k] = std::min(ghost[2 * k], body[2 * k]), ghost[2 * k + 1] = std::max(ghost[2 * k + 1], body[2 * k + 1]);
-  renderer->ResetCameraClippingRange(ghost);
+    for (int k = 0; k < 3; ++k) {
+      both[2 * k] = std::min(both[2 * k], body[2 * k]);
+      both[2 * k + 1] = std::max(both[2 * k + 1], body[2 * k + 1]);
+    }
+  renderer->ResetCameraClippingRange(both);
 }
 
 void FrameRenderer::Impl::apply_camera(const Camera& c) {
