@@ -1,5 +1,6 @@
 #include "core/solve/blas_single_rhs.h"
 
+#include <Eigen/Core>
 #include <atomic>
 #include <cstdlib>
 #include <string>
@@ -21,6 +22,29 @@ const bool routing_on = [] {
   return !(e && std::string(e) == "off");
 }();
 bool plain(char t) { return t == 'N' || t == 'n'; }
+
+// op(A) x = b in place for the m × m triangle of A (column major, leading dimension lda), by
+// Eigen's triangular solver: a front's pivot block is small, where OpenBLAS's dtrsv goes through a
+// dot-product call per row; 3-5 % of a solve of the main job's matrix (docs/performance.md)
+void triangular_solve(char uplo, bool transposed, bool unit, int m, const double* A, int lda, double* x) {
+  using Stride = Eigen::OuterStride<>;
+  const Eigen::Map<const Eigen::MatrixXd, 0, Stride> a(A, m, m, Stride(lda));
+  Eigen::Map<Eigen::VectorXd> v(x, m);
+  const bool lower = uplo == 'L' || uplo == 'l';
+  // the transposed cases solve with the stored triangle read the other way: Lᵀ is upper, Uᵀ lower
+  const bool upper_op = lower == transposed;
+  if (!transposed) {
+    if (upper_op && unit) a.triangularView<Eigen::UnitUpper>().solveInPlace(v);
+    else if (upper_op) a.triangularView<Eigen::Upper>().solveInPlace(v);
+    else if (unit) a.triangularView<Eigen::UnitLower>().solveInPlace(v);
+    else a.triangularView<Eigen::Lower>().solveInPlace(v);
+  } else {
+    if (upper_op && unit) a.transpose().triangularView<Eigen::UnitUpper>().solveInPlace(v);
+    else if (upper_op) a.transpose().triangularView<Eigen::Upper>().solveInPlace(v);
+    else if (unit) a.transpose().triangularView<Eigen::UnitLower>().solveInPlace(v);
+    else a.transpose().triangularView<Eigen::Lower>().solveInPlace(v);
+  }
+}
 }  // namespace
 
 bool gemm_one_column(char transa, char transb, int m, int n, int k, double alpha, const double* A, int lda,
@@ -43,8 +67,7 @@ bool trsm_one_column(char side, char uplo, char transa, char diag, int m, int n,
   if (s == 'L' && n == 1 && m > 0) {  // op(A) x = α b, b a column
     const int one = 1;
     if (alpha != 1.0) dscal_(&m, &alpha, B, &one);
-    const char t[2] = {transa, 0};
-    dtrsv_(&uplo, t, &diag, &m, A, &lda, B, &one);
+    triangular_solve(uplo, !plain(transa), diag == 'U' || diag == 'u', m, A, lda, B);
   } else if (s == 'R' && m == 1 && n > 0) {  // x op(A) = α b, b a row: op(A)ᵀ xᵀ = α bᵀ
     if (alpha != 1.0) dscal_(&n, &alpha, B, &ldb);
     const char t = plain(transa) ? 'T' : 'N';
