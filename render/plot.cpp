@@ -151,7 +151,9 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
   renderer->AddActor(actor);
   surface.window()->AddRenderer(renderer);
 
-  // vtkChartXY applies a log axis to its plots only after it has laid out once
+  // vtkChartXY applies a log axis to its plots only after it has laid out once, and the shift and
+  // scale it gives values far from zero relative to their spread (an energy near 327 J varying by
+  // 2 J): a single render leaves such a curve out (measured 2026-11-25)
   surface.window()->Render();
   std::string why;
   // the surface, declared first, is destroyed last: it frees the GL objects of all of the above
