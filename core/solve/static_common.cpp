@@ -85,6 +85,7 @@ bool StaticKernel::evaluate(double lambda, bool with_tangent) {
   evaluated_ = true;
   evaluated_lambda_ = lambda;
   if (with_tangent) {
+    factorization_current_ = factorization_current_ && tangent_current_ && tangent_lambda_ == lambda;
     tangent_current_ = true;
     tangent_lambda_ = lambda;
     estimate_round_off();
@@ -105,6 +106,7 @@ bool StaticKernel::evaluate(double lambda, bool with_tangent) {
 }
 
 bool StaticKernel::refresh_tangent(double lambda) {
+  if (factorization_current_ && tangent_current_ && tangent_lambda_ == lambda) return true;
   if (!(tangent_current_ && tangent_lambda_ == lambda) && !evaluate(lambda, true)) return false;
   tangent_.makeCompressed();
   // the symmetric part where it is as good as K (eq. 7.1) and the backend gains from it
@@ -114,11 +116,11 @@ bool StaticKernel::refresh_tangent(double lambda) {
                              ? linear_.factorize_symmetric_part(tangent_)
                              : linear_.factorize(tangent_);
   if (!s) {
-    factorized_ = false;
+    factorized_ = factorization_current_ = false;
     failure_ = "tangent factorization failed: " + s.message;
     return false;
   }
-  factorized_ = true;
+  factorized_ = factorization_current_ = true;
   ++factorizations_;
   return true;
 }
@@ -142,14 +144,14 @@ bool StaticKernel::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
 
 void StaticKernel::update(const Eigen::VectorXd& delta) {
   problem_.update(delta);
-  tangent_current_ = evaluated_ = false;
+  tangent_current_ = evaluated_ = factorization_current_ = false;
 }
 
 void StaticKernel::save() { problem_.save_state(); }
 
 void StaticKernel::restore() {
   problem_.restore_state();
-  tangent_current_ = evaluated_ = false;
+  tangent_current_ = evaluated_ = factorization_current_ = false;
 }
 
 // eq. (3'): r_i changes by sum_j K_ij e_j for state errors e_j; independent one-ulp errors

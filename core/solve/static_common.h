@@ -127,7 +127,9 @@ class StaticKernel {
   bool evaluate(double lambda, bool with_tangent);
   /// r and f_ref belong to the current state and λ (no update()/restore() since evaluate(λ)).
   bool evaluated_at(double lambda) const { return evaluated_ && evaluated_lambda_ == lambda; }
-  /// evaluate(with_tangent) unless K already belongs to the current state, then factorize it.
+  /// evaluate(with_tangent) unless K already belongs to the current state, then factorize it;
+  /// nothing when the held factorization already is of K at this state and λ (no factorization
+  /// counted): the arc-length end-tangent check and the next predictor share one.
   bool refresh_tangent(double lambda);
   /// Decides from the policy whether this iteration refactors (k: correction index from 0).
   bool wants_new_tangent(int k, double residual_norm, double previous_residual_norm);
@@ -138,7 +140,7 @@ class StaticKernel {
   void save();
   void restore();
   /// forget the factorization (after a rejected attempt: never retry with the tangent that failed)
-  void invalidate_factorization() { factorized_ = false; }
+  void invalidate_factorization() { factorized_ = factorization_current_ = false; }
 
   /// eqs. (3)-(4): the residual test, and the increment test on the error estimate e(δ) that
   /// the contraction ||δ_k|| / ||δ_{k-1}|| gives (previous_increment_norm 0: none yet)
@@ -172,6 +174,7 @@ class StaticKernel {
   bool evaluated_ = false;  // r_, f_ were evaluated at the current state, at λ = evaluated_lambda_
   double evaluated_lambda_ = 0.0;
   bool factorized_ = false;
+  bool factorization_current_ = false;  // the held factorization is of K at the current state, at λ = tangent_lambda_
   double round_off_ = 0.0;
   int factorizations_ = 0;
   int iterations_on_factorization_ = 0;
