@@ -441,28 +441,33 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
   // Thickness pairs: point q (layer 0) and q + 4 (layer 1) share the in-plane derivatives D and
   // the quad functions N of their phi (rows I: (D, 0), rows 4 + I: (zeta D, N)), so
   // g = [X_x D + zeta X_d D, X_d N] is formed once per pair (cb_shell.md, speed notes)
+  // (column by column, as 3-vectors: whole 3 x 2 temporaries were written and read back in
+  // differently split packets, which stalls the store forwarding)
   for (int q = 0; q < 4; ++q) {
     const Mat<Scalar, 8, 3>& phi = tab.pts[q].phi;
-    const Mat<Scalar, 3, 2> Ax = X.template leftCols<4>().lazyProduct(phi.template topLeftCorner<4, 2>());
-    const Mat<Scalar, 3, 2> Ad = X.template rightCols<4>().lazyProduct(phi.template topLeftCorner<4, 2>());
-    const Vec3 c = X.template rightCols<4>().lazyProduct(phi.template block<4, 1>(4, 2));
-    for (int k = q; k < kPoints; k += 4) {
-      g[k].template leftCols<2>().noalias() = Ax + tab.pts[k].zeta * Ad;
-      g[k].col(2) = c;
+    for (int j = 0; j < 2; ++j) {
+      const Vec3 ax = X.template leftCols<4>().lazyProduct(phi.template block<4, 1>(0, j));
+      const Vec3 ad = X.template rightCols<4>().lazyProduct(phi.template block<4, 1>(0, j));
+      for (int k = q; k < kPoints; k += 4) g[k].col(j).noalias() = ax + tab.pts[k].zeta * ad;
     }
+    const Vec3 c = X.template rightCols<4>().lazyProduct(phi.template block<4, 1>(4, 2));
+    for (int k = q; k < kPoints; k += 4) g[k].col(2) = c;
   }
   for (int k = 0; k < kPoints; ++k) {
     const SolidPoint& p = pts_[k];
     const SolidConst<Scalar>& pc = tab.pts[k];
-    Vec5 e;
+    Scalar e[5];
     for (int c = 0; c < 5; ++c) e[c] = 0.5 * (g[k].col(kPair[c][0]).dot(g[k].col(kPair[c][1])) - p.ref_metric[c]);
     if (opt_.ans) {  // eq. (8)
       const Scalar* et = e_tie[pc.layer];
       e[kEtaZeta] = 0.5 * (1 - pc.xi) * et[0] + 0.5 * (1 + pc.xi) * et[2];
       e[kXiZeta] = 0.5 * (1 - pc.eta) * et[1] + 0.5 * (1 + pc.eta) * et[3];
     }
-    em[k].noalias() = p.Qm.lazyProduct(e.template head<3>());
-    es[k].noalias() = p.Qs.lazyProduct(e);
+    // Q e as columns times the strain scalars (a strain vector stored whole and read back in halves
+    // stalled the store forwarding)
+    em[k].noalias() = p.Qm.col(0) * e[0] + p.Qm.col(1) * e[1] + p.Qm.col(2) * e[2];
+    es[k].noalias() = p.Qs.col(0) * e[0] + p.Qs.col(1) * e[1] + p.Qs.col(2) * e[2] + p.Qs.col(3) * e[3] +
+                      p.Qs.col(4) * e[4];
     if (opt_.hr) {  // eq. (10): w P-hat^T em, with P-hat = [P, zeta P] and P = [I, c eta, c' xi] of (9)
       const Vec3& m = em[k];
       Mat<Scalar, 5, 1> pe;
@@ -530,8 +535,14 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
       st[1] += 0.5 * (1 - pc.eta) * sig[kXiZeta];
       st[3] += 0.5 * (1 + pc.eta) * sig[kXiZeta];
     }
-    S[k] = covariant_matrix(sig, !opt_.ans);
-    T[k].noalias() = g[k].lazyProduct(S[k]);  // stress vectors
+    // stress vectors T = g S with S = covariant_matrix(sig) written out (its (2, 2) entry is 0):
+    // forming S in memory first and reading it back whole stalled the store forwarding
+    const Scalar s0 = sig[0], s1 = sig[1], h2 = 0.5 * sig[2];
+    const Scalar h3 = opt_.ans ? Scalar(0) : 0.5 * sig[3], h4 = opt_.ans ? Scalar(0) : 0.5 * sig[4];
+    T[k].col(0).noalias() = s0 * g[k].col(0) + h2 * g[k].col(1) + h4 * g[k].col(2);
+    T[k].col(1).noalias() = h2 * g[k].col(0) + s1 * g[k].col(1) + h3 * g[k].col(2);
+    T[k].col(2).noalias() = h4 * g[k].col(0) + h3 * g[k].col(1);
+    if (K) S[k] = covariant_matrix(sig, !opt_.ans);  // the geometric matrix reads S itself
   }
   // per thickness pair (as g above): T phi^T summed over the pair is
   // [(T0 + T1)_xy D^T, zeta1 (T1 - T0)_xy D^T + (T0 + T1)_z N^T], and the geometric 4 x 4 blocks
@@ -540,11 +551,15 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
     const Mat<Scalar, 8, 3>& phi = tab.pts[q].phi;
     const auto D = phi.template topLeftCorner<4, 2>();
     const Scalar z1 = tab.pts[q + 4].zeta;
-    const Mat3 Tsum = T[q] + T[q + 4];
-    const Mat<Scalar, 3, 2> Tmom = z1 * (T[q + 4].template leftCols<2>() - T[q].template leftCols<2>());
-    Fg.template leftCols<4>().noalias() += Tsum.template leftCols<2>().lazyProduct(D.transpose());
-    Fg.template rightCols<4>().noalias() += Tmom.lazyProduct(D.transpose());
-    Fg.template rightCols<4>().noalias() += Tsum.col(2).lazyProduct(phi.template block<4, 1>(4, 2).transpose());
+    // column by column as 3-vectors, for the store forwarding (as g above)
+    for (int j = 0; j < 2; ++j) {
+      const Vec3 tsum = T[q].col(j) + T[q + 4].col(j);
+      const Vec3 tmom = z1 * (T[q + 4].col(j) - T[q].col(j));
+      Fg.template leftCols<4>().noalias() += tsum.lazyProduct(D.col(j).transpose());
+      Fg.template rightCols<4>().noalias() += tmom.lazyProduct(D.col(j).transpose());
+    }
+    const Vec3 tz = T[q].col(2) + T[q + 4].col(2);
+    Fg.template rightCols<4>().noalias() += tz.lazyProduct(phi.template block<4, 1>(4, 2).transpose());
     if (!K) continue;
     const Mat<Scalar, 2, 2> Ssum = S[q].template topLeftCorner<2, 2>() + S[q + 4].template topLeftCorner<2, 2>();
     const Mat<Scalar, 2, 2> Smom = z1 * (S[q + 4].template topLeftCorner<2, 2>() - S[q].template topLeftCorner<2, 2>());
