@@ -17,6 +17,7 @@
 
 #include "core/mesh/generators.h"
 #include "core/shell/cb_shell.h"
+#include "core/shell/cb_shell_inertia.h"
 #include "core/shell/shell_model.h"
 #include "core/solve/sparse_solver.h"
 #include "tests/support/shell_fixtures.h"
@@ -62,6 +63,29 @@ void bm_element(benchmark::State& state, bool with_tangent) {
     benchmark::ClobberMemory();
   }
   state.SetLabel(effects_label(o));
+}
+
+// the inertia force (D4) of one element, as every Newton correction of a dynamics run evaluates it
+// (with gravity, fused as in the multibody model); range(0) = 1: also the iteration-matrix blocks
+void bm_inertia(benchmark::State& state) {
+  const ElementPoses ref = curved_reference();
+  const CbShellInertia el(ref, 0.05, 7810.0);
+  const ElementPoses cur = deformed(ref);
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  ElementRates v, a;
+  for (int I = 0; I < 4; ++I)
+    for (int k = 0; k < 6; ++k) v[I][k] = u(gen), a[I][k] = 100 * u(gen);
+  const Vec3 g(0, 0, -9.81);
+  Vec24 F;
+  Mat24 M, C, K;
+  InertiaJacobians jac;
+  if (state.range(0)) jac = {&M, &C, &K};
+  for (auto _ : state) {
+    el.evaluate(cur, v, a, F, jac, &g);
+    benchmark::DoNotOptimize(F.data());
+    benchmark::ClobberMemory();
+  }
 }
 
 // n distinct elements of a half cylinder (radius 0.3, length 1.2, as double_pendulum_shells), each
@@ -199,6 +223,14 @@ int main(int argc, char** argv) {
     b->ArgNames({"drill", "hr", "ans"})->Unit(benchmark::kMicrosecond)->Repetitions(5);
     b->ComputeStatistics("min", min)->ReportAggregatesOnly(true);
   }
+  benchmark::RegisterBenchmark("inertia", bm_inertia)
+      ->Arg(0)
+      ->Arg(1)
+      ->ArgName("jacobians")
+      ->Unit(benchmark::kMicrosecond)
+      ->Repetitions(5)
+      ->ComputeStatistics("min", min)
+      ->ReportAggregatesOnly(true);
   for (bool tangent : {false, true}) {
     auto* b = benchmark::RegisterBenchmark(tangent ? "elements/force_tangent" : "elements/force", bm_elements, tangent);
     for (int n : {450, 1800}) b->Args({n, 0, 1, 1});
