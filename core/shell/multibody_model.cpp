@@ -234,7 +234,7 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
       ElementRates vel, acc;
       for (int c = 0; c < 4; ++c) {
         const int I = e.nodes[c];
-        cur[c] = {poses_[I].R * e.corner[c], poses_[I].p};
+        cur[c] = {e.plain ? poses_[I].R : Mat3(poses_[I].R * e.corner[c]), poses_[I].p};  // C = I: no product
         vel[c] = node_vector(v, I);
         acc[c] = node_vector(vdot, I);
         if (!e.plain) {  // corner-local rates: blockdiag(Cᵀ, Cᵀ) of the node's
