@@ -31,7 +31,11 @@ class BlockPattern {
   /// Value index of every entry of a 4-node element's 24 x 24 block, row-major over
   /// (corner c, slot i) x (corner d, slot j); -1 where a slot is no unknown.
   std::array<int, 576> element_scatter(const DofMap& dofs, const std::array<int, 4>& nodes) const;
-  /// K = the pattern with all values zero (keeps K's memory when the pattern is the same).
+  /// Value index of every entry of node I's own 6 x 6 block, row-major over (slot i) x (slot j);
+  /// -1 where a slot is no unknown.
+  std::array<int, 36> node_scatter(const DofMap& dofs, int node) const;
+  /// K = the pattern with all values zero; a K that already has the pattern keeps its index
+  /// arrays and only has its values cleared.
   void zeroed(Eigen::SparseMatrix<double>& K) const;
   const Eigen::SparseMatrix<double>& pattern() const { return pattern_; }
 

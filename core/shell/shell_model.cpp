@@ -349,6 +349,8 @@ void ShellModel::build_pattern() {
   pattern_.build(dofs_);
   scatter_.resize(elements_.size());
   for (std::size_t k = 0; k < elements_.size(); ++k) scatter_[k] = pattern_.element_scatter(dofs_, elements_[k].nodes);
+  node_scatter_.resize(poses_.size());
+  for (std::size_t I = 0; I < poses_.size(); ++I) node_scatter_[I] = pattern_.node_scatter(dofs_, static_cast<int>(I));
   el_force_.resize(elements_.size());
   el_tangent_.resize(elements_.size());
 }
@@ -386,9 +388,10 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     if (has_basis_[J]) out = out * basis_u_[J];
     return out;
   };
-  auto add = [&](int I, int si, int J, int sj, double v) {
-    const int a = dofs_.equation(I, si), b = dofs_.equation(J, sj);
-    if (a >= 0 && b >= 0 && v != 0.0) values[pattern_.value_index(a, b)] += v;
+  // into node I's own block (the only node-level terms), through its precomputed value indices
+  auto add = [&](int I, int si, int sj, double v) {
+    const int p = node_scatter_[I][6 * si + sj];
+    if (p >= 0 && v != 0.0) values[p] += v;
   };
   // -d r / d lambda through the prescribed columns (eq. R4): f_ref gains -K_ap value_p
   auto add_prescribed_load = [&](int I, int si, int J, int sj, double k) {
@@ -466,12 +469,12 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
         tt = basis_r_[I].transpose() * tt * basis_r_[I];
       }
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) add(I, i, I, 3 + j, tu(i, j)), add(I, 3 + i, I, 3 + j, tt(i, j));
+        for (int j = 0; j < 3; ++j) add(I, i, 3 + j, tu(i, j)), add(I, 3 + i, 3 + j, tt(i, j));
     } else {
       Mat3 tu = -R_WN * hat(node_force[I].head<3>());
       if (has_basis_[I]) tu = basis_u_[I].transpose() * tu;
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 2; ++j) add(I, i, I, 3 + j, tu(i, j));
+        for (int j = 0; j < 2; ++j) add(I, i, 3 + j, tu(i, j));
     }
   }
   elastic_.evaluations += ne;
@@ -504,18 +507,18 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       if (has_basis_[I])
         tf = six_dof_[I] ? Mat3(basis_u_[I].transpose() * tf * basis_r_[I]) : Mat3(basis_u_[I].transpose() * tf);
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < (six_dof_[I] ? 3 : 2); ++j) add(I, i, I, 3 + j, tf(i, j));
+        for (int j = 0; j < (six_dof_[I] ? 3 : 2); ++j) add(I, i, 3 + j, tf(i, j));
       if (six_dof_[I]) {
         Mat3 tm = lambda * hat(R_WN * l.moment);
         if (has_basis_[I]) tm = basis_r_[I].transpose() * tm * basis_r_[I];
         for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
+          for (int j = 0; j < 3; ++j) add(I, 3 + i, 3 + j, tm(i, j));
       }
     } else if (!six_dof_[I]) {
       // local components of a fixed global moment turn with the node
       const Mat3 tm = -lambda * hat(R_WN.transpose() * l.moment);
       for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) add(I, 3 + i, I, 3 + j, tm(i, j));
+        for (int j = 0; j < 2; ++j) add(I, 3 + i, 3 + j, tm(i, j));
     }
   }
   if (!spec_.loads.empty()) {

@@ -183,6 +183,7 @@ class ShellModel final : public ff::StaticProblem {
   // entry (-1 when restrained), so assembly is a scatter-add without triplets
   assembly::BlockPattern pattern_;
   std::vector<std::array<int, 576>> scatter_;
+  std::vector<std::array<int, 36>> node_scatter_;  // value indices of each node's own 6 x 6 block
   std::vector<std::array<Vec3, 4>> dead_pressure_;  // per spec_.pressures: fixed nodal forces (reference)
   std::vector<Vec24> el_force_;   // per-element results of the parallel element loop
   std::vector<Mat24> el_tangent_;

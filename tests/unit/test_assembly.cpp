@@ -60,6 +60,39 @@ TEST(Assembly, ScatterAddEqualsDenseAssembly) {
   EXPECT_EQ(p.value_index(d.equation(0, 0), d.equation(2, 0)), -1);
 }
 
+TEST(Assembly, NodeScatterAndZeroedReuseThePattern) {
+  const std::array<int, 4> q0{0, 1, 3, 2};
+  const DofMap d(4, [](int node, int slot) { return !(node == 2 && slot == 5) && !(node == 3 && slot < 3); });
+  BlockPattern p;
+  p.add_element(q0);
+  p.build(d);
+  for (int I = 0; I < 4; ++I) {
+    const std::array<int, 36> idx = p.node_scatter(d, I);
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) {
+        const int a = d.equation(I, i), b = d.equation(I, j);
+        EXPECT_EQ(idx[6 * i + j], a >= 0 && b >= 0 ? p.value_index(a, b) : -1) << I << " " << i << " " << j;
+      }
+  }
+  // a matrix with the pattern keeps its arrays and loses its values
+  Eigen::SparseMatrix<double> K;
+  p.zeroed(K);
+  std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 7.0);
+  const int* inner = K.innerIndexPtr();
+  p.zeroed(K);
+  EXPECT_EQ(K.innerIndexPtr(), inner);
+  EXPECT_EQ(Eigen::MatrixXd(K).cwiseAbs().maxCoeff(), 0.0);
+  // one with another pattern of the same size and count gets the pattern
+  Eigen::SparseMatrix<double> other(d.size(), d.size());
+  for (int k = 0; k < p.pattern().nonZeros(); ++k) other.insert(k % d.size(), (k / d.size()) % d.size()) = 1.0;
+  other.makeCompressed();
+  ASSERT_EQ(other.nonZeros(), p.pattern().nonZeros());
+  p.zeroed(other);
+  EXPECT_TRUE(std::equal(other.innerIndexPtr(), other.innerIndexPtr() + other.nonZeros(), p.pattern().innerIndexPtr()));
+  EXPECT_TRUE(std::equal(other.outerIndexPtr(), other.outerIndexPtr() + d.size() + 1, p.pattern().outerIndexPtr()));
+  EXPECT_EQ(Eigen::MatrixXd(other).cwiseAbs().maxCoeff(), 0.0);
+}
+
 TEST(Assembly, CornerFrameTurnsTheNodeFrameOntoTheCornerDirector) {
   const Eigen::Matrix3d R0 = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.2, 1.0).normalized();
