@@ -115,16 +115,19 @@ void CbShellInertia::evaluate(const ElementPoses& cur, const ElementRates& v, co
     b[A] = a[I].head<3>() + sh * Vec3(a[I].tail<3>()).cross(e3) + om.cross(w[A]);  // (D2)
     acc[A] = cur[I].R * b[A];
   }
-  F.setZero();
   Vec3 phi[8];
-  for (int A = 0; A < 8; ++A) {
-    const int I = A % 4;
-    Vec3 f = Vec3::Zero();
-    for (int B = 0; B < 8; ++B) f += mass_matrix_(A, B) * acc[B];
-    if (g) f -= slave_mass_[A] * *g;                           // (D8), same slave and frame
-    phi[A] = cur[I].R.transpose() * f;                        // (D4)
-    F.segment<3>(6 * I) += phi[A];
-    F.segment<3>(6 * I + 3) += side(A) * half_h_ * e3.cross(phi[A]);
+  for (int I = 0; I < 4; ++I) {  // the node's two slaves A = I, I + 4, summed in registers and
+    Vec3 fu = Vec3::Zero(), ft = Vec3::Zero();  // written once (no read-back of F's segments)
+    for (int A = I; A < 8; A += 4) {
+      Vec3 f = Vec3::Zero();
+      for (int B = 0; B < 8; ++B) f += mass_matrix_(A, B) * acc[B];
+      if (g) f -= slave_mass_[A] * *g;                           // (D8), same slave and frame
+      phi[A] = cur[I].R.transpose() * f;                        // (D4)
+      fu += phi[A];
+      ft += side(A) * half_h_ * e3.cross(phi[A]);
+    }
+    F.segment<3>(6 * I) = fu;
+    F.segment<3>(6 * I + 3) = ft;
   }
   if (!jac.mass && !jac.gyroscopic && !jac.stiffness) return;
   if (jac.mass) jac.mass->setZero();
