@@ -2,6 +2,8 @@
 // assembly (residual + tangent) against factorization + solve for every compiled linear backend —
 // and the CB element's own cost, all measured in one run so the ratios compare like with like
 // (docs/performance.md). Wall time, best of --repeat (one round from 128 x 128 on).
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <cmath>
 #include <chrono>
@@ -123,6 +125,15 @@ nlohmann::ordered_json element_figures(int rounds) {
           {"product_size", n}};
 }
 
+// which BLAS kernels the factorizations run on: OpenBLAS names its kernel set (blas_interpose.cpp
+// may have chosen it); another BLAS is reported as such
+std::string blas_kernels() {
+  using CoreName = char* (*)();
+  if (auto f = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename")))
+    return std::string("OpenBLAS, ") + f() + " kernels";
+  return "not OpenBLAS";
+}
+
 }  // namespace
 
 int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
@@ -136,9 +147,10 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   const nlohmann::ordered_json element = element_figures(opt.repeat);
   Eigen::setNbThreads(eigen_threads);
 
+  const std::string blas = blas_kernels();
   std::printf("Static Newton iteration on an n x n plate (CB shell, hr + ans, 5 DoF), wall time, best of %d "
-              "(1 from n = 128); default backend: %s\n\n",
-              opt.repeat, std::string(to_string(chosen)).c_str());
+              "(1 from n = 128); default backend: %s; BLAS: %s\n\n",
+              opt.repeat, std::string(to_string(chosen)).c_str(), blas.c_str());
   std::printf("| n | DoFs | assembly [ms] |");
   for (LinearBackend b : backends) std::printf(" %s factorize + solve [ms] |", std::string(to_string(b)).c_str());
   std::printf(" default / assembly | umfpack / default |\n|---|---|---|");
@@ -186,7 +198,7 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
       std::fprintf(stderr, "error: cannot write %s\n", opt.out_file.c_str());
       return 1;
     }
-    f << nlohmann::ordered_json{{"element", element}, {"plate", plates}}.dump(2) << "\n";
+    f << nlohmann::ordered_json{{"element", element}, {"plate", plates}, {"blas", blas}}.dump(2) << "\n";
   }
   return stop ? 130 : 0;
 }

@@ -39,6 +39,8 @@ TEST(CliBench, SolveWritesTheElementBlockAndThePlateRows) {
   EXPECT_GT(p.at("assembly_ms").get<double>(), 0.0);
   EXPECT_GT(p.at("factorize_solve_ms").get<double>(), 0.0);
   EXPECT_FALSE(p.at("backend").get<std::string>().empty());
+  // which BLAS kernels the factorizations ran on ("OpenBLAS, Haswell kernels", or "not OpenBLAS")
+  EXPECT_NE(j.at("blas").get<std::string>().find("BLAS"), std::string::npos) << j.at("blas");
 }
 
 }  // namespace
