@@ -38,6 +38,11 @@ const Schema& shell_dynamic_schema() {
                 "iteration matrix: full (every iteration), nni (from iteration nni on), frozen (the first one, "
                 "kept), lazy (kept until a correction shrinks by less than refresh_ratio, then refreshed)",
                 {"full", "nni", "frozen", "lazy"}, "full")
+        .choice("solver.predictor",
+                "the acceleration a step's Newton iteration starts from: zero, previous (the last step's), or "
+                "auto (previous, except zero under the frozen policy, whose never-updated matrix converges "
+                "more slowly from the shifted start; core/solve/generalized_alpha.md (G3'))",
+                {"auto", "zero", "previous"}, "auto")
         .integer("solver.nni", "policy nni: update at this and later iterations of a step", 3, IntRange::closed(1, 100))
         .number("solver.refresh_ratio",
                 "policy lazy: refresh the matrix at an iteration whose correction was more than this fraction of "
@@ -329,6 +334,10 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
                          : policy == "lazy" ? MatrixPolicy::lazy
                                             : MatrixPolicy::frozen;
   st.integrator.nni_threshold = static_cast<int>(d.integer("solver.nni"));
+  const std::string predictor = d.string("solver.predictor");
+  st.integrator.predictor = predictor == "previous" || (predictor == "auto" && policy != "frozen")
+                                ? AccelerationPredictor::previous
+                                : AccelerationPredictor::zero;
   st.integrator.refresh_ratio = d.number("solver.refresh_ratio");
   st.integrator.max_cutbacks = static_cast<int>(d.integer("solver.max_cutbacks"));
   st.integrator.backend = read_linear_solver(d, LinearBackend::mumps);

@@ -139,6 +139,11 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
   const Eigen::VectorXd a1 = (af_ * vdot_ - am_ * a_) / (1 - am_);
   Eigen::VectorXd v1 = v_ + h * (1 - gamma_) * a_ + h * gamma_ * a1;                   // (G4)
   Eigen::VectorXd x = h * (v_ + h * (0.5 - beta_) * a_ + h * beta_ * a1);               // (G3)
+  if (settings_.predictor == AccelerationPredictor::previous) {  // (G3'): v̇_{n+1} = v̇_n, x and v along (G6)
+    vd = vdot_;
+    x += vd / bp;
+    v1 += (gp / bp) * vd;
+  }
   Eigen::VectorXd lam = lambda_, r, phi, rhs(n + m), dx;
   Attempt out{false, 0, 0, 0.0, 0.0, {}};
   if (have_matrix_ && std::abs(matrix_h_ - h) > 1e-12 * h) force_full = true;  // β', γ' changed

@@ -15,6 +15,9 @@ namespace ff {
 
 /// Iteration-matrix policies (generalized_alpha.md §4).
 enum class MatrixPolicy { full, nni, frozen, lazy };
+/// The acceleration a step's iteration starts from (generalized_alpha.md §3, (G3')): zero
+/// (v̇_{n+1} = 0, Arnold & Brüls), or the last step's (v̇_{n+1} = v̇_n).
+enum class AccelerationPredictor { zero, previous };
 
 struct GeneralizedAlphaSettings {
   double rho_inf = 0.9;          ///< spectral radius at infinity, (G2)
@@ -23,6 +26,7 @@ struct GeneralizedAlphaSettings {
   MatrixPolicy policy = MatrixPolicy::full;
   int nni_threshold = 3;         ///< policy nni: update at this and later iterations of a step
   double refresh_ratio = 0.3;    ///< policy lazy: update when ‖Δx_k‖ > refresh_ratio ‖Δx_{k−1}‖ (G10)
+  AccelerationPredictor predictor = AccelerationPredictor::zero;
   int max_cutbacks = 6;          ///< halvings of h before giving up
   LinearBackend backend = default_linear_backend();
 };
