@@ -62,7 +62,7 @@ const Schema& shell_static_schema() {
                 {"at_load", "final", "first_limit_load", "at_first_limit", "min_load_after_limit", "max_abs"},
                 std::nullopt)
         .string("metric.probe", "probe it reads", std::string{})
-        .number("metric.load", "at_load: the load", 0.0);
+        .number("metric.load", "at_load: the load (load control lands a step on it; arc length interpolates between steps)", 0.0);
     s.table_array("reference", "reference curves drawn on the load-path plots", 0, 16)
         .string("reference.file", "CSV file relative to the scene file", std::nullopt)
         .string("reference.x_column", "column giving the load (or load ratio)", std::nullopt)
@@ -174,6 +174,9 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     if (needs_probe && !has_probe(mt.probe))
       throw SceneError({d.issue("metric.probe", i, "no probe named '" + mt.probe + "'")});
     st.metrics.push_back(mt);
+    // load control lands on the loads it reports at (static_solvers.md §3)
+    if (mt.kind == ShellMetric::Kind::at_load && st.load_scale != 0.0)
+      st.load_control.stations.push_back(mt.load / st.load_scale);
   }
   RunInfo info;
   describe_run(d, path, info);

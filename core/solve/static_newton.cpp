@@ -71,11 +71,15 @@ bool LoadControlPath::advance() {
       finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
       return false;
     }
-    const double remaining = std::abs(settings_.lambda_end - lambda_);
-    // the last step lands exactly on λ_end (and absorbs a remainder below the minimum step)
-    const bool last = h_ >= remaining || remaining - h_ < settings_.min_step;
-    const double dlambda = last ? settings_.lambda_end - lambda_ : direction * h_;
-    const double target = last ? settings_.lambda_end : lambda_ + dlambda;
+    // the step lands exactly on the next station or λ_end when it would reach it (and absorbs a
+    // remainder below the minimum step)
+    double stop_at = settings_.lambda_end;
+    for (double s : settings_.stations)
+      if (direction * (s - lambda_) > settings_.min_step && direction * (s - stop_at) < 0.0) stop_at = s;
+    const double remaining = std::abs(stop_at - lambda_);
+    const bool lands = h_ >= remaining || remaining - h_ < settings_.min_step;
+    const double dlambda = lands ? stop_at - lambda_ : direction * h_;
+    const double target = lands ? stop_at : lambda_ + dlambda;
     step.setZero();
     AttemptOutcome out = newton_at_fixed_load(kernel, target, step, settings_.stop, settings_.hold_determinant_sign);
     res_.iterations += out.iterations;
@@ -119,10 +123,18 @@ bool LoadControlPath::advance() {
     res_.lambda = lambda_;
     last_ = step_info(out, res_.steps, lambda_, dlambda, attempts_, step_norm);
     if (settings_.on_step) settings_.on_step(last_);
-    // growth after an easy step (never right after a cut-back)
-    h_ = std::abs(dlambda);
-    if (attempts_ == 1 && out.iterations <= settings_.easy_iterations)
-      h_ = std::min(settings_.growth_factor * h_, settings_.max_step);
+    // growth after an easy step, or one that took no more corrections than the step before (the
+    // path is not getting harder), never right after a cut-back; a step shortened to land on a
+    // station keeps the size it had
+    const bool shortened = attempts_ == 1 && std::abs(dlambda) < (1.0 - 1e-12) * h_;
+    const bool not_harder = previous_iterations_ > 0 && out.iterations <= previous_iterations_ &&
+                            2 * out.iterations <= settings_.convergence.max_iterations;
+    if (!shortened) {
+      h_ = std::abs(dlambda);
+      if (attempts_ == 1 && (out.iterations <= settings_.easy_iterations || not_harder))
+        h_ = std::min(settings_.growth_factor * h_, settings_.max_step);
+    }
+    previous_iterations_ = attempts_ == 1 && !shortened ? out.iterations : 0;
     attempts_ = 1;
     check_end();
     return true;

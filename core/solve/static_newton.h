@@ -6,6 +6,7 @@
 /// with status diverged and a reason naming the load reached (use static_arclength.h to go on).
 
 #include <memory>
+#include <vector>
 
 #include "core/solve/static_common.h"
 
@@ -19,6 +20,9 @@ struct LoadControlSettings {
   double max_step = 0.25;     ///< |Δλ| never grows beyond this
   double growth_factor = 1.5; ///< |Δλ| ← min(growth·|Δλ|, max_step) after an easy step
   int easy_iterations = 4;    ///< a step converged in at most this many corrections, without cut-back, is easy
+  /// λ values a step lands on exactly, as it lands on λ_end (static_solvers.md §3): where the run
+  /// reports a value (a scene's at_load metrics), so it is a converged state, not an interpolation
+  std::vector<double> stations;
   /// Snap-through guard (eq. 8): a converged step whose increment ||Δq|| exceeds this multiple of
   /// its first, linearized correction ||K0⁻¹(Δλ f − r0)|| jumped to a distant branch past a limit
   /// point (on the stable branch the ratio is ≤ 2 near a fold); it is rejected like a failed
@@ -56,6 +60,7 @@ class LoadControlPath {
   StaticStepInfo last_;
   double lambda_ = 0.0, h_ = 0.0;
   int attempts_ = 1;
+  int previous_iterations_ = 0;  // corrections of the last step if it took one attempt, else 0
   bool finished_ = false;
 };
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <vector>
@@ -203,6 +204,60 @@ TEST(LoadControl, StepsGrowAfterEasyStepsAndStayBounded) {
   double largest = 0.0;
   for (const Point& pt : path) largest = std::max(largest, pt.info.dlambda);
   EXPECT_DOUBLE_EQ(largest, 0.08);
+}
+
+// static_solvers.md §3: a step that needed no more corrections than the one before grows even when
+// it is not "easy" (the path is not getting harder); one that needed more keeps its size
+TEST(LoadControl, StepsGrowWhileThePathIsNotGettingHarder) {
+  Cubic p;
+  LoadControlSettings s;
+  s.initial_step = 0.01;
+  s.max_step = 0.5;
+  s.lambda_end = 0.9;
+  s.easy_iterations = 0;  // only the comparison with the step before can grow a step
+  s.convergence = tight();
+  std::vector<Point> path;
+  record_into(s, p, path);
+  ASSERT_EQ(solve_load_control(p, s).status, StaticStatus::completed);
+  ASSERT_GE(path.size(), 4u);
+  int grown = 0, kept = 0;
+  for (std::size_t i = 1; i + 2 < path.size(); ++i) {  // the last step may be shortened to λ_end
+    const StaticStepInfo &before = path[i - 1].info, &step = path[i].info, &next = path[i + 1].info;
+    ASSERT_EQ(step.attempts, 1);
+    if (step.iterations <= before.iterations) {
+      EXPECT_NEAR(next.dlambda, std::min(1.5 * step.dlambda, s.max_step), 1e-15) << "step " << i;
+      ++grown;
+    } else {
+      EXPECT_NEAR(next.dlambda, step.dlambda, 1e-15) << "step " << i;
+      ++kept;
+    }
+  }
+  EXPECT_GT(grown, 0);
+  EXPECT_GT(kept, 0);  // towards the limit point the cubic gets harder
+}
+
+// the loads a run reports at (a scene's at_load metrics) are converged states of the path
+TEST(LoadControl, StepsLandOnStationsAndKeepTheirSize) {
+  Cubic p;
+  LoadControlSettings s;
+  s.initial_step = s.max_step = 0.1;
+  s.lambda_end = 0.9;
+  s.stations = {0.37, 0.61, 2.0, -1.0};  // the last two are off the path
+  s.convergence = tight();
+  std::vector<Point> path;
+  record_into(s, p, path);
+  ASSERT_EQ(solve_load_control(p, s).status, StaticStatus::completed);
+  std::vector<double> lambdas;
+  for (const Point& pt : path) {
+    lambdas.push_back(pt.info.lambda);
+    EXPECT_NEAR(Cubic::lambda_of(pt.q[0]), pt.info.lambda, 1e-12);
+  }
+  EXPECT_NE(std::find(lambdas.begin(), lambdas.end(), 0.37), lambdas.end());
+  EXPECT_NE(std::find(lambdas.begin(), lambdas.end(), 0.61), lambdas.end());
+  // 0.1, 0.2, 0.3, 0.37, 0.47, 0.57, 0.61, 0.71, 0.81, 0.9: the step after a station is full size
+  ASSERT_EQ(path.size(), 10u);
+  EXPECT_NEAR(path[4].info.dlambda, 0.1, 1e-15);
+  EXPECT_NEAR(path[7].info.dlambda, 0.1, 1e-15);
 }
 
 TEST(LoadControl, TooLargeStepIsCutBackAndRecovers) {
