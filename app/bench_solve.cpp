@@ -125,8 +125,8 @@ nlohmann::ordered_json element_figures(int rounds) {
           {"product_size", n}};
 }
 
-// which BLAS kernels the factorizations run on: OpenBLAS names its kernel set (blas_interpose.cpp
-// may have chosen it); another BLAS is reported as such
+// which BLAS kernels the factorizations run on: OpenBLAS names the kernel set it picked for this
+// processor (or the one OPENBLAS_CORETYPE forced); another BLAS is reported as such
 std::string blas_kernels() {
   using CoreName = char* (*)();
   if (auto f = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename")))
