@@ -18,7 +18,7 @@ struct LoadControlSettings {
   double initial_step = 0.1;  ///< |Δλ| of the first attempt
   double min_step = 1e-6;     ///< a cut-back below this ends the run (diverged, step_too_small)
   double max_step = 0.25;     ///< |Δλ| never grows beyond this
-  double growth_factor = 1.5; ///< |Δλ| ← min(growth·|Δλ|, max_step) after an easy step
+  double growth_factor = 1.5; ///< |Δλ| ← min(growth·|Δλ|, max_step) after an easy or no harder step, eq. (9)
   int easy_iterations = 4;    ///< a step converged in at most this many corrections, without cut-back, is easy
   /// λ values a step lands on exactly, as it lands on λ_end (static_solvers.md §3): where the run
   /// reports a value (a scene's at_load metrics), so it is a converged state, not an interpolation
