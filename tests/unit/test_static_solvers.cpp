@@ -189,15 +189,21 @@ TEST(LoadControl, CubicReachesFullLoadOnTheStableBranch) {
   EXPECT_EQ(r.steps, static_cast<int>(path.size()));
 }
 
-TEST(LoadControl, StepsGrowAfterEasyStepsAndStayBounded) {
+// the converged points of load control on the cubic with settings s (completed, or a test failure)
+std::vector<Point> cubic_path(LoadControlSettings s) {
   Cubic p;
+  std::vector<Point> path;
+  record_into(s, p, path);
+  EXPECT_EQ(solve_load_control(p, s).status, StaticStatus::completed);
+  return path;
+}
+
+TEST(LoadControl, StepsGrowAfterEasyStepsAndStayBounded) {
   LoadControlSettings s;
   s.initial_step = 0.01;
   s.max_step = 0.08;
   s.lambda_end = 0.9;
-  std::vector<Point> path;
-  record_into(s, p, path);
-  ASSERT_EQ(solve_load_control(p, s).status, StaticStatus::completed);
+  const std::vector<Point> path = cubic_path(s);
   ASSERT_GE(path.size(), 3u);
   EXPECT_NEAR(path[0].info.dlambda, 0.01, 1e-15);
   EXPECT_NEAR(path[1].info.dlambda, 0.015, 1e-15);
@@ -209,16 +215,13 @@ TEST(LoadControl, StepsGrowAfterEasyStepsAndStayBounded) {
 // static_solvers.md §3: a step that needed no more corrections than the one before grows even when
 // it is not "easy" (the path is not getting harder); one that needed more keeps its size
 TEST(LoadControl, StepsGrowWhileThePathIsNotGettingHarder) {
-  Cubic p;
   LoadControlSettings s;
   s.initial_step = 0.01;
   s.max_step = 0.5;
   s.lambda_end = 0.9;
   s.easy_iterations = 0;  // only the comparison with the step before can grow a step
   s.convergence = tight();
-  std::vector<Point> path;
-  record_into(s, p, path);
-  ASSERT_EQ(solve_load_control(p, s).status, StaticStatus::completed);
+  const std::vector<Point> path = cubic_path(s);
   ASSERT_GE(path.size(), 4u);
   int grown = 0, kept = 0;
   for (std::size_t i = 1; i + 2 < path.size(); ++i) {  // the last step may be shortened to λ_end
@@ -238,15 +241,12 @@ TEST(LoadControl, StepsGrowWhileThePathIsNotGettingHarder) {
 
 // the loads a run reports at (a scene's at_load metrics) are converged states of the path
 TEST(LoadControl, StepsLandOnStationsAndKeepTheirSize) {
-  Cubic p;
   LoadControlSettings s;
   s.initial_step = s.max_step = 0.1;
   s.lambda_end = 0.9;
   s.stations = {0.37, 0.61, 2.0, -1.0};  // the last two are off the path
   s.convergence = tight();
-  std::vector<Point> path;
-  record_into(s, p, path);
-  ASSERT_EQ(solve_load_control(p, s).status, StaticStatus::completed);
+  const std::vector<Point> path = cubic_path(s);
   std::vector<double> lambdas;
   for (const Point& pt : path) {
     lambdas.push_back(pt.info.lambda);
