@@ -94,6 +94,7 @@ class ShellDynamicSimulation final : public Simulation {
   long long window_noi_ = 0, window_nou_ = 0;
   std::chrono::steady_clock::time_point wall0_;
   double wall_ = 0.0, simulated_ = 0.0, energy0_ = 0.0, max_energy_growth_ = 0.0, max_violation_ = 0.0;
+  double max_moving_energy_ = 0.0;  // largest kinetic + strain energy published: energy_growth_max_rel's scale
 };
 
 }  // namespace ff::shell
