@@ -1,6 +1,6 @@
 // dgemm_ and dtrsm_ for the whole process: one-column calls become dgemv/dtrsv
 // (core/solve/blas_single_rhs.h says why), all others go on to the BLAS the process loaded.
-// Linked into the flexframe executable itself and exported (blas_interpose.list), so the shared
+// Linked into the flexframe executable itself and exported (interpose.list), so the shared
 // solver libraries bind to these before the BLAS library.
 #include <dlfcn.h>
 
