@@ -562,7 +562,8 @@ LinearStatus SparseLinearSolver::factorize_values(const SparseMatrixD& k, bool k
                   "matrix is not symmetric (column " + std::to_string(j) + "); backend '" +
                       std::string(to_string(backend_)) + "' reads one triangle only: use umfpack or sparse_lu");
   // MUMPS picks LDLᵀ for a symmetric K (static_solvers.md §7.1); the others do not ask
-  const bool symmetric = backend_ == LinearBackend::mumps && (known_symmetric || first_asymmetric_column(k, 1e-12) < 0);
+  const bool symmetric =
+      backend_ == LinearBackend::mumps && (known_symmetric || first_asymmetric_column(k, 1e-12, true) < 0);
   LinearStatus s = impl_->factorize(k, symmetric);
   if (!s) return s;
   factorized_ = true;
@@ -570,7 +571,7 @@ LinearStatus SparseLinearSolver::factorize_values(const SparseMatrixD& k, bool k
   return s;
 }
 
-int SparseLinearSolver::first_asymmetric_column(const SparseMatrixD& k, double relative_bound) const {
+int SparseLinearSolver::first_asymmetric_column(const SparseMatrixD& k, double relative_bound, bool any) const {
   const double* v = k.valuePtr();
   double largest = 0.0;
   for (int p = 0; p < k.nonZeros(); ++p) largest = std::max(largest, std::abs(v[p]));
@@ -581,6 +582,7 @@ int SparseLinearSolver::first_asymmetric_column(const SparseMatrixD& k, double r
       const double mirrored = mirror_[p] >= 0 ? v[mirror_[p]] : 0.0;  // absent: a structural zero
       if (std::abs(v[p] - mirrored) > bound) {
         const int column = std::min(j, inner_[p]);
+        if (any) return column;
         if (first < 0 || column < first) first = column;
       }
     }

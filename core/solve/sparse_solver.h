@@ -99,8 +99,10 @@ class SparseLinearSolver {
   /// factorize() for a K known to be exactly symmetric (no check) or not (checked as it says)
   LinearStatus factorize_values(const SparseMatrixD& k, bool known_symmetric);
   /// The first column where K and Kᵀ differ by more than relative_bound × max|K_ij|, −1 when
-  /// symmetric; read through mirror_, no transpose.
-  int first_asymmetric_column(const SparseMatrixD& k, double relative_bound) const;
+  /// symmetric; read through mirror_, no transpose. With `any`, the column of the first difference
+  /// met is returned at once (enough to tell that K ≠ Kᵀ: a dynamics matrix differs in its first
+  /// columns, and the full scan was 2 % of a factorizing run).
+  int first_asymmetric_column(const SparseMatrixD& k, double relative_bound, bool any = false) const;
   LinearBackend backend_;
   std::unique_ptr<Impl> impl_;
   int n_ = 0;
