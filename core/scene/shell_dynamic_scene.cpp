@@ -48,6 +48,11 @@ const Schema& shell_dynamic_schema() {
                 "policy lazy: refresh the matrix at an iteration whose correction was more than this fraction of "
                 "the one before (a slow contraction means it has aged)",
                 0.3, Range::open(0.0, 1.0))
+        .number("solver.step_refresh_ratio",
+                "policy lazy: the next step starts with a fresh matrix when a step that kept its matrix ended on "
+                "a correction more than this fraction of the one before (the kept matrix's contraction rate, "
+                "core/solve/generalized_alpha.md (G10')); 1 turns this off",
+                0.1, Range::left_open(0.0, 1.0))
         .integer("solver.max_cutbacks", "halvings of a failing step before the run is declared diverged", 6,
                  IntRange::closed(0, 20));
     declare_linear_solver(s, "mumps where compiled in, else umfpack: 14 % less wall time on the double pendulum, "
@@ -339,6 +344,7 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
                                 ? AccelerationPredictor::previous
                                 : AccelerationPredictor::zero;
   st.integrator.refresh_ratio = d.number("solver.refresh_ratio");
+  st.integrator.step_refresh_ratio = d.number("solver.step_refresh_ratio");
   st.integrator.max_cutbacks = static_cast<int>(d.integer("solver.max_cutbacks"));
   st.integrator.backend = read_linear_solver(d, LinearBackend::mumps);
   if (linear_backend_is_symmetric(st.integrator.backend))  // [S kGᵀ; kB 0] is indefinite (G7)

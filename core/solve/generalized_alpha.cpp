@@ -118,6 +118,7 @@ std::string GeneralizedAlpha::initialize(double t0, const Eigen::VectorXd& v0) {
   a_ = vdot_;
   lambda_ = x.tail(m);
   have_matrix_ = false;  // the mass-only matrix is not an iteration matrix
+  refresh_at_next_step_ = false;
   constraint_scale_ = 0.0;
   return {};
 }
@@ -153,8 +154,10 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
     // lazy (G10): a matrix whose last correction shrank the one before by less than refresh_ratio
     // has aged; it is refreshed here and kept for the following steps
     const std::size_t k = corrections_.size();
-    const bool aged = settings_.policy == MatrixPolicy::lazy && k >= 2 &&
-                      corrections_[k - 1] > settings_.refresh_ratio * corrections_[k - 2];
+    // (G10') it has aged already when the last step's kept matrix ended on too slow a contraction
+    const bool aged = settings_.policy == MatrixPolicy::lazy &&
+                      ((k >= 2 && corrections_[k - 1] > settings_.refresh_ratio * corrections_[k - 2]) ||
+                       (it == 1 && refresh_at_next_step_));
     const bool update = force_full || !have_matrix_ || settings_.policy == MatrixPolicy::full || aged ||
                         (settings_.policy == MatrixPolicy::nni && it >= settings_.nni_threshold);
     problem_.evaluate(t_ + h, v1, vd, lam, r, phi, update ? &w : nullptr, update ? &S_ : nullptr, update ? &B_ : nullptr);
@@ -196,6 +199,10 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
       return out;
     }
     if (out.increment_norm < settings_.tolerance) {
+      // (G10'): the last two corrections of a kept matrix contract by about the spectral radius of
+      // I − A_kept⁻¹ A, the measure of how far it has aged
+      refresh_at_next_step_ = out.updates == 0 && k >= 1 &&
+                              out.increment_norm > settings_.step_refresh_ratio * corrections_[k - 1];
       problem_.configure(x);
       problem_.commit();
       t_ += h;

@@ -26,6 +26,9 @@ struct GeneralizedAlphaSettings {
   MatrixPolicy policy = MatrixPolicy::full;
   int nni_threshold = 3;         ///< policy nni: update at this and later iterations of a step
   double refresh_ratio = 0.3;    ///< policy lazy: update when ‖Δx_k‖ > refresh_ratio ‖Δx_{k−1}‖ (G10)
+  /// policy lazy: the next step starts with an update when a step that kept its matrix ended on a
+  /// contraction ‖Δx_k‖/‖Δx_{k−1}‖ above this (G10'); 1 turns it off
+  double step_refresh_ratio = 0.1;
   AccelerationPredictor predictor = AccelerationPredictor::zero;
   int max_cutbacks = 6;          ///< halvings of h before giving up
   LinearBackend backend = default_linear_backend();
@@ -82,6 +85,7 @@ class GeneralizedAlpha {
   bool have_matrix_ = false;
   long long noi_ = 0, nou_ = 0, fallbacks_ = 0;
   std::vector<double> corrections_;  // reserved once: no allocation in the Newton loop
+  bool refresh_at_next_step_ = false;  // (G10'): the last step's kept matrix contracted too slowly
 };
 
 }  // namespace ff

@@ -197,6 +197,44 @@ TEST(GeneralizedAlpha, PoliciesCountIterationsAndUpdates) {
   EXPECT_NEAR(lazy.x, full.x, 1e-6);
 }
 
+// (G10'): under lazy, a step that kept its matrix and ended on a contraction ‖Δx_k‖/‖Δx_{k−1}‖
+// above step_refresh_ratio hands the next step a fresh matrix from its first correction on; with
+// the rule off (ratio 1) the next step keeps the aged one unless its own corrections slow down
+// (G10). Either way the trajectory is the same to the Newton tolerance.
+TEST(GeneralizedAlpha, LazyStartsTheStepAfterASlowContractionWithAFreshMatrix) {
+  constexpr double slow = 0.1;
+  struct Run {
+    int slow_ends = 0, refreshed_after = 0;
+    double x = 0.0;
+  };
+  auto run = [](double step_refresh_ratio) {
+    Pendulum p(1.0, 0.5);
+    GeneralizedAlphaSettings s;
+    s.policy = MatrixPolicy::lazy;
+    s.tolerance = 1e-10;
+    s.step_refresh_ratio = step_refresh_ratio;
+    GeneralizedAlpha ga(p, s);
+    EXPECT_EQ(ga.initialize(0.0, Eigen::VectorXd::Zero(2)), "");
+    Run r;
+    bool ended_slow = false;
+    for (int i = 0; i < 500; ++i) {
+      const StepReport rep = ga.step(2e-3);
+      EXPECT_TRUE(rep.converged);
+      if (ended_slow) ++r.slow_ends, r.refreshed_after += rep.matrix_updates > 0;
+      const std::vector<double>& c = ga.last_corrections();
+      ended_slow = rep.matrix_updates == 0 && c.size() >= 2 && c.back() > slow * c[c.size() - 2];
+    }
+    r.x = p.q()[0];
+    return r;
+  };
+  const Run on = run(slow), off = run(1.0);
+  EXPECT_GT(on.slow_ends, 0);
+  EXPECT_EQ(on.refreshed_after, on.slow_ends);
+  EXPECT_GT(off.slow_ends, 0);
+  EXPECT_LT(off.refreshed_after, off.slow_ends);
+  EXPECT_NEAR(on.x, off.x, 1e-6);
+}
+
 // (G3'): starting from v̇_{n+1} = v̇_n with x and v moved along (G6) changes where Newton starts,
 // not what it converges to. On the linear oscillator one correction solves each step exactly, so
 // both predictors give the same trajectory to round-off, and the first correction (the predictor's
