@@ -74,18 +74,23 @@ void declare_load_keys(Schema& s) {
       .choice("load.type",
               "force / moment: a point load (several nodes share the total by tributary length); line: a force per "
               "unit length along the mesh edges joining the selected nodes (consistent nodal forces); pressure: a "
-              "uniform pressure on every quad whose 4 corner nodes are selected (select = \"all\": the whole mesh)",
-              {"force", "moment", "line", "pressure"}, std::nullopt)
+              "uniform pressure on every quad whose 4 corner nodes are selected (select = \"all\": the whole mesh); "
+              "surface: a force per unit area in a fixed direction (self-weight, snow) on those quads",
+              {"force", "moment", "line", "pressure", "surface"}, std::nullopt)
       .number_list("load.total", "force / moment (required there): total vector at lambda = 1 (global components)",
                    std::vector<double>{0, 0, 0}, {}, 3, 3)
       .number_list("load.per_length", "line (required there): force per unit length at lambda = 1 (global components)",
+                   std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number_list("load.per_area",
+                   "surface (required there): force per unit area of the reference mid-surface at lambda = 1 "
+                   "(global components; a dead load: consistent nodal forces, core/shell/shell_model.md P5)",
                    std::vector<double>{0, 0, 0}, {}, 3, 3)
       .number("load.pressure",
               "pressure (required there): force per unit area at lambda = 1, positive along the director (the "
               "normal of a counter-clockwise quad)", 0.0)
       .boolean("load.follower",
                "force / moment: turn with the nodes (components then in the node frame); pressure: act on the "
-               "current normal and area instead of the reference ones; line loads are dead loads", false);
+               "current normal and area instead of the reference ones; line and surface loads are dead loads", false);
   declare_selector_keys(s, "load");
 }
 
@@ -191,6 +196,31 @@ std::vector<std::pair<int, Vec3>> line_load_forces(const mesh::ShellMesh& m, con
   return out;
 }
 
+std::vector<std::pair<int, Vec3>> surface_load_forces(const mesh::ShellMesh& m, const std::vector<int>& quads,
+                                                      const Vec3& t) {
+  // shell_model.md (P5): f_a = Σ_g N_a(ξ_g) |g_ξ × g_η|(ξ_g) t on the reference quad, 2 × 2 Gauss points
+  static const double xa[4] = {-1, 1, 1, -1}, ya[4] = {-1, -1, 1, 1};
+  const double g = 1.0 / std::sqrt(3.0);
+  std::map<int, Vec3> f;
+  for (int q : quads) {
+    const auto& quad = m.quads[q];
+    for (int gi = 0; gi < 4; ++gi) {
+      const double xi = xa[gi] * g, eta = ya[gi] * g;  // weights are 1
+      Vec3 gx = Vec3::Zero(), ge = Vec3::Zero();
+      for (int a = 0; a < 4; ++a) {
+        gx += 0.25 * xa[a] * (1 + ya[a] * eta) * m.points[quad[a]];
+        ge += 0.25 * ya[a] * (1 + xa[a] * xi) * m.points[quad[a]];
+      }
+      const double area = gx.cross(ge).norm();
+      for (int a = 0; a < 4; ++a) {
+        auto [it, fresh] = f.try_emplace(quad[a], Vec3::Zero());
+        it->second += 0.25 * (1 + xa[a] * xi) * (1 + ya[a] * eta) * area * t;
+      }
+    }
+  }
+  return {f.begin(), f.end()};
+}
+
 void read_loads(const Document& d, shell::ShellModelSpec& spec) {
   using namespace ff::shell;
   const mesh::ShellMesh& m = spec.mesh;
@@ -199,28 +229,40 @@ void read_loads(const Document& d, shell::ShellModelSpec& spec) {
     const std::vector<int> ids = select_nodes(d, m, "load", i);
     // each type takes its own amount key, and only that one
     const std::map<std::string, std::string> amount = {
-        {"force", "load.total"}, {"moment", "load.total"}, {"line", "load.per_length"}, {"pressure", "load.pressure"}};
+        {"force", "load.total"}, {"moment", "load.total"}, {"line", "load.per_length"}, {"pressure", "load.pressure"},
+        {"surface", "load.per_area"}};
     const std::map<std::string, std::string> owner = {{"load.total", "type = \"force\" or \"moment\""},
                                                       {"load.per_length", "type = \"line\""},
-                                                      {"load.pressure", "type = \"pressure\""}};
+                                                      {"load.pressure", "type = \"pressure\""},
+                                                      {"load.per_area", "type = \"surface\""}};
     for (const auto& [key, types] : owner)
       if (key != amount.at(type) && d.present(key, i))
         throw SceneError({d.issue(key, i, key + " belongs to " + types + "; a " + type + " load takes " + amount.at(type))});
     if (!d.present(amount.at(type), i))
       throw SceneError({d.issue("load.type", i, "type = \"" + type + "\" needs " + amount.at(type))});
-    if (type == "pressure") {
+    if (type == "pressure" || type == "surface") {
       const std::vector<int> quads = quads_within(m, ids);
       if (quads.empty())
         throw SceneError({d.issue("load.select", i, "selects " + std::to_string(ids.size()) +
-                                                        " nodes but no quad with all 4 corners among them; a pressure "
-                                                        "loads whole quads (select = \"all\" for the whole mesh)")});
-      for (int q : quads) spec.pressures.push_back({q, d.number("load.pressure", i), d.boolean("load.follower", i)});
+                                                        " nodes but no quad with all 4 corners among them; a " + type +
+                                                        " load acts on whole quads (select = \"all\" for the whole "
+                                                        "mesh)")});
+      if (type == "pressure") {
+        for (int q : quads) spec.pressures.push_back({q, d.number("load.pressure", i), d.boolean("load.follower", i)});
+        continue;
+      }
+    }
+    if (type == "line" || type == "surface") {
+      if (d.boolean("load.follower", i))
+        throw SceneError({d.issue("load.follower", i, type + " loads are dead loads (fixed direction); follower = true "
+                                                      "is not supported for them (a pressure can follow the surface)")});
+    }
+    if (type == "surface") {
+      for (const auto& [node, f] : surface_load_forces(m, quads_within(m, ids), vec(d.numbers("load.per_area", i))))
+        spec.loads.push_back({node, f, Vec3::Zero(), false});
       continue;
     }
     if (type == "line") {
-      if (d.boolean("load.follower", i))
-        throw SceneError({d.issue("load.follower", i, "line loads are dead loads (fixed direction); follower = true is "
-                                                      "not supported for them")});
       std::string why;
       const auto forces = line_load_forces(m, ids, vec(d.numbers("load.per_length", i)), why);
       if (!why.empty()) throw SceneError({d.issue("load.select", i, why)});

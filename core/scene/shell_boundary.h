@@ -23,7 +23,7 @@ void declare_probe_keys(Schema& s);
 /// Restraints, symmetry planes and prescribed displacements of every [[bc]] into `spec`
 /// (each tagged with its entry index as `source`). Needs spec.mesh. Throws SceneError.
 void read_bcs(const Document& d, shell::ShellModelSpec& spec);
-/// Point forces and moments, line loads and pressures of every [[load]] into `spec`.
+/// Point forces and moments, line, surface and pressure loads of every [[load]] into `spec`.
 void read_loads(const Document& d, shell::ShellModelSpec& spec);
 /// Probes of every [[probe]].
 std::vector<shell::ShellProbe> read_probes(const Document& d, const mesh::ShellMesh& m);
@@ -37,5 +37,10 @@ Issue located(const Document& d, const shell::ShellSpecError& e);
 /// selected).
 std::vector<std::pair<int, Eigen::Vector3d>> line_load_forces(const mesh::ShellMesh& m, const std::vector<int>& ids,
                                                               const Eigen::Vector3d& q, std::string& why);
+
+/// Consistent nodal forces of a force per unit reference area t (global components) on the quads
+/// `quads` (core/shell/shell_model.md P5), summed per node.
+std::vector<std::pair<int, Eigen::Vector3d>> surface_load_forces(const mesh::ShellMesh& m, const std::vector<int>& quads,
+                                                                 const Eigen::Vector3d& t);
 
 }  // namespace ff::scene
