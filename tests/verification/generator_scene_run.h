@@ -2,7 +2,8 @@
 // Runs a scene given as TOML text (written to the build tree), with optional key overrides as on
 // the command line, and returns the probes' final values by name: the verification tests of the
 // mesh generators build their problems from the [mesh] keys exactly as a user's scene would, and
-// the dynamics tests run the guide's example this way.
+// the dynamics tests run the guide's example this way (`ctx` brings a mesh file reader, for the io
+// tests: the scene's files are relative to FF_BINARY_DIR/test_out).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -18,12 +19,13 @@
 namespace ff::verification {
 
 inline std::map<std::string, double> run_scene_text(const std::string& name, const std::string& text,
-                                                    const std::vector<std::string>& overrides = {}) {
+                                                    const std::vector<std::string>& overrides = {},
+                                                    const ff::scene::SceneContext& ctx = {}) {
   const std::string dir = std::string(FF_BINARY_DIR) + "/test_out";
   std::filesystem::create_directories(dir);
   const std::string path = dir + "/" + name + ".toml";
   std::ofstream(path) << text;
-  ff::scene::LoadedScene s = ff::scene::load_scene(path, overrides);
+  ff::scene::LoadedScene s = ff::scene::load_scene(path, overrides, ctx);
   std::atomic<bool> stop{false};
   std::vector<double> last;
   const ff::RunOutcome out = s.simulation->run([&](ff::Frame&& f) { last = f.probes; }, stop);
