@@ -213,8 +213,7 @@ std::vector<std::pair<int, Vec3>> surface_load_forces(const mesh::ShellMesh& m, 
       }
       const double area = gx.cross(ge).norm();
       for (int a = 0; a < 4; ++a) {
-        auto [it, fresh] = f.try_emplace(quad[a], Vec3::Zero());
-        it->second += 0.25 * (1 + xa[a] * xi) * (1 + ya[a] * eta) * area * t;
+        f.try_emplace(quad[a], Vec3::Zero()).first->second += 0.25 * (1 + xa[a] * xi) * (1 + ya[a] * eta) * area * t;
       }
     }
   }
@@ -240,6 +239,9 @@ void read_loads(const Document& d, shell::ShellModelSpec& spec) {
         throw SceneError({d.issue(key, i, key + " belongs to " + types + "; a " + type + " load takes " + amount.at(type))});
     if (!d.present(amount.at(type), i))
       throw SceneError({d.issue("load.type", i, "type = \"" + type + "\" needs " + amount.at(type))});
+    if ((type == "line" || type == "surface") && d.boolean("load.follower", i))
+      throw SceneError({d.issue("load.follower", i, type + " loads are dead loads (fixed direction); follower = true "
+                                                    "is not supported for them (a pressure can follow the surface)")});
     if (type == "pressure" || type == "surface") {
       const std::vector<int> quads = quads_within(m, ids);
       if (quads.empty())
@@ -247,19 +249,11 @@ void read_loads(const Document& d, shell::ShellModelSpec& spec) {
                                                         " nodes but no quad with all 4 corners among them; a " + type +
                                                         " load acts on whole quads (select = \"all\" for the whole "
                                                         "mesh)")});
-      if (type == "pressure") {
+      if (type == "pressure")
         for (int q : quads) spec.pressures.push_back({q, d.number("load.pressure", i), d.boolean("load.follower", i)});
-        continue;
-      }
-    }
-    if (type == "line" || type == "surface") {
-      if (d.boolean("load.follower", i))
-        throw SceneError({d.issue("load.follower", i, type + " loads are dead loads (fixed direction); follower = true "
-                                                      "is not supported for them (a pressure can follow the surface)")});
-    }
-    if (type == "surface") {
-      for (const auto& [node, f] : surface_load_forces(m, quads_within(m, ids), vec(d.numbers("load.per_area", i))))
-        spec.loads.push_back({node, f, Vec3::Zero(), false});
+      else
+        for (const auto& [node, f] : surface_load_forces(m, quads, vec(d.numbers("load.per_area", i))))
+          spec.loads.push_back({node, f, Vec3::Zero(), false});
       continue;
     }
     if (type == "line") {
