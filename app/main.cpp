@@ -179,7 +179,7 @@ int main(int argc, char** argv) {
       "policies", "NOI/NOU and wall time per iteration-matrix policy and step (the shell paper's Tables 3-4)");
   policies->add_option("scene", pol_opt.scene, "shell_dynamic scene file or bundled name");
   policies->add_option("--dt", pol_dts, "time steps, comma separated");
-  policies->add_option("--policies", pol_policies, "comma separated: full, frozen, nni:<i>, lazy, lazy:<refresh ratio>");
+  policies->add_option("--policies", pol_policies, "comma separated: full, frozen, nni:<i>, lazy, lazy:<refresh ratio>, lazy:<refresh ratio>:<step refresh ratio>");
   policies->add_option("--until", pol_opt.until, "simulated time per run [s]")->check(CLI::PositiveNumber);
   policies->add_option("--set", pol_opt.overrides, "override a scene key in every run")->take_all();
   policies->add_option("--out", pol_opt.out_dir, "output folder (policies.csv, policies.md, policies.png)");

@@ -22,18 +22,35 @@ struct Row {
   double noi = 0, nou = 0, wall_s = 0, fallbacks = 0;
 };
 
-// "full", "frozen", "nni:3", "lazy", "lazy:0.2" -> scene overrides
+// "lazy:0.2" -> {"0.2"}, "lazy:0.2:0.1" -> {"0.2", "0.1"} (refresh_ratio, step_refresh_ratio)
+std::vector<std::string> lazy_ratios(const std::string& p) {
+  std::vector<std::string> parts;
+  std::stringstream ss(p.substr(5));
+  for (std::string part; std::getline(ss, part, ':');) parts.push_back(part);
+  return parts;
+}
+
+// "full", "frozen", "nni:3", "lazy", "lazy:0.2", "lazy:0.2:0.1" -> scene overrides
 std::vector<std::string> policy_overrides(const std::string& p) {
   if (p == "full" || p == "frozen" || p == "lazy") return {"solver.policy=" + p};
   if (p.rfind("nni:", 0) == 0) return {"solver.policy=nni", "solver.nni=" + p.substr(4)};
-  if (p.rfind("lazy:", 0) == 0) return {"solver.policy=lazy", "solver.refresh_ratio=" + p.substr(5)};
-  throw InputError("--policies: '" + p + "' is not full, frozen, nni:<i>, lazy or lazy:<ratio>");
+  if (p.rfind("lazy:", 0) == 0) {
+    const std::vector<std::string> r = lazy_ratios(p);
+    if (r.size() == 1 && !r[0].empty()) return {"solver.policy=lazy", "solver.refresh_ratio=" + r[0]};
+    if (r.size() == 2 && !r[0].empty() && !r[1].empty())
+      return {"solver.policy=lazy", "solver.refresh_ratio=" + r[0], "solver.step_refresh_ratio=" + r[1]};
+  }
+  throw InputError("--policies: '" + p + "' is not full, frozen, nni:<i>, lazy, lazy:<refresh ratio> or "
+                   "lazy:<refresh ratio>:<step refresh ratio>");
 }
 std::string policy_label(const std::string& p) {
   if (p == "full") return "every iteration";
   if (p == "frozen") return "frozen";
   if (p == "lazy") return "lazy";
-  if (p.rfind("lazy:", 0) == 0) return "lazy, ratio " + p.substr(5);
+  if (p.rfind("lazy:", 0) == 0) {
+    const std::vector<std::string> r = lazy_ratios(p);
+    return "lazy, ratio " + r[0] + (r.size() > 1 ? ", next step " + r[1] : "");
+  }
   return "NNI >= " + p.substr(4);
 }
 }  // namespace

@@ -17,7 +17,7 @@ TEST(CliPolicies, WritesTheTableAndCountersFollowThePolicies) {
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
   const ProcResult r = run_flexframe({"policies", "double_pendulum_shells", "--until", "0.01", "--policies",
-                                      "full,nni:3,frozen", "--set", "shell[0].n1=4", "--set", "shell[0].n2=4",
+                                      "full,nni:3,frozen,lazy:0.3:1", "--set", "shell[0].n1=4", "--set", "shell[0].n2=4",
                                       "--set", "shell[1].n1=4", "--set", "shell[1].n2=4", "--out", out},
                                      dir + "/run");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
@@ -35,11 +35,21 @@ TEST(CliPolicies, WritesTheTableAndCountersFollowThePolicies) {
     EXPECT_EQ(status, "completed") << line;
     counts[policy] = {std::stod(noi), std::stod(nou)};
   }
-  ASSERT_EQ(counts.size(), 3u);
+  ASSERT_EQ(counts.size(), 4u);
   EXPECT_EQ(counts["full"].first, counts["full"].second);
   EXPECT_EQ(counts["frozen"].second, 1);
   EXPECT_LE(counts["nni:3"].second, counts["full"].second);
   EXPECT_NE(r.out.find("| 5e-4 | frozen |"), std::string::npos) << r.describe();
+  EXPECT_NE(r.out.find("| 5e-4 | lazy, ratio 0.3, next step 1 |"), std::string::npos) << r.describe();
+}
+
+TEST(CliPolicies, RefusesAMalformedLazyPolicy) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_flexframe({"policies", "double_pendulum_shells", "--until", "0.01", "--policies",
+                                      "lazy:0.3:0.1:2", "--out", dir + "/out"},
+                                     dir + "/run");
+  EXPECT_NE(r.exit_code, 0) << r.describe();
+  EXPECT_NE(r.err.find("'lazy:0.3:0.1:2' is not"), std::string::npos) << r.describe();
 }
 
 }  // namespace
