@@ -177,8 +177,10 @@ std::string format_deformation_scale(double scale) {
 }
 
 std::string status_line(const RunInfo& info, const Frame& frame, double deformation_scale) {
-  std::string s = format_time(frame.time, info.time_unit);
-  if (frame.load_factor != 0.0) s.append("\n").append(format_load_factor(frame.load_factor));
+  // a time without a unit is a static run's pseudo-time, its load factor: the λ line says it
+  const bool pseudo_time = info.time_unit.empty();
+  std::string s = pseudo_time ? format_load_factor(frame.load_factor) : format_time(frame.time, info.time_unit);
+  if (!pseudo_time && frame.load_factor != 0.0) s.append("\n").append(format_load_factor(frame.load_factor));
   if (deformation_scale != 1.0)
     s.append("\n").append(format_deformation_scale(deformation_scale));
   if (frame.step > 0) s.append("\nstep ").append(std::to_string(frame.step));

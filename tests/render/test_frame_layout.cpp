@@ -128,6 +128,14 @@ TEST(Overlay, TextFormats) {
   EXPECT_EQ(status_line(info, f, 5.0), "t = 1.250 s\n\u03bb = 0.500\ndeformation \u00d75");
   f.step = 120;
   EXPECT_EQ(status_line(info, f, 1.0), "t = 1.250 s\n\u03bb = 0.500\nstep 120");
+  // statics: the pseudo-time (no unit) is the load factor, printed once, also at λ = 0
+  info.time_unit = "";
+  f.time = f.load_factor = 0.0;
+  f.step = 0;
+  EXPECT_EQ(status_line(info, f, 1.0), "\u03bb = 0.000");
+  f.time = f.load_factor = 0.5;
+  f.step = 3;
+  EXPECT_EQ(status_line(info, f, 10.0), "\u03bb = 0.500\ndeformation \u00d710\nstep 3");
 }
 
 TEST(ColourRange, RoundsOutwardToTheSpansDecade) {
