@@ -198,24 +198,12 @@ std::vector<std::pair<int, Vec3>> line_load_forces(const mesh::ShellMesh& m, con
 
 std::vector<std::pair<int, Vec3>> surface_load_forces(const mesh::ShellMesh& m, const std::vector<int>& quads,
                                                       const Vec3& t) {
-  // shell_model.md (P5): f_a = Σ_g N_a(ξ_g) |g_ξ × g_η|(ξ_g) t on the reference quad, 2 × 2 Gauss points
-  static const double xa[4] = {-1, 1, 1, -1}, ya[4] = {-1, -1, 1, 1};
-  const double g = 1.0 / std::sqrt(3.0);
-  std::map<int, Vec3> f;
+  std::map<int, Vec3> f;  // summed per node
   for (int q : quads) {
-    const auto& quad = m.quads[q];
-    for (int gi = 0; gi < 4; ++gi) {
-      const double xi = xa[gi] * g, eta = ya[gi] * g;  // weights are 1
-      Vec3 gx = Vec3::Zero(), ge = Vec3::Zero();
-      for (int a = 0; a < 4; ++a) {
-        gx += 0.25 * xa[a] * (1 + ya[a] * eta) * m.points[quad[a]];
-        ge += 0.25 * ya[a] * (1 + xa[a] * xi) * m.points[quad[a]];
-      }
-      const double area = gx.cross(ge).norm();
-      for (int a = 0; a < 4; ++a) {
-        f.try_emplace(quad[a], Vec3::Zero()).first->second += 0.25 * (1 + xa[a] * xi) * (1 + ya[a] * eta) * area * t;
-      }
-    }
+    std::array<Vec3, 4> x;
+    for (int c = 0; c < 4; ++c) x[c] = m.points[m.quads[q][c]];
+    const std::array<Vec3, 4> fq = shell::surface_traction_forces(x, t);
+    for (int c = 0; c < 4; ++c) f.try_emplace(m.quads[q][c], Vec3::Zero()).first->second += fq[c];
   }
   return {f.begin(), f.end()};
 }

@@ -40,17 +40,14 @@ using assembly::Clock;
 using assembly::seconds_since;
 using lie::hat;
 
-// p (g_xi x g_eta) over the bilinear quad x[0..3] by 2x2 Gauss (exact: the integrand is
-// biquadratic), eq. P2 of shell_model.md: f_a = p sum_g N_a (g_xi x g_eta). With dfdx, also
-// df_a/dx_b = p sum_g N_a (N_b,eta [g_xi]x - N_b,xi [g_eta]x) (eq. P3), 3x3 block (a, b) at dfdx[4a + b].
-void pressure_forces(const std::array<Vec3, 4>& x, double p, std::array<Vec3, 4>& f, std::array<Mat3, 16>* dfdx) {
+// The 2x2 Gauss points of the bilinear quad x[0..3] (weights 1): visit(N, N_xi, N_eta, g_xi, g_eta)
+// with the four shape functions, their derivatives and the tangent vectors at each point
+template <class Visit>
+void for_each_gauss_point(const std::array<Vec3, 4>& x, Visit&& visit) {
   static const double xa[4] = {-1, 1, 1, -1}, ya[4] = {-1, -1, 1, 1};
   const double g = 1.0 / std::sqrt(3.0);
-  for (Vec3& v : f) v.setZero();
-  if (dfdx)
-    for (Mat3& m : *dfdx) m.setZero();
   for (int gi = 0; gi < 4; ++gi) {
-    const double xi = xa[gi] * g, eta = ya[gi] * g;  // weights are 1
+    const double xi = xa[gi] * g, eta = ya[gi] * g;
     double N[4], Nx[4], Ne[4];
     Vec3 gx = Vec3::Zero(), ge = Vec3::Zero();
     for (int a = 0; a < 4; ++a) {
@@ -60,15 +57,37 @@ void pressure_forces(const std::array<Vec3, 4>& x, double p, std::array<Vec3, 4>
       gx += Nx[a] * x[a];
       ge += Ne[a] * x[a];
     }
+    visit(N, Nx, Ne, gx, ge);
+  }
+}
+
+// p (g_xi x g_eta) over the bilinear quad x[0..3] by 2x2 Gauss (exact: the integrand is
+// biquadratic), eq. P2 of shell_model.md: f_a = p sum_g N_a (g_xi x g_eta). With dfdx, also
+// df_a/dx_b = p sum_g N_a (N_b,eta [g_xi]x - N_b,xi [g_eta]x) (eq. P3), 3x3 block (a, b) at dfdx[4a + b].
+void pressure_forces(const std::array<Vec3, 4>& x, double p, std::array<Vec3, 4>& f, std::array<Mat3, 16>* dfdx) {
+  for (Vec3& v : f) v.setZero();
+  if (dfdx)
+    for (Mat3& m : *dfdx) m.setZero();
+  for_each_gauss_point(x, [&](const double* N, const double* Nx, const double* Ne, const Vec3& gx, const Vec3& ge) {
     const Vec3 n = gx.cross(ge);
     for (int a = 0; a < 4; ++a) f[a] += p * N[a] * n;
-    if (!dfdx) continue;
+    if (!dfdx) return;
     const Mat3 Sx = hat(gx), Se = hat(ge);
     for (int a = 0; a < 4; ++a)
       for (int b = 0; b < 4; ++b) (*dfdx)[4 * a + b] += p * N[a] * (Ne[b] * Sx - Nx[b] * Se);
-  }
+  });
 }
 }  // namespace
+
+std::array<Vec3, 4> surface_traction_forces(const std::array<Vec3, 4>& x, const Vec3& t) {
+  std::array<Vec3, 4> f;
+  for (Vec3& v : f) v.setZero();
+  for_each_gauss_point(x, [&](const double* N, const double*, const double*, const Vec3& gx, const Vec3& ge) {
+    const double area = gx.cross(ge).norm();  // eq. P5: |g_xi x g_eta|
+    for (int a = 0; a < 4; ++a) f[a] += N[a] * area * t;
+  });
+  return f;
+}
 
 namespace {
 // a global axis (index) when d is +-e_k to round-off, else -1

@@ -49,6 +49,10 @@ struct PressureLoad {
   bool follower = false;
 };
 
+/// Consistent nodal forces of a dead traction t per unit area of the bilinear quad x[0..3] in its
+/// reference position (shell_model.md eq. P5), 2 x 2 Gauss points.
+std::array<Vec3, 4> surface_traction_forces(const std::array<Vec3, 4>& x, const Vec3& t);
+
 /// One restrained direction of a node (shell_model.md eq. R1): the component of the node's
 /// translation (or, with rotation = true, of its rotation increments) along `direction` is held
 /// at zero, or for a translation at lambda * value (a prescribed displacement, eq. R4).
