@@ -41,7 +41,8 @@ class PathFollower {
  private:
   AttemptOutcome crisfield_step(double dl);
   AttemptOutcome lam_morley_step(double dl);
-  bool load_tangent(double lambda, Eigen::VectorXd& dq_f);  // δq_f = K⁻¹ f_ref at the current state
+  // δq_f = K⁻¹ f_ref at the current state (converged_state: the state a step just converged to)
+  bool load_tangent(double lambda, Eigen::VectorXd& dq_f, bool converged_state);
   bool evaluate_iterate(double lambda, AttemptOutcome& a);
   bool start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor, AttemptOutcome& a);
   double monitored() const;
@@ -81,10 +82,12 @@ class PathFollower {
   double a0_origin_ = 0.0;         // A0 at the start (eq. 20), the base of the cap on eq. (19)
 };
 
-bool PathFollower::load_tangent(double lambda, Eigen::VectorXd& dq_f) {
+bool PathFollower::load_tangent(double lambda, Eigen::VectorXd& dq_f, bool converged_state) {
   const bool full = settings_.convergence.tangent == TangentPolicy::every_iteration;
   if (!kernel_.evaluated_at(lambda) && !kernel_.evaluate(lambda, full)) return false;
-  if (kernel_.wants_new_tangent(0, 0.0, 0.0) && !kernel_.refresh_tangent(lambda)) return false;
+  // eq. (4''): at a converged state the factorization of the converging correction stands in for K
+  const bool last_correction = full && converged_state && kernel_.factorization_of_last_correction();
+  if (!last_correction && kernel_.wants_new_tangent(0, 0.0, 0.0) && !kernel_.refresh_tangent(lambda)) return false;
   return kernel_.solve(kernel_.load(), dq_f);
 }
 
@@ -151,7 +154,7 @@ bool PathFollower::predict(double dl, Eigen::VectorXd& dq_f, std::string& failur
   const double psi2 = settings_.psi * settings_.psi;
   // under modified Newton the held factorization may be older: then det K is not recorded
   const bool full = settings_.convergence.tangent == TangentPolicy::every_iteration;
-  const bool tangent = load_tangent(lambda_, dq_f);
+  const bool tangent = load_tangent(lambda_, dq_f, has_previous_);
   if (!det_sign_.empty() && det_sign_.back() == 0) det_sign_.back() = tangent && full ? kernel_.determinant_sign() : 0;
   const double ff = psi2 * kernel_.dot_r(kernel_.load(), kernel_.load());
   if (!tangent) {
@@ -267,16 +270,16 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
   AttemptOutcome a;
   const int f0 = kernel_.factorizations();
   Eigen::VectorXd dq_f(n_), dq_h(n_), delta(n_), rhs, r_perp;
-  // det K at the converged state, for the path's events (§4.4)
+  // det K at the converged state, for the path's events (§4.4; eq. 4'')
   if (!det_sign_.empty() && det_sign_.back() == 0 && settings_.convergence.tangent == TangentPolicy::every_iteration &&
-      kernel_.refresh_tangent(lambda_))
+      (kernel_.factorization_of_last_correction() || kernel_.refresh_tangent(lambda_)))
     det_sign_.back() = kernel_.determinant_sign();
   if (has_previous_) {
     const double mu = dl / std::sqrt(kernel_.dot_u(dq_prev_, dq_prev_) + a0_ * dlambda_prev_ * dlambda_prev_);
     dq_ = mu * dq_prev_;
     dlambda_ = mu * dlambda_prev_;
   } else {
-    if (!load_tangent(lambda_, dq_f)) {
+    if (!load_tangent(lambda_, dq_f, false)) {
       a.failure = "predictor: " + kernel_.failure();
       return a;
     }
@@ -432,7 +435,7 @@ bool PathFollower::start() {
 
   // the first Δl from the initial load increment along the initial tangent (eq. 12)
   Eigen::VectorXd dq_f(n_);
-  if (!load_tangent(lambda_, dq_f))
+  if (!load_tangent(lambda_, dq_f, false))
     {
       finish(StaticStatus::diverged, StaticStop::step_too_small, "initial tangent: " + kernel_.failure());
       return false;
@@ -498,7 +501,7 @@ bool PathFollower::advance() {
       // an increment that landed on another branch has an end tangent unrelated to it. The
       // factorization is the next predictor's (no extra cost under full Newton).
       Eigen::VectorXd t_end(n_);
-      if (settings_.convergence.tangent == TangentPolicy::every_iteration && load_tangent(lambda_ + dlambda_, t_end)) {
+      if (settings_.convergence.tangent == TangentPolicy::every_iteration && load_tangent(lambda_ + dlambda_, t_end, true)) {
         const double ne = std::sqrt(kernel_.dot_u(t_end, t_end) + alpha2_);
         const double nc = std::sqrt(kernel_.dot_u(dq_, dq_) + alpha2_ * dlambda_ * dlambda_);
         const double c = std::abs(kernel_.dot_u(t_end, dq_) + alpha2_ * dlambda_);

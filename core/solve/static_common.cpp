@@ -121,6 +121,7 @@ bool StaticKernel::refresh_tangent(double lambda) {
     return false;
   }
   factorized_ = factorization_current_ = true;
+  updates_since_factorization_ = 0;
   ++factorizations_;
   return true;
 }
@@ -145,6 +146,7 @@ bool StaticKernel::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
 void StaticKernel::update(const Eigen::VectorXd& delta) {
   problem_.update(delta);
   tangent_current_ = evaluated_ = factorization_current_ = false;
+  if (updates_since_factorization_ >= 0) ++updates_since_factorization_;
 }
 
 void StaticKernel::save() { problem_.save_state(); }
@@ -152,6 +154,7 @@ void StaticKernel::save() { problem_.save_state(); }
 void StaticKernel::restore() {
   problem_.restore_state();
   tangent_current_ = evaluated_ = factorization_current_ = false;
+  updates_since_factorization_ = -1;
 }
 
 // eq. (3'): r_i changes by sum_j K_ij e_j for state errors e_j; independent one-ulp errors
@@ -242,7 +245,10 @@ AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::
       out.failure = "diverging at λ = " + fmt(lambda) + ": " + why;
       break;
     }
-    if (kernel.wants_new_tangent(k, out.residual_norm, previous)) {
+    // eq. (4''): the first correction from a converged state takes the factorization of the
+    // correction that converged it
+    const bool last_correction = full && k == 0 && kernel.factorization_of_last_correction();
+    if (!last_correction && kernel.wants_new_tangent(k, out.residual_norm, previous)) {
       if (!kernel.refresh_tangent(lambda)) {
         out.failure = kernel.failure() + " (iteration " + std::to_string(k) + ", λ = " + fmt(lambda) + ")";
         break;

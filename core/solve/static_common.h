@@ -140,7 +140,13 @@ class StaticKernel {
   void save();
   void restore();
   /// forget the factorization (after a rejected attempt: never retry with the tangent that failed)
-  void invalidate_factorization() { factorized_ = factorization_current_ = false; }
+  void invalidate_factorization() {
+    factorized_ = factorization_current_ = false;
+    updates_since_factorization_ = -1;
+  }
+  /// eq. (4''): the held factorization is of K one correction before the current state, and that
+  /// correction converged the attempt, so it stands in for K at this converged state
+  bool factorization_of_last_correction() const { return factorized_ && updates_since_factorization_ == 1; }
 
   /// eqs. (3)-(4): the residual test, and the increment test on the error estimate e(δ) that
   /// the contraction ||δ_k|| / ||δ_{k-1}|| gives (previous_increment_norm 0: none yet)
@@ -178,6 +184,7 @@ class StaticKernel {
   double round_off_ = 0.0;
   int factorizations_ = 0;
   int iterations_on_factorization_ = 0;
+  int updates_since_factorization_ = -1;  // -1: no factorization of a state on this attempt's path
   std::string failure_;
 };
 
