@@ -416,16 +416,14 @@ std::vector<StaticEvent> PathFollower::path_events(int steps) const {
 bool PathFollower::start() {
   lambda_ = settings_.lambda_start;
   res_.lambda = lambda_;
-  if (std::string why = check_settings(settings_, n_); !why.empty())
-    {
-      finish(StaticStatus::diverged, StaticStop::invalid_settings, why);
-      return false;
-    }
-  if (lambda_ >= settings_.lambda_max)
-    {
-      finish(StaticStatus::completed, StaticStop::lambda_reached, "λ_start is already at λ_max");
-      return false;
-    }
+  if (std::string why = check_settings(settings_, n_); !why.empty()) {
+    finish(StaticStatus::diverged, StaticStop::invalid_settings, why);
+    return false;
+  }
+  if (lambda_ >= settings_.lambda_max) {
+    finish(StaticStatus::completed, StaticStop::lambda_reached, "λ_start is already at λ_max");
+    return false;
+  }
 
   dq_.setZero(n_);
   dq_prev_.setZero(n_);
@@ -435,11 +433,10 @@ bool PathFollower::start() {
 
   // the first Δl from the initial load increment along the initial tangent (eq. 12)
   Eigen::VectorXd dq_f(n_);
-  if (!load_tangent(lambda_, dq_f, false))
-    {
-      finish(StaticStatus::diverged, StaticStop::step_too_small, "initial tangent: " + kernel_.failure());
-      return false;
-    }
+  if (!load_tangent(lambda_, dq_f, false)) {
+    finish(StaticStatus::diverged, StaticStop::step_too_small, "initial tangent: " + kernel_.failure());
+    return false;
+  }
   det_sign_.push_back(kernel_.determinant_sign());
   state_lambda_.push_back(lambda_);
   const double qf = kernel_.dot_u(dq_f, dq_f);
@@ -472,8 +469,7 @@ void PathFollower::finish(StaticStatus status, StaticStop stop, std::string reas
 bool PathFollower::advance() {
   if (finished_) return false;
   while (true) {
-    if (stop_requested(settings_.stop))
-      {
+    if (stop_requested(settings_.stop)) {
       finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
       return false;
     }
@@ -481,10 +477,8 @@ bool PathFollower::advance() {
     res_.iterations += a.iterations;
     if (a.interrupted) {
       kernel_.restore();
-      {
       finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
       return false;
-    }
     }
     // eq. (22): a converged increment far from its predictor may sit on another branch, and one
     // pointing back along the previous step turns the path back on itself: retry shorter
@@ -498,10 +492,12 @@ bool PathFollower::advance() {
       turn = np > 0.0 && nc > 0.0 ? std::acos(std::clamp(c / (np * nc), -1.0, 1.0)) : 0.0;
       reversed = has_previous_ && kernel_.dot_u(dq_, dq_prev_) < 0.0;
       // eq. (22'): the tangent at the converged end must fit the chord as the start tangent does;
-      // an increment that landed on another branch has an end tangent unrelated to it. The
-      // factorization is the next predictor's (no extra cost under full Newton).
+      // an increment that landed on another branch has an end tangent unrelated to it. Under full
+      // Newton it costs no factorization: the converging correction's serves (eq. 4''), and the
+      // next predictor's too.
       Eigen::VectorXd t_end(n_);
-      if (settings_.convergence.tangent == TangentPolicy::every_iteration && load_tangent(lambda_ + dlambda_, t_end, true)) {
+      if (settings_.convergence.tangent == TangentPolicy::every_iteration &&
+          load_tangent(lambda_ + dlambda_, t_end, true)) {
         const double ne = std::sqrt(kernel_.dot_u(t_end, t_end) + alpha2_);
         const double nc = std::sqrt(kernel_.dot_u(dq_, dq_) + alpha2_ * dlambda_ * dlambda_);
         const double c = std::abs(kernel_.dot_u(t_end, dq_) + alpha2_ * dlambda_);
@@ -514,27 +510,26 @@ bool PathFollower::advance() {
       if (can_shorten &&
           (reversed || laborious || (settings_.max_turn > 0.0 && std::max(turn, end_turn) > settings_.max_turn))) {
         a.converged = false;
-        a.failure = laborious ? "the step needed " + std::to_string(a.iterations) + " corrections, more than twice the "
-                                "desired " + std::to_string(settings_.desired_iterations) +
-                                " (its predictor was far from the path)"
-                    : reversed ? "the converged increment points back along the previous step (the path would turn back "
-                               "on itself)"
-                             : "the converged increment turned " + fmt(std::max(turn, end_turn) * 180.0 / std::acos(-1.0)) +
-                                   "° from the tangent at its " + (turn >= end_turn ? "start" : "end") +
-                                   " (more than max_turn: it may have left the path)";
+        a.failure =
+            laborious ? "the step needed " + std::to_string(a.iterations) +
+                            " corrections, more than twice the desired " +
+                            std::to_string(settings_.desired_iterations) + " (its predictor was far from the path)"
+            : reversed ? "the converged increment points back along the previous step (the path would turn back "
+                         "on itself)"
+                       : "the converged increment turned " + fmt(std::max(turn, end_turn) * 180.0 / std::acos(-1.0)) +
+                             "° from the tangent at its " + (turn >= end_turn ? "start" : "end") +
+                             " (more than max_turn: it may have left the path)";
       }
     }
     if (a.converged && reversed) {
       // even the shortest arc turns back: the path cannot be followed on as one continuous curve
       turn_backs_.push_back(res_.steps);
       kernel_.restore();
-      {
       finish(StaticStatus::diverged, StaticStop::step_too_small,
-                    "the path turns back on itself at λ = " + fmt(lambda_) + " (step " + std::to_string(res_.steps) +
-                        "): even at the smallest arc length " + fmt(dl_) + " the converged increment points back along "
-                        "the previous step (a cusp, or a path the solver lost)");
+             "the path turns back on itself at λ = " + fmt(lambda_) + " (step " + std::to_string(res_.steps) +
+                 "): even at the smallest arc length " + fmt(dl_) +
+                 " the converged increment points back along the previous step (a cusp, or a path the solver lost)");
       return false;
-    }
     }
     if (!a.converged) {
       kernel_.restore();
@@ -542,13 +537,12 @@ bool PathFollower::advance() {
       ++res_.cutbacks;
       ++attempts_;
       dl_ *= 0.5;
-      if (dl_ < dl_min_)
-        {
-      finish(StaticStatus::diverged, StaticStop::step_too_small,
-                      "arc-length stopped at λ = " + fmt(lambda_) + " (step " + std::to_string(res_.steps) +
-                          "): Δl cut below its minimum " + fmt(dl_min_) + "; last attempt: " + a.failure);
-      return false;
-    }
+      if (dl_ < dl_min_) {
+        finish(StaticStatus::diverged, StaticStop::step_too_small,
+               "arc-length stopped at λ = " + fmt(lambda_) + " (step " + std::to_string(res_.steps) +
+                   "): Δl cut below its minimum " + fmt(dl_min_) + "; last attempt: " + a.failure);
+        return false;
+      }
       continue;
     }
 
@@ -605,26 +599,22 @@ bool PathFollower::advance() {
     last_.turn = std::max(turn, end_turn);
     last_.monitored = monitored();
     if (settings_.on_step) settings_.on_step(last_);
-    if (final_step)
-      {
+    if (final_step) {
       finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_max = " + fmt(settings_.lambda_max));
       return true;
     }
-    if ((settings_.monitor || settings_.monitor_dof >= 0) && std::abs(monitored()) >= settings_.displacement_limit)
-      {
+    if ((settings_.monitor || settings_.monitor_dof >= 0) && std::abs(monitored()) >= settings_.displacement_limit) {
       finish(StaticStatus::completed, StaticStop::displacement_limit,
              "the monitored displacement reached " + fmt(monitored()) + " (limit " + fmt(settings_.displacement_limit) +
                  ") at λ = " + fmt(lambda_));
       return true;
     }
-    if (lambda_ >= settings_.lambda_max)
-      {
+    if (lambda_ >= settings_.lambda_max) {
       finish(StaticStatus::completed, StaticStop::lambda_reached,
              "reached λ_max = " + fmt(settings_.lambda_max) + " (overshot to λ = " + fmt(lambda_) + ": landing failed)");
       return true;
     }
-    if (res_.steps >= settings_.max_steps)
-      {
+    if (res_.steps >= settings_.max_steps) {
       finish(StaticStatus::incomplete, StaticStop::max_steps,
              "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
                  std::to_string(res_.steps) + "), before λ_max = " + fmt(settings_.lambda_max));
