@@ -43,7 +43,7 @@ class PathFollower {
   AttemptOutcome lam_morley_step(double dl);
   // δq_f = K⁻¹ f_ref at the current state (converged_state: the state a step just converged to)
   bool load_tangent(double lambda, Eigen::VectorXd& dq_f, bool converged_state);
-  bool evaluate_iterate(double lambda, AttemptOutcome& a);
+  bool evaluate_iterate(int k, double lambda, AttemptOutcome& a);
   bool start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor, AttemptOutcome& a);
   double monitored() const;
   double monitored_after(const Eigen::VectorXd& step) const;  // at the current (unaccepted) state
@@ -84,9 +84,10 @@ class PathFollower {
 
 bool PathFollower::load_tangent(double lambda, Eigen::VectorXd& dq_f, bool converged_state) {
   const bool full = settings_.convergence.tangent == TangentPolicy::every_iteration;
-  if (!kernel_.evaluated_at(lambda) && !kernel_.evaluate(lambda, full)) return false;
   // eq. (4''): at a converged state the factorization of the converging correction stands in for K
+  // (Lam–Morley moves λ at convergence: r and f are evaluated again, K is not wanted)
   const bool last_correction = full && converged_state && kernel_.factorization_of_last_correction();
+  if (!kernel_.evaluated_at(lambda) && !kernel_.evaluate(lambda, full && !last_correction)) return false;
   if (!last_correction && kernel_.wants_new_tangent(0, 0.0, 0.0) && !kernel_.refresh_tangent(lambda)) return false;
   return kernel_.solve(kernel_.load(), dq_f);
 }
@@ -105,13 +106,16 @@ double PathFollower::monitored_after(const Eigen::VectorXd& step) const {
   return u ? *u : u_total_[settings_.monitor_dof] + step[settings_.monitor_dof];
 }
 
-// stop flag and evaluation at the current iterate (K too under full Newton); false ends the attempt
-bool PathFollower::evaluate_iterate(double lambda, AttemptOutcome& a) {
+// stop flag and evaluation at the current iterate (K too under full Newton, unless the last
+// correction already passes the increment test (4): eq. 4'''); false ends the attempt
+bool PathFollower::evaluate_iterate(int k, double lambda, AttemptOutcome& a) {
   if (stop_requested(settings_.stop)) {
     a.interrupted = true;
     return false;
   }
-  if (!kernel_.evaluate(lambda, settings_.convergence.tangent == TangentPolicy::every_iteration)) {
+  const bool expect_converged =
+      k > 0 && kernel_.increment_converged(a.increment_norm, a.previous_increment_norm, kernel_.norm_u(dq_));
+  if (!kernel_.evaluate(lambda, settings_.convergence.tangent == TangentPolicy::every_iteration && !expect_converged)) {
     a.failure = kernel_.failure();
     return false;
   }
@@ -222,7 +226,7 @@ AttemptOutcome PathFollower::crisfield_step(double dl) {
   double previous = std::numeric_limits<double>::infinity();
   for (int k = 0;; ++k) {
     const double lambda = lambda_ + dlambda_;
-    if (!evaluate_iterate(lambda, a)) break;
+    if (!evaluate_iterate(k, lambda, a)) break;
     a.residual_norm = kernel_.norm_r(kernel_.residual());
     if (k > 0 && kernel_.converged(a.residual_norm, a.increment_norm, a.previous_increment_norm, kernel_.norm_u(dq_))) {
       a.converged = true;
@@ -295,7 +299,7 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
   double previous = std::numeric_limits<double>::infinity();
   for (int k = 0;; ++k) {
     const double lambda = lambda_ + dlambda_;
-    if (!evaluate_iterate(lambda, a)) break;
+    if (!evaluate_iterate(k, lambda, a)) break;
     // eq. (14): the load-parallel part of r is a load-factor error g, the rest h = r − g f
     const Eigen::VectorXd& f = kernel_.load();
     const double ff = kernel_.dot_r(f, f);

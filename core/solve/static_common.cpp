@@ -178,14 +178,17 @@ double StaticKernel::residual_limit() const {
          convergence_.round_off_factor * round_off_;
 }
 
-bool StaticKernel::converged(double residual_norm, double increment_norm, double previous_increment_norm,
-                             double step_norm) const {
+bool StaticKernel::increment_converged(double increment_norm, double previous_increment_norm, double step_norm) const {
   // eq. (4): the error left after δ_k is about θ/(1-θ) ||δ_k|| with θ = ||δ_k|| / ||δ_{k-1}||
   // (a contracting iteration); without a clear contraction, ||δ_k|| itself
   const double theta = previous_increment_norm > 0.0 ? increment_norm / previous_increment_norm : 1.0;
   const double error = theta < 0.5 ? increment_norm * theta / (1.0 - theta) : increment_norm;
-  return residual_norm <= residual_limit() &&
-         error <= convergence_.increment_tolerance * step_norm + convergence_.increment_floor;
+  return error <= convergence_.increment_tolerance * step_norm + convergence_.increment_floor;
+}
+
+bool StaticKernel::converged(double residual_norm, double increment_norm, double previous_increment_norm,
+                             double step_norm) const {
+  return residual_norm <= residual_limit() && increment_converged(increment_norm, previous_increment_norm, step_norm);
 }
 
 std::string DivergenceMonitor::check(int k, double rn, double converged_level) {
@@ -225,7 +228,13 @@ AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::
       break;
     }
     const bool full = c.tangent == TangentPolicy::every_iteration;
-    if (!kernel.evaluate(lambda, full)) {
+    // eq. (4''): the first correction from a converged state takes the factorization of the
+    // correction that converged it; eq. (4'''): K of an iterate that will likely be converged is
+    // not assembled (refresh_tangent assembles it if the residual test fails after all)
+    const bool last_correction = full && k == 0 && kernel.factorization_of_last_correction();
+    const bool expect_converged =
+        k > 0 && kernel.increment_converged(out.increment_norm, out.previous_increment_norm, kernel.norm_u(step));
+    if (!kernel.evaluate(lambda, full && !last_correction && !expect_converged)) {
       out.failure = kernel.failure() + " (iteration " + std::to_string(k) + ")";
       break;
     }
@@ -245,9 +254,6 @@ AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::
       out.failure = "diverging at λ = " + fmt(lambda) + ": " + why;
       break;
     }
-    // eq. (4''): the first correction from a converged state takes the factorization of the
-    // correction that converged it
-    const bool last_correction = full && k == 0 && kernel.factorization_of_last_correction();
     if (!last_correction && kernel.wants_new_tangent(k, out.residual_norm, previous)) {
       if (!kernel.refresh_tangent(lambda)) {
         out.failure = kernel.failure() + " (iteration " + std::to_string(k) + ", λ = " + fmt(lambda) + ")";

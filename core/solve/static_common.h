@@ -151,6 +151,9 @@ class StaticKernel {
   /// eqs. (3)-(4): the residual test, and the increment test on the error estimate e(δ) that
   /// the contraction ||δ_k|| / ||δ_{k-1}|| gives (previous_increment_norm 0: none yet)
   bool converged(double residual_norm, double increment_norm, double previous_increment_norm, double step_norm) const;
+  /// eq. (4) alone: known before the iterate is evaluated, it tells whether the iterate will
+  /// likely be the converged state, whose K is not factorized (eq. 4''')
+  bool increment_converged(double increment_norm, double previous_increment_norm, double step_norm) const;
   double residual_limit() const;  ///< right-hand side of the residual criterion at the held f_ref
   /// ρ of eq. (3'): the residual change that one-ulp errors in every state coordinate make,
   /// estimated from the last evaluated tangent (0 before one, or when the problem gives no

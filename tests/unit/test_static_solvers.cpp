@@ -26,6 +26,7 @@ class VectorProblem : public StaticProblem {
     ++evaluations;
     r = internal_force(q) - lambda * load();
     if (k) {
+      ++tangent_evaluations;
       *k = stiffness(q).sparseView(0.0, 0.0);
       k->makeCompressed();
     }
@@ -42,7 +43,7 @@ class VectorProblem : public StaticProblem {
   virtual Eigen::VectorXd load() const = 0;
 
   Eigen::VectorXd q;
-  int evaluations = 0, restores = 0;
+  int evaluations = 0, tangent_evaluations = 0, restores = 0;
 
  private:
   Eigen::VectorXd saved_;
@@ -364,6 +365,7 @@ TEST(LoadControl, FullNewtonStartsEachStepOnTheFactorizationThatConvergedTheLast
   ASSERT_GT(r.steps, 3);
   EXPECT_EQ(r.cutbacks, 0);
   EXPECT_EQ(r.factorizations, r.iterations - (r.steps - 1));
+  EXPECT_EQ(p.tangent_evaluations, r.factorizations);  // eq. (4''')
   for (const Point& pt : path) EXPECT_NEAR(Cubic::lambda_of(pt.q[0]), pt.info.lambda, 1e-12);
 }
 
@@ -446,6 +448,8 @@ TEST_P(ArcLengthMethods, FullNewtonFactorizesEachStateOnce) {
   ASSERT_EQ(r.status, StaticStatus::completed) << r.reason;
   ASSERT_GT(r.steps, 10);
   EXPECT_LE(r.factorizations, 1 + r.iterations + r.cutbacks);
+  // eq. (4'''): every tangent assembled is factorized; the converged states' are never assembled
+  EXPECT_EQ(p.tangent_evaluations, r.factorizations);
 }
 
 TEST_P(ArcLengthMethods, VonMisesTrussSnapsThroughAndReturnsToPositiveLoad) {
