@@ -116,4 +116,47 @@ int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   return stop ? 130 : 0;
 }
 
+int run_scene_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
+  // every scene is found and read before the first one is timed: a typo ends the command at once
+  std::vector<std::string> paths;
+  for (const std::string& name : opt.scenes) {
+    paths.push_back(resolve_scene(name));
+    scene::load_scene(paths.back(), opt.overrides, io::scene_context());
+  }
+  std::printf("Whole runs, solver only (no files, no frames), median of %d; wall time on this machine\n\n", opt.repeat);
+  std::printf("| scene | status | steps | corrections | matrix updates | set-up [s] | solve [s] | total [s] |\n"
+              "|---|---|---|---|---|---|---|---|\n");
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  int code = 0;
+  for (std::size_t i = 0; i < opt.scenes.size() && !stop; ++i) {
+    const std::string &name = opt.scenes[i], &path = paths[i];
+    const TimedRun r = timed_run_median(path, opt.overrides, opt.repeat, stop);
+    std::printf("| %s | %s | %lld | %lld | %lld | %.3f | %.3f | %.3f |\n", name.c_str(), to_string(r.outcome.status),
+                r.totals.steps, r.totals.newton_iterations, r.totals.jacobian_updates, r.setup_s, r.run_s,
+                r.total_s());
+    std::fflush(stdout);
+    nlohmann::ordered_json row = {{"scene", name},
+                                  {"path", path},
+                                  {"status", to_string(r.outcome.status)},
+                                  {"steps", r.totals.steps},
+                                  {"newton_iterations", r.totals.newton_iterations},
+                                  {"jacobian_updates", r.totals.jacobian_updates},
+                                  {"setup_s", r.setup_s},
+                                  {"run_s", r.run_s},
+                                  {"total_s", r.total_s()}};
+    if (r.outcome.status != RunStatus::completed) {
+      row["reason"] = r.outcome.reason;
+      std::fprintf(stderr, "%s did not complete (%s): %s\n", name.c_str(), to_string(r.outcome.status),
+                   r.outcome.reason.c_str());
+      if (code == 0) code = exit_code(r.outcome);
+    }
+    rows.push_back(std::move(row));
+  }
+  if (!opt.out_file.empty()) {
+    const nlohmann::ordered_json root = {{"repeat", opt.repeat}, {"overrides", opt.overrides}, {"scenes", rows}};
+    std::ofstream(opt.out_file) << root.dump(2) << "\n";
+  }
+  return stop ? 130 : code;
+}
+
 }  // namespace ff::app

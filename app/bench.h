@@ -1,6 +1,7 @@
 #pragma once
 #include <atomic>
 #include <string>
+#include <vector>
 namespace ff::app {
 struct BenchOptions {
   int repeat = 5;
@@ -9,6 +10,8 @@ struct BenchOptions {
   int effects_plate = 16;  ///< --plate: elements per side of the effects benchmark's plate
   bool solve = false;      ///< --solve: only the Newton-iteration table (run_solve_bench)
   int solve_max_n = 256;   ///< --max-n: largest plate of --solve
+  std::vector<std::string> scenes;     ///< --scene: time these scenes' whole runs (run_scene_bench)
+  std::vector<std::string> overrides;  ///< --set: scene keys changed in every --scene run
 };
 /// `flexframe bench`: steps/s of every bundled hub-beam scene, EFG/FEM cost ratios and headless
 /// frames/s, as a markdown table. Ratios come from one run of this command.
@@ -21,4 +24,9 @@ int run_effects_bench(const BenchOptions& options, const std::atomic<bool>& stop
 /// `flexframe bench --solve`: a static Newton iteration on n x n plates (n = 16 .. 256), assembly
 /// against factorization + solve for every compiled unsymmetric backend (app/bench_solve.cpp).
 int run_solve_bench(const BenchOptions& options, const std::atomic<bool>& stop);
+/// `flexframe bench --scene S [--scene S2 ...]`: wall time of each scene's whole run, solver only
+/// (no files, no frames), the median of --repeat runs, with its steps, Newton corrections and
+/// matrix updates (factorizations), so a user times a scene of their own or two builds on it.
+/// Exit 0 when every run completed, otherwise the exit code of the first that did not.
+int run_scene_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 }  // namespace ff::app

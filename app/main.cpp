@@ -114,7 +114,9 @@ int main(int argc, char** argv) {
 
   // bench
   ff::app::BenchOptions bench_opt;
-  CLI::App* bench = app.add_subcommand("bench", "measure steps/s of the bundled hub-beam scenes, EFG/FEM cost, frames/s");
+  CLI::App* bench = app.add_subcommand(
+      "bench", "measure steps/s of the bundled hub-beam scenes, EFG/FEM cost, frames/s; --solve, --effects, --scene: "
+               "other measurements");
   bench->add_option("--repeat", bench_opt.repeat, "repetitions per measurement (median is reported)")
       ->check(CLI::Range(1, 1000));
   bench->add_option("--out", bench_opt.out_file, "also write the results as JSON to this file");
@@ -128,6 +130,11 @@ int main(int argc, char** argv) {
   bench->add_option("--max-n", bench_opt.solve_max_n, "--solve: largest plate (16, 32, 64, 128, 256)")
       ->check(CLI::Range(16, 256));
   bench->add_option("--json", bench_opt.out_file, "same as --out: write the results as JSON to this file");
+  bench->add_option("--scene", bench_opt.scenes,
+                    "only whole runs of this scene (bundled name or file; repeatable): wall time, steps, "
+                    "corrections, matrix updates, median of --repeat");
+  bench->add_option("--set", bench_opt.overrides, "--scene: override a scene key in every run, e.g. --set solver.tolerance=1e-6")
+      ->take_all();
 
   // study
   ff::app::StudyOptions study_opt;
@@ -249,9 +256,10 @@ int main(int argc, char** argv) {
     }
     if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
     if (*bench)
-      return bench_opt.solve     ? ff::app::run_solve_bench(bench_opt, g_stop)
-             : bench_opt.effects ? ff::app::run_effects_bench(bench_opt, g_stop)
-                                 : ff::app::run_bench(bench_opt, g_stop);
+      return !bench_opt.scenes.empty() ? ff::app::run_scene_bench(bench_opt, g_stop)
+             : bench_opt.solve           ? ff::app::run_solve_bench(bench_opt, g_stop)
+             : bench_opt.effects         ? ff::app::run_effects_bench(bench_opt, g_stop)
+                                         : ff::app::run_bench(bench_opt, g_stop);
     if (*policies) {
       auto split = [](const std::string& s) {
         std::vector<std::string> out;

@@ -1,6 +1,7 @@
 // `flexframe bench --solve --json FILE`: the file carries the element block and one row per plate
 // with the keys docs/performance.md reads (not the timings' values: those are benchmarks, not
 // tests), and the counted flops are the element's, so they match count_element_flops.
+// `flexframe bench --scene`: whole runs timed, with the counts `run` reports.
 
 #include <gtest/gtest.h>
 
@@ -41,6 +42,53 @@ TEST(CliBench, SolveWritesTheElementBlockAndThePlateRows) {
   EXPECT_FALSE(p.at("backend").get<std::string>().empty());
   // which BLAS kernels the factorizations ran on ("OpenBLAS, Haswell kernels", or "not OpenBLAS")
   EXPECT_NE(j.at("blas").get<std::string>().find("BLAS"), std::string::npos) << j.at("blas");
+}
+
+// `flexframe bench --scene`: the counts it reports are those of `flexframe run` on the same scene
+// (one solver, whatever verb drives it), and the JSON carries them with the timings
+TEST(CliBench, SceneReportsTheCountsOfTheRunItTimes) {
+  const std::string dir = fresh_test_dir();
+  const std::string json = dir + "/bench.json";
+  const ProcResult b =
+      run_flexframe({"bench", "--scene", "cantilever_rollup", "--repeat", "2", "--json", json}, dir + "/bench");
+  ASSERT_EQ(b.exit_code, 0) << b.describe();
+  const ProcResult r = run_flexframe({"run", "cantilever_rollup", "--no-frames", "--no-plots", "--quiet", "--out",
+                                      dir + "/run"},
+                                     dir + "/run");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json summary = nlohmann::json::parse(read_text(dir + "/run/summary.json"));
+  const nlohmann::json j = nlohmann::json::parse(read_text(json));
+  EXPECT_EQ(j.at("repeat").get<int>(), 2);
+  ASSERT_EQ(j.at("scenes").size(), 1u);
+  const nlohmann::json& row = j.at("scenes").at(0);
+  EXPECT_EQ(row.at("status").get<std::string>(), "completed");
+  for (const char* key : {"steps", "newton_iterations", "jacobian_updates"})
+    EXPECT_EQ(row.at(key).get<long long>(), summary.at(key).get<long long>()) << key;
+  EXPECT_GT(row.at("run_s").get<double>(), 0.0);
+  EXPECT_NEAR(row.at("total_s").get<double>(), row.at("setup_s").get<double>() + row.at("run_s").get<double>(), 1e-12);
+  EXPECT_NE(b.out.find("| cantilever_rollup | completed |"), std::string::npos) << b.out;
+}
+
+// a scene that does not exist is refused before anything is timed; a run that stops early is
+// timed, says why, and makes the command fail
+TEST(CliBench, SceneRefusesAMissingSceneAndFailsOnAnUnfinishedRun) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult missing =
+      run_flexframe({"bench", "--scene", "cantilever_rollup", "--scene", "no_such_scene", "--repeat", "1"}, dir + "/m");
+  EXPECT_NE(missing.exit_code, 0) << missing.describe();
+  EXPECT_NE(missing.err.find("no_such_scene"), std::string::npos) << missing.describe();
+  EXPECT_EQ(missing.out.find("| cantilever_rollup |"), std::string::npos) << missing.describe();
+
+  const std::string json = dir + "/bench.json";
+  const ProcResult cut = run_flexframe({"bench", "--scene", "hinged_roof_h127", "--set", "solver.max_steps=2",
+                                        "--repeat", "1", "--json", json},
+                                       dir + "/cut");
+  EXPECT_NE(cut.exit_code, 0) << cut.describe();
+  EXPECT_NE(cut.err.find("did not complete"), std::string::npos) << cut.describe();
+  const nlohmann::json row = nlohmann::json::parse(read_text(json)).at("scenes").at(0);
+  EXPECT_EQ(row.at("status").get<std::string>(), "incomplete");
+  EXPECT_EQ(row.at("steps").get<long long>(), 2);
+  EXPECT_NE(row.at("reason").get<std::string>().find("step budget"), std::string::npos) << row;
 }
 
 }  // namespace
