@@ -114,6 +114,24 @@ const Schema& shell_static_schema() {
   return schema;
 }
 
+namespace {
+// A key of the other path-following method is refused at its line, as a mesh key of another
+// generator is: the method would silently ignore it
+void check_method_keys(const Document& d) {
+  static const std::vector<std::string> arc_length_only = {"arc_method",  "desired_iterations", "target_turn",
+                                                           "max_turn",    "max_growth",         "max_steps",
+                                                           "monitor_probe", "displacement_limit"};
+  static const std::vector<std::string> load_control_only = {"max_step", "min_step", "stop_at_limit_point"};
+  const std::string method = d.string("solver.method");
+  const bool arc = method == "arc_length";
+  for (const std::string& k : arc ? load_control_only : arc_length_only)
+    if (d.present("solver." + k))
+      throw SceneError({d.issue("solver." + k, "solver." + k + " belongs to method = \"" +
+                                                   (arc ? "load_control" : "arc_length") + "\"; this scene's method = \"" +
+                                                   method + "\" would ignore it")});
+}
+}  // namespace
+
 std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path, const SceneContext& ctx) {
   using namespace ff::shell;
   const std::vector<std::string> fx = d.strings("scene.effects");
@@ -209,6 +227,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     info.references.push_back(std::move(r));
   }
   // solver
+  check_method_keys(d);
   StaticConvergence conv;
   conv.linear_backend = read_linear_solver(d);
   conv.residual_tolerance = conv.increment_tolerance = d.number("solver.tolerance");

@@ -266,7 +266,12 @@ INSTANTIATE_TEST_SUITE_P(
         WrongKeyCase{"RenamedDrillingFactor", "l_plate_moment", {"drilling.factor=2"}, "drilling.factor",
                      "was renamed to 'material.drilling_factor'"},
         WrongKeyCase{"RepeatedProbeName", "pulled_cylinder", {"probe[2].name=\"w_A\""}, "probe[2].name",
-                     "already called 'w_A'"}),
+                     "already called 'w_A'"},
+        // a key of the other path-following method would be ignored: refused instead
+        WrongKeyCase{"ArcLengthKeyUnderLoadControl", "cantilever_rollup", {"solver.max_steps=10"}, "solver.max_steps",
+                     "belongs to method = \"arc_length\""},
+        WrongKeyCase{"LoadControlKeyUnderArcLength", "pulled_cylinder", {"solver.stop_at_limit_point=false"},
+                     "solver.stop_at_limit_point", "belongs to method = \"load_control\""}),
     [](const ::testing::TestParamInfo<WrongKeyCase>& i) { return i.param.name; });
 
 }  // namespace
