@@ -41,8 +41,8 @@ class PathFollower {
  private:
   AttemptOutcome crisfield_step(double dl);
   AttemptOutcome lam_morley_step(double dl);
-  // δq_f = K⁻¹ f_ref at the current state (converged_state: the state a step just converged to)
-  bool load_tangent(double lambda, Eigen::VectorXd& dq_f, bool converged_state);
+  // δq_f = K⁻¹ f_ref at the current state: the origin or a converged state
+  bool load_tangent(double lambda, Eigen::VectorXd& dq_f);
   bool evaluate_iterate(int k, double lambda, AttemptOutcome& a);
   bool start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor, AttemptOutcome& a);
   double monitored() const;
@@ -82,11 +82,12 @@ class PathFollower {
   double a0_origin_ = 0.0;         // A0 at the start (eq. 20), the base of the cap on eq. (19)
 };
 
-bool PathFollower::load_tangent(double lambda, Eigen::VectorXd& dq_f, bool converged_state) {
+bool PathFollower::load_tangent(double lambda, Eigen::VectorXd& dq_f) {
   const bool full = settings_.convergence.tangent == TangentPolicy::every_iteration;
   // eq. (4''): at a converged state the factorization of the converging correction stands in for K
-  // (Lam–Morley moves λ at convergence: r and f are evaluated again, K is not wanted)
-  const bool last_correction = full && converged_state && kernel_.factorization_of_last_correction();
+  // (the kernel knows it is one correction old; at the origin or after a restore there is none).
+  // Lam–Morley moves λ at convergence: r and f are evaluated again, K is not wanted
+  const bool last_correction = full && kernel_.factorization_of_last_correction();
   if (!kernel_.evaluated_at(lambda) && !kernel_.evaluate(lambda, full && !last_correction)) return false;
   if (!last_correction && kernel_.wants_new_tangent(0, 0.0, 0.0) && !kernel_.refresh_tangent(lambda)) return false;
   return kernel_.solve(kernel_.load(), dq_f);
@@ -158,7 +159,7 @@ bool PathFollower::predict(double dl, Eigen::VectorXd& dq_f, std::string& failur
   const double psi2 = settings_.psi * settings_.psi;
   // under modified Newton the held factorization may be older: then det K is not recorded
   const bool full = settings_.convergence.tangent == TangentPolicy::every_iteration;
-  const bool tangent = load_tangent(lambda_, dq_f, has_previous_);
+  const bool tangent = load_tangent(lambda_, dq_f);
   if (!det_sign_.empty() && det_sign_.back() == 0) det_sign_.back() = tangent && full ? kernel_.determinant_sign() : 0;
   const double ff = psi2 * kernel_.dot_r(kernel_.load(), kernel_.load());
   if (!tangent) {
@@ -283,7 +284,7 @@ AttemptOutcome PathFollower::lam_morley_step(double dl) {
     dq_ = mu * dq_prev_;
     dlambda_ = mu * dlambda_prev_;
   } else {
-    if (!load_tangent(lambda_, dq_f, false)) {
+    if (!load_tangent(lambda_, dq_f)) {
       a.failure = "predictor: " + kernel_.failure();
       return a;
     }
@@ -437,7 +438,7 @@ bool PathFollower::start() {
 
   // the first Δl from the initial load increment along the initial tangent (eq. 12)
   Eigen::VectorXd dq_f(n_);
-  if (!load_tangent(lambda_, dq_f, false)) {
+  if (!load_tangent(lambda_, dq_f)) {
     finish(StaticStatus::diverged, StaticStop::step_too_small, "initial tangent: " + kernel_.failure());
     return false;
   }
@@ -500,8 +501,7 @@ bool PathFollower::advance() {
       // Newton it costs no factorization: the converging correction's serves (eq. 4''), and the
       // next predictor's too.
       Eigen::VectorXd t_end(n_);
-      if (settings_.convergence.tangent == TangentPolicy::every_iteration &&
-          load_tangent(lambda_ + dlambda_, t_end, true)) {
+      if (settings_.convergence.tangent == TangentPolicy::every_iteration && load_tangent(lambda_ + dlambda_, t_end)) {
         const double ne = std::sqrt(kernel_.dot_u(t_end, t_end) + alpha2_);
         const double nc = std::sqrt(kernel_.dot_u(dq_, dq_) + alpha2_ * dlambda_ * dlambda_);
         const double c = std::abs(kernel_.dot_u(t_end, dq_) + alpha2_ * dlambda_);
