@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <stdlib.h>
 #include <fstream>
 
 #include "app/io/mesh_import.h"
@@ -48,16 +49,23 @@ RenderRate render_rate(const std::string& scene, const std::vector<std::string>&
   style.color_field = s.output.color_field == "none" ? "" : s.output.color_field;
   style.title = s.name;
   render::FrameRenderer renderer(*gc, s.simulation->info(), style);
-  const fs::path dir = fs::temp_directory_path() / "flexframe_bench_frames";
-  fs::create_directories(dir);
-  renderer.render_png(captured.front(), (dir / "warmup.png").string(), &err);
+  // a fresh private folder (mkdtemp), so that the clean-up below cannot meet anyone else's files
+  std::string pattern = (fs::temp_directory_path() / "flexframe_bench_frames.XXXXXX").string();
+  if (!::mkdtemp(pattern.data())) return out;
+  const fs::path dir = pattern;
+  std::vector<fs::path> written;
+  written.push_back(dir / "warmup.png");
+  renderer.render_png(captured.front(), written.back().string(), &err);
   const auto t0 = std::chrono::steady_clock::now();
   int n = 0;
-  for (int i = 0; i < renders; ++i)
-    if (renderer.render_png(captured[i % captured.size()], (dir / ("f" + std::to_string(i) + ".png")).string(), &err))
-      ++n;
+  for (int i = 0; i < renders; ++i) {
+    written.push_back(dir / ("f" + std::to_string(i) + ".png"));
+    if (renderer.render_png(captured[i % captured.size()], written.back().string(), &err)) ++n;
+  }
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  fs::remove_all(dir);
+  std::error_code ec;  // only what this bench wrote, then its own (now empty) folder
+  for (const fs::path& f : written) fs::remove(f, ec);
+  fs::remove(dir, ec);
   out.frames_per_second = n / elapsed;
   return out;
 }

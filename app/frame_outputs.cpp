@@ -124,6 +124,7 @@ ExportReport export_frames(const io::ResultReader& reader, const std::vector<std
       const std::string file = std::string(stem) + ".vtu";
       if (!render::write_vtu((fs::path(dir) / file).string(), info, f, &r.error)) break;
       pvd.push_back({f.time, file});
+      r.written.push_back(file);
       if (k == 0) r.files.push_back((fs::path(dir) / file).string());
     }
     for (auto [wanted, format] : {std::pair{formats.gltf, io::MeshFileFormat::gltf_binary},
@@ -131,6 +132,7 @@ ExportReport export_frames(const io::ResultReader& reader, const std::vector<std
       if (!wanted) continue;
       const std::string path = base.string() + "." + io::extension(format);
       if (!io::write_frame_mesh(path, format, info, f, color_field, range, &r.error)) break;
+      r.written.push_back(fs::path(path).filename().string());
       if (k == 0) r.files.push_back(path);
     }
     if (r.error.empty()) ++r.frames;
@@ -138,8 +140,10 @@ ExportReport export_frames(const io::ResultReader& reader, const std::vector<std
   if (formats.vtu && !pvd.empty()) {
     const std::string name = (info.scene_name.empty() ? std::string("frames") : info.scene_name) + ".pvd";
     std::string e;
-    if (render::write_pvd((fs::path(dir) / name).string(), pvd, &e))
+    if (render::write_pvd((fs::path(dir) / name).string(), pvd, &e)) {
       r.files.insert(r.files.begin(), (fs::path(dir) / name).string());
+      r.written.push_back(name);
+    }
     else if (r.error.empty())
       r.error = e;
   }

@@ -44,6 +44,7 @@ MovieReport write_movie(const std::string& frames_dir, const std::string& movie_
 struct ExportReport {
   int frames = 0;                   ///< frames exported (in every requested format)
   std::vector<std::string> files;   ///< the .pvd and the first file of each format, for messages
+  std::vector<std::string> written; ///< every file written, by name inside the export folder
   std::string error;                ///< first failure; empty when everything was written
 };
 

@@ -1,5 +1,7 @@
 #include "app/replay.h"
 
+#include "app/output_folder.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -99,9 +101,9 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
 
   const fs::path dir = opt.out_dir.empty() ? fs::absolute(path).parent_path() / "replay" : fs::path(opt.out_dir);
   const fs::path frames_dir = dir / "frames", plots_dir = dir / "plots";
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (!fs::is_directory(dir)) throw std::runtime_error("cannot create output folder " + dir.string());
+  // the folder's lock before any file in it is touched; an earlier replay's recorded outputs go
+  OutputFolder folder(dir, "replay");
+  for (const char* earlier : {"frames/", "plots/", "export/", "movie.mp4"}) folder.remove_earlier(earlier);
   if (count == 0) {
     std::printf("  nothing to replay: the file holds no complete frame\n");
     return 0;
@@ -137,9 +139,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   // ---- frames
   int rendered = 0;
   if (opt.frames) {
-    fs::create_directories(frames_dir, ec);
-    for (const auto& e : fs::directory_iterator(frames_dir, ec))  // stale frames of an earlier replay
-      if (e.path().extension() == ".png") fs::remove(e.path(), ec);
+    folder.sub_folder("frames");
     render::FrameStyle style;
     style.width = width;
     style.height = height;
@@ -179,7 +179,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
       for (std::size_t k = 0; k < selection.size() && !stop; ++k) {
         const Frame f = reader->frame(selection[k]);
         if (!camera_path.empty()) renderer->set_camera(*camera_on_path(camera_path, f.time));
-        if (!renderer->render_png(f, (frames_dir / png_name(k)).string(), &err)) break;
+        if (!renderer->render_png(f, folder.file("frames/" + png_name(k)).string(), &err)) break;
         ++rendered;
       }
       renderer.reset();
@@ -194,7 +194,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
 
   // ---- plots of every probe over the stored frames
   if (opt.plots && !stop) {
-    fs::create_directories(plots_dir, ec);
+    folder.sub_folder("plots");
     RunInfo plot_info = info;  // the plot titles say when the stored run did not complete
     if (outcome.status != RunStatus::completed) plot_info.scene_name += std::string(" (") + to_string(outcome.status) + ")";
     PlotHistory history;
@@ -202,6 +202,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     for (const Quantity& q : info.probes) history.probes.push_back(reader->probe_series(q.name));
     std::string plot_error;
     const auto files = write_run_plots(plot_info, history, plots_dir.string(), &plot_error);
+    for (const std::string& f : files) folder.record("plots/" + fs::path(f).filename().string());
     std::printf("  plots: %zu in %s\n", files.size(), plots_dir.string().c_str());
     if (!plot_error.empty()) {
       std::fprintf(stderr, "error: plots: %s\n", plot_error.c_str());
@@ -211,7 +212,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
 
   // ---- movie of the frames
   if (opt.movie && rendered > 0 && !stop) {
-    const MovieReport m = write_movie(frames_dir.string(), (dir / "movie.mp4").string(), opt.fps, stop);
+    const MovieReport m = write_movie(frames_dir.string(), folder.file("movie.mp4").string(), opt.fps, stop);
     if (m.ok) {
       std::printf("  movie: %s (%s, %d frames at %d/s)\n", m.path.c_str(), m.codec.c_str(), m.frames, opt.fps);
     } else {
@@ -222,7 +223,9 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
 
   // ---- mesh exports
   if (formats.any() && !stop) {
-    const ExportReport x = export_frames(*reader, selection, formats, (dir / "export").string(), field, range, stop);
+    const ExportReport x =
+        export_frames(*reader, selection, formats, folder.sub_folder("export").string(), field, range, stop);
+    for (const std::string& f : x.written) folder.record("export/" + f);
     std::printf("  export: %d frames in %s", x.frames, (dir / "export").string().c_str());
     for (const std::string& f : x.files) std::printf(" %s", fs::path(f).filename().c_str());
     std::printf("%s\n", x.files.empty() ? "" : " ...");

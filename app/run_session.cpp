@@ -23,6 +23,7 @@
 #include "app/channel.h"
 #include "app/frame_outputs.h"
 #include "app/io/results.h"
+#include "app/output_folder.h"
 #include "app/plots.h"
 #include "app/view_options.h"
 #include "core/assembly/element_threads.h"
@@ -107,23 +108,44 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
 
   RunResult result;
   result.scene_name = scene.name;
+  // the scene's name was checked to be one plain folder name (scene.cpp), so the default stays in out/
   result.out_dir = opt.out_dir.empty() ? (fs::path("out") / scene.name).string() : opt.out_dir;
-  const fs::path dir(result.out_dir), frames_dir = dir / "frames", plots_dir = dir / "plots";
-  std::error_code ec;
-  fs::create_directories(frames_dir, ec);
-  fs::create_directories(plots_dir, ec);
-  if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output folder " + dir.string());
-  // stale frames of an earlier run would be mistaken for this one
-  for (const auto& e : fs::directory_iterator(frames_dir))
-    if (e.path().extension() == ".png") fs::remove(e.path(), ec);
+  // the folder's lock comes before any file in it is touched (output_folder.h)
+  OutputFolder folder(result.out_dir, "run");
+  const fs::path& dir = folder.path();
+  // what an earlier run wrote here would be mistaken for this run's: its recorded files go,
+  // results.h5 is truncated by the writer (which refuses a file another process has open)
+  for (const char* earlier : {"frames/", "plots/", "export/", "movie.mp4", "summary.json"}) folder.remove_earlier(earlier);
+  const fs::path frames_dir = folder.sub_folder("frames"), plots_dir = folder.sub_folder("plots");
+  if (const std::size_t foreign = folder.unrecorded_files("frames", ".png"); foreign > 0)
+    std::fprintf(stderr, "note: %zu PNG file(s) in %s were not written by a flexframe run and are left in place\n",
+                 foreign, frames_dir.string().c_str());
 
   std::string err;
-  const std::string h5_path = (dir / "results.h5").string();
+  const std::string h5_path = folder.file("results.h5").string();
   std::unique_ptr<io::ResultWriter> writer = io::ResultWriter::create(h5_path, info, &err);
   if (!writer) throw std::runtime_error(err);
   writer->set_attribute("flexframe_version", FF_VERSION);
   writer->set_attribute("git_commit", FF_GIT_COMMIT);
   writer->set_attribute("build_type", FF_BUILD_TYPE);
+
+  // An output that cannot be written ends the run `failed` (exit 1) at once: the solver is
+  // stopped through run_stop, which also follows the caller's stop flag.
+  std::atomic<bool> run_stop{false};
+  std::mutex failure_mutex;
+  std::string write_failure;  // the first failed write, for the reason
+  const auto fail_write = [&](const std::string& what) {
+    {
+      std::lock_guard lock(failure_mutex);
+      if (write_failure.empty()) write_failure = what;
+    }
+    folder.release_reserve();  // room for the outcome in results.h5 and for summary.json
+    run_stop = true;
+  };
+  const auto failed_write = [&] {
+    std::lock_guard lock(failure_mutex);
+    return write_failure;
+  };
 
   BoundedChannel<Frame> store_ch(kStoreChannelCapacity);
   BoundedChannel<Frame> render_ch(kRenderChannelCapacity);
@@ -135,6 +157,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   std::mutex history_mutex;
   PlotHistory history;  // probe time series for the plots
   std::string store_error, render_error, render_backend, gl_renderer, plot_error;
+  bool no_graphics = false;  // set by the render thread before frames_done
   std::vector<std::string> plot_files;
   std::promise<void> frames_done;
 
@@ -144,7 +167,10 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     std::optional<Frame> unrendered_last;  // the final state is always a frame, whatever the cadence
     while (std::optional<Frame> f = store_ch.pop()) {
       std::string e;
-      if (store_error.empty() && !writer->append(*f, &e)) store_error = e;
+      if (store_error.empty() && !writer->append(*f, &e)) {
+        store_error = e;
+        fail_write("results.h5: " + e);
+      }
       {
         std::lock_guard lock(history_mutex);
         history.add(*f);
@@ -171,7 +197,8 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     int n = 0;
     const auto t0 = std::chrono::steady_clock::now();
     while (std::optional<Frame> f = render_ch.pop()) {
-      if (!render_error.empty()) continue;  // keep draining so the solver never blocks
+      // keep draining so the solver never blocks; after a failed write nothing more is written
+      if (!render_error.empty() || !failed_write().empty()) continue;
       render_busy = true;  // the element loops leave this core to the renderer until the frame is out
       struct Idle {
         std::atomic<bool>& flag;
@@ -179,7 +206,10 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       } idle{render_busy};
       if (!gc) {
         gc = render::GraphicsContext::create(&render_error);
-        if (!gc) continue;
+        if (!gc) {  // no OpenGL on this machine: a warning, the run goes on without pictures
+          no_graphics = true;
+          continue;
+        }
         render_backend = gc->backend();
         gl_renderer = gc->gl_renderer();
         render::FrameStyle style;
@@ -203,8 +233,17 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       // the scene's camera path, unless --camera fixed the view
       if (!camera && !out.camera_path.empty()) renderer->set_camera(*camera_on_path(out.camera_path, f->time));
       char name[32];
-      std::snprintf(name, sizeof name, "frame_%05d.png", n);
-      if (!renderer->render_png(*f, (frames_dir / name).string(), &render_error)) continue;
+      std::snprintf(name, sizeof name, "frames/frame_%05d.png", n);
+      try {
+        if (!renderer->render_png(*f, folder.file(name).string(), &render_error)) {
+          fail_write(render_error);
+          continue;
+        }
+      } catch (const WriteError& e) {  // the manifest could not record the frame
+        render_error = e.what();
+        fail_write(render_error);
+        continue;
+      }
       ++n;
     }
     result.frames_rendered = n;
@@ -215,6 +254,12 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     if (opt.plots && out.plots) {
       std::lock_guard lock(history_mutex);
       plot_files = write_run_plots(info, history, plots_dir.string(), &plot_error, gc.get());
+      try {
+        for (const std::string& p : plot_files) folder.record("plots/" + fs::path(p).filename().string());
+      } catch (const WriteError& e) {
+        if (plot_error.empty()) plot_error = e.what();
+      }
+      if (!plot_error.empty() && !no_graphics) fail_write("plots: " + plot_error);
     }
   });
 
@@ -227,7 +272,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     if (want_frames && !std::getenv("OMP_NUM_THREADS") && std::thread::hardware_concurrency() > 1)
       assembly::share_cores_with(&render_busy);
     try {
-      outcome = sim.run([&](Frame&& f) { store_ch.push(std::move(f)); }, stop);
+      outcome = sim.run([&](Frame&& f) { store_ch.push(std::move(f)); }, run_stop);
     } catch (const std::exception& e) {
       outcome.status = RunStatus::failed;
       outcome.reason = std::string("solver error: ") + e.what();
@@ -246,6 +291,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   auto last_print = wall0;
   const double t_end = sim.end_time();
   while (!solver_done) {
+    if (stop) run_stop = true;
     {
       std::unique_lock lock(done_mutex);
       done_signal.wait_for(lock, std::chrono::milliseconds(100), [&] { return solver_done.load(); });
@@ -266,44 +312,74 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   store.join();
   if (opt.progress && tty) std::fprintf(stderr, "\n");
 
-  result.outcome = outcome;
   result.metrics = sim.metrics();
   result.totals = sim.totals();
   frames_done.get_future().wait();
+  // a failed write is the run's outcome, whatever the solver would have said (it was stopped for it)
+  const auto record_write_failure = [&] {
+    const std::string what = failed_write();
+    if (what.empty() || outcome.status == RunStatus::failed) return;
+    char at[64];
+    std::snprintf(at, sizeof at, " (stopped at t = %g %s)", outcome.stop_time, info.time_unit.c_str());
+    outcome.status = RunStatus::failed;
+    outcome.reason = "an output could not be written: " + what + at;
+  };
+  // the movie before results.h5 is closed, so that its failure is in the file's outcome too
+  const fs::path movie_path = dir / "movie.mp4";
+  if (opt.movie && failed_write().empty()) {
+    MovieReport m{false, "", "", 0, "no frames were rendered"};
+    try {
+      if (result.frames_rendered > 0) m = write_movie(frames_dir.string(), folder.file("movie.mp4").string(), opt.fps, stop);
+    } catch (const WriteError& e) {
+      m.message = e.what();
+    }
+    if (m.ok) result.movie = m.path;
+    else if (result.frames_rendered > 0 && !stop) fail_write("movie.mp4: " + m.message);
+    else std::fprintf(stderr, "warning: no movie: %s\n", m.message.c_str());
+  }
+  record_write_failure();
   if (!render_backend.empty()) {
     writer->set_attribute("render_backend", render_backend);
     writer->set_attribute("gl_renderer", gl_renderer);
   }
-  if (!writer->finish(outcome, result.metrics, &err) && store_error.empty()) store_error = err;
+  if (!writer->finish(outcome, result.metrics, &err)) {
+    std::fprintf(stderr, "error: results.h5 could not record the outcome: %s\n", err.c_str());
+    if (store_error.empty()) store_error = err;
+    fail_write("results.h5: " + err);
+    record_write_failure();
+  }
   writer.reset();
   render.join();  // its last frames and the plots
-  if (!store_error.empty()) std::fprintf(stderr, "warning: results.h5: %s\n", store_error.c_str());
-  if (!render_error.empty()) std::fprintf(stderr, "warning: frames not rendered: %s\n", render_error.c_str());
-  if (!plot_error.empty()) std::fprintf(stderr, "warning: plots: %s\n", plot_error.c_str());
+  record_write_failure();  // the plots are written while results.h5 closes
+  if (no_graphics && !render_error.empty()) std::fprintf(stderr, "warning: frames not rendered: %s\n", render_error.c_str());
+  if (no_graphics && !plot_error.empty()) std::fprintf(stderr, "warning: plots: %s\n", plot_error.c_str());
 
-  // movie of the frames; mesh exports of the same frames, read back from results.h5
-  const fs::path movie_path = dir / "movie.mp4";
-  fs::remove(movie_path, ec);
-  if (opt.movie) {
-    const MovieReport m = result.frames_rendered > 0
-                              ? write_movie(frames_dir.string(), movie_path.string(), opt.fps, stop)
-                              : MovieReport{false, "", "", 0, "no frames were rendered"};
-    if (m.ok) result.movie = m.path;
-    else std::fprintf(stderr, "warning: no movie: %s\n", m.message.c_str());
-  }
-  if (formats.any()) {
+  // mesh exports of the frames, read back from results.h5 (closed by now: a failure here is in
+  // summary.json and on the console, while results.h5 keeps the solver's outcome)
+  if (formats.any() && failed_write().empty()) {
     std::string e;
     const auto reader = io::ResultReader::open(h5_path, &e);
     if (reader) {
       const int field = field_index(info, out.color_field);
       const auto frames = frame_selection(reader->frame_count(), out.frame_every, false);
-      const ExportReport x = export_frames(*reader, frames, formats, (dir / "export").string(), field,
-                                           field_range(*reader, frames, field), stop);
+      ExportReport x;
+      try {
+        const fs::path export_dir = folder.sub_folder("export");
+        x = export_frames(*reader, frames, formats, export_dir.string(), field, field_range(*reader, frames, field), stop);
+        for (const std::string& f : x.written) folder.record("export/" + f);
+      } catch (const WriteError& w) {
+        if (x.error.empty()) x.error = w.what();
+      }
       result.frames_exported = x.frames;
       e = x.error;
     }
-    if (!e.empty()) std::fprintf(stderr, "warning: export: %s\n", e.c_str());
+    if (!e.empty()) {
+      fail_write("export: " + e);
+      record_write_failure();
+    }
   }
+  result.outcome = outcome;
+  if (!failed_write().empty()) std::fprintf(stderr, "error: %s\n", outcome.reason.c_str());
 
   // summary.json: what scripts and benchmarks read (keys in this order; NaN is written as null)
   using Json = nlohmann::ordered_json;
@@ -346,7 +422,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       {"effect_stats", effect_stats},
       {"outputs", outputs},
       {"render", render_info}};
-  std::ofstream(dir / "summary.json") << summary.dump(2) << "\n";
+  write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");  // throws WriteError: exit 1
   return result;
 }
 

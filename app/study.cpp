@@ -1,5 +1,7 @@
 #include "app/study.h"
 
+#include "app/output_folder.h"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -604,10 +606,16 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
                      "machine's cores)");
   const bool worker = false;
 #endif
-  if (!worker) {  // only rank 0 owns the output folder
-    fs::create_directories(dir);
-    if (!options.resume) fs::remove_all(runs_dir);  // stale folders of another study must not be resumed
-    fs::create_directories(runs_dir);
+  // only rank 0 owns the output folder; its lock comes before any file in it is touched
+  std::optional<OutputFolder> folder;
+  if (!worker) {
+    if (options.out_dir.empty())  // a study file's name was checked there; this is the last word
+      if (const std::string why = scene::output_name_problem(spec.name); !why.empty())
+        throw InputError("the study name '" + spec.name + "' " + why + "; give --out");
+    folder.emplace(dir, "study");
+    // stale runs of another study must not be resumed: what earlier studies recorded goes
+    if (!options.resume) folder->remove_earlier("runs/");
+    folder->sub_folder("runs");
   }
   const int jobs = options.jobs > 0 ? options.jobs : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   const bool exclusive = options.exclusive_timing;
@@ -649,6 +657,13 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     }
   }
 
+  // every run folder and what goes into it is in the manifest before any child writes it
+  if (folder)
+    for (const fs::path& f : folders) {
+      const std::string rel = "runs/" + f.filename().string();
+      folder->sub_folder(rel);
+      for (const char* file : {"summary.json", "log.txt"}) folder->record(rel + "/" + file);
+    }
 #ifdef FF_HAVE_MPI
   if (worker) return mpi_worker(entries, folders, stop);
 #endif
@@ -831,7 +846,7 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     }
 
   // study.csv
-  std::ofstream csv(dir / "study.csv");
+  std::ostringstream csv;
   csv << "variant";
   for (const StudyAxis& a : spec.axes) csv << ',' << a.name();
   csv << ",status,wall_s,relative_time,setup_s,run_s,steps,newton_iterations,jacobian_updates,peak_memory_mb,"
@@ -857,10 +872,10 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
         << (r.pareto ? 1 : 0) << ',' << (r.is_reference ? 1 : 0) << ',' << num(r.cpu_s) << ','
         << (r.shared ? 1 : 0) << '\n';
   }
-  csv.close();
+  write_text_file(folder->file("study.csv"), csv.str());  // WriteError (a full disk): exit 1
 
   // study.md
-  std::ofstream md(dir / "study.md");
+  std::ostringstream md;
   md << "# Study " << spec.name << "\n\n";
   if (!spec.description.empty()) md << spec.description << "\n\n";
   md << "- base scene: " << fs::path(spec.scene).stem().string();
@@ -887,7 +902,7 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
        << " | " << (r.pareto ? "yes" : "") << " | " << r.status << (r.reason.empty() ? "" : ": " + r.reason)
        << " |\n";
   }
-  md.close();
+  write_text_file(folder->file("study.md"), md.str());
 
   // pareto.png: error against wall time, log-log; a line per value of the later axes
   std::string err;
@@ -922,13 +937,16 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
         front.y.push_back(rows[i].error_percent);
       }
     if (front.x.size() > 1) plot.series.push_back(front);
-    if (!render::write_plot_png(*gc, plot, (dir / "pareto.png").string(), &err))
+    // a plot with nothing to draw (every variant stopped early) is a warning; a file that
+    // cannot be written is the study's failure
+    if (!render::write_plot_png(*gc, plot, folder->file("pareto.png").string(), &err)) {
+      if (err.find("could not write PNG") != std::string::npos) throw WriteError("pareto plot: " + err);
       std::fprintf(stderr, "warning: pareto plot: %s\n", err.c_str());
+    }
   } else {
     std::fprintf(stderr, "warning: no graphics context for pareto.png: %s\n", err.c_str());
   }
-  std::ifstream in(dir / "study.md");
-  std::cout << in.rdbuf();
+  std::cout << md.str();
   std::printf("\nwrote %s/{study.csv, study.md, pareto.png}\n", dir.string().c_str());
   return stop ? 130 : 0;
 }

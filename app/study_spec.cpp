@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/run_session.h"
+#include "core/scene/scene.h"
 #include "core/scene/schema.h"
 
 namespace fs = std::filesystem;
@@ -194,6 +195,11 @@ StudySpec read_study_file(const std::string& path) {
   };
   StudySpec s;
   s.name = d.string("study.name").empty() ? fs::path(path).stem().string() : d.string("study.name");
+  if (const std::string why = scene::output_name_problem(s.name); !why.empty())
+    issues.push_back(d.issue(d.string("study.name").empty() ? "study.scene" : "study.name",
+                             "the study name '" + s.name + "' " + why +
+                                 "; it names the output folder out/study/<name>, so it must be one plain folder name "
+                                 "(--out chooses any folder)"));
   s.description = d.string("study.description");
   s.scene = scene_at("study.scene", d.string("study.scene"));
   s.metric = d.string("study.metric");

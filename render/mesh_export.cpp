@@ -11,9 +11,12 @@
 #include <vtkStringArray.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkErrorCode.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <cstdio>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <mutex>
 
@@ -128,8 +131,14 @@ bool write_vtu(const std::string& path, const RunInfo& info, const Frame& frame,
   writer->SetInputData(grid);
   writer->SetDataModeToAppended();
   writer->SetCompressorTypeToZLib();
-  if (writer->Write() != 1 || writer->GetErrorCode() != 0)
+  errno = 0;
+  const bool written = writer->Write() == 1 && writer->GetErrorCode() == 0;
+  const int write_errno = errno;  // VTK's messages only name the pipeline; the stream's errno says why
+  if (!written) {
+    if (writer->GetErrorCode() == vtkErrorCode::OutOfDiskSpaceError || write_errno == ENOSPC || write_errno == EDQUOT)
+      return fail("could not write the VTU file: disk full (No space left on device)");
     return fail("could not write the VTU file" + (vtk_errors.empty() ? std::string() : ": " + vtk_errors.text()));
+  }
   return true;
 }
 
@@ -149,7 +158,10 @@ bool write_pvd(const std::string& path, const std::vector<PvdEntry>& entries, st
   out << "  </Collection>\n</VTKFile>\n";
   out.close();
   if (!out) {
-    if (error) *error = "'" + path + "': write failed";
+    const int e = errno;
+    if (error)
+      *error = "'" + path + "': write failed: " + (e == ENOSPC || e == EDQUOT ? "disk full (" : "(") +
+               std::strerror(e) + ")";
     return false;
   }
   return true;

@@ -14,9 +14,16 @@ struct PngError {
   char text[256] = {0};
 };
 
+// what the failed system call said, in the words a full disk is reported with everywhere
+const char* io_reason(int err) { return err == ENOSPC || err == EDQUOT ? "disk full" : "I/O error"; }
+
 void on_png_error(png_structp png, png_const_charp message) {
   auto* e = static_cast<PngError*>(png_get_error_ptr(png));
-  std::snprintf(e->text, sizeof e->text, "%s", message);
+  const int err = errno;  // set by the failed fwrite behind libpng's "Write Error"
+  if (err != 0)
+    std::snprintf(e->text, sizeof e->text, "%s: %s (%s)", message, io_reason(err), std::strerror(err));
+  else
+    std::snprintf(e->text, sizeof e->text, "%s", message);
   std::longjmp(png_jmpbuf(png), 1);
 }
 void on_png_warning(png_structp, png_const_charp) {}
@@ -60,10 +67,14 @@ bool write_png_rgb(const std::string& path, const unsigned char* rgb, int width,
     return false;
   }
   PngError err;
+  errno = 0;
   const bool ok = write(file, rgb, width, height, bottom_up, &err);
-  const bool closed = std::fclose(file) == 0;
+  const bool closed = std::fclose(file) == 0;  // flushes the last buffer: a full disk shows here
+  const int close_errno = errno;
   if (!ok || !closed) {
-    if (error) *error = "could not write PNG '" + path + "': " + (ok ? std::string("closing failed") : std::string(err.text));
+    const std::string close_reason =
+        std::string("closing failed: ") + io_reason(close_errno) + " (" + std::strerror(close_errno) + ")";
+    if (error) *error = "could not write PNG '" + path + "': " + (ok ? close_reason : std::string(err.text));
     std::remove(path.c_str());
     return false;
   }

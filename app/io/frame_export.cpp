@@ -4,17 +4,77 @@
 
 #include "app/io/frame_export.h"
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Exporter.hpp>
+#include <assimp/IOStream.hpp>
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <memory>
 #include <vector>
 
 namespace ff::io {
 
 namespace {
+
+// Assimp's own file streams neither report a short write nor check fclose, so a full disk
+// would leave a truncated file behind a successful Export. These streams remember the first
+// failure (with its errno) for write_frame_mesh to report.
+class CheckedStream : public Assimp::IOStream {
+ public:
+  CheckedStream(std::FILE* f, int* first_errno) : f_(f), first_errno_(first_errno) {}
+  ~CheckedStream() override { close(); }
+  size_t Read(void* buffer, size_t size, size_t count) override { return std::fread(buffer, size, count, f_); }
+  size_t Write(const void* buffer, size_t size, size_t count) override {
+    const size_t n = std::fwrite(buffer, size, count, f_);
+    if (n != count) note(errno);
+    return n;
+  }
+  aiReturn Seek(size_t offset, aiOrigin origin) override {
+    const int whence = origin == aiOrigin_SET ? SEEK_SET : origin == aiOrigin_CUR ? SEEK_CUR : SEEK_END;
+    return std::fseek(f_, static_cast<long>(offset), whence) == 0 ? aiReturn_SUCCESS : aiReturn_FAILURE;
+  }
+  size_t Tell() const override { return static_cast<size_t>(std::ftell(f_)); }
+  size_t FileSize() const override {
+    const long at = std::ftell(f_);
+    std::fseek(f_, 0, SEEK_END);
+    const long size = std::ftell(f_);
+    std::fseek(f_, at, SEEK_SET);
+    return static_cast<size_t>(size);
+  }
+  void Flush() override {
+    if (std::fflush(f_) != 0) note(errno);
+  }
+  void close() {
+    if (f_ && std::fclose(f_) != 0) note(errno);  // the last buffer reaches the disk here
+    f_ = nullptr;
+  }
+
+ private:
+  void note(int e) {
+    if (*first_errno_ == 0) *first_errno_ = e != 0 ? e : EIO;
+  }
+  std::FILE* f_;
+  int* first_errno_;
+};
+
+class CheckedIOSystem : public Assimp::DefaultIOSystem {
+ public:
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    std::FILE* f = std::fopen(file, mode);
+    if (!f) {
+      if (first_errno == 0) first_errno = errno;
+      return nullptr;
+    }
+    return new CheckedStream(f, &first_errno);
+  }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
+  int first_errno = 0;
+};
 
 // the frames' colour map ends and middle (render/frame_renderer.cpp), linear in RGB here
 aiColor4D map_colour(double v, double lo, double hi) {
@@ -129,8 +189,15 @@ bool write_frame_mesh(const std::string& path, MeshFileFormat format, const RunI
   }
 
   Assimp::Exporter exporter;
+  auto* io = new CheckedIOSystem;  // owned by the exporter
+  exporter.SetIOHandler(io);
   const char* id = format == MeshFileFormat::obj ? "obj" : "glb2";
-  if (exporter.Export(scene.get(), id, path) != AI_SUCCESS) return fail(std::string("assimp: ") + exporter.GetErrorString());
+  const bool exported = exporter.Export(scene.get(), id, path) == AI_SUCCESS;
+  const int e = io->first_errno;
+  if (e != 0)
+    return fail(std::string("could not write: ") + (e == ENOSPC || e == EDQUOT ? "disk full (" : "(") +
+                std::strerror(e) + ")");
+  if (!exported) return fail(std::string("assimp: ") + exporter.GetErrorString());
   return true;
 }
 

@@ -4,12 +4,15 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <chrono>
+#include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <set>
 
@@ -31,6 +34,8 @@ static_assert(std::endian::native == std::endian::little, "checksums hash little
 constexpr std::size_t kChunkBytes = 256 * 1024;
 constexpr hsize_t kMaxChunkFrames = 256;
 constexpr hsize_t kScalarChunkFrames = 1024;
+// room kept for the metadata a flush rewrites (object headers, B-tree nodes, attributes)
+constexpr std::uint64_t kMetadataMarginBytes = 64 * 1024;
 
 /// One extendible data set of shape (frames, frame_shape...) and its staged rows.
 struct Column {
@@ -40,6 +45,7 @@ struct Column {
   hid_t mem_type = H5I_INVALID_HID;  // not owned
   std::size_t row_bytes = 0;
   std::vector<unsigned char> staged;
+  std::size_t chunk_rows = 1;  // frames per chunk (chunks are allocated and written whole)
 
   void stage(const void* row) {
     auto* b = static_cast<const unsigned char*>(row);
@@ -65,6 +71,7 @@ Column make_column(hid_t loc, const std::string& name, hid_t file_type, hid_t me
     chunk_frames = std::clamp<hsize_t>(kChunkBytes / row, 1, kMaxChunkFrames);
   }
   chunk.push_back(chunk_frames);
+  c.chunk_rows = static_cast<std::size_t>(chunk_frames);
   for (hsize_t d : frame_shape) {
     dims.push_back(d);
     // a zero extent (mesh without points) cannot be chunked as fixed: leave it open
@@ -158,6 +165,18 @@ std::string locked_by_another_process(const std::string& path) {
 
 /// Writes the `count` staged rows of each column at row `first` (extents are absolute, so a
 /// retry after a failed flush is harmless).
+// An upper bound of the file space that writing rows [first, first + count) may take: every
+// chunk those rows touch, whole (a filtered chunk that changes may be moved, not rewritten in place).
+std::uint64_t rows_bytes_bound(const std::vector<Column>& columns, std::size_t first, std::size_t count) {
+  if (count == 0) return 0;
+  std::uint64_t bytes = 0;
+  for (const Column& c : columns) {
+    const std::size_t chunks = (first + count - 1) / c.chunk_rows - first / c.chunk_rows + 1;
+    bytes += static_cast<std::uint64_t>(chunks) * c.chunk_rows * std::max<std::size_t>(c.row_bytes, 1);
+  }
+  return bytes;
+}
+
 void write_rows(std::vector<Column>& columns, std::size_t first_row, std::size_t count_rows, const char* what_rows) {
   if (count_rows == 0) return;
   const hsize_t first = first_row, count = count_rows, total = first + count;
@@ -354,6 +373,20 @@ void ResultWriter::Impl::write_progress() {
 
 void ResultWriter::Impl::flush_or_throw() {
   if (closed) throw h5::Failure("the file is already closed");
+  // HDF5 that meets a full disk in the middle of a write keeps dirty chunks it can neither
+  // write nor drop (closing them later fails, and HDF5 1.10 can crash at exit). So a block that
+  // might not fit is not handed to HDF5 at all: the file stays as the last flush left it.
+  const std::uint64_t need = rows_bytes_bound(columns, frames_written, frames_staged) +
+                             rows_bytes_bound(step_columns, steps_written, steps_staged) + kMetadataMarginBytes;
+  struct statvfs disk {};
+  const std::string folder = std::filesystem::path(path).parent_path().string();
+  if (::statvfs(folder.empty() ? "." : folder.c_str(), &disk) == 0) {
+    const std::uint64_t free_bytes = static_cast<std::uint64_t>(disk.f_bavail) * disk.f_frsize;
+    if (free_bytes < need)
+      throw h5::Failure("disk full: " + std::to_string(free_bytes / 1024) + " KiB free, the next " +
+                        std::to_string(frames_staged) + " frame(s) need up to " + std::to_string(need / 1024) +
+                        " KiB; the file keeps the " + std::to_string(frames_written) + " frame(s) written before");
+  }
   write_rows(columns, frames_written, frames_staged, "frames");
   write_rows(step_columns, steps_written, steps_staged, "steps");
   for (const auto& [key, value] : staged_attributes) {
@@ -428,6 +461,9 @@ std::unique_ptr<ResultWriter> ResultWriter::create(const std::string& path, cons
 #if H5_VERSION_GE(1, 10, 7)
     h5::check(H5Pset_file_locking(fapl.get(), 1, 1), "file access properties");
 #endif
+    // closing the file closes whatever is still open in it, so a failed write never leaves
+    // objects for HDF5's exit handler to close after the file has gone
+    h5::check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), "file access properties");
     impl->file = h5::Handle(
         h5::check_id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), ""));
     impl->write_run_info(info);
@@ -563,9 +599,14 @@ bool ResultWriter::finish(const RunOutcome& outcome,
     if (error) *error = m.prefix() + "finish() after the file was closed";
     return false;
   }
-  std::string skipped;
+  std::string skipped, flush_failure;
   try {
-    m.flush_or_throw();
+    // frames that cannot be stored (a full disk) must not keep the outcome from being recorded
+    try {
+      m.flush_or_throw();
+    } catch (const h5::Failure& e) {
+      flush_failure = e.what();
+    }
     for (const auto& [name, value] : metrics) {
       if (name.empty()) {
         skipped = "a metric with an empty name was not stored";
@@ -603,6 +644,12 @@ bool ResultWriter::finish(const RunOutcome& outcome,
       m.close_or_throw();
     } catch (const h5::Failure&) {
     }
+    return false;
+  }
+  if (!flush_failure.empty()) {
+    if (error)
+      *error = m.prefix() + flush_failure + " (the outcome is recorded; the " + std::to_string(m.frames_staged) +
+               " frame(s) after the last flush are not)";
     return false;
   }
   if (!skipped.empty()) {

@@ -282,6 +282,18 @@ void refuse_repeated_names(const Document& d) {
 }
 }  // namespace
 
+std::string output_name_problem(const std::string& name) {
+  if (name.empty()) return "is empty";
+  if (name.size() > 200) return "is longer than 200 bytes";
+  if (name == "." || name == "..") return "is '" + name + "', which names a folder above or at out/";
+  if (name.find("..") != std::string::npos) return "contains '..'";
+  for (const char c : name) {
+    if (c == '/' || c == '\\') return std::string("contains the path separator '") + c + "'";
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return "contains a control character";
+  }
+  return "";
+}
+
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
   const std::string text = read_text(path);
   const Peeked peeked = peek_model_text(text, path);
@@ -290,6 +302,10 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
   const Document d = validate_file(kind.schema(), path, overrides);
   LoadedScene s;
   s.name = d.string("scene.name");
+  if (const std::string why = output_name_problem(s.name); !why.empty())
+    throw SceneError({d.issue("scene.name", "'" + s.name + "' " + why +
+                                                "; the name is the output folder out/<name>, so it must be one plain "
+                                                "folder name (letters, digits, '_', '-', '.'; --out chooses any folder)")});
   s.path = path;
   s.output = read_output(d, kind.camera_keys);
   s.output.camera_path = read_timeline(d, d.number(kind.end_key)).camera;
