@@ -1,5 +1,7 @@
 #include "app/policy_table.h"
 
+#include "app/output_folder.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -56,8 +58,8 @@ std::string policy_label(const std::string& p) {
 }  // namespace
 
 int run_policy_table(const PolicyTableOptions& opt, const std::atomic<bool>& stop) {
-  fs::create_directories(opt.out_dir);
   const std::string scene = resolve_scene(opt.scene);
+  OutputFolder folder(opt.out_dir, "policies");  // its lock before any file in it is touched
   std::vector<Row> rows;
   for (const std::string& dt : opt.dts)
     for (const std::string& p : opt.policies) {
@@ -76,13 +78,12 @@ int run_policy_table(const PolicyTableOptions& opt, const std::atomic<bool>& sto
                    row.noi, row.nou, row.wall_s, row.status.c_str());
       rows.push_back(row);
     }
-  const fs::path dir(opt.out_dir);
-  std::ofstream csv(dir / "policies.csv");
+  std::ostringstream csv;
   csv << "dt,policy,status,NOI,NOU,wall_s,fallback_steps\n";
   for (const Row& r : rows)
     csv << r.dt << ',' << r.policy << ',' << r.status << ',' << r.noi << ',' << r.nou << ',' << r.wall_s << ','
         << r.fallbacks << '\n';
-  std::ofstream md(dir / "policies.md");
+  std::ostringstream md;
   md << "Iteration-matrix policies on " << fs::path(scene).stem().string() << ", first " << opt.until
      << " s (NOI: Newton iterations, NOU: matrix updates; changes and speed-up against 'every iteration' at the same "
         "step, from one run each)\n\n| dt [s] | policy | NOI | NOU | NOI change | NOU change | wall [s] | speed-up | "
@@ -99,8 +100,8 @@ int run_policy_table(const PolicyTableOptions& opt, const std::atomic<bool>& sto
                   r.status.c_str());
     md << line;
   }
-  csv.close();
-  md.close();
+  write_text_file(folder.file("policies.csv"), csv.str());  // WriteError (a full disk): exit 1
+  write_text_file(folder.file("policies.md"), md.str());
   std::string err;
   if (auto gc = render::GraphicsContext::create(&err)) {
     render::PlotSpec spec;
@@ -114,11 +115,12 @@ int run_policy_table(const PolicyTableOptions& opt, const std::atomic<bool>& sto
       spec.series.back().x.push_back(r.noi);
       spec.series.back().y.push_back(std::max(r.nou, 1.0));
     }
-    if (!render::write_plot_png(*gc, spec, (dir / "policies.png").string(), &err))
+    if (!render::write_plot_png(*gc, spec, folder.file("policies.png").string(), &err)) {
+      if (err.find("could not write PNG") != std::string::npos) throw WriteError("policies plot: " + err);
       std::fprintf(stderr, "warning: policies plot: %s\n", err.c_str());
+    }
   }
-  std::ifstream in(dir / "policies.md");
-  std::cout << in.rdbuf();
+  std::cout << md.str();
   std::printf("\nwrote %s/{policies.csv, policies.md, policies.png}\n", opt.out_dir.c_str());
   return stop ? 130 : 0;
 }
