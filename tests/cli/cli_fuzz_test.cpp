@@ -326,6 +326,25 @@ std::optional<Mutant> unicode(const std::string& text, Rng& rng) {
   return Mutant{"line " + std::to_string(i + 1) + ": " + what, join_lines(lines)};
 }
 
+// issue 30: a string value that names a path outside the output folder (a scene from a stranger
+// must be refused at its line, never write or delete there)
+std::optional<Mutant> path_string(const std::string& text, Rng& rng) {
+  static const std::vector<std::string> values = {"\"../../victim\"", "\"/tmp/victim\"", "\"a/b\"", "\"..\"",
+                                                  "\"C:\\\\x\"", "\"./\"", "\"out/../..\""};
+  std::vector<std::string> lines = split_lines(text);
+  const auto idx = lines_where(lines, [](const std::string& l) {
+    const auto v = value_span(l);
+    return is_key_line(l) && v && l[v->first] == '"';
+  });
+  if (idx.empty()) return std::nullopt;
+  const std::size_t i = rng.pick(idx);
+  const auto [b, e] = *value_span(lines[i]);
+  const std::string& to = rng.pick(values);
+  const std::string what = "line " + std::to_string(i + 1) + ": value '" + lines[i].substr(b, e - b) + "' -> " + to;
+  lines[i].replace(b, e - b, to);
+  return Mutant{what, join_lines(lines)};
+}
+
 std::optional<Mutant> apply_any(const std::vector<std::pair<const char*, Mutation>>& ops, const std::string& text, Rng& rng) {
   for (int attempt = 0; attempt < 16; ++attempt) {
     const auto& [name, op] = ops[rng.below(ops.size())];
@@ -341,7 +360,8 @@ const std::vector<std::pair<const char*, Mutation>>& scene_mutations() {
   static const std::vector<std::pair<const char*, Mutation>> ops = {
       {"delete line", delete_line},     {"duplicate line", duplicate_line}, {"duplicate table", duplicate_table},
       {"swap values", swap_values},     {"extreme number", extreme_number}, {"extreme number", extreme_number},
-      {"wrong type", wrong_type},       {"unicode", unicode},               {"truncate", truncate}};
+      {"wrong type", wrong_type},       {"unicode", unicode},               {"truncate", truncate},
+      {"path string", path_string}};
   return ops;
 }
 
