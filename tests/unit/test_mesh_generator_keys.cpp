@@ -165,8 +165,8 @@ TEST(MeshGeneratorKeys, EdgeNamesSelectInScenesAndTyposNameTheEntry) {
            "radius = 1.0\npolar_start = 30.0\npolar_end = 90.0\nend_angle = 90.0\nn1 = 2\nn2 = 2\n"
            "[material]\nyoungs_modulus = 1.0\nthickness = 0.1\n"
            "[[bc]]\ntype = \"clamped\"\nselect = \"patch_edge\"\npatch = \"cap\"\nedge = \"" + edge + "\"\n"
-           "[[load]]\ntype = \"force\"\ntotal = [0.0, 0.0, 1e-6]\nselect = \"nearest\"\npoint = [0.0, 0.0, 1.0]\n"
-           "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\n[solver]\n";
+           "[[load]]\ntype = \"force\"\ntotal = [0.0, 0.0, 1e-6]\nselect = \"nearest\"\npoint = [0.5, 0.0, 0.866]\n"
+           "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\npoint = [0.5, 0.0, 0.866]\n[solver]\n";
   };
   const scene::Document good = scene::validate(scene::shell_static_schema(), scene("rim"), "t.toml");
   EXPECT_NO_THROW(scene::build_shell_static(good, "t.toml", {}));
