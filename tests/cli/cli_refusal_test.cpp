@@ -91,6 +91,10 @@ INSTANTIATE_TEST_SUITE_P(
                     {"bc[0].type=\"fix\"", "bc[0].fix=[\"ur\"]", "bc[0].frame=\"cylindrical\"",
                      "bc[0].axis=[1e300, 1e300, 1e300]"},
                     "bc[0].axis", "finite non-zero"},
+        RefusalCase{"PendulumShellOneElementOverItsArc", "double_pendulum_shells", {"shell[0].n1=1"}, "shell[0].n1",
+                    "at most 120"},
+        RefusalCase{"PendulumShellThickerThanItsRadius", "double_pendulum_shells", {"shell[1].thickness=0.5"},
+                    "shell[1].radius", "thinner than its radius"},
         RefusalCase{"TinyPolarHole", "hemisphere_18deg_h004", {"mesh.polar_start=1e-12"}, "mesh.polar_start",
                     "is a point"}),
     [](const ::testing::TestParamInfo<RefusalCase>& i) { return i.param.name; });
