@@ -235,8 +235,9 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   check_method_keys(d);
   StaticConvergence conv;
   conv.linear_backend = read_linear_solver(d);
-  // a symmetric-only backend reads one triangle of the tangent; follower loads and moments make
-  // it unsymmetric, and the run would stop at its first factorization
+  // a symmetric-only backend reads one triangle of the tangent; follower loads and moments add a
+  // load stiffness that is not symmetric in general (the backend's documented limit): such runs
+  // ended "matrix is not symmetric", or (cantilever_rollup) "not positive definite" at 0.79
   if (linear_backend_is_symmetric(conv.linear_backend))
     for (std::size_t i = 0; i < d.count("load"); ++i)
       if (d.boolean("load.follower", i) || d.string("load.type", i) == "moment")
@@ -244,7 +245,8 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
                                   "'" + d.string("solver.linear_solver") + "' needs a symmetric tangent, but load[" +
                                       std::to_string(i) + "] (" + d.where("load.type", i) + ") is " +
                                       (d.boolean("load.follower", i) ? "a follower load" : "a moment") +
-                                      ", which makes it unsymmetric; use umfpack, mumps or sparse_lu (or default)")});
+                                      ", whose load stiffness is not symmetric; use umfpack, mumps or sparse_lu (or "
+                                      "default)")});
   if (!arc_length_method(d) && d.number("solver.max_step") < d.number("solver.initial_step")) {
     // load control never takes a step above max_step: a first step above it cannot be taken
     // at max_step, unless it is a default or only initial_step came from --set (the key just changed)
