@@ -286,9 +286,15 @@ int main(int argc, char** argv) {
       }
       if (study_opt.target.empty()) throw ff::app::InputError("study needs a bundled study, study file or scene");
       const ff::app::StudySpec spec = ff::app::make_study_spec(study_opt);
-      if (study_opt.check_only) return ff::app::check_study(spec);
-      study_opt.exclusive_timing = study_timing == "exclusive";
-      return ff::app::run_study(spec, study_opt, g_stop);
+      try {
+        if (study_opt.check_only) return ff::app::check_study(spec);
+        study_opt.exclusive_timing = study_timing == "exclusive";
+        return ff::app::run_study(spec, study_opt, g_stop);
+      } catch (const ff::scene::SceneError& e) {  // an override the study file wrote: its line there
+        std::vector<ff::scene::Issue> issues = e.issues;
+        ff::app::locate_in_study_file(spec, issues);
+        throw ff::scene::SceneError(issues);
+      }
     }
     if (*study_variant) return ff::app::run_study_variant(variant_opt, g_stop);
   } catch (const ff::scene::SceneError& e) {

@@ -676,7 +676,7 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
   const auto check_metric = [&](std::size_t e) {
     const VariantRun& r = *runs[e];
     if (r.status == "invalid")
-      throw InputError("variant " + entries[e].label + " (study '" + spec.name + "'): " + r.reason);
+      throw InputError("variant " + entries[e].label + " (study '" + spec.name + "'): " + locate_in_study_file(spec, r.reason));
     if (r.status == "completed" && !std::isfinite(metric(r.metrics, spec.metric))) {
       std::string names;
       for (const auto& [name, value] : r.metrics) names += " " + name;

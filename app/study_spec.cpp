@@ -206,8 +206,15 @@ StudySpec read_study_file(const std::string& path) {
   s.base_overrides = d.strings("study.set");
   s.grid = d.string("study.combine") == "grid";
   s.repeat = static_cast<int>(d.integer("study.repeat"));
+  // each override the study file writes, with the line it is written at
+  const auto origin = [&](const std::string& text, const scene::Issue& at) {
+    s.origins.push_back({text, at.file, at.line, at.column, at.key});
+  };
+  for (const std::string& o : d.strings("study.set")) origin(o, d.issue("study.set", ""));
   for (std::size_t i = 0; i < d.count("vary"); ++i) {
     StudyAxis a{d.strings("vary.key", i), d.strings("vary.values", i), d.strings("vary.labels", i)};
+    for (const std::string& k : a.keys)
+      for (const std::string& v : a.values) origin(k + "=" + v, d.issue("vary.values", i, ""));
     if (a.keys.empty()) issues.push_back(d.issue("vary.key", i, "name at least one scene key"));
     if (a.values.empty()) issues.push_back(d.issue("vary.values", i, "give at least one value"));
     if (!a.labels.empty() && a.labels.size() != a.values.size())
@@ -221,7 +228,10 @@ StudySpec read_study_file(const std::string& path) {
     v.label = d.string("variant.label", i);
     v.scene = d.string("variant.scene", i).empty() ? s.scene : scene_at("variant.scene", d.string("variant.scene", i));
     v.overrides = s.base_overrides;
-    for (const std::string& o : d.strings("variant.set", i)) v.overrides.push_back(o);
+    for (const std::string& o : d.strings("variant.set", i)) {
+      v.overrides.push_back(o);
+      origin(o, d.issue("variant.set", i, ""));
+    }
     s.extra.push_back(std::move(v));
   }
   StudyReference& r = s.reference;
@@ -246,12 +256,47 @@ StudySpec read_study_file(const std::string& path) {
     r.kind = StudyReference::Kind::scene;
     r.scene = d.string("reference.scene").empty() ? s.scene : scene_at("reference.scene", d.string("reference.scene"));
     r.overrides = s.base_overrides;
-    for (const std::string& o : d.strings("reference.set")) r.overrides.push_back(o);
+    for (const std::string& o : d.strings("reference.set")) {
+      r.overrides.push_back(o);
+      origin(o, d.issue("reference.set", ""));
+    }
   }
   if ((kind == "value" || kind == "table") && r.source.empty())
     issues.push_back(d.issue("reference.source", "say where the reference value comes from (kind " + kind + ")"));
   if (!issues.empty()) throw scene::SceneError(issues);
   return s;
+}
+
+void locate_in_study_file(const StudySpec& spec, std::vector<scene::Issue>& issues) {
+  static const std::string kSet = "--set ";
+  for (scene::Issue& i : issues) {
+    if (i.file.rfind(kSet, 0) != 0) continue;
+    const std::string text = i.file.substr(kSet.size());
+    for (const OverrideOrigin& o : spec.origins)
+      if (o.override_text == text) {
+        i.message += " (" + text + ", from " + o.key + ")";
+        i.file = o.file;
+        i.line = o.line;
+        i.column = o.column;
+        break;
+      }
+  }
+}
+
+std::string locate_in_study_file(const StudySpec& spec, const std::string& message) {
+  std::istringstream in(message);
+  std::string line, out;
+  while (std::getline(in, line)) {
+    for (const OverrideOrigin& o : spec.origins) {
+      const std::string prefix = "--set " + o.override_text + ": ";
+      if (line.rfind(prefix, 0) != 0) continue;
+      line = o.file + ":" + std::to_string(o.line) + ":" + std::to_string(o.column) + ": " + line.substr(prefix.size()) +
+             " (" + o.override_text + ", from " + o.key + ")";
+      break;
+    }
+    out += (out.empty() ? "" : "\n") + line;
+  }
+  return out;
 }
 
 StudyAxis parse_vary(const std::string& spec) {

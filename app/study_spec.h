@@ -9,7 +9,20 @@
 #include <string>
 #include <vector>
 
+namespace ff::scene {
+struct Issue;
+}
+
 namespace ff::app {
+
+/// Where in a study file an override a variant gets came from (vary values, study.set,
+/// variant.set, reference.set), so that a scene's refusal of it can name the study file's line.
+struct OverrideOrigin {
+  std::string override_text;  ///< "mesh.n1=8", as passed to the scene
+  std::string file;           ///< the study file
+  int line = 0, column = 0;
+  std::string key;            ///< the study key it was written at ("vary[0].values")
+};
 
 /// One varied quantity: `keys` are set together to each value (e.g. mesh.n1 and mesh.n2).
 /// Values are TOML value texts as for --set ("8", "5e-4", "\"frozen\"", "[\"elastic\"]").
@@ -55,6 +68,7 @@ struct StudySpec {
   std::string metric;
   StudyReference reference;
   int repeat = 1;                      ///< timing repetitions per variant (median)
+  std::vector<OverrideOrigin> origins;  ///< study-file overrides and their lines (none from options)
 
   /// Every run, in order: the axes' combinations, then the extra variants.
   std::vector<StudyVariant> variants() const;
@@ -69,6 +83,14 @@ bool is_study_file(const std::string& path);
 /// Reads and validates a study file; throws scene::SceneError (file:line:column, key) on bad input.
 /// Scenes are bundled names or paths relative to the study file.
 StudySpec read_study_file(const std::string& path);
+/// Issues a scene raised about an override ("--set mesh.n1=abc") that came from the study file
+/// are moved to the study file's line and column of that entry, the --set text kept in the
+/// message; other issues are left as they are.
+void locate_in_study_file(const StudySpec& spec, std::vector<scene::Issue>& issues);
+/// The same for a refusal already written as text (a variant run in its own process): each line
+/// "--set <override>: ..." of an override from the study file starts with its file:line:column.
+std::string locate_in_study_file(const StudySpec& spec, const std::string& message);
+
 /// Parses "KEY[+KEY2]=V1,V2,..." (commas inside [...] or quotes do not split); throws InputError.
 StudyAxis parse_vary(const std::string& spec);
 /// Parses --reference: "finest", a number, or "scene:NAME_OR_PATH"; throws InputError.

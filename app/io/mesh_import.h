@@ -45,8 +45,12 @@ struct MeshImportOptions {
 /// Reads `path` into `out`. Returns false and sets *error (a complete sentence naming the file)
 /// when the file is missing or unreadable, holds non-quad faces, is inconsistently oriented or
 /// non-manifold, or fails ff::mesh::validate. `out` is untouched on failure.
+/// With file normals, a normal tilted from its quad's own normal at that corner by more than 5
+/// deg beyond the turn of the file's normals across that quad, or by more than 60 deg, is
+/// refused (face, corner, node and angle named); the patch description records the largest tilt. *weld_tolerance_at_fault (when given) says that options.weld_tolerance, not the file,
+/// is what was refused.
 bool import_shell_mesh(const std::string& path, ff::mesh::ShellMesh& out, std::string* error,
-                       const MeshImportOptions& options = {});
+                       const MeshImportOptions& options = {}, bool* weld_tolerance_at_fault = nullptr);
 
 /// What the app passes to every scene load: import_shell_mesh (default options) as the reader for
 /// scenes with mesh.generator = "file" (core/scene/mesh_file.h).

@@ -18,9 +18,15 @@ struct MeshFileRequest {
   double weld_tolerance = 0.0;  ///< mesh.weld_tolerance: join vertices closer than this (0: none)
 };
 
-/// Reads the quad mesh of `request` into `out`; on failure returns false and sets *error to a
-/// complete sentence naming the file.
-using MeshFileReader = std::function<bool(const MeshFileRequest& request, mesh::ShellMesh& out, std::string* error)>;
+/// Why a mesh file was not read: a complete sentence naming the file, and the scene key at fault
+/// ("" = mesh.file itself; "mesh.weld_tolerance" when that request could not be met).
+struct MeshFileError {
+  std::string message;
+  std::string key;
+};
+
+/// Reads the quad mesh of `request` into `out`; on failure returns false and fills *error.
+using MeshFileReader = std::function<bool(const MeshFileRequest& request, mesh::ShellMesh& out, MeshFileError* error)>;
 
 /// What building a scene may need from the program around it (passed in, never global).
 struct SceneContext {

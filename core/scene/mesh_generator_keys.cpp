@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -84,10 +85,18 @@ std::string name_or(const Document& d, const char* fallback) {
   return n.empty() ? std::string(fallback) : n;
 }
 
-// azimuth range [start, end] in degrees, 0 < |end - start| <= 360; slit only on a full turn
+// azimuth range [start, end] in degrees, 0 < end - start <= 360; slit only on a full turn
 std::pair<double, double> azimuth(const Document& d, bool slit_allowed) {
   const double a0 = d.number("mesh.start_angle"), a1 = d.number("mesh.end_angle");
   const double span = std::abs(a1 - a0);
+  // a reversed range would be swept backwards: the edges named start_angle and end_angle (a
+  // slit's two lips) would trade places silently
+  if (a1 < a0)
+    throw SceneError({d.issue(d.present("mesh.end_angle") ? "mesh.end_angle" : "mesh.start_angle",
+                              "the azimuth range [start_angle, end_angle] = [" + d.value_text("mesh.start_angle") + ", " +
+                                  d.value_text("mesh.end_angle") + "] deg runs backwards; end_angle must exceed "
+                                  "start_angle (the surface is swept from start_angle towards end_angle, "
+                                  "right-handed about mesh.axis)")});
   if (!(span > 0) || span > 360.0 * (1 + 1e-12))
     throw SceneError({d.issue(d.present("mesh.end_angle") ? "mesh.end_angle" : "mesh.start_angle",
                               "the azimuth range [start_angle, end_angle] = [" + d.value_text("mesh.start_angle") + ", " +
@@ -97,6 +106,148 @@ std::pair<double, double> azimuth(const Document& d, bool slit_allowed) {
                                                d.value_text("mesh.end_angle") + " - " + d.value_text("mesh.start_angle") +
                                                " degrees, so its two straight edges are apart already")});
   return {radians(a0), radians(a1)};
+}
+
+// Lengths a generator takes: far from both ends of the double range, since the element forms
+// products of three lengths (det J ~ L^2 h) and squared distances; 1e100 cubed is 1e300, still
+// below the largest double (1.8e308), and 1e-100 cubed stays above the smallest normal one.
+constexpr double kLargestLength = 1e100, kSmallestLength = 1e-100;
+// An element whose sides differ by more than this factor is refused: its stiffness terms span the
+// square of the ratio (1e8 of the 16 digits a double carries), and the ratios beyond it (a length
+// or an angle range of 1e-12 beside unit ones) ended as "singular matrix" at run time.
+constexpr double kLargestAspect = 1e4;
+// Largest azimuth one element may span: at 180 degrees its corners lie in one plane with the
+// axis (or the centre) and its directors lie in that plane, so the quad carries no shell; a
+// full turn therefore needs at least 3 elements.
+constexpr double kLargestElementAzimuth = 120.0;
+
+std::string g(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+// every length key and the origin inside [kSmallestLength, kLargestLength]
+void check_length_range(const Document& d) {
+  for (const char* k : {"length", "length2", "width", "radius", "inner_radius"}) {
+    const std::string key = std::string("mesh.") + k;
+    if (!d.present(key)) continue;
+    const double v = d.number(key);
+    if (v == 0.0 && key == "mesh.inner_radius") continue;  // a disk
+    if (!(v <= kLargestLength) || !(v >= kSmallestLength))
+      throw SceneError({d.issue(key, key + " = " + g(v) + " is outside the lengths a shell mesh can use, [" +
+                                         g(kSmallestLength) + ", " + g(kLargestLength) +
+                                         "]: the elements multiply three lengths, which must stay inside double "
+                                         "precision; choose a length unit that keeps the scene's lengths near 1")});
+  }
+  for (double x : d.numbers("mesh.origin"))
+    if (!(std::abs(x) <= kLargestLength))
+      throw SceneError({d.issue("mesh.origin", "a coordinate of mesh.origin (" + g(x) + ") lies beyond " +
+                                                   g(kLargestLength) + ", outside the lengths a shell mesh can use")});
+}
+
+// One element's two sides (an approximate length each, from the keys) and the key that made each.
+struct ElementSide {
+  double length;
+  std::string key, what;
+};
+
+void check_aspect(const Document& d, const ElementSide& a, const ElementSide& b) {
+  if (!(a.length > 0) || !(b.length > 0)) return;  // refused elsewhere, with its own reason
+  const ElementSide& shorter = a.length < b.length ? a : b;
+  const ElementSide& longer = a.length < b.length ? b : a;
+  if (!(longer.length > kLargestAspect * shorter.length)) return;
+  throw SceneError({d.issue(shorter.key, "the elements would be " + g(shorter.length) + " " + shorter.what + " but " +
+                                             g(longer.length) + " " + longer.what + ", " + g(longer.length / shorter.length) +
+                                             " times longer; an element's sides may differ by at most " +
+                                             g(kLargestAspect) + " times (beyond that its stiffness cannot be solved in "
+                                             "double precision); change " + shorter.key +
+                                             " or the element counts")});
+}
+
+// An arc side of `radius` x `span` [rad] over n elements: the angle range is at fault when a
+// full turn at this radius would have been long enough against `other`, else the radius.
+ElementSide arc_side(double radius, const char* radius_key, double span, int n, const ElementSide& other,
+                     const std::string& what) {
+  const bool turn_would_do = radius * 2.0 * std::numbers::pi / n * kLargestAspect >= other.length;
+  return {radius * span / n, turn_would_do ? "mesh.end_angle" : radius_key, what};
+}
+
+// an element may span at most kLargestElementAzimuth of azimuth
+void check_azimuth_count(const Document& d, const char* count_key) {
+  const double span = std::abs(d.number("mesh.end_angle") - d.number("mesh.start_angle"));
+  const long long n = d.integer(std::string("mesh.") + count_key);
+  if (span / static_cast<double>(n) <= kLargestElementAzimuth * (1 + 1e-12)) return;
+  const long long needed = static_cast<long long>(std::ceil(span / kLargestElementAzimuth - 1e-12));
+  throw SceneError({d.issue(std::string("mesh.") + count_key,
+                            "mesh." + std::string(count_key) + " = " + std::to_string(n) + " element(s) around " + g(span) +
+                                " degrees of azimuth span " + g(span / n) + " degrees each; an element may span at most " +
+                                g(kLargestElementAzimuth) + " (at 180 its corners and directors lie in one plane "
+                                "through the axis, and the stiffness is singular): use at least " +
+                                std::to_string(needed))});
+}
+
+// the element shapes a generator's keys give, before anything is built
+void check_element_shapes(const Document& d, const std::string& gen) {
+  check_length_range(d);
+  const int n1 = count(d, "n1"), n2 = count(d, "n2");
+  const double deg = std::numbers::pi / 180.0;
+  if (gen == "rectangular_plate") {
+    check_aspect(d, {d.number("mesh.length") / n1, "mesh.length", "along x (mesh.length / mesh.n1)"},
+                 {d.number("mesh.width") / n2, "mesh.width", "along y (mesh.width / mesh.n2)"});
+  } else if (gen == "l_plate" || gen == "folded_plate") {
+    const double w = d.number("mesh.width");
+    const bool l = gen == "l_plate";
+    const ElementSide across{w / n2, "mesh.width", "across the width (mesh.width / mesh.n2)"};
+    const int n3 = l ? n1 : (count(d, "n3") > 0 ? count(d, "n3") : n1);
+    const std::string key2 = d.present("mesh.length2") || !l ? "mesh.length2" : "mesh.length";
+    const double leg1 = d.number("mesh.length"), leg2 = d.present("mesh.length2") ? d.number("mesh.length2") : leg1;
+    check_aspect(d, {(l ? leg1 - w / 2 : leg1) / n1, "mesh.length", "along the first leg"}, across);
+    check_aspect(d, {(l ? leg2 - w / 2 : leg2) / n3, key2, "along the second leg"}, across);
+  } else if (gen == "cylinder") {
+    const ElementSide axial{d.number("mesh.length") / n2, "mesh.length", "along the axis (mesh.length / mesh.n2)"};
+    const double span = std::abs(d.number("mesh.end_angle") - d.number("mesh.start_angle")) * deg;
+    check_aspect(d, arc_side(d.number("mesh.radius"), "mesh.radius", span, n1, axial, "around (radius x angle / mesh.n1)"),
+                 axial);
+    check_azimuth_count(d, "n1");
+  } else if (gen == "annulus") {
+    const double r = d.number("mesh.radius"), ri = d.number("mesh.inner_radius");
+    const double span = std::abs(d.number("mesh.end_angle") - d.number("mesh.start_angle")) * deg;
+    if (ri > 0 && ri < r) {
+      const ElementSide radial{(r - ri) / n1, "mesh.inner_radius", "across the ring ((radius - inner_radius) / mesh.n1)"};
+      check_aspect(d, arc_side(r, "mesh.radius", span, n2, radial, "around the rim (radius x angle / mesh.n2)"), radial);
+      check_aspect(d, arc_side(ri, "mesh.inner_radius", span, n2, radial, "around the hole (inner_radius x angle / mesh.n2)"),
+                   radial);
+    }
+    if (ri > 0 || d.boolean("mesh.slit")) check_azimuth_count(d, "n2");
+  } else if (gen == "spherical_cap") {
+    const double r = d.number("mesh.radius"), t0 = d.number("mesh.polar_start") * deg, t1 = d.number("mesh.polar_end") * deg;
+    const double span = std::abs(d.number("mesh.end_angle") - d.number("mesh.start_angle")) * deg;
+    if (t0 > 0 && t1 > t0) {
+      const ElementSide meridian{r * (t1 - t0) / n1, "mesh.polar_end", "along the meridian (radius x polar range / mesh.n1)"};
+      for (const auto& [t, key] : {std::pair{t0, "mesh.polar_start"}, std::pair{t1, "mesh.polar_end"}}) {
+        ElementSide around = arc_side(r * std::sin(t), "mesh.radius", span, n2, meridian,
+                                      "along the parallel at polar angle " + g(t / deg) + " deg");
+        if (around.key == "mesh.radius") around.key = key;  // a parallel this short is the polar angle's doing
+        check_aspect(d, around, meridian);
+      }
+      check_azimuth_count(d, "n2");
+    }
+  }
+}
+
+void check_polar_range(const Document& d) {
+  // the generator refuses a theta within 1e-9 rad of a pole (quads collapse there): say so at the key
+  const double pole = 1e-9 * 180.0 / std::numbers::pi;
+  const double t0 = d.number("mesh.polar_start"), t1 = d.number("mesh.polar_end");
+  if (t0 > 0 && t0 <= pole)
+    throw SceneError({d.issue("mesh.polar_start", "a polar hole of " + g(t0) + " deg is a point, where quads collapse "
+                                                  "to triangles; use 0 (a cap closed at the pole) or a hole above " +
+                                                  g(pole) + " deg")});
+  if (t1 >= 180.0 - pole)
+    throw SceneError({d.issue("mesh.polar_end", "a rim at " + g(t1) + " deg is the opposite pole, where quads collapse "
+                                                "to triangles; keep it below " + g(180.0 - pole) + " deg")});
 }
 
 Vec3 checked_direction(const Document& d, const char* key) {
@@ -183,6 +334,7 @@ mesh::ShellMesh build(const Document& d, const std::string& gen) {
   if (!(d.number("mesh.polar_start") < d.number("mesh.polar_end")))
     throw SceneError({d.issue("mesh.polar_end", "the rim's polar angle must exceed mesh.polar_start (" +
                                                     d.value_text("mesh.polar_start") + " deg)")});
+  check_polar_range(d);
   std::tie(s.phi0, s.phi1) = azimuth(d, false);
   return mesh::spherical_cap(s, n1, n2, name_or(d, "cap"));
 }
@@ -255,8 +407,8 @@ void declare_mesh_keys(Schema& s) {
       .number("mesh.inner_radius", "annulus: the inner radius; 0 = a disk (no hole)", 0.0, Range::non_negative())
       .number("mesh.start_angle", "cylinder, annulus, spherical_cap: azimuth where the surface starts", 0.0, {}, "deg")
       .number("mesh.end_angle",
-              "cylinder, annulus, spherical_cap: azimuth where it ends; a 360 degree range closes the surface (its "
-              "seam nodes are merged) unless mesh.slit",
+              "cylinder, annulus, spherical_cap: azimuth where it ends, above start_angle; a 360 degree range "
+              "closes the surface (its seam nodes are merged) unless mesh.slit",
               360.0, {}, "deg")
       .boolean("mesh.slit",
                "cylinder, annulus over 360 degrees: keep the seam open as two coincident lips (separate nodes: edges "
@@ -286,9 +438,26 @@ bool mesh_from_file(const Document& d) {
   return gen == "file";
 }
 
+void check_thickness_against_radius(const Document& d, const std::string& thickness_key) {
+  const std::string& gen = d.string("mesh.generator");
+  if (gen != "cylinder" && gen != "spherical_cap") return;
+  const double h = d.number(thickness_key), r = d.number("mesh.radius");
+  if (h < r) return;
+  const std::string m = "a shell " + g(h) + " thick on a " + (gen == "cylinder" ? "cylinder" : "sphere") +
+                        " of radius " + g(r) + " is thicker than its radius of curvature (its inner face would lie at " +
+                        g(r - h / 2) + " from the " + (gen == "cylinder" ? "axis" : "centre") +
+                        "); a shell must be thinner than its radius: lower " + thickness_key + " or raise mesh.radius";
+  // either key may be the one to change: both lines are named
+  throw SceneError({d.issue(thickness_key, m), d.issue("mesh.radius", m)});
+}
+
 mesh::ShellMesh generate_mesh(const Document& d) {
   const std::string& gen = d.string("mesh.generator");
   check_keys(d, gen);
+  // ranges first (their own messages), then the element shapes they give, at the key at fault
+  if (gen == "cylinder" || gen == "annulus" || gen == "spherical_cap") azimuth(d, gen != "spherical_cap");
+  if (gen == "spherical_cap") check_polar_range(d);
+  check_element_shapes(d, gen);
   try {
     return build(d, gen);
   } catch (const std::invalid_argument& e) {

@@ -22,6 +22,10 @@ void declare_mesh_keys(Schema& s);
 /// generator dimension is given with it.
 bool mesh_from_file(const Document& d);
 
+/// Refuses a cylinder or spherical cap at least as thick (the key `thickness_key`) as its
+/// mesh.radius, naming both keys; other generators have no radius to compare with.
+void check_thickness_against_radius(const Document& d, const std::string& thickness_key);
+
 /// The mesh of a parametric generator (mesh.generator != "file"), built from the [mesh] keys.
 mesh::ShellMesh generate_mesh(const Document& d);
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/mesh/node_sets.h"
@@ -45,6 +46,46 @@ mesh::NodeSelector selector(const Document& d, const mesh::ShellMesh& m, const s
     throw SceneError({d.issue(t + ".side", i, "the side direction must be a finite vector")});
   return mesh::NodeSelector::facing(std::move(base), side);
 }
+std::string number_text(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+std::string point_text(const Eigen::Vector3d& x) {
+  std::ostringstream s;
+  s.precision(6);
+  s << "[" << x.x() << ", " << x.y() << ", " << x.z() << "]";
+  return s.str();
+}
+
+// `nearest` takes one node; when another (of the side, if one is given) is as near, which one is
+// read or held would be decided by node numbering, e.g. the clamped lip of a slit instead of the
+// free one: refused, naming both
+void refuse_ambiguous_nearest(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i, int chosen) {
+  const Eigen::Vector3d point = vec(d.numbers(t + ".point", i));
+  const Eigen::Vector3d side = vec(d.numbers(t + ".side", i));
+  const std::vector<int> candidates = side.isZero(0.0) ? std::vector<int>{} : mesh::nodes_facing(m, side);
+  Eigen::Vector3d lo = m.points.front(), hi = lo;
+  for (const Eigen::Vector3d& x : m.points) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  // equally near within round-off of the mesh's size
+  const double tie = 1e-9 * std::max((hi - lo).norm(), (point - lo).norm());
+  const double nearest = (m.points[chosen] - point).norm();
+  auto check = [&](int k) {
+    if (k == chosen || !((m.points[k] - point).norm() - nearest <= tie)) return;
+    throw SceneError({d.issue(t + ".point", i,
+                              "the point " + point_text(point) + " is equally near node " + std::to_string(chosen) +
+                                  " at " + point_text(m.points[chosen]) + " and node " + std::to_string(k) + " at " +
+                                  point_text(m.points[k]) + " (distance " + number_text(nearest) +
+                                  "), so select = \"nearest\" is ambiguous; move the point towards the node you "
+                                  "mean" + (side.isZero(0.0) ? std::string(", or pick one lip of a slit with " + t + ".side") : std::string()))});
+  };
+  if (side.isZero(0.0))
+    for (int k = 0; k < m.node_count(); ++k) check(k);
+  else
+    for (int k : candidates) check(k);
+}
 }  // namespace
 
 void declare_selector_keys(Schema& s, const std::string& t) {
@@ -80,6 +121,7 @@ std::vector<int> select_nodes(const Document& d, const mesh::ShellMesh& m, const
   }
   if (ids.empty())
     throw SceneError({d.issue(t + ".select", i, mesh::empty_selection_message(t + "[" + std::to_string(i) + "]", sel, m))});
+  if (d.string(t + ".select", i) == "nearest") refuse_ambiguous_nearest(d, m, t, i, ids.front());
   return ids;
 }
 

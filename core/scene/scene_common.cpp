@@ -41,7 +41,8 @@ void declare_linear_solver(Schema& s, const std::string& default_doc) {
   s.choice("solver.linear_solver",
            "sparse direct solver of each Newton correction: default (" + default_doc +
                "), umfpack, mumps (nested dissection), sparse_lu (Eigen, no external library), cholmod_llt (statics "
-               "only: symmetric positive definite tangents, no follower loads, nothing past a limit point)",
+               "only: symmetric positive definite tangents, no follower loads or moments (refused), nothing past a "
+               "limit point)",
            {"default", "umfpack", "mumps", "sparse_lu", "cholmod_llt"}, "default");
 }
 

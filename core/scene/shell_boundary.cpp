@@ -31,7 +31,10 @@ Eigen::Matrix3d frame_axes(const Document& d, std::size_t i, const mesh::ShellMe
   if (frame == "node") return m.frames[I];
   // cylindrical: radial (from the axis to the node), tangential = axis x radial, axial
   const Vec3 axis = vec(d.numbers("bc.axis", i));
-  if (!(axis.norm() > 0) || !axis.allFinite()) throw SceneError({d.issue("bc.axis", i, "the cylinder axis is the zero vector")});
+  // a length that overflows (components near 1e308) would normalize to zero further on
+  if (!(axis.norm() > 0) || !axis.allFinite() || !std::isfinite(axis.squaredNorm()))
+    throw SceneError({d.issue("bc.axis", i, "the cylinder axis must be a finite non-zero vector whose length stays "
+                                            "inside double precision")});
   const Vec3 a = axis.normalized();
   const Vec3 rel = m.points[I] - vec(d.numbers("bc.axis_point", i));
   const Vec3 radial = rel - rel.dot(a) * a;
@@ -119,7 +122,8 @@ void read_bcs(const Document& d, shell::ShellModelSpec& spec) {
         throw SceneError({d.issue("bc.select", i, "a symmetry condition needs select = \"plane\" (its normal is the "
                                                   "plane's normal)")});
       const Vec3 n = vec(d.numbers("bc.normal", i));
-      if (!(n.norm() > 0) || !n.allFinite()) throw SceneError({d.issue("bc.normal", i, "the plane normal is the zero vector")});
+      if (!(n.norm() > 0) || !n.allFinite() || !std::isfinite(n.squaredNorm()))
+        throw SceneError({d.issue("bc.normal", i, "the plane normal must be a finite non-zero vector")});
       for (int id : ids) spec.symmetry_planes.push_back({id, n.normalized(), source});
       continue;
     }
@@ -159,6 +163,12 @@ void read_bcs(const Document& d, shell::ShellModelSpec& spec) {
                                                    "with a type = \"fix\" entry")});
       slots.push_back(k);
     }
+    // a prescribed displacement that is zero in every listed translation holds them instead:
+    // refused as a zero load is, since type = "fix" says that
+    if (prescribe && std::all_of(slots.begin(), slots.end(), [&](int k) { return value[k] == 0.0; }))
+      throw SceneError({d.issue(d.present("bc.displacement", i) ? "bc.displacement" : "bc.type", i,
+                                "the prescribed displacement is zero in every listed translation, so it moves "
+                                "nothing; give its value at lambda = 1, or hold the DoFs with type = \"fix\"")});
     for (int id : ids) {
       const Eigen::Matrix3d T = frame_axes(d, i, m, id);
       for (int k : slots)
@@ -227,6 +237,14 @@ void read_loads(const Document& d, shell::ShellModelSpec& spec) {
         throw SceneError({d.issue(key, i, key + " belongs to " + types + "; a " + type + " load takes " + amount.at(type))});
     if (!d.present(amount.at(type), i))
       throw SceneError({d.issue("load.type", i, "type = \"" + type + "\" needs " + amount.at(type))});
+    // a load that is zero loads nothing: a forgotten value, refused as a zero prescribed
+    // displacement is (a [[load]] exists only to load the shell)
+    const bool zero = type == "pressure" ? d.number("load.pressure", i) == 0.0
+                                         : vec(d.numbers(amount.at(type), i)).isZero(0.0);
+    if (zero)
+      throw SceneError({d.issue(amount.at(type), i, amount.at(type) + " is zero, so this " + type +
+                                                        " load does nothing; give its value at lambda = 1 or remove "
+                                                        "the [[load]]")});
     if ((type == "line" || type == "surface") && d.boolean("load.follower", i))
       throw SceneError({d.issue("load.follower", i, type + " loads are dead loads (fixed direction); follower = true "
                                                     "is not supported for them (a pressure can follow the surface)")});
@@ -296,11 +314,18 @@ Issue located(const Document& d, const shell::ShellSpecError& e) {
     case Part::pressure:
       break;
     case Part::element:
-      // an element the section cannot form (det J <= 0 through the thickness): the thickness
-      // against the curvature or a distorted mesh
+      // an element that forms with a thinner section (det J <= 0 through this thickness only):
+      // the thickness against the curvature
       return d.issue("material.thickness", std::string(e.what()) +
-                                               " (a thickness larger than the local radius of curvature, or a distorted "
-                                               "mesh, makes the element invalid)");
+                                               " (the element forms with a thinner section: this thickness is larger "
+                                               "than the local radius of curvature of the mesh)");
+    case Part::mid_surface: {
+      // degenerate at any thickness: the mesh's own geometry (its corners or directors)
+      const bool file = d.string("mesh.generator") == "file";
+      return d.issue(file ? "mesh.file" : "mesh.generator",
+                     std::string(e.what()) + " at any thickness: the quad's corners or directors carry no shell (" +
+                         (file ? "a collapsed or folded quad, or normals lying in it" : "check the mesh dimensions") + ")");
+    }
   }
   return d.issue("bc.type", 0, e.what());
 }

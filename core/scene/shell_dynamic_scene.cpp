@@ -1,6 +1,7 @@
 #include "core/scene/shell_dynamic_scene.h"
 
 #include <algorithm>
+#include <sstream>
 #include <cmath>
 #include <numbers>
 
@@ -139,6 +140,21 @@ mesh::ShellMesh body_mesh(const Document& d, std::size_t i) {
                  slope = d.number("shell.end_slope", i), y0 = d.number("shell.y0", i);
     if (std::abs(p1 - p0) < 1e-9 || std::abs(p1 - p0) > 2 * std::numbers::pi)
       throw SceneError({d.issue("shell.phi_end", i, "the arc must span more than 0 and at most 360 degrees")});
+    // as for static cylinders (mesh_generator_keys.cpp): at most 120 degrees an element (at 180 its
+    // corners and directors lie in one plane through the axis), and thinner than the radius
+    const double span_deg = std::abs(p1 - p0) / kDeg;
+    if (span_deg / n1 > 120.0 * (1 + 1e-12)) {
+      std::ostringstream m;
+      m << "shell.n1 = " << n1 << " element(s) over the arc span " << span_deg / n1
+        << " degrees each; an element may span at most 120 (at 180 the stiffness is singular)";
+      throw SceneError({d.issue("shell.n1", i, m.str())});
+    }
+    if (!(d.number("shell.thickness", i) < R)) {
+      const std::string m = "shell body '" + name + "' is at least as thick as its radius (" + d.value_text("shell.thickness", i) +
+                            " against " + d.value_text("shell.radius", i) + "); a shell must be thinner than its radius "
+                            "of curvature";
+      throw SceneError({d.issue("shell.thickness", i, m), d.issue("shell.radius", i, m)});
+    }
     // outward normal when the arc runs clockwise in (x, z) seen from +y ... keep it the radial direction
     const double cx = c[0], cz = c[1];
     return mesh::parametric_patch(

@@ -31,9 +31,9 @@ mesh::ShellMesh read_mesh_file(const Document& d, const std::string& scene_path,
     throw SceneError({d.issue("mesh.file", "this program reads no mesh files (no reader was passed to the scene "
                                            "loader; the flexframe executable passes its assimp importer)")});
   mesh::ShellMesh m;
-  std::string error;
+  MeshFileError error;
   const MeshFileRequest request{(fs::path(scene_path).parent_path() / file).string(), d.number("mesh.weld_tolerance")};
-  if (!reader(request, m, &error)) throw SceneError({d.issue("mesh.file", error)});
+  if (!reader(request, m, &error)) throw SceneError({d.issue(error.key.empty() ? "mesh.file" : error.key, error.message)});
   return m;
 }
 }  // namespace
@@ -79,7 +79,7 @@ const Schema& shell_static_schema() {
         .number("solver.end", "load factor to reach (the end of the run)", 1.0, Range::positive())
         .number("solver.initial_step", "first load step (load control) or load increment (arc length)", 0.05,
                 Range::left_open(0.0, 1.0))
-        .number("solver.max_step", "largest load step (load control)", 0.1, Range::left_open(0.0, 1.0))
+        .number("solver.max_step", "largest load step (load control); at least solver.initial_step", 0.1, Range::left_open(0.0, 1.0))
         .number("solver.min_step", "smallest load step before giving up", 1e-5, Range::left_open(0.0, 1.0))
         .number("solver.tolerance", "relative residual and increment tolerance", 1e-8, Range::left_open(0.0, 1e-2))
         .integer("solver.max_iterations", "Newton corrections per attempt", 25, IntRange::closed(2, 500))
@@ -115,6 +115,8 @@ const Schema& shell_static_schema() {
 }
 
 namespace {
+bool arc_length_method(const Document& d) { return d.string("solver.method") == "arc_length"; }
+
 // A key of the other path-following method is refused at its line, as a mesh key of another
 // generator is: the method would silently ignore it
 void check_method_keys(const Document& d) {
@@ -144,7 +146,10 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   if (!mesh_from_file(d))
     refuse_oversized(d, ctx, static_cast<int>(d.integer("mesh.n1") * d.integer("mesh.n2")), has("drilling") ? 1.0 : 0.0,
                      "mesh.n1");
-  if (!mesh_from_file(d)) spec.mesh = generate_mesh(d);
+  if (!mesh_from_file(d)) {
+    spec.mesh = generate_mesh(d);
+    check_thickness_against_radius(d, "material.thickness");
+  }
   else try {
       spec.mesh = read_mesh_file(d, path, ctx);
     } catch (const std::invalid_argument& e) {
@@ -230,6 +235,29 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   check_method_keys(d);
   StaticConvergence conv;
   conv.linear_backend = read_linear_solver(d);
+  // a symmetric-only backend reads one triangle of the tangent; follower loads and moments add a
+  // load stiffness that is not symmetric in general (the backend's documented limit): such runs
+  // ended "matrix is not symmetric", or (cantilever_rollup) "not positive definite" at 0.79
+  if (linear_backend_is_symmetric(conv.linear_backend))
+    for (std::size_t i = 0; i < d.count("load"); ++i)
+      if (d.boolean("load.follower", i) || d.string("load.type", i) == "moment")
+        throw SceneError({d.issue("solver.linear_solver",
+                                  "'" + d.string("solver.linear_solver") + "' needs a symmetric tangent, but load[" +
+                                      std::to_string(i) + "] (" + d.where("load.type", i) + ") is " +
+                                      (d.boolean("load.follower", i) ? "a follower load" : "a moment") +
+                                      ", whose load stiffness is not symmetric; use umfpack, mumps or sparse_lu (or "
+                                      "default)")});
+  if (!arc_length_method(d) && d.number("solver.max_step") < d.number("solver.initial_step")) {
+    // load control never takes a step above max_step: a first step above it cannot be taken
+    // at max_step, unless it is a default or only initial_step came from --set (the key just changed)
+    const auto from_set = [&](const char* k) { return d.where(k).rfind("--set", 0) == 0; };
+    const bool at_initial = !d.present("solver.max_step") || (from_set("solver.initial_step") && !from_set("solver.max_step"));
+    throw SceneError({d.issue(at_initial ? "solver.initial_step" : "solver.max_step",
+                              "solver.max_step (" + d.value_text("solver.max_step") +
+                                  ") is smaller than solver.initial_step (" + d.value_text("solver.initial_step") +
+                                  "): load control never steps beyond max_step, so the first step cannot be taken; "
+                                  "raise solver.max_step or lower solver.initial_step")});
+  }
   conv.residual_tolerance = conv.increment_tolerance = d.number("solver.tolerance");
   conv.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
   conv.tangent = d.string("solver.tangent") == "modified" ? TangentPolicy::modified : TangentPolicy::every_iteration;

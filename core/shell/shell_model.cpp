@@ -333,7 +333,18 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
     try {
       e.el = std::make_unique<CbShellElement>(ref, spec_.section, spec_.options);
     } catch (const std::invalid_argument& err) {
-      throw ShellSpecError(ShellSpecError::Part::element, q, "quad " + std::to_string(q) + ": " + err.what());
+      // a quad that forms with a far thinner section is one whose thickness its curvature cannot
+      // take; one that does not is degenerate in its own mid-surface (the mesh is at fault)
+      ShellSection thin = spec_.section;
+      thin.thickness *= 1e-6;
+      bool forms_thin = true;
+      try {
+        CbShellElement probe(ref, thin, spec_.options);
+      } catch (const std::invalid_argument&) {
+        forms_thin = false;
+      }
+      throw ShellSpecError(forms_thin ? ShellSpecError::Part::element : ShellSpecError::Part::mid_surface, q,
+                           "quad " + std::to_string(q) + ": " + err.what());
     }
     elements_.push_back(std::move(e));
   }

@@ -87,7 +87,9 @@ struct ShellModelSpec {
 /// can point at its own entry (`source` of the restraint or plane; the quad for an element).
 class ShellSpecError : public std::invalid_argument {
  public:
-  enum class Part { restraint, symmetry, pressure, element };
+  /// element: the section's thickness does not fit the element's curvature (it forms at a
+  /// thinner section); mid_surface: the quad and its directors carry no shell at any thickness
+  enum class Part { restraint, symmetry, pressure, element, mid_surface };
   ShellSpecError(Part part, int source, const std::string& what)
       : std::invalid_argument(what), part_(part), source_(source) {}
   Part part() const { return part_; }

@@ -239,7 +239,8 @@ TEST_P(CliErrorKey, CheckNamesTheKeyThatCausedIt) {
 INSTANTIATE_TEST_SUITE_P(
     Findings, CliErrorKey,
     ::testing::Values(
-        WrongKeyCase{"StaticThicknessNotBc", "hinged_roof_h635", {"material.thickness=1e9"}, "material.thickness", "det J"},
+        WrongKeyCase{"StaticThicknessNotBc", "hinged_roof_h635", {"material.thickness=1e9"}, "material.thickness",
+                     "thicker than its radius of curvature"},
         WrongKeyCase{"BodyThicknessNotEffects", "double_pendulum_shells", {"shell[1].thickness=1e9"}, "shell[1].thickness",
                      "shell body 'II'"},
         WrongKeyCase{"BeamLengthNotEfgScale", "hub_beam_efg_tau1", {"beam.length=1e308"}, "beam.length",

@@ -241,9 +241,11 @@ std::optional<Mutant> swap_values(const std::string& text, Rng& rng) {
 }
 
 std::optional<Mutant> extreme_number(const std::string& text, Rng& rng) {
+  // 1e-12 and 1e200 (issue 30): a dimension that shapes degenerate elements or overflows squares
   static const std::vector<std::string> values = {"0",    "-1",  "1e308", "-1e308", "nan", "inf",
                                                   "-inf", "1",   "0.0",   "-0.0",   "5e-324",
-                                                  "9223372036854775807", "-9223372036854775808", "2147483648"};
+                                                  "9223372036854775807", "-9223372036854775808", "2147483648",
+                                                  "1e-12", "1e200"};
   std::vector<std::string> lines = split_lines(text);
   const auto idx = lines_where(lines, [](const std::string& l) {
     const auto v = value_span(l);
@@ -415,6 +417,28 @@ std::vector<std::pair<const char*, Mutation>> obj_mutations() {
                                                 "//", "a", "1//999"});
        }},
       {"non-finite coordinate", [=](const std::string& t, Rng& r) { return token_mutation(t, r, vertex, 1, kNonFinite); }},
+      // issue 30: every corner gets one normal, tilted from the plate's +z (a director off the surface)
+      {"tilted normals",
+       [=](const std::string& t, Rng& r) -> std::optional<Mutant> {
+         static const std::vector<double> tilts = {0.0, 3.0, 10.0, 30.0, 89.0, 90.0, 180.0};
+         const double tilt = r.pick(tilts), a = tilt * std::acos(-1.0) / 180.0;
+         std::ostringstream vn;
+         vn.precision(17);
+         vn << "vn 0 " << -std::sin(a) << " " << std::cos(a);
+         std::vector<std::string> lines = split_lines(t);
+         bool any = false;
+         for (std::string& l : lines) {
+           if (!face(l)) continue;
+           std::istringstream in(l.substr(2));
+           std::string out = "f";
+           for (std::string v; in >> v;) out += " " + v + "//1";
+           l = out;
+           any = true;
+         }
+         if (!any) return std::nullopt;
+         lines.insert(lines.begin(), vn.str());
+         return Mutant{"every corner's normal tilted " + std::to_string(tilt) + " deg", join_lines(lines)};
+       }},
       {"non-quad face",
        [=](const std::string& t, Rng& r) -> std::optional<Mutant> {
          std::vector<std::string> lines = split_lines(t);

@@ -115,14 +115,58 @@ TEST(MeshGeneratorKeys, BadMeshInputNamesTheExactKey) {
   EXPECT_TRUE(starts(e, "mesh.file:")) << e;
 }
 
+// Issue 30: shapes that were accepted and then ended "singular matrix" (or were swept backwards,
+// or overflowed into an empty selection) are refused at the key that made them
+TEST(MeshGeneratorKeys, ShapesThatCannotBeSolvedNameTheirKey) {
+  auto starts = [](const std::string& s, const std::string& key) { return s.rfind(key, 0) == 0; };
+  const std::string cyl = "generator = \"cylinder\"\nradius = 1.0\nlength = 1.0\n";
+  std::string e = mesh_issue(cyl + "n1 = 1\nn2 = 2");
+  EXPECT_TRUE(starts(e, "mesh.n1:") && e.find("at least 3") != std::string::npos) << e;
+  e = mesh_issue(cyl + "n1 = 2\nn2 = 2\nslit = true");
+  EXPECT_TRUE(starts(e, "mesh.n1:")) << e;
+  EXPECT_EQ(mesh_issue(cyl + "n1 = 3\nn2 = 2"), "");  // 120 degrees an element: the fewest around
+  e = mesh_issue("generator = \"annulus\"\nradius = 1.0\ninner_radius = 0.5\nslit = true\nn1 = 2\nn2 = 2");
+  EXPECT_TRUE(starts(e, "mesh.n2:")) << e;
+  e = mesh_issue("generator = \"annulus\"\nradius = 1.0\ninner_radius = 0.5\nn1 = 2\nn2 = 1");
+  EXPECT_TRUE(starts(e, "mesh.n2:")) << e;
+  e = mesh_issue("generator = \"cylinder\"\nradius = 1.0\nlength = 1e-12");
+  EXPECT_TRUE(starts(e, "mesh.length:") && e.find("times longer") != std::string::npos) << e;
+  e = mesh_issue(cyl + "end_angle = 1e-10");
+  EXPECT_TRUE(starts(e, "mesh.end_angle:")) << e;
+  e = mesh_issue("generator = \"cylinder\"\nradius = 1e-12\nlength = 1.0");
+  EXPECT_TRUE(starts(e, "mesh.radius:")) << e;
+  e = mesh_issue("generator = \"rectangular_plate\"\nlength = 1.0\nwidth = 1e-9");
+  EXPECT_TRUE(starts(e, "mesh.width:")) << e;
+  e = mesh_issue("generator = \"l_plate\"\nlength = 10.0\nlength2 = 0.5000001\nwidth = 1.0\nn1 = 4\nn2 = 1");
+  EXPECT_TRUE(starts(e, "mesh.length2:")) << e;
+  e = mesh_issue("generator = \"folded_plate\"\nlength = 1.0\nlength2 = 1e-9\nwidth = 1.0");
+  EXPECT_TRUE(starts(e, "mesh.length2:")) << e;
+  e = mesh_issue("generator = \"annulus\"\nradius = 1.0\ninner_radius = 0.9999999999\nn1 = 2\nn2 = 16");
+  EXPECT_TRUE(starts(e, "mesh.inner_radius:")) << e;
+  e = mesh_issue(cyl + "start_angle = 90.0\nend_angle = 0.0");
+  EXPECT_TRUE(starts(e, "mesh.end_angle:") && e.find("runs backwards") != std::string::npos) << e;
+  e = mesh_issue("generator = \"cylinder\"\nradius = 1e200\nlength = 1e200");
+  EXPECT_TRUE(starts(e, "mesh.length:") || starts(e, "mesh.radius:")) << e;
+  e = mesh_issue("generator = \"cylinder\"\nradius = 1e200\nlength = 1.0");
+  EXPECT_TRUE(starts(e, "mesh.radius:") && e.find("outside the lengths") != std::string::npos) << e;
+  e = mesh_issue("generator = \"rectangular_plate\"\nlength = 1.0\nwidth = 1.0\norigin = [0.0, 1e300, 0.0]");
+  EXPECT_TRUE(starts(e, "mesh.origin:")) << e;
+  e = mesh_issue("generator = \"spherical_cap\"\nradius = 1.0\npolar_start = 1e-12\npolar_end = 90.0");
+  EXPECT_TRUE(starts(e, "mesh.polar_start:")) << e;
+  e = mesh_issue("generator = \"spherical_cap\"\nradius = 1.0\npolar_start = 1e-5\npolar_end = 90.0");
+  EXPECT_TRUE(starts(e, "mesh.polar_start:") && e.find("times longer") != std::string::npos) << e;
+  e = mesh_issue("generator = \"spherical_cap\"\nradius = 1.0\npolar_end = 179.9999999999");
+  EXPECT_TRUE(starts(e, "mesh.polar_end:")) << e;
+}
+
 TEST(MeshGeneratorKeys, EdgeNamesSelectInScenesAndTyposNameTheEntry) {
   auto scene = [](const std::string& edge) {
     return "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[mesh]\ngenerator = \"spherical_cap\"\n"
            "radius = 1.0\npolar_start = 30.0\npolar_end = 90.0\nend_angle = 90.0\nn1 = 2\nn2 = 2\n"
            "[material]\nyoungs_modulus = 1.0\nthickness = 0.1\n"
            "[[bc]]\ntype = \"clamped\"\nselect = \"patch_edge\"\npatch = \"cap\"\nedge = \"" + edge + "\"\n"
-           "[[load]]\ntype = \"force\"\ntotal = [0.0, 0.0, 1e-6]\nselect = \"nearest\"\npoint = [0.0, 0.0, 1.0]\n"
-           "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\n[solver]\n";
+           "[[load]]\ntype = \"force\"\ntotal = [0.0, 0.0, 1e-6]\nselect = \"nearest\"\npoint = [0.5, 0.0, 0.866]\n"
+           "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\npoint = [0.5, 0.0, 0.866]\n[solver]\n";
   };
   const scene::Document good = scene::validate(scene::shell_static_schema(), scene("rim"), "t.toml");
   EXPECT_NO_THROW(scene::build_shell_static(good, "t.toml", {}));

@@ -263,3 +263,29 @@ TEST(ShellSupports, NearlyContainedDirectorIsSnappedIntoThePlane) {
   EXPECT_NEAR(m.largest_director_snap(), 3e-5, 1e-7);
   EXPECT_NEAR(m.spec().mesh.frames[1].col(2).dot(nrm), 0.0, 1e-15);
 }
+
+// Issue 30: an element that cannot be formed says whether the thickness is at fault (it forms
+// with a thinner section) or the mid-surface itself (degenerate at any thickness), so a scene can
+// blame material.thickness or the mesh instead of the thickness every time.
+TEST(ShellSupports, ElementFailuresTellThicknessFromMidSurface) {
+  ShellModelSpec s;
+  s.mesh = cylinder_patch(3, 2, 0.3);  // radius 0.3
+  s.section = {1.0e4, 0.3, 2.0, 5.0 / 6.0};  // 2.0 thick: the inner face passes the axis
+  try {
+    ShellModel m(s);
+    ADD_FAILURE() << "accepted a shell far thicker than its radius";
+  } catch (const ShellSpecError& e) {
+    EXPECT_EQ(e.part(), ShellSpecError::Part::element) << e.what();
+  }
+  s.section.thickness = 0.02;
+  for (std::size_t i = 0; i < s.mesh.normals.size(); ++i) {  // directors lying in the surface
+    s.mesh.normals[i] = Vec3::UnitY();
+    s.mesh.frames[i] = ff::mesh::frame_from_normal(Vec3::UnitY(), Vec3::UnitX());
+  }
+  try {
+    ShellModel m(s);
+    ADD_FAILURE() << "accepted directors lying in the surface";
+  } catch (const ShellSpecError& e) {
+    EXPECT_EQ(e.part(), ShellSpecError::Part::mid_surface) << e.what();
+  }
+}
