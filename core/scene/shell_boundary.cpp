@@ -163,12 +163,6 @@ void read_bcs(const Document& d, shell::ShellModelSpec& spec) {
                                                    "with a type = \"fix\" entry")});
       slots.push_back(k);
     }
-    // a prescribed displacement that is zero in every listed translation holds them instead:
-    // refused as a zero load is, since type = "fix" says that
-    if (prescribe && std::all_of(slots.begin(), slots.end(), [&](int k) { return value[k] == 0.0; }))
-      throw SceneError({d.issue(d.present("bc.displacement", i) ? "bc.displacement" : "bc.type", i,
-                                "the prescribed displacement is zero in every listed translation, so it moves "
-                                "nothing; give its value at lambda = 1, or hold the DoFs with type = \"fix\"")});
     for (int id : ids) {
       const Eigen::Matrix3d T = frame_axes(d, i, m, id);
       for (int k : slots)
@@ -237,14 +231,6 @@ void read_loads(const Document& d, shell::ShellModelSpec& spec) {
         throw SceneError({d.issue(key, i, key + " belongs to " + types + "; a " + type + " load takes " + amount.at(type))});
     if (!d.present(amount.at(type), i))
       throw SceneError({d.issue("load.type", i, "type = \"" + type + "\" needs " + amount.at(type))});
-    // a load that is zero loads nothing: a forgotten value, refused as a zero prescribed
-    // displacement is (a [[load]] exists only to load the shell)
-    const bool zero = type == "pressure" ? d.number("load.pressure", i) == 0.0
-                                         : vec(d.numbers(amount.at(type), i)).isZero(0.0);
-    if (zero)
-      throw SceneError({d.issue(amount.at(type), i, amount.at(type) + " is zero, so this " + type +
-                                                        " load does nothing; give its value at lambda = 1 or remove "
-                                                        "the [[load]]")});
     if ((type == "line" || type == "surface") && d.boolean("load.follower", i))
       throw SceneError({d.issue("load.follower", i, type + " loads are dead loads (fixed direction); follower = true "
                                                     "is not supported for them (a pressure can follow the surface)")});

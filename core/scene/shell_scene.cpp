@@ -171,10 +171,25 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
 
   read_bcs(d, spec);
   read_loads(d, spec);
-  if (spec.loads.empty() && spec.pressures.empty() &&
-      std::none_of(spec.directions.begin(), spec.directions.end(), [](const DirectionRestraint& r) { return r.value != 0.0; }))
-    throw SceneError({d.issue("scene.model", "nothing loads the shell: give a [[load]] or a [[bc]] of type = "
-                                             "\"displacement\"")});
+  // A zero [[load]] or a zero prescribed displacement is accepted (a load switched off with
+  // --set, a displacement that holds its DoFs), alike; but a path needs something non-zero to follow.
+  const bool loaded =
+      std::any_of(spec.loads.begin(), spec.loads.end(),
+                  [](const NodalLoad& l) { return !l.force.isZero(0.0) || !l.moment.isZero(0.0); }) ||
+      std::any_of(spec.pressures.begin(), spec.pressures.end(), [](const PressureLoad& p) { return p.pressure != 0.0; }) ||
+      std::any_of(spec.directions.begin(), spec.directions.end(), [](const DirectionRestraint& r) { return r.value != 0.0; });
+  if (!loaded) {
+    if (d.count("load") == 0)
+      throw SceneError({d.issue("scene.model", "nothing loads the shell: give a [[load]] or a [[bc]] of type = "
+                                               "\"displacement\"")});
+    const std::string type = d.string("load.type", 0);
+    const std::string amount = type == "force" || type == "moment" ? "load.total"
+                               : type == "line"                    ? "load.per_length"
+                               : type == "pressure"                ? "load.pressure"
+                                                                   : "load.per_area";
+    throw SceneError({d.issue(amount, 0, "every [[load]] is zero and no [[bc]] prescribes a non-zero displacement, so "
+                                         "nothing loads the shell and the path has nothing to follow")});
+  }
   ShellStaticSettings st;
   st.load_scale = d.number("solver.load_scale");
   st.load_label = d.string("solver.load_label");

@@ -77,10 +77,11 @@ INSTANTIATE_TEST_SUITE_P(
                     "probe[0].point", "equally near node"},
         RefusalCase{"ReversedAzimuthRange", "pulled_cylinder", {"mesh.start_angle=90", "mesh.end_angle=0"},
                     "mesh.end_angle", "runs backwards"},
+        // the only load zero: nothing to follow (a zero load beside others is accepted, switched off)
         RefusalCase{"ZeroForce", "pulled_cylinder", {"load[0].total=[0.0, 0.0, 0.0]"}, "load[0].total",
-                    "load does nothing"},
+                    "nothing loads the shell"},
         RefusalCase{"ZeroPressure", "clamped_plate_pressure", {"load[0].pressure=0.0"}, "load[0].pressure",
-                    "load does nothing"},
+                    "nothing loads the shell"},
         // blamed on the wrong key
         RefusalCase{"ShortArmOfLPlate", "l_plate_force", {"mesh.length2=15.0001"}, "mesh.length2", "times longer"},
         RefusalCase{"WeldToleranceNotFile", "clamped_plate_pressure_obj", {"mesh.weld_tolerance=1e300"},
@@ -175,15 +176,26 @@ TEST(CliRefusalFile, NearestOnASlitIsAmbiguousUnlessASideIsGiven) {
   EXPECT_EQ(r.exit_code, 0) << r.describe();
 }
 
-TEST(CliRefusalFile, ZeroPrescribedDisplacementAtItsKey) {
+// A zero prescribed displacement is accepted as a zero load is (it holds its DoFs, as a load of
+// zero switched off with --set loads nothing); a scene where nothing at all is non-zero is refused.
+TEST(CliRefusalFile, ZeroPrescribedDisplacementIsAcceptedLikeAZeroLoad) {
   const std::string dir = fresh_test_dir();
   const std::string scene = dir + "/zero_displacement.toml";
-  write_text(scene, static_scene("generator = \"rectangular_plate\"\nlength = 1.0\nwidth = 1.0\nn1 = 2\nn2 = 2",
-                                 "[[bc]]\ntype = \"clamped\"\nselect = \"plane\"\nnormal = [1.0, 0.0, 0.0]\n\n"
-                                 "[[bc]]\ntype = \"displacement\"\nfix = [\"uz\"]\ndisplacement = [0.0, 0.0, 0.0]\n"
-                                 "select = \"plane\"\npoint = [1.0, 0.0, 0.0]\nnormal = [1.0, 0.0, 0.0]\n\n"
-                                 "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\npoint = [1.0, 0.0, 0.0]\n"));
-  expect_refused_at(dir, scene, line_of(read_text(scene), "displacement = "), "bc[1].displacement", "moves nothing");
+  const std::string bcs = "[[bc]]\ntype = \"clamped\"\nselect = \"plane\"\nnormal = [1.0, 0.0, 0.0]\n\n"
+                          "[[bc]]\ntype = \"displacement\"\nfix = [\"uz\"]\ndisplacement = [0.0, 0.0, 0.0]\n"
+                          "select = \"plane\"\npoint = [1.0, 0.0, 0.0]\nnormal = [1.0, 0.0, 0.0]\n\n"
+                          "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\npoint = [1.0, 0.0, 0.0]\n";
+  const std::string plate = "generator = \"rectangular_plate\"\nlength = 1.0\nwidth = 1.0\nn1 = 2\nn2 = 2";
+  // with a (non-zero) load beside it: accepted
+  write_text(scene, static_scene(plate, bcs + "\n[[load]]\ntype = \"force\"\ntotal = [0.0, 0.0, 1.0]\n"
+                                             "select = \"nearest\"\npoint = [0.5, 1.0, 0.0]\n"));
+  const ProcResult r = run_flexframe({"check", scene}, dir + "/check", dir);
+  EXPECT_EQ(r.exit_code, 0) << r.describe();
+  // alone: nothing loads the shell
+  write_text(scene, static_scene(plate, bcs));
+  const ProcResult alone = run_flexframe({"check", scene}, dir + "/alone", dir);
+  EXPECT_EQ(alone.exit_code, 2) << alone.describe();
+  EXPECT_NE(alone.err.find("nothing loads the shell"), std::string::npos) << alone.describe();
 }
 
 // ---- OBJ normals tilted from the surface --------------------------------------------------------
