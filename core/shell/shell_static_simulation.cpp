@@ -117,8 +117,9 @@ StepDone ShellStaticSimulation::step(double) {
                : r.status == StaticStatus::incomplete  ? RunStatus::incomplete
                : r.status == StaticStatus::interrupted ? RunStatus::interrupted
                                                        : RunStatus::diverged;
-    // a completed path that returned to the unloaded state or looped says so (r.notes)
-    d.reason = r.status == StaticStatus::completed ? r.notes : r.reason;
+    // a completed path that returned to the unloaded state or looped says so (r.notes), and one
+    // that stopped at its first limit point, as asked, says where
+    d.reason = r.status == StaticStatus::completed && r.stop != StaticStop::limit_point ? r.notes : r.reason;
     for (const StaticEvent& e : r.events) d.events.push_back({std::string(to_string(e.kind)), e.step, e.lambda, e.detail});
   }
   return d;
