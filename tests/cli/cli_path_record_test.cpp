@@ -167,5 +167,36 @@ TEST(CliPathRecord, EveryAttemptOfEveryBundledStaticSceneIsInSteps) {
   EXPECT_GE(with_rejections, 1);  // the check has teeth: some bundled path rejects attempts
 }
 
+// a run that dies on its first step still records the attempts it died on: /steps rows with
+// converged = false after the last converged step, summing to newton_iterations
+TEST(CliPathRecord, ADivergedRunKeepsTheAttemptsItEndedOn) {
+  const std::string out = fresh_test_dir() + "/rollup";
+  const ProcResult r = run_flexframe({"run", "cantilever_rollup", "--out", out, "--no-frames", "--no-plots", "--quiet",
+                                      "--set", "solver.max_iterations=2", "--set", "solver.min_step=0.01"},
+                                     out + "_log");
+  EXPECT_EQ(r.exit_code, 3) << r.describe();
+  std::string why;
+  const std::optional<Json> s = read_summary(out, &why);
+  ASSERT_TRUE(s) << why;
+  EXPECT_EQ(summary_string(*s, "status"), "diverged");
+  const std::unique_ptr<io::ResultReader> h5 = io::ResultReader::open(out + "/results.h5", &why);
+  ASSERT_TRUE(h5) << why;
+  const std::vector<StepRecord> log = h5->step_log();
+  ASSERT_FALSE(log.empty());
+  long long corrections = 0;
+  for (const StepRecord& row : log) {
+    corrections += row.stats.iterations;
+    EXPECT_FALSE(row.stats.converged);
+    EXPECT_EQ(row.step, static_cast<std::int64_t>(summary_number(*s, "steps")) + 1);
+  }
+  EXPECT_GT(corrections, 0);
+  EXPECT_EQ(static_cast<double>(corrections), summary_number(*s, "newton_iterations"));
+  EXPECT_GE(static_cast<double>(log.size()), summary_number(*s, "cutbacks"));
+  EXPECT_GT(summary_number(*s, "cutbacks"), 0.0);
+  EXPECT_EQ(h5->outcome().cutbacks, static_cast<std::int64_t>(summary_number(*s, "cutbacks")));
+  // each halving is a row at half the load increment of the one before
+  for (std::size_t k = 1; k < log.size(); ++k) EXPECT_DOUBLE_EQ(log[k].stats.dt, 0.5 * log[k - 1].stats.dt);
+}
+
 }  // namespace
 }  // namespace ff::cli::test
