@@ -39,7 +39,8 @@ void print_result(const ff::app::RunResult& r) {
   // what the path did on the way (statics): each event once, counted by kind
   std::map<std::string, int> kinds;
   for (const ff::PathEvent& e : r.outcome.events) ++kinds[e.kind];
-  for (const auto& [kind, n] : kinds) std::printf("  events: %d %s%s (summary.json \"events\")\n", n, kind.c_str(), n > 1 ? "s" : "");
+  for (const auto& [kind, n] : kinds)  // "2 limit_points", but "2 unloaded"
+    std::printf("  events: %d %s%s (summary.json \"events\")\n", n, kind.c_str(), n > 1 && kind.back() != 'd' ? "s" : "");
   for (const auto& [k, v] : r.metrics) std::printf("  %-30s %.6g\n", k.c_str(), v);
   std::printf("  outputs: %s/{results.h5, summary.json, frames/ (%d PNG), plots/", r.out_dir.c_str(),
               r.frames_rendered);

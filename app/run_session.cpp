@@ -415,6 +415,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       {"steps", result.totals.steps},
       {"newton_iterations", result.totals.newton_iterations},
       {"jacobian_updates", result.totals.jacobian_updates},
+      {"cutbacks", result.totals.cutbacks >= 0 ? Json(result.totals.cutbacks) : Json()},  // null: not counted
       {"steps_per_second", outcome.wall_time_s > 0 ? result.totals.steps / outcome.wall_time_s : 0.0},
       {"effects", info.effects},
       {"metrics", metrics},

@@ -254,6 +254,7 @@ void ResultReader::Impl::load_all() {
     if (!known) outcome.reason = "unknown status '" + status + "' in the file; " + outcome.reason;
     outcome.stop_time = h5::read_attr_double(o.get(), "stop_time");
     outcome.steps = h5::read_attr_int64(o.get(), "steps");
+    if (h5::has_attr(o.get(), "cutbacks")) outcome.cutbacks = h5::read_attr_int64(o.get(), "cutbacks");
     outcome.wall_time_s = h5::read_attr_double(o.get(), "wall_time_s");
     if (h5::has_attr(o.get(), "event_kind")) {
       const std::vector<std::string> kinds = h5::read_attr_strings(o.get(), "event_kind");

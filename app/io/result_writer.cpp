@@ -226,6 +226,7 @@ struct ResultWriter::Impl {
   std::string prefix() const { return "results file '" + path + "': "; }
 
   void write_run_info(const RunInfo& info);
+  void stage_step(std::int64_t step, double time, const StepStats& st);  // one row of /steps
   void create_frame_columns(const RunInfo& info);
   void write_unfinished_outcome();
   void write_progress();
@@ -536,23 +537,10 @@ bool ResultWriter::append(const Frame& frame, std::string* error) {
   c[m.checksum_column].stage(&checksum);
   ++m.frames_staged;
   // the convergence log: the frame's steps, or the frame itself when it is one solver step
-  auto log_step = [&](std::int64_t step, double time, const StepStats& st) {
-    const std::int8_t conv = st.converged ? 1 : 0;
-    auto& l = m.step_columns;
-    l[Impl::kLogStep].stage(&step);
-    l[Impl::kLogTime].stage(&time);
-    l[Impl::kLogDt].stage(&st.dt);
-    l[Impl::kLogIter].stage(&st.iterations);
-    l[Impl::kLogJac].stage(&st.jacobian_updates);
-    l[Impl::kLogRes].stage(&st.residual_norm);
-    l[Impl::kLogInc].stage(&st.increment_norm);
-    l[Impl::kLogConv].stage(&conv);
-    ++m.steps_staged;
-  };
   if (!frame.step_log.empty()) {
-    for (const StepRecord& r : frame.step_log) log_step(r.step, r.time, r.stats);
+    for (const StepRecord& r : frame.step_log) m.stage_step(r.step, r.time, r.stats);
   } else if (frame.step > 0) {
-    log_step(frame.step, frame.time, frame.stats);
+    m.stage_step(frame.step, frame.time, frame.stats);
   }
   m.last_staged_time = frame.time;
   m.last_staged_step = frame.step;
@@ -566,6 +554,20 @@ bool ResultWriter::append(const Frame& frame, std::string* error) {
     }
   }
   return true;
+}
+
+void ResultWriter::Impl::stage_step(std::int64_t step, double time, const StepStats& st) {
+  const std::int8_t conv = st.converged ? 1 : 0;
+  auto& l = step_columns;
+  l[kLogStep].stage(&step);
+  l[kLogTime].stage(&time);
+  l[kLogDt].stage(&st.dt);
+  l[kLogIter].stage(&st.iterations);
+  l[kLogJac].stage(&st.jacobian_updates);
+  l[kLogRes].stage(&st.residual_norm);
+  l[kLogInc].stage(&st.increment_norm);
+  l[kLogConv].stage(&conv);
+  ++steps_staged;
 }
 
 void ResultWriter::set_attribute(const std::string& key, const std::string& value) {
@@ -601,6 +603,8 @@ bool ResultWriter::finish(const RunOutcome& outcome,
   }
   std::string skipped, flush_failure;
   try {
+    // the attempts the run ended on belong to no frame: their rows close the convergence log
+    for (const StepRecord& r : outcome.trailing_attempts) m.stage_step(r.step, r.time, r.stats);
     // frames that cannot be stored (a full disk) must not keep the outcome from being recorded
     try {
       m.flush_or_throw();
@@ -619,6 +623,7 @@ bool ResultWriter::finish(const RunOutcome& outcome,
     h5::write_attr_string(o, "reason", outcome.reason);
     h5::write_attr_double(o, "stop_time", outcome.stop_time);
     h5::write_attr_int64(o, "steps", outcome.steps);
+    if (outcome.cutbacks >= 0) h5::write_attr_int64(o, "cutbacks", outcome.cutbacks);
     h5::write_attr_double(o, "wall_time_s", outcome.wall_time_s);
     if (!outcome.events.empty()) {  // the path's events, one entry each (results_layout.md)
       std::vector<std::string> kinds, details;

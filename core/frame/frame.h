@@ -99,7 +99,7 @@ inline const char* to_string(RunStatus s) {
 
 /// Something the solution path did on the way, e.g. a limit point of a static load path.
 struct PathEvent {
-  std::string kind;           ///< "limit_point", "bifurcation", "turn_back"
+  std::string kind;           ///< "limit_point", "bifurcation", "turn_back", "unloaded", "loop", ..."
   std::int64_t step = 0;      ///< the converged step (frame step) after which it was seen
   double load_factor = 0.0;   ///< load factor (or time) there
   std::string detail;         ///< one sentence
@@ -108,11 +108,17 @@ struct PathEvent {
 /// Final word of a run: status, why, and where it stopped.
 struct RunOutcome {
   RunStatus status = RunStatus::completed;
-  std::string reason;        ///< empty when completed; otherwise a sentence saying why
+  /// why it ended; when completed, empty unless the path did something a reader must know
+  /// (statics: returns to the unloaded state, loops)
+  std::string reason;
   double stop_time = 0.0;    ///< simulated time of the last converged frame
   std::int64_t steps = 0;    ///< converged steps
+  std::int64_t cutbacks = -1;  ///< steps shortened after a rejected attempt (statics); -1: not counted
   double wall_time_s = 0.0;
   std::vector<PathEvent> events;  ///< in path order; empty where a model reports none
+  /// attempts made after the last converged step and not accepted (the step the run died on):
+  /// rows of the convergence log with converged = false that belong to no published frame
+  std::vector<StepRecord> trailing_attempts;
 };
 
 }  // namespace ff

@@ -11,6 +11,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
+std::string Simulation::end_description() const {
+  std::ostringstream s;
+  s << "ends at t = " << end_time() << ' ' << info().time_unit;
+  return s.str();
+}
+
 RunOutcome Simulation::run(const std::function<void(Frame&&)>& publish, const std::atomic<bool>& stop) {
   return RunLoop(*this).run(publish, stop);
 }
@@ -44,6 +50,8 @@ void RunLoop::publish_state(const Publish& publish) {
     f.stats.iterations = iterations_;  // NOI and NOU of all steps since the previous frame
     f.stats.jacobian_updates = updates_;
     f.step_log.swap(log_);
+  } else if (log_.size() > 1) {  // rejected attempts before the step: the frame carries every row
+    f.step_log.swap(log_);
   }
   log_.clear();
   iterations_ = updates_ = 0;
@@ -58,6 +66,7 @@ void RunLoop::finish(const Publish& publish, RunStatus status, std::string reaso
   outcome_.reason = std::move(reason);
   outcome_.stop_time = sim_.time();
   outcome_.steps = step_;
+  outcome_.cutbacks = sim_.totals().cutbacks;
   outcome_.wall_time_s = seconds_since(wall0_);
   finished_ = true;
 }
@@ -96,6 +105,16 @@ bool RunLoop::advance(const Publish& publish, const std::atomic<bool>& stop) {
   }
   StepDone d = sim_.step(h);
   const bool reached_end = std::isfinite(dt) && sim_.time() >= end - 1e-9 * dt;
+  // attempts not accepted go into the convergence log ahead of the step they tried; when no step
+  // came of them (the run ends on them) they have no frame and travel with the outcome
+  if (d.accepted)
+    for (StepRecord& r : d.rejected) {
+      iterations_ += r.stats.iterations;
+      updates_ += r.stats.jacobian_updates;
+      log_.push_back(std::move(r));
+    }
+  else
+    for (StepRecord& r : d.rejected) outcome_.trailing_attempts.push_back(std::move(r));
   if (d.accepted) {
     ++step_;
     log_.push_back({step_, sim_.time(), d.stats});

@@ -42,6 +42,7 @@ struct SolverTotals {
   long long steps = 0;
   long long newton_iterations = 0;
   long long jacobian_updates = 0;
+  long long cutbacks = -1;  ///< steps shortened after a rejected attempt (statics); -1: not counted
 };
 
 /// What one step of a model did, as the run loop (run_loop.h) sees it.
@@ -52,6 +53,9 @@ struct StepDone {
   RunStatus status = RunStatus::completed;
   std::string reason;     ///< empty when completed
   std::vector<PathEvent> events;  ///< events of the whole run, given with the last step
+  /// attempts not accepted, in order, before this step's accepted one (or all of this call's
+  /// when none was accepted): rows of the convergence log with converged = false
+  std::vector<StepRecord> rejected;
 };
 
 /// The value of a live edit, already typed: core/scene reads the text and validates it against
@@ -70,6 +74,8 @@ class Simulation {
   virtual ~Simulation() = default;
   virtual const RunInfo& info() const = 0;
   virtual double end_time() const = 0;  ///< for progress and ETA
+  /// Where the run ends, for `flexframe check`, e.g. "ends at t = 2 s".
+  virtual std::string end_description() const;
 
   // ---- stepping (called by RunLoop, on one thread) ----
   /// Prepares the initial state (consistent accelerations ...): "" or why it cannot start.

@@ -341,8 +341,7 @@ std::string check_scene(const std::string& path, const std::vector<std::string>&
   std::ostringstream out;
   out << s.name << ": valid; effects";
   for (const std::string& e : info.effects) out << ' ' << e;
-  out << "; " << info.mesh.point_count() << " drawn points; ends at t = " << s.simulation->end_time() << ' '
-      << info.time_unit;
+  out << "; " << info.mesh.point_count() << " drawn points; " << s.simulation->end_description();
   return out.str();
 }
 

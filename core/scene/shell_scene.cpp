@@ -62,7 +62,10 @@ const Schema& shell_static_schema() {
                 {"at_load", "final", "first_limit_load", "at_first_limit", "min_load_after_limit", "max_abs"},
                 std::nullopt)
         .string("metric.probe", "probe it reads", std::string{})
-        .number("metric.load", "at_load: the load (load control lands a step on it; arc length interpolates between steps)", 0.0);
+        .number("metric.load",
+                "at_load: the load where the probe is read, in reported units (load = lambda x solver.load_scale, "
+                "not lambda); load control lands a step on it, arc length interpolates between steps",
+                0.0);
     s.table_array("reference", "reference curves drawn on the load-path plots", 0, 16)
         .string("reference.file", "CSV file relative to the scene file", std::nullopt)
         .string("reference.x_column", "column giving the load (or load ratio)", std::nullopt)
@@ -102,6 +105,12 @@ const Schema& shell_static_schema() {
                 "the residual contracts by at least half per correction, refactor after 4 on one", {"full", "modified"},
                 "full")
         .integer("solver.max_steps", "arc length: step budget", 400, IntRange::closed(1, 100000))
+        .number("solver.min_load_factor",
+                "arc length: lowest load factor the path may reach (a reversed load); a step below it ends the run "
+                "incomplete (the range is [min_load_factor, end]; -1: the full load reversed)",
+                -1.0, Range::at_most(0.0))
+        .boolean("solver.stop_at_first_limit_point",
+                 "arc length: end the run (completed) at the first limit point of the load path", false)
         .string("solver.monitor_probe", "arc length: probe whose displacement limit ends the run", std::string{})
         .number("solver.displacement_limit", "arc length: stop when |monitor probe| reaches this", 1e300, Range::positive());
     declare_linear_solver(s, "mumps where compiled in, LDLᵀ when the tangent is symmetric: 1.4-2.3x faster than umfpack on 16 x 16 to 128 x 128 plates, chosen by measurement: core/solve/static_solvers.md §7");
@@ -120,9 +129,9 @@ bool arc_length_method(const Document& d) { return d.string("solver.method") == 
 // A key of the other path-following method is refused at its line, as a mesh key of another
 // generator is: the method would silently ignore it
 void check_method_keys(const Document& d) {
-  static const std::vector<std::string> arc_length_only = {"arc_method",  "desired_iterations", "target_turn",
-                                                           "max_turn",    "max_growth",         "max_steps",
-                                                           "monitor_probe", "displacement_limit"};
+  static const std::vector<std::string> arc_length_only = {
+      "arc_method", "desired_iterations", "target_turn",     "max_turn",       "max_growth",
+      "max_steps",  "monitor_probe",      "displacement_limit", "min_load_factor", "stop_at_first_limit_point"};
   static const std::vector<std::string> load_control_only = {"max_step", "min_step", "stop_at_limit_point"};
   const std::string method = d.string("solver.method");
   const bool arc = method == "arc_length";
@@ -283,9 +292,14 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   st.load_control.min_step = d.number("solver.min_step");
   st.load_control.convergence = conv;
   st.load_control.hold_determinant_sign = d.boolean("solver.stop_at_limit_point");
+  st.load_control.lambda_end_name = "solver.end";
   st.arc.method = d.string("solver.arc_method") == "lam_morley" ? ArcLengthMethod::lam_morley : ArcLengthMethod::crisfield;
   st.arc.initial_load_increment = d.number("solver.initial_step");
   st.arc.lambda_max = d.number("solver.end");
+  st.arc.lambda_max_name = "solver.end";
+  st.arc.lambda_min = d.number("solver.min_load_factor");
+  st.arc.lambda_min_name = "solver.min_load_factor";
+  st.arc.stop_at_first_limit_point = d.boolean("solver.stop_at_first_limit_point");
   st.arc.desired_iterations = static_cast<int>(d.integer("solver.desired_iterations"));
   const double deg = std::acos(-1.0) / 180.0;
   st.arc.target_turn = d.number("solver.target_turn") * deg;

@@ -30,6 +30,18 @@ double ShellStaticSimulation::end_time() const {
   return settings_.arc_length ? settings_.arc.lambda_max : settings_.load_control.lambda_end;
 }
 
+std::string ShellStaticSimulation::end_description() const {
+  const double end = end_time();
+  std::string s = "load factor λ from 0 to " + fmt(end) + " (solver.end; " + settings_.load_label + " = λ × " +
+                  fmt(settings_.load_scale) + (settings_.load_unit.empty() ? "" : " " + settings_.load_unit) + ")";
+  if (settings_.arc_length) {
+    if (std::isfinite(settings_.arc.lambda_min))
+      s += ", path kept within λ ≥ " + fmt(settings_.arc.lambda_min) + " (solver.min_load_factor)";
+    if (settings_.arc.stop_at_first_limit_point) s += ", or until its first limit point";
+  }
+  return s;
+}
+
 double ShellStaticSimulation::probe_value(const ShellProbe& p) const {
   if (p.quantity == ShellProbe::Quantity::displacement) return p.direction.dot(model_->node_displacement(p.node));
   Vec3 total = Vec3::Zero();
@@ -85,6 +97,11 @@ StepDone ShellStaticSimulation::step(double) {
   const bool accepted = arc_length_ ? !arc_length_->finished() && arc_length_->advance() : load_control_->advance();
   const StaticResult& r = arc_length_ ? arc_length_->result() : load_control_->result();
   totals_.newton_iterations = r.iterations;
+  totals_.cutbacks = r.cutbacks;
+  // every attempt is in the record (static_solvers.md §4.5): the rejected ones as rows that did not converge
+  for (const StaticAttempt& a : arc_length_ ? arc_length_->rejected() : load_control_->rejected())
+    d.rejected.push_back(
+        {a.step, a.lambda, {a.dlambda, a.iterations, a.factorizations, a.residual_norm, a.increment_norm, false}});
   if (accepted) {
     const StaticStepInfo& st = arc_length_ ? arc_length_->last_step() : load_control_->last_step();
     lambda_ = st.lambda;
@@ -100,7 +117,9 @@ StepDone ShellStaticSimulation::step(double) {
                : r.status == StaticStatus::incomplete  ? RunStatus::incomplete
                : r.status == StaticStatus::interrupted ? RunStatus::interrupted
                                                        : RunStatus::diverged;
-    d.reason = r.status == StaticStatus::completed ? std::string() : r.reason;
+    // a completed path that returned to the unloaded state or looped says so (r.notes), and one
+    // that stopped at its first limit point, as asked, says where
+    d.reason = r.status == StaticStatus::completed && r.stop != StaticStop::limit_point ? r.notes : r.reason;
     for (const StaticEvent& e : r.events) d.events.push_back({std::string(to_string(e.kind)), e.step, e.lambda, e.detail});
   }
   return d;

@@ -54,6 +54,7 @@ class ShellStaticSimulation final : public Simulation {
   ~ShellStaticSimulation() override;
   const RunInfo& info() const override { return info_; }
   double end_time() const override;  ///< lambda at the end
+  std::string end_description() const override;  ///< the load range, not a time
   std::string start() override;
   double time() const override { return lambda_; }
   StepDone step(double h) override;  ///< one converged step of the path (h is not used: the solver sizes it)

@@ -9,8 +9,10 @@ namespace arclength_detail {
 
 std::string check_settings(const ArcLengthSettings& s, int n) {
   if (!(std::isfinite(s.lambda_start) && std::isfinite(s.initial_load_increment) && std::isfinite(s.arc_length) &&
-        std::isfinite(s.psi) && !std::isnan(s.lambda_max) && !std::isnan(s.displacement_limit)))
+        std::isfinite(s.psi) && !std::isnan(s.lambda_max) && !std::isnan(s.lambda_min) &&
+        !std::isnan(s.displacement_limit)))
     return "non-finite arc-length setting";
+  if (s.lambda_min > s.lambda_start) return "lambda_min must not exceed lambda_start";
   if (s.arc_length <= 0.0 && s.initial_load_increment == 0.0)
     return "arc-length needs arc_length > 0 or a non-zero initial_load_increment";
   if (s.psi < 0.0) return "psi must be >= 0";
@@ -37,6 +39,7 @@ class PathFollower {
   bool finished() const { return finished_; }
   const StaticResult& result() const { return res_; }
   const StaticStepInfo& last_step() const { return last_; }
+  const std::vector<StaticAttempt>& rejected() const { return rejected_; }
 
  private:
   AttemptOutcome crisfield_step(double dl);
@@ -52,6 +55,8 @@ class PathFollower {
   bool predict(double dl, Eigen::VectorXd& dq_f, std::string& failure);
   void secant(double dl, double load_weight);
   std::vector<StaticEvent> path_events(int steps) const;
+  std::string path_notes(const std::vector<StaticEvent>& events) const;
+  void reject(const AttemptOutcome& a, std::string why);
 
   const ArcLengthSettings& settings_;
   StaticKernel kernel_;
@@ -66,6 +71,10 @@ class PathFollower {
   void finish(StaticStatus status, StaticStop stop, std::string reason);
   StaticResult res_;
   StaticStepInfo last_;            // of the last accepted step
+  std::vector<StaticAttempt> rejected_;  // attempts of the current advance() not accepted
+  int first_step_attempts_ = 0;    // attempts the first step took (0: none accepted yet)
+  double dl_first_ = 0.0;          // the first step's initial Δl
+  double first_step_fraction_ = 1.0;  // the first step's accepted Δl over dl_first_
   bool finished_ = false;
   double dl_ = 0.0, dl_min_ = 0.0, dl_max_ = 0.0;  // arc length of the next attempt and its bounds
   int attempts_ = 1;               // of the step under way (1 + cut-backs)
@@ -410,12 +419,62 @@ std::vector<StaticEvent> PathFollower::path_events(int steps) const {
                     "det K changed sign between λ = " + fmt(state_lambda_[k - 1]) + " and " + fmt(state_lambda_[k]) +
                         " with no limit point: a branch crosses the path here; the path followed stays on its own "
                         "branch (no branch switching)"});
+  // returns to the unloaded state and back (§4.4): λ crossing zero, the loaded side being the
+  // side of the first step
+  const double loaded = settings_.initial_load_increment < 0.0 ? -1.0 : 1.0;
+  int unloaded_at = -1;
+  for (int k = 1; k < static_cast<int>(state_lambda_.size()) && k <= steps; ++k) {
+    const double before = loaded * state_lambda_[k - 1], now = loaded * state_lambda_[k];
+    if (before > 0.0 && now <= 0.0) {
+      unloaded_at = k;
+      ev.push_back({StaticEvent::Kind::unloaded, k, state_lambda_[k],
+                    "the path returned to the unloaded state: λ went from " + fmt(state_lambda_[k - 1]) + " to " +
+                        fmt(state_lambda_[k]) + " (reversed load)"});
+    } else if (before < 0.0 && now >= 0.0 && unloaded_at >= 0) {
+      double extreme = 0.0;
+      int at = unloaded_at;
+      for (int j = unloaded_at; j < k; ++j)
+        if (loaded * state_lambda_[j] < loaded * extreme) extreme = state_lambda_[at = j];
+      ev.push_back({StaticEvent::Kind::loop, k, state_lambda_[k],
+                    "the path came back from reversed load (out to λ = " + fmt(extreme) + " at step " +
+                        std::to_string(at) + ") to the loaded side: it passes loads it has passed before"});
+      unloaded_at = -1;
+    }
+  }
+  if (first_step_attempts_ > 1 && steps >= 1)
+    ev.push_back(first_step_cut_back(first_step_attempts_, state_lambda_[1], first_step_fraction_));
   for (int k : turn_backs_)
     ev.push_back({StaticEvent::Kind::turn_back, k, state_lambda_[k],
                   "the increment reversed against the previous one even at the smallest arc length: the path turns "
                   "back on itself (a cusp) or the solver lost it"});
   std::stable_sort(ev.begin(), ev.end(), [](const StaticEvent& a, const StaticEvent& b) { return a.step < b.step; });
   return ev;
+}
+
+// the sentence about returns to the unloaded state and loops, which the reason carries even when
+// the run completes (an empty string when there were none)
+std::string PathFollower::path_notes(const std::vector<StaticEvent>& events) const {
+  std::string notes;
+  int unloaded_at = 0;
+  for (const StaticEvent& e : events) {
+    if (e.kind == StaticEvent::Kind::unloaded) {
+      notes += std::string(notes.empty() ? "on the way" : ", then") + " the path returned to the unloaded state at step " +
+               std::to_string(e.step) + " (λ = " + fmt(e.lambda) + ")";
+      unloaded_at = e.step;
+    } else if (e.kind == StaticEvent::Kind::loop) {
+      double extreme = 0.0;
+      for (int j = unloaded_at; j < e.step; ++j)
+        if (std::abs(state_lambda_[j]) > std::abs(extreme)) extreme = state_lambda_[j];
+      notes += ", went out to λ = " + fmt(extreme) + " and came back to the loaded side at step " +
+               std::to_string(e.step) + " (a loop)";
+    }
+  }
+  return notes;
+}
+
+// an attempt that will not be accepted: into the record (the state is restored by the caller)
+void PathFollower::reject(const AttemptOutcome& a, std::string why) {
+  rejected_.push_back(rejected_attempt(a, res_.steps + 1, lambda_ + dlambda_, dlambda_, std::move(why)));
 }
 
 bool PathFollower::start() {
@@ -455,6 +514,7 @@ bool PathFollower::start() {
     dl0 = std::abs(settings_.initial_load_increment) * std::sqrt(2.0 * a0_);
   }
   if (settings_.arc_length > 0.0) dl0 = settings_.arc_length;
+  dl_first_ = dl0;
   dl_min_ = settings_.min_arc_length_ratio * dl0;
   dl_max_ = settings_.max_arc_length_ratio * dl0;
   dl_ = dl0;
@@ -468,11 +528,14 @@ void PathFollower::finish(StaticStatus status, StaticStop stop, std::string reas
   res_.lambda = lambda_;
   res_.factorizations = kernel_.factorizations();
   res_.events = path_events(res_.steps);
+  res_.notes = path_notes(res_.events);
+  if (!res_.notes.empty()) res_.reason += "; " + res_.notes;
   finished_ = true;
 }
 
 bool PathFollower::advance() {
   if (finished_) return false;
+  rejected_.clear();
   while (true) {
     if (stop_requested(settings_.stop)) {
       finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
@@ -481,6 +544,7 @@ bool PathFollower::advance() {
     AttemptOutcome a = settings_.method == ArcLengthMethod::crisfield ? crisfield_step(dl_) : lam_morley_step(dl_);
     res_.iterations += a.iterations;
     if (a.interrupted) {
+      reject(a, "stop requested");
       kernel_.restore();
       finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
       return false;
@@ -528,6 +592,7 @@ bool PathFollower::advance() {
     if (a.converged && reversed) {
       // even the shortest arc turns back: the path cannot be followed on as one continuous curve
       turn_backs_.push_back(res_.steps);
+      reject(a, "turns back on itself");
       kernel_.restore();
       finish(StaticStatus::diverged, StaticStop::step_too_small,
              "the path turns back on itself at λ = " + fmt(lambda_) + " (step " + std::to_string(res_.steps) +
@@ -536,6 +601,7 @@ bool PathFollower::advance() {
       return false;
     }
     if (!a.converged) {
+      reject(a, a.failure);
       kernel_.restore();
       kernel_.invalidate_factorization();
       ++res_.cutbacks;
@@ -563,6 +629,8 @@ bool PathFollower::advance() {
       const AttemptOutcome out = newton_at_fixed_load(kernel_, settings_.lambda_max, landing, settings_.stop, false);
       res_.iterations += out.iterations;
       if (!out.converged) {
+        rejected_.push_back(rejected_attempt(out, res_.steps + 1, settings_.lambda_max, settings_.lambda_max - lambda_,
+                                             "landing on " + settings_.lambda_max_name + ": " + out.failure));
         // take the arc-length step again and stop just past λ_max
         kernel_.restore();
         kernel_.invalidate_factorization();
@@ -573,11 +641,15 @@ bool PathFollower::advance() {
           std::abs(monitored_after(landing)) >= settings_.displacement_limit) {
         // the displacement limit comes before λ_max along this step: keep the arc-length state,
         // which ends the run at the limit below
+        rejected_.push_back(rejected_attempt(out, res_.steps + 1, settings_.lambda_max, settings_.lambda_max - lambda_,
+                                             "landing on " + settings_.lambda_max_name +
+                                                 " replaced: the displacement limit comes first"));
         kernel_.restore();
         kernel_.update(arc_step);
         kernel_.evaluate(lambda_ + dlambda_, false);  // the model's derived quantities (reactions) of this state
         dq_ = arc_step;
       } else {
+        reject(a, "converged past " + settings_.lambda_max_name + "; replaced by the landing on it");
         dq_ = landing;
         dlambda_ = settings_.lambda_max - lambda_;
         a = out;
@@ -602,9 +674,14 @@ bool PathFollower::advance() {
     last_.arc_length = dl_;
     last_.turn = std::max(turn, end_turn);
     last_.monitored = monitored();
+    if (res_.steps == 1) {
+      first_step_attempts_ = attempts_;
+      first_step_fraction_ = dl_ / dl_first_;
+    }
     if (settings_.on_step) settings_.on_step(last_);
+    const std::string end = settings_.lambda_max_name + " = " + fmt(settings_.lambda_max);
     if (final_step) {
-      finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_max = " + fmt(settings_.lambda_max));
+      finish(StaticStatus::completed, StaticStop::lambda_reached, "reached " + end);
       return true;
     }
     if ((settings_.monitor || settings_.monitor_dof >= 0) && std::abs(monitored()) >= settings_.displacement_limit) {
@@ -615,13 +692,31 @@ bool PathFollower::advance() {
     }
     if (lambda_ >= settings_.lambda_max) {
       finish(StaticStatus::completed, StaticStop::lambda_reached,
-             "reached λ_max = " + fmt(settings_.lambda_max) + " (overshot to λ = " + fmt(lambda_) + ": landing failed)");
+             "reached " + end + " (overshot to λ = " + fmt(lambda_) + ": landing failed)");
+      return true;
+    }
+    if (lambda_ < settings_.lambda_min) {
+      finish(StaticStatus::incomplete, StaticStop::load_factor_bound,
+             "the path left the load-factor range [" + settings_.lambda_min_name + " = " + fmt(settings_.lambda_min) +
+                 ", " + end + "]: λ = " + fmt(lambda_) + " at step " + std::to_string(res_.steps) +
+                 " (a reversed load beyond the bound; the state is that step's)");
+      return true;
+    }
+    if (settings_.stop_at_first_limit_point && res_.limit_points > 0) {
+      const std::vector<StaticEvent> ev = path_events(res_.steps);
+      const StaticEvent first = *std::find_if(ev.begin(), ev.end(), [](const StaticEvent& e) {
+        return e.kind == StaticEvent::Kind::limit_point;
+      });
+      finish(StaticStatus::completed, StaticStop::limit_point,
+             "stopped after the first limit point, as asked: a " + first.detail.substr(0, first.detail.find(';')) +
+                 " at step " + std::to_string(first.step) + " (λ = " + fmt(first.lambda) + "); the run ends at step " +
+                 std::to_string(res_.steps) + ", λ = " + fmt(lambda_));
       return true;
     }
     if (res_.steps >= settings_.max_steps) {
       finish(StaticStatus::incomplete, StaticStop::max_steps,
              "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
-                 std::to_string(res_.steps) + "), before λ_max = " + fmt(settings_.lambda_max));
+                 std::to_string(res_.steps) + "), before " + end);
       return true;
     }
 
@@ -660,6 +755,7 @@ bool ArcLengthPath::advance() { return impl_->advance(); }
 bool ArcLengthPath::finished() const { return impl_->finished(); }
 const StaticResult& ArcLengthPath::result() const { return impl_->result(); }
 const StaticStepInfo& ArcLengthPath::last_step() const { return impl_->last_step(); }
+const std::vector<StaticAttempt>& ArcLengthPath::rejected() const { return impl_->rejected(); }
 
 StaticResult solve_arc_length(StaticProblem& problem, const ArcLengthSettings& settings) {
   PathFollower path(problem, settings);

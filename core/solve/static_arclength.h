@@ -43,6 +43,12 @@ struct ArcLengthSettings {
   /// eq. (24): correct the tangent predictor for the curvature the last step showed
   bool curvature_predictor = true;
   double lambda_max = 1.0;              ///< stop when λ reaches it
+  /// a converged λ below this ends the run (incomplete, load_factor_bound): a path that runs far into
+  /// reversed load has left the question the run asks (static_solvers.md §4.4)
+  double lambda_min = -std::numeric_limits<double>::infinity();
+  bool stop_at_first_limit_point = false;  ///< end (completed, limit_point) at the first limit point
+  /// how reasons name λ_max and λ_min (a scene gives its keys)
+  std::string lambda_max_name = "λ_max", lambda_min_name = "λ_min";
   bool land_on_lambda_max = true;       ///< finish exactly at λ_max (a Newton step at fixed λ_max)
   int monitor_dof = -1;                 ///< DoF reported in StaticStepInfo::monitored and limited below
   /// the monitored quantity when set (instead of monitor_dof), read at each converged state
@@ -71,6 +77,9 @@ class ArcLengthPath {
   bool finished() const;
   const StaticResult& result() const;
   const StaticStepInfo& last_step() const;  ///< of the last accepted step
+  /// attempts the last advance() made and did not accept, in order (before its accepted step, or
+  /// all of them when it accepted none)
+  const std::vector<StaticAttempt>& rejected() const;
 
  private:
   std::unique_ptr<arclength_detail::PathFollower> impl_;

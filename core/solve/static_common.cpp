@@ -21,6 +21,8 @@ std::string_view to_string(StaticStop stop) {
     case StaticStop::displacement_limit: return "displacement_limit";
     case StaticStop::max_steps: return "max_steps";
     case StaticStop::step_too_small: return "step_too_small";
+    case StaticStop::load_factor_bound: return "load_factor_bound";
+    case StaticStop::limit_point: return "limit_point";
     case StaticStop::invalid_settings: return "invalid_settings";
     case StaticStop::stop_requested: return "stop_requested";
   }
@@ -32,6 +34,9 @@ std::string_view to_string(StaticEvent::Kind kind) {
     case StaticEvent::Kind::limit_point: return "limit_point";
     case StaticEvent::Kind::bifurcation: return "bifurcation";
     case StaticEvent::Kind::turn_back: return "turn_back";
+    case StaticEvent::Kind::unloaded: return "unloaded";
+    case StaticEvent::Kind::loop: return "loop";
+    case StaticEvent::Kind::first_step_cut_back: return "first_step_cut_back";
   }
   return "unknown";
 }
@@ -40,6 +45,27 @@ std::string fmt(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
+}
+
+StaticAttempt rejected_attempt(const AttemptOutcome& outcome, int step, double lambda, double dlambda, std::string why) {
+  StaticAttempt a;
+  a.step = step;
+  a.lambda = lambda;
+  a.dlambda = dlambda;
+  a.iterations = outcome.iterations;
+  a.factorizations = outcome.factorizations;
+  a.residual_norm = outcome.residual_norm;
+  a.increment_norm = outcome.increment_norm;
+  a.why = std::move(why);
+  return a;
+}
+
+StaticEvent first_step_cut_back(int attempts, double lambda, double fraction) {
+  const int cuts = attempts - 1;
+  return {StaticEvent::Kind::first_step_cut_back, 1, lambda,
+          "the first step converged only after " + std::to_string(cuts) + " cut-back" + (cuts > 1 ? "s" : "") +
+              ", at " + fmt(fraction) + " of the initial step's length (λ = " + fmt(lambda) +
+              "): the initial step is longer than the path allows at its start"};
 }
 
 StaticStepInfo step_info(const AttemptOutcome& outcome, int step, double lambda, double dlambda, int attempts,

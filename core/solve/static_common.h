@@ -31,6 +31,8 @@ enum class StaticStop {
   displacement_limit,  ///< |u| of the monitored DoF reached its limit (arc-length)
   max_steps,           ///< the step budget is used up
   step_too_small,      ///< cut-backs exhausted: Δλ or Δl fell below its minimum (last failure in reason)
+  load_factor_bound,   ///< the path left the allowed range of λ (arc-length: below lambda_min)
+  limit_point,         ///< stopped at the first limit point, as asked (arc-length)
   invalid_settings,
   stop_requested
 };
@@ -76,6 +78,20 @@ struct StaticStepInfo {
   double turn = 0.0;             ///< arc-length: angle [rad] between predictor and converged increment (eq. 13')
   double monitored = std::numeric_limits<double>::quiet_NaN();  ///< displacement of the monitored DoF
 };
+
+/// An attempt at a step that was not accepted (static_solvers.md §4.5): its corrector failed, a
+/// path guard rejected it, the landing on the end replaced it, or a stop request ended it. The
+/// record keeps it so that every correction counted in StaticResult::iterations has its row.
+struct StaticAttempt {
+  int step = 0;                ///< the step it attempted (converged steps before it + 1)
+  double lambda = 0.0;         ///< load factor of its last iterate
+  double dlambda = 0.0;        ///< its load increment from the last converged state
+  int iterations = 0;          ///< corrections it spent
+  int factorizations = 0;
+  double residual_norm = 0.0;
+  double increment_norm = 0.0;
+  std::string why;             ///< one phrase
+};
 using StaticStepCallback = std::function<void(const StaticStepInfo&)>;
 
 /// Something the path did at a converged step (static_solvers.md §4.4).
@@ -83,7 +99,10 @@ struct StaticEvent {
   enum class Kind {
     limit_point,  ///< λ passed a local maximum or minimum (Δλ changed sign)
     bifurcation,  ///< det K changed sign with no limit point: a branch crosses here (not followed)
-    turn_back     ///< the path turned back on itself (the increment reversed); it was not avoidable
+    turn_back,    ///< the path turned back on itself (the increment reversed); it was not avoidable
+    unloaded,     ///< λ crossed zero from the loaded side: the path returned to the unloaded state
+    loop,         ///< after an `unloaded`, λ crossed zero back to the loaded side: the path came back
+    first_step_cut_back  ///< the first step converged only after cut-backs (the initial step was too long)
   };
   Kind kind = Kind::limit_point;
   int step = 0;         ///< the converged step after which it was seen
@@ -102,7 +121,10 @@ struct StaticResult {
   int factorizations = 0; ///< tangent factorizations over all attempts
   int cutbacks = 0;       ///< rejected attempts
   int limit_points = 0;   ///< sign changes of Δλ between consecutive steps (arc-length)
-  std::vector<StaticEvent> events;  ///< limit points, bifurcations, turn-backs in path order
+  std::vector<StaticEvent> events;  ///< limit points, bifurcations, turn-backs, ... in path order
+  /// what the path did that a reader must know even when the run completed (returns to the
+  /// unloaded state, loops); empty when nothing. Also the tail of `reason`.
+  std::string notes;
 };
 
 /// Shared numerics of one solve() call. Owns the residual, load, tangent and linear solver; every
@@ -230,6 +252,11 @@ class DivergenceMonitor {
 /// The report of a converged step (arc_length and monitored left for the caller).
 StaticStepInfo step_info(const AttemptOutcome& outcome, int step, double lambda, double dlambda, int attempts,
                          double step_norm);
+/// The record of an attempt that was not accepted.
+StaticAttempt rejected_attempt(const AttemptOutcome& outcome, int step, double lambda, double dlambda, std::string why);
+/// The event of a first step that converged only after `attempts - 1` cut-backs (§4.5).
+/// `fraction`: the accepted step's length over the initial one.
+StaticEvent first_step_cut_back(int attempts, double lambda, double fraction);
 
 bool stop_requested(const std::atomic<bool>* stop);
 /// "1.234e-05" style number for reasons and logs

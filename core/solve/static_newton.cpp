@@ -54,15 +54,18 @@ void LoadControlPath::finish(StaticStatus status, StaticStop stop, std::string r
 void LoadControlPath::check_end() {
   const double remaining = std::abs(settings_.lambda_end - lambda_);
   if (remaining <= 1e-14 * std::max(1.0, std::abs(settings_.lambda_end)))
-    finish(StaticStatus::completed, StaticStop::lambda_reached, "reached λ_end = " + fmt(settings_.lambda_end));
+    finish(StaticStatus::completed, StaticStop::lambda_reached,
+           "reached " + settings_.lambda_end_name + " = " + fmt(settings_.lambda_end));
   else if (res_.steps >= settings_.max_steps)
     finish(StaticStatus::incomplete, StaticStop::max_steps,
            "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
-               std::to_string(res_.steps) + "), before λ_end = " + fmt(settings_.lambda_end));
+               std::to_string(res_.steps) + "), before " + settings_.lambda_end_name + " = " +
+               fmt(settings_.lambda_end));
 }
 
 bool LoadControlPath::advance() {
   if (finished_) return false;
+  rejected_.clear();
   StaticKernel& kernel = state_->kernel;
   Eigen::VectorXd& step = state_->step;
   const double direction = settings_.lambda_end >= settings_.lambda_start ? 1.0 : -1.0;
@@ -94,6 +97,9 @@ bool LoadControlPath::advance() {
                     fmt(step_norm / out.first_increment_norm) +
                     "× its linearized first correction (snap-through past a limit point)";
     }
+    if (!out.converged)  // into the record before the state goes back
+      rejected_.push_back(rejected_attempt(out, res_.steps + 1, target, dlambda,
+                                           out.interrupted ? "stop requested" : out.failure));
     if (out.interrupted) {
       kernel.restore();
       finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
@@ -122,6 +128,8 @@ bool LoadControlPath::advance() {
     ++res_.steps;
     res_.lambda = lambda_;
     last_ = step_info(out, res_.steps, lambda_, dlambda, attempts_, step_norm);
+    if (res_.steps == 1 && attempts_ > 1)
+      res_.events.push_back(first_step_cut_back(attempts_, lambda_, std::abs(dlambda) / settings_.initial_step));
     if (settings_.on_step) settings_.on_step(last_);
     // growth after an easy step, or one that took no more corrections than the step before (the
     // path is not getting harder), never right after a cut-back; a step shortened to land on a

@@ -32,6 +32,7 @@ struct LoadControlSettings {
   /// left the stable branch). Off lets load control follow a path through a bifurcation point.
   bool hold_determinant_sign = true;
   int max_steps = 100000;
+  std::string lambda_end_name = "λ_end";  ///< how reasons name λ_end (a scene gives its key)
   StaticConvergence convergence;
   StaticStepCallback on_step;              ///< after every converged step
   const std::atomic<bool>* stop = nullptr; ///< raised by another thread: return after restoring the last converged state
@@ -49,6 +50,8 @@ class LoadControlPath {
   const StaticResult& result() const { return res_; }
   double lambda() const { return lambda_; }
   const StaticStepInfo& last_step() const { return last_; }  ///< of the last accepted step
+  /// attempts the last advance() made and did not accept, in order (cut-backs, an interrupted one)
+  const std::vector<StaticAttempt>& rejected() const { return rejected_; }
 
  private:
   struct State;
@@ -58,6 +61,7 @@ class LoadControlPath {
   std::unique_ptr<State> state_;
   StaticResult res_;
   StaticStepInfo last_;
+  std::vector<StaticAttempt> rejected_;
   double lambda_ = 0.0, h_ = 0.0;
   int attempts_ = 1;
   int previous_iterations_ = 0;  // corrections of the last step if it took one attempt, else 0

@@ -22,6 +22,7 @@ TEST(CliPathFollowing, BudgetBeforeTheEndIsIncompleteAndExitsFour) {
   const std::string reason = summary_string(*s, "reason");
   EXPECT_NE(reason.find("step budget of 3"), std::string::npos) << reason;
   EXPECT_NE(reason.find("(step 3)"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("before solver.end = 1"), std::string::npos) << reason;  // the scene's key, not λ_max
   EXPECT_LT(summary_number(*s, "stop_time"), 1.0);
   EXPECT_NE(r.out.find("incomplete"), std::string::npos) << r.out;
 }

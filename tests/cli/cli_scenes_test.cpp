@@ -131,7 +131,16 @@ TEST_P(CliBundledScene, RunsShortened) {
   } else {
     EXPECT_EQ(r.exit_code, 0) << r.describe();
     EXPECT_EQ(summary_string(*s, "status"), "completed") << summary_string(*s, "reason");
-    EXPECT_EQ(summary_string(*s, "reason"), "");
+    // a completed run's reason is empty unless its load path returned to the unloaded state (the
+    // h = 6.35 roof's snap-back dips below zero load): then it says so (static_solvers.md §4.4)
+    bool unloaded = false;
+    if (const Json* events = s->get("events"))
+      for (const Json& e : events->array) unloaded = unloaded || (e.get("kind") && e.get("kind")->string == "unloaded");
+    if (unloaded)
+      EXPECT_NE(summary_string(*s, "reason").find("returned to the unloaded state"), std::string::npos)
+          << summary_string(*s, "reason");
+    else
+      EXPECT_EQ(summary_string(*s, "reason"), "");
     EXPECT_NEAR(stop, t_end, 1e-9);
   }
 }

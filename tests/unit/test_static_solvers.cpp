@@ -648,5 +648,202 @@ TEST(ArcLength, StopFlagAndStepBudget) {
   EXPECT_NEAR(Cubic::lambda_of(p.q[0]), r.lambda, 1e-8);
 }
 
+// ---------------------------------------------------------------------------------------------
+// What the path did is in the result (issue 30, items 7 and 8): returns to the unloaded state and
+// loops as events and in the reason, a bound on λ, a stop at the first limit point, and every
+// attempt, accepted or not, in the record.
+
+// the von Mises truss at λ = 1 per its first limit load: up to 1, down through 0 to −1, back up
+ArcLengthSettings truss_path(ArcLengthMethod method, const VonMises& p) {
+  ArcLengthSettings s;
+  s.method = method;
+  s.convergence = tight();
+  s.lambda_max = 10.0;
+  s.monitor_dof = 1;
+  s.displacement_limit = 2.5 * p.t.h;
+  s.initial_load_increment = 0.1;
+  s.max_arc_length_ratio = 2.0;
+  return s;
+}
+
+const StaticEvent* find_event(const StaticResult& r, StaticEvent::Kind kind) {
+  for (const StaticEvent& e : r.events)
+    if (e.kind == kind) return &e;
+  return nullptr;
+}
+
+TEST_P(ArcLengthMethods, ReturnToTheUnloadedStateAndBackAreEventsAndInTheReason) {
+  VonMises p;
+  ArcLengthSettings s = truss_path(GetParam(), p);
+  std::vector<Point> path;
+  record_into(s, p, path);
+  const StaticResult r = solve_arc_length(p, s);
+  ASSERT_EQ(r.status, StaticStatus::completed) << r.reason;
+  const StaticEvent* down = find_event(r, StaticEvent::Kind::unloaded);
+  const StaticEvent* back = find_event(r, StaticEvent::Kind::loop);
+  ASSERT_TRUE(down && back);
+  ASSERT_LT(down->step, back->step);
+  // at the step where λ crossed zero, each way
+  EXPECT_GT(path[down->step - 2].info.lambda, 0.0);
+  EXPECT_LE(path[down->step - 1].info.lambda, 0.0);
+  EXPECT_LT(path[back->step - 2].info.lambda, 0.0);
+  EXPECT_GE(path[back->step - 1].info.lambda, 0.0);
+  EXPECT_NE(back->detail.find("out to λ = -0.99"), std::string::npos) << back->detail;  // the truss's minimum −1, sampled
+  // a completed run says it too: the notes, and the reason's tail
+  EXPECT_NE(r.notes.find("returned to the unloaded state at step " + std::to_string(down->step)), std::string::npos)
+      << r.notes;
+  EXPECT_NE(r.notes.find("(a loop)"), std::string::npos) << r.notes;
+  EXPECT_NE(r.reason.find(r.notes), std::string::npos) << r.reason;
+}
+
+TEST(ArcLength, APathWithoutAReturnToZeroLoadHasNoNotes) {
+  Cubic p;  // λ rises, falls to a minimum above zero, rises again
+  ArcLengthSettings s;
+  s.convergence = tight();
+  s.lambda_max = 3.0;
+  const StaticResult r = solve_arc_length(p, s);
+  ASSERT_EQ(r.status, StaticStatus::completed) << r.reason;
+  EXPECT_EQ(find_event(r, StaticEvent::Kind::unloaded), nullptr);
+  EXPECT_TRUE(r.notes.empty()) << r.notes;
+}
+
+TEST_P(ArcLengthMethods, LeavingTheLoadFactorRangeEndsIncompleteNamingTheBoundAndTheStep) {
+  VonMises p;
+  ArcLengthSettings s = truss_path(GetParam(), p);
+  s.lambda_min = -0.5;
+  s.lambda_min_name = "solver.min_load_factor";
+  std::vector<Point> path;
+  record_into(s, p, path);
+  const StaticResult r = solve_arc_length(p, s);
+  EXPECT_EQ(r.status, StaticStatus::incomplete) << r.reason;
+  EXPECT_EQ(r.stop, StaticStop::load_factor_bound);
+  ASSERT_FALSE(path.empty());
+  EXPECT_LT(r.lambda, -0.5);
+  EXPECT_EQ(r.lambda, path.back().info.lambda);
+  for (std::size_t k = 0; k + 1 < path.size(); ++k) EXPECT_GE(path[k].info.lambda, -0.5);  // stops at the first
+  EXPECT_NE(r.reason.find("solver.min_load_factor = -0.5"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("at step " + std::to_string(r.steps)), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("returned to the unloaded state"), std::string::npos) << r.reason;
+}
+
+TEST_P(ArcLengthMethods, StopsAtTheFirstLimitPointWhenAsked) {
+  VonMises p;
+  ArcLengthSettings s = truss_path(GetParam(), p);
+  s.stop_at_first_limit_point = true;
+  const StaticResult r = solve_arc_length(p, s);
+  EXPECT_EQ(r.status, StaticStatus::completed) << r.reason;
+  EXPECT_EQ(r.stop, StaticStop::limit_point);
+  EXPECT_EQ(r.limit_points, 1);
+  EXPECT_GT(r.lambda, 0.5);  // just past the maximum λ = 1, nowhere near the second
+  EXPECT_NE(r.reason.find("first limit point"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("maximum of λ"), std::string::npos) << r.reason;
+}
+
+TEST(ArcLength, ABoundAboveTheStartIsInvalid) {
+  VonMises p;
+  ArcLengthSettings s = truss_path(ArcLengthMethod::crisfield, p);
+  s.lambda_min = 0.5;
+  const StaticResult r = solve_arc_length(p, s);
+  EXPECT_EQ(r.stop, StaticStop::invalid_settings);
+}
+
+// corrections of the accepted steps plus those of the rejected attempts make up r.iterations
+template <class Path>
+int corrections_in_the_record(Path& path, int& accepted, int& rejected_rows) {
+  int sum = 0;
+  accepted = rejected_rows = 0;
+  auto take = [&] {
+    for (const StaticAttempt& a : path.rejected()) {
+      sum += a.iterations;
+      ++rejected_rows;
+      EXPECT_FALSE(a.why.empty());
+    }
+  };
+  while (!path.finished()) {
+    const bool stepped = path.advance();
+    take();  // rejected() holds this call's attempts only
+    if (!stepped) break;
+    sum += path.last_step().iterations;
+    accepted += path.last_step().iterations;
+  }
+  return sum;
+}
+
+TEST_P(ArcLengthMethods, EveryCorrectionIsInTheRecordWithCutBacksAndTheLanding) {
+  LogSpring p;
+  ArcLengthSettings s;
+  s.method = GetParam();
+  s.convergence = tight();
+  s.initial_load_increment = 3.0;  // the first arc fails (ln of a negative number) and is halved
+  s.lambda_max = 3.0;
+  ArcLengthPath path(p, s);
+  ASSERT_TRUE(path.start());
+  int accepted = 0, rows = 0;
+  const int sum = corrections_in_the_record(path, accepted, rows);
+  const StaticResult& r = path.result();
+  ASSERT_EQ(r.status, StaticStatus::completed) << r.reason;
+  EXPECT_GE(r.cutbacks, 1);
+  EXPECT_GE(rows, r.cutbacks + 1);  // the cut-backs and the arc step the landing on λ_max replaced
+  EXPECT_LT(accepted, r.iterations);  // the accepted steps alone miss corrections
+  EXPECT_EQ(sum, r.iterations);
+  // the first step needed cut-backs: an event says so
+  const StaticEvent* first = find_event(r, StaticEvent::Kind::first_step_cut_back);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->step, 1);
+  EXPECT_NE(first->detail.find("cut-back"), std::string::npos) << first->detail;
+}
+
+TEST(LoadControl, EveryCorrectionIsInTheRecordAndAFirstStepCutBackIsAnEvent) {
+  LogSpring p;
+  LoadControlSettings s;
+  s.lambda_end = 3.0;
+  s.initial_step = s.max_step = 3.0;  // Newton jumps to q = 3, ln(−2): cut back
+  s.convergence = tight();
+  LoadControlPath path(p, s);
+  int accepted = 0, rows = 0;
+  const int sum = corrections_in_the_record(path, accepted, rows);
+  const StaticResult& r = path.result();
+  ASSERT_EQ(r.status, StaticStatus::completed) << r.reason;
+  EXPECT_GE(r.cutbacks, 1);
+  EXPECT_EQ(rows, r.cutbacks);
+  EXPECT_LT(accepted, r.iterations);
+  EXPECT_EQ(sum, r.iterations);
+  const StaticEvent* first = find_event(r, StaticEvent::Kind::first_step_cut_back);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->step, 1);
+  // halved once per cut-back: 1/2^(attempts − 1) of the initial step, at the λ it reached
+  const int cuts = r.cutbacks;  // all of them on the first step: the later steps grow from it
+  EXPECT_NE(first->detail.find(std::to_string(cuts) + " cut-backs, at " + fmt(std::ldexp(1.0, -cuts)) + " of the initial step"),
+            std::string::npos)
+      << first->detail;
+  EXPECT_DOUBLE_EQ(first->lambda, 3.0 * std::ldexp(1.0, -cuts));
+}
+
+TEST(LoadControl, ADivergedRunRecordsTheAttemptsItEndedOn) {
+  SnapBack p;  // load control cannot pass the limit point at λ = 1
+  LoadControlSettings s;
+  s.lambda_end = 1.5;
+  s.convergence = tight();
+  LoadControlPath path(p, s);
+  int accepted = 0, rows = 0;
+  const int sum = corrections_in_the_record(path, accepted, rows);
+  const StaticResult& r = path.result();
+  ASSERT_EQ(r.status, StaticStatus::diverged) << r.reason;
+  EXPECT_GT(rows, 0);
+  EXPECT_EQ(sum, r.iterations);
+}
+
+TEST(LoadControl, TheEndKeyIsNamedInTheReason) {
+  Cubic p;
+  LoadControlSettings s;
+  s.lambda_end = 0.5;
+  s.lambda_end_name = "solver.end";
+  s.max_steps = 1;
+  s.initial_step = 0.1;
+  const StaticResult r = solve_load_control(p, s);
+  EXPECT_EQ(r.status, StaticStatus::incomplete);
+  EXPECT_NE(r.reason.find("before solver.end = 0.5"), std::string::npos) << r.reason;
+}
+
 }  // namespace
 }  // namespace ff
