@@ -6,7 +6,13 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <memory>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -435,8 +441,34 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
   return true;
 }
 
-ff::scene::SceneContext scene_context() {
+namespace {
+// progress of a long set-up on stderr: nothing for the first second (most set-ups take less),
+// then a line at most every half second (rewritten in place on a terminal)
+std::function<void(const std::string&, double)> setup_progress_printer() {
+  struct State {
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last{};
+    bool printed = false;
+  };
+  auto state = std::make_shared<State>();
+  const bool tty = isatty(STDERR_FILENO);
+  return [state, tty](const std::string& phase, double fraction) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - state->start < std::chrono::seconds(1) || now - state->last < std::chrono::milliseconds(500)) return;
+    state->last = now;
+    state->printed = true;
+    std::fprintf(stderr, "%sset-up: %s %3.0f%% (%.0f s)%s", tty ? "\r" : "", phase.c_str(), 100.0 * fraction,
+                 std::chrono::duration<double>(now - state->start).count(), tty ? "\033[K" : "\n");
+    std::fflush(stderr);
+  };
+}
+}  // namespace
+
+ff::scene::SceneContext scene_context(const std::atomic<bool>* stop) {
   ff::scene::SceneContext ctx;
+  if (stop) {
+    ctx.setup.stop = stop;
+    ctx.setup.progress = setup_progress_printer();
+  }
   ctx.mesh_reader = [](const ff::scene::MeshFileRequest& request, ShellMesh& out, std::string* error) {
     MeshImportOptions options;
     options.weld_tolerance = request.weld_tolerance;

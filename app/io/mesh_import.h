@@ -25,6 +25,7 @@
 ///   patch named after the file stem;
 /// - validate(out) passes, or the import fails with its summary.
 
+#include <atomic>
 #include <string>
 
 #include "core/mesh/shell_mesh.h"
@@ -48,9 +49,11 @@ struct MeshImportOptions {
 bool import_shell_mesh(const std::string& path, ff::mesh::ShellMesh& out, std::string* error,
                        const MeshImportOptions& options = {});
 
-/// What the app passes to every scene load: import_shell_mesh (default options) as the reader for
-/// scenes with mesh.generator = "file" (core/scene/mesh_file.h).
-ff::scene::SceneContext scene_context();
+/// What the app passes to every scene load: import_shell_mesh (default options, the machine's memory
+/// limit) as the reader for scenes with mesh.generator = "file" (core/scene/mesh_file.h), and the
+/// memory limit. With `stop`, long set-up polls it (a signal ends it within a fraction of a second)
+/// and says what it is doing on stderr once it has taken more than a second.
+ff::scene::SceneContext scene_context(const std::atomic<bool>* stop = nullptr);
 
 /// Writes points and quads as Wavefront OBJ (1-based "f a b c d", 17 significant digits); with
 /// `normals`, every quad corner's director as a vn record ("f a//i b//j ...").

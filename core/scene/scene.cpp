@@ -88,7 +88,7 @@ bool has(const std::vector<std::string>& v, const char* name) {
   return std::find(v.begin(), v.end(), name) != v.end();
 }
 
-std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string& path, const SceneContext&) {
+std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string& path, const SceneContext& ctx) {
   using namespace ff::hubbeam;
   const std::vector<std::string> effects = d.strings("scene.effects");
   for (const char* needed : {"inertia", "bending"})
@@ -135,24 +135,39 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
   fx.first_order_coupling = has(effects, "first_order_coupling");
   fx.hub_torque = has(effects, "hub_torque");
 
-  std::unique_ptr<BeamBasis> basis;
   const std::string method = d.string("discretization.method");
-  try {
-    if (method == "efg") {
-      EfgOptions o;
-      o.nodes = static_cast<int>(d.integer("efg.nodes"));
-      o.scale = d.number("efg.scale");
-      o.gauss_points = static_cast<int>(d.integer("efg.gauss_points"));
-      o.cells = static_cast<int>(d.integer("efg.cells"));
-      o.basis_order = static_cast<int>(d.integer("efg.basis_order"));
-      o.axial_basis_order = static_cast<int>(d.integer("efg.axial_basis_order"));
-      basis = make_efg_basis(p.length, o);
-    } else {
-      FemOptions o;
-      o.elements = static_cast<int>(d.integer("fem.elements"));
-      o.gauss_points = static_cast<int>(d.integer("fem.gauss_points"));
-      basis = make_fem_basis(p.length, o);
+  // the basis from the scene's keys: built here once, so that a support too small for its basis is
+  // refused at its key by `check` too, and again by the run's set-up (cheap beside the matrices);
+  // the memory estimate first, so that a beam that cannot fit is refused before anything is built
+  EfgOptions efg;
+  efg.nodes = static_cast<int>(d.integer("efg.nodes"));
+  efg.scale = d.number("efg.scale");
+  efg.gauss_points = static_cast<int>(d.integer("efg.gauss_points"));
+  efg.cells = static_cast<int>(d.integer("efg.cells"));
+  efg.basis_order = static_cast<int>(d.integer("efg.basis_order"));
+  efg.axial_basis_order = static_cast<int>(d.integer("efg.axial_basis_order"));
+  FemOptions fem;
+  fem.elements = static_cast<int>(d.integer("fem.elements"));
+  fem.gauss_points = static_cast<int>(d.integer("fem.gauss_points"));
+  // values, not the document: the run's set-up calls this after the document is gone
+  auto make_basis = [efg, fem, efg_method = method == "efg", length = p.length]() {
+    return efg_method ? make_efg_basis(length, efg) : make_fem_basis(length, fem);
+  };
+  const std::string count_key = method == "efg" ? "efg.nodes" : "fem.elements";
+  const int beam_nodes = method == "efg" ? efg.nodes : fem.elements + 1;
+  if (ctx.memory_limit_bytes > 0) {
+    const double need = estimated_peak_bytes(beam_nodes, fx.axial);
+    if (need > ctx.memory_limit_bytes) {
+      std::ostringstream m;
+      m.precision(3);
+      m << "a run with " << beam_nodes << " beam nodes (dense matrices of " << 1 + (fx.axial ? 3 : 2) * (beam_nodes - 1)
+        << " DoFs) would need about " << need / 1e9 << " GB, more than the " << ctx.memory_limit_bytes / 1e9
+        << " GB this machine allows; use fewer";
+      fail_at(d, count_key, m.str());
     }
+  }
+  try {
+    make_basis();
   } catch (const std::invalid_argument& e) {
     fail_at(d, method == "efg" ? "efg.scale" : "fem.elements", e.what());
   }
@@ -172,10 +187,14 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
 
   for (const ParameterChange& c : read_timeline(d, rs.t_end).changes)
     if (c.key == "torque_scale") rs.torque_scale_changes.push_back({c.at, c.value[0]});
-  auto system = std::make_unique<HubBeamSystem>(p, fx, std::move(basis), d.number("solver.max_tip_deflection_ratio"));
+  // the matrices are built when the run starts (HubBeamSimulation::start): `check` stops here
+  const double validity_ratio = d.number("solver.max_tip_deflection_ratio");
+  HubBeamSystemBuilder build = [p, fx, validity_ratio, make_basis](const SetupMonitor& monitor) {
+    return std::make_unique<HubBeamSystem>(p, fx, make_basis(), validity_ratio, monitor);
+  };
   RunInfo info;
   describe_run(d, path, info);
-  return std::make_unique<HubBeamSimulation>(std::move(system), rs, std::move(info));
+  return std::make_unique<HubBeamSimulation>(std::move(build), ctx.setup, p, fx, rs, std::move(info));
 }
 
 
