@@ -41,6 +41,11 @@ struct MeshImportOptions {
   Eigen::Vector3d frame_reference = Eigen::Vector3d::UnitX();
   /// join vertices closer than this length (0: keep every file vertex, so slits stay open)
   double weld_tolerance = 0.0;
+  /// memory the import may use [bytes] (0: unknown). Before anything is read, the element counts a
+  /// PLY header declares (an OBJ's, counted from its records when its size could hold too many)
+  /// are checked against the file's size and this limit; a file that cannot hold what it declares,
+  /// or whose elements would not fit, is refused without allocating for them.
+  double memory_limit_bytes = 0.0;
 };
 
 /// Reads `path` into `out`. Returns false and sets *error (a complete sentence naming the file)
