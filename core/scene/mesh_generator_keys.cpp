@@ -299,18 +299,20 @@ long long node_count(const Document& d, const std::string& gen, int n1, int n2, 
       if (span_is(90.0 * q) && n_rim % (2 * q) == 0) return mesh::polar_o_grid_node_count(n_ring, n_rim, q);
     return mesh::patch_node_count(n_ring, n_rim);
   };
+  // a 360 degree seam is merged (assemble() within a fraction of the shortest edge); with a single
+  // element around, that edge joins the seam's two lips and has no length, and nothing merges
   const bool full_turn = span_is(360.0);
   if (gen == "rectangular_plate") return mesh::patch_node_count(n1, n2);
   if (gen == "l_plate") return mesh::l_plate_node_count(n1, n2);
   if (gen == "folded_plate") return mesh::folded_plate_node_count(n1, n3 > 0 ? n3 : n1, n2);
-  if (gen == "cylinder") return mesh::patch_node_count(n1, n2, full_turn && !d.boolean("mesh.slit"), false);
+  if (gen == "cylinder") return mesh::patch_node_count(n1, n2, full_turn && !d.boolean("mesh.slit") && n1 > 1, false);
   if (gen == "annulus") {
     if (d.number("mesh.inner_radius") == 0.0 && !d.boolean("mesh.slit")) return o_grid(n1, n2);
-    return mesh::patch_node_count(n1, n2, false, full_turn && !d.boolean("mesh.slit"));
+    return mesh::patch_node_count(n1, n2, false, full_turn && !d.boolean("mesh.slit") && n2 > 1);
   }
   if (gen == "spherical_cap") {
     if (d.number("mesh.polar_start") == 0.0) return o_grid(n1, n2);
-    return mesh::patch_node_count(n1, n2, false, full_turn);
+    return mesh::patch_node_count(n1, n2, false, full_turn && n2 > 1);
   }
   return 0;
 }

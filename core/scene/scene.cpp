@@ -4,6 +4,7 @@
 #include <limits>
 #include <map>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -16,6 +17,8 @@
 #include "core/scene/scene_common.h"
 #include "core/scene/timeline.h"
 #include "core/scene/shell_scene.h"
+#include "core/scene/mesh_generator_keys.h"
+#include "core/shell/shell_model.h"
 
 namespace ff::scene {
 
@@ -336,6 +339,46 @@ std::string change_live(LoadedScene& scene, const std::string& key, const std::s
       },
       v);
   return scene.simulation->change_live(key, typed);
+}
+
+double estimated_run_bytes(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
+  try {
+    const std::string text = read_text(path);
+    const Peeked peeked = peek_model_text(text, path);
+    refuse_unknown_model(peeked, path, text);
+    const ModelKind& kind = kind_or_first(peeked);
+    const Document d = validate_file(kind.schema(), path, overrides);
+    const std::vector<std::string> fx = d.strings("scene.effects");
+    const bool drilling = has(fx, "drilling");
+    if (kind.name == "hub_beam")
+      return hubbeam::estimated_peak_bytes(d.string("discretization.method") == "efg"
+                                               ? static_cast<int>(d.integer("efg.nodes"))
+                                               : static_cast<int>(d.integer("fem.elements")) + 1,
+                                           has(fx, "axial"));
+    if (kind.name == "shell_static") {
+      long long nodes = 0;
+      if (!mesh_from_file(d)) {
+        nodes = generated_mesh_size(d).nodes;
+      } else if (ctx.mesh_reader) {
+        mesh::ShellMesh m;
+        std::string error;
+        if (!ctx.mesh_reader({(std::filesystem::path(path).parent_path() / d.string("mesh.file")).string(),
+                              d.number("mesh.weld_tolerance")},
+                             m, &error))
+          return 0.0;
+        nodes = m.node_count();
+      }
+      return shell::estimated_peak_bytes(static_cast<int>(std::min<long long>(nodes, std::numeric_limits<int>::max())),
+                                         drilling ? 1.0 : 0.0);
+    }
+    // shell_dynamic: every body's patch, as the static fit of the loader (a closed seam counted open)
+    long long nodes = 0;
+    for (std::size_t i = 0; i < d.count("shell"); ++i)
+      nodes += (d.integer("shell.n1", i) + 1) * (d.integer("shell.n2", i) + 1);
+    return nodes > 0 ? shell::estimated_peak_bytes(static_cast<int>(nodes), drilling ? 1.0 : 0.0) : 0.0;
+  } catch (const SceneError&) {
+    return 0.0;
+  }
 }
 
 std::string check_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {

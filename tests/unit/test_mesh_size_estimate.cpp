@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh/generators.h"
 #include "core/scene/mesh_generator_keys.h"
 #include "core/scene/shell_scene.h"
 
@@ -56,7 +57,7 @@ TEST(MeshSizeEstimate, EveryGeneratorsCountIsTheBuiltMeshsNodeCount) {
   int compared = 0;
   for (const std::string& table : generator_tables())
     for (int n1 : {1, 2, 3, 8, 13})
-      for (int n2 : {8, 16, 24, 40}) {  // multiples of 8: every O-grid span accepts them
+      for (int n2 : {1, 2, 8, 16, 24, 40}) {  // 8, 16, ...: multiples every O-grid span accepts
         std::vector<std::string> variants = {table + "\nn1 = " + std::to_string(n1) + "\nn2 = " + std::to_string(n2)};
         if (table.find("folded_plate") != std::string::npos) variants.push_back(variants[0] + "\nn3 = 5");
         for (const std::string& mesh : variants) {
@@ -92,16 +93,16 @@ TEST(MeshSizeEstimate, TheKeyThatMakesTheMeshLargeIsBlamed) {
 }
 
 // the scene loader refuses an oversized generated mesh at that key, with the exact count, before
-// generating it: a folded plate of 1024 x 1024 x 1024 (2.1 M nodes) is refused without the
-// seconds and the memory its mesh would take (the old bound, n1 x n2, let it be built first)
-TEST(MeshSizeEstimate, OversizedGeneratedMeshIsRefusedAtItsKeyBeforeItIsBuilt) {
+// generating it: a folded plate with n1 = 2, n2 = 64 and n3 = 1024 (67 k nodes) under a 2 GB
+// limit (the old bound, n1 x n2 = 128 nodes, let it be built, then blamed mesh.n1)
+TEST(MeshSizeEstimate, OversizedGeneratedMeshIsRefusedAtTheKeyThatMakesItLarge) {
   scene::SceneContext ctx;
   ctx.memory_limit_bytes = 2e9;
-  const std::string mesh = "generator = \"folded_plate\"\nlength = 1.0\nlength2 = 2.0\nwidth = 1.0\nn1 = 2\nn2 = 1024\nn3 = 1024";
+  const std::string mesh = "generator = \"folded_plate\"\nlength = 1.0\nlength2 = 2.0\nwidth = 1.0\nn1 = 2\nn2 = 64\nn3 = 1024";
   const std::string text = scene_text(mesh) + "[[load]]\ntype = \"force\"\ntotal = [0.0, 0.0, 1.0]\nselect = \"nearest\"\n"
                                               "point = [0.0, 0.0, 0.0]\n";
   const scene::Document d = scene::validate(scene::shell_static_schema(), text, "t.toml");
-  const long long nodes = mesh::folded_plate_node_count(2, 1024, 1024);
+  const long long nodes = mesh::folded_plate_node_count(2, 1024, 64);
   ASSERT_EQ(scene::generated_mesh_size(d).nodes, nodes);
   try {
     scene::build_shell_static(d, "t.toml", ctx);
