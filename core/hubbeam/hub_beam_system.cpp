@@ -15,6 +15,11 @@ using Eigen::MatrixXd;
 using Eigen::RowVectorXd;
 using Eigen::VectorXd;
 
+namespace {
+constexpr int kDrawSamples = 61;  // points of the drawn beam centre line
+constexpr int kHubDrawSegments = 48;
+}  // namespace
+
 std::vector<std::string> HubBeamEffects::names() const {
   std::vector<std::string> n{"inertia", "bending"};
   if (axial) n.push_back("axial");
@@ -97,6 +102,24 @@ MatrixXd coupling_shape_matrix(const BeamBasis& basis, double x, int cells, int 
   return s_mat;
 }
 
+std::vector<double> evaluation_points(const BeamBasis& basis, double length, bool first_order) {
+  std::vector<double> xs;
+  for (const QuadraturePoint& q : basis.quadrature()) xs.push_back(q.x);
+  const auto add_gauss = [&](double a, double b, int gauss) {
+    const GaussRule rule = gauss_legendre(gauss);
+    for (double p : rule.points) xs.push_back(a + 0.5 * (b - a) * (p + 1.0));
+  };
+  if (first_order) {
+    const int cells = 16, gauss = 6;  // coupling_shape_matrix's defaults, for S(L)
+    for (int c = 0; c < cells; ++c) add_gauss(length * c / cells, length * (c + 1) / cells, gauss);
+  }
+  for (int k = 0; k < kDrawSamples; ++k) {
+    xs.push_back(length * k / (kDrawSamples - 1));
+    if (first_order && k > 0) add_gauss(length * (k - 1) / (kDrawSamples - 1), length * k / (kDrawSamples - 1), 3);
+  }
+  return xs;
+}
+
 // Measured peaks (run of a few steps with its metrics, i.e. the modal analysis at the end; FEM,
 // 1 + 3 (n - 1) DoFs with axial, 1 + 2 (n - 1) without):
 //   elements  DoFs   peak [MB]   (peak - 55 MB) / DoFs^2 [bytes]
@@ -112,11 +135,6 @@ double estimated_peak_bytes(int nodes, bool axial) {
 }
 
 FrameMesh build_mesh(double hub_radius, const std::vector<double>& draw_x, int hub_segments);
-
-namespace {
-constexpr int kDrawSamples = 61;  // points of the drawn beam centre line
-constexpr int kHubDrawSegments = 48;
-}  // namespace
 
 namespace {
 // free DoFs: the root node (index 0) is clamped; q2 = [v_1..v_N, theta_1..theta_N]

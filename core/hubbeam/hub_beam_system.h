@@ -66,6 +66,10 @@ struct ModalResult {
   std::vector<double> frequencies_hz;  ///< ascending; the first is the rigid hub mode (~0)
 };
 
+/// Every abscissa where HubBeamSystem evaluates `basis` (quadrature, S(L), tip, drawing), for
+/// BeamBasis::check_points: what `check` validates without building the matrices.
+std::vector<double> evaluation_points(const BeamBasis& basis, double length, bool first_order);
+
 /// Estimated peak memory [bytes] of a hub-beam run with `nodes` beam nodes (FEM: elements + 1):
 /// every matrix of the model and of Newmark's dense iteration is a dense square of the DoF count
 /// (3 per node with the axial DoFs, else 2), so the peak grows as nodes^2. Fitted to measured

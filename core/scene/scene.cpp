@@ -170,7 +170,9 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
     }
   }
   try {
-    make_basis();
+    // the shape functions where the run's set-up will evaluate them (not the matrices)
+    const std::unique_ptr<BeamBasis> basis = make_basis();
+    basis->check_points(evaluation_points(*basis, p.length, fx.first_order_coupling));
   } catch (const std::invalid_argument& e) {
     fail_at(d, method == "efg" ? "efg.scale" : "fem.elements", e.what());
   }
