@@ -84,8 +84,10 @@ std::string change_live(LoadedScene& scene, const std::string& key, const std::s
 double estimated_run_bytes(const std::string& path, const std::vector<std::string>& overrides = {},
                            const SceneContext& ctx = {});
 
-/// Validation only (for `flexframe check`): also builds the model, so numerical set-up errors
-/// (e.g. an EFG support too small for its basis) are found too. Returns a one-line description.
+/// Validation only (for `flexframe check`): also builds the model as far as a run would refuse it
+/// at start-up, so numerical set-up errors (e.g. an EFG support too small for its basis at any
+/// point where the matrices evaluate it) are found too, but not what a valid scene only needs to
+/// run (the hub-beam's dense matrices: built at the run's start). Returns a one-line description.
 std::string check_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                         const SceneContext& ctx = {});
 
