@@ -239,7 +239,8 @@ int main(int argc, char** argv) {
       return ff::app::replay(replay_opt, g_stop);
     }
     if (*check) {
-      std::printf("%s\n", ff::scene::check_scene(ff::app::resolve_scene(check_scene), check_overrides, ff::io::scene_context()).c_str());
+      std::printf("%s\n",
+                  ff::scene::check_scene(ff::app::resolve_scene(check_scene), check_overrides, ff::io::scene_context(&g_stop)).c_str());
       return 0;
     }
     if (*scenes) {
@@ -301,6 +302,9 @@ int main(int argc, char** argv) {
   } catch (const ff::scene::SceneError& e) {
     std::fprintf(stderr, "error: invalid scene or study file\n%s\n", e.what());
     return 2;
+  } catch (const ff::SetupInterrupted& e) {  // a signal while the model was being built: nothing was written
+    std::fprintf(stderr, "\n%s; nothing was written\n", e.what());
+    return 130;
   } catch (const ff::app::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;

@@ -91,7 +91,7 @@ int exit_code(const RunOutcome& o) {
 }
 
 RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
-  scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context());
+  scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&stop));
   Simulation& sim = *scene.simulation;
   const RunInfo info = sim.info();
   scene::OutputSettings out = scene.output;

@@ -37,6 +37,7 @@
 #endif
 
 #include "app/io/mesh_import.h"
+#include "app/io/machine_memory.h"
 #include "app/process_memory.h"
 #include "app/run_session.h"
 #include "app/timed_run.h"
@@ -313,21 +314,46 @@ VariantRun collect_child(const Task& t, int wait_status) {
   return f;
 }
 
+/// How the runs side by side share the machine's memory: each task's estimated peak
+/// (scene::estimated_run_bytes; 0 unknown) and the limit they share (0: none known).
+struct MemoryShare {
+  std::vector<double> task_bytes;
+  double limit = 0.0;
+  int most_side_by_side = 0;  ///< out: the most runs that ran at once
+  bool held_back = false;     ///< out: a run waited for memory although a slot was free
+};
+
 /// Runs the tasks as child processes, at most `jobs` at a time, in order of the list as slots
-/// free up; `done` gets each task's run as it finishes and returns false to start no more.
-/// Returns false when stopped (running children are asked to stop and waited for).
+/// free up, and only as many at once as their estimated peaks fit in the memory limit together
+/// (a run alone may use all of it: its own check refuses what cannot fit); `done` gets each
+/// task's run as it finishes and returns false to start no more. Returns false when stopped
+/// (running children are asked to stop and waited for).
 bool run_children(const std::vector<Task>& tasks, int jobs, bool shared, const std::atomic<bool>& stop,
-                  const std::function<bool(const Task&, VariantRun&)>& done) {
+                  const std::function<bool(const Task&, VariantRun&)>& done, MemoryShare* share = nullptr) {
+  MemoryShare none;
+  MemoryShare& memory = share ? *share : none;
   const std::vector<std::string> env = child_environment();
   std::vector<std::pair<pid_t, std::size_t>> running;
   std::size_t next = 0;
   bool more = true;
+  const auto bytes_of = [&](std::size_t i) { return i < memory.task_bytes.size() ? memory.task_bytes[i] : 0.0; };
+  const auto fits = [&](std::size_t i) {
+    if (running.empty() || !(memory.limit > 0)) return true;
+    double in_use = bytes_of(i);
+    for (const auto& [pid, k] : running) in_use += bytes_of(k);
+    return in_use <= memory.limit;
+  };
   while ((more && next < tasks.size()) || !running.empty()) {
     while (more && !stop && next < tasks.size() && static_cast<int>(running.size()) < jobs) {
+      if (!fits(next)) {
+        memory.held_back = true;
+        break;
+      }
       const Task& t = tasks[next];
       const pid_t pid = spawn_task(t, shared, env);
       if (pid > 0) {
         running.emplace_back(pid, next);
+        memory.most_side_by_side = std::max(memory.most_side_by_side, static_cast<int>(running.size()));
       } else {
         VariantRun r;
         r.status = "failed";
@@ -737,7 +763,19 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
       stopped = !run_distributed(tasks, mpi.waiting, stop, report);
     else
 #endif
-      stopped = !run_children(tasks, slots, true, stop, report);
+    {
+      // the runs side by side share the memory limit: each is checked against all of it alone, so
+      // four 0.45 GB runs would start together under a 1 GB limit
+      MemoryShare memory;
+      memory.limit = io::machine_memory_limit_bytes();
+      for (const Task& t : tasks)
+        memory.task_bytes.push_back(scene::estimated_run_bytes(t.variant.scene, t.variant.overrides, io::scene_context()));
+      stopped = !run_children(tasks, slots, true, stop, report, &memory);
+      if (memory.held_back)
+        std::fprintf(stderr, "memory: at most %d run%s side by side (their estimated peaks together within the %.3g GB "
+                             "limit; FLEXFRAME_MEMORY_LIMIT_GB sets it)\n",
+                     memory.most_side_by_side, memory.most_side_by_side == 1 ? "" : "s", memory.limit / 1e9);
+    }
     for (const Task& t : tasks)
       if (runs[t.entry]) check_metric(t.entry);
   }

@@ -25,7 +25,8 @@ TimedRun timed_run(const std::string& scene_path, const std::vector<std::string>
                    const std::atomic<bool>& stop) {
   TimedRun r;
   auto t0 = std::chrono::steady_clock::now();
-  scene::LoadedScene s = scene::load_scene(scene_path, overrides, io::scene_context());
+  scene::LoadedScene s = scene::load_scene(scene_path, overrides, io::scene_context(&stop));
+  s.simulation->prepare();  // the model's matrices count as set-up; a failure is the run's (start() says it again)
   r.setup_s = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   // the solver runs on a worker thread, as in `run`, so thread-local state and stack are the same

@@ -6,8 +6,14 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <memory>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -206,19 +212,133 @@ bool read_obj(const std::string& path, const std::string& who, RawSurface& raw, 
 
 // ---- other formats through assimp -----------------------------------------------------------
 
-// assimp's PLY reader loops at end of file when the header never ends: refuse such a file first
-bool check_ply_header(const std::string& path, const std::string& who, std::string* error) {
+// ---- what a file declares, checked before it is read -----------------------------------------
+// A PLY header states its element counts, and readers allocate for them before reading the body:
+// a 600-byte file declaring 10^9 vertices took 11.7 GB in assimp. The counts are checked against
+// what the file's bytes can hold and against the memory limit first.
+
+// Peak bytes of an import per vertex and per face (assimp's scene and our copies; OBJ: our record
+// reader; then the shell mesh, its orientation and validation): `check` of a 1000 x 1000 quad plate
+// (1.0 M vertices, 1.0 M faces) peaked at 565 MB (OBJ) and 660 MB (PLY), about 50 MB of it the
+// program's own; 250 + 400 bytes bound both
+constexpr double kImportBytesPerVertex = 250.0, kImportBytesPerFace = 400.0;
+
+double import_bytes(double vertices, double faces) {
+  return vertices * kImportBytesPerVertex + faces * kImportBytesPerFace;
+}
+
+std::string gigabytes(double bytes) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", bytes / 1e9);
+  return b;
+}
+
+bool refuse_over_limit(const std::string& who, const std::string& what, double vertices, double faces,
+                       double limit, std::string* error) {
+  const double need = import_bytes(vertices, faces);
+  if (!(limit > 0) || need <= limit) return true;
+  char counts[96];
+  std::snprintf(counts, sizeof counts, "%.0f vertices and %.0f faces", vertices, faces);
+  return fail(error, who + ": " + what + " " + counts + "; reading them would need about " + gigabytes(need) +
+                         " GB, more than the " + gigabytes(limit) + " GB this machine allows");
+}
+
+// bytes of one binary PLY scalar type; 0 for an unknown name
+int ply_type_bytes(const std::string& t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+// The PLY header's element counts against the body's size (each element takes at least: ASCII,
+// two characters per property, a digit and a separator; binary, its scalars' bytes and each
+// list's count) and against the memory limit. Also refuses a header that never ends (assimp's PLY
+// reader loops at end of file then).
+bool check_ply_header(const std::string& path, const std::string& who, double memory_limit, std::string* error) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   int n = 0;
   std::size_t bytes = 0;
+  bool ascii = true;
+  struct Element {
+    std::string name;
+    double count = 0;
+    int line = 0;
+    double min_bytes = 0;
+  };
+  std::vector<Element> elements;
   while (std::getline(in, line) && bytes < (1u << 20)) {
     bytes += line.size() + 1;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (n++ == 0 && line != "ply") return fail(error, who + " line 1: a PLY file starts with 'ply'");
-    if (line == "end_header") return true;
+    std::istringstream words(line);
+    std::string word;
+    words >> word;
+    if (word == "format") {
+      std::string f;
+      words >> f;
+      ascii = f == "ascii";
+    } else if (word == "element") {
+      Element e;
+      std::string count;
+      words >> e.name >> count;
+      e.line = n;
+      char* end = nullptr;
+      e.count = std::strtod(count.c_str(), &end);
+      if (count.empty() || *end != '\0' || !(e.count >= 0) || e.count != std::floor(e.count) || e.count > 9.2e18)
+        return fail(error, who + " line " + std::to_string(n) + ": element '" + e.name + "' has no count of elements ('" +
+                               count + "')");
+      elements.push_back(e);
+    } else if (word == "property" && !elements.empty()) {
+      std::string type, count_type;
+      words >> type;
+      if (type == "list") words >> count_type;
+      const int b = ply_type_bytes(type == "list" ? count_type : type);
+      elements.back().min_bytes += ascii ? 2.0 : std::max(b, 1);
+    } else if (word == "end_header") {
+      std::error_code ec;
+      const double file_bytes = static_cast<double>(fs::file_size(path, ec));
+      const double body = ec ? 0.0 : file_bytes - static_cast<double>(bytes);
+      double need = 0;
+      for (const Element& e : elements) {
+        need += e.count * e.min_bytes;
+        // a binary file's last property may end without a separator: one byte of slack in ASCII
+        if (need > body + 1) {
+          char msg[160];
+          std::snprintf(msg, sizeof msg, "the header declares %.0f '%s' elements, but the %.0f bytes after it hold at most %.0f",
+                        e.count, e.name.c_str(), std::max(body, 0.0), std::floor((std::max(body, 0.0) + 1) / std::max(e.min_bytes, 1.0)));
+          return fail(error, who + " line " + std::to_string(e.line) + ": " + msg + " (the header does not describe this file)");
+        }
+      }
+      double vertices = 0, faces = 0;
+      for (const Element& e : elements) (e.name == "vertex" ? vertices : e.name == "face" ? faces : vertices) += e.count;
+      return refuse_over_limit(who, "its header declares", vertices, faces, memory_limit, error);
+    }
   }
   return fail(error, who + ": the PLY header has no 'end_header' line (the file ends inside its header)");
+}
+
+// An OBJ is read record by record, so its memory follows its content: when its size could hold
+// more records than the limit allows, count them (one pass, nothing kept) and refuse if they
+// would not fit. The shortest vertex record is 8 bytes ("v 0 0 0\n"), the shortest quad 10.
+bool check_obj_size(const std::string& path, const std::string& who, double memory_limit, std::string* error) {
+  if (!(memory_limit > 0)) return true;
+  std::error_code ec;
+  const double bytes = static_cast<double>(fs::file_size(path, ec));
+  if (ec || import_bytes(bytes / 8.0, 0) <= memory_limit && import_bytes(0, bytes / 10.0) <= memory_limit) return true;
+  std::ifstream in(path, std::ios::binary);
+  double vertices = 0, faces = 0;
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t at = line.find_first_not_of(" \t");
+    if (at == std::string::npos || at + 1 >= line.size() || (line[at + 1] != ' ' && line[at + 1] != '\t' && line[at + 1] != 'n'))
+      continue;
+    if (line[at] == 'v') vertices += 1;  // v and vn
+    else if (line[at] == 'f') faces += 1;
+  }
+  return refuse_over_limit(who, "it holds", vertices, faces, memory_limit, error);
 }
 
 void add_mesh(const aiMesh& m, const aiMatrix4x4& X_WN, RawSurface& raw, bool& all_normals) {
@@ -259,9 +379,10 @@ void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& X_WP, 
   for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], X_WN, raw, all_normals, depth + 1);
 }
 
-bool read_with_assimp(const std::string& path, const std::string& who, RawSurface& raw, std::string* error) {
+bool read_with_assimp(const std::string& path, const std::string& who, RawSurface& raw, double memory_limit,
+                      std::string* error) {
   const std::string ext = lower_extension(path);
-  if (ext == ".ply" && !check_ply_header(path, who, error)) return false;
+  if (ext == ".ply" && !check_ply_header(path, who, memory_limit, error)) return false;
   // ValidateDataStructure: indices in range, counts consistent, before anything reads them.
   // PLY keeps its vertices as written; formats that store a vertex per face corner (STL, glTF
   // and the rest) get identical corners joined, as their files carry no vertex identity.
@@ -367,7 +488,9 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
 
   RawSurface raw;
   const std::string ext = lower_extension(path);
-  if (!(ext == ".obj" ? read_obj(path, who, raw, error) : read_with_assimp(path, who, raw, error))) return false;
+  if (ext == ".obj" ? !check_obj_size(path, who, options.memory_limit_bytes, error) || !read_obj(path, who, raw, error)
+                    : !read_with_assimp(path, who, raw, options.memory_limit_bytes, error))
+    return false;
 
   if (raw.faces == 0) return fail(error, who + " contains no faces (a shell mesh needs quads)");
   const int not_quads = raw.faces - static_cast<int>(raw.quads.size());
@@ -498,17 +621,45 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
   return true;
 }
 
-ff::scene::SceneContext scene_context() {
+namespace {
+// progress of a long set-up on stderr: nothing for the first second (most set-ups take less),
+// then a line at most every half second (rewritten in place on a terminal)
+std::function<void(const std::string&, double)> setup_progress_printer() {
+  struct State {
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last{};
+    bool printed = false;
+  };
+  auto state = std::make_shared<State>();
+  const bool tty = isatty(STDERR_FILENO);
+  return [state, tty](const std::string& phase, double fraction) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - state->start < std::chrono::seconds(1) || now - state->last < std::chrono::milliseconds(500)) return;
+    state->last = now;
+    state->printed = true;
+    std::fprintf(stderr, "%sset-up: %s %3.0f%% (%.0f s)%s", tty ? "\r" : "", phase.c_str(), 100.0 * fraction,
+                 std::chrono::duration<double>(now - state->start).count(), tty ? "\033[K" : "\n");
+    std::fflush(stderr);
+  };
+}
+}  // namespace
+
+ff::scene::SceneContext scene_context(const std::atomic<bool>* stop) {
   ff::scene::SceneContext ctx;
-  ctx.mesh_reader = [](const ff::scene::MeshFileRequest& request, ShellMesh& out, ff::scene::MeshFileError* error) {
+  if (stop) {
+    ctx.setup.stop = stop;
+    ctx.setup.progress = setup_progress_printer();
+  }
+  ctx.memory_limit_bytes = machine_memory_limit_bytes();
+  ctx.mesh_reader = [limit = ctx.memory_limit_bytes](const ff::scene::MeshFileRequest& request, ShellMesh& out,
+                                                     ff::scene::MeshFileError* error) {
     MeshImportOptions options;
     options.weld_tolerance = request.weld_tolerance;
+    options.memory_limit_bytes = limit;
     bool tolerance_at_fault = false;
     const bool ok = import_shell_mesh(request.path, out, error ? &error->message : nullptr, options, &tolerance_at_fault);
     if (!ok && error && tolerance_at_fault) error->key = "mesh.weld_tolerance";
     return ok;
   };
-  ctx.memory_limit_bytes = machine_memory_limit_bytes();
   return ctx;
 }
 

@@ -25,6 +25,7 @@
 ///   patch named after the file stem;
 /// - validate(out) passes, or the import fails with its summary.
 
+#include <atomic>
 #include <string>
 
 #include "core/mesh/shell_mesh.h"
@@ -40,6 +41,11 @@ struct MeshImportOptions {
   Eigen::Vector3d frame_reference = Eigen::Vector3d::UnitX();
   /// join vertices closer than this length (0: keep every file vertex, so slits stay open)
   double weld_tolerance = 0.0;
+  /// memory the import may use [bytes] (0: unknown). Before anything is read, the element counts a
+  /// PLY header declares (an OBJ's, counted from its records when its size could hold too many)
+  /// are checked against the file's size and this limit; a file that cannot hold what it declares,
+  /// or whose elements would not fit, is refused without allocating for them.
+  double memory_limit_bytes = 0.0;
 };
 
 /// Reads `path` into `out`. Returns false and sets *error (a complete sentence naming the file)
@@ -52,9 +58,11 @@ struct MeshImportOptions {
 bool import_shell_mesh(const std::string& path, ff::mesh::ShellMesh& out, std::string* error,
                        const MeshImportOptions& options = {}, bool* weld_tolerance_at_fault = nullptr);
 
-/// What the app passes to every scene load: import_shell_mesh (default options) as the reader for
-/// scenes with mesh.generator = "file" (core/scene/mesh_file.h).
-ff::scene::SceneContext scene_context();
+/// What the app passes to every scene load: import_shell_mesh (default options, the machine's memory
+/// limit) as the reader for scenes with mesh.generator = "file" (core/scene/mesh_file.h), and the
+/// memory limit. With `stop`, long set-up polls it (a signal ends it within a fraction of a second)
+/// and says what it is doing on stderr once it has taken more than a second.
+ff::scene::SceneContext scene_context(const std::atomic<bool>* stop = nullptr);
 
 /// Writes points and quads as Wavefront OBJ (1-based "f a b c d", 17 significant digits); with
 /// `normals`, every quad corner's director as a vn record ("f a//i b//j ...").

@@ -92,6 +92,15 @@ class EfgBasis final : public BeamBasis {
     rows.dn1.noalias() = dphi1 * lambda1_inv_;
   }
 
+  void check_points(const std::vector<double>& xs) const override {
+    const int n = opt_.nodes;
+    Eigen::RowVectorXd phi(2 * n), dphi(2 * n), ddphi(2 * n), phi1(n), dphi1(n);
+    for (double x : xs) {
+      raw_transverse(x, phi, dphi, ddphi);
+      raw_axial(x, phi1, dphi1);
+    }
+  }
+
   std::vector<QuadraturePoint> quadrature() const override {
     const int cells = opt_.cells > 0 ? opt_.cells : opt_.nodes - 1;
     const GaussRule rule = gauss_legendre(opt_.gauss_points);

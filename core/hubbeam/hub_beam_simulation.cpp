@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace ff::hubbeam {
 
@@ -51,13 +52,13 @@ double peak_rate(double v0, double a0, double v1, double a1, double h) {
   return peak;
 }
 
-HubBeamSimulation::HubBeamSimulation(std::unique_ptr<HubBeamSystem> system, HubBeamRunSettings settings,
-                                     RunInfo info)
-    : sys_(std::move(system)), settings_(settings), info_(std::move(info)) {
-  info_.mesh = sys_->mesh();
-  info_.probes = sys_->probes();
-  info_.fields = sys_->fields();
-  info_.effects = sys_->effects().names();
+HubBeamSimulation::HubBeamSimulation(HubBeamSystemBuilder build, SetupMonitor monitor, const HubBeamParams& params,
+                                     const HubBeamEffects& effects, HubBeamRunSettings settings, RunInfo info)
+    : build_(std::move(build)), monitor_(std::move(monitor)), params_(params), settings_(settings), info_(std::move(info)) {
+  info_.mesh = hub_beam_drawing(params.hub_radius, params.length);
+  info_.probes = hub_beam_probes();
+  info_.fields = hub_beam_fields();
+  info_.effects = effects.names();
   info_.time_unit = "s";
 }
 
@@ -74,7 +75,20 @@ void HubBeamSimulation::record() {
   momentum_.push_back(current_.probes[6]);
 }
 
+std::string HubBeamSimulation::prepare() {
+  if (sys_) return "";
+  try {
+    sys_ = build_(monitor_);
+  } catch (const SetupInterrupted& e) {
+    return e.what();
+  } catch (const std::invalid_argument& e) {  // e.g. an EFG moment matrix singular at a quadrature point
+    return std::string("model set-up: ") + e.what();
+  }
+  return "";
+}
+
 std::string HubBeamSimulation::start() {
+  if (std::string why = prepare(); !why.empty()) return why;
   integrator_ = std::make_unique<NewmarkIntegrator>(*sys_, settings_.newmark);
   const int n = sys_->size();
   state_.x = Eigen::VectorXd::Zero(n);
@@ -96,6 +110,7 @@ double HubBeamSimulation::next_change(double t) const {
 
 // [[timeline]] torque_scale changes due at (or within round-off of) the time t, and a live edit
 bool HubBeamSimulation::apply_changes(double t) {
+  if (!sys_) return false;  // start() applies the changes at t = 0 once the system is built
   const auto& changes = settings_.torque_scale_changes;
   bool changed = false;
   while (next_change_ < changes.size() && changes[next_change_].first <= t + 1e-9 * settings_.dt)
@@ -149,8 +164,9 @@ StepDone HubBeamSimulation::step(double h) {
 }
 
 Metrics HubBeamSimulation::metrics() const {
-  const double T = sys_->params().torque_period;
   Metrics m;
+  if (!sys_) return m;  // set-up did not finish: nothing was computed
+  const double T = params_.torque_period;
   auto add = [&](const char* name, double v) {
     if (std::isfinite(v)) m.emplace_back(name, v);
   };
@@ -188,7 +204,7 @@ std::string HubBeamSimulation::change_live(const std::string& key, const LiveVal
   // the scene schema has checked the value (a finite number >= 0); this only guards the type
   const double* tau0 = std::get_if<double>(&value);
   if (!tau0) return "torque.amplitude takes a number";
-  const double base = sys_->params().torque_amplitude;
+  const double base = params_.torque_amplitude;
   if (base == 0.0) return "the scene's torque amplitude is 0, so it cannot be scaled live";
   live_torque_scale_ = *tau0 / base;
   return "";

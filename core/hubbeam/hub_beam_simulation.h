@@ -3,6 +3,7 @@
 /// The hub-beam system integrated by Newmark, publishing Frames and computing the metrics
 /// the paper reports (hub_beam.md; docs/validation/hub-beam.md).
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -33,12 +34,19 @@ double sample_at(const std::vector<double>& t, const std::vector<double>& y, dou
 /// Largest |rate| on [0, h] of the cubic Hermite interpolant through (v0, a0), (v1, a1) (eq. 30).
 double peak_rate(double v0, double a0, double v1, double a1, double h);
 
+/// Builds the system (its dense matrices) when the run starts, polling the monitor it is given.
+using HubBeamSystemBuilder = std::function<std::unique_ptr<HubBeamSystem>(const SetupMonitor& monitor)>;
+
 class HubBeamSimulation final : public Simulation {
  public:
-  HubBeamSimulation(std::unique_ptr<HubBeamSystem> system, HubBeamRunSettings settings, RunInfo info);
+  /// The system is built by `build` in start(), not here: `check` (which never starts a run) only
+  /// validates, and a run's set-up shows progress and stops on `monitor`'s stop flag.
+  HubBeamSimulation(HubBeamSystemBuilder build, SetupMonitor monitor, const HubBeamParams& params,
+                    const HubBeamEffects& effects, HubBeamRunSettings settings, RunInfo info);
   ~HubBeamSimulation() override;
   const RunInfo& info() const override { return info_; }
   double end_time() const override { return settings_.t_end; }
+  std::string prepare() override;
   std::string start() override;
   StepStats start_stats() const override { return start_stats_; }
   double time() const override { return state_.t; }
@@ -50,13 +58,17 @@ class HubBeamSimulation final : public Simulation {
   Frame frame() const override { return current_; }
   Metrics metrics() const override;
   SolverTotals totals() const override { return totals_; }
-  std::vector<EffectStat> effect_stats() const override { return sys_->effect_stats(); }
-  const HubBeamSystem& system() const { return *sys_; }
+  std::vector<EffectStat> effect_stats() const override { return sys_ ? sys_->effect_stats() : std::vector<EffectStat>{}; }
+  /// The built system (after start()); null before.
+  const HubBeamSystem* system() const { return sys_.get(); }
   /// Live: "torque.amplitude" (tau0 [N m]; the run goes on with the torque scaled to it).
   std::string change_live(const std::string& key, const LiveValue& value) override;
 
  private:
   void record();  // the current state as current_, and its probes into the history
+  HubBeamSystemBuilder build_;
+  SetupMonitor monitor_;
+  HubBeamParams params_;
   std::unique_ptr<HubBeamSystem> sys_;
   HubBeamRunSettings settings_;
   RunInfo info_;

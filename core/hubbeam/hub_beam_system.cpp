@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -14,6 +15,11 @@ using Eigen::MatrixXd;
 using Eigen::RowVectorXd;
 using Eigen::VectorXd;
 
+namespace {
+constexpr int kDrawSamples = 61;  // points of the drawn beam centre line
+constexpr int kHubDrawSegments = 48;
+}  // namespace
+
 std::vector<std::string> HubBeamEffects::names() const {
   std::vector<std::string> n{"inertia", "bending"};
   if (axial) n.push_back("axial");
@@ -22,7 +28,30 @@ std::vector<std::string> HubBeamEffects::names() const {
   return n;
 }
 
-FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis, bool with_d1) {
+namespace {
+// indices of the non-zero entries of a shape row (an FEM row has 2 or 4 of 2N)
+void nonzeros(const RowVectorXd& row, std::vector<int>& idx) {
+  idx.clear();
+  for (int i = 0; i < row.size(); ++i)
+    if (row[i] != 0.0) idx.push_back(i);
+}
+// m += c a^T b, touching only the non-zero entries of a and b when they are few (the FEM rows:
+// the dense outer product made a 2000-element beam's set-up take minutes). The sum of each entry
+// is the same as the dense product's, (c a_i) b_j, in the same order: results do not change.
+void add_outer(MatrixXd& m, double c, const RowVectorXd& a, const RowVectorXd& b, std::vector<int>& ia,
+               std::vector<int>& ib) {
+  nonzeros(a, ia);
+  nonzeros(b, ib);
+  if (4 * ia.size() > static_cast<std::size_t>(a.size()) && 4 * ib.size() > static_cast<std::size_t>(b.size())) {
+    m.noalias() += c * a.transpose() * b;
+    return;
+  }
+  for (int j : ib)
+    for (int i : ia) m(i, j) += (c * a[i]) * b[j];
+}
+}  // namespace
+
+FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis, bool with_d1, const SetupMonitor& monitor) {
   const int n = basis.node_count();
   const double rho_a = p.density * p.area, ea = p.youngs_modulus * p.area,
                ei = p.youngs_modulus * p.second_moment, a = p.hub_radius, len = p.length;
@@ -34,20 +63,25 @@ FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis, bool 
   f.u11 = RowVectorXd::Zero(n);
   f.u12 = RowVectorXd::Zero(2 * n);
   ShapeRows s = basis.make_rows();
-  for (const QuadraturePoint& q : basis.quadrature()) {
+  std::vector<int> ia, ib;
+  const std::vector<QuadraturePoint> points = basis.quadrature();
+  const std::string phase = "assembling the beam matrices";
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const QuadraturePoint& q = points[k];
+    monitor.poll(phase, static_cast<double>(k) / points.size());
     basis.evaluate(q.x, s);
     const double w = q.weight;
-    f.m1.noalias() += (rho_a * w) * s.n1.transpose() * s.n1;  // eq. (7)
-    f.k1.noalias() += (ea * w) * s.dn1.transpose() * s.dn1;  // eq. (8)
-    f.m2.noalias() += (rho_a * w) * s.n2.transpose() * s.n2;
-    f.k2.noalias() += (ei * w) * s.ddn2.transpose() * s.ddn2;
-    f.r.noalias() += (rho_a * w) * s.n1.transpose() * s.n2;
+    add_outer(f.m1, rho_a * w, s.n1, s.n1, ia, ib);  // eq. (7)
+    add_outer(f.k1, ea * w, s.dn1, s.dn1, ia, ib);   // eq. (8)
+    add_outer(f.m2, rho_a * w, s.n2, s.n2, ia, ib);
+    add_outer(f.k2, ei * w, s.ddn2, s.ddn2, ia, ib);
+    add_outer(f.r, rho_a * w, s.n1, s.n2, ia, ib);
     f.u11 += (rho_a * (a + q.x) * w) * s.n1;
     f.u12 += (rho_a * (a + q.x) * w) * s.n2;
     if (!with_d1) continue;
     // eq. (9): inner integral of (a + x) from s to L done in closed form
     const double lever = a * (len - q.x) + 0.5 * (len * len - q.x * q.x);
-    f.d1.noalias() += (rho_a * lever * w) * s.dn2.transpose() * s.dn2;
+    add_outer(f.d1, rho_a * lever * w, s.dn2, s.dn2, ia, ib);
   }
   return f;
 }
@@ -58,13 +92,46 @@ MatrixXd coupling_shape_matrix(const BeamBasis& basis, double x, int cells, int 
   if (x <= 0.0) return s_mat;
   const GaussRule rule = gauss_legendre(gauss);
   ShapeRows s = basis.make_rows();
+  std::vector<int> ia, ib;
   const double h = x / cells;
   for (int c = 0; c < cells; ++c)
     for (std::size_t g = 0; g < rule.points.size(); ++g) {
       basis.evaluate(h * (c + 0.5 * (rule.points[g] + 1.0)), s);
-      s_mat.noalias() += (0.5 * h * rule.weights[g]) * s.dn2.transpose() * s.dn2;  // eq. (4)
+      add_outer(s_mat, 0.5 * h * rule.weights[g], s.dn2, s.dn2, ia, ib);  // eq. (4)
     }
   return s_mat;
+}
+
+std::vector<double> evaluation_points(const BeamBasis& basis, double length, bool first_order) {
+  std::vector<double> xs;
+  for (const QuadraturePoint& q : basis.quadrature()) xs.push_back(q.x);
+  const auto add_gauss = [&](double a, double b, int gauss) {
+    const GaussRule rule = gauss_legendre(gauss);
+    for (double p : rule.points) xs.push_back(a + 0.5 * (b - a) * (p + 1.0));
+  };
+  if (first_order) {
+    const int cells = 16, gauss = 6;  // coupling_shape_matrix's defaults, for S(L)
+    for (int c = 0; c < cells; ++c) add_gauss(length * c / cells, length * (c + 1) / cells, gauss);
+  }
+  for (int k = 0; k < kDrawSamples; ++k) {
+    xs.push_back(length * k / (kDrawSamples - 1));
+    if (first_order && k > 0) add_gauss(length * (k - 1) / (kDrawSamples - 1), length * k / (kDrawSamples - 1), 3);
+  }
+  return xs;
+}
+
+// Measured peaks (run of a few steps with its metrics, i.e. the modal analysis at the end; FEM,
+// 1 + 3 (n - 1) DoFs with axial, 1 + 2 (n - 1) without):
+//   elements  DoFs   peak [MB]   (peak - 55 MB) / DoFs^2 [bytes]
+//   400       801      133        122   (no axial)
+//   400      1201      216        112
+//   800      2401      652        104
+// Every matrix of the model, Newmark's iteration matrix, its factor and the modal analysis' are
+// dense squares of the DoF count: 125 bytes (about 16 doubles) per DoF^2 bounds them all.
+double estimated_peak_bytes(int nodes, bool axial) {
+  if (nodes <= 1) return 0.0;
+  const double dofs = 1.0 + (axial ? 3.0 : 2.0) * (nodes - 1);
+  return 55e6 + 125.0 * dofs * dofs;
 }
 
 FrameMesh build_mesh(double hub_radius, const std::vector<double>& draw_x, int hub_segments);
@@ -96,12 +163,13 @@ RowVectorXd pick(const RowVectorXd& v, const std::vector<int>& cols) {
 }  // namespace
 
 HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& effects,
-                             std::unique_ptr<BeamBasis> basis, double validity_deflection_ratio)
+                             std::unique_ptr<BeamBasis> basis, double validity_deflection_ratio,
+                             const SetupMonitor& monitor)
     : params_(params), fx_(effects), basis_(std::move(basis)), validity_ratio_(validity_deflection_ratio) {
   const int n = basis_->node_count();
   const std::vector<int> ia = free_axial(n), it = free_transverse(n);
   const bool first_order = fx_.first_order_coupling;
-  const FullMatrices f = assemble_full(params_, *basis_, first_order);
+  const FullMatrices f = assemble_full(params_, *basis_, first_order, monitor);
   n1_ = fx_.axial ? static_cast<int>(ia.size()) : 0;
   n2_ = static_cast<int>(it.size());
   const std::vector<int> ia_used = fx_.axial ? ia : std::vector<int>{};
@@ -118,6 +186,7 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
   const double rho_a = params_.density * params_.area, a = params_.hub_radius;
   m2_minus_d1_ = first_order ? MatrixXd(matrices_.m2 - matrices_.d1) : matrices_.m2;
   matrices_.jb = rho_a * (std::pow(a + params_.length, 3) - std::pow(a, 3)) / 3.0;  // eq. (8)
+  monitor.poll("the coupling matrix S(L)", 0.0);
   matrices_.s_tip =
       first_order ? pick(coupling_shape_matrix(*basis_, params_.length), it, it) : MatrixXd::Constant(n2_, n2_, unused);
   ShapeRows s = basis_->make_rows();
@@ -125,34 +194,48 @@ HubBeamSystem::HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& 
   matrices_.n1_tip = pick(s.n1, ia_used);
   matrices_.n2_tip = pick(s.n2, it);
 
-  // eq. (29): K2 phi = w^2 (M2 - D1) phi; the smallest positive w is the critical speed
-  {
-    Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(m2_minus_d1_, matrices_.k2, Eigen::EigenvaluesOnly);
-    const double mu = es.eigenvalues().maxCoeff();
-    critical_speed_ = mu > 0 ? 1.0 / std::sqrt(mu) : std::numeric_limits<double>::infinity();
-  }
-  // drawing samples (precomputed so fill_frame is a few small products)
-  const int samples = 61;
+  // drawing samples (precomputed so fill_frame is a few small products): the shape rows at the
+  // samples, and for w_c(x_k) = -1/2 q2^T S(x_k) q2 the slope rows dN2/dx at the 3 Gauss points of
+  // every interval between samples, so that q2^T S(x_k) q2 is a running sum of squared slopes
+  // (one dense S(x_k) per sample took 61 n2^2 doubles: 7.8 GB for 2000 elements)
+  const int samples = kDrawSamples;
+  const GaussRule rule = gauss_legendre(3);
   draw_x_.resize(samples);
   draw_n1_.resize(samples, n1_);
   draw_n2_.resize(samples, n2_);
-  const GaussRule rule = gauss_legendre(3);
-  MatrixXd s_acc = MatrixXd::Zero(2 * n, 2 * n);  // S(x_k) accumulated interval by interval (display only)
+  if (fx_.first_order_coupling) {
+    draw_slope_rows_.resize((samples - 1) * static_cast<int>(rule.points.size()), n2_);
+    draw_slope_weights_.resize(draw_slope_rows_.rows());
+  }
   for (int k = 0; k < samples; ++k) {
+    monitor.poll("the drawing samples", static_cast<double>(k) / samples);
     draw_x_[k] = params_.length * k / (samples - 1);
     if (fx_.first_order_coupling && k > 0) {
       const double h = draw_x_[k] - draw_x_[k - 1];
       for (std::size_t g = 0; g < rule.points.size(); ++g) {
         basis_->evaluate(draw_x_[k - 1] + 0.5 * h * (rule.points[g] + 1.0), s);
-        s_acc.noalias() += (0.5 * h * rule.weights[g]) * s.dn2.transpose() * s.dn2;
+        const int row = (k - 1) * static_cast<int>(rule.points.size()) + static_cast<int>(g);
+        draw_slope_rows_.row(row) = pick(s.dn2, it);
+        draw_slope_weights_[row] = 0.5 * h * rule.weights[g];
       }
     }
     basis_->evaluate(draw_x_[k], s);
     draw_n1_.row(k) = pick(s.n1, ia_used);
     draw_n2_.row(k) = pick(s.n2, it);
-    if (fx_.first_order_coupling) draw_s_.push_back(pick(s_acc, it, it));
   }
-  mesh_ = build_mesh(params_.hub_radius, draw_x_, kHubSegments);
+  mesh_ = build_mesh(params_.hub_radius, draw_x_, kHubDrawSegments);
+}
+
+// eq. (29): K2 phi = w^2 (M2 - D1) phi; the smallest positive w is the critical speed. A dense
+// generalized eigenproblem of n2 x n2 (minutes for a 2000-element beam): solved when first asked,
+// by a run's first step, never by set-up or `check`
+double HubBeamSystem::critical_speed() const {
+  if (!critical_speed_) {
+    Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(m2_minus_d1_, matrices_.k2, Eigen::EigenvaluesOnly);
+    const double mu = es.eigenvalues().maxCoeff();
+    critical_speed_ = mu > 0 ? 1.0 / std::sqrt(mu) : std::numeric_limits<double>::infinity();
+  }
+  return *critical_speed_;
 }
 
 double HubBeamSystem::hub_axis_inertia(const VectorXd& x) const {
@@ -323,7 +406,8 @@ ModalResult HubBeamSystem::modal_analysis() const {
   VectorXd zero = VectorXd::Zero(n);
   MatrixXd A, C, K;
   jacobians(zero, zero, zero, A, C, K);
-  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(K, A);
+  // frequencies only: without the eigenvectors (n^2 more doubles) the same eigenvalues, in a third of the time
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(K, A, Eigen::EigenvaluesOnly);
   ModalResult out;
   for (int i = 0; i < n; ++i) {
     const double lam = std::max(0.0, es.eigenvalues()[i]);
@@ -355,7 +439,16 @@ FrameMesh build_mesh(double hub_radius, const std::vector<double>& draw_x, int h
   return m;
 }
 
-std::vector<Quantity> HubBeamSystem::probes() const {
+std::vector<Quantity> HubBeamSystem::probes() const { return hub_beam_probes(); }
+std::vector<Quantity> HubBeamSystem::fields() const { return hub_beam_fields(); }
+
+FrameMesh hub_beam_drawing(double hub_radius, double length) {
+  std::vector<double> draw_x(kDrawSamples);
+  for (int k = 0; k < kDrawSamples; ++k) draw_x[k] = length * k / (kDrawSamples - 1);
+  return build_mesh(hub_radius, draw_x, kHubDrawSegments);
+}
+
+std::vector<Quantity> hub_beam_probes() {
   return {{"hub_angle", "deg", "hub angle"},
           {"hub_rate", "rad/s", "hub angular rate"},
           {"tip_transverse", "m", "tip transverse displacement"},
@@ -365,14 +458,14 @@ std::vector<Quantity> HubBeamSystem::probes() const {
           {"angular_momentum", "kg m^2/s", "angular momentum about the hub axis"}};
 }
 
-std::vector<Quantity> HubBeamSystem::fields() const {
+std::vector<Quantity> hub_beam_fields() {
   return {{"deflection", "m", "elastic displacement"}, {"transverse", "m", "transverse displacement"}};
 }
 
 void HubBeamSystem::fill_frame(const VectorXd& x, const VectorXd& v, double t, Frame& frame) const {
   const double th = x[0], c = std::cos(th), s = std::sin(th);
   const auto q1 = x.segment(1, n1_), q2 = x.segment(1 + n1_, n2_);
-  const int hub_points = 1 + kHubSegments, beam_points = static_cast<int>(draw_x_.size());
+  const int hub_points = 1 + kHubDrawSegments, beam_points = static_cast<int>(draw_x_.size());
   const int total = hub_points + beam_points;
   frame.points.resize(3 * total);
   frame.base_points.resize(3 * total);
@@ -385,10 +478,17 @@ void HubBeamSystem::fill_frame(const VectorXd& x, const VectorXd& v, double t, F
     frame.points[3 * k + 1] = frame.base_points[3 * k + 1] = wy;
     frame.points[3 * k + 2] = frame.base_points[3 * k + 2] = 0.0;
   }
+  double slope_squares = 0.0;
   for (int k = 0; k < beam_points; ++k) {
     const double w1 = n1_ > 0 ? draw_n1_.row(k).dot(q1) : 0.0;
     const double w2 = draw_n2_.row(k).dot(q2);
-    const double wc = fx_.first_order_coupling ? -0.5 * q2.dot(draw_s_[k] * q2) : 0.0;
+    if (fx_.first_order_coupling && k > 0)
+      for (int g = 0; g < 3; ++g) {
+        const int row = 3 * (k - 1) + g;
+        const double slope = draw_slope_rows_.row(row).dot(q2);
+        slope_squares += draw_slope_weights_[row] * slope * slope;  // q2^T S(x_k) q2, eq. (4)
+      }
+    const double wc = -0.5 * slope_squares;
     const double rx = params_.hub_radius + draw_x_[k] + w1 + wc, ry = w2;  // eq. (1)
     const double bx = params_.hub_radius + draw_x_[k];
     const int i = hub_points + k;

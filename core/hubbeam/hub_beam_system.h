@@ -8,11 +8,13 @@
 
 #include <Eigen/Dense>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/frame/frame.h"
 #include "core/hubbeam/beam_basis.h"
+#include "core/model/setup_monitor.h"
 #include "core/model/simulation.h"
 #include "core/solve/second_order_system.h"
 
@@ -54,7 +56,9 @@ struct FullMatrices {
   Eigen::MatrixXd m1, k1, m2, k2, r, d1;
   Eigen::RowVectorXd u11, u12;
 };
-FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis, bool with_d1 = true);
+/// Polls `monitor` at every quadrature point (progress; a raised stop throws SetupInterrupted).
+FullMatrices assemble_full(const HubBeamParams& p, const BeamBasis& basis, bool with_d1 = true,
+                           const SetupMonitor& monitor = {});
 /// S(x) of eq. (4) by Gauss quadrature over [0, x] with `cells` sub-intervals (full DoFs).
 Eigen::MatrixXd coupling_shape_matrix(const BeamBasis& basis, double x, int cells = 16, int gauss = 6);
 
@@ -62,10 +66,29 @@ struct ModalResult {
   std::vector<double> frequencies_hz;  ///< ascending; the first is the rigid hub mode (~0)
 };
 
+/// Every abscissa where HubBeamSystem evaluates `basis` (quadrature, S(L), tip, drawing), for
+/// BeamBasis::check_points: what `check` validates without building the matrices.
+std::vector<double> evaluation_points(const BeamBasis& basis, double length, bool first_order);
+
+/// Estimated peak memory [bytes] of a hub-beam run with `nodes` beam nodes (FEM: elements + 1):
+/// every matrix of the model and of Newmark's dense iteration is a dense square of the DoF count
+/// (3 per node with the axial DoFs, else 2), so the peak grows as nodes^2. Fitted to measured
+/// peaks (hub_beam.md, "Memory"); `check` and `run` refuse a scene whose estimate exceeds the
+/// memory limit at its node-count key, before anything is built.
+double estimated_peak_bytes(int nodes, bool axial);
+
+/// The drawing (hub disc and beam centre line), probes and fields of a hub-beam model: known
+/// before its matrices are built (HubBeamSystem::mesh(), probes(), fields() return the same).
+FrameMesh hub_beam_drawing(double hub_radius, double length);
+std::vector<Quantity> hub_beam_probes();
+std::vector<Quantity> hub_beam_fields();
+
 class HubBeamSystem final : public SecondOrderSystem {
  public:
+  /// Assembles the matrices (polling `monitor`: progress, and SetupInterrupted on a stop).
   HubBeamSystem(const HubBeamParams& params, const HubBeamEffects& effects,
-                std::unique_ptr<BeamBasis> basis, double validity_deflection_ratio = 1.0);
+                std::unique_ptr<BeamBasis> basis, double validity_deflection_ratio = 1.0,
+                const SetupMonitor& monitor = {});
 
   int size() const override { return 1 + n1_ + n2_; }
   void residual(const Eigen::VectorXd& x, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
@@ -90,7 +113,8 @@ class HubBeamSystem final : public SecondOrderSystem {
   ModalResult modal_analysis() const;                     ///< eq. (28)
   /// Hub rate above which K2 + w^2 (D1 - M2) loses definiteness, eq. (29) [rad/s]; +inf when it
   /// never does (the first-order model: D1 outweighs M2).
-  double critical_speed() const { return critical_speed_; }
+  /// Computed when first asked (a dense generalized eigenproblem of the transverse DoFs).
+  double critical_speed() const;
 
   // drawing: hub disc (triangles) + beam centre line (segments) in the z = 0 plane
   FrameMesh mesh() const;
@@ -121,7 +145,7 @@ class HubBeamSystem final : public SecondOrderSystem {
   double torque_scale_ = 1.0;
   std::unique_ptr<BeamBasis> basis_;
   double validity_ratio_;
-  double critical_speed_ = 0.0;
+  mutable std::optional<double> critical_speed_;
   int n1_ = 0, n2_ = 0;
   HubBeamMatrices matrices_;
   Eigen::MatrixXd m2_minus_d1_;               ///< M2 - D1, constant
@@ -131,9 +155,9 @@ class HubBeamSystem final : public SecondOrderSystem {
   // drawing samples along the beam
   std::vector<double> draw_x_;
   Eigen::MatrixXd draw_n1_, draw_n2_;         ///< rows N1(x_k), N2(x_k) on free DoFs
-  std::vector<Eigen::MatrixXd> draw_s_;       ///< S(x_k) on free q2 DoFs (first-order only)
+  Eigen::MatrixXd draw_slope_rows_;           ///< dN2/dx at 3 Gauss points per sample interval (first-order only)
+  Eigen::VectorXd draw_slope_weights_;        ///< their quadrature weights
   FrameMesh mesh_;                            ///< reference drawing, built once
-  static constexpr int kHubSegments = 48;
 };
 
 }  // namespace ff::hubbeam

@@ -533,6 +533,28 @@ ShellMesh folded_plate(const FoldedPlate& s, int n_a, int n_b, int n_width) {
   return assemble({p1, p2});
 }
 
+long long patch_node_count(int nu, int nv, bool closed_u, bool closed_v) {
+  return (static_cast<long long>(nu) + (closed_u ? 0 : 1)) * (static_cast<long long>(nv) + (closed_v ? 0 : 1));
+}
+
+long long polar_o_grid_node_count(int n_ring, int n_rim, int quadrants) {
+  const int m = n_rim / (2 * quadrants);  // core elements per half-side, as polar_o_grid
+  const int nx = quadrants >= 2 ? 2 * m : m, ny = quadrants == 4 ? 2 * m : m;
+  const long long core = patch_node_count(nx, ny);
+  // the ring's inner edge is the core's outline; over 360 degrees its seam is merged as well
+  return quadrants == 4 ? core + static_cast<long long>(n_ring) * n_rim
+                        : core + static_cast<long long>(n_ring) * (n_rim + 1);
+}
+
+long long l_plate_node_count(int n_arm, int n_width) {
+  // arm1 | corner | arm2: the corner shares one edge of n_width + 1 nodes with each arm
+  return 2 * patch_node_count(n_arm, n_width) + patch_node_count(n_width, n_width) - 2 * (n_width + 1LL);
+}
+
+long long folded_plate_node_count(int n_a, int n_b, int n_width) {
+  return patch_node_count(n_a, n_width) + patch_node_count(n_b, n_width) - (n_width + 1LL);
+}
+
 ShellMesh right_angle_folded_plate(double a, double b, double width, int n_a, int n_b, int n_width) {
   FoldedPlate s;
   s.a = a;

@@ -149,6 +149,23 @@ struct LPlate {
 };
 ShellMesh l_plate(const LPlate& spec, int n_arm, int n_width);
 
+// ---- node counts, before building ---------------------------------------------------------
+// What the generators above will build, counted from the element counts alone, so that a mesh
+// that cannot fit in memory is refused before it is built (core/scene's memory guard). Each is
+// the generator's node_count() exactly (tests/unit/test_mesh_generators.cpp compares them over
+// ranges of counts, angles and options).
+
+/// A structured nu x nv patch (parametric_patch); `closed_u` / `closed_v`: its seam in that
+/// direction is merged (a 360 degree cylinder, annulus or sphere), one column of nodes fewer.
+long long patch_node_count(int nu, int nv, bool closed_u = false, bool closed_v = false);
+/// polar_o_grid with n_ring x n_rim over 90 * quadrants degrees (1, 2 or 4; n_rim a multiple of
+/// 2 * quadrants): the core square and the ring, sharing the core's outline.
+long long polar_o_grid_node_count(int n_ring, int n_rim, int quadrants);
+/// l_plate: two arms of n_arm x n_width and the n_width x n_width corner, sharing two edges.
+long long l_plate_node_count(int n_arm, int n_width);
+/// folded_plate: legs of n_a x n_width and n_b x n_width sharing the fold line.
+long long folded_plate_node_count(int n_a, int n_b, int n_width);
+
 /// How assemble() joins patches.
 struct AssemblyOptions {
   /// nodes closer than merge_tolerance * (shortest edge of all parts) become one node

@@ -22,16 +22,16 @@ RunOutcome Simulation::run(const std::function<void(Frame&&)>& publish, const st
 }
 
 RunOutcome RunLoop::run(const Publish& publish, const std::atomic<bool>& stop) {
-  if (start(publish))
+  if (start(publish, &stop))
     while (advance(publish, stop)) {
     }
   return outcome_;
 }
 
-bool RunLoop::start(const Publish& publish) {
+bool RunLoop::start(const Publish& publish, const std::atomic<bool>* stop) {
   wall0_ = std::chrono::steady_clock::now();
   if (std::string why = sim_.start(); !why.empty()) {
-    finish(publish, RunStatus::failed, std::move(why));
+    finish(publish, stop && stop->load() ? RunStatus::interrupted : RunStatus::failed, std::move(why));
     return false;
   }
   Frame f = sim_.frame();

@@ -18,8 +18,9 @@ class RunLoop {
   explicit RunLoop(Simulation& sim) : sim_(sim) {}
 
   /// Prepares the model and publishes the initial state; false when it cannot start (outcome:
-  /// failed, with the reason).
-  bool start(const Publish& publish);
+  /// failed, with the reason; interrupted when `stop` was raised while a model that builds at its
+  /// start, such as the hub-beam, was setting up).
+  bool start(const Publish& publish, const std::atomic<bool>* stop = nullptr);
   /// One step of the model, publishing it by the cadence; false when the run has ended (outcome()).
   /// A raised `stop` ends the run as interrupted before the step.
   bool advance(const Publish& publish, const std::atomic<bool>& stop);

@@ -77,6 +77,11 @@ class Simulation {
   /// Where the run ends, for `flexframe check`, e.g. "ends at t = 2 s".
   virtual std::string end_description() const;
 
+  /// Builds what a run needs beyond what `check` validates (the hub-beam's dense matrices), so
+  /// that a caller can time it apart from the run; start() does it when nobody did. "" or why it
+  /// cannot (set-up interrupted by the stop flag it was given, or a numerical failure).
+  virtual std::string prepare() { return ""; }
+
   // ---- stepping (called by RunLoop, on one thread) ----
   /// Prepares the initial state (consistent accelerations ...): "" or why it cannot start.
   virtual std::string start() = 0;

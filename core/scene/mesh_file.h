@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/mesh/shell_mesh.h"
+#include "core/model/setup_monitor.h"
 
 namespace ff::scene {
 
@@ -34,6 +35,9 @@ struct SceneContext {
   /// Memory a run may use [bytes] (the machine's, or a process/container limit); a scene whose
   /// estimated peak exceeds it is refused at its mesh keys. 0: unknown, nothing is refused.
   double memory_limit_bytes = 0.0;
+  /// Long set-up (a large mesh, the hub-beam's matrices) polls its stop flag and reports progress
+  /// through it; a model that builds later (at its start()) keeps a copy. Empty: never stopped.
+  SetupMonitor setup;
 };
 
 }  // namespace ff::scene

@@ -451,6 +451,56 @@ void check_thickness_against_radius(const Document& d, const std::string& thickn
   throw SceneError({d.issue(thickness_key, m), d.issue("mesh.radius", m)});
 }
 
+namespace {
+// nodes of generator `gen` with these counts (mesh::*_node_count, the generators' own merging);
+// keys the generator would refuse (an O-grid span that is not 90, 180 or 360 degrees) count as
+// an open patch, and the generator then refuses them
+long long node_count(const Document& d, const std::string& gen, int n1, int n2, int n3) {
+  const auto span_is = [&](double degrees) {
+    return std::abs(std::abs(d.number("mesh.end_angle") - d.number("mesh.start_angle")) - degrees) <= 1e-9 * 360.0;
+  };
+  const auto o_grid = [&](int n_ring, int n_rim) {
+    for (int q : {1, 2, 4})
+      if (span_is(90.0 * q) && n_rim % (2 * q) == 0) return mesh::polar_o_grid_node_count(n_ring, n_rim, q);
+    return mesh::patch_node_count(n_ring, n_rim);
+  };
+  // a 360 degree seam is merged (assemble() within a fraction of the shortest edge); with a single
+  // element around, that edge joins the seam's two lips and has no length, and nothing merges
+  const bool full_turn = span_is(360.0);
+  if (gen == "rectangular_plate") return mesh::patch_node_count(n1, n2);
+  if (gen == "l_plate") return mesh::l_plate_node_count(n1, n2);
+  if (gen == "folded_plate") return mesh::folded_plate_node_count(n1, n3 > 0 ? n3 : n1, n2);
+  if (gen == "cylinder") return mesh::patch_node_count(n1, n2, full_turn && !d.boolean("mesh.slit") && n1 > 1, false);
+  if (gen == "annulus") {
+    if (d.number("mesh.inner_radius") == 0.0 && !d.boolean("mesh.slit")) return o_grid(n1, n2);
+    return mesh::patch_node_count(n1, n2, false, full_turn && !d.boolean("mesh.slit") && n2 > 1);
+  }
+  if (gen == "spherical_cap") {
+    if (d.number("mesh.polar_start") == 0.0) return o_grid(n1, n2);
+    return mesh::patch_node_count(n1, n2, false, full_turn && n2 > 1);
+  }
+  return 0;
+}
+}  // namespace
+
+GeneratedMeshSize generated_mesh_size(const Document& d) {
+  const std::string& gen = d.string("mesh.generator");
+  const int n1 = count(d, "n1"), n2 = count(d, "n2"), n3 = count(d, "n3");
+  GeneratedMeshSize size;
+  size.nodes = node_count(d, gen, n1, n2, n3);
+  size.key = "mesh.generator";
+  long long smallest = size.nodes;
+  const std::vector<std::string> keys = gen == "folded_plate" ? std::vector<std::string>{"n1", "n2", "n3"}
+                                                              : std::vector<std::string>{"n1", "n2"};
+  for (const std::string& k : keys) {
+    if (!d.present("mesh." + k)) continue;
+    // n3 = 0 follows n1, so n1 then sizes both legs
+    const long long without = node_count(d, gen, k == "n1" ? 1 : n1, k == "n2" ? 1 : n2, k == "n3" ? 1 : n3);
+    if (size.key == "mesh.generator" || without < smallest) smallest = without, size.key = "mesh." + k;
+  }
+  return size;
+}
+
 mesh::ShellMesh generate_mesh(const Document& d) {
   const std::string& gen = d.string("mesh.generator");
   check_keys(d, gen);

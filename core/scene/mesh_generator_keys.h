@@ -29,4 +29,13 @@ void check_thickness_against_radius(const Document& d, const std::string& thickn
 /// The mesh of a parametric generator (mesh.generator != "file"), built from the [mesh] keys.
 mesh::ShellMesh generate_mesh(const Document& d);
 
+/// The size of the mesh generate_mesh(d) would build, counted from the keys without building it.
+struct GeneratedMeshSize {
+  long long nodes = 0;  ///< exactly generate_mesh(d).node_count() (for keys the generator accepts)
+  /// the count key that makes the mesh large: of mesh.n1, n2, n3 (those the generator reads and the
+  /// scene gives), the one whose reduction to 1 would shrink it most; "mesh.generator" when none is given
+  std::string key;
+};
+GeneratedMeshSize generated_mesh_size(const Document& d);
+
 }  // namespace ff::scene

@@ -4,6 +4,7 @@
 #include <limits>
 #include <map>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -16,6 +17,8 @@
 #include "core/scene/scene_common.h"
 #include "core/scene/timeline.h"
 #include "core/scene/shell_scene.h"
+#include "core/scene/mesh_generator_keys.h"
+#include "core/shell/shell_model.h"
 
 namespace ff::scene {
 
@@ -88,7 +91,7 @@ bool has(const std::vector<std::string>& v, const char* name) {
   return std::find(v.begin(), v.end(), name) != v.end();
 }
 
-std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string& path, const SceneContext&) {
+std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string& path, const SceneContext& ctx) {
   using namespace ff::hubbeam;
   const std::vector<std::string> effects = d.strings("scene.effects");
   for (const char* needed : {"inertia", "bending"})
@@ -135,24 +138,41 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
   fx.first_order_coupling = has(effects, "first_order_coupling");
   fx.hub_torque = has(effects, "hub_torque");
 
-  std::unique_ptr<BeamBasis> basis;
   const std::string method = d.string("discretization.method");
-  try {
-    if (method == "efg") {
-      EfgOptions o;
-      o.nodes = static_cast<int>(d.integer("efg.nodes"));
-      o.scale = d.number("efg.scale");
-      o.gauss_points = static_cast<int>(d.integer("efg.gauss_points"));
-      o.cells = static_cast<int>(d.integer("efg.cells"));
-      o.basis_order = static_cast<int>(d.integer("efg.basis_order"));
-      o.axial_basis_order = static_cast<int>(d.integer("efg.axial_basis_order"));
-      basis = make_efg_basis(p.length, o);
-    } else {
-      FemOptions o;
-      o.elements = static_cast<int>(d.integer("fem.elements"));
-      o.gauss_points = static_cast<int>(d.integer("fem.gauss_points"));
-      basis = make_fem_basis(p.length, o);
+  // the basis from the scene's keys: built here once, so that a support too small for its basis is
+  // refused at its key by `check` too, and again by the run's set-up (cheap beside the matrices);
+  // the memory estimate first, so that a beam that cannot fit is refused before anything is built
+  EfgOptions efg;
+  efg.nodes = static_cast<int>(d.integer("efg.nodes"));
+  efg.scale = d.number("efg.scale");
+  efg.gauss_points = static_cast<int>(d.integer("efg.gauss_points"));
+  efg.cells = static_cast<int>(d.integer("efg.cells"));
+  efg.basis_order = static_cast<int>(d.integer("efg.basis_order"));
+  efg.axial_basis_order = static_cast<int>(d.integer("efg.axial_basis_order"));
+  FemOptions fem;
+  fem.elements = static_cast<int>(d.integer("fem.elements"));
+  fem.gauss_points = static_cast<int>(d.integer("fem.gauss_points"));
+  // values, not the document: the run's set-up calls this after the document is gone
+  auto make_basis = [efg, fem, efg_method = method == "efg", length = p.length]() {
+    return efg_method ? make_efg_basis(length, efg) : make_fem_basis(length, fem);
+  };
+  const std::string count_key = method == "efg" ? "efg.nodes" : "fem.elements";
+  const int beam_nodes = method == "efg" ? efg.nodes : fem.elements + 1;
+  if (ctx.memory_limit_bytes > 0) {
+    const double need = estimated_peak_bytes(beam_nodes, fx.axial);
+    if (need > ctx.memory_limit_bytes) {
+      std::ostringstream m;
+      m.precision(3);
+      m << "a run with " << beam_nodes << " beam nodes (dense matrices of " << 1 + (fx.axial ? 3 : 2) * (beam_nodes - 1)
+        << " DoFs) would need about " << need / 1e9 << " GB, more than the " << ctx.memory_limit_bytes / 1e9
+        << " GB this machine allows; use fewer";
+      fail_at(d, count_key, m.str());
     }
+  }
+  try {
+    // the shape functions where the run's set-up will evaluate them (not the matrices)
+    const std::unique_ptr<BeamBasis> basis = make_basis();
+    basis->check_points(evaluation_points(*basis, p.length, fx.first_order_coupling));
   } catch (const std::invalid_argument& e) {
     fail_at(d, method == "efg" ? "efg.scale" : "fem.elements", e.what());
   }
@@ -172,10 +192,14 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
 
   for (const ParameterChange& c : read_timeline(d, rs.t_end).changes)
     if (c.key == "torque_scale") rs.torque_scale_changes.push_back({c.at, c.value[0]});
-  auto system = std::make_unique<HubBeamSystem>(p, fx, std::move(basis), d.number("solver.max_tip_deflection_ratio"));
+  // the matrices are built when the run starts (HubBeamSimulation::start): `check` stops here
+  const double validity_ratio = d.number("solver.max_tip_deflection_ratio");
+  HubBeamSystemBuilder build = [p, fx, validity_ratio, make_basis](const SetupMonitor& monitor) {
+    return std::make_unique<HubBeamSystem>(p, fx, make_basis(), validity_ratio, monitor);
+  };
   RunInfo info;
   describe_run(d, path, info);
-  return std::make_unique<HubBeamSimulation>(std::move(system), rs, std::move(info));
+  return std::make_unique<HubBeamSimulation>(std::move(build), ctx.setup, p, fx, rs, std::move(info));
 }
 
 
@@ -333,6 +357,46 @@ std::string change_live(LoadedScene& scene, const std::string& key, const std::s
       },
       v);
   return scene.simulation->change_live(key, typed);
+}
+
+double estimated_run_bytes(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
+  try {
+    const std::string text = read_text(path);
+    const Peeked peeked = peek_model_text(text, path);
+    refuse_unknown_model(peeked, path, text);
+    const ModelKind& kind = kind_or_first(peeked);
+    const Document d = validate_file(kind.schema(), path, overrides);
+    const std::vector<std::string> fx = d.strings("scene.effects");
+    const bool drilling = has(fx, "drilling");
+    if (kind.name == "hub_beam")
+      return hubbeam::estimated_peak_bytes(d.string("discretization.method") == "efg"
+                                               ? static_cast<int>(d.integer("efg.nodes"))
+                                               : static_cast<int>(d.integer("fem.elements")) + 1,
+                                           has(fx, "axial"));
+    if (kind.name == "shell_static") {
+      long long nodes = 0;
+      if (!mesh_from_file(d)) {
+        nodes = generated_mesh_size(d).nodes;
+      } else if (ctx.mesh_reader) {
+        mesh::ShellMesh m;
+        std::string error;
+        if (!ctx.mesh_reader({(std::filesystem::path(path).parent_path() / d.string("mesh.file")).string(),
+                              d.number("mesh.weld_tolerance")},
+                             m, &error))
+          return 0.0;
+        nodes = m.node_count();
+      }
+      return shell::estimated_peak_bytes(static_cast<int>(std::min<long long>(nodes, std::numeric_limits<int>::max())),
+                                         drilling ? 1.0 : 0.0);
+    }
+    // shell_dynamic: every body's patch, as the static fit of the loader (a closed seam counted open)
+    long long nodes = 0;
+    for (std::size_t i = 0; i < d.count("shell"); ++i)
+      nodes += (d.integer("shell.n1", i) + 1) * (d.integer("shell.n2", i) + 1);
+    return nodes > 0 ? shell::estimated_peak_bytes(static_cast<int>(nodes), drilling ? 1.0 : 0.0) : 0.0;
+  } catch (const SceneError&) {
+    return 0.0;
+  }
 }
 
 std::string check_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {

@@ -83,8 +83,17 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
 /// text for a key that is not live or a value that does not validate, or the model's reason.
 std::string change_live(LoadedScene& scene, const std::string& key, const std::string& value);
 
-/// Validation only (for `flexframe check`): also builds the model, so numerical set-up errors
-/// (e.g. an EFG support too small for its basis) are found too. Returns a one-line description.
+/// The estimated peak memory [bytes] of a run of the scene, from its keys (no model is built; a
+/// mesh file is read for its node count): the figure `check` and `run` compare with the memory
+/// limit, for callers that run several scenes side by side (`study --jobs`). 0 when the scene does
+/// not validate (its run reports why).
+double estimated_run_bytes(const std::string& path, const std::vector<std::string>& overrides = {},
+                           const SceneContext& ctx = {});
+
+/// Validation only (for `flexframe check`): also builds the model as far as a run would refuse it
+/// at start-up, so numerical set-up errors (e.g. an EFG support too small for its basis at any
+/// point where the matrices evaluate it) are found too, but not what a valid scene only needs to
+/// run (the hub-beam's dense matrices: built at the run's start). Returns a one-line description.
 std::string check_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                         const SceneContext& ctx = {});
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/mesh/generators.h"
@@ -193,6 +194,26 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
       throw SceneError({d.issue("scene.effects", std::string("a shell_dynamic scene needs the effect '") + needed + "'")});
 
   MultibodySpec spec;
+  // every body's nodes from its counts (a 360-degree arc merges its seam), so that bodies that
+  // cannot fit are refused at the largest one's count before any mesh is built
+  std::string count_key = "shell.n1";
+  {
+    long long total = 0, largest_nodes = -1;
+    std::size_t largest = 0;
+    for (std::size_t i = 0; i < d.count("shell"); ++i) {
+      const int n1 = static_cast<int>(d.integer("shell.n1", i)), n2 = static_cast<int>(d.integer("shell.n2", i));
+      const double span = std::abs(d.number("shell.phi_end", i) - d.number("shell.phi_start", i));
+      const bool closed = d.string("shell.generator", i) == "cut_cylinder" && std::abs(span - 360.0) <= 1e-9 * 360.0 && n1 > 1;
+      const long long nodes = mesh::patch_node_count(n1, n2, closed, false);
+      total += nodes;
+      if (nodes > largest_nodes) largest_nodes = nodes, largest = i;
+    }
+    if (total > 0) {
+      count_key = d.integer("shell.n1", largest) >= d.integer("shell.n2", largest) ? "shell.n1" : "shell.n2";
+      refuse_oversized(d, ctx, static_cast<int>(std::min<long long>(total, std::numeric_limits<int>::max())),
+                       has("drilling") ? 1.0 : 0.0, count_key, static_cast<int>(largest));
+    }
+  }
   std::vector<std::string> names;
   for (std::size_t i = 0; i < d.count("shell"); ++i) {
     ShellBodySpec b;
@@ -217,7 +238,7 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
       total += spec.shells[i].mesh.node_count();
       if (spec.shells[i].mesh.node_count() > spec.shells[largest].mesh.node_count()) largest = static_cast<int>(i);
     }
-    if (total > 0) refuse_oversized(d, ctx, total, has("drilling") ? 1.0 : 0.0, "shell.n1", largest);
+    if (total > 0) refuse_oversized(d, ctx, total, has("drilling") ? 1.0 : 0.0, count_key, largest);
   }
   for (std::size_t i = 0; i < d.count("rigid"); ++i) {
     RigidBodySpec r;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 
 #include "core/mesh/generators.h"
 #include "core/mesh/node_sets.h"
@@ -150,11 +151,16 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   if (!has("elastic")) throw SceneError({d.issue("scene.effects", "a shell_static scene needs the effect 'elastic'")});
 
   ShellModelSpec spec;
-  // n1 x n2 quads at least (a lower bound on the nodes of every generator): refuse a mesh that
-  // cannot fit before spending seconds generating it
-  if (!mesh_from_file(d))
-    refuse_oversized(d, ctx, static_cast<int>(d.integer("mesh.n1") * d.integer("mesh.n2")), has("drilling") ? 1.0 : 0.0,
-                     "mesh.n1");
+  // the generator's node count from its keys (exact, nothing built): a mesh that cannot fit is
+  // refused at the count key that makes it large before seconds go into generating it
+  std::string size_key = "mesh.file";
+  if (!mesh_from_file(d)) {
+    const GeneratedMeshSize size = generated_mesh_size(d);
+    size_key = size.key;
+    refuse_oversized(d, ctx, static_cast<int>(std::min<long long>(size.nodes, std::numeric_limits<int>::max())),
+                     has("drilling") ? 1.0 : 0.0, size.key);
+    ctx.setup.poll("generating the mesh", 0.0);
+  }
   if (!mesh_from_file(d)) {
     spec.mesh = generate_mesh(d);
     check_thickness_against_radius(d, "material.thickness");
@@ -168,7 +174,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     int six = 0;
     for (std::uint8_t f : spec.mesh.fold) six += f != 0;
     const double six_fraction = has("drilling") ? 1.0 : spec.mesh.node_count() > 0 ? double(six) / spec.mesh.node_count() : 0.0;
-    refuse_oversized(d, ctx, spec.mesh.node_count(), six_fraction, mesh_from_file(d) ? "mesh.file" : "mesh.n1");
+    refuse_oversized(d, ctx, spec.mesh.node_count(), six_fraction, size_key);
   }
   spec.section = {d.number("material.youngs_modulus"), d.number("material.poisson_ratio"),
                   d.number("material.thickness"), d.number("material.shear_factor")};

@@ -468,7 +468,9 @@ std::vector<std::pair<const char*, Mutation>> ply_ascii_mutations() {
       {"duplicate line", duplicate_line},
       {"element count",
        [=](const std::string& t, Rng& r) {
-         return token_mutation(t, r, element, 2, {"0", "1", "24", "26", "-1", "4294967295", "2147483648", "x"});
+         // 1000000000, 1e9: a count the file cannot hold (issue 30: readers allocated for it first)
+         return token_mutation(t, r, element, 2,
+                               {"0", "1", "24", "26", "-1", "4294967295", "2147483648", "x", "1000000000", "1e9"});
        }},
       {"list count", [=](const std::string& t, Rng& r) { return token_mutation(t, r, face, 0, {"0", "3", "5", "255", "-1", "256"}); }},
       {"index out of range",
@@ -556,7 +558,7 @@ std::vector<std::pair<const char*, Mutation>> ply_binary_mutations() {
       {"element count",
        [](const std::string& t, Rng& r) {
          return token_mutation(t, r, [](const std::string& l) { return starts_with(l, "element "); }, 2,
-                               {"0", "24", "26", "4294967295", "100000000"});
+                               {"0", "24", "26", "4294967295", "100000000", "1000000000"});
        }},
       {"format",
        [](const std::string& t, Rng& r) {
