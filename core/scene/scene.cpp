@@ -379,7 +379,7 @@ double estimated_run_bytes(const std::string& path, const std::vector<std::strin
         nodes = generated_mesh_size(d).nodes;
       } else if (ctx.mesh_reader) {
         mesh::ShellMesh m;
-        std::string error;
+        MeshFileError error;
         if (!ctx.mesh_reader({(std::filesystem::path(path).parent_path() / d.string("mesh.file")).string(),
                               d.number("mesh.weld_tolerance")},
                              m, &error))
