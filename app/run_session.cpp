@@ -280,6 +280,9 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   if (!store_error.empty()) std::fprintf(stderr, "warning: results.h5: %s\n", store_error.c_str());
   if (!render_error.empty()) std::fprintf(stderr, "warning: frames not rendered: %s\n", render_error.c_str());
   if (!plot_error.empty()) std::fprintf(stderr, "warning: plots: %s\n", plot_error.c_str());
+  const auto unreached = sim.metrics_unreached();  // kept in summary.json as null, with why
+  for (const auto& [name, why] : unreached)
+    std::fprintf(stderr, "warning: metric '%s' has no value: %s\n", name.c_str(), why.c_str());
 
   // movie of the frames; mesh exports of the same frames, read back from results.h5
   const fs::path movie_path = dir / "movie.mp4";
@@ -309,6 +312,11 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   using Json = nlohmann::ordered_json;
   Json metrics = Json::object();
   for (const auto& [k, v] : result.metrics) metrics[k] = v;
+  Json metrics_unreached = Json::object();
+  for (const auto& [name, why] : unreached) {
+    metrics[name] = nullptr;
+    metrics_unreached[name] = why;
+  }
   Json effect_stats = Json::object();  // only the effects that ran
   for (const EffectStat& e : sim.effect_stats()) {
     Json one = {{"evaluations", e.evaluations}, {"time_s", e.seconds}};  // NaN (fused, not timed apart): null
@@ -342,6 +350,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       {"steps_per_second", outcome.wall_time_s > 0 ? result.totals.steps / outcome.wall_time_s : 0.0},
       {"effects", info.effects},
       {"metrics", metrics},
+      {"metrics_unreached", metrics_unreached},
       {"events", events},
       {"effect_stats", effect_stats},
       {"outputs", outputs},
