@@ -128,6 +128,7 @@ struct VariantRun {
   std::vector<double> walls, cpus;  ///< one per repetition
   bool shared = false;              ///< other variants ran at the same time
   std::string scene_hash;           ///< scene_fingerprint when the run started (--resume compares it)
+  std::vector<std::pair<std::string, std::string>> metrics_unreached;  ///< metrics without a value: why
 };
 
 using Json = nlohmann::ordered_json;
@@ -206,7 +207,13 @@ void write_variant_run(const fs::path& file, const std::string& label, const std
   j["reason"] = r.reason;
   Json m = Json::object();
   for (const auto& [name, value] : r.metrics) m[name] = finite_or_null(value);
+  Json unreached = Json::object();  // as run's summary.json: null with the reason
+  for (const auto& [name, why] : r.metrics_unreached) {
+    m[name] = nullptr;
+    unreached[name] = why;
+  }
   j["metrics"] = m;
+  j["metrics_unreached"] = unreached;
   j["steps"] = r.steps;
   j["newton_iterations"] = r.iterations;
   j["jacobian_updates"] = r.updates;
@@ -257,8 +264,14 @@ std::optional<VariantRun> read_variant_run(const fs::path& file, const StudyVari
       }
     }
     r.reason = j.value("reason", std::string());
-    for (const auto& [name, value] : j.at("metrics").items())
+    const Json unreached = j.value("metrics_unreached", Json::object());
+    for (const auto& [name, value] : j.at("metrics").items()) {
+      if (value.is_null() && unreached.contains(name)) {
+        r.metrics_unreached.emplace_back(name, unreached.at(name).get<std::string>());
+        continue;
+      }
       r.metrics.emplace_back(name, value.is_number() ? value.get<double>() : NAN);
+    }
     r.steps = j.value("steps", 0LL);
     r.iterations = j.value("newton_iterations", 0LL);
     r.updates = j.value("jacobian_updates", 0LL);
@@ -307,6 +320,7 @@ bool run_repetition(const std::string& scene, const std::vector<std::string>& ov
     out.status = to_string(r.outcome.status);
     out.reason = r.outcome.reason;
     out.metrics = r.metrics;
+    out.metrics_unreached = r.metrics_unreached;
     out.steps = r.totals.steps;
     out.iterations = r.totals.newton_iterations;
     out.updates = r.totals.jacobian_updates;
@@ -732,6 +746,10 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     if (r.status == "invalid")
       throw InputError("variant " + entries[e].label + " (study '" + spec.name + "'): " + r.reason);
     if (r.status == "completed" && !std::isfinite(metric(r.metrics, spec.metric))) {
+      for (const auto& [name, why] : r.metrics_unreached)  // the scene has it; this run gave it no value
+        if (name == spec.metric)
+          throw InputError("variant " + label_of(e) + " (study '" + spec.name + "'): metric '" + spec.metric +
+                           "' has no value: " + why);
       std::string names;
       for (const auto& [name, value] : r.metrics) names += " " + name;
       throw InputError("scene " + fs::path(entries[e].scene).stem().string() + " has no metric '" + spec.metric +

@@ -390,6 +390,26 @@ TEST(CliStudy, ResumeRunsAgainAVariantWhoseSceneWasEdited) {
     EXPECT_NE(after[i].at("tip_transverse_at_2s_m"), before[i].at("tip_transverse_at_2s_m")) << i;
 }
 
+// issue 30, item 6: a variant whose path never reaches the metric's load lost the metric from its
+// summary, and the study blamed the name ("scene ... has no metric"); the variant's summary keeps
+// it as null with the reason, and the study's refusal gives that reason (--jobs 2: the variants'
+// own processes write their summaries before the study looks at them)
+TEST(CliStudy, AMetricAVariantNeverReachesIsNamedWithTheReason) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_flexframe({"study", "cantilever_rollup", "--vary", "solver.end=0.4,1.0", "--metric",
+                                      "tip_u_half", "--jobs", "2", "--out", dir + "/out"},
+                                     dir + "/study");
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find("metric 'tip_u_half' has no value: end moment M 1488.99 never reached"), std::string::npos)
+      << r.describe();
+  EXPECT_EQ(r.err.find("has no metric"), std::string::npos) << r.describe();
+  const std::string summary = read_text(dir + "/out/runs/000/summary.json");
+  EXPECT_NE(summary.find("\"tip_u_half\": null"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"metrics_unreached\": {\n    \"tip_u_half\": \"end moment M 1488.99 never reached"),
+            std::string::npos)
+      << summary;
+}
+
 /// mpirun on the PATH, or "".
 std::string find_mpirun() {
   const char* path = std::getenv("PATH");
