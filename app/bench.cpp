@@ -2,11 +2,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <stdlib.h>
-#include <fstream>
 
 #include "app/io/mesh_import.h"
 #include "app/run_session.h"
@@ -119,7 +120,7 @@ int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
                                          {"shell_quads", shell.quads},
                                          {"shell_frames_per_second_1280x720", shell.frames_per_second},
                                          {"render_backend", hub.backend}};
-    std::ofstream(opt.out_file) << root.dump(2) << "\n";
+    if (!write_bench_json(opt.out_file, root.dump(2) + "\n")) return 1;
   }
   return stop ? 130 : 0;
 }
@@ -162,9 +163,21 @@ int run_scene_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   }
   if (!opt.out_file.empty()) {
     const nlohmann::ordered_json root = {{"repeat", opt.repeat}, {"overrides", opt.overrides}, {"scenes", rows}};
-    std::ofstream(opt.out_file) << root.dump(2) << "\n";
+    if (!write_bench_json(opt.out_file, root.dump(2) + "\n")) return 1;
   }
   return stop ? 130 : code;
+}
+
+bool write_bench_json(const std::string& path, const std::string& text) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  int error = f ? 0 : errno;
+  if (f) {
+    if (std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fflush(f) != 0) error = errno;
+    if (std::fclose(f) != 0 && error == 0) error = errno;  // a full disk may only show here
+  }
+  if (error == 0) return true;
+  std::fprintf(stderr, "error: cannot write %s: %s\n", path.c_str(), std::strerror(error));
+  return false;
 }
 
 }  // namespace ff::app

@@ -29,4 +29,8 @@ int run_solve_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// matrix updates (factorizations), so a user times a scene of their own or two builds on it.
 /// Exit 0 when every run completed, otherwise the exit code of the first that did not.
 int run_scene_bench(const BenchOptions& options, const std::atomic<bool>& stop);
+/// Writes a bench's --json file and checks every step (open, write, close): on failure prints
+/// "error: cannot write PATH: <why>" and returns false, and the command exits 1; a benchmark whose
+/// numbers were not stored has failed.
+bool write_bench_json(const std::string& path, const std::string& text);
 }  // namespace ff::app

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -235,7 +234,7 @@ int run_effects_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
                                          {"repeat", opt.repeat},
                                          {"omp_num_threads", threads ? threads : ""},
                                          {"effects", json_rows}};
-    std::ofstream(opt.out_file) << root.dump(2) << "\n";
+    if (!write_bench_json(opt.out_file, root.dump(2) + "\n")) return 1;
   }
   return 0;
 }

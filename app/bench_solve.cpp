@@ -8,7 +8,6 @@
 #include <cmath>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -201,12 +200,9 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
     plates.push_back(row);
   }
   if (!opt.out_file.empty()) {
-    std::ofstream f(opt.out_file);
-    if (!f) {
-      std::fprintf(stderr, "error: cannot write %s\n", opt.out_file.c_str());
-      return 1;
-    }
-    f << nlohmann::ordered_json{{"element", element}, {"plate", plates}, {"blas", blas}, {"mumps_statistics", mumps_statistics()}}.dump(2) << "\n";
+    const nlohmann::ordered_json root{
+        {"element", element}, {"plate", plates}, {"blas", blas}, {"mumps_statistics", mumps_statistics()}};
+    if (!write_bench_json(opt.out_file, root.dump(2) + "\n")) return 1;
   }
   return stop ? 130 : 0;
 }

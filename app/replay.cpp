@@ -99,15 +99,16 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
               info.time_unit.c_str(), static_cast<long long>(outcome.steps));
   if (!outcome.reason.empty()) std::printf("  reason: %s\n", outcome.reason.c_str());
 
+  // a file without a frame is bad input (exit 2), found before anything is written: replay was
+  // asked for frames, plots or exports and can make none, which exit 0 would call a success
+  if (count == 0)
+    throw InputError(path + " holds no complete frame: nothing to replay (stored run: " + to_string(outcome.status) +
+                     " after " + std::to_string(outcome.steps) + " steps)");
   const fs::path dir = opt.out_dir.empty() ? fs::absolute(path).parent_path() / "replay" : fs::path(opt.out_dir);
   const fs::path frames_dir = dir / "frames", plots_dir = dir / "plots";
   // the folder's lock before any file in it is touched; an earlier replay's recorded outputs go
   OutputFolder folder(dir, "replay");
   for (const char* earlier : {"frames/", "plots/", "export/", "movie.mp4"}) folder.remove_earlier(earlier);
-  if (count == 0) {
-    std::printf("  nothing to replay: the file holds no complete frame\n");
-    return 0;
-  }
   const std::vector<std::size_t> selection = frame_selection(count, opt.frame_every, true);
   int status = 0;
 

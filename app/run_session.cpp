@@ -353,6 +353,9 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   record_write_failure();  // the plots are written while results.h5 closes
   if (no_graphics && !render_error.empty()) std::fprintf(stderr, "warning: frames not rendered: %s\n", render_error.c_str());
   if (no_graphics && !plot_error.empty()) std::fprintf(stderr, "warning: plots: %s\n", plot_error.c_str());
+  const auto unreached = sim.metrics_unreached();  // kept in summary.json as null, with why
+  for (const auto& [name, why] : unreached)
+    std::fprintf(stderr, "warning: metric '%s' has no value: %s\n", name.c_str(), why.c_str());
 
   // mesh exports of the frames, read back from results.h5 (closed by now: a failure here is in
   // summary.json and on the console, while results.h5 keeps the solver's outcome)
@@ -385,6 +388,11 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   using Json = nlohmann::ordered_json;
   Json metrics = Json::object();
   for (const auto& [k, v] : result.metrics) metrics[k] = v;
+  Json metrics_unreached = Json::object();
+  for (const auto& [name, why] : unreached) {
+    metrics[name] = nullptr;
+    metrics_unreached[name] = why;
+  }
   Json effect_stats = Json::object();  // only the effects that ran
   for (const EffectStat& e : sim.effect_stats()) {
     Json one = {{"evaluations", e.evaluations}, {"time_s", e.seconds}};  // NaN (fused, not timed apart): null
@@ -419,6 +427,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       {"steps_per_second", outcome.wall_time_s > 0 ? result.totals.steps / outcome.wall_time_s : 0.0},
       {"effects", info.effects},
       {"metrics", metrics},
+      {"metrics_unreached", metrics_unreached},
       {"events", events},
       {"effect_stats", effect_stats},
       {"outputs", outputs},

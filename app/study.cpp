@@ -25,6 +25,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <toml++/toml.h>
 
 #ifdef FF_HAVE_MPI
 // the C API only: Open MPI's deprecated C++ bindings would need libmpi_cxx
@@ -36,6 +37,7 @@
 #endif
 #endif
 
+#include "app/io/frame_checksum.h"
 #include "app/io/mesh_import.h"
 #include "app/io/machine_memory.h"
 #include "app/process_memory.h"
@@ -128,6 +130,8 @@ struct VariantRun {
   double setup_s = NAN, run_s = NAN, peak_mb = NAN;
   std::vector<double> walls, cpus;  ///< one per repetition
   bool shared = false;              ///< other variants ran at the same time
+  std::string scene_hash;           ///< scene_fingerprint when the run started (--resume compares it)
+  std::vector<std::pair<std::string, std::string>> metrics_unreached;  ///< metrics without a value: why
 };
 
 using Json = nlohmann::ordered_json;
@@ -145,6 +149,56 @@ double number_at(const Json& j, const char* key) {
   return it != j.end() && it->is_number() ? it->get<double>() : NAN;
 }
 
+/// What a variant's result depends on besides its overrides: the bytes of its scene file and of
+/// the mesh files it imports (any `mesh.file`, relative to the scene, also one set by an override),
+/// as "fnv1a64:<hex>" (a check for edits, not a cryptographic hash). --resume runs a variant again
+/// when this differs from the one recorded with its result: the scene was edited in between.
+/// Empty when the scene cannot be read (the run then reports that itself).
+std::string scene_fingerprint(const std::string& scene, const std::vector<std::string>& overrides) {
+  std::uint64_t h = io::kFnvOffset;
+  const auto add_file = [&](const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    const std::string text = bytes.str();
+    const std::string name = file.filename().string();
+    h = io::fnv1a(h, name.data(), name.size());
+    h = io::fnv1a(h, text.data(), text.size());
+  };
+  std::error_code ec;
+  if (!fs::is_regular_file(scene, ec)) return {};
+  add_file(scene);
+  std::vector<std::string> meshes;
+  try {
+    const toml::table doc = toml::parse_file(scene);
+    std::function<void(const toml::node&)> visit = [&](const toml::node& n) {
+      if (const toml::table* t = n.as_table()) {
+        if (const toml::table* mesh = t->get_as<toml::table>("mesh"))
+          if (const auto* file = mesh->get_as<std::string>("file")) meshes.push_back(file->get());
+        for (const auto& [key, child] : *t) visit(child);
+      } else if (const toml::array* a = n.as_array()) {
+        for (const toml::node& child : *a) visit(child);
+      }
+    };
+    visit(doc);
+  } catch (const std::exception&) {  // not TOML: the scene's own text is all there is to compare
+  }
+  for (const std::string& o : overrides) {  // mesh.file="other.obj"
+    const std::size_t eq = o.find('=');
+    if (eq == std::string::npos || o.compare(0, eq, "mesh.file") != 0) continue;
+    std::string v = o.substr(eq + 1);
+    if (v.size() >= 2 && (v.front() == '"' || v.front() == '\'')) v = v.substr(1, v.size() - 2);
+    meshes.push_back(v);
+  }
+  for (const std::string& m : meshes) {
+    const fs::path file = fs::path(m).is_absolute() ? fs::path(m) : fs::path(scene).parent_path() / m;
+    if (fs::is_regular_file(file, ec)) add_file(file);
+  }
+  char b[32];
+  std::snprintf(b, sizeof b, "fnv1a64:%016llx", static_cast<unsigned long long>(h));
+  return b;
+}
+
 /// Written to a temporary name first, so a killed study never leaves half a summary behind.
 void write_variant_run(const fs::path& file, const std::string& label, const std::string& scene,
                        const std::vector<std::string>& overrides, const VariantRun& r) {
@@ -156,7 +210,13 @@ void write_variant_run(const fs::path& file, const std::string& label, const std
   j["reason"] = r.reason;
   Json m = Json::object();
   for (const auto& [name, value] : r.metrics) m[name] = finite_or_null(value);
+  Json unreached = Json::object();  // as run's summary.json: null with the reason
+  for (const auto& [name, why] : r.metrics_unreached) {
+    m[name] = nullptr;
+    unreached[name] = why;
+  }
   j["metrics"] = m;
+  j["metrics_unreached"] = unreached;
   j["steps"] = r.steps;
   j["newton_iterations"] = r.iterations;
   j["jacobian_updates"] = r.updates;
@@ -169,6 +229,7 @@ void write_variant_run(const fs::path& file, const std::string& label, const std
   j["wall_s"] = w;
   j["cpu_s"] = c;
   j["shared"] = r.shared;
+  j["scene_hash"] = r.scene_hash;
   fs::create_directories(file.parent_path());
   const fs::path tmp = file.string() + ".tmp";
   {
@@ -180,7 +241,10 @@ void write_variant_run(const fs::path& file, const std::string& label, const std
 }
 
 /// The run recorded in `file` when it is of this variant (same scene and overrides) and has a status.
-std::optional<VariantRun> read_variant_run(const fs::path& file, const StudyVariant& v) {
+/// With `edited`, also only when it ran on the scene as it is now (scene_fingerprint); otherwise
+/// *edited says what changed (--resume then runs the variant again and says so).
+std::optional<VariantRun> read_variant_run(const fs::path& file, const StudyVariant& v,
+                                           std::string* edited = nullptr) {
   std::ifstream in(file);
   if (!in) return std::nullopt;
   Json j;
@@ -192,9 +256,25 @@ std::optional<VariantRun> read_variant_run(const fs::path& file, const StudyVari
     VariantRun r;
     r.status = j.value("status", std::string());
     if (r.status.empty()) return std::nullopt;
+    r.scene_hash = j.value("scene_hash", std::string());
+    if (edited) {
+      const std::string now = scene_fingerprint(v.scene, v.overrides);
+      if (r.scene_hash != now) {
+        *edited = r.scene_hash.empty() ? "its result records no scene hash"
+                                       : "its scene or mesh file changed since it ran (" + r.scene_hash + ", now " +
+                                             (now.empty() ? std::string("unreadable") : now) + ")";
+        return std::nullopt;
+      }
+    }
     r.reason = j.value("reason", std::string());
-    for (const auto& [name, value] : j.at("metrics").items())
+    const Json unreached = j.value("metrics_unreached", Json::object());
+    for (const auto& [name, value] : j.at("metrics").items()) {
+      if (value.is_null() && unreached.contains(name)) {
+        r.metrics_unreached.emplace_back(name, unreached.at(name).get<std::string>());
+        continue;
+      }
       r.metrics.emplace_back(name, value.is_number() ? value.get<double>() : NAN);
+    }
     r.steps = j.value("steps", 0LL);
     r.iterations = j.value("newton_iterations", 0LL);
     r.updates = j.value("jacobian_updates", 0LL);
@@ -216,6 +296,7 @@ std::optional<VariantRun> read_variant_run(const fs::path& file, const StudyVari
 bool run_repetition(const std::string& scene, const std::vector<std::string>& overrides, VariantRun& out,
                     const std::atomic<bool>& stop) {
   const bool first = out.status.empty();
+  if (first) out.scene_hash = scene_fingerprint(scene, overrides);  // before the run: an edit during it counts
   const double rss0 = resident_mb();
   const bool reset = first && reset_peak_resident();
   const double cpu0 = cpu_seconds();
@@ -242,6 +323,7 @@ bool run_repetition(const std::string& scene, const std::vector<std::string>& ov
     out.status = to_string(r.outcome.status);
     out.reason = r.outcome.reason;
     out.metrics = r.metrics;
+    out.metrics_unreached = r.metrics_unreached;
     out.steps = r.totals.steps;
     out.iterations = r.totals.newton_iterations;
     out.updates = r.totals.jacobian_updates;
@@ -306,6 +388,7 @@ VariantRun collect_child(const Task& t, int wait_status) {
   std::optional<VariantRun> r = read_variant_run(t.folder / "summary.json", t.variant);
   if (r) return *r;
   VariantRun f;
+  f.scene_hash = scene_fingerprint(t.variant.scene, t.variant.overrides);
   f.status = "failed";
   f.reason = WIFSIGNALED(wait_status) ? "its process was killed by signal " + std::to_string(WTERMSIG(wait_status))
                                       : "its process exited with code " + std::to_string(WEXITSTATUS(wait_status)) +
@@ -704,6 +787,10 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     if (r.status == "invalid")
       throw InputError("variant " + entries[e].label + " (study '" + spec.name + "'): " + locate_in_study_file(spec, r.reason));
     if (r.status == "completed" && !std::isfinite(metric(r.metrics, spec.metric))) {
+      for (const auto& [name, why] : r.metrics_unreached)  // the scene has it; this run gave it no value
+        if (name == spec.metric)
+          throw InputError("variant " + label_of(e) + " (study '" + spec.name + "'): metric '" + spec.metric +
+                           "' has no value: " + why);
       std::string names;
       for (const auto& [name, value] : r.metrics) names += " " + name;
       throw InputError("scene " + fs::path(entries[e].scene).stem().string() + " has no metric '" + spec.metric +
@@ -713,7 +800,10 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
   if (options.resume) {
     std::size_t n = 0;
     for (std::size_t e = 0; e < entries.size(); ++e) {
-      runs[e] = read_variant_run(folders[e] / "summary.json", entries[e]);
+      std::string edited;
+      runs[e] = read_variant_run(folders[e] / "summary.json", entries[e], &edited);
+      if (!edited.empty())
+        std::fprintf(stderr, "resume: %s runs again: %s\n", label_of(e).c_str(), edited.c_str());
       // bad input is checked again (and refused again) rather than taken over
       if (runs[e] && runs[e]->status == "invalid") runs[e].reset();
       if (runs[e] && !is_ref(e) && !exclusive && !complete_timing(*runs[e], repeat, false)) runs[e].reset();

@@ -42,6 +42,7 @@ TimedRun timed_run(const std::string& scene_path, const std::vector<std::string>
   if (failure) std::rethrow_exception(failure);
   r.run_s = seconds_since(t0);
   r.metrics = s.simulation->metrics();
+  r.metrics_unreached = s.simulation->metrics_unreached();
   r.totals = s.simulation->totals();
   return r;
 }

@@ -14,6 +14,7 @@ struct TimedRun {
   double run_s = 0.0;    ///< time stepping incl. frame assembly
   RunOutcome outcome;
   Metrics metrics;
+  std::vector<std::pair<std::string, std::string>> metrics_unreached;  ///< asked for, no value: why
   SolverTotals totals;
   double total_s() const { return setup_s + run_s; }
 };

@@ -1,15 +1,24 @@
 #include "core/assembly/element_threads.h"
 
+#include "core/assembly/element_thread_pool.h"
+
+#if FF_ELEMENT_THREADS_TBB
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include <algorithm>
 #include <array>
-#include <cstdlib>
 #include <memory>
 #include <mutex>
+#else
+#include <sched.h>
+
+#include <thread>
+#endif
+
+#include <algorithm>
+#include <cstdlib>
 
 namespace ff::assembly {
 
@@ -23,10 +32,18 @@ int default_threads() {
       const int t = std::atoi(v);
       if (t >= 1) return t;
     }
+#if FF_ELEMENT_THREADS_TBB
     return std::max(1, tbb::info::default_concurrency());  // honours the process's CPU mask
+#else
+    cpu_set_t mask;  // the cores this process may run on, as TBB counts them
+    if (sched_getaffinity(0, sizeof mask, &mask) == 0) return std::max(1, CPU_COUNT(&mask));
+    return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+#endif
   }();
   return n;
 }
+
+#if FF_ELEMENT_THREADS_TBB
 
 // one arena per thread count, made on first use and kept: an arena's workers stay with it
 tbb::task_arena& arena(int threads) {
@@ -38,6 +55,7 @@ tbb::task_arena& arena(int threads) {
   if (!arenas[t]) arenas[t] = std::make_unique<tbb::task_arena>(t);
   return *arenas[t];
 }
+#endif
 }  // namespace
 
 void set_element_threads(int n) { chosen_threads = std::max(1, n); }
@@ -56,9 +74,15 @@ void for_each_chunk(int count, const std::function<void(int begin, int end)>& ch
   const int t = std::min(element_threads_now(), count);
   if (t == 1) return chunk(0, count);
   auto range = [count, t](int c) { return static_cast<int>(static_cast<long long>(count) * c / t); };
+#if FF_ELEMENT_THREADS_TBB
   arena(t).execute([&] {
     tbb::parallel_for(0, t, [&](int c) { chunk(range(c), range(c + 1)); }, tbb::static_partitioner());
   });
+#else
+  run_chunks_on_std_threads(t, [&](int c) { chunk(range(c), range(c + 1)); });
+#endif
 }
+
+const char* element_loop_backend() { return FF_ELEMENT_THREADS_TBB ? "tbb" : "std"; }
 
 }  // namespace ff::assembly

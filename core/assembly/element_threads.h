@@ -7,7 +7,8 @@
 /// frame renderer, or another job of a study, needs (docs/performance.md). A run that renders
 /// frames beside the solver also leaves one core to the renderer while a frame is being rendered
 /// (share_cores_with): a loop thread preempted by the renderer would hold the others at the end of
-/// the loop.
+/// the loop. Configured with -DFLEXFRAME_ELEMENT_THREADS=std the loops run on a std::thread pool
+/// instead (element_thread_pool.h), same ranges, same results, for ThreadSanitizer.
 
 #include <atomic>
 #include <functional>
@@ -34,5 +35,9 @@ int element_threads_now();
 /// caller. Each range is a fixed share of count, so which thread does which item never changes
 /// the results: loops write per-item buffers and sum them afterwards in item order.
 void for_each_chunk(int count, const std::function<void(int begin, int end)>& chunk);
+
+/// The threads for_each_chunk runs on in this build: "tbb" (oneTBB, the default) or "std" (the
+/// std::thread pool of element_thread_pool.h; CMake option FLEXFRAME_ELEMENT_THREADS).
+const char* element_loop_backend();
 
 }  // namespace ff::assembly

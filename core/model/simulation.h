@@ -112,6 +112,10 @@ class Simulation {
 
   /// Metrics of what was computed so far (name -> number), e.g. after the run.
   virtual Metrics metrics() const = 0;
+  /// The metrics the scene asks for that have no value, each with why (e.g. a load the path
+  /// never reached): summary.json keeps them as null under "metrics" and says why under
+  /// "metrics_unreached", and run warns, instead of leaving them out.
+  virtual std::vector<std::pair<std::string, std::string>> metrics_unreached() const { return {}; }
   virtual SolverTotals totals() const = 0;
   /// Effects that were evaluated, with their counts and times (summary.json "effect_stats");
   /// empty where a model does not count them.

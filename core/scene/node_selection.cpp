@@ -88,7 +88,7 @@ void refuse_ambiguous_nearest(const Document& d, const mesh::ShellMesh& m, const
 }
 }  // namespace
 
-void declare_selector_keys(Schema& s, const std::string& t) {
+void declare_selector_keys(Schema& s, const std::string& t, EdgeNames edges) {
   s.choice(t + ".select", "how nodes are chosen", kSelect, "nearest")
       .number_list(t + ".point", "nearest/plane/sphere: a point", std::vector<double>{0, 0, 0}, {}, 3, 3)
       .number_list(t + ".normal", "plane: its normal", std::vector<double>{1, 0, 0}, {}, 3, 3)
@@ -97,8 +97,11 @@ void declare_selector_keys(Schema& s, const std::string& t) {
       .number(t + ".radius", "sphere: radius", 0.0, Range::non_negative())
       .string(t + ".patch", "patch_edge: patch name", std::string("surface"))
       .string(t + ".edge",
-              "patch_edge: which edge, u=0, u=1, v=0, v=1 or the generator's name for it (see [mesh]: e.g. "
-              "\"start_angle\", \"rim\", \"inner\", \"x_min\")",
+              edges == EdgeNames::generator
+                  ? "patch_edge: which edge, u=0, u=1, v=0, v=1 or the generator's name for it (see [mesh]: e.g. "
+                    "\"start_angle\", \"rim\", \"inner\", \"x_min\")"
+                  : "patch_edge: which edge of the body's grid, u=0, u=1, v=0 or v=1 (u runs along shell.n1, v "
+                    "along shell.n2; the bodies' edges have no names)",
               std::string("u=0"))
       .number(t + ".tolerance", "plane/box/sphere tolerance; 0 = automatic (1e-3 x shortest edge)", 0.0,
               Range::non_negative())

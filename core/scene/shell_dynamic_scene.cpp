@@ -99,17 +99,17 @@ const Schema& shell_dynamic_schema() {
                 std::string{})
         .number_list("joint.axis", "revolute: axis direction (global, reference configuration)",
                      std::vector<double>{0, 1, 0}, {}, 3, 3);
-    declare_selector_keys(s, "joint");
+    declare_selector_keys(s, "joint", EdgeNames::parametric_only);
     s.table_array("probe", "node displacements recorded every step (direction . u)", 0, 32)
         .string("probe.name", "probe name (also the plot file name)", std::nullopt)
         .string("probe.label", "plot label", std::string{})
         .string("probe.body", "body the node belongs to", std::nullopt)
         .number_list("probe.direction", "global direction the displacement is projected on", std::nullopt, {}, 3, 3);
-    declare_selector_keys(s, "probe");
+    declare_selector_keys(s, "probe", EdgeNames::parametric_only);
     s.table_array("arc", "curves whose relative chord and length changes are recorded (arc_rate_<name>)", 0, 16)
         .string("arc.name", "arc name", std::nullopt)
         .string("arc.body", "body the nodes belong to", std::nullopt);
-    declare_selector_keys(s, "arc");
+    declare_selector_keys(s, "arc", EdgeNames::parametric_only);
     s.table_array("metric", "numbers written to summary.json", 0, 32)
         .string("metric.name", "metric name", std::nullopt)
         .choice("metric.kind", "how it is read from the history", {"min", "max", "max_abs", "final"}, std::nullopt)

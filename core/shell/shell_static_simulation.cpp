@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace ff::shell {
@@ -138,6 +139,20 @@ double vertex(const std::vector<double>& load, int i, const std::vector<double>&
 
 Metrics ShellStaticSimulation::metrics() const {
   Metrics m;
+  for (const auto& [name, value, why] : evaluate_metrics())
+    if (std::isfinite(value)) m.emplace_back(name, value);
+  return m;
+}
+
+std::vector<std::pair<std::string, std::string>> ShellStaticSimulation::metrics_unreached() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& [name, value, why] : evaluate_metrics())
+    if (!std::isfinite(value)) out.emplace_back(name, why);
+  return out;
+}
+
+std::vector<std::tuple<std::string, double, std::string>> ShellStaticSimulation::evaluate_metrics() const {
+  std::vector<std::tuple<std::string, double, std::string>> m;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   // first local maximum of the load along the path
   int limit = -1;
@@ -203,9 +218,36 @@ Metrics ShellStaticSimulation::metrics() const {
           for (double x : values_[k]) v = std::isnan(v) ? std::abs(x) : std::max(v, std::abs(x));
         break;
     }
-    if (std::isfinite(v)) m.emplace_back(mt.name, v);
+    std::string why;
+    if (!std::isfinite(v)) why = unreached_reason(mt, limit);
+    m.emplace_back(mt.name, v, why);
   }
   return m;
+}
+
+std::string ShellStaticSimulation::unreached_reason(const ShellMetric& mt, int limit) const {
+  auto number = [](double x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", x);
+    return std::string(b);
+  };
+  if (loads_.empty()) return "the path stored no state";
+  const std::string unit = settings_.load_unit.empty() ? "" : " " + settings_.load_unit;
+  switch (mt.kind) {
+    case ShellMetric::Kind::at_load: {
+      const auto [lo, hi] = std::minmax_element(loads_.begin(), loads_.end());
+      return settings_.load_label + " " + number(mt.load) + unit + " never reached: the path's " +
+             settings_.load_label + " ran from " + number(*lo) + " to " + number(*hi) + unit + " and ended at " +
+             number(loads_.back()) + unit + " (lambda = " + number(lambda_) + ")";
+    }
+    case ShellMetric::Kind::first_limit_load:
+    case ShellMetric::Kind::at_first_limit:
+    case ShellMetric::Kind::min_load_after_limit:
+      if (limit < 0) return "the path has no limit point (no local maximum of the " + settings_.load_label + ")";
+      break;
+    default: break;
+  }
+  return "the value is not finite";
 }
 
 }  // namespace ff::shell

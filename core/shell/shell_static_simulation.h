@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/model/simulation.h"
@@ -60,12 +61,16 @@ class ShellStaticSimulation final : public Simulation {
   StepDone step(double h) override;  ///< one converged step of the path (h is not used: the solver sizes it)
   Frame frame() const override;
   Metrics metrics() const override;
+  std::vector<std::pair<std::string, std::string>> metrics_unreached() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override { return model_->effect_stats(); }
   const ShellModel& model() const { return *model_; }
 
  private:
   double probe_value(const ShellProbe& p) const;
+  /// every metric of the scene in its order: its value (NaN when it has none) and why it has none
+  std::vector<std::tuple<std::string, double, std::string>> evaluate_metrics() const;
+  std::string unreached_reason(const ShellMetric& metric, int limit_sample) const;
   void record();  // load and probes of the current state into the path history
   std::unique_ptr<ShellModel> model_;
   ShellStaticSettings settings_;

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+
 #include "cli_support.h"
 #include "core/shell/cb_shell.h"
 #include "core/shell/sample_elements.h"
@@ -89,6 +91,28 @@ TEST(CliBench, SceneRefusesAMissingSceneAndFailsOnAnUnfinishedRun) {
   EXPECT_EQ(row.at("status").get<std::string>(), "incomplete");
   EXPECT_EQ(row.at("steps").get<long long>(), 2);
   EXPECT_NE(row.at("reason").get<std::string>().find("step budget"), std::string::npos) << row;
+}
+
+// a --json file that cannot be written fails the command (exit 1) and names the path and why:
+// a folder that does not exist (open fails) and /dev/full (open succeeds, the write fails), for
+// --scene and --solve
+TEST(CliBench, AJsonFileThatCannotBeWrittenFailsTheCommand) {
+  const std::string dir = fresh_test_dir();
+  const std::string missing = dir + "/no_such_folder/bench.json";
+  const ProcResult open = run_flexframe({"bench", "--scene", "cantilever_rollup", "--repeat", "1", "--json", missing},
+                                        dir + "/open");
+  EXPECT_EQ(open.exit_code, 1) << open.describe();
+  EXPECT_NE(open.err.find("cannot write " + missing + ": No such file or directory"), std::string::npos)
+      << open.describe();
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
+  const ProcResult full = run_flexframe({"bench", "--scene", "cantilever_rollup", "--repeat", "1", "--json", "/dev/full"},
+                                        dir + "/full");
+  EXPECT_EQ(full.exit_code, 1) << full.describe();
+  EXPECT_NE(full.err.find("cannot write /dev/full: No space left on device"), std::string::npos) << full.describe();
+  const ProcResult solve =
+      run_flexframe({"bench", "--solve", "--max-n", "16", "--repeat", "1", "--json", "/dev/full"}, dir + "/solve");
+  EXPECT_EQ(solve.exit_code, 1) << solve.describe();
+  EXPECT_NE(solve.err.find("cannot write /dev/full: No space left on device"), std::string::npos) << solve.describe();
 }
 
 }  // namespace

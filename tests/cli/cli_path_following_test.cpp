@@ -98,5 +98,52 @@ TEST(CliPathFollowing, TheFinalStateIsAlwaysAFrame) {
   EXPECT_EQ(static_cast<int>(pngs_in(out + "/frames").size()), steps / 5 + 2);
 }
 
+// issue 30, item 6: a metric the path never reaches used to vanish from summary.json; it stays
+// there as null, "metrics_unreached" says why (the load asked for, how far the path got), and
+// the console warns. Load control ending at lambda = 0.4 before the rollup's at_load metrics at
+// lambda = 0.5 (completed, exit 0); the roof's budget of 3 steps before its limit point.
+TEST(CliPathFollowing, AMetricThePathNeverReachesIsNullWithTheReason) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/rollup";
+  const ProcResult r = run_flexframe({"run", "cantilever_rollup", "--out", out, "--no-frames", "--no-plots", "--set",
+                                      "solver.end=0.4"},
+                                     out + "_log");
+  EXPECT_EQ(r.exit_code, 0) << r.describe();
+  std::string why;
+  std::optional<Json> s = read_summary(out, &why);
+  ASSERT_TRUE(s) << why;
+  expect_summary_shape(*s);
+  const Json* metrics = s->get("metrics");
+  const Json* unreached = s->get("metrics_unreached");
+  ASSERT_TRUE(metrics && unreached);
+  for (const char* name : {"tip_u_half", "tip_w_half"}) {
+    const Json* m = metrics->get(name);
+    ASSERT_TRUE(m) << name << " left out of summary.json";
+    EXPECT_EQ(m->kind, Json::Kind::null) << name;
+    const Json* reason = unreached->get(name);
+    ASSERT_TRUE(reason && reason->is_string()) << name;
+    EXPECT_NE(reason->string.find("end moment M 1488.99 never reached"), std::string::npos) << reason->string;
+    EXPECT_NE(reason->string.find("ended at 1191.19"), std::string::npos) << reason->string;
+    EXPECT_NE(r.err.find(std::string("warning: metric '") + name + "' has no value: end moment M 1488.99 never reached"),
+              std::string::npos)
+        << r.describe();
+  }
+
+  const std::string roof = dir + "/roof";
+  const ProcResult cut = run_flexframe({"run", "hinged_roof_h127", "--out", roof, "--no-frames", "--no-plots", "--set",
+                                        "solver.max_steps=3"},
+                                       roof + "_log");
+  EXPECT_EQ(cut.exit_code, 4) << cut.describe();
+  s = read_summary(roof, &why);
+  ASSERT_TRUE(s) << why;
+  expect_summary_shape(*s);
+  for (const char* name : {"limit_load", "w_at_limit", "min_load_after_limit"}) {
+    const Json* reason = s->get("metrics_unreached")->get(name);
+    ASSERT_TRUE(reason && reason->is_string()) << name;
+    EXPECT_NE(reason->string.find("no limit point"), std::string::npos) << reason->string;
+  }
+  EXPECT_TRUE(s->get("metrics")->get("w_final")->is_number());
+}
+
 }  // namespace
 }  // namespace ff::cli::test

@@ -432,5 +432,32 @@ TEST(CliReplay, DamagedMetadataChecksumGivesOneCleanMessage) {
   EXPECT_FALSE(fs::exists(run + "/replay"));
 }
 
+// issue 30, item 6: a results file without a frame replayed with exit 0 and "nothing to replay";
+// replay can make none of what it was asked for, so it is bad input (exit 2, the file and the
+// stored run named) and nothing is written
+TEST(CliReplay, AFileWithoutFramesIsBadInput) {
+  const std::string dir = fresh_test_dir();
+  const std::string good = short_run(dir);
+  std::string err;
+  const auto h5 = io::ResultReader::open(good, &err);
+  ASSERT_TRUE(h5) << err;
+  const std::string run = dir + "/empty", empty = run + "/results.h5";
+  fs::create_directories(run);
+  {  // the run's own description, then the end of a run that diverged before its first frame
+    const auto w = io::ResultWriter::create(empty, h5->info(), &err);
+    ASSERT_TRUE(w) << err;
+    RunOutcome outcome;
+    outcome.status = RunStatus::diverged;
+    outcome.reason = "singular matrix at the first step";
+    ASSERT_TRUE(w->finish(outcome, {}, &err)) << err;
+  }
+  const ProcResult r = run_flexframe({"replay", run}, dir + "/replay");
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find(empty + " holds no complete frame: nothing to replay (stored run: diverged after 0 steps)"),
+            std::string::npos)
+      << r.describe();
+  EXPECT_FALSE(fs::exists(run + "/replay")) << "bad input must not write anything";
+}
+
 }  // namespace
 }  // namespace ff::cli::test

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <regex>
 
 #include "cli_support.h"
 
@@ -344,6 +345,69 @@ TEST(CliStudy, ResumeAfterKilledStudyCompletesAndMatches) {
   ASSERT_EQ(again.exit_code, 0) << again.describe();
   EXPECT_NE(again.err.find("resume: 9 of 9 runs recovered"), std::string::npos) << again.describe();
   EXPECT_EQ(again.err.find("at a time"), std::string::npos) << again.describe();
+}
+
+// issue 30, item 6: --resume matched a variant by scene path and overrides only, so a scene edited
+// between the runs kept its old results. Each variant's summary records a hash of its scene text;
+// a scene edited in between runs again (and says so), one left alone is still recovered.
+TEST(CliStudy, ResumeRunsAgainAVariantWhoseSceneWasEdited) {
+  const std::string dir = fresh_test_dir();
+  const std::string scene = dir + "/hub.toml", out = dir + "/out";
+  const std::string original = read_text(std::string(FF_SOURCE_DIR) + "/assets/scenes/hub_beam_efg_tau1.toml");
+  write_text(scene, original);
+  const auto study_into = [&](const std::string& folder) {
+    return std::vector<std::string>{"study", scene, "--vary", "efg.scale=2.0,2.5", "--metric",
+                                    "tip_transverse_at_2s_m", "--set", "solver.end=2.5", "--jobs", "1",
+                                    "--out", folder};
+  };
+  const std::vector<std::string> study = study_into(out);
+  const ProcResult first = run_flexframe(study, dir + "/first");
+  ASSERT_EQ(first.exit_code, 0) << first.describe();
+  const auto before = read_study_csv(out + "/study.csv");
+  ASSERT_EQ(before.size(), 2u);
+  EXPECT_NE(read_text(out + "/runs/000/summary.json").find("\"scene_hash\": \"fnv1a64:"), std::string::npos);
+
+  // untouched: both recovered
+  const ProcResult same = run_flexframe(with(study, {"--resume"}), dir + "/same");
+  ASSERT_EQ(same.exit_code, 0) << same.describe();
+  EXPECT_NE(same.err.find("resume: 2 of 2 runs recovered"), std::string::npos) << same.describe();
+
+  // twice the torque: the tip moves about twice as far, so the old rows are wrong
+  const std::string edited = std::regex_replace(original, std::regex("amplitude = 1\\.0"), "amplitude = 2.0");
+  ASSERT_NE(edited, original);
+  write_text(scene, edited);
+  const ProcResult resumed = run_flexframe(with(study, {"--resume"}), dir + "/resumed");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.describe();
+  EXPECT_NE(resumed.err.find("resume: 0 of 2 runs recovered"), std::string::npos) << resumed.describe();
+  EXPECT_NE(resumed.err.find("runs again: its scene or mesh file changed since it ran"), std::string::npos)
+      << resumed.describe();
+  const auto after = read_study_csv(out + "/study.csv");
+  ASSERT_EQ(after.size(), 2u);
+  const ProcResult fresh = run_flexframe(study_into(dir + "/fresh"), dir + "/fresh");
+  ASSERT_EQ(fresh.exit_code, 0) << fresh.describe();
+  expect_same_results(after, read_study_csv(dir + "/fresh/study.csv"), "tip_transverse_at_2s_m");
+  for (std::size_t i = 0; i < 2; ++i)
+    EXPECT_NE(after[i].at("tip_transverse_at_2s_m"), before[i].at("tip_transverse_at_2s_m")) << i;
+}
+
+// issue 30, item 6: a variant whose path never reaches the metric's load lost the metric from its
+// summary, and the study blamed the name ("scene ... has no metric"); the variant's summary keeps
+// it as null with the reason, and the study's refusal gives that reason (--jobs 2: the variants'
+// own processes write their summaries before the study looks at them)
+TEST(CliStudy, AMetricAVariantNeverReachesIsNamedWithTheReason) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_flexframe({"study", "cantilever_rollup", "--vary", "solver.end=0.4,1.0", "--metric",
+                                      "tip_u_half", "--jobs", "2", "--out", dir + "/out"},
+                                     dir + "/study");
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find("metric 'tip_u_half' has no value: end moment M 1488.99 never reached"), std::string::npos)
+      << r.describe();
+  EXPECT_EQ(r.err.find("has no metric"), std::string::npos) << r.describe();
+  const std::string summary = read_text(dir + "/out/runs/000/summary.json");
+  EXPECT_NE(summary.find("\"tip_u_half\": null"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"metrics_unreached\": {\n    \"tip_u_half\": \"end moment M 1488.99 never reached"),
+            std::string::npos)
+      << summary;
 }
 
 /// mpirun on the PATH, or "".

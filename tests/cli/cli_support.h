@@ -407,8 +407,22 @@ inline void expect_summary_shape(const Json& s) {
   for (const Json& e : effects->array) EXPECT_TRUE(e.is_string()) << "summary.json: an effect is not a string";
   const Json* metrics = s.get("metrics");
   ASSERT_TRUE(metrics && metrics->kind == Json::Kind::object) << "summary.json: \"metrics\" is not an object";
-  for (const auto& [k, v] : metrics->object)
+  // a metric without a value is null and says why under "metrics_unreached"
+  const Json* unreached = s.get("metrics_unreached");
+  ASSERT_TRUE(unreached && unreached->kind == Json::Kind::object) << "summary.json: \"metrics_unreached\" is not an object";
+  for (const auto& [k, v] : metrics->object) {
+    if (v.kind == Json::Kind::null) {
+      const Json* why = unreached->get(k);
+      EXPECT_TRUE(why && why->is_string() && !why->string.empty())
+          << "summary.json: metric " << k << " is null without a reason in metrics_unreached";
+      continue;
+    }
     EXPECT_TRUE(v.is_number() && std::isfinite(v.number)) << "summary.json: metric " << k << " is not a finite number";
+  }
+  for (const auto& [k, v] : unreached->object) {
+    const Json* m = metrics->get(k);
+    EXPECT_TRUE(m && m->kind == Json::Kind::null) << "summary.json: unreached metric " << k << " is not null in metrics";
+  }
 }
 
 inline std::string summary_string(const Json& s, const std::string& key) {

@@ -12,6 +12,7 @@
 
 #include "core/assembly/block_pattern.h"
 #include "core/assembly/dof_map.h"
+#include "core/assembly/element_thread_pool.h"
 #include "core/assembly/element_threads.h"
 #include "core/assembly/node_frames.h"
 
@@ -146,4 +147,36 @@ TEST(Assembly, ElementLoopCoversEveryItemOnceInFixedChunks) {
                }),
                std::runtime_error);
   set_element_threads(1);
+}
+
+// The std::thread back-end on its own (element_thread_pool.h; for_each_chunk's when built with
+// FLEXFRAME_ELEMENT_THREADS=std), in every build: each chunk once per loop, on up to that many
+// threads, loop after loop (its workers sleep and wake between them); the first exception reaches
+// the caller after the other chunks ran; a loop inside a chunk runs serially instead of waiting
+// for the busy pool.
+TEST(Assembly, StdThreadPoolRunsEveryChunkOnceAndPassesExceptions) {
+  for (int chunks : {1, 2, 3, 7, 16}) {
+    for (int loop = 0; loop < 50; ++loop) {
+      std::vector<int> runs(chunks, 0);  // each slot written by its chunk only
+      std::vector<std::thread::id> by(chunks);
+      run_chunks_on_std_threads(chunks, [&](int c) {
+        ++runs[c];
+        by[c] = std::this_thread::get_id();
+      });
+      for (int c = 0; c < chunks; ++c) ASSERT_EQ(runs[c], 1) << "chunk " << c << " of " << chunks;
+      std::sort(by.begin(), by.end());
+      EXPECT_LE(std::unique(by.begin(), by.end()) - by.begin(), chunks);
+    }
+  }
+  std::vector<std::atomic<int>> ran(5);
+  EXPECT_THROW(run_chunks_on_std_threads(5,
+                                         [&](int c) {
+                                           ++ran[c];
+                                           if (c % 2 == 1) throw std::runtime_error("element failed");
+                                         }),
+               std::runtime_error);
+  for (int c = 0; c < 5; ++c) EXPECT_EQ(ran[c], 1) << "chunk " << c;
+  std::vector<std::vector<int>> inner(4, std::vector<int>(3, 0));
+  run_chunks_on_std_threads(4, [&](int c) { run_chunks_on_std_threads(3, [&](int d) { ++inner[c][d]; }); });
+  for (const auto& row : inner) EXPECT_EQ(row, std::vector<int>(3, 1));
 }

@@ -6,6 +6,8 @@
 #include <sstream>
 
 #include "core/scene/scene.h"
+#include "core/scene/shell_dynamic_scene.h"
+#include "core/scene/shell_scene.h"
 
 TEST(SceneKeyReference, MatchesSchema) {
   std::ifstream in(std::string(FF_SOURCE_DIR) + "/docs/reference/scene-keys.md");
@@ -18,4 +20,32 @@ TEST(SceneKeyReference, MatchesSchema) {
   ASSERT_NE(e, std::string::npos);
   EXPECT_EQ(text.substr(b + begin.size(), e - b - begin.size()), ff::scene::scene_reference_markdown())
       << "regenerate with: flexframe scenes --reference > docs/reference/scene-keys.md (between the markers)";
+}
+
+// issue 30, item 11: the dynamic model's patch_edge keys promised the generators' edge names
+// ("x_min", "rim"), which its bodies' meshes do not have: each dynamic .edge key now names only
+// what dynamics accepts, the static ones keep the names their generators give, and the double
+// pendulum indeed refuses "x_min" at the key and takes "u=1".
+TEST(SceneKeyReference, DynamicEdgeKeysPromiseOnlyTheEdgesDynamicsAccepts) {
+  for (const char* key : {"joint.edge", "probe.edge", "arc.edge"}) {
+    const auto* k = ff::scene::shell_dynamic_schema().find_key(key);
+    ASSERT_TRUE(k) << key;
+    EXPECT_EQ(k->doc.find("x_min"), std::string::npos) << key << ": " << k->doc;
+    EXPECT_EQ(k->doc.find("generator's name"), std::string::npos) << key << ": " << k->doc;
+    EXPECT_NE(k->doc.find("u=0, u=1, v=0 or v=1"), std::string::npos) << key << ": " << k->doc;
+  }
+  for (const char* key : {"bc.edge", "load.edge", "probe.edge"}) {
+    const auto* k = ff::scene::shell_static_schema().find_key(key);
+    ASSERT_TRUE(k) << key;
+    EXPECT_NE(k->doc.find("x_min"), std::string::npos) << key << ": " << k->doc;
+  }
+  const std::string scene = std::string(FF_SOURCE_DIR) + "/assets/scenes/double_pendulum_shells.toml";
+  try {
+    ff::scene::load_scene(scene, {"joint[1].edge=\"x_min\""});
+    ADD_FAILURE() << "edge \"x_min\" of a dynamic body was accepted";
+  } catch (const ff::scene::SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("no edge named \"x_min\""), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("joint"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(ff::scene::load_scene(scene, {"joint[1].edge=\"u=1\""}));
 }

@@ -3,8 +3,12 @@
 // local 5-DoF rotations), with restraints, a symmetry plane, fixed and follower loads.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <random>
+#include <string>
+#include <tuple>
 
+#include "core/assembly/element_threads.h"
 #include "core/shell/shell_model.h"
 #include "tests/support/static_fd.h"
 
@@ -207,4 +211,38 @@ TEST(ShellModel, SingleAxisRotationRestraintOnFiveDofNodeLeavesOneFreeAxis) {
   }
   s.options.drilling = true;
   EXPECT_NO_THROW(ShellModel{s});
+}
+
+// The element loop's threads do not change the assembly: residual, tangent and load vector of a
+// deformed curved patch are bitwise those of one thread, on the loop back-end of this build
+// (oneTBB, or the std::thread pool with FLEXFRAME_ELEMENT_THREADS=std: scripts/sanitize --tsan
+// runs this test on that one).
+TEST(ShellModelThreads, AssemblyIsBitwiseTheSameOnAnyThreadCount) {
+  ShellModelSpec s = spec(true, 1.5);
+  s.mesh = patch(12, 9, 1.5);
+  s.loads = {{40, Vec3(0.1, 0.2, -0.3), Vec3::Zero(), false}};
+  s.pressures = {{7, 0.4, false}, {20, -0.7, true}, {33, 0.9, true}};
+  auto assemble = [&](int threads) {
+    ff::assembly::set_element_threads(threads);
+    ShellModel model(s);
+    std::mt19937 g(3);
+    std::uniform_real_distribution<double> u(-0.1, 0.1);
+    Eigen::VectorXd d(model.size());
+    for (int k = 0; k < model.size(); ++k) d[k] = u(g);
+    model.update(d);
+    Eigen::VectorXd r, load;
+    Eigen::SparseMatrix<double> K;
+    model.evaluate(0.7, r, &K, &load);
+    ff::assembly::set_element_threads(1);
+    return std::tuple(r, Eigen::MatrixXd(K), load);
+  };
+  const auto [r1, K1, l1] = assemble(1);
+  ASSERT_GT(r1.cwiseAbs().maxCoeff(), 0.0);
+  for (int threads : {2, 3, 7}) {
+    const auto [r, K, l] = assemble(threads);
+    const std::string on = std::to_string(threads) + " threads (" + ff::assembly::element_loop_backend() + ")";
+    EXPECT_TRUE(r.size() == r1.size() && std::memcmp(r.data(), r1.data(), r.size() * sizeof(double)) == 0) << on;
+    EXPECT_TRUE(K.size() == K1.size() && std::memcmp(K.data(), K1.data(), K.size() * sizeof(double)) == 0) << on;
+    EXPECT_TRUE(l.size() == l1.size() && std::memcmp(l.data(), l1.data(), l.size() * sizeof(double)) == 0) << on;
+  }
 }
