@@ -273,6 +273,10 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       assembly::share_cores_with(&render_busy);
     try {
       outcome = sim.run([&](Frame&& f) { store_ch.push(std::move(f)); }, run_stop);
+      // Ctrl-C reaches the model's set-up through the scene context at once, and run_stop only at
+      // the progress loop's next turn (at most 0.1 s): a set-up it stopped is an interruption
+      if (outcome.status == RunStatus::failed && stop && failed_write().empty() && outcome.steps == 0)
+        outcome.status = RunStatus::interrupted;
     } catch (const std::exception& e) {
       outcome.status = RunStatus::failed;
       outcome.reason = std::string("solver error: ") + e.what();
