@@ -112,7 +112,6 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   result.out_dir = opt.out_dir.empty() ? (fs::path("out") / scene.name).string() : opt.out_dir;
   // the folder's lock comes before any file in it is touched (output_folder.h)
   OutputFolder folder(result.out_dir, "run");
-  const fs::path& dir = folder.path();
   // what an earlier run wrote here would be mistaken for this run's: its recorded files go,
   // results.h5 is truncated by the writer (which refuses a file another process has open)
   for (const char* earlier : {"frames/", "plots/", "export/", "movie.mp4", "summary.json"}) folder.remove_earlier(earlier);
@@ -329,7 +328,6 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     outcome.reason = "an output could not be written: " + what + at;
   };
   // the movie before results.h5 is closed, so that its failure is in the file's outcome too
-  const fs::path movie_path = dir / "movie.mp4";
   if (opt.movie && failed_write().empty()) {
     MovieReport m{false, "", "", 0, "no frames were rendered"};
     try {
@@ -348,7 +346,6 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   }
   if (!writer->finish(outcome, result.metrics, &err)) {
     std::fprintf(stderr, "error: results.h5 could not record the outcome: %s\n", err.c_str());
-    if (store_error.empty()) store_error = err;
     fail_write("results.h5: " + err);
     record_write_failure();
   }
