@@ -1,7 +1,8 @@
 #pragma once
 /// \file mesh_generator_keys.h
-/// The [mesh] table of static shell scenes: which generator builds the mid-surface, its
-/// dimensions as scene keys, and the mesh they give (core/mesh/generators.h). The key docs are
+/// The [[part]] tables of shell scenes: which generator builds each part's mid-surface, its
+/// dimensions as scene keys, and the mesh they give (core/mesh/generators.h). Every function
+/// takes the part's index i in the [[part]] array. The key docs are
 /// the scene-key reference (docs/reference/scene-keys.md), so they state where each generator places its surface,
 /// its patches and the names of their edges (for select = "patch_edge").
 ///
@@ -15,27 +16,30 @@
 
 namespace ff::scene {
 
-/// Declares the [mesh] table and its keys (generator, element counts, dimensions, file).
-void declare_mesh_keys(Schema& s);
+/// Declares the [[part]] array and its keys (name, material, generator, element counts,
+/// dimensions, file).
+void declare_part_keys(Schema& s);
 
-/// True when mesh.generator = "file" (the caller reads mesh.file); checks first that no
+/// True when part.generator = "file" (the caller reads part.file); checks first that no
 /// generator dimension is given with it.
-bool mesh_from_file(const Document& d);
+bool mesh_from_file(const Document& d, std::size_t i);
 
-/// Refuses a cylinder or spherical cap at least as thick (the key `thickness_key`) as its
-/// mesh.radius, naming both keys; other generators have no radius to compare with.
-void check_thickness_against_radius(const Document& d, const std::string& thickness_key);
+/// Refuses a cylinder, cut cylinder or spherical cap at least as thick (the key `thickness_key`,
+/// entry `thickness_index` of its array) as its part.radius, naming both keys; other generators
+/// have no radius to compare with.
+void check_thickness_against_radius(const Document& d, std::size_t i, const std::string& thickness_key,
+                                    std::size_t thickness_index);
 
-/// The mesh of a parametric generator (mesh.generator != "file"), built from the [mesh] keys.
-mesh::ShellMesh generate_mesh(const Document& d);
+/// The mesh of a parametric generator (part.generator != "file"), built from part i's keys.
+mesh::ShellMesh generate_mesh(const Document& d, std::size_t i);
 
 /// The size of the mesh generate_mesh(d) would build, counted from the keys without building it.
 struct GeneratedMeshSize {
   long long nodes = 0;  ///< exactly generate_mesh(d).node_count() (for keys the generator accepts)
-  /// the count key that makes the mesh large: of mesh.n1, n2, n3 (those the generator reads and the
-  /// scene gives), the one whose reduction to 1 would shrink it most; "mesh.generator" when none is given
+  /// the count key that makes the mesh large: of part.n1, n2, n3 (those the generator reads and the
+  /// scene gives), the one whose reduction to 1 would shrink it most; "part.generator" when none is given
   std::string key;
 };
-GeneratedMeshSize generated_mesh_size(const Document& d);
+GeneratedMeshSize generated_mesh_size(const Document& d, std::size_t i);
 
 }  // namespace ff::scene

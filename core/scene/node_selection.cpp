@@ -27,7 +27,16 @@ mesh::NodeSelector base_selector(const Document& d, const mesh::ShellMesh& m, co
   if (kind == "box") return mesh::NodeSelector::box(vec(d.numbers(t + ".box_min", i)), vec(d.numbers(t + ".box_max", i)), tol);
   if (kind == "sphere") return mesh::NodeSelector::sphere(vec(d.numbers(t + ".point", i)), d.number(t + ".radius", i), tol);
   if (kind == "patch_edge") {
-    const std::string& patch = d.string(t + ".patch", i);
+    std::string patch = d.string(t + ".patch", i);
+    if (patch.empty()) {  // the only patch, when there is one
+      if (m.patches.size() != 1) {
+        std::string names;
+        for (const mesh::Patch& p : m.patches) names += (names.empty() ? "" : ", ") + p.name;
+        throw SceneError({d.issue(t + ".select", i, "select = \"patch_edge\" needs " + t + ".patch: this structure "
+                                                    "has the patches " + names)});
+      }
+      patch = m.patches[0].name;
+    }
     try {
       return mesh::NodeSelector::patch_edge(patch, mesh::resolve_patch_edge(m, patch, d.string(t + ".edge", i)));
     } catch (const std::invalid_argument& e) {
@@ -88,20 +97,20 @@ void refuse_ambiguous_nearest(const Document& d, const mesh::ShellMesh& m, const
 }
 }  // namespace
 
-void declare_selector_keys(Schema& s, const std::string& t, EdgeNames edges) {
+void declare_selector_keys(Schema& s, const std::string& t) {
   s.choice(t + ".select", "how nodes are chosen", kSelect, "nearest")
       .number_list(t + ".point", "nearest/plane/sphere: a point", std::vector<double>{0, 0, 0}, {}, 3, 3)
       .number_list(t + ".normal", "plane: its normal", std::vector<double>{1, 0, 0}, {}, 3, 3)
       .number_list(t + ".box_min", "box: lower corner", std::vector<double>{0, 0, 0}, {}, 3, 3)
       .number_list(t + ".box_max", "box: upper corner", std::vector<double>{0, 0, 0}, {}, 3, 3)
       .number(t + ".radius", "sphere: radius", 0.0, Range::non_negative())
-      .string(t + ".patch", "patch_edge: patch name", std::string("surface"))
+      .string(t + ".patch",
+              "patch_edge: the patch (a part's name, or the patch names of l_plate and folded_plate); \"\" = the "
+              "structure's only patch",
+              std::string{})
       .string(t + ".edge",
-              edges == EdgeNames::generator
-                  ? "patch_edge: which edge, u=0, u=1, v=0, v=1 or the generator's name for it (see [mesh]: e.g. "
-                    "\"start_angle\", \"rim\", \"inner\", \"x_min\")"
-                  : "patch_edge: which edge of the body's grid, u=0, u=1, v=0 or v=1 (u runs along shell.n1, v "
-                    "along shell.n2; the bodies' edges have no names)",
+              "patch_edge: which edge, u=0, u=1, v=0, v=1 or the generator's name for it (see [[part]]: e.g. "
+              "\"start_angle\", \"rim\", \"inner\", \"x_min\")",
               std::string("u=0"))
       .number(t + ".tolerance", "plane/box/sphere tolerance; 0 = automatic (1e-3 x shortest edge)", 0.0,
               Range::non_negative())

@@ -10,13 +10,9 @@
 
 namespace ff::scene {
 
-/// Which edges a patch_edge selection may name: the generators' edge names too (a [mesh] table
-/// of the static model), or only the parametric u=0/u=1/v=0/v=1 (the dynamic model's bodies,
-/// whose meshes carry no edge names).
-enum class EdgeNames { generator, parametric_only };
-
-/// Declares <table>.select, .point, .normal, .box_min, .box_max, .radius, .patch, .edge, .tolerance.
-void declare_selector_keys(Schema& s, const std::string& table, EdgeNames edges = EdgeNames::generator);
+/// Declares <table>.select, .point, .normal, .box_min, .box_max, .radius, .patch, .edge, .tolerance,
+/// .side. Edges are named as the generators name them (or u=0, u=1, v=0, v=1) in every model.
+void declare_selector_keys(Schema& s, const std::string& table);
 /// Node ids of mesh `m` chosen by entry i of `table`; SceneError at <table>.select when empty.
 std::vector<int> select_nodes(const Document& d, const mesh::ShellMesh& m, const std::string& table, std::size_t i);
 /// Quads of `m` whose 4 corner nodes are all in `ids` (ascending quad numbers).

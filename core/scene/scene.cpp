@@ -18,6 +18,7 @@
 #include "core/scene/timeline.h"
 #include "core/scene/shell_scene.h"
 #include "core/scene/mesh_generator_keys.h"
+#include "core/scene/structure_parts.h"
 #include "core/shell/shell_model.h"
 
 namespace ff::scene {
@@ -373,27 +374,11 @@ double estimated_run_bytes(const std::string& path, const std::vector<std::strin
                                                ? static_cast<int>(d.integer("efg.nodes"))
                                                : static_cast<int>(d.integer("fem.elements")) + 1,
                                            has(fx, "axial"));
-    if (kind.name == "shell_static") {
-      long long nodes = 0;
-      if (!mesh_from_file(d)) {
-        nodes = generated_mesh_size(d).nodes;
-      } else if (ctx.mesh_reader) {
-        mesh::ShellMesh m;
-        MeshFileError error;
-        if (!ctx.mesh_reader({(std::filesystem::path(path).parent_path() / d.string("mesh.file")).string(),
-                              d.number("mesh.weld_tolerance")},
-                             m, &error))
-          return 0.0;
-        nodes = m.node_count();
-      }
-      return shell::estimated_peak_bytes(static_cast<int>(std::min<long long>(nodes, std::numeric_limits<int>::max())),
-                                         drilling ? 1.0 : 0.0);
-    }
-    // shell_dynamic: every body's patch, as the static fit of the loader (a closed seam counted open)
-    long long nodes = 0;
-    for (std::size_t i = 0; i < d.count("shell"); ++i)
-      nodes += (d.integer("shell.n1", i) + 1) * (d.integer("shell.n2", i) + 1);
-    return nodes > 0 ? shell::estimated_peak_bytes(static_cast<int>(nodes), drilling ? 1.0 : 0.0) : 0.0;
+    // shell models: every part's nodes (generator counts; files through the reader)
+    const long long nodes = structure_size(d, path, ctx).nodes;
+    return nodes > 0 ? shell::estimated_peak_bytes(static_cast<int>(std::min<long long>(nodes, std::numeric_limits<int>::max())),
+                                                   drilling ? 1.0 : 0.0)
+                     : 0.0;
   } catch (const SceneError&) {
     return 0.0;
   }

@@ -110,6 +110,14 @@ void describe_run(const Document& d, const std::string& path, RunInfo& info) {
     const std::string v = d.value_text(k);
     if (!v.empty()) info.settings.emplace_back(k, v);
   }
+  // the structure's parts and materials (arrays of tables: their keys carry the entry's index)
+  for (const char* array : {"material", "part", "junction"})
+    if (d.declares_array(array))
+      for (std::size_t i = 0; i < d.count(array); ++i)
+        for (const std::string& k : d.element_key_paths(array))
+          if (d.present(k, i))
+            info.settings.emplace_back(std::string(array) + "[" + std::to_string(i) + "]" + k.substr(k.find('.')),
+                                       d.value_text(k, i));
   // the scripted events, so a reader of the results sees what happened when
   if (d.count("timeline") > 0)
     for (std::size_t i = 0; i < d.count("timeline"); ++i)

@@ -289,9 +289,14 @@ std::vector<shell::ShellProbe> read_probes(const Document& d, const mesh::ShellM
   return probes;
 }
 
-Issue located(const Document& d, const shell::ShellSpecError& e) {
+Issue located(const Document& d, const shell::ShellSpecError& e, const Structure& structure) {
   using Part = shell::ShellSpecError::Part;
   const std::size_t i = e.source() >= 0 ? static_cast<std::size_t>(e.source()) : 0;
+  // the part a quad belongs to, and its material
+  const int q = e.source();
+  const std::size_t part =
+      q >= 0 && q < static_cast<int>(structure.quad_part.size()) ? static_cast<std::size_t>(structure.quad_part[q]) : 0;
+  const std::size_t material = part < structure.parts.size() ? static_cast<std::size_t>(structure.parts[part].material) : 0;
   switch (e.part()) {
     case Part::restraint:
     case Part::symmetry:
@@ -302,13 +307,14 @@ Issue located(const Document& d, const shell::ShellSpecError& e) {
     case Part::element:
       // an element that forms with a thinner section (det J <= 0 through this thickness only):
       // the thickness against the curvature
-      return d.issue("material.thickness", std::string(e.what()) +
-                                               " (the element forms with a thinner section: this thickness is larger "
-                                               "than the local radius of curvature of the mesh)");
+      return d.issue("material.thickness", material,
+                     std::string(e.what()) +
+                         " (the element forms with a thinner section: this thickness is larger than the local radius "
+                         "of curvature of the mesh)");
     case Part::mid_surface: {
       // degenerate at any thickness: the mesh's own geometry (its corners or directors)
-      const bool file = d.string("mesh.generator") == "file";
-      return d.issue(file ? "mesh.file" : "mesh.generator",
+      const bool file = d.string("part.generator", part) == "file";
+      return d.issue(file ? "part.file" : "part.generator", part,
                      std::string(e.what()) + " at any thickness: the quad's corners or directors carry no shell (" +
                          (file ? "a collapsed or folded quad, or normals lying in it" : "check the mesh dimensions") + ")");
     }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/scene/schema.h"
+#include "core/scene/structure_parts.h"
 #include "core/shell/shell_model.h"
 #include "core/shell/shell_static_simulation.h"
 
@@ -28,8 +29,9 @@ void read_loads(const Document& d, shell::ShellModelSpec& spec);
 /// Probes of every [[probe]].
 std::vector<shell::ShellProbe> read_probes(const Document& d, const mesh::ShellMesh& m);
 
-/// The scene issue for an error the model constructor raised about the spec read from `d`.
-Issue located(const Document& d, const shell::ShellSpecError& e);
+/// The scene issue for an error the model constructor raised about the spec read from `d`
+/// (an element's fault at its part's material or generator).
+Issue located(const Document& d, const shell::ShellSpecError& e, const Structure& structure);
 
 /// Nodal forces equivalent to a uniform force per unit length q along the mesh edges joining the
 /// nodes `ids` (consistent lumping: q L / 2 to each end of an edge of length L). Empty `why`

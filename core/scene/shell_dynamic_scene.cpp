@@ -9,6 +9,7 @@
 #include "core/mesh/generators.h"
 #include "core/scene/node_selection.h"
 #include "core/scene/scene_common.h"
+#include "core/scene/structure_parts.h"
 #include "core/scene/timeline.h"
 #include "core/shell/shell_dynamic_simulation.h"
 
@@ -62,28 +63,7 @@ const Schema& shell_dynamic_schema() {
     s.table("gravity", "uniform gravity (effect gravity)")
         .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3)
         .live("gravity.g");
-    s.table_array("shell", "flexible CB shell bodies", 1, 16)
-        .string("shell.name", "body name (joints, probes and patch_edge selections use it)", std::nullopt)
-        .choice("shell.generator", "cut_cylinder: cylinder with axis along y cut by two parallel end planes "
-                "y = end_slope x + y0 and y = end_slope x + y0 + length; rectangular_plate: plate in the xy plane",
-                {"cut_cylinder", "rectangular_plate"}, std::nullopt)
-        .integer("shell.n1", "elements along the arc (cut_cylinder) or the length (plate)", 15, IntRange::closed(1, 512))
-        .integer("shell.n2", "elements along the axis (cut_cylinder) or the width (plate)", 15, IntRange::closed(1, 512))
-        .number("shell.radius", "cut_cylinder: radius", 1.0, Range::positive())
-        .number_list("shell.center", "cut_cylinder: [x, z] of the axis", std::vector<double>{0, 0}, {}, 2, 2)
-        .number("shell.phi_start", "cut_cylinder: start angle in the xz plane [deg] (x = cx + R cos, z = cz + R sin)",
-                180.0)
-        .number("shell.phi_end", "cut_cylinder: end angle [deg]", 0.0)
-        .number("shell.length", "cut_cylinder: extent along y; plate: length along x", 1.0, Range::positive())
-        .number("shell.width", "rectangular_plate: width along y", 1.0, Range::positive())
-        .number_list("shell.origin", "rectangular_plate: corner", std::vector<double>{0, 0, 0}, {}, 3, 3)
-        .number("shell.end_slope", "cut_cylinder: dy/dx of the end planes (tan of their angle to the xz plane)", 0.0)
-        .number("shell.y0", "cut_cylinder: y of the first end plane at x = 0", 0.0)
-        .number("shell.youngs_modulus", "E [Pa]", std::nullopt, Range::positive())
-        .number("shell.poisson_ratio", "nu", 0.3, Range::right_open(0.0, 0.5))
-        .number("shell.thickness", "h0 [m]", std::nullopt, Range::positive())
-        .number("shell.density", "rho [kg/m^3]", std::nullopt, Range::positive())
-        .number("shell.drilling_factor", "c in gamma = c G h0 (effect drilling)", 1e-3, Range::left_open(0.0, 1e3));
+    declare_structure_keys(s);
     s.table_array("rigid", "rigid bodies (SE(3) pose, mass, inertia about the centre of mass)", 0, 64)
         .string("rigid.name", "body name", std::nullopt)
         .number_list("rigid.position", "centre of mass [m]", std::nullopt, {}, 3, 3)
@@ -94,22 +74,21 @@ const Schema& shell_dynamic_schema() {
         .choice("joint.type", "simple_support (nodes fixed in space, free to rotate), spherical (coincident "
                 "points), revolute (coincident points + common axis), fixed (coincident points and frames)",
                 {"simple_support", "spherical", "revolute", "fixed"}, std::nullopt)
-        .string("joint.body", "body whose nodes the selector picks", std::nullopt)
-        .string("joint.other", "second body (its node coincident with each selected node); \"\" = ground",
+        .string("joint.other",
+                "the part or rigid body the selected nodes are joined to (for a part: its node coincident with each "
+                "selected node); \"\" = ground",
                 std::string{})
         .number_list("joint.axis", "revolute: axis direction (global, reference configuration)",
                      std::vector<double>{0, 1, 0}, {}, 3, 3);
-    declare_selector_keys(s, "joint", EdgeNames::parametric_only);
+    declare_selector_keys(s, "joint");
     s.table_array("probe", "node displacements recorded every step (direction . u)", 0, 32)
         .string("probe.name", "probe name (also the plot file name)", std::nullopt)
         .string("probe.label", "plot label", std::string{})
-        .string("probe.body", "body the node belongs to", std::nullopt)
         .number_list("probe.direction", "global direction the displacement is projected on", std::nullopt, {}, 3, 3);
-    declare_selector_keys(s, "probe", EdgeNames::parametric_only);
+    declare_selector_keys(s, "probe");
     s.table_array("arc", "curves whose relative chord and length changes are recorded (arc_rate_<name>)", 0, 16)
-        .string("arc.name", "arc name", std::nullopt)
-        .string("arc.body", "body the nodes belong to", std::nullopt);
-    declare_selector_keys(s, "arc", EdgeNames::parametric_only);
+        .string("arc.name", "arc name", std::nullopt);
+    declare_selector_keys(s, "arc");
     s.table_array("metric", "numbers written to summary.json", 0, 32)
         .string("metric.name", "metric name", std::nullopt)
         .choice("metric.kind", "how it is read from the history", {"min", "max", "max_abs", "final"}, std::nullopt)
@@ -118,59 +97,20 @@ const Schema& shell_dynamic_schema() {
     declare_timeline(s, "time of the event", "s", {"gravity"});
     // one vocabulary across models: time stepping and the integrator are the [solver] table
     s.renamed("time", "solver").renamed("integrator", "solver");
+    // one structure vocabulary for every analysis: [[part]] and [[material]] tables, selections by
+    // patch (a part's name) as in statics
+    for (const char* k : {"youngs_modulus", "poisson_ratio", "thickness", "density", "drilling_factor"})
+      s.renamed(std::string("shell.") + k, std::string("material.") + k);
+    s.renamed("shell.phi_start", "part.start_angle").renamed("shell.phi_end", "part.end_angle");
+    s.renamed("shell.center", "part.origin").renamed("shell.y0", "part.origin");
+    s.renamed("shell", "part");
+    s.renamed("joint.body", "joint.patch").renamed("probe.body", "probe.patch").renamed("arc.body", "arc.patch");
     return s;
   }();
   return schema;
 }
 
 namespace {
-mesh::ShellMesh body_mesh(const Document& d, std::size_t i) {
-  const std::string name = d.string("shell.name", i), gen = d.string("shell.generator", i);
-  const int n1 = static_cast<int>(d.integer("shell.n1", i)), n2 = static_cast<int>(d.integer("shell.n2", i));
-  try {
-    if (gen == "rectangular_plate") {
-      mesh::RectangularPlate p;
-      p.a = d.number("shell.length", i);
-      p.b = d.number("shell.width", i);
-      p.origin = vec(d.numbers("shell.origin", i));
-      return mesh::rectangular_plate(p, n1, n2, name);
-    }
-    const std::vector<double> c = d.numbers("shell.center", i);
-    const double R = d.number("shell.radius", i), p0 = d.number("shell.phi_start", i) * kDeg,
-                 p1 = d.number("shell.phi_end", i) * kDeg, L = d.number("shell.length", i),
-                 slope = d.number("shell.end_slope", i), y0 = d.number("shell.y0", i);
-    if (std::abs(p1 - p0) < 1e-9 || std::abs(p1 - p0) > 2 * std::numbers::pi)
-      throw SceneError({d.issue("shell.phi_end", i, "the arc must span more than 0 and at most 360 degrees")});
-    // as for static cylinders (mesh_generator_keys.cpp): at most 120 degrees an element (at 180 its
-    // corners and directors lie in one plane through the axis), and thinner than the radius
-    const double span_deg = std::abs(p1 - p0) / kDeg;
-    if (span_deg / n1 > 120.0 * (1 + 1e-12)) {
-      std::ostringstream m;
-      m << "shell.n1 = " << n1 << " element(s) over the arc span " << span_deg / n1
-        << " degrees each; an element may span at most 120 (at 180 the stiffness is singular)";
-      throw SceneError({d.issue("shell.n1", i, m.str())});
-    }
-    if (!(d.number("shell.thickness", i) < R)) {
-      const std::string m = "shell body '" + name + "' is at least as thick as its radius (" + d.value_text("shell.thickness", i) +
-                            " against " + d.value_text("shell.radius", i) + "); a shell must be thinner than its radius "
-                            "of curvature";
-      throw SceneError({d.issue("shell.thickness", i, m), d.issue("shell.radius", i, m)});
-    }
-    // outward normal when the arc runs clockwise in (x, z) seen from +y ... keep it the radial direction
-    const double cx = c[0], cz = c[1];
-    return mesh::parametric_patch(
-        name, "cylinder R=" + std::to_string(R) + " cut by planes y = " + std::to_string(slope) + " x + const", n1, n2,
-        [=](double u, double v) {
-          const double phi = p0 + u * (p1 - p0);
-          const Eigen::Vector3d radial(std::cos(phi), 0.0, std::sin(phi));
-          const double x = cx + R * radial.x(), z = cz + R * radial.z();
-          return mesh::SurfacePoint{Eigen::Vector3d(x, slope * x + y0 + v * L, z), radial};
-        });
-  } catch (const std::invalid_argument& e) {
-    throw SceneError({d.issue("shell.generator", i, e.what())});
-  }
-}
-
 // nodes of an arc in order along the direction joining its two extreme points
 std::vector<int> ordered(const mesh::ShellMesh& m, std::vector<int> ids) {
   if (ids.size() < 2) return ids;
@@ -194,51 +134,41 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
       throw SceneError({d.issue("scene.effects", std::string("a shell_dynamic scene needs the effect '") + needed + "'")});
 
   MultibodySpec spec;
-  // every body's nodes from its counts (a 360-degree arc merges its seam), so that bodies that
-  // cannot fit are refused at the largest one's count before any mesh is built
-  std::string count_key = "shell.n1";
-  {
-    long long total = 0, largest_nodes = -1;
-    std::size_t largest = 0;
-    for (std::size_t i = 0; i < d.count("shell"); ++i) {
-      const int n1 = static_cast<int>(d.integer("shell.n1", i)), n2 = static_cast<int>(d.integer("shell.n2", i));
-      const double span = std::abs(d.number("shell.phi_end", i) - d.number("shell.phi_start", i));
-      const bool closed = d.string("shell.generator", i) == "cut_cylinder" && std::abs(span - 360.0) <= 1e-9 * 360.0 && n1 > 1;
-      const long long nodes = mesh::patch_node_count(n1, n2, closed, false);
-      total += nodes;
-      if (nodes > largest_nodes) largest_nodes = nodes, largest = i;
-    }
-    if (total > 0) {
-      count_key = d.integer("shell.n1", largest) >= d.integer("shell.n2", largest) ? "shell.n1" : "shell.n2";
-      refuse_oversized(d, ctx, static_cast<int>(std::min<long long>(total, std::numeric_limits<int>::max())),
-                       has("drilling") ? 1.0 : 0.0, count_key, static_cast<int>(largest));
-    }
-  }
+  // every part's nodes from its counts, so that parts that cannot fit are refused at the largest
+  // one's count before any mesh is built
+  const StructureSize size = structure_size(d, path, ctx);
+  refuse_oversized(d, ctx, static_cast<int>(std::min<long long>(size.nodes, std::numeric_limits<int>::max())),
+                   has("drilling") ? 1.0 : 0.0, size.key, size.part);
+  Structure structure = read_structure(d, path, ctx);
+  if (structure.has_junctions)
+    throw SceneError({d.issue("junction.parts", 0, "a dynamic analysis joins parts by [[joint]] tables only in this "
+                                                   "version: a junction's shared nodes need one shell body across "
+                                                   "parts, which the dynamic model does not have yet")});
   std::vector<std::string> names;
-  for (std::size_t i = 0; i < d.count("shell"); ++i) {
+  for (std::size_t i = 0; i < structure.parts.size(); ++i) {
+    const StructurePart& part = structure.parts[i];
+    const StructureMaterial& material = structure.materials[part.material];
+    if (!(material.density > 0))
+      throw SceneError({d.issue(d.present("material.density", part.material) ? "material.density" : "material.youngs_modulus",
+                                static_cast<std::size_t>(part.material),
+                                "a dynamic analysis needs material.density (mass per unit volume) for part '" +
+                                    part.name + "'")});
     ShellBodySpec b;
-    b.name = d.string("shell.name", i);
-    if (std::find(names.begin(), names.end(), b.name) != names.end())
-      throw SceneError({d.issue("shell.name", i, "another body is already called '" + b.name + "'")});
+    b.name = part.name;
     names.push_back(b.name);
-    b.mesh = body_mesh(d, i);
-    b.section = {d.number("shell.youngs_modulus", i), d.number("shell.poisson_ratio", i), d.number("shell.thickness", i),
-                 5.0 / 6.0};
-    b.density = d.number("shell.density", i);
+    b.mesh = part.mesh;
+    b.section = material.section;
+    b.density = material.density;
     b.options.hr = has("hr");
     b.options.ans = has("ans");
     b.options.drilling = has("drilling");
-    b.options.drilling_factor = d.number("shell.drilling_factor", i);
+    b.options.drilling_factor = material.drilling_factor;
     spec.shells.push_back(std::move(b));
   }
   {
-    // the static fit (shell_model.cpp) for all bodies together, at the largest body's mesh size
-    int total = 0, largest = 0;
-    for (std::size_t i = 0; i < spec.shells.size(); ++i) {
-      total += spec.shells[i].mesh.node_count();
-      if (spec.shells[i].mesh.node_count() > spec.shells[largest].mesh.node_count()) largest = static_cast<int>(i);
-    }
-    if (total > 0) refuse_oversized(d, ctx, total, has("drilling") ? 1.0 : 0.0, count_key, largest);
+    int total = 0;
+    for (const ShellBodySpec& b : spec.shells) total += b.mesh.node_count();
+    if (total > 0) refuse_oversized(d, ctx, total, has("drilling") ? 1.0 : 0.0, size.key, size.part);
   }
   for (std::size_t i = 0; i < d.count("rigid"); ++i) {
     RigidBodySpec r;
@@ -272,6 +202,11 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
       }
     throw SceneError({d.issue(table + "." + key, i, "no body called '" + name + "'")});
   };
+  auto part_of = [&](int node) {  // the shell part of a structure node (parts are consecutive)
+    int p = 0;
+    while (p + 1 < static_cast<int>(offsets.size()) && offsets[p + 1] <= node) ++p;
+    return p;
+  };
   auto node_id = [&](int body, int local) {
     return body < static_cast<int>(spec.shells.size()) ? offsets[body] + local
                                                        : total + (body - static_cast<int>(spec.shells.size()));
@@ -285,8 +220,17 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     throw SceneError({d.issue("scene.effects", "the scene has [[joint]] entries but not the effect 'joints'")});
   for (std::size_t i = 0; i < d.count("joint"); ++i) {
     const std::string type = d.string("joint.type", i);
-    const int a = body_index("joint", "body", i, false);
-    const std::vector<int> ids = select_nodes(d, spec.shells[a].mesh, "joint", i);
+    // the selected nodes (of the whole structure) must lie in one part: the joint joins them to another
+    std::vector<int> ids = select_nodes(d, structure.joined, "joint", i);
+    const int a = part_of(ids.front());
+    for (int& id : ids) {
+      if (part_of(id) != a)
+        throw SceneError({d.issue("joint.select", i, "the selected nodes lie in parts '" + spec.shells[a].name +
+                                                         "' and '" + spec.shells[part_of(id)].name +
+                                                         "'; a joint joins nodes of one part to another body (name "
+                                                         "the part with joint.patch)")});
+      id -= offsets[a];
+    }
     const bool ground = d.string("joint.other", i).empty();
     if (type == "simple_support" && !ground)
       throw SceneError({d.issue("joint.other", i, "a simple support holds nodes in space: leave 'other' empty")});
@@ -390,16 +334,13 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
                                                       "iteration matrix with joints is indefinite (use umfpack, "
                                                       "mumps or sparse_lu)")});
   for (std::size_t i = 0; i < d.count("probe"); ++i) {
-    const int b = body_index("probe", "body", i, false);
-    const std::vector<int> ids = select_nodes(d, spec.shells[b].mesh, "probe", i);
+    const std::vector<int> ids = select_nodes(d, structure.joined, "probe", i);
     const std::string name = d.string("probe.name", i), label = d.string("probe.label", i);
-    st.probes.push_back({name, label.empty() ? name : label, node_id(b, ids.front()), vec(d.numbers("probe.direction", i))});
+    st.probes.push_back({name, label.empty() ? name : label, ids.front(), vec(d.numbers("probe.direction", i))});
   }
   for (std::size_t i = 0; i < d.count("arc"); ++i) {
-    const int b = body_index("arc", "body", i, false);
-    std::vector<int> ids = ordered(spec.shells[b].mesh, select_nodes(d, spec.shells[b].mesh, "arc", i));
+    std::vector<int> ids = ordered(structure.joined, select_nodes(d, structure.joined, "arc", i));
     if (ids.size() < 2) throw SceneError({d.issue("arc.select", i, "an arc needs at least two nodes")});
-    for (int& id : ids) id = node_id(b, id);
     st.arcs.push_back({d.string("arc.name", i), ids});
   }
   auto known_probe = [&](const std::string& n) {
@@ -441,10 +382,11 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     switch (e.part()) {
       case Part::shell_element:
         // det J <= 0 through the thickness: the thickness against the curvature, or a distorted mesh
-        throw SceneError({d.issue("shell.thickness", b,
+        throw SceneError({d.issue("material.thickness", static_cast<std::size_t>(structure.parts[b].material),
                                   std::string(e.what()) + " (a thickness larger than the local radius of curvature, "
                                                           "or a distorted mesh, makes the element invalid)")});
-      case Part::shell_density: throw SceneError({d.issue("shell.density", b, e.what())});
+      case Part::shell_density:
+        throw SceneError({d.issue("material.density", static_cast<std::size_t>(structure.parts[b].material), e.what())});
       case Part::rigid_mass: throw SceneError({d.issue("rigid.mass", b, e.what())});
       case Part::rigid_inertia: throw SceneError({d.issue("rigid.inertia", b, e.what())});
     }

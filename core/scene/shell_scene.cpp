@@ -11,6 +11,7 @@
 #include "core/scene/node_selection.h"
 #include "core/scene/reference_csv.h"
 #include "core/scene/shell_boundary.h"
+#include "core/scene/structure_parts.h"
 #include "core/scene/scene_common.h"
 #include "core/scene/timeline.h"
 #include "core/shell/shell_static_simulation.h"
@@ -19,26 +20,6 @@ namespace ff::scene {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// generator = "file": mesh.file relative to the scene file, read by the context's reader
-mesh::ShellMesh read_mesh_file(const Document& d, const std::string& scene_path, const SceneContext& ctx) {
-  const std::string& file = d.string("mesh.file");
-  if (file.empty())
-    throw SceneError({d.issue("mesh.generator", "generator = \"file\" needs mesh.file (an OBJ or PLY quad mesh, "
-                                                "relative to the scene file)")});
-  const MeshFileReader& reader = ctx.mesh_reader;
-  if (!reader)
-    throw SceneError({d.issue("mesh.file", "this program reads no mesh files (no reader was passed to the scene "
-                                           "loader; the flexframe executable passes its assimp importer)")});
-  mesh::ShellMesh m;
-  MeshFileError error;
-  const MeshFileRequest request{(fs::path(scene_path).parent_path() / file).string(), d.number("mesh.weld_tolerance")};
-  if (!reader(request, m, &error)) throw SceneError({d.issue(error.key.empty() ? "mesh.file" : error.key, error.message)});
-  return m;
-}
-}  // namespace
-
 const Schema& shell_static_schema() {
   static const Schema schema = [] {
     Schema s;
@@ -46,14 +27,7 @@ const Schema& shell_static_schema() {
                         "effects to simulate: elastic (required), hr (assumed membrane stress), ans (assumed "
                         "transverse shear), drilling (6 DoF per node, Fox-Simo penalty)",
                         {"elastic", "hr", "ans", "drilling"});
-    declare_mesh_keys(s);
-    s.table("material", "St. Venant-Kirchhoff, plane stress", true)
-        .number("material.youngs_modulus", "E", std::nullopt, Range::positive())
-        .number("material.poisson_ratio", "nu", 0.3, Range::right_open(0.0, 0.5))
-        .number("material.thickness", "h0", std::nullopt, Range::positive())
-        .number("material.shear_factor", "transverse shear correction factor", 5.0 / 6.0, Range::left_open(0.0, 1.0))
-        .number("material.drilling_factor", "effect drilling: c in the drilling penalty gamma = c G h0", 1e-3,
-                Range::left_open(0.0, 1e3));
+    declare_structure_keys(s);
     declare_bc_keys(s);
     declare_load_keys(s);
     declare_probe_keys(s);
@@ -119,6 +93,8 @@ const Schema& shell_static_schema() {
     declare_timeline(s, "load factor of the event (statics: camera keys only)", "", {});
     // one vocabulary across models (the end of a run, material constants)
     s.renamed("solver.lambda_end", "solver.end").renamed("drilling.factor", "material.drilling_factor");
+    // one structure vocabulary for every analysis: the shell is made of [[part]] tables
+    s.renamed("mesh", "part");
     return s;
   }();
   return schema;
@@ -151,37 +127,27 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   if (!has("elastic")) throw SceneError({d.issue("scene.effects", "a shell_static scene needs the effect 'elastic'")});
 
   ShellModelSpec spec;
-  // the generator's node count from its keys (exact, nothing built): a mesh that cannot fit is
+  // the parts' node counts from their keys (exact, nothing built): a structure that cannot fit is
   // refused at the count key that makes it large before seconds go into generating it
-  std::string size_key = "mesh.file";
-  if (!mesh_from_file(d)) {
-    const GeneratedMeshSize size = generated_mesh_size(d);
-    size_key = size.key;
-    refuse_oversized(d, ctx, static_cast<int>(std::min<long long>(size.nodes, std::numeric_limits<int>::max())),
-                     has("drilling") ? 1.0 : 0.0, size.key);
-    ctx.setup.poll("generating the mesh", 0.0);
-  }
-  if (!mesh_from_file(d)) {
-    spec.mesh = generate_mesh(d);
-    check_thickness_against_radius(d, "material.thickness");
-  }
-  else try {
-      spec.mesh = read_mesh_file(d, path, ctx);
-    } catch (const std::invalid_argument& e) {
-      throw SceneError({d.issue("mesh.generator", e.what())});
-    }
+  const StructureSize size = structure_size(d, path, ctx);
+  refuse_oversized(d, ctx, static_cast<int>(std::min<long long>(size.nodes, std::numeric_limits<int>::max())),
+                   has("drilling") ? 1.0 : 0.0, size.key, size.part);
+  ctx.setup.poll("generating the mesh", 0.0);
+  Structure structure = read_structure(d, path, ctx);
+  spec.mesh = std::move(structure.joined);
   {
     int six = 0;
     for (std::uint8_t f : spec.mesh.fold) six += f != 0;
     const double six_fraction = has("drilling") ? 1.0 : spec.mesh.node_count() > 0 ? double(six) / spec.mesh.node_count() : 0.0;
-    refuse_oversized(d, ctx, spec.mesh.node_count(), six_fraction, size_key);
+    refuse_oversized(d, ctx, spec.mesh.node_count(), six_fraction, size.key, size.part);
   }
-  spec.section = {d.number("material.youngs_modulus"), d.number("material.poisson_ratio"),
-                  d.number("material.thickness"), d.number("material.shear_factor")};
+  const StructureMaterial& first = structure.materials.front();
+  spec.section = first.section;
+  structure_sections(structure, spec.sections, spec.drilling_factors, spec.quad_section);
   spec.options.hr = has("hr");
   spec.options.ans = has("ans");
   spec.options.drilling = has("drilling");
-  spec.options.drilling_factor = d.number("material.drilling_factor");
+  spec.options.drilling_factor = first.drilling_factor;
   const mesh::ShellMesh& m = spec.mesh;
 
   read_bcs(d, spec);
@@ -234,8 +200,10 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   RunInfo info;
   describe_run(d, path, info);
   // how an imported mesh was read (vertices welded or not, where the directors came from)
-  if (mesh_from_file(d) && !spec.mesh.patches.empty())
-    info.settings.emplace_back("mesh_import", spec.mesh.patches[0].description);
+  for (const StructurePart& part : structure.parts)
+    if (part.from_file && !part.mesh.patches.empty())
+      info.settings.emplace_back(structure.parts.size() == 1 ? "mesh_import" : "mesh_import_" + part.name,
+                                 part.mesh.patches[0].description);
   info.effects = fx;
   for (std::size_t i = 0; i < d.count("reference"); ++i) {
     const std::string probe = d.string("reference.probe", i);
@@ -321,7 +289,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   try {
     sim = std::make_unique<ShellStaticSimulation>(std::move(spec), st, std::move(info));
   } catch (const ShellSpecError& e) {
-    throw SceneError({located(d, e)});
+    throw SceneError({located(d, e, structure)});
   }
   return sim;
 }

@@ -330,16 +330,21 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
       e.corner[c] = corner.turn;
       ref[c] = {corner.frame, m.points[I]};
     }
+    const bool own_part = !spec_.quad_section.empty();
+    const ShellSection& section = own_part ? spec_.sections.at(spec_.quad_section.at(q)) : spec_.section;
+    ShellOptions options = spec_.options;
+    if (own_part) options.drilling_factor = spec_.drilling_factors.at(spec_.quad_section[q]);
+    e.thickness = section.thickness;
     try {
-      e.el = std::make_unique<CbShellElement>(ref, spec_.section, spec_.options);
+      e.el = std::make_unique<CbShellElement>(ref, section, options);
     } catch (const std::invalid_argument& err) {
       // a quad that forms with a far thinner section is one whose thickness its curvature cannot
       // take; one that does not is degenerate in its own mid-surface (the mesh is at fault)
-      ShellSection thin = spec_.section;
+      ShellSection thin = section;
       thin.thickness *= 1e-6;
       bool forms_thin = true;
       try {
-        CbShellElement probe(ref, thin, spec_.options);
+        CbShellElement probe(ref, thin, options);
       } catch (const std::invalid_argument&) {
         forms_thin = false;
       }
@@ -649,7 +654,7 @@ void ShellModel::update(const Eigen::VectorXd& delta) {
 
 std::vector<double> ShellModel::nodal_surface_strain() const {
   return shell::nodal_surface_strain(elements_, reference_, poses_,
-                                     [this](const Element& e) { return spec_.section.thickness; });
+                                     [](const Element& e) { return e.thickness; });
 }
 
 }  // namespace ff::shell

@@ -75,6 +75,11 @@ struct ShellModelSpec {
   mesh::ShellMesh mesh;
   ShellSection section;
   ShellOptions options;
+  /// Parts of other materials: quad q has sections[quad_section[q]] and its drilling factor
+  /// drilling_factors[quad_section[q]]; empty quad_section: every quad has `section` and options.
+  std::vector<ShellSection> sections;
+  std::vector<double> drilling_factors;
+  std::vector<int> quad_section;
   std::vector<std::pair<int, unsigned>> restraints;  ///< node, Restraint mask (global directions)
   std::vector<std::pair<int, int>> symmetry;         ///< node, axis (0, 1, 2) of the plane normal
   std::vector<DirectionRestraint> directions;        ///< restraints in any direction, prescribed values
@@ -163,6 +168,7 @@ class ShellModel final : public ff::StaticProblem {
     std::array<int, 4> nodes;
     std::array<Mat3, 4> corner;  // C = R0_I^T R0_corner (identity unless the corner's director differs)
     std::unique_ptr<CbShellElement> el;
+    double thickness;            // of its part's section (display strain)
   };
   ShellModelSpec spec_;
   std::vector<NodePose> poses_, saved_;

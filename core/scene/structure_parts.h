@@ -1,0 +1,70 @@
+#pragma once
+/// \file structure_parts.h
+/// The structure of a shell scene, whatever the analysis: its [[material]] tables (one form for
+/// every part: elastic constants, thickness, shear factor, drilling factor, density), its [[part]]
+/// tables (each a generator's or a file's mesh, mesh_generator_keys.h) and the [[junction]]
+/// tables that make parts share the nodes where their edges coincide. A single part without
+/// junctions is its own mesh unchanged, so a one-part scene gives exactly the mesh it always did.
+
+#include <string>
+#include <vector>
+
+#include "core/mesh/shell_mesh.h"
+#include "core/scene/scene.h"
+#include "core/shell/cb_shell.h"
+
+namespace ff::scene {
+
+/// Declares [[material]], [[part]] (mesh_generator_keys.h) and [[junction]].
+void declare_structure_keys(Schema& s);
+
+struct StructureMaterial {
+  std::string name;
+  shell::ShellSection section;
+  double drilling_factor = 1e-3;
+  double density = 0.0;  ///< 0 when the scene gives none (a static analysis needs none)
+};
+
+struct StructurePart {
+  std::string name;
+  mesh::ShellMesh mesh;  ///< the part alone, its own node numbers
+  int material = 0;      ///< index into Structure::materials
+  bool from_file = false;
+  int first_node = 0;    ///< where its nodes went in Structure::joined (-1 for a node shared earlier: node_map)
+  std::vector<int> node_map;  ///< its node i is joined node node_map[i]
+};
+
+struct Structure {
+  std::vector<StructureMaterial> materials;
+  std::vector<StructurePart> parts;
+  /// every part in one mesh, the nodes of each junction shared (fold nodes where the joined
+  /// parts' directors differ); patches named as the parts' own
+  mesh::ShellMesh joined;
+  std::vector<int> quad_part;  ///< per quad of `joined`
+  bool has_junctions = false;
+  /// index of the part called `name`, or -1
+  int find(const std::string& name) const;
+};
+
+/// Estimated nodes of the structure before any mesh is built (generator counts; a file part is
+/// read through the context's reader when one is given, else counts 0), the count key that makes
+/// it large and the part it belongs to. For the memory check of `check` and `run`.
+struct StructureSize {
+  long long nodes = 0;
+  std::string key = "part.generator";
+  int part = 0;
+};
+StructureSize structure_size(const Document& d, const std::string& scene_path, const SceneContext& ctx);
+
+/// Builds every material and part and joins the parts; located SceneErrors for a material no
+/// part names, a part naming no material, two parts of one name, a junction whose parts share no
+/// node or whose directors face opposite sides. `thickness_check`: a cylinder or cap thicker than
+/// its radius is refused at the material's thickness.
+Structure read_structure(const Document& d, const std::string& scene_path, const SceneContext& ctx);
+
+/// The sections of a joined structure for the static model (ShellModelSpec::sections,
+/// drilling_factors, quad_section); empty quad_section when one material covers every part.
+void structure_sections(const Structure& s, std::vector<shell::ShellSection>& sections,
+                        std::vector<double>& drilling_factors, std::vector<int>& quad_section);
+
+}  // namespace ff::scene
