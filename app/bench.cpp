@@ -104,7 +104,7 @@ int run_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   const RenderRate shell =
       stop ? RenderRate{}
            : render_rate("double_pendulum_shells",
-                         {"shell[0].n1=71", "shell[0].n2=71", "shell[1].n1=71", "shell[1].n2=71", "solver.end=1.5e-3",
+                         {"part[0].n1=71", "part[0].n2=71", "part[1].n1=71", "part[1].n2=71", "solver.end=1.5e-3",
                           "solver.output_every=1", "solver.policy=\"full\""},
                          1280, 720, 4, 30);
   std::printf("headless frames/s, %zu-quad shell mesh with PNG at 1280x720: %.1f\n", shell.quads,

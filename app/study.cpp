@@ -150,7 +150,7 @@ double number_at(const Json& j, const char* key) {
 }
 
 /// What a variant's result depends on besides its overrides: the bytes of its scene file and of
-/// the mesh files it imports (any `mesh.file`, relative to the scene, also one set by an override),
+/// the mesh files it imports (any `part.file`, relative to the scene, also one set by an override),
 /// as "fnv1a64:<hex>" (a check for edits, not a cryptographic hash). --resume runs a variant again
 /// when this differs from the one recorded with its result: the scene was edited in between.
 /// Empty when the scene cannot be read (the run then reports that itself).
@@ -173,8 +173,10 @@ std::string scene_fingerprint(const std::string& scene, const std::vector<std::s
     const toml::table doc = toml::parse_file(scene);
     std::function<void(const toml::node&)> visit = [&](const toml::node& n) {
       if (const toml::table* t = n.as_table()) {
-        if (const toml::table* mesh = t->get_as<toml::table>("mesh"))
-          if (const auto* file = mesh->get_as<std::string>("file")) meshes.push_back(file->get());
+        if (const toml::array* parts = t->get_as<toml::array>("part"))
+          for (const toml::node& part : *parts)
+            if (const toml::table* p = part.as_table())
+              if (const auto* file = p->get_as<std::string>("file")) meshes.push_back(file->get());
         for (const auto& [key, child] : *t) visit(child);
       } else if (const toml::array* a = n.as_array()) {
         for (const toml::node& child : *a) visit(child);
@@ -183,9 +185,10 @@ std::string scene_fingerprint(const std::string& scene, const std::vector<std::s
     visit(doc);
   } catch (const std::exception&) {  // not TOML: the scene's own text is all there is to compare
   }
-  for (const std::string& o : overrides) {  // mesh.file="other.obj"
+  for (const std::string& o : overrides) {  // part[0].file="other.obj"
     const std::size_t eq = o.find('=');
-    if (eq == std::string::npos || o.compare(0, eq, "mesh.file") != 0) continue;
+    const std::string key = eq == std::string::npos ? std::string() : o.substr(0, eq);
+    if (key.rfind("part[", 0) != 0 || key.size() < 6 || key.compare(key.size() - 6, 6, "].file") != 0) continue;
     std::string v = o.substr(eq + 1);
     if (v.size() >= 2 && (v.front() == '"' || v.front() == '\'')) v = v.substr(1, v.size() - 2);
     meshes.push_back(v);

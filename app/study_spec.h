@@ -18,7 +18,7 @@ namespace ff::app {
 /// Where in a study file an override a variant gets came from (vary values, study.set,
 /// variant.set, reference.set), so that a scene's refusal of it can name the study file's line.
 struct OverrideOrigin {
-  std::string override_text;  ///< "mesh.n1=8", as passed to the scene
+  std::string override_text;  ///< "part[0].n1=8", as passed to the scene
   std::string file;           ///< the study file
   int line = 0, column = 0;
   std::string key;            ///< the study key it was written at ("vary[0].values")
@@ -31,7 +31,7 @@ struct StudyAxis {
   std::vector<std::string> keys;
   std::vector<std::string> values;
   std::vector<std::string> labels;  ///< display names of the values; empty = the values
-  std::string name() const;         ///< "mesh.n1+mesh.n2"
+  std::string name() const;         ///< "part[0].n1+part[0].n2"
   std::string label(std::size_t i) const;
 };
 

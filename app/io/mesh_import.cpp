@@ -657,7 +657,7 @@ ff::scene::SceneContext scene_context(const std::atomic<bool>* stop) {
     options.memory_limit_bytes = limit;
     bool tolerance_at_fault = false;
     const bool ok = import_shell_mesh(request.path, out, error ? &error->message : nullptr, options, &tolerance_at_fault);
-    if (!ok && error && tolerance_at_fault) error->key = "mesh.weld_tolerance";
+    if (!ok && error && tolerance_at_fault) error->key = "part.weld_tolerance";
     return ok;
   };
   return ctx;

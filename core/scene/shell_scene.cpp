@@ -50,8 +50,10 @@ const Schema& shell_static_schema() {
         .string("reference.probe", "probe the curve belongs to", std::nullopt)
         .string("reference.label", "legend", std::string("reference"));
     s.table("solver", "nonlinear statics", true)
-        .choice("solver.method", "load_control (Newton with cut-backs) or arc_length", {"load_control", "arc_length"},
-                "load_control")
+        .choice("solver.method",
+                "linear (one solve at the reference state: small displacements, core/shell/shell_model.md §L), "
+                "load_control (Newton with cut-backs) or arc_length",
+                {"linear", "load_control", "arc_length"}, "load_control")
         .number("solver.load_scale", "load reported per unit lambda (for plots and metrics)", 1.0)
         .string("solver.load_label", "name of the load on plots", std::string("load"))
         .number("solver.end", "load factor to reach (the end of the run)", 1.0, Range::positive())
@@ -112,6 +114,20 @@ void check_method_keys(const Document& d) {
   static const std::vector<std::string> load_control_only = {"max_step", "min_step", "stop_at_limit_point"};
   const std::string method = d.string("solver.method");
   const bool arc = method == "arc_length";
+  if (method == "linear") {
+    // one solve: no step, no iteration, no path to follow
+    static const std::vector<std::string> path_keys = {"initial_step", "max_step", "min_step", "tolerance",
+                                                       "max_iterations", "tangent"};
+    std::vector<std::string> keys = arc_length_only;
+    keys.insert(keys.end(), load_control_only.begin(), load_control_only.end());
+    keys.insert(keys.end(), path_keys.begin(), path_keys.end());
+    for (const std::string& k : keys)
+      if (d.present("solver." + k))
+        throw SceneError({d.issue("solver." + k, "solver." + k + " belongs to a nonlinear method (load_control or "
+                                                 "arc_length); method = \"linear\" solves once at the reference state "
+                                                 "and would ignore it")});
+    return;
+  }
   for (const std::string& k : arc ? load_control_only : arc_length_only)
     if (d.present("solver." + k))
       throw SceneError({d.issue("solver." + k, "solver." + k + " belongs to method = \"" +
@@ -260,6 +276,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   conv.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
   conv.tangent = d.string("solver.tangent") == "modified" ? TangentPolicy::modified : TangentPolicy::every_iteration;
   st.arc_length = d.string("solver.method") == "arc_length";
+  st.linear = d.string("solver.method") == "linear";
   st.load_control.lambda_end = d.number("solver.end");
   st.load_control.initial_step = d.number("solver.initial_step");
   st.load_control.max_step = d.number("solver.max_step");

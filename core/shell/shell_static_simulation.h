@@ -38,6 +38,9 @@ struct ShellMetric {
 };
 
 struct ShellStaticSettings {
+  /// linear: one solve K(q0) du = lambda_end f_ref at the reference state (shell_model.md §L);
+  /// otherwise load control, or arc length when arc_length is set
+  bool linear = false;
   bool arc_length = false;
   LoadControlSettings load_control;
   ArcLengthSettings arc;
@@ -72,6 +75,7 @@ class ShellStaticSimulation final : public Simulation {
   std::vector<std::tuple<std::string, double, std::string>> evaluate_metrics() const;
   std::string unreached_reason(const ShellMetric& metric, int limit_sample) const;
   void record();  // load and probes of the current state into the path history
+  StepDone linear_step();  // the whole linear analysis, as the run's only step
   std::unique_ptr<ShellModel> model_;
   ShellStaticSettings settings_;
   RunInfo info_;

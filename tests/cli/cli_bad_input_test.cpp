@@ -241,7 +241,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         WrongKeyCase{"StaticThicknessNotBc", "hinged_roof_h635", {"material.thickness=1e9"}, "material.thickness",
                      "thicker than its radius of curvature"},
-        WrongKeyCase{"BodyThicknessNotEffects", "double_pendulum_shells", {"shell[1].thickness=1e9"}, "shell[1].thickness",
+        WrongKeyCase{"BodyThicknessNotEffects", "double_pendulum_shells", {"part[1].thickness=1e9"}, "part[1].thickness",
                      "shell body 'II'"},
         WrongKeyCase{"BeamLengthNotEfgScale", "hub_beam_efg_tau1", {"beam.length=1e308"}, "beam.length",
                      "outside double precision"},
@@ -297,7 +297,7 @@ namespace {
 TEST(CliMemoryEstimate, OversizedMeshIsRefusedWithTheEstimate) {
   const std::string dir = fresh_test_dir();
   const ProcResult r = run_flexframe(
-      {"check", "clamped_plate_pressure", "--set", "mesh.n1=1024", "--set", "mesh.n2=1024"}, dir + "/check", dir, 10.0);
+      {"check", "clamped_plate_pressure", "--set", "part[0].n1=1024", "--set", "part[0].n2=1024"}, dir + "/check", dir, 10.0);
   ASSERT_FALSE(r.timed_out) << r.describe();
   if (r.exit_code == 0) GTEST_SKIP() << "this machine has room for 1024 x 1024 (" << r.out << ")";
   EXPECT_EQ(r.exit_code, 2) << r.describe();
@@ -314,7 +314,7 @@ TEST(CliMemoryEstimate, EstimateMatchesAMeasuredPeak) {
   const std::string dir = fresh_test_dir();
   const std::string exe = flexframe_exe(), out = dir + "/out";
   std::vector<std::string> args{exe, "run", "clamped_plate_pressure", "--out", out, "--no-frames", "--no-plots", "--quiet",
-                                "--set", "mesh.n1=96", "--set", "mesh.n2=96"};
+                                "--set", "part[0].n1=96", "--set", "part[0].n2=96"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

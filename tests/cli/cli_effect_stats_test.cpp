@@ -54,7 +54,7 @@ std::set<std::string> run_and_read(const std::vector<std::string>& sets, const s
 
 TEST(CliEffectStats, StaticShellListsOnlyTheEffectsThatRan) {
   const std::string dir = fresh_test_dir();
-  const std::vector<std::string> small{"mesh.n1=4", "mesh.n2=4"};
+  const std::vector<std::string> small{"part[0].n1=4", "part[0].n2=4"};
   // the bundled plate: elastic with hr and ans, a dead pressure; no mass matrix, no drilling
   std::set<std::string> on = run_and_read(small, "clamped_plate_pressure", "hr_ans", dir);
   EXPECT_EQ(on, (std::set<std::string>{"elastic", "hr", "ans", "pressure_dead"}));

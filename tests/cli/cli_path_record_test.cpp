@@ -27,7 +27,7 @@ const Json* find_event(const Json& summary, const std::string& kind) {
 TEST(CliPathRecord, PinchedSemiCylinderAt20x20DoesNotEndPlainCompleted) {
   const std::string out = fresh_test_dir() + "/semicyl";
   const ProcResult r = run_flexframe({"run", semicylinder_scene(), "--out", out, "--no-frames", "--no-plots", "--quiet",
-                                      "--set", "mesh.n1=20", "--set", "mesh.n2=20", "--set", "solver.max_steps=3000"},
+                                      "--set", "part[0].n1=20", "--set", "part[0].n2=20", "--set", "solver.max_steps=3000"},
                                      out + "_log");
   // (a budget the path does not run out of: without the bound it came back and ended at λ = 1)
   std::string why;

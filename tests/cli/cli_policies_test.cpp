@@ -17,8 +17,8 @@ TEST(CliPolicies, WritesTheTableAndCountersFollowThePolicies) {
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
   const ProcResult r = run_flexframe({"policies", "double_pendulum_shells", "--until", "0.01", "--policies",
-                                      "full,nni:3,frozen,lazy:0.3:1", "--set", "shell[0].n1=4", "--set", "shell[0].n2=4",
-                                      "--set", "shell[1].n1=4", "--set", "shell[1].n2=4", "--out", out},
+                                      "full,nni:3,frozen,lazy:0.3:1", "--set", "part[0].n1=4", "--set", "part[0].n2=4",
+                                      "--set", "part[1].n1=4", "--set", "part[1].n2=4", "--out", out},
                                      dir + "/run");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   for (const char* f : {"/policies.csv", "/policies.md", "/policies.png"}) EXPECT_TRUE(fs::is_regular_file(out + f)) << f;

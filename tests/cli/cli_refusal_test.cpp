@@ -61,42 +61,42 @@ INSTANTIATE_TEST_SUITE_P(
                     "a follower load"},
         RefusalCase{"CholmodWithMoment", "cantilever_rollup", {"solver.linear_solver=\"cholmod_llt\""},
                     "solver.linear_solver", "a moment"},
-        RefusalCase{"ClosedCylinderOneElementAround", "pulled_cylinder", {"mesh.end_angle=360", "mesh.n1=1"}, "mesh.n1",
+        RefusalCase{"ClosedCylinderOneElementAround", "pulled_cylinder", {"part[0].end_angle=360", "part[0].n1=1"}, "part[0].n1",
                     "at least 3"},
-        RefusalCase{"ClosedCylinderTwoElementsAround", "pulled_cylinder", {"mesh.end_angle=360", "mesh.n1=2"}, "mesh.n1",
+        RefusalCase{"ClosedCylinderTwoElementsAround", "pulled_cylinder", {"part[0].end_angle=360", "part[0].n1=2"}, "part[0].n1",
                     "at least 3"},
-        RefusalCase{"TinyCylinderLength", "pulled_cylinder", {"mesh.length=1e-12"}, "mesh.length", "times longer"},
-        RefusalCase{"TinyAzimuthRange", "pulled_cylinder", {"mesh.end_angle=1e-10"}, "mesh.end_angle", "times longer"},
-        RefusalCase{"TinyRadius", "pulled_cylinder", {"mesh.radius=1e-12"}, "mesh.radius", "times longer"},
+        RefusalCase{"TinyCylinderLength", "pulled_cylinder", {"part[0].length=1e-12"}, "part[0].length", "times longer"},
+        RefusalCase{"TinyAzimuthRange", "pulled_cylinder", {"part[0].end_angle=1e-10"}, "part[0].end_angle", "times longer"},
+        RefusalCase{"TinyRadius", "pulled_cylinder", {"part[0].radius=1e-12"}, "part[0].radius", "times longer"},
         // accepted and silently wrong
-        RefusalCase{"CapThickerThanItsRadius", "hemisphere_18deg_h004", {"material.thickness=11"}, "mesh.radius",
+        RefusalCase{"CapThickerThanItsRadius", "hemisphere_18deg_h004", {"material.thickness=11"}, "part[0].radius",
                     "thicker than its radius"},
         RefusalCase{"CapThickerThanItsRadiusNamesTheThickness", "hemisphere_18deg_h004", {"material.thickness=11"},
                     "material.thickness", "thicker than its radius"},
         RefusalCase{"NearestBetweenTwoNodes", "clamped_plate_pressure", {"probe[0].point=[0.5625, 0.5, 0.0]"},
                     "probe[0].point", "equally near node"},
-        RefusalCase{"ReversedAzimuthRange", "pulled_cylinder", {"mesh.start_angle=90", "mesh.end_angle=0"},
-                    "mesh.end_angle", "runs backwards"},
+        RefusalCase{"ReversedAzimuthRange", "pulled_cylinder", {"part[0].start_angle=90", "part[0].end_angle=0"},
+                    "part[0].end_angle", "runs backwards"},
         // the only load zero: nothing to follow (a zero load beside others is accepted, switched off)
         RefusalCase{"ZeroForce", "pulled_cylinder", {"load[0].total=[0.0, 0.0, 0.0]"}, "load[0].total",
                     "nothing loads the shell"},
         RefusalCase{"ZeroPressure", "clamped_plate_pressure", {"load[0].pressure=0.0"}, "load[0].pressure",
                     "nothing loads the shell"},
         // blamed on the wrong key
-        RefusalCase{"ShortArmOfLPlate", "l_plate_force", {"mesh.length2=15.0001"}, "mesh.length2", "times longer"},
-        RefusalCase{"WeldToleranceNotFile", "clamped_plate_pressure_obj", {"mesh.weld_tolerance=1e300"},
-                    "mesh.weld_tolerance", "the weld tolerance 1e+300 is not below"},
-        RefusalCase{"HugeRadius", "pulled_cylinder", {"mesh.radius=1e200"}, "mesh.radius",
+        RefusalCase{"ShortArmOfLPlate", "l_plate_force", {"part[0].length2=15.0001"}, "part[0].length2", "times longer"},
+        RefusalCase{"WeldToleranceNotFile", "clamped_plate_pressure_obj", {"part[0].weld_tolerance=1e300"},
+                    "part[0].weld_tolerance", "the weld tolerance 1e+300 is not below"},
+        RefusalCase{"HugeRadius", "pulled_cylinder", {"part[0].radius=1e200"}, "part[0].radius",
                     "outside the lengths a shell mesh can use"},
         RefusalCase{"OverflowingBcAxis", "clamped_plate_pressure",
                     {"bc[0].type=\"fix\"", "bc[0].fix=[\"ur\"]", "bc[0].frame=\"cylindrical\"",
                      "bc[0].axis=[1e300, 1e300, 1e300]"},
                     "bc[0].axis", "finite non-zero"},
-        RefusalCase{"PendulumShellOneElementOverItsArc", "double_pendulum_shells", {"shell[0].n1=1"}, "shell[0].n1",
+        RefusalCase{"PendulumShellOneElementOverItsArc", "double_pendulum_shells", {"part[0].n1=1"}, "part[0].n1",
                     "at most 120"},
-        RefusalCase{"PendulumShellThickerThanItsRadius", "double_pendulum_shells", {"shell[1].thickness=0.5"},
-                    "shell[1].radius", "thinner than its radius"},
-        RefusalCase{"TinyPolarHole", "hemisphere_18deg_h004", {"mesh.polar_start=1e-12"}, "mesh.polar_start",
+        RefusalCase{"PendulumShellThickerThanItsRadius", "double_pendulum_shells", {"part[1].thickness=0.5"},
+                    "part[1].radius", "thinner than its radius"},
+        RefusalCase{"TinyPolarHole", "hemisphere_18deg_h004", {"part[0].polar_start=1e-12"}, "part[0].polar_start",
                     "is a point"}),
     [](const ::testing::TestParamInfo<RefusalCase>& i) { return i.param.name; });
 
@@ -104,9 +104,9 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(CliRefusalKey, MeshCausesAreNotBlamedOnTheThickness) {
   const std::string dir = fresh_test_dir();
   for (const std::vector<std::string>& sets :
-       {std::vector<std::string>{"mesh.radius=1e-12"}, std::vector<std::string>{"mesh.length2=15.0001"},
-        std::vector<std::string>{"mesh.end_angle=360", "mesh.n1=1"}}) {
-    const std::string scene = sets[0].rfind("mesh.length2", 0) == 0 ? "l_plate_force" : "pulled_cylinder";
+       {std::vector<std::string>{"part[0].radius=1e-12"}, std::vector<std::string>{"part[0].length2=15.0001"},
+        std::vector<std::string>{"part[0].end_angle=360", "part[0].n1=1"}}) {
+    const std::string scene = sets[0].rfind("part[0].length2", 0) == 0 ? "l_plate_force" : "pulled_cylinder";
     std::vector<std::string> args{"check", scene};
     for (const std::string& s : sets) args.insert(args.end(), {"--set", s});
     const ProcResult r = run_flexframe(args, dir + "/check", dir);
@@ -118,8 +118,8 @@ TEST(CliRefusalKey, MeshCausesAreNotBlamedOnTheThickness) {
 // ---- scenes written here ------------------------------------------------------------------------
 
 std::string static_scene(const std::string& mesh, const std::string& rest) {
-  return "[scene]\nname = \"refusal\"\nmodel = \"shell_static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n\n[mesh]\n" +
-         mesh + "\n\n[material]\nyoungs_modulus = 1e6\nthickness = 0.01\n\n" + rest + "\n[solver]\n";
+  return "[scene]\nname = \"refusal\"\nmodel = \"shell_static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n\n[[part]]\n" +
+         mesh + "\n\n[[material]]\nyoungs_modulus = 1e6\nthickness = 0.01\n\n" + rest + "\n[solver]\n";
 }
 
 // 1-based number of the first line of `text` starting with `prefix` (0: none)
@@ -154,7 +154,7 @@ TEST(CliRefusalFile, SlitAnnulusWithTwoElementsAround) {
   // line 8: n2
   write_text(scene, static_scene("generator = \"annulus\"\nradius = 1.0\ninner_radius = 0.5\nslit = true\nn2 = 2\nn1 = 2",
                                  kClampedRing));
-  expect_refused_at(dir, scene, line_of(read_text(scene), "n2 = "), "mesh.n2", "at least 3");
+  expect_refused_at(dir, scene, line_of(read_text(scene), "n2 = "), "part[0].n2", "at least 3");
 }
 
 // A probe on the seam of a slit cylinder: both lips are at the point, so `nearest` took the lower
@@ -221,7 +221,7 @@ TEST(CliRefusalFile, TiltedObjNormalsAreRefusedWithTheVertexAndAngle) {
     SCOPED_TRACE(tilt);
     const std::string obj = dir + "/tilted.obj";
     write_text(obj, tilted_plate_obj(4, tilt));
-    const ProcResult r = run_flexframe({"check", "clamped_plate_pressure_obj", "--set", "mesh.file=\"" + obj + "\""},
+    const ProcResult r = run_flexframe({"check", "clamped_plate_pressure_obj", "--set", "part[0].file=\"" + obj + "\""},
                                        dir + "/check", dir);
     ASSERT_EQ(r.signal, 0) << r.describe();
     EXPECT_EQ(r.exit_code, 2) << r.describe();
@@ -244,7 +244,7 @@ TEST(CliRefusalFile, AcceptedNormalsRecordTheirLargestTilt) {
   const std::string obj = dir + "/tilted.obj";
   write_text(obj, tilted_plate_obj(4, 3.0));
   const std::string out = dir + "/out";
-  const ProcResult r = run_flexframe({"run", "clamped_plate_pressure_obj", "--set", "mesh.file=\"" + obj + "\"", "--out",
+  const ProcResult r = run_flexframe({"run", "clamped_plate_pressure_obj", "--set", "part[0].file=\"" + obj + "\"", "--out",
                                       out, "--no-frames", "--no-plots", "--quiet"},
                                      dir + "/run", dir);
   ASSERT_EQ(r.exit_code, 0) << r.describe();
@@ -261,7 +261,7 @@ TEST(CliRefusalFile, StudyVariantErrorsNameTheStudyFileLine) {
   const std::string study = dir + "/bad_study.toml";
   write_text(study,
              "[study]\nname = \"bad\"\nscene = \"cantilever_rollup\"\nmetric = \"tip_w\"\n\n"  // 1-5
-             "[[vary]]\nkey = [\"mesh.n1\"]\nvalues = [\"8\", \"abc\"]\n\n"                      // 6-9
+             "[[vary]]\nkey = [\"part[0].n1\"]\nvalues = [\"8\", \"abc\"]\n\n"                      // 6-9
              "[reference]\nkind = \"finest\"\n");
   // --check refuses it; a run refuses it after the variant's own process did
   for (const auto& args : {std::vector<std::string>{"study", study, "--check"},

@@ -297,7 +297,7 @@ TEST(CliReplay, ShellExportKeepsEveryNodeInOrder) {
   const std::string out = dir + "/out";
   std::vector<std::string> args{"run", "double_pendulum_shells", "--out", out, "--quiet", "--no-frames", "--no-plots",
                                 "--export", "gltf,vtu", "--set", "solver.end=0.003", "--set", "solver.output_every=2"};
-  for (const char* k : {"shell[0].n1=3", "shell[0].n2=3", "shell[1].n1=3", "shell[1].n2=3", "output.frame_every=2"})
+  for (const char* k : {"part[0].n1=3", "part[0].n2=3", "part[1].n1=3", "part[1].n2=3", "output.frame_every=2"})
     args.insert(args.end(), {"--set", k});
   const ProcResult r = run_flexframe(args, dir + "/run");
   ASSERT_EQ(r.exit_code, 0) << r.describe();

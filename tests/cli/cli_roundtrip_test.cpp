@@ -75,8 +75,8 @@ TEST(CliRoundTrip, ShellDynamicsStoresEveryStepsIterations) {
   const std::string out = dir + "/out";
   const ProcResult r = run_flexframe({"run", "double_pendulum_shells", "--out", out, "--no-frames", "--no-plots",
                                       "--quiet", "--set", "solver.end=0.01", "--set", "solver.output_every=7", "--set",
-                                      "shell[0].n1=4", "--set", "shell[0].n2=4", "--set", "shell[1].n1=4", "--set",
-                                      "shell[1].n2=4"},
+                                      "part[0].n1=4", "--set", "part[0].n2=4", "--set", "part[1].n1=4", "--set",
+                                      "part[1].n2=4"},
                                      dir + "/run");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   std::string err;

@@ -139,8 +139,8 @@ TEST(GuiCli, ShellSceneScreenshotAfterQuitAfter) {
   const std::string dir = fresh_test_dir();
   // a coarse double pendulum, a few steps: surfaces in the viewport
   const ProcResult r = run_gui_under_xvfb(
-      {"double_pendulum_shells", "--set", "shell[0].n1=6", "--set", "shell[0].n2=6", "--set", "shell[1].n1=6",
-       "--set", "shell[1].n2=6", "--run", "--screenshot", dir + "/shot.png", "--quit-after", "4", "--width",
+      {"double_pendulum_shells", "--set", "part[0].n1=6", "--set", "part[0].n2=6", "--set", "part[1].n1=6",
+       "--set", "part[1].n2=6", "--run", "--screenshot", dir + "/shot.png", "--quit-after", "4", "--width",
        "1280", "--height", "800"},
       dir + "/gui");
   ASSERT_EQ(r.exit_code, 0) << r.describe();

@@ -62,7 +62,7 @@ TEST(SceneEdit, AddsMissingKeysAndTables) {
 
 TEST(SceneEdit, ArrayElementsAndBadEdits) {
   const std::string path = kScenes + "double_pendulum_shells.toml";
-  const std::string text = scene_text_with_overrides(path, {"shell[1].thickness=0.02", "solver.end=0.1"});
+  const std::string text = scene_text_with_overrides(path, {"part[1].thickness=0.02", "solver.end=0.1"});
   const Document d = validate(scene_schema(path), text, "saved.toml");
   EXPECT_DOUBLE_EQ(d.number("shell.thickness", 1), 0.02);
   EXPECT_DOUBLE_EQ(d.number("shell.thickness", 0), 0.01);
@@ -84,10 +84,10 @@ TEST(SceneParams, EveryModelListsItsKeys) {
     }
     EXPECT_TRUE(has_effects) << name;
   }
-  const auto shells = app::gui::scene_params(kScenes + "double_pendulum_shells.toml", {"shell[1].thickness=0.02"});
+  const auto shells = app::gui::scene_params(kScenes + "double_pendulum_shells.toml", {"part[1].thickness=0.02"});
   bool found = false;
   for (const auto& it : shells) {
-    if (it.key != "shell[1].thickness") continue;
+    if (it.key != "part[1].thickness") continue;
     found = true;
     EXPECT_EQ(it.value, "0.02");
     EXPECT_TRUE(it.edited);

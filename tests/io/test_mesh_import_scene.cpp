@@ -78,8 +78,8 @@ std::map<std::string, double> run_text(const std::string& name, const std::strin
 
 // A linear static shell scene around a [mesh] table and the supports, loads and probes.
 std::string static_scene(const std::string& mesh, const std::string& material, const std::string& rest) {
-  return "[scene]\nname = \"import\"\nmodel = \"shell_static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n[mesh]\n" +
-         mesh + "\n[material]\n" + material + "\n" + rest +
+  return "[scene]\nname = \"import\"\nmodel = \"shell_static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n[[part]]\n" +
+         mesh + "\n[[material]]\n" + material + "\n" + rest +
          "\n[solver]\nmethod = \"load_control\"\ninitial_step = 1.0\nmax_step = 1.0\n[output]\nframes = false\nplots = "
          "false\n";
 }
@@ -88,7 +88,7 @@ std::string static_scene(const std::string& mesh, const std::string& material, c
 ff::mesh::ShellMesh write_generated(const std::string& mesh_table, const std::string& file, bool normals) {
   const std::string text = static_scene(mesh_table, "youngs_modulus = 1.0\nthickness = 1.0", "[[probe]]\nname = \"p\"\ndirection = [0.0, 0.0, 1.0]\n");
   const ff::scene::Document d = ff::scene::validate(ff::scene::shell_static_schema(), text, "generated.toml");
-  ff::mesh::ShellMesh m = ff::scene::generate_mesh(d);
+  ff::mesh::ShellMesh m = ff::scene::generate_mesh(d, 0);
   std::string error;
   EXPECT_TRUE(ff::io::write_shell_mesh_obj(file, m, &error, normals)) << error;
   return m;
@@ -124,19 +124,19 @@ TEST(MeshImportScene, MeshFileErrorsAreLocatedAtTheKey) {
   // no reader passed (a program built on core alone)
   std::vector<ff::scene::Issue> issues = load_issues(scene, {}, ff::scene::SceneContext{});
   ASSERT_EQ(issues.size(), 1u);
-  EXPECT_EQ(issues[0].key, "mesh.file");
+  EXPECT_EQ(issues[0].key, "part[0].file");
   EXPECT_GT(issues[0].line, 0);
   EXPECT_NE(issues[0].message.find("no reader"), std::string::npos) << issues[0].message;
   // a missing file: the importer's sentence, at the key
-  issues = load_issues(scene, {"mesh.file=no_such_mesh.obj"});
+  issues = load_issues(scene, {"part[0].file=no_such_mesh.obj"});
   ASSERT_EQ(issues.size(), 1u);
-  EXPECT_EQ(issues[0].key, "mesh.file");
+  EXPECT_EQ(issues[0].key, "part[0].file");
   EXPECT_NE(issues[0].message.find("no_such_mesh.obj' does not exist"), std::string::npos) << issues[0].message;
   // generator = file without a file
-  issues = load_issues(scene_file("clamped_plate_pressure"), {"mesh.generator=file"});
+  issues = load_issues(scene_file("clamped_plate_pressure"), {"part[0].generator=file"});
   ASSERT_EQ(issues.size(), 1u);
-  EXPECT_EQ(issues[0].key, "mesh.generator");
-  EXPECT_NE(issues[0].message.find("needs mesh.file"), std::string::npos) << issues[0].message;
+  EXPECT_EQ(issues[0].key, "part[0].generator");
+  EXPECT_NE(issues[0].message.find("needs part.file"), std::string::npos) << issues[0].message;
 }
 
 // Issue 11 acceptance, import: an imported slit stays open. The slit annular plate (a ring cut at
@@ -227,7 +227,7 @@ TEST(MeshImportScene, ImportedMeshBeyondTheMemoryLimitIsRefusedAtItsFile) {
   const std::vector<ff::scene::Issue> issues = load_issues(scene_file("clamped_plate_pressure_obj"));
   unsetenv("FLEXFRAME_MEMORY_LIMIT_GB");
   ASSERT_EQ(issues.size(), 1u);
-  EXPECT_EQ(issues[0].key, "mesh.file");
+  EXPECT_EQ(issues[0].key, "part[0].file");
   EXPECT_NE(issues[0].message.find("81 nodes"), std::string::npos) << issues[0].message;
   EXPECT_NE(issues[0].message.find("more than the 0.051 GB"), std::string::npos) << issues[0].message;
 }

@@ -59,10 +59,10 @@ TEST(Stability, EnergyGrowthDoesNotDependOnTheGravityDatum) {
         "[scene]\nname = \"datum\"\nmodel = \"shell_dynamic\"\n"
         "effects = [\"elastic\", \"inertia\", \"gravity\", \"hr\", \"ans\", \"joints\"]\n"
         "[solver]\ndt = 1e-3\nend = 0.3\npolicy = \"lazy\"\npredictor = \"previous\"\ntolerance = 1e-6\n"
-        "[[shell]]\nname = \"plate\"\ngenerator = \"rectangular_plate\"\nn1 = 12\nn2 = 4\nlength = 0.6\n"
-        "width = 0.2\norigin = [0.0, 0.0, " + std::to_string(z) + "]\nyoungs_modulus = 70e9\n"
-        "poisson_ratio = 0.33\nthickness = 0.002\ndensity = 2700.0\n"
-        "[[joint]]\ntype = \"revolute\"\nbody = \"plate\"\naxis = [0.0, 1.0, 0.0]\nselect = \"patch_edge\"\n"
+        "[[material]]\nyoungs_modulus = 70e9\npoisson_ratio = 0.33\nthickness = 0.002\ndensity = 2700.0\n"
+        "[[part]]\nname = \"plate\"\ngenerator = \"rectangular_plate\"\nn1 = 12\nn2 = 4\nlength = 0.6\n"
+        "width = 0.2\norigin = [0.0, 0.0, " + std::to_string(z) + "]\n"
+        "[[joint]]\ntype = \"revolute\"\naxis = [0.0, 1.0, 0.0]\nselect = \"patch_edge\"\n"
         "patch = \"plate\"\nedge = \"u=0\"\n"
         "[output]\nframes = false\nplots = false\n";
     const std::string dir = std::string(FF_BINARY_DIR) + "/test_out";

@@ -36,13 +36,13 @@ void expect_identical(const mesh::ShellMesh& a, const mesh::ShellMesh& b, const 
 }
 
 std::string mesh_issue(const std::string& toml_mesh) {
-  const std::string text = "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[mesh]\n" + toml_mesh +
-                           "\n[material]\nyoungs_modulus = 1.0\nthickness = 0.1\n[[probe]]\nname = \"w\"\n"
+  const std::string text = "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[[part]]\n" + toml_mesh +
+                           "\n[[material]]\nyoungs_modulus = 1.0\nthickness = 0.1\n[[probe]]\nname = \"w\"\n"
                            "direction = [0.0, 0.0, 1.0]\n[solver]\n";
   try {
     const scene::Document d = scene::validate(scene::shell_static_schema(), text, "t.toml");
-    if (scene::mesh_from_file(d)) return "file";
-    scene::generate_mesh(d);
+    if (scene::mesh_from_file(d, 0)) return "file";
+    scene::generate_mesh(d, 0);
   } catch (const scene::SceneError& e) {
     return e.issues.at(0).key + ": " + e.issues.at(0).message;
   }
@@ -52,21 +52,21 @@ std::string mesh_issue(const std::string& toml_mesh) {
 }  // namespace
 
 TEST(MeshGeneratorKeys, PaperScenesBuildTheBenchmarkMeshesBitForBit) {
-  expect_identical(scene::generate_mesh(scene_document("cantilever_rollup")), mesh::cantilever_strip(20, 2), "rollup");
-  expect_identical(scene::generate_mesh(scene_document("hemisphere_18deg_h001")), mesh::hemisphere_quarter(16, 16),
+  expect_identical(scene::generate_mesh(scene_document("cantilever_rollup"), 0), mesh::cantilever_strip(20, 2), "rollup");
+  expect_identical(scene::generate_mesh(scene_document("hemisphere_18deg_h001"), 0), mesh::hemisphere_quarter(16, 16),
                    "hemisphere h001");
-  expect_identical(scene::generate_mesh(scene_document("hemisphere_18deg_h004")), mesh::hemisphere_quarter(16, 16),
+  expect_identical(scene::generate_mesh(scene_document("hemisphere_18deg_h004"), 0), mesh::hemisphere_quarter(16, 16),
                    "hemisphere h004");
-  expect_identical(scene::generate_mesh(scene_document("pulled_cylinder")), mesh::open_cylinder_octant(24, 16),
+  expect_identical(scene::generate_mesh(scene_document("pulled_cylinder"), 0), mesh::open_cylinder_octant(24, 16),
                    "pulled cylinder");
-  expect_identical(scene::generate_mesh(scene_document("hinged_roof_h127")), mesh::hinged_roof_quarter(16, 16), "roof h127");
-  expect_identical(scene::generate_mesh(scene_document("hinged_roof_h635")), mesh::hinged_roof_quarter(16, 16), "roof h635");
-  expect_identical(scene::generate_mesh(scene_document("l_plate_force")), mesh::l_plate_simo_fox_rifai(16, 2), "l_plate force");
-  expect_identical(scene::generate_mesh(scene_document("l_plate_moment")), mesh::l_plate_simo_fox_rifai(16, 2), "l_plate moment");
-  expect_identical(scene::generate_mesh(scene_document("clamped_plate_pressure")), mesh::rectangular_plate(1.0, 1.0, 8, 8),
+  expect_identical(scene::generate_mesh(scene_document("hinged_roof_h127"), 0), mesh::hinged_roof_quarter(16, 16), "roof h127");
+  expect_identical(scene::generate_mesh(scene_document("hinged_roof_h635"), 0), mesh::hinged_roof_quarter(16, 16), "roof h635");
+  expect_identical(scene::generate_mesh(scene_document("l_plate_force"), 0), mesh::l_plate_simo_fox_rifai(16, 2), "l_plate force");
+  expect_identical(scene::generate_mesh(scene_document("l_plate_moment"), 0), mesh::l_plate_simo_fox_rifai(16, 2), "l_plate moment");
+  expect_identical(scene::generate_mesh(scene_document("clamped_plate_pressure"), 0), mesh::rectangular_plate(1.0, 1.0, 8, 8),
                    "clamped plate");
   // overrides of the element counts (studies refine mesh.n1 / mesh.n2) reach the generator
-  expect_identical(scene::generate_mesh(scene_document("hemisphere_18deg_h004", {"mesh.n1=8", "mesh.n2=4"})),
+  expect_identical(scene::generate_mesh(scene_document("hemisphere_18deg_h004", {"part[0].n1=8", "part[0].n2=4"}), 0),
                    mesh::hemisphere_quarter(8, 4), "hemisphere 8 x 4");
 }
 
@@ -88,31 +88,31 @@ TEST(MeshGeneratorKeys, EveryGeneratorBuildsFromItsKeys) {
 TEST(MeshGeneratorKeys, BadMeshInputNamesTheExactKey) {
   auto starts = [](const std::string& s, const std::string& key) { return s.rfind(key, 0) == 0; };
   std::string e = mesh_issue("generator = \"rectangular_plate\"\nlength = 2.0\nwidth = 1.0\nradius = 3.0");
-  EXPECT_TRUE(starts(e, "mesh.radius: mesh.radius does not belong to generator = \"rectangular_plate\"")) << e;
+  EXPECT_TRUE(starts(e, "part[0].radius: part.radius does not belong to generator = \"rectangular_plate\"")) << e;
   e = mesh_issue("generator = \"cylinder\"\nlength = 2.0");
-  EXPECT_TRUE(starts(e, "mesh.generator: generator = \"cylinder\" needs mesh.radius")) << e;
+  EXPECT_TRUE(starts(e, "part[0].generator: generator = \"cylinder\" needs part.radius")) << e;
   e = mesh_issue("generator = \"spherical_cap\"\nradius = 1.0");
-  EXPECT_TRUE(starts(e, "mesh.generator: generator = \"spherical_cap\" needs mesh.polar_end")) << e;
+  EXPECT_TRUE(starts(e, "part[0].generator: generator = \"spherical_cap\" needs part.polar_end")) << e;
   e = mesh_issue("generator = \"annulus\"\nradius = 10.0\ninner_radius = 6.0\nend_angle = 180.0\nslit = true");
-  EXPECT_TRUE(starts(e, "mesh.slit: a slit is the seam of a closed 360 degree surface")) << e;
+  EXPECT_TRUE(starts(e, "part[0].slit: a slit is the seam of a closed 360 degree surface")) << e;
   e = mesh_issue("generator = \"annulus\"\nradius = 1.0\ninner_radius = 2.0");
-  EXPECT_TRUE(starts(e, "mesh.inner_radius:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].inner_radius:")) << e;
   e = mesh_issue("generator = \"cylinder\"\nradius = 1.0\nlength = 1.0\nstart_angle = 10.0\nend_angle = 10.0");
-  EXPECT_TRUE(starts(e, "mesh.end_angle:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].end_angle:")) << e;
   e = mesh_issue("generator = \"cylinder\"\nradius = 1.0\nlength = 1.0\nend_angle = 400.0");
-  EXPECT_TRUE(starts(e, "mesh.end_angle:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].end_angle:")) << e;
   e = mesh_issue("generator = \"cylinder\"\nradius = 1.0\nlength = 1.0\nreference = [0.0, 0.0, 2.0]");
-  EXPECT_TRUE(starts(e, "mesh.reference:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].reference:")) << e;
   e = mesh_issue("generator = \"spherical_cap\"\nradius = 1.0\npolar_start = 50.0\npolar_end = 40.0");
-  EXPECT_TRUE(starts(e, "mesh.polar_end:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].polar_end:")) << e;
   e = mesh_issue("generator = \"spherical_cap\"\nradius = 1.0\npolar_end = 40.0\nend_angle = 60.0\nn2 = 4");
-  EXPECT_TRUE(starts(e, "mesh.generator:") && e.find("90, 180 or 360") != std::string::npos) << e;
+  EXPECT_TRUE(starts(e, "part[0].generator:") && e.find("90, 180 or 360") != std::string::npos) << e;
   e = mesh_issue("generator = \"l_plate\"\nlength = 10.0\nwidth = 30.0");
-  EXPECT_TRUE(starts(e, "mesh.length:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].length:")) << e;
   e = mesh_issue("generator = \"file\"\nfile = \"x.obj\"\nn1 = 3");
-  EXPECT_TRUE(starts(e, "mesh.n1: mesh.n1 does not belong to generator = \"file\"")) << e;
+  EXPECT_TRUE(starts(e, "part[0].n1: part.n1 does not belong to generator = \"file\"")) << e;
   e = mesh_issue("generator = \"cylinder\"\nradius = 1.0\nlength = 1.0\nfile = \"x.obj\"");
-  EXPECT_TRUE(starts(e, "mesh.file:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].file:")) << e;
 }
 
 // Issue 30: shapes that were accepted and then ended "singular matrix" (or were swept backwards,
@@ -121,49 +121,49 @@ TEST(MeshGeneratorKeys, ShapesThatCannotBeSolvedNameTheirKey) {
   auto starts = [](const std::string& s, const std::string& key) { return s.rfind(key, 0) == 0; };
   const std::string cyl = "generator = \"cylinder\"\nradius = 1.0\nlength = 1.0\n";
   std::string e = mesh_issue(cyl + "n1 = 1\nn2 = 2");
-  EXPECT_TRUE(starts(e, "mesh.n1:") && e.find("at least 3") != std::string::npos) << e;
+  EXPECT_TRUE(starts(e, "part[0].n1:") && e.find("at least 3") != std::string::npos) << e;
   e = mesh_issue(cyl + "n1 = 2\nn2 = 2\nslit = true");
-  EXPECT_TRUE(starts(e, "mesh.n1:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].n1:")) << e;
   EXPECT_EQ(mesh_issue(cyl + "n1 = 3\nn2 = 2"), "");  // 120 degrees an element: the fewest around
   e = mesh_issue("generator = \"annulus\"\nradius = 1.0\ninner_radius = 0.5\nslit = true\nn1 = 2\nn2 = 2");
-  EXPECT_TRUE(starts(e, "mesh.n2:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].n2:")) << e;
   e = mesh_issue("generator = \"annulus\"\nradius = 1.0\ninner_radius = 0.5\nn1 = 2\nn2 = 1");
-  EXPECT_TRUE(starts(e, "mesh.n2:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].n2:")) << e;
   e = mesh_issue("generator = \"cylinder\"\nradius = 1.0\nlength = 1e-12");
-  EXPECT_TRUE(starts(e, "mesh.length:") && e.find("times longer") != std::string::npos) << e;
+  EXPECT_TRUE(starts(e, "part[0].length:") && e.find("times longer") != std::string::npos) << e;
   e = mesh_issue(cyl + "end_angle = 1e-10");
-  EXPECT_TRUE(starts(e, "mesh.end_angle:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].end_angle:")) << e;
   e = mesh_issue("generator = \"cylinder\"\nradius = 1e-12\nlength = 1.0");
-  EXPECT_TRUE(starts(e, "mesh.radius:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].radius:")) << e;
   e = mesh_issue("generator = \"rectangular_plate\"\nlength = 1.0\nwidth = 1e-9");
-  EXPECT_TRUE(starts(e, "mesh.width:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].width:")) << e;
   e = mesh_issue("generator = \"l_plate\"\nlength = 10.0\nlength2 = 0.5000001\nwidth = 1.0\nn1 = 4\nn2 = 1");
-  EXPECT_TRUE(starts(e, "mesh.length2:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].length2:")) << e;
   e = mesh_issue("generator = \"folded_plate\"\nlength = 1.0\nlength2 = 1e-9\nwidth = 1.0");
-  EXPECT_TRUE(starts(e, "mesh.length2:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].length2:")) << e;
   e = mesh_issue("generator = \"annulus\"\nradius = 1.0\ninner_radius = 0.9999999999\nn1 = 2\nn2 = 16");
-  EXPECT_TRUE(starts(e, "mesh.inner_radius:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].inner_radius:")) << e;
   e = mesh_issue(cyl + "start_angle = 90.0\nend_angle = 0.0");
-  EXPECT_TRUE(starts(e, "mesh.end_angle:") && e.find("runs backwards") != std::string::npos) << e;
+  EXPECT_TRUE(starts(e, "part[0].end_angle:") && e.find("runs backwards") != std::string::npos) << e;
   e = mesh_issue("generator = \"cylinder\"\nradius = 1e200\nlength = 1e200");
-  EXPECT_TRUE(starts(e, "mesh.length:") || starts(e, "mesh.radius:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].length:") || starts(e, "part[0].radius:")) << e;
   e = mesh_issue("generator = \"cylinder\"\nradius = 1e200\nlength = 1.0");
-  EXPECT_TRUE(starts(e, "mesh.radius:") && e.find("outside the lengths") != std::string::npos) << e;
+  EXPECT_TRUE(starts(e, "part[0].radius:") && e.find("outside the lengths") != std::string::npos) << e;
   e = mesh_issue("generator = \"rectangular_plate\"\nlength = 1.0\nwidth = 1.0\norigin = [0.0, 1e300, 0.0]");
-  EXPECT_TRUE(starts(e, "mesh.origin:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].origin:")) << e;
   e = mesh_issue("generator = \"spherical_cap\"\nradius = 1.0\npolar_start = 1e-12\npolar_end = 90.0");
-  EXPECT_TRUE(starts(e, "mesh.polar_start:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].polar_start:")) << e;
   e = mesh_issue("generator = \"spherical_cap\"\nradius = 1.0\npolar_start = 1e-5\npolar_end = 90.0");
-  EXPECT_TRUE(starts(e, "mesh.polar_start:") && e.find("times longer") != std::string::npos) << e;
+  EXPECT_TRUE(starts(e, "part[0].polar_start:") && e.find("times longer") != std::string::npos) << e;
   e = mesh_issue("generator = \"spherical_cap\"\nradius = 1.0\npolar_end = 179.9999999999");
-  EXPECT_TRUE(starts(e, "mesh.polar_end:")) << e;
+  EXPECT_TRUE(starts(e, "part[0].polar_end:")) << e;
 }
 
 TEST(MeshGeneratorKeys, EdgeNamesSelectInScenesAndTyposNameTheEntry) {
   auto scene = [](const std::string& edge) {
-    return "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[mesh]\ngenerator = \"spherical_cap\"\n"
+    return "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[[part]]\ngenerator = \"spherical_cap\"\n"
            "radius = 1.0\npolar_start = 30.0\npolar_end = 90.0\nend_angle = 90.0\nn1 = 2\nn2 = 2\n"
-           "[material]\nyoungs_modulus = 1.0\nthickness = 0.1\n"
+           "[[material]]\nyoungs_modulus = 1.0\nthickness = 0.1\n"
            "[[bc]]\ntype = \"clamped\"\nselect = \"patch_edge\"\npatch = \"cap\"\nedge = \"" + edge + "\"\n"
            "[[load]]\ntype = \"force\"\ntotal = [0.0, 0.0, 1e-6]\nselect = \"nearest\"\npoint = [0.5, 0.0, 0.866]\n"
            "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\npoint = [0.5, 0.0, 0.866]\n[solver]\n";

@@ -16,8 +16,8 @@ using namespace ff;
 namespace {
 
 std::string scene_text(const std::string& mesh) {
-  return "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[mesh]\n" + mesh +
-         "\n[material]\nyoungs_modulus = 1.0\nthickness = 0.01\n[[probe]]\nname = \"w\"\n"
+  return "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[[part]]\n" + mesh +
+         "\n[[material]]\nyoungs_modulus = 1.0\nthickness = 0.01\n[[probe]]\nname = \"w\"\n"
          "direction = [0.0, 0.0, 1.0]\n[solver]\n";
 }
 
@@ -64,11 +64,11 @@ TEST(MeshSizeEstimate, EveryGeneratorsCountIsTheBuiltMeshsNodeCount) {
           const scene::Document d = document(mesh);
           mesh::ShellMesh built;
           try {
-            built = scene::generate_mesh(d);
+            built = scene::generate_mesh(d, 0);
           } catch (const scene::SceneError&) {
             continue;  // keys the generator refuses (they are refused before any count matters)
           }
-          EXPECT_EQ(scene::generated_mesh_size(d).nodes, built.node_count()) << mesh;
+          EXPECT_EQ(scene::generated_mesh_size(d, 0).nodes, built.node_count()) << mesh;
           ++compared;
         }
       }
@@ -78,18 +78,18 @@ TEST(MeshSizeEstimate, EveryGeneratorsCountIsTheBuiltMeshsNodeCount) {
 TEST(MeshSizeEstimate, TheKeyThatMakesTheMeshLargeIsBlamed) {
   // folded_plate: leg2's n3 elements, not n1
   EXPECT_EQ(scene::generated_mesh_size(document("generator = \"folded_plate\"\nlength = 1.0\nlength2 = 2.0\nwidth = 1.0\n"
-                                                "n1 = 4\nn2 = 8\nn3 = 1000"))
+                                                "n1 = 4\nn2 = 8\nn3 = 1000"), 0)
                 .key,
-            "mesh.n3");
+            "part.n3");
   // l_plate: the corner is n2 x n2, so a wide strip is large even with short arms
-  EXPECT_EQ(scene::generated_mesh_size(document("generator = \"l_plate\"\nlength = 2.0\nwidth = 0.5\nn1 = 4\nn2 = 900")).key,
-            "mesh.n2");
-  EXPECT_EQ(scene::generated_mesh_size(document("generator = \"rectangular_plate\"\nlength = 2.0\nwidth = 1.0\nn1 = 900\nn2 = 4"))
+  EXPECT_EQ(scene::generated_mesh_size(document("generator = \"l_plate\"\nlength = 2.0\nwidth = 0.5\nn1 = 4\nn2 = 900"), 0).key,
+            "part.n2");
+  EXPECT_EQ(scene::generated_mesh_size(document("generator = \"rectangular_plate\"\nlength = 2.0\nwidth = 1.0\nn1 = 900\nn2 = 4"), 0)
                 .key,
-            "mesh.n1");
+            "part.n1");
   // nothing given: the generator's defaults, so the generator line is the place
-  EXPECT_EQ(scene::generated_mesh_size(document("generator = \"rectangular_plate\"\nlength = 2.0\nwidth = 1.0")).key,
-            "mesh.generator");
+  EXPECT_EQ(scene::generated_mesh_size(document("generator = \"rectangular_plate\"\nlength = 2.0\nwidth = 1.0"), 0).key,
+            "part.generator");
 }
 
 // the scene loader refuses an oversized generated mesh at that key, with the exact count, before
@@ -103,13 +103,13 @@ TEST(MeshSizeEstimate, OversizedGeneratedMeshIsRefusedAtTheKeyThatMakesItLarge) 
                                               "point = [0.0, 0.0, 0.0]\n";
   const scene::Document d = scene::validate(scene::shell_static_schema(), text, "t.toml");
   const long long nodes = mesh::folded_plate_node_count(2, 1024, 64);
-  ASSERT_EQ(scene::generated_mesh_size(d).nodes, nodes);
+  ASSERT_EQ(scene::generated_mesh_size(d, 0).nodes, nodes);
   try {
     scene::build_shell_static(d, "t.toml", ctx);
     FAIL() << "a " << nodes << "-node mesh was accepted under a 2 GB limit";
   } catch (const scene::SceneError& e) {
     ASSERT_EQ(e.issues.size(), 1u);
-    EXPECT_EQ(e.issues[0].key, "mesh.n3") << e.issues[0].message;
+    EXPECT_EQ(e.issues[0].key, "part[0].n3") << e.issues[0].message;
     EXPECT_NE(e.issues[0].message.find("(" + std::to_string(nodes) + " nodes)"), std::string::npos) << e.issues[0].message;
   }
 }

@@ -308,7 +308,7 @@ TEST(ShellDynamics, GuideExampleSwingsLikeAPhysicalPendulum) {
   ASSERT_NE(b, std::string::npos);
   ASSERT_NE(e, std::string::npos);
   const std::string text = guide.substr(b + open.size(), e - b - open.size()) +
-                           "\n[[probe]]\nname = \"tip_x\"\nbody = \"plate\"\nselect = \"nearest\"\n"
+                           "\n[[probe]]\nname = \"tip_x\"\nselect = \"nearest\"\n"
                            "point = [0.6, 0.1, 0.0]\ndirection = [1.0, 0.0, 0.0]\n";
   const double L = 0.6, g = 9.81, quarter = std::comp_ellint_1(std::sqrt(0.5)) / std::sqrt(1.5 * g / L);
   EXPECT_NEAR(quarter, 0.37438, 1e-5);

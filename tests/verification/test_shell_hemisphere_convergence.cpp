@@ -16,7 +16,7 @@ Errors errors_at_f200(int n) {
   const std::string m = std::to_string(n);
   ff::scene::LoadedScene s =
       ff::scene::load_scene(std::string(FF_SOURCE_DIR) + "/assets/scenes/hemisphere_18deg_h004.toml",
-                            {"mesh.n1=" + m, "mesh.n2=" + m, "solver.end=0.5"});
+                            {"part[0].n1=" + m, "part[0].n2=" + m, "solver.end=0.5"});
   std::atomic<bool> stop{false};
   const ff::RunOutcome o = s.simulation->run([](ff::Frame&&) {}, stop);
   EXPECT_EQ(o.status, ff::RunStatus::completed) << n << "x" << n << ": " << o.reason;
@@ -53,7 +53,7 @@ TEST(ShellHemisphereConvergence, LinearRangeMatchesMacNealHarder) {
     const std::string m = std::to_string(n);
     ff::scene::LoadedScene s =
         ff::scene::load_scene(std::string(FF_SOURCE_DIR) + "/assets/scenes/hemisphere_18deg_h004.toml",
-                              {"mesh.n1=" + m, "mesh.n2=" + m, "solver.end=1e-4", "solver.initial_step=1e-4",
+                              {"part[0].n1=" + m, "part[0].n2=" + m, "solver.end=1e-4", "solver.initial_step=1e-4",
                                "solver.max_step=1e-4"});
     std::atomic<bool> stop{false};
     std::vector<double> last;

@@ -22,7 +22,7 @@ Tip roll_up(int nx, bool hr, bool ans, bool drilling) {
   if (drilling) effects += ",\"drilling\"";
   effects += "]";
   ff::scene::LoadedScene s = ff::scene::load_scene(std::string(FF_SOURCE_DIR) + "/assets/scenes/cantilever_rollup.toml",
-                                                   {"mesh.n1=" + std::to_string(nx), effects});
+                                                   {"part[0].n1=" + std::to_string(nx), effects});
   std::atomic<bool> stop{false};
   const ff::RunOutcome o = s.simulation->run([](ff::Frame&&) {}, stop);
   EXPECT_EQ(o.status, ff::RunStatus::completed) << o.reason;

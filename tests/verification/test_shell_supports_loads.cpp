@@ -25,9 +25,9 @@ constexpr double kI = kB * kH * kH * kH / 12.0;
 
 std::string strip_scene(int n_length, const std::string& supports, const std::string& loads, const std::string& probes) {
   return "[scene]\nname = \"strip\"\nmodel = \"shell_static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n"
-         "[mesh]\ngenerator = \"rectangular_plate\"\nn1 = " + std::to_string(n_length) + "\nn2 = 2\nlength = " +
+         "[[part]]\ngenerator = \"rectangular_plate\"\nn1 = " + std::to_string(n_length) + "\nn2 = 2\nlength = " +
          std::to_string(kL) + "\nwidth = " + std::to_string(kB) + "\n"
-         "[material]\nyoungs_modulus = " + std::to_string(kE) + "\npoisson_ratio = 0.0\nthickness = " + std::to_string(kH) +
+         "[[material]]\nyoungs_modulus = " + std::to_string(kE) + "\npoisson_ratio = 0.0\nthickness = " + std::to_string(kH) +
          "\n" + supports + loads + probes +
          "[solver]\nmethod = \"load_control\"\ninitial_step = 1.0\nmax_step = 1.0\n[output]\nframes = false\nplots = false\n";
 }
