@@ -14,7 +14,7 @@ namespace ff::app::gui {
 
 /// One editable key of a scene.
 struct ParamItem {
-  std::string key;    ///< what --set takes: "solver.dt", "shell[1].thickness"
+  std::string key;    ///< what --set takes: "solver.dt", "part[1].thickness"
   std::string group;  ///< table it sits in: "solver", "shell[1]", "" for the top level
   std::string name;   ///< last path segment
   const scene::Schema::KeySpec* spec = nullptr;

@@ -353,6 +353,8 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   for (std::size_t i = 0; i < d.count("metric"); ++i) {
     DynamicMetric mt;
     mt.name = d.string("metric.name", i);
+    if (mt.name.empty())  // summary.json and results.h5 key the metric by its name
+      throw SceneError({d.issue("metric.name", i, "a metric needs a name (its key in summary.json and results.h5)")});
     mt.probe = d.string("metric.probe", i);
     const std::string kind = d.string("metric.kind", i);
     mt.kind = kind == "min" ? DynamicMetric::Kind::min

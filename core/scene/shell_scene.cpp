@@ -201,6 +201,8 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
         {"min_load_after_limit", ShellMetric::Kind::min_load_after_limit}, {"max_abs", ShellMetric::Kind::max_abs}};
     ShellMetric mt;
     mt.name = d.string("metric.name", i);
+    if (mt.name.empty())  // summary.json and results.h5 key the metric by its name
+      throw SceneError({d.issue("metric.name", i, "a metric needs a name (its key in summary.json and results.h5)")});
     for (const auto& [k, v] : kinds)
       if (d.string("metric.kind", i) == k) mt.kind = v;
     mt.probe = d.string("metric.probe", i);

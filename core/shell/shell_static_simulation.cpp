@@ -125,6 +125,7 @@ StepDone ShellStaticSimulation::linear_step() {
   totals_.steps = 1;
   totals_.newton_iterations = 1;
   totals_.jacobian_updates = 1;
+  totals_.cutbacks = 0;  // one solve: nothing to cut back
   record();
   d.accepted = true;
   d.stats = {lambda, 1, 1, 0.0, du.norm(), true};

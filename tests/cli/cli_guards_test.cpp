@@ -41,7 +41,7 @@ TEST(CliGuards, PlyHeaderDeclaringABillionVerticesIsRefusedAtItsLine) {
   EXPECT_LT(r.wall_s, 10.0) << r.describe();
   EXPECT_EQ(r.exit_code, 2) << r.describe();
   EXPECT_NE(r.err.find("scene.toml:"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("'mesh.file'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'part[0].file'"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("line 3: the header declares 1000000000 'vertex' elements"), std::string::npos) << r.err;
 }
 

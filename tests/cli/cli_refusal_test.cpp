@@ -69,10 +69,10 @@ INSTANTIATE_TEST_SUITE_P(
         RefusalCase{"TinyAzimuthRange", "pulled_cylinder", {"part[0].end_angle=1e-10"}, "part[0].end_angle", "times longer"},
         RefusalCase{"TinyRadius", "pulled_cylinder", {"part[0].radius=1e-12"}, "part[0].radius", "times longer"},
         // accepted and silently wrong
-        RefusalCase{"CapThickerThanItsRadius", "hemisphere_18deg_h004", {"material.thickness=11"}, "part[0].radius",
+        RefusalCase{"CapThickerThanItsRadius", "hemisphere_18deg_h004", {"material[0].thickness=11"}, "part[0].radius",
                     "thicker than its radius"},
-        RefusalCase{"CapThickerThanItsRadiusNamesTheThickness", "hemisphere_18deg_h004", {"material.thickness=11"},
-                    "material.thickness", "thicker than its radius"},
+        RefusalCase{"CapThickerThanItsRadiusNamesTheThickness", "hemisphere_18deg_h004", {"material[0].thickness=11"},
+                    "material[0].thickness", "thicker than its radius"},
         RefusalCase{"NearestBetweenTwoNodes", "clamped_plate_pressure", {"probe[0].point=[0.5625, 0.5, 0.0]"},
                     "probe[0].point", "equally near node"},
         RefusalCase{"ReversedAzimuthRange", "pulled_cylinder", {"part[0].start_angle=90", "part[0].end_angle=0"},
@@ -94,8 +94,8 @@ INSTANTIATE_TEST_SUITE_P(
                     "bc[0].axis", "finite non-zero"},
         RefusalCase{"PendulumShellOneElementOverItsArc", "double_pendulum_shells", {"part[0].n1=1"}, "part[0].n1",
                     "at most 120"},
-        RefusalCase{"PendulumShellThickerThanItsRadius", "double_pendulum_shells", {"part[1].thickness=0.5"},
-                    "part[1].radius", "thinner than its radius"},
+        RefusalCase{"PendulumShellThickerThanItsRadius", "double_pendulum_shells", {"material[0].thickness=0.5"},
+                    "part[0].radius", "thicker than its radius"},
         RefusalCase{"TinyPolarHole", "hemisphere_18deg_h004", {"part[0].polar_start=1e-12"}, "part[0].polar_start",
                     "is a point"}),
     [](const ::testing::TestParamInfo<RefusalCase>& i) { return i.param.name; });
@@ -225,7 +225,7 @@ TEST(CliRefusalFile, TiltedObjNormalsAreRefusedWithTheVertexAndAngle) {
                                        dir + "/check", dir);
     ASSERT_EQ(r.signal, 0) << r.describe();
     EXPECT_EQ(r.exit_code, 2) << r.describe();
-    EXPECT_NE(r.err.find("key 'mesh.file'"), std::string::npos) << r.describe();
+    EXPECT_NE(r.err.find("key 'part[0].file'"), std::string::npos) << r.describe();
     EXPECT_NE(r.err.find("tilted.obj"), std::string::npos) << r.describe();
     std::ostringstream angle;
     angle << "is tilted " << tilt << " deg";
@@ -271,7 +271,7 @@ TEST(CliRefusalFile, StudyVariantErrorsNameTheStudyFileLine) {
     ASSERT_EQ(r.signal, 0) << r.describe();
     EXPECT_EQ(r.exit_code, 2) << r.describe();
     EXPECT_NE(r.err.find("bad_study.toml:8:"), std::string::npos) << r.describe();
-    EXPECT_NE(r.err.find("key 'mesh.n1'"), std::string::npos) << r.describe();
+    EXPECT_NE(r.err.find("key 'part[0].n1'"), std::string::npos) << r.describe();
   }
 }
 

@@ -17,7 +17,7 @@ TEST(GuiActions, ParsesEveryVerb) {
       "step 25\n"
       "reset\n"
       "set solver.dt 0.01\n"
-      "set part[1].thickness=0.02\n"
+      "set material[0].thickness=0.02\n"
       "set scene.effects [\"inertia\", \"bending\"]\n"
       "wait 0.5\n"
       "screenshot out/shot.png\n"
@@ -34,7 +34,7 @@ TEST(GuiActions, ParsesEveryVerb) {
   EXPECT_EQ(a[3].count, 25);
   EXPECT_EQ(a[5].key, "solver.dt");
   EXPECT_EQ(a[5].text, "0.01");
-  EXPECT_EQ(a[6].key, "part[1].thickness");
+  EXPECT_EQ(a[6].key, "material[0].thickness");
   EXPECT_EQ(a[6].text, "0.02");
   EXPECT_EQ(a[7].text, "[\"inertia\", \"bending\"]");
   EXPECT_DOUBLE_EQ(a[8].seconds, 0.5);

@@ -62,10 +62,10 @@ TEST(SceneEdit, AddsMissingKeysAndTables) {
 
 TEST(SceneEdit, ArrayElementsAndBadEdits) {
   const std::string path = kScenes + "double_pendulum_shells.toml";
-  const std::string text = scene_text_with_overrides(path, {"part[1].thickness=0.02", "solver.end=0.1"});
+  const std::string text = scene_text_with_overrides(path, {"part[1].n1=8", "solver.end=0.1"});
   const Document d = validate(scene_schema(path), text, "saved.toml");
-  EXPECT_DOUBLE_EQ(d.number("shell.thickness", 1), 0.02);
-  EXPECT_DOUBLE_EQ(d.number("shell.thickness", 0), 0.01);
+  EXPECT_EQ(d.integer("part.n1", 1), 8);
+  EXPECT_EQ(d.integer("part.n1", 0), 15);
   EXPECT_DOUBLE_EQ(d.number("solver.end"), 0.1);
   EXPECT_NE(text.find("# Double pendulum of two cut cylindrical shells"), std::string::npos);
   EXPECT_THROW(scene_text_with_overrides(path, {"solver.dt=-1"}), SceneError);
@@ -84,14 +84,14 @@ TEST(SceneParams, EveryModelListsItsKeys) {
     }
     EXPECT_TRUE(has_effects) << name;
   }
-  const auto shells = app::gui::scene_params(kScenes + "double_pendulum_shells.toml", {"part[1].thickness=0.02"});
+  const auto shells = app::gui::scene_params(kScenes + "double_pendulum_shells.toml", {"part[1].n1=8"});
   bool found = false;
   for (const auto& it : shells) {
-    if (it.key != "part[1].thickness") continue;
+    if (it.key != "part[1].n1") continue;
     found = true;
-    EXPECT_EQ(it.value, "0.02");
+    EXPECT_EQ(it.value, "8");
     EXPECT_TRUE(it.edited);
-    EXPECT_EQ(it.group, "shell[1]");
+    EXPECT_EQ(it.group, "part[1]");
   }
   EXPECT_TRUE(found);
 }

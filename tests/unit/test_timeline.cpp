@@ -255,8 +255,8 @@ TEST(LiveChange, TorqueChangedLiveEqualsTheSameTimelineChange) {
 TEST(LiveChange, GravityChangedLiveEqualsTheSameTimelineChange) {
   const std::string text = read_text(bundled("double_pendulum_shells"));
   const std::string coarse = text + "\n";  // shortened and coarsened through overrides
-  const std::vector<std::string> o = {"solver.end=0.004", "solver.output_every=1", "shell[0].n1=4", "shell[0].n2=4",
-                                      "shell[1].n1=4", "shell[1].n2=4"};
+  const std::vector<std::string> o = {"solver.end=0.004", "solver.output_every=1", "part[0].n1=4", "part[0].n2=4",
+                                      "part[1].n1=4", "part[1].n2=4"};
   LoadedScene planned = load_scene(write_scene("live_g_planned", coarse + "[[timeline]]\nat = 0.002\ngravity = [0.0, 0.0, 9.81]\n"), o);
   const std::vector<Frame> want = run(*planned.simulation);
   LoadedScene live = load_scene(write_scene("live_g_base", coarse), o);
@@ -289,8 +289,8 @@ TEST(LiveChange, RefusedValuesNameTheKey) {
   EXPECT_NE(e.find("(live keys: torque.amplitude)"), std::string::npos) << e;
   EXPECT_EQ(change_live(hub, "torque.amplitude", "2"), "");
 
-  LoadedScene shells = load_scene(bundled("double_pendulum_shells"), {"shell[0].n1=4", "shell[0].n2=4", "shell[1].n1=4",
-                                                                      "shell[1].n2=4"});
+  LoadedScene shells = load_scene(bundled("double_pendulum_shells"), {"part[0].n1=4", "part[0].n2=4", "part[1].n1=4",
+                                                                      "part[1].n2=4"});
   e = change_live(shells, "gravity.g", "[1, 2]");
   EXPECT_NE(e.find("key 'gravity.g': expected a list of numbers (length 3), got 2 elements"), std::string::npos) << e;
   e = change_live(shells, "gravity.g", "9.81");

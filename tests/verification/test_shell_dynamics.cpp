@@ -240,7 +240,7 @@ TEST(ShellDynamics, ExactIterationMatrixConvergesQuadratically) {
 
 TEST(ShellDynamics, DoublePendulumKeepsItsJointsAtSolverTolerance) {
   double violation = 1;
-  const Metrics m = pendulum({"solver.end=0.2", "shell[0].n1=6", "shell[0].n2=6", "shell[1].n1=6", "shell[1].n2=6"},
+  const Metrics m = pendulum({"solver.end=0.2", "part[0].n1=6", "part[0].n2=6", "part[1].n1=6", "part[1].n2=6"},
                              &violation);
   EXPECT_LT(violation, 1e-6);  // |Φ| of the hinge and support rows <= the Newton tolerance (1e-6)
   // it falls: within 0.2 s the far corner F drops by a good part of g t²/2 = 0.196 m
@@ -251,8 +251,8 @@ TEST(ShellDynamics, DoublePendulumKeepsItsJointsAtSolverTolerance) {
 TEST(ShellDynamics, DoublePendulumPoliciesAgreeAndFreezingSavesUpdates) {
   // one predictor for all four (the default `auto` starts frozen from zero acceleration, the
   // others from the last step's, generalized_alpha.md (G3')), so the counts compare the policies
-  const std::vector<std::string> common = {"solver.end=0.1", "shell[0].n1=6", "shell[0].n2=6", "shell[1].n1=6",
-                                           "shell[1].n2=6",  "solver.predictor=previous"};
+  const std::vector<std::string> common = {"solver.end=0.1", "part[0].n1=6", "part[0].n2=6", "part[1].n1=6",
+                                           "part[1].n2=6",  "solver.predictor=previous"};
   auto with = [&](std::vector<std::string> extra) {
     extra.insert(extra.end(), common.begin(), common.end());
     return pendulum(extra);
@@ -282,8 +282,8 @@ TEST(ShellDynamics, DoublePendulumConvergesUnderMeshRefinement) {
   std::vector<double> z;
   for (int n : {4, 8, 16}) {
     const std::string k = std::to_string(n);
-    z.push_back(metric(pendulum({"solver.end=0.1", "shell[0].n1=" + k, "shell[0].n2=" + k, "shell[1].n1=" + k,
-                                 "shell[1].n2=" + k}),
+    z.push_back(metric(pendulum({"solver.end=0.1", "part[0].n1=" + k, "part[0].n2=" + k, "part[1].n1=" + k,
+                                 "part[1].n2=" + k}),
                        "pointF_z_final"));
   }
   const double coarse = std::abs(z[1] - z[0]), fine = std::abs(z[2] - z[1]);
