@@ -540,8 +540,14 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
   joints_.evaluations += 1, joints_.seconds += seconds_since(t_joint);
 }
 
-MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
+MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v, double t) const {
   MotionSummary s;
+  for (const TimedNodalLoad& tl : spec_.loads)  // (D21)
+    if (!tl.load.follower) s.load_potential -= tl.history.factor(t) * tl.load.force.dot(node_displacement(tl.load.node));
+  for (std::size_t k = 0; k < spec_.pressures.size(); ++k) {
+    const double f = spec_.pressures[k].history.factor(t);
+    for (int c = 0; c < 4; ++c) s.load_potential -= f * dead_pressure_[k][c].dot(node_displacement(pressure_nodes_[k][c]));
+  }
   for (const Element& e : elements_) {
     ElementPoses cur;
     ElementRates vel;
@@ -569,6 +575,23 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
     if (spec_.gravity) s.gravity_potential -= body.mass * spec_.g.dot(poses_[I].p);
   }
   return s;
+}
+
+std::vector<LoadSwitch> MultibodyModel::load_switches() const {
+  std::vector<LoadSwitch> all;
+  auto add = [&](const LoadHistory& h) {
+    all.push_back({h.start, h.ramp == 0.0});
+    if (h.ramp > 0.0) all.push_back({h.start + h.ramp, false});
+    if (std::isfinite(h.end)) all.push_back({h.end, true});
+  };
+  for (const TimedNodalLoad& tl : spec_.loads) add(tl.history);
+  for (const TimedPressure& tp : spec_.pressures) add(tp.history);
+  std::sort(all.begin(), all.end(), [](const LoadSwitch& a, const LoadSwitch& b) { return a.time < b.time; });
+  std::vector<LoadSwitch> out;
+  for (const LoadSwitch& x : all)
+    if (!out.empty() && out.back().time == x.time) out.back().jump = out.back().jump || x.jump;
+    else out.push_back(x);
+  return out;
 }
 
 double MultibodyModel::constraint_violation() const {

@@ -87,8 +87,18 @@ struct MultibodySpec {
 /// Energies and momenta of a state (D15).
 struct MotionSummary {
   double kinetic = 0.0, strain = 0.0, gravity_potential = 0.0;
+  /// −Σ f(t) F̄·(x − x0) of the dead forces (nodal and pressure) at the summary's time (D21); dead
+  /// moments and follower loads have no potential and are not in it
+  double load_potential = 0.0;
   Vec3 linear_momentum = Vec3::Zero(), angular_momentum = Vec3::Zero();
-  double total() const { return kinetic + strain + gravity_potential; }
+  double total() const { return kinetic + strain + gravity_potential + load_potential; }
+};
+
+/// A time at which a load's history jumps (a step's start, a pulse's end: jump) or only bends (a
+/// ramp's start and end).
+struct LoadSwitch {
+  double time = 0.0;
+  bool jump = false;
 };
 
 /// What the MultibodyModel constructor refuses about one body, with the body's index in
@@ -153,7 +163,12 @@ class MultibodyModel final : public ff::DynamicProblem {
   Vec6 node_vector(const Eigen::VectorXd& x, int node) const;
   Vec3 node_displacement(int node) const { return poses_[node].p - reference_[node].p; }
   Vec3 node_velocity(const Eigen::VectorXd& v, int node) const { return poses_[node].R * node_vector(v, node).head<3>(); }
-  MotionSummary summary(const Eigen::VectorXd& v) const;
+  /// Energies and momenta with velocities v; the load potential at time t (D21).
+  MotionSummary summary(const Eigen::VectorXd& v, double t = 0.0) const;
+  /// The times of MultibodySpec::loads' and ::pressures' histories where the load jumps or bends,
+  /// ascending, each once (a jump wins over a bend at the same time): a simulation lands a step on
+  /// each and restarts its integrator after a jump.
+  std::vector<LoadSwitch> load_switches() const;
   /// Largest |Φ_i| of the current configuration (length units for positions, cosines for axes).
   double constraint_violation() const;
   const MultibodySpec& spec() const { return spec_; }

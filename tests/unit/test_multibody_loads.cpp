@@ -261,6 +261,35 @@ TEST(MultibodyLoads, LoadsAreCountedAsTheirOwnEffects) {
   EXPECT_EQ(pressure, 2);
 }
 
+// Where the histories jump or bend, ascending and each once; a jump wins over a bend
+TEST(MultibodyLoads, SwitchTimesOfTheHistories) {
+  MultibodySpec s = bodies();
+  s.loads.push_back({NodalLoad{5, Vec3(1, 0, 0)}, LoadHistory{0.0, 0.5, 0.0}});     // jumps at 0 and 0.5
+  s.loads.push_back({NodalLoad{6, Vec3(1, 0, 0)}, LoadHistory{0.25, 1.0, 0.25}});   // bends at 0.25, 0.5; jumps at 1
+  s.pressures.push_back({0, PressureLoad{2, 1.0, false}, LoadHistory{1.0, 2.0, 0.0}});  // jumps at 1, 2
+  const std::vector<LoadSwitch> sw = MultibodyModel(s).load_switches();
+  const std::vector<std::pair<double, bool>> expected = {{0.0, true}, {0.25, false}, {0.5, true}, {1.0, true}, {2.0, true}};
+  ASSERT_EQ(sw.size(), expected.size());
+  for (std::size_t k = 0; k < sw.size(); ++k) {
+    EXPECT_DOUBLE_EQ(sw[k].time, expected[k].first) << k;
+    EXPECT_EQ(sw[k].jump, expected[k].second) << k;
+  }
+}
+
+// (D21): V_ext = −f(t) F̄·(x − x0) of the dead forces; follower loads have none
+TEST(MultibodyLoads, LoadPotentialOfDeadForces) {
+  MultibodySpec s = bodies();
+  s.loads.push_back(nodal(kRigid, Vec3(3, -2, 5), Vec3(1, 1, 1), false));
+  s.loads.push_back(nodal(kRigid, Vec3(7, 7, 7), Vec3::Zero(), true));
+  MultibodyModel m(s);
+  Eigen::VectorXd step = Eigen::VectorXd::Zero(m.size());
+  for (int j = 0; j < 3; ++j) step[m.equation(kRigid, j)] = 0.1 * (j + 1);  // body axes = W: a shift by (0.1, 0.2, 0.3)
+  m.configure(step);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(m.size());
+  EXPECT_NEAR(m.summary(v, kOn).load_potential, -0.5 * (0.3 - 0.4 + 1.5), 1e-12);
+  EXPECT_EQ(m.summary(v, kOff).load_potential, 0.0);
+}
+
 TEST(MultibodyLoads, UnusableLoadsAreRefusedWithTheirIndex) {
   auto refused = [](const MultibodySpec& s, LoadSpecError::Part part, int index, const std::string& words) {
     try {
