@@ -9,6 +9,9 @@
 // mean over a period is u_st. The tip force excites mainly the first bending mode (about 97 % of
 // the cantilever's static tip deflection is in it); the higher modes add small ripples.
 //
+// Also: a dead pressure pulse of half a period (run through ShellDynamicSimulation) and the tip
+// force ramped over one period, against the same single-mode solutions.
+//
 // u_st here is the LINEAR static tip deflection of the same discretization (the static ShellModel:
 // the tangent at the reference, one solve K u = F) at the same load, which is small enough
 // (tip deflection ~1e-4 of the length) that the dynamic response is linear too.
@@ -233,6 +236,40 @@ TEST(ShellStepLoad, PressurePulseOfHalfAPeriodLeavesTheStripSwingingWithTwiceThe
   bool pressure_counted = false;
   for (const EffectStat& e : sim.effect_stats()) pressure_counted = pressure_counted || (e.effect == "pressure_dead" && e.evaluations > 0);
   EXPECT_TRUE(pressure_counted);
+}
+
+// The same tip force ramped up over exactly one period: a single mode then ends the ramp at rest at
+// its static deflection, u(t) = u_st [1 + sin(ω(t − τ))/(ωτ) − sin(ωt)/(ωτ)] for t ≥ τ, whose
+// oscillation about u_st has the amplitude u_st |sin(ωτ/2)| / (ωτ/2) = 0 at ωτ = 2π (Clough &
+// Penzien, ramp loading; the "rise time" spectrum). A step would leave it swinging by ±u_st.
+TEST(ShellStepLoad, TipForceRampedOverOnePeriodArrivesAtRest) {
+  const Cantilever c;
+  const double u_st = linear_static_tip_deflection(c);
+  const double I_beam = kWidth * std::pow(kThickness, 3) / 12;
+  const double omega_beam = 1.8751 * 1.8751 * std::sqrt(kE * I_beam / (kDensity * kWidth * kThickness)) / (kLength * kLength);
+  const double T_beam = 2 * std::numbers::pi / omega_beam;
+  MultibodySpec spec = dynamic_spec(c);
+  for (TimedNodalLoad& l : spec.loads) l.history.ramp = T_beam;
+  MultibodyModel model(spec);
+  GeneralizedAlphaSettings st;
+  st.rho_inf = 1.0;
+  st.tolerance = 1e-13;
+  GeneralizedAlpha ga(model, st);
+  ASSERT_EQ(ga.initialize(0.0, Eigen::VectorXd::Zero(model.size())), "");
+  const double h = T_beam / 200;  // the ramp's end lies on the grid
+  double worst_after = 0.0, at_half_ramp = 0.0;
+  while (ga.time() < 2.0 * T_beam - 0.5 * h) {
+    const StepReport rep = ga.step(h);
+    ASSERT_TRUE(rep.converged) << rep.failure;
+    const double w = model.node_displacement(c.tip_middle).z();
+    if (std::abs(ga.time() - 0.5 * T_beam) < 0.5 * h) at_half_ramp = w;
+    if (ga.time() > T_beam + 0.5 * h) worst_after = std::max(worst_after, std::abs(w - u_st));
+  }
+  std::printf("ramp over one period: |w - u_st| after it <= %.4f u_st; w(T/2) = %.4f u_st\n", worst_after / u_st,
+              at_half_ramp / u_st);
+  EXPECT_LT(worst_after, 0.03 * u_st);
+  // half-way the single mode lags the quasi-static u_st/2 by u_st sin(π)/(2π) = 0: the ramp scales the load
+  EXPECT_NEAR(at_half_ramp / u_st, 0.5, 0.03);
 }
 
 }  // namespace
