@@ -6,11 +6,13 @@
 // that cannot be simulated are refused with the load's index.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "core/lie/se3.h"
 #include "core/mesh/generators.h"
 #include "core/shell/multibody_model.h"
+#include "core/shell/shell_dynamic_simulation.h"
 
 using namespace ff;
 using namespace ff::shell;
@@ -274,6 +276,25 @@ TEST(MultibodyLoads, SwitchTimesOfTheHistories) {
     EXPECT_DOUBLE_EQ(sw[k].time, expected[k].first) << k;
     EXPECT_EQ(sw[k].jump, expected[k].second) << k;
   }
+}
+
+// The run loop lands a step on every switch (next_change) and restarts after a jump only
+// (apply_changes true); a step at t = 0 is part of the initial state
+TEST(MultibodyLoads, SimulationLandsOnSwitchesAndRestartsAfterJumps) {
+  MultibodySpec s = bodies();
+  s.loads.push_back({NodalLoad{5, Vec3(1, 0, 0)}, LoadHistory{0.0, 0.5, 0.0}});
+  s.loads.push_back({NodalLoad{6, Vec3(1, 0, 0)}, LoadHistory{0.25, 1.0, 0.25}});
+  ShellDynamicSettings st;
+  st.dt = 0.1;
+  ShellDynamicSimulation sim(s, st, RunInfo{});
+  ASSERT_EQ(sim.start(), "");
+  EXPECT_EQ(sim.next_change(0.0), 0.25);
+  EXPECT_FALSE(sim.apply_changes(0.25));  // a ramp's corner: no jump
+  EXPECT_EQ(sim.next_change(0.25), 0.5);
+  EXPECT_TRUE(sim.apply_changes(0.5));
+  EXPECT_EQ(sim.next_change(0.5), 1.0);
+  EXPECT_TRUE(sim.apply_changes(1.0));
+  EXPECT_EQ(sim.next_change(1.0), std::numeric_limits<double>::infinity());
 }
 
 // (D21): V_ext = −f(t) F̄·(x − x0) of the dead forces; follower loads have none
