@@ -13,6 +13,7 @@
 
 #include "core/assembly/node_frames.h"
 #include "core/lie/se3.h"
+#include "core/shell/shell_model.h"  // dead_pressure_forces
 #include "core/shell/surface_strain.h"
 
 namespace ff::shell {
@@ -125,7 +126,98 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
     }
   }
   poses_ = committed_ = reference_;
+  check_loads();
   build_pattern();
+}
+
+void MultibodyModel::check_loads() {
+  const int nn = node_count();
+  auto finite = [](const Vec3& x) { return x.allFinite(); };
+  for (int k = 0; k < static_cast<int>(spec_.loads.size()); ++k) {
+    const TimedNodalLoad& tl = spec_.loads[k];
+    auto refuse = [&](const std::string& why) {
+      throw LoadSpecError(LoadSpecError::Part::nodal_load, k, "nodal load " + std::to_string(k) + ": " + why);
+    };
+    if (tl.load.node < 0 || tl.load.node >= nn)
+      refuse("node " + std::to_string(tl.load.node) + " does not exist (the model has " + std::to_string(nn) + " nodes)");
+    if (!finite(tl.load.force) || !finite(tl.load.moment)) refuse("its force and moment must be finite");
+    if (*tl.history.defect()) refuse(tl.history.defect());
+  }
+  dead_pressure_.resize(spec_.pressures.size());
+  pressure_nodes_.resize(spec_.pressures.size());
+  for (int k = 0; k < static_cast<int>(spec_.pressures.size()); ++k) {
+    const TimedPressure& tp = spec_.pressures[k];
+    auto refuse = [&](const std::string& why) {
+      throw LoadSpecError(LoadSpecError::Part::pressure, k, "pressure " + std::to_string(k) + ": " + why);
+    };
+    if (tp.body < 0 || tp.body >= static_cast<int>(spec_.shells.size()))
+      refuse("shell body " + std::to_string(tp.body) + " does not exist");
+    const mesh::ShellMesh& m = spec_.shells[tp.body].mesh;
+    if (tp.load.quad < 0 || tp.load.quad >= m.quad_count())
+      refuse("quad " + std::to_string(tp.load.quad) + " does not exist (shell body '" + spec_.shells[tp.body].name +
+             "' has " + std::to_string(m.quad_count()) + " quads)");
+    if (tp.load.follower)
+      refuse("a follower pressure is not available in dynamics (only dead pressures, fixed by the reference "
+             "geometry, are)");
+    if (!std::isfinite(tp.load.pressure)) refuse("its value must be finite");
+    if (*tp.history.defect()) refuse(tp.history.defect());
+    std::array<Vec3, 4> x;
+    for (int c = 0; c < 4; ++c) {
+      const int I = m.quads[tp.load.quad][c];
+      x[c] = m.points[I];
+      pressure_nodes_[k][c] = shell_offset_[tp.body] + I;
+    }
+    dead_pressure_[k] = dead_pressure_forces(x, tp.load.pressure);
+  }
+}
+
+// cb_shell_dynamics.md §8. A dead world force f at node I: r_u -= Rᵀf (D17), ∂/∂θ = −(Rᵀf)~ (D18);
+// a dead world moment m: r_θ -= Rᵀm, ∂/∂θ = −(Rᵀm)~ (rows 3, 4 only at a 5-DoF node: the drilling
+// row is not an unknown, its column is kept for T_SE3 (G9)); follower components are constant
+// in the node frame (D19); pressures are dead nodal forces on the translations (D20).
+template <class AddPositionBlock>
+void MultibodyModel::add_external_loads(double t, Eigen::VectorXd& r, const IterationWeights* w,
+                                        AddPositionBlock& add_position_block) {
+  auto subtract = [&](int I, int slot0, const Vec3& x) {
+    for (int j = 0; j < 3; ++j) {
+      const int a = dofs_.equation(I, slot0 + j);
+      if (a >= 0) r[a] -= x[j];
+    }
+  };
+  if (!spec_.loads.empty()) {
+    const auto t0 = Clock::now();
+    for (const TimedNodalLoad& tl : spec_.loads) {
+      const double s = tl.history.factor(t);  // (D16)
+      if (s == 0.0) continue;
+      const NodalLoad& l = tl.load;
+      const int I = l.node;
+      const Mat3& R = poses_[I].R;
+      const Vec3 f = s * (l.follower ? l.force : Vec3(R.transpose() * l.force));
+      const Vec3 m = s * (l.follower ? l.moment : Vec3(R.transpose() * l.moment));
+      subtract(I, 0, f);
+      subtract(I, 3, m);
+      if (!w || l.follower) continue;  // (D19): no position derivative
+      add_position_block(I, 0, I, 3, -w->stiffness * hat(f));  // (D18)
+      add_position_block(I, 3, I, 3, -w->stiffness * hat(m));
+    }
+    point_loads_.evaluations += static_cast<long long>(spec_.loads.size());
+    point_loads_.seconds += seconds_since(t0);
+  }
+  if (!spec_.pressures.empty()) {
+    const auto t0 = Clock::now();
+    for (std::size_t k = 0; k < spec_.pressures.size(); ++k) {
+      const double s = spec_.pressures[k].history.factor(t);
+      if (s == 0.0) continue;
+      for (int c = 0; c < 4; ++c) {
+        const int I = pressure_nodes_[k][c];
+        const Vec3 f = s * (poses_[I].R.transpose() * dead_pressure_[k][c]);  // (D20), (D17)
+        subtract(I, 0, f);
+        if (w) add_position_block(I, 0, I, 3, -w->stiffness * hat(f));  // (D18)
+      }
+    }
+    dead_pressure_stat_.evaluations += static_cast<long long>(spec_.pressures.size());
+    dead_pressure_stat_.seconds += seconds_since(t0);
+  }
 }
 
 void MultibodyModel::build_pattern() {
@@ -188,7 +280,7 @@ void MultibodyModel::configure(const Eigen::VectorXd& step) {
   step_is_zero_ = !nonzero;
 }
 
-void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot,
+void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot,
                               const Eigen::VectorXd& lambda, Eigen::VectorXd& r, Eigen::VectorXd& phi,
                               const IterationWeights* w, SparseMatrixD* S, SparseMatrixD* B) {
   const bool tangent = w && S;
@@ -336,6 +428,9 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   }
   if (!spec_.rigid.empty()) rigid_.evaluations += 1, rigid_.seconds += seconds_since(t_rigid);
 
+  // ---- external loads at t = t_{n+1} (D16)-(D20) ----
+  add_external_loads(t, r, tangent ? w : nullptr, add_position_block);
+
   // ---- joints: Φ, Bᵀλ and its variation (D11')-(D13) ----
   if (constraint_rows_ == 0) {
     if (B) *B = b_pattern_, b_has_T_ = false;
@@ -445,8 +540,14 @@ void MultibodyModel::evaluate(double, const Eigen::VectorXd& v, const Eigen::Vec
   joints_.evaluations += 1, joints_.seconds += seconds_since(t_joint);
 }
 
-MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
+MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v, double t) const {
   MotionSummary s;
+  for (const TimedNodalLoad& tl : spec_.loads)  // (D21)
+    if (!tl.load.follower) s.load_potential -= tl.history.factor(t) * tl.load.force.dot(node_displacement(tl.load.node));
+  for (std::size_t k = 0; k < spec_.pressures.size(); ++k) {
+    const double f = spec_.pressures[k].history.factor(t);
+    for (int c = 0; c < 4; ++c) s.load_potential -= f * dead_pressure_[k][c].dot(node_displacement(pressure_nodes_[k][c]));
+  }
   for (const Element& e : elements_) {
     ElementPoses cur;
     ElementRates vel;
@@ -474,6 +575,23 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v) const {
     if (spec_.gravity) s.gravity_potential -= body.mass * spec_.g.dot(poses_[I].p);
   }
   return s;
+}
+
+std::vector<LoadSwitch> MultibodyModel::load_switches() const {
+  std::vector<LoadSwitch> all;
+  auto add = [&](const LoadHistory& h) {
+    all.push_back({h.start, h.ramp == 0.0});
+    if (h.ramp > 0.0) all.push_back({h.start + h.ramp, false});
+    if (std::isfinite(h.end)) all.push_back({h.end, true});
+  };
+  for (const TimedNodalLoad& tl : spec_.loads) add(tl.history);
+  for (const TimedPressure& tp : spec_.pressures) add(tp.history);
+  std::sort(all.begin(), all.end(), [](const LoadSwitch& a, const LoadSwitch& b) { return a.time < b.time; });
+  std::vector<LoadSwitch> out;
+  for (const LoadSwitch& x : all)
+    if (!out.empty() && out.back().time == x.time) out.back().jump = out.back().jump || x.jump;
+    else out.push_back(x);
+  return out;
 }
 
 double MultibodyModel::constraint_violation() const {
@@ -516,6 +634,8 @@ std::vector<EffectStat> MultibodyModel::effect_stats() const {
     out.push_back({"gravity", gravity_.evaluations, std::numeric_limits<double>::quiet_NaN(), "inertia"});
   own("rigid_body", rigid_);
   own("joints", joints_);
+  own("point_loads", point_loads_);
+  own("pressure_dead", dead_pressure_stat_);
   return out;
 }
 

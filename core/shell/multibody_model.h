@@ -19,6 +19,7 @@
 #include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
 #include "core/shell/cb_shell_inertia.h"
+#include "core/shell/loads.h"
 #include "core/solve/dynamic_problem.h"
 
 namespace ff::shell {
@@ -55,6 +56,23 @@ struct PerpendicularConstraint {
   Vec3 a_local = Vec3::UnitX(), b_vector = Vec3::UnitY();
 };
 
+/// A force and a moment at one node (model-wide id; a rigid body's node is its centre of mass),
+/// dead (world components) or follower (node-frame components), times history.factor(t)
+/// (cb_shell_dynamics.md §8, (D16)-(D19)). At a 5-DoF node the moment's component along the
+/// director does no work (that spin is not a rotation of the shell) and is dropped.
+struct TimedNodalLoad {
+  NodalLoad load;
+  LoadHistory history;
+};
+/// A pressure on quad load.quad of shell body `body` (its index in MultibodySpec::shells), times
+/// history.factor(t). Dead only: fixed nodal forces from the reference geometry (D20); a follower
+/// pressure is refused.
+struct TimedPressure {
+  int body = 0;
+  PressureLoad load;
+  LoadHistory history;
+};
+
 struct MultibodySpec {
   std::vector<ShellBodySpec> shells;
   std::vector<RigidBodySpec> rigid;
@@ -62,13 +80,25 @@ struct MultibodySpec {
   std::vector<PerpendicularConstraint> perpendiculars;
   bool gravity = false;
   Vec3 g = Vec3(0, 0, -9.81);
+  std::vector<TimedNodalLoad> loads;
+  std::vector<TimedPressure> pressures;
 };
 
 /// Energies and momenta of a state (D15).
 struct MotionSummary {
   double kinetic = 0.0, strain = 0.0, gravity_potential = 0.0;
+  /// −Σ f(t) F̄·(x − x0) of the dead forces (nodal and pressure) at the summary's time (D21); dead
+  /// moments and follower loads have no potential and are not in it
+  double load_potential = 0.0;
   Vec3 linear_momentum = Vec3::Zero(), angular_momentum = Vec3::Zero();
-  double total() const { return kinetic + strain + gravity_potential; }
+  double total() const { return kinetic + strain + gravity_potential + load_potential; }
+};
+
+/// A time at which a load's history jumps (a step's start, a pulse's end: jump) or only bends (a
+/// ramp's start and end).
+struct LoadSwitch {
+  double time = 0.0;
+  bool jump = false;
 };
 
 /// What the MultibodyModel constructor refuses about one body, with the body's index in
@@ -85,10 +115,24 @@ class BodySpecError : public std::invalid_argument {
   int body_;
 };
 
+/// What the MultibodyModel constructor refuses about one load, with its index in
+/// MultibodySpec::loads (nodal_load) or ::pressures (pressure), so a scene can point at its entry.
+class LoadSpecError : public std::invalid_argument {
+ public:
+  enum class Part { nodal_load, pressure };
+  LoadSpecError(Part part, int index, const std::string& what) : std::invalid_argument(what), part_(part), index_(index) {}
+  Part part() const { return part_; }
+  int index() const { return index_; }
+
+ private:
+  Part part_;
+  int index_;
+};
+
 class MultibodyModel final : public ff::DynamicProblem {
  public:
   /// Throws std::invalid_argument with a plain explanation for specs that cannot be simulated
-  /// (BodySpecError when one body is at fault).
+  /// (BodySpecError when one body is at fault, LoadSpecError when one load is).
   explicit MultibodyModel(MultibodySpec spec);
   ~MultibodyModel() override;
 
@@ -119,7 +163,12 @@ class MultibodyModel final : public ff::DynamicProblem {
   Vec6 node_vector(const Eigen::VectorXd& x, int node) const;
   Vec3 node_displacement(int node) const { return poses_[node].p - reference_[node].p; }
   Vec3 node_velocity(const Eigen::VectorXd& v, int node) const { return poses_[node].R * node_vector(v, node).head<3>(); }
-  MotionSummary summary(const Eigen::VectorXd& v) const;
+  /// Energies and momenta with velocities v; the load potential at time t (D21).
+  MotionSummary summary(const Eigen::VectorXd& v, double t = 0.0) const;
+  /// The times of MultibodySpec::loads' and ::pressures' histories where the load jumps or bends,
+  /// ascending, each once (a jump wins over a bend at the same time): a simulation lands a step on
+  /// each and restarts its integrator after a jump.
+  std::vector<LoadSwitch> load_switches() const;
   /// Largest |Φ_i| of the current configuration (length units for positions, cosines for axes).
   double constraint_violation() const;
   const MultibodySpec& spec() const { return spec_; }
@@ -131,12 +180,17 @@ class MultibodyModel final : public ff::DynamicProblem {
   std::vector<double> nodal_surface_strain() const;
   /// Effects that ran with their counters: "elastic", "inertia", "gravity" (element evaluations),
   /// "hr", "ans", "drilling" (element evaluations with the term on, timed inside "elastic" as in
-  /// ShellModel), "rigid_body", "joints" (assemblies).
+  /// ShellModel), "rigid_body", "joints" (assemblies), "point_loads" (nodal loads evaluated),
+  /// "pressure_dead" (loaded quads evaluated), as in ShellModel.
   std::vector<EffectStat> effect_stats() const;
 
  private:
   struct Element;
   void build_pattern();
+  void check_loads();
+  /// r -= f(t) F_ext and its position derivative, (D16)-(D20)
+  template <class AddPositionBlock>
+  void add_external_loads(double t, Eigen::VectorXd& r, const IterationWeights* w, AddPositionBlock& add_position_block);
 
   MultibodySpec spec_;
   std::vector<NodePose> reference_, poses_, committed_;
@@ -161,7 +215,9 @@ class MultibodyModel final : public ff::DynamicProblem {
     Mat24 S;
   };
   std::vector<ElementResult> results_;
-  assembly::EffectCounter elastic_, inertia_, gravity_, joints_, rigid_;
+  std::vector<std::array<Vec3, 4>> dead_pressure_;  // per spec_.pressures: nodal forces, world, at f = 1 (D20)
+  std::vector<std::array<int, 4>> pressure_nodes_;   // per spec_.pressures: model-wide corner node ids
+  assembly::EffectCounter elastic_, inertia_, gravity_, joints_, rigid_, point_loads_, dead_pressure_stat_;
   long long assemblies_ = 0;
   long long hr_elements_ = 0, ans_elements_ = 0, drilling_elements_ = 0;  // elements with the term on
 };

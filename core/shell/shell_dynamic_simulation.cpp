@@ -21,6 +21,7 @@ ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicS
     : settings_(std::move(settings)), info_(std::move(info)) {
   model_ = std::make_unique<MultibodyModel>(std::move(spec));
   integrator_ = std::make_unique<GeneralizedAlpha>(*model_, settings_.integrator);
+  load_switches_ = model_->load_switches();
   // drawn mesh: every shell body's quads (model-wide node ids), rigid-body nodes as points
   info_.time_unit = "s";
   info_.mesh = {};
@@ -75,7 +76,7 @@ Frame ShellDynamicSimulation::frame() const {
     f.fields[0][I] = (x - X).norm();
   }
   f.probes = probe_values();
-  const MotionSummary e = model_->summary(integrator_->velocity());
+  const MotionSummary e = model_->summary(integrator_->velocity(), integrator_->time());
   f.probes.insert(f.probes.end(), {e.kinetic, e.strain, e.total()});
   return f;
 }
@@ -100,19 +101,30 @@ std::string ShellDynamicSimulation::start() {
   const std::string why = integrator_->initialize(0.0, Eigen::VectorXd::Zero(model_->size()));
   if (!why.empty()) return why;
   record();
-  energy0_ = model_->summary(integrator_->velocity()).total();
+  energy0_ = model_->summary(integrator_->velocity(), 0.0).total();
   return "";
 }
 
+// the next [[timeline]] gravity change or load switch (a step lands on each)
 double ShellDynamicSimulation::next_change(double t) const {
+  double next = std::numeric_limits<double>::infinity();
   for (std::size_t k = next_change_; k < settings_.gravity_changes.size(); ++k)
-    if (settings_.gravity_changes[k].first > t) return settings_.gravity_changes[k].first;
-  return std::numeric_limits<double>::infinity();
+    if (settings_.gravity_changes[k].first > t) {
+      next = settings_.gravity_changes[k].first;
+      break;
+    }
+  for (std::size_t k = next_switch_; k < load_switches_.size(); ++k)
+    if (load_switches_[k].time > t) return std::min(next, load_switches_[k].time);
+  return next;
 }
 
-// [[timeline]] gravity changes due at (or within round-off of) the time t, and a live edit
+// [[timeline]] gravity changes due at (or within round-off of) the time t, a live edit, and a
+// load's jump (cb_shell_dynamics.md §8: the step that ends at t already has the load of t⁺, the
+// restart gives the accelerations that go with it)
 bool ShellDynamicSimulation::apply_changes(double t) {
   bool changed = false;
+  while (next_switch_ < load_switches_.size() && load_switches_[next_switch_].time <= t + 1e-9 * settings_.dt)
+    changed = load_switches_[next_switch_++].jump || changed;
   while (next_change_ < settings_.gravity_changes.size() &&
          settings_.gravity_changes[next_change_].first <= t + 1e-9 * settings_.dt)
     model_->set_gravity(settings_.gravity_changes[next_change_++].second), changed = true;

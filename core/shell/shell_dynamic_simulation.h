@@ -84,6 +84,8 @@ class ShellDynamicSimulation final : public Simulation {
   std::unique_ptr<MultibodyModel> model_;
   std::optional<Vec3> live_gravity_;  // a live change waiting for the next step
   std::size_t next_change_ = 0;       // first gravity change not yet applied
+  std::vector<LoadSwitch> load_switches_;  // where a load's history jumps or bends (a step lands on each)
+  std::size_t next_switch_ = 0;            // first of them not yet passed
   std::unique_ptr<GeneralizedAlpha> integrator_;
   ShellDynamicSettings settings_;
   RunInfo info_;

@@ -89,6 +89,12 @@ std::array<Vec3, 4> surface_traction_forces(const std::array<Vec3, 4>& x, const 
   return f;
 }
 
+std::array<Vec3, 4> dead_pressure_forces(const std::array<Vec3, 4>& x, double p) {
+  std::array<Vec3, 4> f;
+  pressure_forces(x, p, f, nullptr);
+  return f;
+}
+
 namespace {
 // a global axis (index) when d is +-e_k to round-off, else -1
 int global_axis(const Vec3& d) {

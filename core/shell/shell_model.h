@@ -23,6 +23,7 @@
 #include "core/mesh/shell_mesh.h"
 #include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
+#include "core/shell/loads.h"
 #include "core/solve/static_problem.h"
 
 namespace ff::shell {
@@ -31,27 +32,13 @@ namespace ff::shell {
 enum Restraint : unsigned { kUx = 1, kUy = 2, kUz = 4, kRx = 8, kRy = 16, kRz = 32, kAllTranslations = 7,
                             kAllRotations = 56, kClamped = 63 };
 
-struct NodalLoad {
-  int node = -1;
-  Vec3 force = Vec3::Zero();   ///< global components at lambda = 1 (follower: node-frame components)
-  Vec3 moment = Vec3::Zero();  ///< global components at lambda = 1 (follower: node-frame components)
-  bool follower = false;
-};
-
-/// Uniform pressure on one quad of the mesh, p times the mid-surface area element
-/// g_xi x g_eta (shell_model.md eq. P1): positive along the quad's normal, i.e. towards the
-/// director's side of a counter-clockwise quad (core/mesh/README.md convention 1).
-struct PressureLoad {
-  int quad = -1;
-  double pressure = 0.0;  ///< force per unit area at lambda = 1
-  /// false: dead load, normal and area of the reference configuration; true: normal and area of
-  /// the current configuration (load stiffness in the tangent, non-symmetric in general)
-  bool follower = false;
-};
-
 /// Consistent nodal forces of a dead traction t per unit area of the bilinear quad x[0..3] in its
 /// reference position (shell_model.md eq. P5), 2 x 2 Gauss points.
 std::array<Vec3, 4> surface_traction_forces(const std::array<Vec3, 4>& x, const Vec3& t);
+/// Consistent nodal forces of a dead pressure p on the bilinear quad x[0..3] in its reference
+/// position, p (g_xi x g_eta) (shell_model.md eq. P2), 2 x 2 Gauss points: what a dead
+/// PressureLoad applies in the static and the dynamic model alike.
+std::array<Vec3, 4> dead_pressure_forces(const std::array<Vec3, 4>& x, double p);
 
 /// One restrained direction of a node (shell_model.md eq. R1): the component of the node's
 /// translation (or, with rotation = true, of its rotation increments) along `direction` is held
