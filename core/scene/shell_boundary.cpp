@@ -213,9 +213,13 @@ std::vector<std::pair<int, Vec3>> surface_load_forces(const mesh::ShellMesh& m, 
 }
 
 void read_loads(const Document& d, shell::ShellModelSpec& spec) {
+  for (std::size_t i = 0; i < d.count("load"); ++i) read_load(d, i, spec);
+}
+
+void read_load(const Document& d, std::size_t i, shell::ShellModelSpec& spec) {
   using namespace ff::shell;
   const mesh::ShellMesh& m = spec.mesh;
-  for (std::size_t i = 0; i < d.count("load"); ++i) {
+  {
     const std::string type = d.string("load.type", i);
     const std::vector<int> ids = select_nodes(d, m, "load", i);
     // each type takes its own amount key, and only that one
@@ -246,14 +250,14 @@ void read_loads(const Document& d, shell::ShellModelSpec& spec) {
       else
         for (const auto& [node, f] : surface_load_forces(m, quads, vec(d.numbers("load.per_area", i))))
           spec.loads.push_back({node, f, Vec3::Zero(), false});
-      continue;
+      return;
     }
     if (type == "line") {
       std::string why;
       const auto forces = line_load_forces(m, ids, vec(d.numbers("load.per_length", i)), why);
       if (!why.empty()) throw SceneError({d.issue("load.select", i, why)});
       for (const auto& [node, f] : forces) spec.loads.push_back({node, f, Vec3::Zero(), false});
-      continue;
+      return;
     }
     const std::vector<double> w = tributary_weights(m, ids);
     const Vec3 total = vec(d.numbers("load.total", i));

@@ -26,6 +26,9 @@ void declare_probe_keys(Schema& s);
 void read_bcs(const Document& d, shell::ShellModelSpec& spec);
 /// Point forces and moments, line, surface and pressure loads of every [[load]] into `spec`.
 void read_loads(const Document& d, shell::ShellModelSpec& spec);
+/// Entry i of [[load]] alone, added to spec.loads / spec.pressures (the dynamic model reads each
+/// entry with its own time history).
+void read_load(const Document& d, std::size_t i, shell::ShellModelSpec& spec);
 /// Probes of every [[probe]].
 std::vector<shell::ShellProbe> read_probes(const Document& d, const mesh::ShellMesh& m);
 

@@ -9,6 +9,7 @@
 #include "core/mesh/generators.h"
 #include "core/scene/node_selection.h"
 #include "core/scene/scene_common.h"
+#include "core/scene/shell_boundary.h"
 #include "core/scene/structure_parts.h"
 #include "core/scene/timeline.h"
 #include "core/shell/shell_dynamic_simulation.h"
@@ -81,6 +82,13 @@ const Schema& shell_dynamic_schema() {
         .number_list("joint.axis", "revolute: axis direction (global, reference configuration)",
                      std::vector<double>{0, 1, 0}, {}, 3, 3);
     declare_selector_keys(s, "joint");
+    // loads as in statics, each on a time history instead of the load factor (cb_shell_dynamics.md (D16))
+    declare_load_keys(s);
+    s.number("load.start", "dynamics: time the load is applied, all at once unless load.ramp > 0", 0.0, {}, "s")
+        .number("load.end", "dynamics: time the load is removed (a pulse); 0 = held to the end of the run", 0.0,
+                Range::non_negative(), "s")
+        .number("load.ramp", "dynamics: the load rises linearly from 0 over this long from load.start; 0 = suddenly",
+                0.0, Range::non_negative(), "s");
     s.table_array("probe", "node displacements recorded every step (direction . u)", 0, 32)
         .string("probe.name", "probe name (also the plot file name)", std::nullopt)
         .string("probe.label", "plot label", std::string{})
@@ -304,6 +312,38 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     }
   }
 
+  std::vector<std::size_t> load_entry, pressure_entry;  // the [[load]] entry of each spec load (errors)
+  // [[load]]: the static reading (the same selections, consistent line, surface and pressure
+  // forces) on the whole structure, then each entry's time history
+  {
+    ShellModelSpec loaded;
+    loaded.mesh = structure.joined;
+    for (std::size_t i = 0; i < d.count("load"); ++i) {
+      LoadHistory history;
+      history.start = d.number("load.start", i);
+      if (d.number("load.end", i) > 0) history.end = d.number("load.end", i);
+      history.ramp = d.number("load.ramp", i);
+      if (*history.defect())
+        throw SceneError({d.issue(d.present("load.end", i) ? "load.end" : "load.ramp", i,
+                                  std::string("the load's time history is not usable: ") + history.defect())});
+      if (d.string("load.type", i) == "pressure" && d.boolean("load.follower", i))
+        throw SceneError({d.issue("load.follower", i, "a follower pressure is a static analysis's load in this version; "
+                                                      "in dynamics a pressure is dead (reference normal and area)")});
+      const std::size_t loads_before = loaded.loads.size(), pressures_before = loaded.pressures.size();
+      read_load(d, i, loaded);
+      for (std::size_t k = loads_before; k < loaded.loads.size(); ++k)
+        spec.loads.push_back({loaded.loads[k], history}), load_entry.push_back(i);
+      for (std::size_t k = pressures_before; k < loaded.pressures.size(); ++k) {
+        TimedPressure p;
+        p.body = structure.quad_part[loaded.pressures[k].quad];
+        p.load = loaded.pressures[k];
+        p.load.quad -= structure.first_quad(p.body);  // the body's own quad number
+        p.history = history;
+        spec.pressures.push_back(p);
+        pressure_entry.push_back(i);
+      }
+    }
+  }
   refuse_impossible_step_count(d, "solver.dt", "solver.end");
   ShellDynamicSettings st;
   st.dt = d.number("solver.dt");
@@ -378,6 +418,10 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   info.effects = fx;
   try {
     return std::make_unique<ShellDynamicSimulation>(std::move(spec), std::move(st), std::move(info));
+  } catch (const shell::LoadSpecError& e) {
+    const std::vector<std::size_t>& entry = e.part() == shell::LoadSpecError::Part::nodal_load ? load_entry : pressure_entry;
+    const std::size_t i = e.index() >= 0 && static_cast<std::size_t>(e.index()) < entry.size() ? entry[e.index()] : 0;
+    throw SceneError({d.issue("load.type", i, e.what())});
   } catch (const shell::BodySpecError& e) {
     using Part = shell::BodySpecError::Part;
     const std::size_t b = static_cast<std::size_t>(e.body());

@@ -50,6 +50,12 @@ int Structure::find(const std::string& name) const {
   return -1;
 }
 
+int Structure::first_quad(int p) const {
+  int q = 0;
+  for (int k = 0; k < p; ++k) q += parts[k].mesh.quad_count();
+  return q;
+}
+
 namespace {
 
 std::string g(double v) {

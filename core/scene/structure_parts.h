@@ -44,6 +44,8 @@ struct Structure {
   bool has_junctions = false;
   /// index of the part called `name`, or -1
   int find(const std::string& name) const;
+  /// the first quad of part p in `joined` (parts' quads are consecutive, in part order)
+  int first_quad(int p) const;
 };
 
 /// Estimated nodes of the structure before any mesh is built (generator counts; a file part is
