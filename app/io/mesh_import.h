@@ -29,7 +29,7 @@
 #include <string>
 
 #include "core/mesh/shell_mesh.h"
-#include "core/scene/mesh_file.h"
+#include "core/scene/scene_context.h"
 
 namespace ff::io {
 

@@ -1,15 +1,14 @@
 #pragma once
 /// \file mesh_file.h
 /// How `mesh.generator = "file"` reaches a mesh reader. Core reads no mesh files (no assimp in
-/// core/): the caller of load_scene passes a reader in its SceneContext (the app passes its assimp
-/// importer, app/io/mesh_import.h, ff::io::scene_context()); a scene that needs a mesh file and
-/// got no reader is refused with a located error.
+/// core/): the caller of load_scene passes a reader in its SceneContext (scene_context.h; the app
+/// passes its assimp importer, app/io/mesh_import.h, ff::io::scene_context()); a scene that needs
+/// a mesh file and got no reader is refused with a located error.
 
 #include <functional>
 #include <string>
 
 #include "core/mesh/shell_mesh.h"
-#include "core/model/setup_monitor.h"
 
 namespace ff::scene {
 
@@ -28,16 +27,5 @@ struct MeshFileError {
 
 /// Reads the quad mesh of `request` into `out`; on failure returns false and fills *error.
 using MeshFileReader = std::function<bool(const MeshFileRequest& request, mesh::ShellMesh& out, MeshFileError* error)>;
-
-/// What building a scene may need from the program around it (passed in, never global).
-struct SceneContext {
-  MeshFileReader mesh_reader;  ///< reads generator = "file" meshes; empty: such scenes are refused
-  /// Memory a run may use [bytes] (the machine's, or a process/container limit); a scene whose
-  /// estimated peak exceeds it is refused at its mesh keys. 0: unknown, nothing is refused.
-  double memory_limit_bytes = 0.0;
-  /// Long set-up (a large mesh, the hub-beam's matrices) polls its stop flag and reports progress
-  /// through it; a model that builds later (at its start()) keeps a copy. Empty: never stopped.
-  SetupMonitor setup;
-};
 
 }  // namespace ff::scene

@@ -8,27 +8,11 @@
 #include <vector>
 
 #include "core/model/simulation.h"
-#include "core/scene/mesh_file.h"
+#include "core/scene/output_settings.h"
+#include "core/scene/scene_context.h"
 #include "core/scene/schema.h"
-#include "core/scene/timeline.h"
 
 namespace ff::scene {
-
-/// How a run is shown; plain numbers the app hands to the renderer.
-struct OutputSettings {
-  bool frames = true;            ///< write PNG frames
-  int frame_every = 1;           ///< render every n-th published frame
-  int width = 960, height = 720;
-  double deformation_scale = 1.0;
-  std::string color_field = "deflection";  ///< a field name, or "none"
-  bool plots = true;
-  std::string view = "auto";               ///< auto (renderer fits), iso, front (along +y), top (along -z)
-  std::vector<double> view_center;         ///< empty = centre of the reference bounding box
-  double view_radius = 0.0;                ///< half height of the view in world units; 0 = fit
-  /// Camera keys of the scene's [[timeline]] (empty: none); the app interpolates them per frame
-  /// with camera_at() unless --camera overrides them.
-  std::vector<CameraKey> camera_path;
-};
 
 struct LoadedScene {
   std::string name;
@@ -38,12 +22,9 @@ struct LoadedScene {
   OutputSettings output;
 };
 
-/// The schema of hub-beam scenes (model = "hub_beam").
-const Schema& hub_beam_schema();
-
 /// One kind of model a scene can name in `scene.model`: the registry that load_scene, the
 /// reference and the editors read (core/scene/scene.cpp, model_kinds()). A new model is one line
-/// there plus its schema and builder.
+/// there plus its schema and builder (core/scene/<model>_scene.{h,cpp}).
 struct ModelKind {
   std::string name;         ///< the value of scene.model
   std::string description;  ///< one line
@@ -51,6 +32,9 @@ struct ModelKind {
   std::string end_key;      ///< the key that ends a run (its timeline's range)
   bool camera_keys;         ///< its [output] has view, view_center, view_radius
   std::unique_ptr<Simulation> (*build)(const Document& d, const std::string& path, const SceneContext& ctx);
+  /// The estimated peak memory [bytes] of a run of a validated document, from its keys without
+  /// building the model (estimated_run_bytes); 0 when unknown (a mesh file that cannot be read).
+  double (*estimated_bytes)(const Document& d, const std::string& path, const SceneContext& ctx);
 };
 const std::vector<ModelKind>& model_kinds();
 /// The kind named `name`, or nullptr.
@@ -62,6 +46,10 @@ const Schema& scene_schema(const std::string& path);
 
 /// The schema of a scene text, picked by its `scene.model` as scene_schema() does for a file.
 const Schema& schema_for_text(const std::string& text);
+
+/// The camera path of a scene text (e.g. /run/scene_text of a results file), validated against
+/// its model's schema; empty when the text has no timeline. Throws SceneError when invalid.
+std::vector<CameraKey> camera_path_from_text(const std::string& text, const std::string& file_name);
 
 /// Markdown reference of every scene key of every model (docs/reference/scene-keys.md).
 std::string scene_reference_markdown();

@@ -6,13 +6,16 @@
 
 namespace ff::scene {
 
+const std::vector<std::string>& model_names() {
+  static const std::vector<std::string> names = {"hub_beam", "shell_static", "shell_dynamic"};
+  return names;
+}
+
 void declare_scene_table(Schema& s, const std::string& effects_doc, std::vector<std::string> effects) {
-  std::vector<std::string> models;  // the registry's names (scene.cpp, model_kinds())
-  for (const ModelKind& k : model_kinds()) models.push_back(k.name);
   s.table("scene", "what this scene is and which effects it simulates", true)
       .string("scene.name", "scene name; also the default output folder out/<name>", std::nullopt)
       .string("scene.description", "one line shown in summaries", std::string{})
-      .choice("scene.model", "model family", models, std::nullopt)
+      .choice("scene.model", "model family", model_names(), std::nullopt)
       .string_list("scene.effects", effects_doc, std::nullopt, std::move(effects));
 }
 

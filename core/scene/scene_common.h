@@ -1,14 +1,20 @@
 #pragma once
-/// Keys and reading shared by every model's scene schema.
+/// Keys and reading shared by every model's scene schema. Below the models and the registry
+/// (scene.h): nothing here knows which models there are beyond their names.
 #include <string>
 #include <vector>
 
 #include "core/frame/frame.h"
-#include "core/scene/mesh_file.h"
-#include "core/scene/scene.h"
+#include "core/scene/output_settings.h"
+#include "core/scene/scene_context.h"
+#include "core/scene/schema.h"
 #include "core/solve/sparse_solver.h"
 
 namespace ff::scene {
+
+/// The values of scene.model, one per model in the registry (scene.cpp, model_kinds(), which
+/// checks that its entries are these names in this order).
+const std::vector<std::string>& model_names();
 
 /// [scene]: name, description, model, and the model's effects list.
 void declare_scene_table(Schema& s, const std::string& effects_doc, std::vector<std::string> effects);

@@ -47,6 +47,8 @@
 #include <variant>
 #include <vector>
 
+#include "core/scene/schema_value.h"
+
 namespace ff::scene {
 
 /// One problem found in the input.
@@ -106,13 +108,6 @@ struct IntRange {
   /// ">= 1", "[1, 10]", ... ; "any" when unbounded.
   std::string text() const;
 };
-
-/// Kinds of declared keys.
-enum class Kind { Number, Integer, Boolean, String, Choice, NumberList, StringList };
-
-/// A validated (or default) value. monostate = no value (absent key of an absent table).
-using Value = std::variant<std::monostate, double, long long, bool, std::string,
-                           std::vector<double>, std::vector<std::string>>;
 
 /// The declared set of tables and keys.
 class Schema {

@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/scene/schema.h"
+#include "core/scene/schema_value.h"
 
 namespace ff::scene::text {
 

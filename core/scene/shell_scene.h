@@ -4,7 +4,7 @@
 #include <string>
 
 #include "core/model/simulation.h"
-#include "core/scene/mesh_file.h"
+#include "core/scene/scene_context.h"
 #include "core/scene/schema.h"
 
 namespace ff::scene {

@@ -10,6 +10,7 @@
 
 #include "core/scene/mesh_file.h"
 #include "core/scene/mesh_generator_keys.h"
+#include "core/shell/shell_model.h"
 
 namespace ff::scene {
 
@@ -131,6 +132,15 @@ StructureSize structure_size(const Document& d, const std::string& scene_path, c
     if (nodes > largest) largest = nodes, size.key = key, size.part = static_cast<int>(i);
   }
   return size;
+}
+
+double estimated_structure_bytes(const Document& d, const std::string& scene_path, const SceneContext& ctx) {
+  const std::vector<std::string> fx = d.strings("scene.effects");
+  const bool drilling = std::find(fx.begin(), fx.end(), "drilling") != fx.end();
+  const long long nodes = structure_size(d, scene_path, ctx).nodes;
+  return nodes > 0 ? shell::estimated_peak_bytes(static_cast<int>(std::min<long long>(nodes, std::numeric_limits<int>::max())),
+                                                 drilling ? 1.0 : 0.0)
+                   : 0.0;
 }
 
 Structure read_structure(const Document& d, const std::string& scene_path, const SceneContext& ctx) {

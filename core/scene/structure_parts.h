@@ -10,7 +10,8 @@
 #include <vector>
 
 #include "core/mesh/shell_mesh.h"
-#include "core/scene/scene.h"
+#include "core/scene/scene_context.h"
+#include "core/scene/schema.h"
 #include "core/shell/cb_shell.h"
 
 namespace ff::scene {
@@ -57,6 +58,9 @@ struct StructureSize {
   int part = 0;
 };
 StructureSize structure_size(const Document& d, const std::string& scene_path, const SceneContext& ctx);
+/// Peak memory [bytes] of a run on the structure (shell::estimated_peak_bytes at structure_size's
+/// nodes, every node with 6 DoFs under the drilling effect); 0 when nothing can be counted.
+double estimated_structure_bytes(const Document& d, const std::string& scene_path, const SceneContext& ctx);
 
 /// Builds every material and part and joins the parts; located SceneErrors for a material no
 /// part names, a part naming no material, two parts of one name, a junction whose parts share no

@@ -4,7 +4,6 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "core/scene/scene.h"
 #include "core/scene/schema_text.h"
 
 namespace ff::scene {
@@ -135,12 +134,6 @@ Timeline read_timeline(const Document& d, double end) {
   }
   if (!issues.empty()) throw SceneError(std::move(issues));
   return tl;
-}
-
-std::vector<CameraKey> camera_path_from_text(const std::string& text, const std::string& file_name) {
-  const Schema& schema = schema_for_text(text);
-  const Document d = validate(schema, text, file_name);
-  return read_timeline(d, 1e300).camera;
 }
 
 }  // namespace ff::scene

@@ -65,8 +65,4 @@ void declare_timeline(Schema& s, const std::string& at_doc, const std::string& a
 /// changing something, camera views valid. Bad input throws SceneError at the offending key.
 Timeline read_timeline(const Document& d, double end);
 
-/// The camera path of a scene text (e.g. /run/scene_text of a results file), validated against
-/// its model's schema; empty when the text has no timeline. Throws SceneError when invalid.
-std::vector<CameraKey> camera_path_from_text(const std::string& text, const std::string& file_name);
-
 }  // namespace ff::scene

@@ -19,6 +19,18 @@ TEST(ModelRegistry, EveryModelHasItsSchemaAndBundledScenesLoad) {
   EXPECT_EQ(find_model("shell_statik"), nullptr);
 }
 
+// The schemas are declared below the registry (core/scene/scene_common.cpp, model_names()); every
+// model's scene.model must still offer exactly the registry's models, in its order.
+TEST(ModelRegistry, EverySchemaOffersTheRegistrysModels) {
+  std::vector<std::string> names;
+  for (const ModelKind& k : model_kinds()) names.push_back(k.name);
+  for (const ModelKind& k : model_kinds()) {
+    const Schema::KeySpec* model = k.schema().find_key("scene.model");
+    ASSERT_NE(model, nullptr) << k.name;
+    EXPECT_EQ(model->choices, names) << k.name;
+  }
+}
+
 TEST(ModelRegistry, AnUnknownModelIsRefusedAtItsLine) {
   const std::string path = std::string(FF_BINARY_DIR) + "/test_out/unknown_model.toml";
   std::filesystem::create_directories(std::string(FF_BINARY_DIR) + "/test_out");
