@@ -99,7 +99,10 @@ const Schema& shell_dynamic_schema() {
     declare_selector_keys(s, "arc");
     s.table_array("metric", "numbers written to summary.json", 0, 32)
         .string("metric.name", "metric name", std::nullopt)
-        .choice("metric.kind", "how it is read from the history", {"min", "max", "max_abs", "final"}, std::nullopt)
+        .choice("metric.kind",
+                "how it is read from the history: min, max, max_abs, final, or mean (the time average over the "
+                "run, trapezoid rule over every step)",
+                {"min", "max", "max_abs", "final", "mean"}, std::nullopt)
         .string("metric.probe", "probe (or arc_rate_<arc>, arc_strain_<arc>) it reads", std::nullopt);
     declare_output_keys(s, {"displacement", "strain"}, true);
     declare_timeline(s, "time of the event", "s", {"gravity"});
@@ -400,6 +403,7 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     mt.kind = kind == "min" ? DynamicMetric::Kind::min
               : kind == "max" ? DynamicMetric::Kind::max
               : kind == "max_abs" ? DynamicMetric::Kind::max_abs
+              : kind == "mean" ? DynamicMetric::Kind::mean
                                   : DynamicMetric::Kind::final_value;
     if (!known_probe(mt.probe)) throw SceneError({d.issue("metric.probe", i, "no probe called '" + mt.probe + "'")});
     st.metrics.push_back(mt);

@@ -183,6 +183,12 @@ Metrics ShellDynamicSimulation::metrics() const {
       x = 0;
       for (double y : v) x = std::max(x, std::abs(y));
     }
+    if (mt.kind == DynamicMetric::Kind::mean && v.size() == times_.size() && times_.size() > 1 &&
+        times_.back() > times_.front()) {
+      double area = 0;
+      for (std::size_t i = 1; i < v.size(); ++i) area += 0.5 * (v[i] + v[i - 1]) * (times_[i] - times_[i - 1]);
+      x = area / (times_.back() - times_.front());
+    }
     m.emplace_back(mt.name, x);
   }
   for (std::size_t k = 0; k < settings_.arcs.size(); ++k) {  // largest |relative change| of each arc

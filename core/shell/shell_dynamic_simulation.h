@@ -33,7 +33,8 @@ struct DynamicArc {
 };
 
 struct DynamicMetric {
-  enum class Kind { min, max, max_abs, final_value };
+  /// mean: the time average over the run (trapezoid rule over the recorded steps)
+  enum class Kind { min, max, max_abs, final_value, mean };
   std::string name;
   Kind kind = Kind::final_value;
   std::string probe;
