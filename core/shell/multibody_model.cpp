@@ -25,15 +25,6 @@ using assembly::seconds_since;
 using lie::hat;
 }  // namespace
 
-struct MultibodyModel::Element {
-  int body;
-  std::array<int, 4> nodes;         // model-wide node ids
-  std::array<Mat3, 4> corner;       // C = R0_I^T R0_corner (identity unless a fold corner)
-  bool plain;                       // all corners identity
-  std::unique_ptr<CbShellElement> elastic;
-  std::unique_ptr<CbShellInertia> inertia;
-};
-
 MultibodyModel::~MultibodyModel() = default;
 
 MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
@@ -99,31 +90,14 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
   for (int b = 0; b < static_cast<int>(spec_.shells.size()); ++b) {
     const ShellBodySpec& body = spec_.shells[b];
     const mesh::ShellMesh& m = body.mesh;
-    for (int q = 0; q < m.quad_count(); ++q) {
-      Element e;
-      e.body = b;
-      e.plain = true;
-      ElementPoses ref;
-      for (int c = 0; c < 4; ++c) {
-        const int I = m.quads[q][c];
-        e.nodes[c] = shell_offset_[b] + I;
-        const Vec3 nc = q < static_cast<int>(m.corner_normals.size()) ? m.corner_normals[q][c] : m.normals[I];
-        const assembly::CornerFrame corner = assembly::corner_frame(m.frames[I], nc);
-        const Mat3& R_WC = corner.frame;
-        e.corner[c] = corner.turn;
-        e.plain = e.plain && (e.corner[c] - Mat3::Identity()).norm() < 1e-14;
-        ref[c] = {R_WC, m.points[I]};
-      }
-      try {
-        e.elastic = std::make_unique<CbShellElement>(ref, body.section, body.options);
-      } catch (const std::invalid_argument& err) {
-        throw BodySpecError(BodySpecError::Part::shell_element, b,
-                            "shell body '" + body.name + "', quad " + std::to_string(q) + ": " + err.what());
-      }
-      hr_elements_ += body.options.hr, ans_elements_ += body.options.ans, drilling_elements_ += body.options.drilling;
-      e.inertia = std::make_unique<CbShellInertia>(ref, body.section.thickness, body.density);
-      elements_.push_back(std::move(e));
+    try {
+      elements_.add_mesh(m, shell_offset_[b], {body.section}, {body.options}, body.density, b);
+    } catch (const ShellElementError& err) {
+      throw BodySpecError(BodySpecError::Part::shell_element, b, "shell body '" + body.name + "', " + err.what());
     }
+    const long long quads = m.quad_count();
+    hr_elements_ += body.options.hr * quads, ans_elements_ += body.options.ans * quads,
+        drilling_elements_ += body.options.drilling * quads;
   }
   poses_ = committed_ = reference_;
   check_loads();
@@ -221,7 +195,7 @@ void MultibodyModel::add_external_loads(double t, Eigen::VectorXd& r, const Iter
 }
 
 void MultibodyModel::build_pattern() {
-  for (const Element& e : elements_) pattern_.add_element(e.nodes);
+  for (const ShellElement& e : elements_.all()) pattern_.add_element(e.nodes);
   for (int I = 0; I < node_count(); ++I) pattern_.add_block(I, I);  // rigid bodies, constraint-force terms
   for (const PerpendicularConstraint& c : spec_.perpendiculars)
     if (c.b >= 0) pattern_.add_block(c.a, c.b), pattern_.add_block(c.b, c.a);
@@ -229,8 +203,9 @@ void MultibodyModel::build_pattern() {
     if (c.b >= 0) pattern_.add_block(c.a, c.b), pattern_.add_block(c.b, c.a);
   pattern_.build(dofs_);
   scatter_.resize(elements_.size());
-  for (std::size_t k = 0; k < elements_.size(); ++k) scatter_[k] = pattern_.element_scatter(dofs_, elements_[k].nodes);
+  for (int k = 0; k < elements_.size(); ++k) scatter_[k] = pattern_.element_scatter(dofs_, elements_[k].nodes);
   results_.resize(elements_.size());
+  timed_seconds_.assign((elements_.size() + 7) / 8, {0.0, 0.0});
   // B: 3 rows per position constraint on the translations, 1 row per perpendicularity on rotations
   std::vector<Eigen::Triplet<double>> t;
   int row = 0;
@@ -313,20 +288,15 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
   };
 
   // ---- shell elements: elastic (S15-S17), inertia (D4-D7), gravity (D8), in parallel ----
-  const int ne = static_cast<int>(elements_.size());
+  const int ne = elements_.size();
   constexpr int timing_stride = 8;
   double t_el = 0, t_in = 0;
   const bool gravity = spec_.gravity;
-  std::mutex timing_sum;
-  assembly::for_each_chunk(ne, [&](int begin, int end) {
-    double t_el_chunk = 0, t_in_chunk = 0;
-    for (int k = begin; k < end; ++k) {
-      const Element& e = elements_[k];
-      ElementPoses cur;
+  elements_.for_each(poses_, [&](int k, const ShellElement& e, const ElementPoses& cur) {
+    {
       ElementRates vel, acc;
       for (int c = 0; c < 4; ++c) {
         const int I = e.nodes[c];
-        cur[c] = {e.plain ? poses_[I].R : Mat3(poses_[I].R * e.corner[c]), poses_[I].p};  // C = I: no product
         vel[c] = node_vector(v, I);
         acc[c] = node_vector(vdot, I);
         if (!e.plain) {  // corner-local rates: blockdiag(Cᵀ, Cᵀ) of the node's
@@ -352,10 +322,11 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
       out.r += f;
       if (tangent) K += Kin;  // position derivatives: elastic, inertia and gravity
       if (timed) {
-        t_el_chunk += std::chrono::duration<double>(t1 - t0).count();
-        t_in_chunk += std::chrono::duration<double>(Clock::now() - t1).count();
+        // the timed element's own slot (summed below): no lock in the loop
+        timed_seconds_[k / timing_stride] = {std::chrono::duration<double>(t1 - t0).count(),
+                                             std::chrono::duration<double>(Clock::now() - t1).count()};
       }
-      if (!tangent) continue;
+      if (!tangent) return;
       if (with_T)  // (G9) per corner, in the corner frame: blockdiag(Cᵀ, Cᵀ) T_SE3(step_I) blockdiag(C, C)
         for (int c = 0; c < 4; ++c) {
           Mat6 T = step_tangent_[e.nodes[c]];
@@ -367,16 +338,15 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
         }
       out.S = w->stiffness * K + w->mass * M + w->damping * C;
     }
-    std::lock_guard<std::mutex> lock(timing_sum);
-    t_el += t_el_chunk, t_in += t_in_chunk;
   });
+  for (int k = 0; k < ne; k += timing_stride) t_el += timed_seconds_[k / timing_stride][0], t_in += timed_seconds_[k / timing_stride][1];
   const double scale = ne > 0 ? static_cast<double>(ne) / ((ne + timing_stride - 1) / timing_stride) : 0.0;
   elastic_.evaluations += ne, elastic_.seconds += scale * t_el;
   ++assemblies_;
   inertia_.evaluations += ne, inertia_.seconds += scale * t_in;
   if (gravity) gravity_.evaluations += ne;
   for (int k = 0; k < ne; ++k) {
-    const Element& e = elements_[k];
+    const ShellElement& e = elements_[k];
     Vec24 F = results_[k].r;
     if (!e.plain)
       for (int c = 0; c < 4; ++c) {
@@ -548,7 +518,7 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v, double t) const 
     const double f = spec_.pressures[k].history.factor(t);
     for (int c = 0; c < 4; ++c) s.load_potential -= f * dead_pressure_[k][c].dot(node_displacement(pressure_nodes_[k][c]));
   }
-  for (const Element& e : elements_) {
+  for (const ShellElement& e : elements_.all()) {
     ElementPoses cur;
     ElementRates vel;
     for (int c = 0; c < 4; ++c) {
@@ -610,7 +580,7 @@ double MultibodyModel::constraint_violation() const {
 
 double MultibodyModel::total_mass() const {
   double m = 0;
-  for (const Element& e : elements_) m += e.inertia->mass();
+  for (const ShellElement& e : elements_.all()) m += e.inertia->mass();
   for (const RigidBodySpec& r : spec_.rigid) m += r.mass;
   return m;
 }
@@ -640,8 +610,8 @@ std::vector<EffectStat> MultibodyModel::effect_stats() const {
 }
 
 std::vector<double> MultibodyModel::nodal_surface_strain() const {
-  return shell::nodal_surface_strain(elements_, reference_, poses_,
-                                     [this](const Element& e) { return spec_.shells[e.body].section.thickness; });
+  return shell::nodal_surface_strain(elements_.all(), reference_, poses_,
+                                     [](const ShellElement& e) { return e.thickness; });
 }
 
 }  // namespace ff::shell

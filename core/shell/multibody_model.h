@@ -19,6 +19,7 @@
 #include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
 #include "core/shell/cb_shell_inertia.h"
+#include "core/shell/shell_elements.h"
 #include "core/shell/loads.h"
 #include "core/solve/dynamic_problem.h"
 
@@ -185,7 +186,6 @@ class MultibodyModel final : public ff::DynamicProblem {
   std::vector<EffectStat> effect_stats() const;
 
  private:
-  struct Element;
   void build_pattern();
   void check_loads();
   /// r -= f(t) F_ext and its position derivative, (D16)-(D20)
@@ -206,7 +206,7 @@ class MultibodyModel final : public ff::DynamicProblem {
   std::vector<int> shell_offset_;
   int rigid_offset_ = 0;
   int constraint_rows_ = 0;  // m: rows of Φ
-  std::vector<Element> elements_;
+  ShellElements elements_;  // the constant elements; results_ are their work buffers
   assembly::BlockPattern pattern_;
   SparseMatrixD b_pattern_;
   std::vector<std::array<int, 576>> scatter_;
@@ -215,6 +215,7 @@ class MultibodyModel final : public ff::DynamicProblem {
     Mat24 S;
   };
   std::vector<ElementResult> results_;
+  std::vector<std::array<double, 2>> timed_seconds_;  // elastic, inertia [s] of every 8th element (effect_stats)
   std::vector<std::array<Vec3, 4>> dead_pressure_;  // per spec_.pressures: nodal forces, world, at f = 1 (D20)
   std::vector<std::array<int, 4>> pressure_nodes_;   // per spec_.pressures: model-wide corner node ids
   assembly::EffectCounter elastic_, inertia_, gravity_, joints_, rigid_, point_loads_, dead_pressure_stat_;

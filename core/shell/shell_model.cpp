@@ -323,41 +323,23 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   for (int i = 0; i < nn; ++i) poses_[i] = {m.frames[i], m.points[i]};
   saved_ = poses_;
   reference_ = poses_;
-  elements_.reserve(m.quad_count());
-  for (int q = 0; q < m.quad_count(); ++q) {
-    Element e;
-    e.nodes = m.quads[q];
-    ElementPoses ref;
-    for (int c = 0; c < 4; ++c) {
-      const int I = e.nodes[c];
-      const Vec3 nc = q < static_cast<int>(m.corner_normals.size()) ? m.corner_normals[q][c] : m.normals[I];
-      // a fold corner has its own director; C maps node-local increments to corner-local ones
-      const assembly::CornerFrame corner = assembly::corner_frame(m.frames[I], nc);
-      e.corner[c] = corner.turn;
-      ref[c] = {corner.frame, m.points[I]};
+  // the elements, of each quad's own part when the parts differ in material
+  std::vector<ShellSection> sections{spec_.section};
+  std::vector<ShellOptions> options{spec_.options};
+  if (!spec_.quad_section.empty()) {
+    sections.clear(), options.clear();
+    for (int q = 0; q < m.quad_count(); ++q) {
+      const int k = spec_.quad_section.at(q);
+      sections.push_back(spec_.sections.at(k));
+      options.push_back(spec_.options);
+      options.back().drilling_factor = spec_.drilling_factors.at(k);
     }
-    const bool own_part = !spec_.quad_section.empty();
-    const ShellSection& section = own_part ? spec_.sections.at(spec_.quad_section.at(q)) : spec_.section;
-    ShellOptions options = spec_.options;
-    if (own_part) options.drilling_factor = spec_.drilling_factors.at(spec_.quad_section[q]);
-    e.thickness = section.thickness;
-    try {
-      e.el = std::make_unique<CbShellElement>(ref, section, options);
-    } catch (const std::invalid_argument& err) {
-      // a quad that forms with a far thinner section is one whose thickness its curvature cannot
-      // take; one that does not is degenerate in its own mid-surface (the mesh is at fault)
-      ShellSection thin = section;
-      thin.thickness *= 1e-6;
-      bool forms_thin = true;
-      try {
-        CbShellElement probe(ref, thin, options);
-      } catch (const std::invalid_argument&) {
-        forms_thin = false;
-      }
-      throw ShellSpecError(forms_thin ? ShellSpecError::Part::element : ShellSpecError::Part::mid_surface, q,
-                           "quad " + std::to_string(q) + ": " + err.what());
-    }
-    elements_.push_back(std::move(e));
+  }
+  try {
+    elements_.add_mesh(m, 0, sections, options, 0.0, 0);
+  } catch (const ShellElementError& e) {
+    throw ShellSpecError(e.thickness_at_fault() ? ShellSpecError::Part::element : ShellSpecError::Part::mid_surface,
+                         e.quad(), e.what());
   }
   Vec3 lo = m.points.front(), hi = lo;
   for (const Vec3& p : m.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
@@ -377,7 +359,7 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   }
   build_pattern();
   element_prescribed_.assign(elements_.size(), 0);
-  for (std::size_t k = 0; k < elements_.size(); ++k)
+  for (int k = 0; k < elements_.size(); ++k)
     for (int I : elements_[k].nodes)
       for (int sl = 0; sl < 3; ++sl)
         if (prescribed_of_[3 * I + sl] >= 0) element_prescribed_[k] = 1;
@@ -385,11 +367,11 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
 }
 
 void ShellModel::build_pattern() {
-  for (const Element& e : elements_) pattern_.add_element(e.nodes);
+  for (const ShellElement& e : elements_.all()) pattern_.add_element(e.nodes);
   for (int I = 0; I < static_cast<int>(poses_.size()); ++I) pattern_.add_block(I, I);  // rotating-basis and load terms
   pattern_.build(dofs_);
   scatter_.resize(elements_.size());
-  for (std::size_t k = 0; k < elements_.size(); ++k) scatter_[k] = pattern_.element_scatter(dofs_, elements_[k].nodes);
+  for (int k = 0; k < elements_.size(); ++k) scatter_[k] = pattern_.element_scatter(dofs_, elements_[k].nodes);
   node_scatter_.resize(poses_.size());
   for (std::size_t I = 0; I < poses_.size(); ++I) node_scatter_[I] = pattern_.node_scatter(dofs_, static_cast<int>(I));
   el_force_.resize(elements_.size());
@@ -442,16 +424,13 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     if (p >= 0) (*load)[a] -= k * prescribed_[p].value;
   };
   // elements in parallel (each writes only its own buffers), then a serial scatter
-  const int ne = static_cast<int>(elements_.size());
+  const int ne = elements_.size();
   const bool prescribed_load = load && !prescribed_.empty();
-  assembly::for_each_chunk(ne, [&](int begin, int end) {
-    for (int k = begin; k < end; ++k) {
-      const Element& e = elements_[k];
-      ElementPoses cur;
-      for (int c = 0; c < 4; ++c) cur[c] = {poses_[e.nodes[c]].R * e.corner[c], poses_[e.nodes[c]].p};
+  elements_.for_each(poses_, [&](int k, const ShellElement& e, const ElementPoses& cur) {
+    {
       const bool tangent = K || (prescribed_load && element_prescribed_[k]);
-      e.el->evaluate(cur, el_force_[k], tangent ? &el_tangent_[k] : nullptr);
-      if (!tangent) continue;
+      e.elastic->evaluate(cur, el_force_[k], tangent ? &el_tangent_[k] : nullptr);
+      if (!tangent) return;
       // to solver rows here, in parallel: A_I blockdiag(C, C) is block diagonal in 3 x 3
       std::array<Mat3, 8> L;  // per corner: translations, rotations
       for (int c = 0; c < 4; ++c) {
@@ -472,7 +451,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
     }
   });
   for (int k = 0; k < ne; ++k) {
-    const Element& e = elements_[k];
+    const ShellElement& e = elements_[k];
     const Vec24& F = el_force_[k];
     for (int c = 0; c < 4; ++c) {  // node-local from corner-local: blockdiag(C, C)
       node_force[e.nodes[c]].head<3>() += e.corner[c] * F.segment<3>(6 * c);
@@ -659,8 +638,8 @@ void ShellModel::update(const Eigen::VectorXd& delta) {
 }
 
 std::vector<double> ShellModel::nodal_surface_strain() const {
-  return shell::nodal_surface_strain(elements_, reference_, poses_,
-                                     [](const Element& e) { return e.thickness; });
+  return shell::nodal_surface_strain(elements_.all(), reference_, poses_,
+                                     [](const ShellElement& e) { return e.thickness; });
 }
 
 }  // namespace ff::shell

@@ -23,6 +23,7 @@
 #include "core/mesh/shell_mesh.h"
 #include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
+#include "core/shell/shell_elements.h"
 #include "core/shell/loads.h"
 #include "core/solve/static_problem.h"
 
@@ -151,12 +152,6 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<EffectStat> effect_stats() const;
 
  private:
-  struct Element {
-    std::array<int, 4> nodes;
-    std::array<Mat3, 4> corner;  // C = R0_I^T R0_corner (identity unless the corner's director differs)
-    std::unique_ptr<CbShellElement> el;
-    double thickness;            // of its part's section (display strain)
-  };
   ShellModelSpec spec_;
   std::vector<NodePose> poses_, saved_;
   std::vector<NodePose> reference_;     // initial node poses (display strain)
@@ -176,7 +171,7 @@ class ShellModel final : public ff::StaticProblem {
   int snapped_directors_ = 0;
   double largest_snap_ = 0.0;
   assembly::DofMap dofs_;
-  std::vector<Element> elements_;
+  ShellElements elements_;  // the constant elements; el_force_ / el_tangent_ are their work buffers
   double rotation_scale_ = 1.0;
   // tangent pattern built once; per element the value index of each (corner dof, corner dof)
   // entry (-1 when restrained), so assembly is a scatter-add without triplets
