@@ -376,6 +376,7 @@ void ShellModel::build_pattern() {
   for (std::size_t I = 0; I < poses_.size(); ++I) node_scatter_[I] = pattern_.node_scatter(dofs_, static_cast<int>(I));
   el_force_.resize(elements_.size());
   el_tangent_.resize(elements_.size());
+  node_force_.resize(poses_.size());
 }
 
 void ShellModel::apply_prescribed(double lambda) {
@@ -391,41 +392,55 @@ double ShellModel::state_magnitude(int i) const {
   return dofs_.unknown(i).slot < 3 ? poses_[dofs_.unknown(i).node].p.cwiseAbs().maxCoeff() : 1.0;
 }
 
+// slot rows of a world vector at node I (eq. R2): T_u^T v for translations, T_r^T v for 6-DoF rotations
+Vec3 ShellModel::rows_u(int I, const Vec3& v) const { return has_basis_[I] ? Vec3(basis_u_[I].transpose() * v) : v; }
+Vec3 ShellModel::rows_r(int I, const Vec3& v) const { return has_basis_[I] ? Vec3(basis_r_[I].transpose() * v) : v; }
+// a world-by-world 3x3 block between nodes I and J in slot rows and columns
+Mat3 ShellModel::block_uu(int I, const Mat3& b, int J) const {
+  Mat3 out = b;
+  if (has_basis_[I]) out = basis_u_[I].transpose() * out;
+  if (has_basis_[J]) out = out * basis_u_[J];
+  return out;
+}
+// into node I's own block (the only node-level terms), through its precomputed value indices
+void ShellModel::add_to_node(Assembly& a, int I, int si, int sj, double v) const {
+  const int p = node_scatter_[I][6 * si + sj];
+  if (p >= 0 && v != 0.0) a.values[p] += v;
+}
+// -d r / d lambda through the prescribed columns (eq. R4): f_ref gains -K_ap value_p
+void ShellModel::add_prescribed_load(Assembly& a, int I, int si, int J, int sj, double k) const {
+  const int row = dofs_.equation(I, si);
+  if (!a.load || row < 0 || sj >= 3) return;
+  const int p = prescribed_of_[3 * J + sj];
+  if (p >= 0) (*a.load)[row] -= k * prescribed_[p].value;
+}
+
+// One assembly: every effect is a term of its own with its own counter (effect_stats()), in a
+// fixed order so that sums never depend on which effects a scene has.
 void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix<double>* K, Eigen::VectorXd* load) {
-  // effect timing: one clock pair per effect and assembly, none inside the element loop
-  const Clock::time_point t_elastic = Clock::now();
-  const int n = size(), nn = static_cast<int>(poses_.size());
   if (!prescribed_.empty()) apply_prescribed(lambda);
-  r.setZero(n);
-  if (load) load->setZero(n);
+  r.setZero(size());
+  if (load) load->setZero(size());
   if (K) pattern_.zeroed(*K);
-  double* values = K ? K->valuePtr() : nullptr;
-  std::vector<Vec6> node_force(nn, Vec6::Zero());  // node-local internal force
-  // slot rows of a world vector at node I (eq. R2): T_u^T v for translations, T_r^T v for 6-DoF rotations
-  auto rows_u = [&](int I, const Vec3& v) { return has_basis_[I] ? Vec3(basis_u_[I].transpose() * v) : v; };
-  auto rows_r = [&](int I, const Vec3& v) { return has_basis_[I] ? Vec3(basis_r_[I].transpose() * v) : v; };
-  // a world-by-world 3x3 block between nodes I and J in slot rows and columns
-  auto block_uu = [&](int I, const Mat3& b, int J) {
-    Mat3 out = b;
-    if (has_basis_[I]) out = basis_u_[I].transpose() * out;
-    if (has_basis_[J]) out = out * basis_u_[J];
-    return out;
-  };
-  // into node I's own block (the only node-level terms), through its precomputed value indices
-  auto add = [&](int I, int si, int sj, double v) {
-    const int p = node_scatter_[I][6 * si + sj];
-    if (p >= 0 && v != 0.0) values[p] += v;
-  };
-  // -d r / d lambda through the prescribed columns (eq. R4): f_ref gains -K_ap value_p
-  auto add_prescribed_load = [&](int I, int si, int J, int sj, double k) {
-    const int a = dofs_.equation(I, si);
-    if (!load || a < 0 || sj >= 3) return;
-    const int p = prescribed_of_[3 * J + sj];
-    if (p >= 0) (*load)[a] -= k * prescribed_[p].value;
-  };
-  // elements in parallel (each writes only its own buffers), then a serial scatter
+  Assembly a{lambda, r, K, load, K ? K->valuePtr() : nullptr, load && !prescribed_.empty()};
+  elastic_term(a);
+  point_load_term(a);
+  pressure_term(a, false);
+  pressure_term(a, true);
+}
+
+// Elastic term (cb_shell.md (S15)-(S17); shell_model.md for the node bases): the element loop
+// in parallel (each element writes only its own buffers), then a serial scatter in element order.
+void ShellModel::elastic_term(Assembly& a) {
+  const Clock::time_point t_elastic = Clock::now();
+  const int nn = static_cast<int>(poses_.size());
+  Eigen::VectorXd& r = a.r;
+  Eigen::SparseMatrix<double>* K = a.K;
+  double* values = a.values;
+  const bool prescribed_load = a.prescribed_load;
+  std::vector<Vec6>& node_force = node_force_;  // node-local internal force
+  std::fill(node_force.begin(), node_force.end(), Vec6::Zero());
   const int ne = elements_.size();
-  const bool prescribed_load = load && !prescribed_.empty();
   elements_.for_each(poses_, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       const bool tangent = K || (prescribed_load && element_prescribed_[k]);
@@ -443,10 +458,10 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
         }
       }
       Mat24& Ke = el_tangent_[k];
-      for (int a = 0; a < 8; ++a)
-        for (int b = 0; b < 8; ++b) {
-          const Mat3 blk = L[a] * Ke.block<3, 3>(3 * a, 3 * b);
-          Ke.block<3, 3>(3 * a, 3 * b).noalias() = blk * L[b].transpose();
+      for (int row = 0; row < 8; ++row)
+        for (int col = 0; col < 8; ++col) {
+          const Mat3 blk = L[row] * Ke.block<3, 3>(3 * row, 3 * col);
+          Ke.block<3, 3>(3 * row, 3 * col).noalias() = blk * L[col].transpose();
         }
     }
   });
@@ -462,7 +477,7 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       for (int c = 0; c < 4; ++c)
         for (int i = 0; i < 6; ++i)
           for (int d = 0; d < 4; ++d)
-            for (int j = 0; j < 3; ++j) add_prescribed_load(e.nodes[c], i, e.nodes[d], j, Ke(6 * c + i, 6 * d + j));
+            for (int j = 0; j < 3; ++j) add_prescribed_load(a, e.nodes[c], i, e.nodes[d], j, Ke(6 * c + i, 6 * d + j));
     if (!K) continue;
     const std::array<int, 576>& idx = scatter_[k];
     for (int r = 0; r < 24; ++r)
@@ -489,19 +504,27 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
         tt = basis_r_[I].transpose() * tt * basis_r_[I];
       }
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) add(I, i, 3 + j, tu(i, j)), add(I, 3 + i, 3 + j, tt(i, j));
+        for (int j = 0; j < 3; ++j) add_to_node(a, I, i, 3 + j, tu(i, j)), add_to_node(a, I, 3 + i, 3 + j, tt(i, j));
     } else {
       Mat3 tu = -R_WN * hat(node_force[I].head<3>());
       if (has_basis_[I]) tu = basis_u_[I].transpose() * tu;
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 2; ++j) add(I, i, 3 + j, tu(i, j));
+        for (int j = 0; j < 2; ++j) add_to_node(a, I, i, 3 + j, tu(i, j));
     }
   }
   elastic_.evaluations += ne;
   ++assemblies_;
+  elastic_.seconds += seconds_since(t_elastic);
+}
+
+// Point loads: r -= lambda f (world or, follower, node-frame components) and their load stiffness.
+void ShellModel::point_load_term(Assembly& a) {
+  if (spec_.loads.empty()) return;
   const Clock::time_point t_loads = Clock::now();
-  elastic_.seconds += std::chrono::duration<double>(t_loads - t_elastic).count();
-  // external loads: r -= lambda f_ext
+  const double lambda = a.lambda;
+  Eigen::VectorXd& r = a.r;
+  Eigen::SparseMatrix<double>* K = a.K;
+  Eigen::VectorXd* load = a.load;
   for (const NodalLoad& l : spec_.loads) {
     const int I = l.node;
     const Mat3& R_WN = poses_[I].R;
@@ -527,24 +550,34 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
       if (has_basis_[I])
         tf = six_dof_[I] ? Mat3(basis_u_[I].transpose() * tf * basis_r_[I]) : Mat3(basis_u_[I].transpose() * tf);
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < (six_dof_[I] ? 3 : 2); ++j) add(I, i, 3 + j, tf(i, j));
+        for (int j = 0; j < (six_dof_[I] ? 3 : 2); ++j) add_to_node(a, I, i, 3 + j, tf(i, j));
       if (six_dof_[I]) {
         Mat3 tm = lambda * hat(R_WN * l.moment);
         if (has_basis_[I]) tm = basis_r_[I].transpose() * tm * basis_r_[I];
         for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) add(I, 3 + i, 3 + j, tm(i, j));
+          for (int j = 0; j < 3; ++j) add_to_node(a, I, 3 + i, 3 + j, tm(i, j));
       }
     } else if (!six_dof_[I]) {
       // local components of a fixed global moment turn with the node
       const Mat3 tm = -lambda * hat(R_WN.transpose() * l.moment);
       for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) add(I, 3 + i, 3 + j, tm(i, j));
+        for (int j = 0; j < 2; ++j) add_to_node(a, I, 3 + i, 3 + j, tm(i, j));
     }
   }
-  if (!spec_.loads.empty()) {
-    point_loads_.evaluations += static_cast<long long>(spec_.loads.size());
-    point_loads_.seconds += seconds_since(t_loads);
-  }
+  point_loads_.evaluations += static_cast<long long>(spec_.loads.size());
+  point_loads_.seconds += seconds_since(t_loads);
+}
+
+// Pressures of one kind, dead or follower (shell_model.md (P1)-(P5)), each kind its own effect.
+void ShellModel::pressure_term(Assembly& a, bool follower) {
+  const long long count = follower ? follower_pressures_ : dead_pressures_;
+  if (count == 0) return;
+  const double lambda = a.lambda;
+  Eigen::VectorXd& r = a.r;
+  Eigen::SparseMatrix<double>* K = a.K;
+  Eigen::VectorXd* load = a.load;
+  double* values = a.values;
+  const bool prescribed_load = a.prescribed_load;
   // pressure: nodal forces on translations only (world components along the node bases), so the
   // follower load stiffness -lambda df/dx needs no rotating-basis term (shell_model.md eq. P3).
   // Dead pressures first, then follower ones (each timed as its own effect).
@@ -578,22 +611,18 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
         const Mat3 b = block_uu(q[c], dfdx[4 * c + d], q[d]);
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) {
-            if (prescribed_load) add_prescribed_load(q[c], i, q[d], j, -lambda * b(i, j));
+            if (prescribed_load) add_prescribed_load(a, q[c], i, q[d], j, -lambda * b(i, j));
             const int v = K ? idx[(6 * c + i) * 24 + 6 * d + j] : -1;
             if (v >= 0) values[v] -= lambda * b(i, j);
           }
       }
   };
-  for (const bool follower : {false, true}) {
-    const long long count = follower ? follower_pressures_ : dead_pressures_;
-    if (count == 0) continue;
-    const Clock::time_point t_pressure = Clock::now();
-    for (std::size_t k = 0; k < spec_.pressures.size(); ++k)
-      if (spec_.pressures[k].follower == follower) apply_pressure(k);
-    assembly::EffectCounter& counter = follower ? follower_pressure_stat_ : dead_pressure_stat_;
-    counter.evaluations += count;
-    counter.seconds += seconds_since(t_pressure);
-  }
+  const Clock::time_point t_pressure = Clock::now();
+  for (std::size_t k = 0; k < spec_.pressures.size(); ++k)
+    if (spec_.pressures[k].follower == follower) apply_pressure(k);
+  assembly::EffectCounter& counter = follower ? follower_pressure_stat_ : dead_pressure_stat_;
+  counter.evaluations += count;
+  counter.seconds += seconds_since(t_pressure);
 }
 
 std::vector<EffectStat> ShellModel::effect_stats() const {

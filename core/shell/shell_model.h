@@ -181,11 +181,30 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<std::array<Vec3, 4>> dead_pressure_;  // per spec_.pressures: fixed nodal forces (reference)
   std::vector<Vec24> el_force_;   // per-element results of the parallel element loop
   std::vector<Mat24> el_tangent_;
+  std::vector<Vec6> node_force_;  // per node: node-local internal force of the last assembly
   assembly::EffectCounter elastic_, point_loads_, dead_pressure_stat_, follower_pressure_stat_;
   long long dead_pressures_ = 0, follower_pressures_ = 0;  // loaded quads of each kind
   long long assemblies_ = 0;  // hr / ans / drilling ran in every element of every assembly
   void build_pattern();
   void build_node_bases(std::vector<unsigned>& fixed);
+  // one assembly's inputs and outputs, handed to each term
+  struct Assembly {
+    double lambda;
+    Eigen::VectorXd& r;
+    Eigen::SparseMatrix<double>* K;
+    Eigen::VectorXd* load;
+    double* values;        // K's values (null without K)
+    bool prescribed_load;  // load wanted and some displacement prescribed (eq. R4)
+  };
+  // the terms of evaluate(), each an effect with its own counter
+  void elastic_term(Assembly& a);
+  void point_load_term(Assembly& a);
+  void pressure_term(Assembly& a, bool follower);
+  Vec3 rows_u(int I, const Vec3& v) const;
+  Vec3 rows_r(int I, const Vec3& v) const;
+  Mat3 block_uu(int I, const Mat3& b, int J) const;
+  void add_to_node(Assembly& a, int I, int si, int sj, double v) const;
+  void add_prescribed_load(Assembly& a, int I, int si, int J, int sj, double k) const;
 };
 
 }  // namespace ff::shell
