@@ -151,7 +151,7 @@ void MultibodyModel::check_loads() {
 // in the node frame (D19); pressures are dead nodal forces on the translations (D20).
 template <class AddPositionBlock>
 void MultibodyModel::add_external_loads(double t, Eigen::VectorXd& r, const IterationWeights* w,
-                                        AddPositionBlock& add_position_block) {
+                                        AddPositionBlock&& add_position_block) {
   auto subtract = [&](int I, int slot0, const Vec3& x) {
     for (int j = 0; j < 3; ++j) {
       const int a = dofs_.equation(I, slot0 + j);
@@ -255,6 +255,27 @@ void MultibodyModel::configure(const Eigen::VectorXd& step) {
   step_is_zero_ = !nonzero;
 }
 
+// into the iteration matrix at (I, si), (J, sj) when both are unknowns
+void MultibodyModel::add(Assembly& as, int I, int si, int J, int sj, double x) const {
+  const int a = dofs_.equation(I, si), b = dofs_.equation(J, sj);
+  if (a >= 0 && b >= 0) as.values[pattern_.value_index(a, b)] += x;
+}
+// a rate term (mass, damping) of node I's rows oi.. and node J's columns oj..
+void MultibodyModel::add_block(Assembly& as, int I, int oi, int J, int oj, const Mat3& blk) const {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) add(as, I, oi + i, J, oj + j, blk(i, j));
+}
+// a position derivative blk = ∂r(I, oi..)/∂θ(J, oj..) in local increments: times the rows oj..oj+2
+// of T_SE3(step_J) it is the derivative with respect to the step (G9)
+void MultibodyModel::add_position_block(Assembly& as, int I, int oi, int J, int oj, const Mat3& blk) const {
+  if (!as.with_T) return add_block(as, I, oi, J, oj, blk);
+  const Eigen::Matrix<double, 3, 6> blk_T = blk * step_tangent_[J].middleRows<3>(oj);
+  for (int i = 0; i < 3; ++i)
+    for (int s = 0; s < 6; ++s) add(as, I, oi + i, J, s, blk_T(i, s));
+}
+
+// One assembly: every effect is a term of its own with its own counter (effect_stats()), in a
+// fixed order so that sums never depend on which effects a scene has.
 void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot,
                               const Eigen::VectorXd& lambda, Eigen::VectorXd& r, Eigen::VectorXd& phi,
                               const IterationWeights* w, SparseMatrixD* S, SparseMatrixD* B) {
@@ -269,25 +290,25 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
   r.setZero(dofs_.size());
   phi.setZero(constraint_rows_);
   if (tangent) pattern_.zeroed(*S);
-  double* values = tangent ? S->valuePtr() : nullptr;
-  auto add = [&](int I, int si, int J, int sj, double x) {
-    const int a = dofs_.equation(I, si), b = dofs_.equation(J, sj);
-    if (a >= 0 && b >= 0) values[pattern_.value_index(a, b)] += x;
-  };
-  auto add_block = [&](int I, int oi, int J, int oj, const Mat3& blk) {  // rate terms (mass, damping)
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) add(I, oi + i, J, oj + j, blk(i, j));
-  };
-  // a position derivative blk = ∂r(I, oi..)/∂θ(J, oj..) in local increments: times the rows oj..oj+2
-  // of T_SE3(step_J) it is the derivative with respect to the step (G9)
-  auto add_position_block = [&](int I, int oi, int J, int oj, const Mat3& blk) {
-    if (!with_T) return add_block(I, oi, J, oj, blk);
-    const Eigen::Matrix<double, 3, 6> blk_T = blk * step_tangent_[J].middleRows<3>(oj);
-    for (int i = 0; i < 3; ++i)
-      for (int s = 0; s < 6; ++s) add(I, oi + i, J, s, blk_T(i, s));
-  };
+  Assembly as{t, v, vdot, lambda, r, phi, w, S, B, tangent ? S->valuePtr() : nullptr, tangent, with_T};
+  shell_element_term(as);
+  rigid_body_term(as);
+  // external loads at t = t_{n+1} (D16)-(D20)
+  add_external_loads(t, r, tangent ? w : nullptr, [&](int I, int oi, int J, int oj, const Mat3& blk) {
+    add_position_block(as, I, oi, J, oj, blk);
+  });
+  joint_term(as);
+}
 
-  // ---- shell elements: elastic (S15-S17), inertia (D4-D7), gravity (D8), in parallel ----
+// Shell elements: elastic (S15-S17), inertia (D4-D7) and gravity (D8) in one kernel pass per
+// element through the shared element loop, each effect counted on its own.
+void MultibodyModel::shell_element_term(Assembly& as) {
+  const Eigen::VectorXd& v = as.v;
+  const Eigen::VectorXd& vdot = as.vdot;
+  Eigen::VectorXd& r = as.r;
+  const IterationWeights* w = as.w;
+  double* values = as.values;
+  const bool tangent = as.tangent, with_T = as.with_T;
   const int ne = elements_.size();
   constexpr int timing_stride = 8;
   double t_el = 0, t_in = 0;
@@ -376,7 +397,15 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
       }
   }
 
-  // ---- rigid bodies (D9), (D10) ----
+}
+
+// Rigid bodies (D9), (D10).
+void MultibodyModel::rigid_body_term(Assembly& as) {
+  const Eigen::VectorXd& v = as.v;
+  const Eigen::VectorXd& vdot = as.vdot;
+  Eigen::VectorXd& r = as.r;
+  const IterationWeights* w = as.w;
+  const bool tangent = as.tangent;
   auto t_rigid = Clock::now();
   for (int rb = 0; rb < static_cast<int>(spec_.rigid.size()); ++rb) {
     const RigidBodySpec& body = spec_.rigid[rb];
@@ -391,17 +420,23 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
     if (spec_.gravity) F.head<3>() -= Fg;
     for (int s = 0; s < 6; ++s) r[dofs_.equation(I, s)] += F[s];
     if (!tangent) continue;
-    add_block(I, 0, I, 0, w->mass * body.mass * Mat3::Identity() + w->damping * body.mass * hat(om));
-    add_block(I, 0, I, 3, -w->damping * body.mass * hat(vel));
-    add_block(I, 3, I, 3, w->mass * J + w->damping * (hat(om) * J - hat(J * om)));
-    if (spec_.gravity) add_position_block(I, 0, I, 3, -w->stiffness * hat(Fg));
+    add_block(as, I, 0, I, 0, w->mass * body.mass * Mat3::Identity() + w->damping * body.mass * hat(om));
+    add_block(as, I, 0, I, 3, -w->damping * body.mass * hat(vel));
+    add_block(as, I, 3, I, 3, w->mass * J + w->damping * (hat(om) * J - hat(J * om)));
+    if (spec_.gravity) add_position_block(as, I, 0, I, 3, -w->stiffness * hat(Fg));
   }
   if (!spec_.rigid.empty()) rigid_.evaluations += 1, rigid_.seconds += seconds_since(t_rigid);
 
-  // ---- external loads at t = t_{n+1} (D16)-(D20) ----
-  add_external_loads(t, r, tangent ? w : nullptr, add_position_block);
+}
 
-  // ---- joints: Φ, Bᵀλ and its variation (D11')-(D13) ----
+// Joints: Φ, Bᵀλ and its variation (D11')-(D13); pins act through the missing unknowns.
+void MultibodyModel::joint_term(Assembly& as) {
+  const Eigen::VectorXd& lambda = as.lambda;
+  Eigen::VectorXd& r = as.r;
+  Eigen::VectorXd& phi = as.phi;
+  const IterationWeights* w = as.w;
+  SparseMatrixD* B = as.B;
+  const bool tangent = as.tangent, with_T = as.with_T;
   if (constraint_rows_ == 0) {
     if (B) *B = b_pattern_, b_has_T_ = false;
     if (!pinned_.empty()) joints_.evaluations += 1;  // the pins act through the missing unknowns
@@ -451,8 +486,8 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
     }
     const Mat3 L = hat(lam);
     if (tangent) {  // (−Φ × λ)' = λ̃ δΦ
-      add_position_block(c.a, 3, c.a, 0, w->stiffness * L);
-      add_position_block(c.a, 3, c.a, 3, w->stiffness * L * Ba_rot);
+      add_position_block(as, c.a, 3, c.a, 0, w->stiffness * L);
+      add_position_block(as, c.a, 3, c.a, 3, w->stiffness * L * Ba_rot);
     }
     if (c.b >= 0) {
       const Mat3& R_WB = poses_[c.b].R;
@@ -471,13 +506,13 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
         }
       if (tangent) {
         const Mat3 R_BA = R_AB.transpose();
-        add_position_block(c.a, 3, c.b, 0, -w->stiffness * L * R_AB);
-        add_position_block(c.a, 3, c.b, 3, w->stiffness * L * Bb_rot);
+        add_position_block(as, c.a, 3, c.b, 0, -w->stiffness * L * R_AB);
+        add_position_block(as, c.a, 3, c.b, 3, w->stiffness * L * Bb_rot);
         // δμ = μ̃ δθ_b − R_BA λ̃ δθ_a (δR_WBᵀ = −δθ̃_b R_WBᵀ, δR_WA = R_WA δθ̃_a); forces −μ and −õ_b μ
-        add_position_block(c.b, 0, c.b, 3, -w->stiffness * hat(mu));
-        add_position_block(c.b, 0, c.a, 3, w->stiffness * R_BA * L);
-        add_position_block(c.b, 3, c.b, 3, -w->stiffness * hat(c.b_offset) * hat(mu));
-        add_position_block(c.b, 3, c.a, 3, w->stiffness * hat(c.b_offset) * R_BA * L);
+        add_position_block(as, c.b, 0, c.b, 3, -w->stiffness * hat(mu));
+        add_position_block(as, c.b, 0, c.a, 3, w->stiffness * R_BA * L);
+        add_position_block(as, c.b, 3, c.b, 3, -w->stiffness * hat(c.b_offset) * hat(mu));
+        add_position_block(as, c.b, 3, c.a, 3, w->stiffness * hat(c.b_offset) * R_BA * L);
       }
     }
     row += 3;
@@ -491,17 +526,17 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
     const Vec3 b_A = R_WA.transpose() * b_W;
     const Vec3 ga = c.a_local.cross(b_A);  // ∂Φ/∂θ_a (D13)
     for (int j = 0; j < 3; ++j) r[dofs_.equation(c.a, 3 + j)] += lam * ga[j], bset(row, c.a, 3 + j, ga[j]);
-    if (tangent) add_position_block(c.a, 3, c.a, 3, w->stiffness * lam * hat(c.a_local) * hat(b_A));
+    if (tangent) add_position_block(as, c.a, 3, c.a, 3, w->stiffness * lam * hat(c.a_local) * hat(b_A));
     if (c.b >= 0) {
       const Mat3& R_WB = poses_[c.b].R;
       const Vec3 a_B = R_WB.transpose() * a_W;
       const Vec3 gb = c.b_vector.cross(a_B);  // ∂Φ/∂θ_b
       for (int j = 0; j < 3; ++j) r[dofs_.equation(c.b, 3 + j)] += lam * gb[j], bset(row, c.b, 3 + j, gb[j]);
       if (tangent) {
-        add_position_block(c.b, 3, c.b, 3, w->stiffness * lam * hat(c.b_vector) * hat(a_B));
-        add_position_block(c.a, 3, c.b, 3,
+        add_position_block(as, c.b, 3, c.b, 3, w->stiffness * lam * hat(c.b_vector) * hat(a_B));
+        add_position_block(as, c.a, 3, c.b, 3,
                            -w->stiffness * lam * hat(c.a_local) * R_WA.transpose() * R_WB * hat(c.b_vector));
-        add_position_block(c.b, 3, c.a, 3,
+        add_position_block(as, c.b, 3, c.a, 3,
                            -w->stiffness * lam * hat(c.b_vector) * R_WB.transpose() * R_WA * hat(c.a_local));
       }
     }
@@ -509,6 +544,7 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
   }
   joints_.evaluations += 1, joints_.seconds += seconds_since(t_joint);
 }
+
 
 MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v, double t) const {
   MotionSummary s;

@@ -190,7 +190,28 @@ class MultibodyModel final : public ff::DynamicProblem {
   void check_loads();
   /// r -= f(t) F_ext and its position derivative, (D16)-(D20)
   template <class AddPositionBlock>
-  void add_external_loads(double t, Eigen::VectorXd& r, const IterationWeights* w, AddPositionBlock& add_position_block);
+  void add_external_loads(double t, Eigen::VectorXd& r, const IterationWeights* w, AddPositionBlock&& add_position_block);
+  // one assembly's inputs and outputs, handed to each term of evaluate()
+  struct Assembly {
+    double t;
+    const Eigen::VectorXd& v;
+    const Eigen::VectorXd& vdot;
+    const Eigen::VectorXd& lambda;
+    Eigen::VectorXd& r;
+    Eigen::VectorXd& phi;
+    const IterationWeights* w;
+    SparseMatrixD* S;
+    SparseMatrixD* B;
+    double* values;  // S's values (null without S)
+    bool tangent;    // S wanted
+    bool with_T;     // position columns times T_SE3(step) (G9)
+  };
+  void shell_element_term(Assembly& as);
+  void rigid_body_term(Assembly& as);
+  void joint_term(Assembly& as);
+  void add(Assembly& as, int I, int si, int J, int sj, double x) const;
+  void add_block(Assembly& as, int I, int oi, int J, int oj, const Mat3& blk) const;
+  void add_position_block(Assembly& as, int I, int oi, int J, int oj, const Mat3& blk) const;
 
   MultibodySpec spec_;
   std::vector<NodePose> reference_, poses_, committed_;
