@@ -82,7 +82,9 @@ const Schema& shell_dynamic_schema() {
         .number_list("joint.axis", "revolute: axis direction (global, reference configuration)",
                      std::vector<double>{0, 1, 0}, {}, 3, 3);
     declare_selector_keys(s, "joint");
-    // loads as in statics, each on a time history instead of the load factor (cb_shell_dynamics.md (D16))
+    // supports and loads as in statics; each load on a time history instead of the load factor
+    // (cb_shell_dynamics.md (D16)); supports that hold whole translations or rotations
+    declare_bc_keys(s);
     declare_load_keys(s);
     s.number("load.start", "dynamics: time the load is applied, all at once unless load.ramp > 0", 0.0, {}, "s")
         .number("load.end", "dynamics: time the load is removed (a pulse); 0 = held to the end of the run", 0.0,
@@ -315,6 +317,38 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     }
   }
 
+  // [[bc]]: supports that hold all three translations, all three rotations, or both, of the
+  // selected nodes: exact in the local increments of dynamics (they leave the unknowns)
+  for (std::size_t i = 0; i < d.count("bc"); ++i) {
+    const std::string type = d.string("bc.type", i);
+    NodeSupport held;
+    if (type == "clamped" || type == "hinged") {
+      if (d.present("bc.fix", i))
+        throw SceneError({d.issue("bc.fix", i, "type = \"" + type + "\" restrains a fixed set of DoFs; use type = "
+                                                 "\"fix\" to list them")});
+      held.translations = true;
+      held.rotations = type == "clamped";
+    } else if (type == "fix") {
+      const std::vector<std::string> dofs = d.strings("bc.fix", i);
+      int translations = 0, rotations = 0;
+      for (const std::string& name : dofs) (name[0] == 'u' ? translations : rotations) += 1;
+      held.translations = translations == 3;
+      held.rotations = rotations == 3;
+      if ((translations != 0 && translations != 3) || (rotations != 0 && rotations != 3) || dofs.empty())
+        throw SceneError({d.issue("bc.fix", i, "a dynamic analysis holds a node's three translations, its three "
+                                               "rotations, or both (fix = [\"ux\", \"uy\", \"uz\"] and/or [\"rx\", \"ry\", "
+                                               "\"rz\"]); single directions are static supports in this version (in "
+                                               "dynamics a [[joint]] holds points and axes)")});
+    } else {
+      throw SceneError({d.issue("bc.type", i, "type = \"" + type + "\" is a static support in this version; a dynamic "
+                                              "analysis takes clamped, hinged and fix of whole translations or "
+                                              "rotations (a [[joint]] holds points and axes)")});
+    }
+    for (int id : select_nodes(d, structure.joined, "bc", i)) {
+      held.node = id;
+      spec.supports.push_back(held);
+    }
+  }
   std::vector<std::size_t> load_entry, pressure_entry;  // the [[load]] entry of each spec load (errors)
   // [[load]]: the static reading (the same selections, consistent line, surface and pressure
   // forces) on the whole structure, then each entry's time history

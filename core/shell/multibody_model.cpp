@@ -84,7 +84,18 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
     else rows.push_back(c);
   }
   spec_.positions = std::move(rows);
-  dofs_ = assembly::DofMap(nn, [&](int i, int slot) { return slot >= (pinned[i] ? 3 : 0) && slot < (six_dof_[i] ? 6 : 5); });
+  // supports (MultibodySpec::supports): held translations and rotations leave the unknowns too, so
+  // x <- x + R du and R <- R exp(dtheta) never move them: exact whatever the node's frame
+  std::vector<std::uint8_t> held_rotation(nn, 0);
+  for (const NodeSupport& h : spec_.supports) {
+    check_node(h.node, "support");
+    if (h.node >= rigid_offset_) throw std::invalid_argument("a support acts on shell nodes; node " + std::to_string(h.node) + " is a rigid body's");
+    if (h.translations) pinned[h.node] = 1;
+    if (h.rotations) held_rotation[h.node] = 1;
+  }
+  dofs_ = assembly::DofMap(nn, [&](int i, int slot) {
+    return slot >= (pinned[i] ? 3 : 0) && slot < (six_dof_[i] ? 6 : 5) && !(held_rotation[i] && slot >= 3);
+  });
   constraint_rows_ = 3 * static_cast<int>(spec_.positions.size()) + static_cast<int>(spec_.perpendiculars.size());
 
   for (int b = 0; b < static_cast<int>(spec_.shells.size()); ++b) {

@@ -74,6 +74,13 @@ struct TimedPressure {
   LoadHistory history;
 };
 
+/// A support of a shell node (a scene's [[bc]] in dynamics): its translations, its rotations or
+/// both held at their reference values, exactly, by leaving them out of the unknowns.
+struct NodeSupport {
+  int node = -1;
+  bool translations = false, rotations = false;
+};
+
 struct MultibodySpec {
   std::vector<ShellBodySpec> shells;
   std::vector<RigidBodySpec> rigid;
@@ -83,6 +90,7 @@ struct MultibodySpec {
   Vec3 g = Vec3(0, 0, -9.81);
   std::vector<TimedNodalLoad> loads;
   std::vector<TimedPressure> pressures;
+  std::vector<NodeSupport> supports;
 };
 
 /// Energies and momenta of a state (D15).
@@ -221,7 +229,7 @@ class MultibodyModel final : public ff::DynamicProblem {
   bool exact_matrix_ = true;
   SparseMatrixD force_directions_;  // constraint-force directions G (local increments): B = G T (G9)
   bool b_has_T_ = false;  // the last B returned differs from G (force_directions_)
-  std::vector<int> pinned_;  // nodes held in space by ground points: translations not unknowns
+  std::vector<int> pinned_;  // nodes held in space by ground points: translations not unknowns (supports: not listed, no effect to count)
   std::vector<std::uint8_t> six_dof_;  // per node: 1 when it has the drilling rotation
   assembly::DofMap dofs_;
   std::vector<int> shell_offset_;
