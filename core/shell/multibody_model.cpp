@@ -110,7 +110,8 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
     hr_elements_ += body.options.hr * quads, ans_elements_ += body.options.ans * quads,
         drilling_elements_ += body.options.drilling * quads;
   }
-  poses_ = committed_ = reference_;
+  state_.poses = reference_;
+  committed_ = state_;
   check_loads();
   build_pattern();
 }
@@ -176,7 +177,7 @@ void MultibodyModel::add_external_loads(double t, Eigen::VectorXd& r, const Iter
       if (s == 0.0) continue;
       const NodalLoad& l = tl.load;
       const int I = l.node;
-      const Mat3& R = poses_[I].R;
+      const Mat3& R = state_.poses[I].R;
       const Vec3 f = s * (l.follower ? l.force : Vec3(R.transpose() * l.force));
       const Vec3 m = s * (l.follower ? l.moment : Vec3(R.transpose() * l.moment));
       subtract(I, 0, f);
@@ -195,7 +196,7 @@ void MultibodyModel::add_external_loads(double t, Eigen::VectorXd& r, const Iter
       if (s == 0.0) continue;
       for (int c = 0; c < 4; ++c) {
         const int I = pressure_nodes_[k][c];
-        const Vec3 f = s * (poses_[I].R.transpose() * dead_pressure_[k][c]);  // (D20), (D17)
+        const Vec3 f = s * (state_.poses[I].R.transpose() * dead_pressure_[k][c]);  // (D20), (D17)
         subtract(I, 0, f);
         if (w) add_position_block(I, 0, I, 3, -w->stiffness * hat(f));  // (D18)
       }
@@ -248,7 +249,7 @@ Vec6 MultibodyModel::node_vector(const Eigen::VectorXd& x, int node) const {
 }
 
 void MultibodyModel::configure(const Eigen::VectorXd& step) {
-  node_step_.resize(poses_.size());
+  state_.node_step.resize(state_.poses.size());
   const int nn = node_count();
   std::atomic<bool> nonzero{false};
   // nodes are independent; an exponential per node is ~5 % of a correction on one thread
@@ -256,14 +257,14 @@ void MultibodyModel::configure(const Eigen::VectorXd& step) {
     bool nz = false;
     for (int I = begin; I < end; ++I) {  // X_WN = X_WN,n exp(step_I) on SE(3) (generalized_alpha.md (G3))
       const Vec6 h = node_vector(step, I);
-      const ff::lie::Pose X_WN = ff::lie::Pose{committed_[I].R, committed_[I].p} * ff::lie::exp_se3(h);
-      poses_[I] = {X_WN.R, X_WN.p};
-      node_step_[I] = h;
+      const ff::lie::Pose X_WN = ff::lie::Pose{committed_.poses[I].R, committed_.poses[I].p} * ff::lie::exp_se3(h);
+      state_.poses[I] = {X_WN.R, X_WN.p};
+      state_.node_step[I] = h;
       nz = nz || !h.isZero();
     }
     if (nz) nonzero = true;
   });
-  step_is_zero_ = !nonzero;
+  state_.step_is_zero = !nonzero;
 }
 
 // into the iteration matrix at (I, si), (J, sj) when both are unknowns
@@ -293,10 +294,10 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
   const bool tangent = w && S;
   // (G8)-(G9): position derivatives taken in local increments at the current poses are turned
   // into derivatives with respect to the step by T_SE3(step) on the column side
-  const bool with_T = (tangent || B) && exact_matrix_ && !step_is_zero_;
+  const bool with_T = (tangent || B) && exact_matrix_ && !state_.step_is_zero;
   if (with_T) {  // (G8), only when a matrix is asked for: most iterations of a kept matrix are not
-    step_tangent_.resize(poses_.size());
-    for (int I = 0; I < node_count(); ++I) step_tangent_[I] = ff::lie::tangent_se3(node_step_[I]);
+    step_tangent_.resize(state_.poses.size());
+    for (int I = 0; I < node_count(); ++I) step_tangent_[I] = ff::lie::tangent_se3(state_.node_step[I]);
   }
   r.setZero(dofs_.size());
   phi.setZero(constraint_rows_);
@@ -324,7 +325,7 @@ void MultibodyModel::shell_element_term(Assembly& as) {
   constexpr int timing_stride = 8;
   double t_el = 0, t_in = 0;
   const bool gravity = spec_.gravity;
-  elements_.for_each(poses_, [&](int k, const ShellElement& e, const ElementPoses& cur) {
+  elements_.for_each(state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       ElementRates vel, acc;
       for (int c = 0; c < 4; ++c) {
@@ -427,7 +428,7 @@ void MultibodyModel::rigid_body_term(Assembly& as) {
     Vec6 F;
     F.head<3>() = body.mass * (A.head<3>() + om.cross(vel));
     F.tail<3>() = J * A.tail<3>() + om.cross(J * om);
-    const Vec3 Fg = body.mass * (poses_[I].R.transpose() * spec_.g);
+    const Vec3 Fg = body.mass * (state_.poses[I].R.transpose() * spec_.g);
     if (spec_.gravity) F.head<3>() -= Fg;
     for (int s = 0; s < 6; ++s) r[dofs_.equation(I, s)] += F[s];
     if (!tangent) continue;
@@ -480,9 +481,9 @@ void MultibodyModel::joint_term(Assembly& as) {
     // pair ([1, −õ_a + Φ̃ | −R_AB, R_AB õ_b], R_AB = R_WAᵀR_WB), so a frozen iteration matrix does not age
     // as the bodies turn.
     const Vec3 lam = lambda.segment<3>(row);
-    const Mat3& R_WA = poses_[c.a].R;
-    const Vec3 p_WPa = poses_[c.a].p + R_WA * c.a_offset;
-    const Vec3 p_WPb = c.b >= 0 ? Vec3(poses_[c.b].p + poses_[c.b].R * c.b_offset) : c.target;
+    const Mat3& R_WA = state_.poses[c.a].R;
+    const Vec3 p_WPa = state_.poses[c.a].p + R_WA * c.a_offset;
+    const Vec3 p_WPb = c.b >= 0 ? Vec3(state_.poses[c.b].p + state_.poses[c.b].R * c.b_offset) : c.target;
     const Vec3 ph = R_WA.transpose() * (p_WPa - p_WPb);
     phi.segment<3>(row) = ph;
     const Mat3 Ba_rot = -hat(c.a_offset) + hat(ph);
@@ -501,7 +502,7 @@ void MultibodyModel::joint_term(Assembly& as) {
       add_position_block(as, c.a, 3, c.a, 3, w->stiffness * L * Ba_rot);
     }
     if (c.b >= 0) {
-      const Mat3& R_WB = poses_[c.b].R;
+      const Mat3& R_WB = state_.poses[c.b].R;
       const Mat3 R_AB = R_WA.transpose() * R_WB;
       const Mat3 Bb_rot = R_AB * hat(c.b_offset);
       const Vec3 mu = R_AB.transpose() * lam;  // λ in b's frame
@@ -530,16 +531,16 @@ void MultibodyModel::joint_term(Assembly& as) {
   }
   for (const PerpendicularConstraint& c : spec_.perpendiculars) {
     const double lam = lambda[row];
-    const Mat3& R_WA = poses_[c.a].R;
+    const Mat3& R_WA = state_.poses[c.a].R;
     const Vec3 a_W = R_WA * c.a_local;
-    const Vec3 b_W = c.b >= 0 ? Vec3(poses_[c.b].R * c.b_vector) : c.b_vector;
+    const Vec3 b_W = c.b >= 0 ? Vec3(state_.poses[c.b].R * c.b_vector) : c.b_vector;
     phi[row] = a_W.dot(b_W);
     const Vec3 b_A = R_WA.transpose() * b_W;
     const Vec3 ga = c.a_local.cross(b_A);  // ∂Φ/∂θ_a (D13)
     for (int j = 0; j < 3; ++j) r[dofs_.equation(c.a, 3 + j)] += lam * ga[j], bset(row, c.a, 3 + j, ga[j]);
     if (tangent) add_position_block(as, c.a, 3, c.a, 3, w->stiffness * lam * hat(c.a_local) * hat(b_A));
     if (c.b >= 0) {
-      const Mat3& R_WB = poses_[c.b].R;
+      const Mat3& R_WB = state_.poses[c.b].R;
       const Vec3 a_B = R_WB.transpose() * a_W;
       const Vec3 gb = c.b_vector.cross(a_B);  // ∂Φ/∂θ_b
       for (int j = 0; j < 3; ++j) r[dofs_.equation(c.b, 3 + j)] += lam * gb[j], bset(row, c.b, 3 + j, gb[j]);
@@ -570,7 +571,7 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v, double t) const 
     ElementRates vel;
     for (int c = 0; c < 4; ++c) {
       const int I = e.nodes[c];
-      cur[c] = {poses_[I].R * e.corner[c], poses_[I].p};
+      cur[c] = {state_.poses[I].R * e.corner[c], state_.poses[I].p};
       vel[c] = node_vector(v, I);
       vel[c].head<3>() = e.corner[c].transpose() * vel[c].head<3>();
       vel[c].tail<3>() = e.corner[c].transpose() * vel[c].tail<3>();
@@ -586,10 +587,10 @@ MotionSummary MultibodyModel::summary(const Eigen::VectorXd& v, double t) const 
     const Vec6 V = node_vector(v, I);
     const Vec3 vel = V.head<3>(), om = V.tail<3>();
     s.kinetic += 0.5 * (body.mass * vel.squaredNorm() + om.dot(body.inertia * om));
-    const Vec3 momentum_W = body.mass * (poses_[I].R * vel);
+    const Vec3 momentum_W = body.mass * (state_.poses[I].R * vel);
     s.linear_momentum += momentum_W;
-    s.angular_momentum += poses_[I].p.cross(momentum_W) + poses_[I].R * (body.inertia * om);
-    if (spec_.gravity) s.gravity_potential -= body.mass * spec_.g.dot(poses_[I].p);
+    s.angular_momentum += state_.poses[I].p.cross(momentum_W) + state_.poses[I].R * (body.inertia * om);
+    if (spec_.gravity) s.gravity_potential -= body.mass * spec_.g.dot(state_.poses[I].p);
   }
   return s;
 }
@@ -614,13 +615,13 @@ std::vector<LoadSwitch> MultibodyModel::load_switches() const {
 double MultibodyModel::constraint_violation() const {
   double worst = 0.0;
   for (const PositionConstraint& c : spec_.positions) {
-    const Vec3 p_WPa = poses_[c.a].p + poses_[c.a].R * c.a_offset;
-    const Vec3 p_WPb = c.b >= 0 ? Vec3(poses_[c.b].p + poses_[c.b].R * c.b_offset) : c.target;
+    const Vec3 p_WPa = state_.poses[c.a].p + state_.poses[c.a].R * c.a_offset;
+    const Vec3 p_WPb = c.b >= 0 ? Vec3(state_.poses[c.b].p + state_.poses[c.b].R * c.b_offset) : c.target;
     worst = std::max(worst, (p_WPa - p_WPb).cwiseAbs().maxCoeff());
   }
   for (const PerpendicularConstraint& c : spec_.perpendiculars) {
-    const Vec3 b_W = c.b >= 0 ? Vec3(poses_[c.b].R * c.b_vector) : c.b_vector;
-    worst = std::max(worst, std::abs((poses_[c.a].R * c.a_local).dot(b_W)));
+    const Vec3 b_W = c.b >= 0 ? Vec3(state_.poses[c.b].R * c.b_vector) : c.b_vector;
+    worst = std::max(worst, std::abs((state_.poses[c.a].R * c.a_local).dot(b_W)));
   }
   return worst;
 }
@@ -657,7 +658,7 @@ std::vector<EffectStat> MultibodyModel::effect_stats() const {
 }
 
 std::vector<double> MultibodyModel::nodal_surface_strain() const {
-  return shell::nodal_surface_strain(elements_.all(), reference_, poses_,
+  return shell::nodal_surface_strain(elements_.all(), reference_, state_.poses,
                                      [](const ShellElement& e) { return e.thickness; });
 }
 

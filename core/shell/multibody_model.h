@@ -138,6 +138,15 @@ class LoadSpecError : public std::invalid_argument {
   int index_;
 };
 
+/// What changes while a MultibodyModel is solved; the model object itself is the constant
+/// structure (bodies, elements, constraints, DoFs, sparsity). A committed step is a copy of it, and
+/// a rejected attempt goes back to that copy.
+struct MultibodyState {
+  std::vector<NodePose> poses;  ///< X_WN of every node: the configuration
+  std::vector<Vec6> node_step;  ///< the configured step of each node from the committed poses (G3)
+  bool step_is_zero = true;     ///< poses are the committed ones: every T_SE3 is the identity
+};
+
 class MultibodyModel final : public ff::DynamicProblem {
  public:
   /// Throws std::invalid_argument with a plain explanation for specs that cannot be simulated
@@ -149,8 +158,12 @@ class MultibodyModel final : public ff::DynamicProblem {
   int constraint_count() const override { return constraint_rows_; }
   /// Also keeps each node's step for the exact iteration matrix (generalized_alpha.md (G8)).
   void configure(const Eigen::VectorXd& step) override;
-  void commit() override { committed_ = poses_, step_is_zero_ = true; }
-  void rollback() override { poses_ = committed_, step_is_zero_ = true; }
+  void commit() override {
+    state_.step_is_zero = true;
+    committed_ = state_;
+  }
+  void rollback() override { state_ = committed_; }
+  const MultibodyState& state() const { return state_; }
   /// true (default): S and B are the exact derivatives with respect to the step (position terms
   /// times T_SE3(step), (G8)-(G9)); false: the shell paper's matrix without T (Newton then
   /// converges linearly). For comparisons and tests.
@@ -160,18 +173,18 @@ class MultibodyModel final : public ff::DynamicProblem {
                 Eigen::VectorXd& r, Eigen::VectorXd& phi, const IterationWeights* w, SparseMatrixD* S,
                 SparseMatrixD* B) override;
 
-  int node_count() const { return static_cast<int>(poses_.size()); }
+  int node_count() const { return static_cast<int>(state_.poses.size()); }
   /// First model-wide node id of shell body `b` (its nodes are consecutive), rigid body node ids.
   int shell_node_offset(int b) const { return shell_offset_[b]; }
   int rigid_node(int r) const { return rigid_offset_ + r; }
-  const std::vector<NodePose>& poses() const { return poses_; }
+  const std::vector<NodePose>& poses() const { return state_.poses; }
   const NodePose& reference_pose(int node) const { return reference_[node]; }
   int dofs_of_node(int node) const { return six_dof_[node] ? 6 : 5; }
   int equation(int node, int slot) const { return dofs_.equation(node, slot); }  ///< -1 when absent
   /// Local 6-vector of node `node` from a solver vector (zero in the absent drilling slot).
   Vec6 node_vector(const Eigen::VectorXd& x, int node) const;
-  Vec3 node_displacement(int node) const { return poses_[node].p - reference_[node].p; }
-  Vec3 node_velocity(const Eigen::VectorXd& v, int node) const { return poses_[node].R * node_vector(v, node).head<3>(); }
+  Vec3 node_displacement(int node) const { return state_.poses[node].p - reference_[node].p; }
+  Vec3 node_velocity(const Eigen::VectorXd& v, int node) const { return state_.poses[node].R * node_vector(v, node).head<3>(); }
   /// Energies and momenta with velocities v; the load potential at time t (D21).
   MotionSummary summary(const Eigen::VectorXd& v, double t = 0.0) const;
   /// The times of MultibodySpec::loads' and ::pressures' histories where the load jumps or bends,
@@ -222,10 +235,9 @@ class MultibodyModel final : public ff::DynamicProblem {
   void add_position_block(Assembly& as, int I, int oi, int J, int oj, const Mat3& blk) const;
 
   MultibodySpec spec_;
-  std::vector<NodePose> reference_, poses_, committed_;
-  std::vector<Vec6> node_step_;              // the configured step of each node (G3)
-  std::vector<ff::lie::Mat6> step_tangent_;  // T_SE3(step_I), per node, when a matrix is evaluated (G8)
-  bool step_is_zero_ = true;        // poses_ == committed_: every T is the identity
+  std::vector<NodePose> reference_;
+  MultibodyState state_, committed_;  // the changing part; work buffers below, the rest is constant
+  std::vector<ff::lie::Mat6> step_tangent_;  // work: T_SE3(step_I), per node, when a matrix is evaluated (G8)
   bool exact_matrix_ = true;
   SparseMatrixD force_directions_;  // constraint-force directions G (local increments): B = G T (G9)
   bool b_has_T_ = false;  // the last B returned differs from G (force_directions_)
@@ -243,8 +255,8 @@ class MultibodyModel final : public ff::DynamicProblem {
     Vec24 r;
     Mat24 S;
   };
-  std::vector<ElementResult> results_;
-  std::vector<std::array<double, 2>> timed_seconds_;  // elastic, inertia [s] of every 8th element (effect_stats)
+  std::vector<ElementResult> results_;  // work: the element loop's output
+  std::vector<std::array<double, 2>> timed_seconds_;  // work:  // elastic, inertia [s] of every 8th element (effect_stats)
   std::vector<std::array<Vec3, 4>> dead_pressure_;  // per spec_.pressures: nodal forces, world, at f = 1 (D20)
   std::vector<std::array<int, 4>> pressure_nodes_;   // per spec_.pressures: model-wide corner node ids
   assembly::EffectCounter elastic_, inertia_, gravity_, joints_, rigid_, point_loads_, dead_pressure_stat_;

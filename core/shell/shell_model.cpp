@@ -319,10 +319,10 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
   dofs_ =
       assembly::DofMap(nn, [&](int i, int slot) { return slot < (six_dof_[i] ? 6 : 5) && !(fixed[i] & (1u << slot)); });
 
-  poses_.resize(nn);
-  for (int i = 0; i < nn; ++i) poses_[i] = {m.frames[i], m.points[i]};
-  saved_ = poses_;
-  reference_ = poses_;
+  state_.poses.resize(nn);
+  for (int i = 0; i < nn; ++i) state_.poses[i] = {m.frames[i], m.points[i]};
+  saved_ = state_;
+  reference_ = state_.poses;
   // the elements, of each quad's own part when the parts differ in material
   std::vector<ShellSection> sections{spec_.section};
   std::vector<ShellOptions> options{spec_.options};
@@ -363,33 +363,40 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
     for (int I : elements_[k].nodes)
       for (int sl = 0; sl < 3; ++sl)
         if (prescribed_of_[3 * I + sl] >= 0) element_prescribed_[k] = 1;
-  reaction_.assign(nn, Vec3::Zero());
+  work_.reaction.assign(nn, Vec3::Zero());
 }
 
 void ShellModel::build_pattern() {
   for (const ShellElement& e : elements_.all()) pattern_.add_element(e.nodes);
-  for (int I = 0; I < static_cast<int>(poses_.size()); ++I) pattern_.add_block(I, I);  // rotating-basis and load terms
+  for (int I = 0; I < static_cast<int>(state_.poses.size()); ++I) pattern_.add_block(I, I);  // rotating-basis and load terms
   pattern_.build(dofs_);
   scatter_.resize(elements_.size());
   for (int k = 0; k < elements_.size(); ++k) scatter_[k] = pattern_.element_scatter(dofs_, elements_[k].nodes);
-  node_scatter_.resize(poses_.size());
-  for (std::size_t I = 0; I < poses_.size(); ++I) node_scatter_[I] = pattern_.node_scatter(dofs_, static_cast<int>(I));
-  el_force_.resize(elements_.size());
-  el_tangent_.resize(elements_.size());
-  node_force_.resize(poses_.size());
+  node_scatter_.resize(state_.poses.size());
+  for (std::size_t I = 0; I < state_.poses.size(); ++I) node_scatter_[I] = pattern_.node_scatter(dofs_, static_cast<int>(I));
+  work_.element_force.resize(elements_.size());
+  work_.element_tangent.resize(elements_.size());
+  work_.node_force.resize(state_.poses.size());
 }
 
 void ShellModel::apply_prescribed(double lambda) {
   // eq. R4: the prescribed slot component of x_I is its reference value plus lambda * value
   for (const Prescribed& p : prescribed_) {
     const Vec3 t = basis_u_[p.node].col(p.slot);
-    Vec3& p_WN = poses_[p.node].p;
+    Vec3& p_WN = state_.poses[p.node].p;
     p_WN += (t.dot(spec_.mesh.points[p.node]) + lambda * p.value - t.dot(p_WN)) * t;
   }
 }
 
+void ShellModel::set_state(const ShellState& state) {
+  if (state.poses.size() != state_.poses.size())
+    throw std::invalid_argument("set_state: a state of " + std::to_string(state.poses.size()) + " nodes for a model of " +
+                                std::to_string(state_.poses.size()));
+  state_ = state;
+}
+
 double ShellModel::state_magnitude(int i) const {
-  return dofs_.unknown(i).slot < 3 ? poses_[dofs_.unknown(i).node].p.cwiseAbs().maxCoeff() : 1.0;
+  return dofs_.unknown(i).slot < 3 ? state_.poses[dofs_.unknown(i).node].p.cwiseAbs().maxCoeff() : 1.0;
 }
 
 // slot rows of a world vector at node I (eq. R2): T_u^T v for translations, T_r^T v for 6-DoF rotations
@@ -433,31 +440,31 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
 // in parallel (each element writes only its own buffers), then a serial scatter in element order.
 void ShellModel::elastic_term(Assembly& a) {
   const Clock::time_point t_elastic = Clock::now();
-  const int nn = static_cast<int>(poses_.size());
+  const int nn = static_cast<int>(state_.poses.size());
   Eigen::VectorXd& r = a.r;
   Eigen::SparseMatrix<double>* K = a.K;
   double* values = a.values;
   const bool prescribed_load = a.prescribed_load;
-  std::vector<Vec6>& node_force = node_force_;  // node-local internal force
+  std::vector<Vec6>& node_force = work_.node_force;  // node-local internal force
   std::fill(node_force.begin(), node_force.end(), Vec6::Zero());
   const int ne = elements_.size();
-  elements_.for_each(poses_, [&](int k, const ShellElement& e, const ElementPoses& cur) {
+  elements_.for_each(state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       const bool tangent = K || (prescribed_load && element_prescribed_[k]);
-      e.elastic->evaluate(cur, el_force_[k], tangent ? &el_tangent_[k] : nullptr);
+      e.elastic->evaluate(cur, work_.element_force[k], tangent ? &work_.element_tangent[k] : nullptr);
       if (!tangent) return;
       // to solver rows here, in parallel: A_I blockdiag(C, C) is block diagonal in 3 x 3
       std::array<Mat3, 8> L;  // per corner: translations, rotations
       for (int c = 0; c < 4; ++c) {
         const int I = e.nodes[c];
-        L[2 * c] = poses_[I].R * e.corner[c];
+        L[2 * c] = state_.poses[I].R * e.corner[c];
         L[2 * c + 1] = six_dof_[I] ? L[2 * c] : e.corner[c];
         if (has_basis_[I]) {
           L[2 * c + 1] = six_dof_[I] ? Mat3(basis_r_[I].transpose() * L[2 * c + 1]) : L[2 * c + 1];
           L[2 * c] = basis_u_[I].transpose() * L[2 * c];
         }
       }
-      Mat24& Ke = el_tangent_[k];
+      Mat24& Ke = work_.element_tangent[k];
       for (int row = 0; row < 8; ++row)
         for (int col = 0; col < 8; ++col) {
           const Mat3 blk = L[row] * Ke.block<3, 3>(3 * row, 3 * col);
@@ -467,12 +474,12 @@ void ShellModel::elastic_term(Assembly& a) {
   });
   for (int k = 0; k < ne; ++k) {
     const ShellElement& e = elements_[k];
-    const Vec24& F = el_force_[k];
+    const Vec24& F = work_.element_force[k];
     for (int c = 0; c < 4; ++c) {  // node-local from corner-local: blockdiag(C, C)
       node_force[e.nodes[c]].head<3>() += e.corner[c] * F.segment<3>(6 * c);
       node_force[e.nodes[c]].tail<3>() += e.corner[c] * F.segment<3>(6 * c + 3);
     }
-    const Mat24& Ke = el_tangent_[k];  // already in solver rows
+    const Mat24& Ke = work_.element_tangent[k];  // already in solver rows
     if (prescribed_load && element_prescribed_[k])
       for (int c = 0; c < 4; ++c)
         for (int i = 0; i < 6; ++i)
@@ -487,9 +494,9 @@ void ShellModel::elastic_term(Assembly& a) {
       }
   }
   for (int I = 0; I < nn; ++I) {
-    const Mat3& R_WN = poses_[I].R;
+    const Mat3& R_WN = state_.poses[I].R;
     const Vec3 fu = R_WN * node_force[I].head<3>();  // world components
-    reaction_[I] = fu;
+    work_.reaction[I] = fu;
     Vec6 g;
     g.head<3>() = rows_u(I, fu);
     g.tail<3>() = six_dof_[I] ? rows_r(I, R_WN * node_force[I].tail<3>()) : Vec3(node_force[I].tail<3>());
@@ -527,9 +534,9 @@ void ShellModel::point_load_term(Assembly& a) {
   Eigen::VectorXd* load = a.load;
   for (const NodalLoad& l : spec_.loads) {
     const int I = l.node;
-    const Mat3& R_WN = poses_[I].R;
+    const Mat3& R_WN = state_.poses[I].R;
     const Vec3 f_W = l.follower ? Vec3(R_WN * l.force) : l.force;  // world components
-    reaction_[I] -= lambda * f_W;
+    work_.reaction[I] -= lambda * f_W;
     Vec6 f = Vec6::Zero();
     f.head<3>() = rows_u(I, f_W);
     if (six_dof_[I]) {
@@ -589,13 +596,13 @@ void ShellModel::pressure_term(Assembly& a, bool follower) {
     const bool with_stiffness = pl.follower && (K || prescribed_load);
     if (pl.follower) {
       std::array<Vec3, 4> p_WN;
-      for (int c = 0; c < 4; ++c) p_WN[c] = poses_[q[c]].p;
+      for (int c = 0; c < 4; ++c) p_WN[c] = state_.poses[q[c]].p;
       pressure_forces(p_WN, pl.pressure, f, with_stiffness ? &dfdx : nullptr);
     } else {
       f = dead_pressure_[k];
     }
     for (int c = 0; c < 4; ++c) {
-      reaction_[q[c]] -= lambda * f[c];
+      work_.reaction[q[c]] -= lambda * f[c];
       const Vec3 fs = rows_u(q[c], f[c]);
       for (int s = 0; s < 3; ++s) {
         const int a = dofs_.equation(q[c], s);
@@ -651,7 +658,7 @@ bool ShellModel::tangent_symmetric_at_equilibrium() const {
 }
 
 void ShellModel::update(const Eigen::VectorXd& delta) {
-  const int nn = static_cast<int>(poses_.size());
+  const int nn = static_cast<int>(state_.poses.size());
   std::vector<Vec6> d(nn, Vec6::Zero());
   for (int k = 0; k < size(); ++k) d[dofs_.unknown(k).node][dofs_.unknown(k).slot] += delta[k];
   for (int I = 0; I < nn; ++I) {
@@ -660,14 +667,14 @@ void ShellModel::update(const Eigen::VectorXd& delta) {
       d[I].head<3>() = basis_u_[I] * d[I].head<3>();
       if (six_dof_[I]) d[I].tail<3>() = basis_r_[I] * d[I].tail<3>();
     }
-    poses_[I].p += d[I].head<3>();
-    if (six_dof_[I]) poses_[I].R = lie::exp_so3(d[I].tail<3>()) * poses_[I].R;
-    else poses_[I].R = poses_[I].R * lie::exp_so3(Vec3(d[I][3], d[I][4], 0.0));
+    state_.poses[I].p += d[I].head<3>();
+    if (six_dof_[I]) state_.poses[I].R = lie::exp_so3(d[I].tail<3>()) * state_.poses[I].R;
+    else state_.poses[I].R = state_.poses[I].R * lie::exp_so3(Vec3(d[I][3], d[I][4], 0.0));
   }
 }
 
 std::vector<double> ShellModel::nodal_surface_strain() const {
-  return shell::nodal_surface_strain(elements_.all(), reference_, poses_,
+  return shell::nodal_surface_strain(elements_.all(), reference_, state_.poses,
                                      [](const ShellElement& e) { return e.thickness; });
 }
 

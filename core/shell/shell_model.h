@@ -98,6 +98,20 @@ class ShellSpecError : public std::invalid_argument {
 /// Fitted to measured peaks (shell_model.cpp, where the measurements are); about 20 % either way.
 double estimated_peak_bytes(int nodes, double six_dof_fraction);
 
+/// What changes while a ShellModel is solved; the model object itself is the constant structure
+/// (spec, elements, node bases, DoFs, sparsity). A saved attempt is a copy of this state.
+struct ShellState {
+  std::vector<NodePose> poses;  ///< X_WN of every node: the configuration
+};
+
+/// The buffers one assembly fills and the next overwrites: no attempt needs them back.
+struct ShellWorkspace {
+  std::vector<Vec24> element_force;    ///< per element, corner-local (the parallel loop's output)
+  std::vector<Mat24> element_tangent;  ///< per element, in solver rows
+  std::vector<Vec6> node_force;        ///< per node, node-local internal force
+  std::vector<Vec3> reaction;          ///< per node, world components (last evaluate)
+};
+
 class ShellModel final : public ff::StaticProblem {
  public:
   /// Throws std::invalid_argument with a plain explanation for restraints that cannot be exact.
@@ -107,22 +121,26 @@ class ShellModel final : public ff::StaticProblem {
   void evaluate(double lambda, Eigen::VectorXd& residual, Eigen::SparseMatrix<double>* tangent,
                 Eigen::VectorXd* load) override;
   void update(const Eigen::VectorXd& delta) override;
-  void save_state() override { saved_ = poses_; }
-  void restore_state() override { poses_ = saved_; }
+  void save_state() override { saved_ = state_; }
+  void restore_state() override { state_ = saved_; }
+  /// The configuration, and setting it (the same nodes; a state of another analysis of the same
+  /// structure, or one saved earlier).
+  const ShellState& state() const { return state_; }
+  void set_state(const ShellState& state);
   double dof_scale(int i) const override { return dofs_.unknown(i).slot >= 3 ? rotation_scale_ : 1.0; }
   /// Dead forces and pressures and prescribed displacements are conservative; follower loads and
   /// moments (not conservative on finite rotations) are not (tests/unit/test_tangent_symmetry.cpp).
   bool tangent_symmetric_at_equilibrium() const override;
 
-  const std::vector<NodePose>& poses() const { return poses_; }
+  const std::vector<NodePose>& poses() const { return state_.poses; }
   const ShellModelSpec& spec() const { return spec_; }
   int dofs_of_node(int node) const { return six_dof_[node] ? 6 : 5; }
   /// Global displacement of a node from its reference position.
-  Vec3 node_displacement(int node) const { return poses_[node].p - spec_.mesh.points[node]; }
+  Vec3 node_displacement(int node) const { return state_.poses[node].p - spec_.mesh.points[node]; }
   /// Reaction at a node at the last evaluate(): f_int - lambda f_ext on its translations, world
   /// components (zero up to the residual at a free node in equilibrium; the support force where
   /// translations are restrained or prescribed).
-  Vec3 node_reaction(int node) const { return reaction_[node]; }
+  Vec3 node_reaction(int node) const { return work_.reaction[node]; }
   /// Moves the prescribed translations to lambda * value (eq. R4); evaluate() does it itself.
   void apply_prescribed(double lambda);
   bool has_prescribed() const { return !prescribed_.empty(); }
@@ -153,7 +171,8 @@ class ShellModel final : public ff::StaticProblem {
 
  private:
   ShellModelSpec spec_;
-  std::vector<NodePose> poses_, saved_;
+  ShellState state_, saved_;  // the changing part; the rest of the members are constant after construction
+  ShellWorkspace work_;
   std::vector<NodePose> reference_;     // initial node poses (display strain)
   std::vector<std::uint8_t> six_dof_;   // per node: 1 when it has 6 DoFs
   // node bases (eq. R2): slot directions of translations and 6-DoF rotations, world components;
@@ -167,11 +186,10 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<Prescribed> prescribed_;
   std::vector<int> prescribed_of_;       // 3 per node: index into prescribed_ or -1
   std::vector<std::uint8_t> element_prescribed_;  // element has a prescribed corner
-  std::vector<Vec3> reaction_;           // per node, world components (last evaluate)
   int snapped_directors_ = 0;
   double largest_snap_ = 0.0;
   assembly::DofMap dofs_;
-  ShellElements elements_;  // the constant elements; el_force_ / el_tangent_ are their work buffers
+  ShellElements elements_;  // the constant elements (their results: work_)
   double rotation_scale_ = 1.0;
   // tangent pattern built once; per element the value index of each (corner dof, corner dof)
   // entry (-1 when restrained), so assembly is a scatter-add without triplets
@@ -179,9 +197,6 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<std::array<int, 576>> scatter_;
   std::vector<std::array<int, 36>> node_scatter_;  // value indices of each node's own 6 x 6 block
   std::vector<std::array<Vec3, 4>> dead_pressure_;  // per spec_.pressures: fixed nodal forces (reference)
-  std::vector<Vec24> el_force_;   // per-element results of the parallel element loop
-  std::vector<Mat24> el_tangent_;
-  std::vector<Vec6> node_force_;  // per node: node-local internal force of the last assembly
   assembly::EffectCounter elastic_, point_loads_, dead_pressure_stat_, follower_pressure_stat_;
   long long dead_pressures_ = 0, follower_pressures_ = 0;  // loaded quads of each kind
   long long assemblies_ = 0;  // hr / ans / drilling ran in every element of every assembly
