@@ -269,7 +269,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     // one core to the renderer, otherwise they use all (unless the user set OMP_NUM_THREADS); a
     // loop thread never waits at a barrier for a core the renderer holds (docs/performance.md)
     if (want_frames && !std::getenv("OMP_NUM_THREADS") && std::thread::hardware_concurrency() > 1)
-      assembly::share_cores_with(&render_busy);
+      sim.set_element_threads(0, &render_busy);
     try {
       outcome = sim.run([&](Frame&& f) { store_ch.push(std::move(f)); }, run_stop);
       // Ctrl-C reaches the model's set-up through the scene context at once, and run_stop only at

@@ -23,9 +23,6 @@
 namespace ff::assembly {
 
 namespace {
-thread_local int chosen_threads = 0;  // set_element_threads on this thread; 0 = not set
-thread_local const std::atomic<bool>* other_busy = nullptr;
-
 int default_threads() {
   static const int n = [] {
     if (const char* v = std::getenv("OMP_NUM_THREADS")) {
@@ -58,20 +55,16 @@ tbb::task_arena& arena(int threads) {
 #endif
 }  // namespace
 
-void set_element_threads(int n) { chosen_threads = std::max(1, n); }
+int default_element_threads() { return default_threads(); }
 
-int element_threads() { return chosen_threads > 0 ? chosen_threads : default_threads(); }
-
-void share_cores_with(const std::atomic<bool>* busy) { other_busy = busy; }
-
-int element_threads_now() {
-  const int n = element_threads();
-  return other_busy && other_busy->load(std::memory_order_relaxed) ? std::max(1, n - 1) : n;
+int ElementThreads::now() const {
+  const int n = count > 0 ? count : default_threads();
+  return busy && busy->load(std::memory_order_relaxed) ? std::max(1, n - 1) : n;
 }
 
-void for_each_chunk(int count, const std::function<void(int begin, int end)>& chunk) {
+void for_each_chunk(const ElementThreads& threads, int count, const std::function<void(int begin, int end)>& chunk) {
   if (count <= 0) return;
-  const int t = std::min(element_threads_now(), count);
+  const int t = std::min(threads.now(), count);
   if (t == 1) return chunk(0, count);
   auto range = [count, t](int c) { return static_cast<int>(static_cast<long long>(count) * c / t); };
 #if FF_ELEMENT_THREADS_TBB

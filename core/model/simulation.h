@@ -120,6 +120,13 @@ class Simulation {
   /// Effects that were evaluated, with their counts and times (summary.json "effect_stats");
   /// empty where a model does not count them.
   virtual std::vector<EffectStat> effect_stats() const { return {}; }
+  /// Threads of the model's element loops from now on: `count` (0 = OMP_NUM_THREADS when set,
+  /// else the cores this process may run on), one fewer while *busy_with_other_work (the frame
+  /// renderer; null: never). Passed down to the loops (core/assembly/element_threads.h), never
+  /// kept per thread. Models without element loops ignore it.
+  virtual void set_element_threads(int count, const std::atomic<bool>* busy_with_other_work) {
+    (void)count, (void)busy_with_other_work;
+  }
   /// A parameter change while the run goes on (the GUI's live edits), made between steps on the
   /// solver's own thread; it takes effect at the start of the next step, exactly as a [[timeline]]
   /// change at that time would. `key` is one the scene schema declares live and `value` has been

@@ -253,7 +253,7 @@ void MultibodyModel::configure(const Eigen::VectorXd& step) {
   const int nn = node_count();
   std::atomic<bool> nonzero{false};
   // nodes are independent; an exponential per node is ~5 % of a correction on one thread
-  assembly::for_each_chunk(nn, [&](int begin, int end) {
+  assembly::for_each_chunk(threads_, nn, [&](int begin, int end) {
     bool nz = false;
     for (int I = begin; I < end; ++I) {  // X_WN = X_WN,n exp(step_I) on SE(3) (generalized_alpha.md (G3))
       const Vec6 h = node_vector(step, I);
@@ -325,7 +325,7 @@ void MultibodyModel::shell_element_term(Assembly& as) {
   constexpr int timing_stride = 8;
   double t_el = 0, t_in = 0;
   const bool gravity = spec_.gravity;
-  elements_.for_each(state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
+  elements_.for_each(threads_, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       ElementRates vel, acc;
       for (int c = 0; c < 4; ++c) {

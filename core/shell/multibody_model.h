@@ -14,6 +14,7 @@
 #include "core/assembly/block_pattern.h"
 #include "core/assembly/dof_map.h"
 #include "core/assembly/effect_counter.h"
+#include "core/assembly/element_threads.h"
 #include "core/lie/se3.h"
 #include "core/mesh/shell_mesh.h"
 #include "core/model/simulation.h"
@@ -205,6 +206,8 @@ class MultibodyModel final : public ff::DynamicProblem {
   /// ShellModel), "rigid_body", "joints" (assemblies), "point_loads" (nodal loads evaluated),
   /// "pressure_dead" (loaded quads evaluated), as in ShellModel.
   std::vector<EffectStat> effect_stats() const;
+  /// Threads of the element loop from now on (the Simulation passes what the program was given).
+  void set_threads(const assembly::ElementThreads& threads) { threads_ = threads; }
 
  private:
   void build_pattern();
@@ -247,6 +250,7 @@ class MultibodyModel final : public ff::DynamicProblem {
   std::vector<int> shell_offset_;
   int rigid_offset_ = 0;
   int constraint_rows_ = 0;  // m: rows of Φ
+  assembly::ElementThreads threads_;
   ShellElements elements_;  // the constant elements; results_ are their work buffers
   assembly::BlockPattern pattern_;
   SparseMatrixD b_pattern_;

@@ -73,6 +73,9 @@ class ShellDynamicSimulation final : public Simulation {
   Metrics metrics() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override;
+  void set_element_threads(int count, const std::atomic<bool>* busy) override {
+    model_->set_threads({count, busy});
+  }
   /// Live: "gravity.g" (a list [gx, gy, gz] in m/s²; needs the gravity effect).
   std::string change_live(const std::string& key, const LiveValue& value) override;
   const MultibodyModel& model() const { return *model_; }

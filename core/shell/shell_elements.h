@@ -69,12 +69,12 @@ class ShellElements {
   }
 
   /// The element loop of every analysis: kernel(k, element, corner poses) for every element, on
-  /// the element threads (core/assembly/element_threads.h), each element exactly once and always
+  /// `threads` threads (core/assembly/element_threads.h), each element exactly once and always
   /// on the same split of the range, so results never depend on the thread count. A kernel
   /// writes only element k's own buffers; the caller sums them afterwards in element order.
   template <class Kernel>
-  void for_each(const std::vector<NodePose>& X_WN, Kernel&& kernel) const {
-    assembly::for_each_chunk(size(), [&](int begin, int end) {
+  void for_each(const assembly::ElementThreads& threads, const std::vector<NodePose>& X_WN, Kernel&& kernel) const {
+    assembly::for_each_chunk(threads, size(), [&](int begin, int end) {
       ElementPoses cur;
       for (int k = begin; k < end; ++k) {
         corner_poses(elements_[k], X_WN, cur);

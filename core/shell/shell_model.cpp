@@ -448,7 +448,7 @@ void ShellModel::elastic_term(Assembly& a) {
   std::vector<Vec6>& node_force = work_.node_force;  // node-local internal force
   std::fill(node_force.begin(), node_force.end(), Vec6::Zero());
   const int ne = elements_.size();
-  elements_.for_each(state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
+  elements_.for_each(threads_, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       const bool tangent = K || (prescribed_load && element_prescribed_[k]);
       e.elastic->evaluate(cur, work_.element_force[k], tangent ? &work_.element_tangent[k] : nullptr);

@@ -20,6 +20,7 @@
 #include "core/assembly/block_pattern.h"
 #include "core/assembly/dof_map.h"
 #include "core/assembly/effect_counter.h"
+#include "core/assembly/element_threads.h"
 #include "core/mesh/shell_mesh.h"
 #include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
@@ -168,6 +169,8 @@ class ShellModel final : public ff::StaticProblem {
   /// "point_loads" (nodal loads applied), "pressure_dead", "pressure_follower" (loaded quads).
   /// There is no inertia: a static model has no mass matrix.
   std::vector<EffectStat> effect_stats() const;
+  /// Threads of the element loop from now on (the Simulation passes what the program was given).
+  void set_threads(const assembly::ElementThreads& threads) { threads_ = threads; }
 
  private:
   ShellModelSpec spec_;
@@ -189,6 +192,7 @@ class ShellModel final : public ff::StaticProblem {
   int snapped_directors_ = 0;
   double largest_snap_ = 0.0;
   assembly::DofMap dofs_;
+  assembly::ElementThreads threads_;
   ShellElements elements_;  // the constant elements (their results: work_)
   double rotation_scale_ = 1.0;
   // tangent pattern built once; per element the value index of each (corner dof, corner dof)

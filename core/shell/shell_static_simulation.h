@@ -67,6 +67,9 @@ class ShellStaticSimulation final : public Simulation {
   std::vector<std::pair<std::string, std::string>> metrics_unreached() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override { return model_->effect_stats(); }
+  void set_element_threads(int count, const std::atomic<bool>* busy) override {
+    model_->set_threads({count, busy});
+  }
   const ShellModel& model() const { return *model_; }
 
  private:

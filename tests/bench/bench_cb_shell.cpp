@@ -176,17 +176,15 @@ PlateProblem& plate(int n) {
   return pp;
 }
 
-void set_threads(int threads) { ff::assembly::set_element_threads(threads); }
-
 // range(0) = n, range(1) = element-loop threads
 void bm_assembly(benchmark::State& state) {
   PlateProblem& pp = plate(static_cast<int>(state.range(0)));
-  set_threads(static_cast<int>(state.range(1)));
+  pp.model->set_threads({static_cast<int>(state.range(1)), nullptr});
   for (auto _ : state) {
     pp.model->evaluate(1.0, pp.residual, &pp.tangent, nullptr);
     benchmark::DoNotOptimize(pp.tangent.valuePtr());
   }
-  set_threads(1);
+  pp.model->set_threads({1, nullptr});
   state.counters["dofs"] = pp.model->size();
   state.counters["elements"] = static_cast<double>(state.range(0) * state.range(0));
 }
@@ -214,7 +212,6 @@ void bm_solve(benchmark::State& state) {
 int main(int argc, char** argv) {
   // the machine is shared: repetitions and their minimum, except the one-shot 256×256 solve
   auto min = [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); };
-  set_threads(1);
   for (bool tangent : {false, true}) {
     auto* b = benchmark::RegisterBenchmark(tangent ? "element/force_tangent" : "element/force", bm_element, tangent);
     for (int drilling : {0, 1})

@@ -110,14 +110,14 @@ TEST(Assembly, CornerFrameTurnsTheNodeFrameOntoTheCornerDirector) {
 // the renderer is busy; an exception inside reaches the caller.
 TEST(Assembly, ElementLoopCoversEveryItemOnceInFixedChunks) {
   for (int threads : {1, 2, 3, 7}) {
-    set_element_threads(threads);
-    EXPECT_EQ(element_threads(), threads);
+    const ElementThreads passed{threads, nullptr};
+    EXPECT_EQ(passed.now(), threads);
     for (int count : {0, 1, 2, 5, 450, 1001}) {
       std::vector<std::atomic<int>> seen(count);
       std::vector<std::pair<int, int>> first, second;
       std::mutex m;
       for (auto* ranges : {&first, &second})
-        for_each_chunk(count, [&](int begin, int end) {
+        for_each_chunk(passed, count, [&](int begin, int end) {
           ASSERT_LE(0, begin);
           ASSERT_LE(begin, end);
           ASSERT_LE(end, count);
@@ -135,18 +135,16 @@ TEST(Assembly, ElementLoopCoversEveryItemOnceInFixedChunks) {
       }
     }
   }
-  set_element_threads(3);
   std::atomic<bool> busy{true};
-  share_cores_with(&busy);
-  EXPECT_EQ(element_threads_now(), 2);
+  const ElementThreads shared{3, &busy};
+  EXPECT_EQ(shared.now(), 2);
   busy = false;
-  EXPECT_EQ(element_threads_now(), 3);
-  share_cores_with(nullptr);
-  EXPECT_THROW(for_each_chunk(100, [](int begin, int) {
+  EXPECT_EQ(shared.now(), 3);
+  EXPECT_EQ(ElementThreads{}.now(), default_element_threads());
+  EXPECT_THROW(for_each_chunk(ElementThreads{3, nullptr}, 100, [](int begin, int) {
                  if (begin > 0) throw std::runtime_error("element failed");
                }),
                std::runtime_error);
-  set_element_threads(1);
 }
 
 // The std::thread back-end on its own (element_thread_pool.h; for_each_chunk's when built with

@@ -223,8 +223,8 @@ TEST(ShellModelThreads, AssemblyIsBitwiseTheSameOnAnyThreadCount) {
   s.loads = {{40, Vec3(0.1, 0.2, -0.3), Vec3::Zero(), false}};
   s.pressures = {{7, 0.4, false}, {20, -0.7, true}, {33, 0.9, true}};
   auto assemble = [&](int threads) {
-    ff::assembly::set_element_threads(threads);
     ShellModel model(s);
+    model.set_threads({threads, nullptr});
     std::mt19937 g(3);
     std::uniform_real_distribution<double> u(-0.1, 0.1);
     Eigen::VectorXd d(model.size());
@@ -233,7 +233,6 @@ TEST(ShellModelThreads, AssemblyIsBitwiseTheSameOnAnyThreadCount) {
     Eigen::VectorXd r, load;
     Eigen::SparseMatrix<double> K;
     model.evaluate(0.7, r, &K, &load);
-    ff::assembly::set_element_threads(1);
     return std::tuple(r, Eigen::MatrixXd(K), load);
   };
   const auto [r1, K1, l1] = assemble(1);
