@@ -1,6 +1,6 @@
-// Pictures of the scene mesh generators for docs/guide/writing-your-own-scene.md (not a test):
+// Pictures of the scene mesh generators for docs/guide/writing-a-scene.md (not a test):
 //   build/tests/render/guide_generator_images docs/guide/img
-// Each picture is a [mesh] table built by the scene code itself (core/scene/mesh_generator_keys.h),
+// Each picture is a [[part]] table built by the scene code itself (core/scene/mesh_generator_keys.h),
 // drawn by the project's renderer: the quads in neutral grey and the named edges of one patch as
 // tubes coloured by their number (the colour bar: 0 = u=0, 1 = u=1, 2 = v=0, 3 = v=1); the guide
 // names them next to the picture. The mesh axis (where a generator has one) is a grey tube from

@@ -291,20 +291,22 @@ TEST(ShellDynamics, DoublePendulumConvergesUnderMeshRefinement) {
   EXPECT_LT(fine, 0.4 * coarse) << "z_F: " << z[0] << ", " << z[1] << ", " << z[2];
 }
 
-// The first scene of docs/guide/writing-a-dynamic-scene.md, read from the guide itself (so the
-// guide's example keeps running): a stiff aluminium plate hinged along its short edge and released
-// horizontal swings as a uniform bar hinged at one end, a physical pendulum with
+// The first dynamic scene of docs/guide/writing-a-scene.md (the block after the marker
+// "guide-example: swinging_plate"), read from the guide itself (so the guide's example keeps
+// running): a stiff aluminium plate hinged along its short edge and released horizontal swings as a uniform bar hinged at one end, a physical pendulum with
 // θ'' = −(3g/2L) sin θ. Released at θ0 = 90°, it reaches the vertical after a quarter period,
 // K(sin 45°) / sqrt(3g/2L) = 0.37438 s for L = 0.6 m (complete elliptic integral of the first
 // kind; any mechanics text, e.g. Landau & Lifshitz, Mechanics §11). There the free edge is under
 // the hinge: its x displacement is −L, and it moves at L sqrt(3g/L) = 4.2 m/s, so 1 mm is 0.25 ms.
 TEST(ShellDynamics, GuideExampleSwingsLikeAPhysicalPendulum) {
-  std::ifstream in(std::string(FF_SOURCE_DIR) + "/docs/guide/writing-a-dynamic-scene.md");
+  std::ifstream in(std::string(FF_SOURCE_DIR) + "/docs/guide/writing-a-scene.md");
   ASSERT_TRUE(in);
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string guide = ss.str(), open = "```toml\n";
-  const auto b = guide.find(open), e = guide.find("```", b + open.size());
+  const auto marker = guide.find("<!-- guide-example: swinging_plate -->");
+  ASSERT_NE(marker, std::string::npos);
+  const auto b = guide.find(open, marker), e = guide.find("```", b + open.size());
   ASSERT_NE(b, std::string::npos);
   ASSERT_NE(e, std::string::npos);
   const std::string text = guide.substr(b + open.size(), e - b - open.size()) +
