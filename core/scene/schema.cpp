@@ -265,7 +265,20 @@ Schema& Schema::renamed(std::string old_path, std::string new_path) {
   return *this;
 }
 
-std::string Schema::renamed_to(std::string_view path) const {
+std::string Schema::renamed_to(std::string_view indexed_path) const {
+  // an element of an array of tables ("joint[0].body") is renamed as its array's key ("joint.body")
+  std::string plain;
+  for (std::size_t i = 0; i < indexed_path.size(); ++i) {
+    if (indexed_path[i] == '[') {
+      const std::size_t close = indexed_path.find(']', i);
+      if (close != std::string_view::npos) {
+        i = close;
+        continue;
+      }
+    }
+    plain += indexed_path[i];
+  }
+  const std::string_view path = plain;
   for (std::string_view p = path;; ) {
     if (auto it = renamed_.find(std::string(p)); it != renamed_.end())
       return it->second + std::string(path.substr(p.size()));

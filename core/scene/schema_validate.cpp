@@ -334,6 +334,16 @@ class DocumentBuilder {
           add_at(origin, k2.source(), key, to.empty() ? unknown_message(path, name, std::string(k2.str()))
                                                       : "'" + key + "' was renamed to '" + to + "'");
         }
+      } else if (const auto* arr = node.as_array(); arr && arr->is_array_of_tables() && renamed_inside(full)) {
+        // an array of tables whose keys moved (e.g. [[shell]] into [[part]] and [[material]])
+        for (std::size_t i = 0; i < arr->size(); ++i)
+          if (const auto* element = (*arr)[i].as_table())
+            for (auto&& [k2, n2] : *element) {
+              const std::string key = full + "[" + std::to_string(i) + "]." + std::string(k2.str());
+              const std::string to = schema_.renamed_to(key);
+              add_at(origin, k2.source(), key, to.empty() ? unknown_message(path, name, std::string(k2.str()))
+                                                          : "'" + key + "' was renamed to '" + to + "'");
+            }
       } else {
         add_at(origin, k.source(), full, unknown_message(path, name, ""));
       }
@@ -422,6 +432,8 @@ class DocumentBuilder {
                "nested table '" + shown + "' is not allowed: [[" + array +
                    "]] elements hold plain keys only" +
                    (names.empty() ? std::string() : " (" + text::join(names, ", ") + ")"));
+      } else if (const std::string now = schema_.renamed_to(full); !now.empty()) {
+        add_at(origin, k.source(), shown, "'" + shown + "' was renamed to '" + now + "'");
       } else {
         add_at(origin, k.source(), shown, unknown_message(array, name, "", prefix));
       }

@@ -112,11 +112,13 @@ const Schema& shell_dynamic_schema() {
     s.renamed("time", "solver").renamed("integrator", "solver");
     // one structure vocabulary for every analysis: [[part]] and [[material]] tables, selections by
     // patch (a part's name) as in statics
+    // [[shell]] split into [[part]] and [[material]]: each of its keys says where it went
     for (const char* k : {"youngs_modulus", "poisson_ratio", "thickness", "density", "drilling_factor"})
       s.renamed(std::string("shell.") + k, std::string("material.") + k);
     s.renamed("shell.phi_start", "part.start_angle").renamed("shell.phi_end", "part.end_angle");
     s.renamed("shell.center", "part.origin").renamed("shell.y0", "part.origin");
-    s.renamed("shell", "part");
+    for (const char* k : {"name", "generator", "n1", "n2", "radius", "length", "width", "origin", "end_slope"})
+      s.renamed(std::string("shell.") + k, std::string("part.") + k);
     s.renamed("joint.body", "joint.patch").renamed("probe.body", "probe.patch").renamed("arc.body", "arc.patch");
     return s;
   }();

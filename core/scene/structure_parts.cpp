@@ -201,8 +201,12 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
         if (other.mesh.find_patch(patch.name) >= 0)
           throw SceneError({d.issue(d.present("part.name", i) ? "part.name" : "part.generator", i,
                                     "this part's patch '" + patch.name + "' has the name of a patch of part '" +
-                                        other.name + "', so select = \"patch_edge\" could not tell them apart; give "
-                                        "the part a name of its own")});
+                                        other.name + "', so select = \"patch_edge\" could not tell them apart; " +
+                                        (p.mesh.patches.size() > 1
+                                             ? std::string("l_plate and folded_plate name their patches themselves "
+                                                           "(arm1, corner, arm2; leg1, leg2), so a structure holds one "
+                                                           "of each")
+                                             : std::string("give the part a name of its own")))});
     s.parts.push_back(std::move(p));
   }
   for (std::size_t k = 0; k < nm; ++k)

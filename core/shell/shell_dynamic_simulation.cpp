@@ -44,7 +44,7 @@ ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicS
   }
   info_.probes.push_back({"kinetic_energy", "J", "kinetic energy"});
   info_.probes.push_back({"strain_energy", "J", "strain energy"});
-  info_.probes.push_back({"total_energy", "J", "kinetic + strain + gravity potential energy"});
+  info_.probes.push_back({"total_energy", "J", "kinetic + strain + gravity potential + dead-load potential energy"});
   info_.fields = {{"displacement", "m", "displacement magnitude"}, {"strain", "", "largest principal surface strain"}};
   values_.resize(settings_.probes.size() + 2 * settings_.arcs.size());
 }
