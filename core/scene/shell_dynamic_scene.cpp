@@ -58,7 +58,12 @@ const Schema& shell_dynamic_schema() {
                 "core/solve/generalized_alpha.md (G10')); 1 turns this off",
                 0.1, Range::left_open(0.0, 1.0))
         .integer("solver.max_cutbacks", "halvings of a failing step before the run is declared diverged", 6,
-                 IntRange::closed(0, 20));
+                 IntRange::closed(0, 20))
+        .choice("solver.initial_state",
+                "at_rest: the run starts from the undeformed reference at rest; static_equilibrium: from the "
+                "static equilibrium under the loads and gravity at t = 0, found by Newton first (a static preload, "
+                "which a load ending at load.end then releases; core/solve/generalized_alpha.md (G11))",
+                {"at_rest", "static_equilibrium"}, "at_rest");
     declare_linear_solver(s, "mumps where compiled in, else umfpack: 14 % less wall time on the double pendulum, "
                              "docs/validation/shell-dynamics.md");
     s.table("gravity", "uniform gravity (effect gravity)")
@@ -406,6 +411,7 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   st.integrator.refresh_ratio = d.number("solver.refresh_ratio");
   st.integrator.step_refresh_ratio = d.number("solver.step_refresh_ratio");
   st.integrator.max_cutbacks = static_cast<int>(d.integer("solver.max_cutbacks"));
+  st.static_start = d.string("solver.initial_state") == "static_equilibrium";
   st.integrator.backend = read_linear_solver(d, LinearBackend::mumps);
   if (linear_backend_is_symmetric(st.integrator.backend))  // [S kGᵀ; kB 0] is indefinite (G7)
     throw SceneError({d.issue("solver.linear_solver", "'" + d.string("solver.linear_solver") +

@@ -123,6 +123,54 @@ std::string GeneralizedAlpha::initialize(double t0, const Eigen::VectorXd& v0) {
   return {};
 }
 
+std::string GeneralizedAlpha::find_static_equilibrium(double t0, int& iterations) {
+  // (G11): the iteration matrix with weights (mass 0, damping 0, stiffness 1) is the static
+  // tangent in the step, constraint rows scaled as in (G7); a fresh matrix at every correction
+  const int n = problem_.size(), m = problem_.constraint_count();
+  const IterationWeights static_weights{0.0, 0.0, 1.0};
+  const Eigen::VectorXd zero_n = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd x = zero_n, lam = Eigen::VectorXd::Zero(m), r, phi, rhs(n + m), dx;
+  iterations = 0;
+  constraint_scale_ = 0.0;
+  for (int it = 1; it <= settings_.max_iterations; ++it) {
+    problem_.configure(x);
+    problem_.evaluate(t0, zero_n, zero_n, lam, r, phi, &static_weights, &S_, &B_);
+    if (!finite(r) || !finite(phi)) return "non-finite residual at iteration " + std::to_string(it);
+    if (constraint_scale_ == 0.0) {
+      double sum = 0.0;
+      for (int i = 0; i < n; ++i) sum += std::abs(S_.coeff(i, i));
+      constraint_scale_ = n > 0 && sum > 0 ? sum / n : 1.0;
+    }
+    std::string why;
+    if (!update_matrix(why)) {
+      problem_.rollback();
+      return why + (why.find("singular") != std::string::npos
+                        ? " (a mechanism: some part is held against rigid motion only by its inertia)"
+                        : "");
+    }
+    rhs << -r, -constraint_scale_ * phi;
+    const LinearStatus st = solver_.solve(rhs, dx);
+    ++iterations;
+    if (!st) {
+      problem_.rollback();
+      return "linear solve: " + st.message;
+    }
+    x += dx.head(n);
+    lam += constraint_scale_ * dx.tail(m);
+    if (dx.head(n).norm() <= settings_.tolerance) {
+      problem_.configure(x);
+      problem_.commit();
+      lambda_ = lam;
+      have_matrix_ = false;  // a static matrix is not an iteration matrix of a step
+      constraint_scale_ = 0.0;
+      nou_ = 0;
+      return {};
+    }
+  }
+  problem_.rollback();
+  return "no static equilibrium within " + std::to_string(settings_.max_iterations) + " Newton corrections";
+}
+
 std::string GeneralizedAlpha::restart() {
   const long long nou = nou_;
   const Eigen::VectorXd v = v_;

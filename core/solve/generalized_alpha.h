@@ -42,6 +42,11 @@ class GeneralizedAlpha {
   /// Consistent initial accelerations and multipliers at rest or with the given v (§3).
   /// Returns an empty string on success, otherwise why it failed.
   std::string initialize(double t0, const Eigen::VectorXd& v0);
+  /// Moves the problem to its static equilibrium at time t0 before the run (a static preload):
+  /// full Newton on r(q; v = 0, v̇ = 0) = 0, Φ = 0 (generalized_alpha.md (G11)), committed when the
+  /// correction falls below the settings' tolerance. Returns "" or why it failed (a mechanism:
+  /// "singular"). `iterations` gets the Newton corrections it took. Call initialize() after it.
+  std::string find_static_equilibrium(double t0, int& iterations);
   /// Advances from time() by h (with cut-backs when needed). On failure the state is the last one
   /// that converged (time() tells where: a converged first half of a cut-back step is kept).
   StepReport step(double h);
