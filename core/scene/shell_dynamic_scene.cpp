@@ -160,10 +160,9 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   refuse_oversized(d, ctx, static_cast<int>(std::min<long long>(size.nodes, std::numeric_limits<int>::max())),
                    has("drilling") ? 1.0 : 0.0, size.key, size.part);
   Structure structure = read_structure(d, path, ctx);
-  if (structure.has_junctions)
-    throw SceneError({d.issue("junction.parts", 0, "a dynamic analysis joins parts by [[joint]] tables only in this "
-                                                   "version: a junction's shared nodes need one shell body across "
-                                                   "parts, which the dynamic model does not have yet")});
+  // the shell bodies: one per part, or, where [[junction]]s make parts share nodes, one body of
+  // the joined structure whose quads keep their parts' materials. Either way the model's shell
+  // node ids are the joined structure's (parts in order), so selections on it need no mapping.
   std::vector<std::string> names;
   for (std::size_t i = 0; i < structure.parts.size(); ++i) {
     const StructurePart& part = structure.parts[i];
@@ -173,17 +172,36 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
                                 static_cast<std::size_t>(part.material),
                                 "a dynamic analysis needs material.density (mass per unit volume) for part '" +
                                     part.name + "'")});
+    names.push_back(part.name);
+  }
+  auto body_of = [&](const std::string& name, const mesh::ShellMesh& m) {
     ShellBodySpec b;
-    b.name = part.name;
-    names.push_back(b.name);
-    b.mesh = part.mesh;
-    b.section = material.section;
-    b.density = material.density;
+    b.name = name;
+    b.mesh = m;
     b.options.hr = has("hr");
     b.options.ans = has("ans");
     b.options.drilling = has("drilling");
-    b.options.drilling_factor = material.drilling_factor;
+    return b;
+  };
+  if (structure.has_junctions) {
+    std::string joined_names;
+    for (const StructurePart& part : structure.parts) joined_names += (joined_names.empty() ? "" : "+") + part.name;
+    ShellBodySpec b = body_of(joined_names, structure.joined);
+    const StructureMaterial& first = structure.materials.front();
+    b.section = first.section, b.density = first.density, b.options.drilling_factor = first.drilling_factor;
+    for (const StructureMaterial& m : structure.materials)
+      b.sections.push_back(m.section), b.densities.push_back(m.density), b.drilling_factors.push_back(m.drilling_factor);
+    for (int part : structure.quad_part) b.quad_material.push_back(structure.parts[part].material);
     spec.shells.push_back(std::move(b));
+  } else {
+    for (const StructurePart& part : structure.parts) {
+      const StructureMaterial& material = structure.materials[part.material];
+      ShellBodySpec b = body_of(part.name, part.mesh);
+      b.section = material.section;
+      b.density = material.density;
+      b.options.drilling_factor = material.drilling_factor;
+      spec.shells.push_back(std::move(b));
+    }
   }
   {
     int total = 0;
@@ -207,33 +225,20 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   spec.gravity = has("gravity");
   spec.g = vec(d.numbers("gravity.g"));
 
-  // a body by name: its mesh (shells) and the model-wide id of its local node 0
-  std::vector<int> offsets;
-  int total = 0;
-  for (const ShellBodySpec& b : spec.shells) offsets.push_back(total), total += b.mesh.node_count();
-  auto body_index = [&](const std::string& table, const std::string& key, std::size_t i, bool allow_rigid) {
-    const std::string name = d.string(table + "." + key, i);
-    for (std::size_t b = 0; b < spec.shells.size(); ++b)
-      if (spec.shells[b].name == name) return static_cast<int>(b);
+  // shell nodes are the joined structure's; rigid body r is node shell_nodes + r
+  const mesh::ShellMesh& joined = structure.joined;
+  const int shell_nodes = joined.node_count();
+  std::vector<int> node_part(shell_nodes, -1);  // the first part a node belongs to
+  for (std::size_t p = 0; p < structure.parts.size(); ++p)
+    for (int id : structure.parts[p].node_map)
+      if (node_part[id] < 0) node_part[id] = static_cast<int>(p);
+  // joint.other by name: a part (>= 0) or a rigid body (-1 - its index)
+  auto other_of = [&](std::size_t i) {
+    const std::string name = d.string("joint.other", i);
+    if (const int p = structure.find(name); p >= 0) return p;
     for (std::size_t r = 0; r < spec.rigid.size(); ++r)
-      if (spec.rigid[r].name == name) {
-        if (allow_rigid) return static_cast<int>(spec.shells.size() + r);
-        throw SceneError({d.issue(table + "." + key, i, "'" + name + "' is a rigid body; select nodes of a shell body")});
-      }
-    throw SceneError({d.issue(table + "." + key, i, "no body called '" + name + "'")});
-  };
-  auto part_of = [&](int node) {  // the shell part of a structure node (parts are consecutive)
-    int p = 0;
-    while (p + 1 < static_cast<int>(offsets.size()) && offsets[p + 1] <= node) ++p;
-    return p;
-  };
-  auto node_id = [&](int body, int local) {
-    return body < static_cast<int>(spec.shells.size()) ? offsets[body] + local
-                                                       : total + (body - static_cast<int>(spec.shells.size()));
-  };
-  auto position_of = [&](int body, int local) {
-    return body < static_cast<int>(spec.shells.size()) ? spec.shells[body].mesh.points[local]
-                                                       : spec.rigid[body - spec.shells.size()].pose.p;
+      if (spec.rigid[r].name == name) return -1 - static_cast<int>(r);
+    throw SceneError({d.issue("joint.other", i, "no part or rigid body called '" + name + "'")});
   };
 
   if (d.count("joint") > 0 && !has("joints"))
@@ -241,51 +246,48 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   for (std::size_t i = 0; i < d.count("joint"); ++i) {
     const std::string type = d.string("joint.type", i);
     // the selected nodes (of the whole structure) must lie in one part: the joint joins them to another
-    std::vector<int> ids = select_nodes(d, structure.joined, "joint", i);
-    const int a = part_of(ids.front());
-    for (int& id : ids) {
-      if (part_of(id) != a)
-        throw SceneError({d.issue("joint.select", i, "the selected nodes lie in parts '" + spec.shells[a].name +
-                                                         "' and '" + spec.shells[part_of(id)].name +
+    const std::vector<int> ids = select_nodes(d, joined, "joint", i);
+    const int a = node_part[ids.front()];
+    for (int id : ids)
+      if (node_part[id] != a)
+        throw SceneError({d.issue("joint.select", i, "the selected nodes lie in parts '" + structure.parts[a].name +
+                                                         "' and '" + structure.parts[node_part[id]].name +
                                                          "'; a joint joins nodes of one part to another body (name "
                                                          "the part with joint.patch)")});
-      id -= offsets[a];
-    }
     const bool ground = d.string("joint.other", i).empty();
     if (type == "simple_support" && !ground)
       throw SceneError({d.issue("joint.other", i, "a simple support holds nodes in space: leave 'other' empty")});
-    const int b = ground ? -1 : body_index("joint", "other", i, true);
-    if (b == a) throw SceneError({d.issue("joint.other", i, "a joint needs two different bodies")});
-    const double tol = 1e-6 * std::max(1.0, mesh::max_edge_length(spec.shells[a].mesh));
+    const int other = ground ? 0 : other_of(i);
+    const bool other_rigid = !ground && other < 0;
+    const int rigid = other_rigid ? -1 - other : -1;
+    if (!ground && !other_rigid && other == a)
+      throw SceneError({d.issue("joint.other", i, "a joint needs two different bodies")});
+    const double tol = 1e-6 * std::max(1.0, mesh::max_edge_length(structure.parts[a].mesh));
     std::vector<std::pair<int, int>> pairs;  // model-wide (node a, node b or -1)
     for (int id : ids) {
       int partner = -1;
-      if (!ground) {
-        if (b >= static_cast<int>(spec.shells.size())) {
-          partner = node_id(b, 0);
-        } else {
-          const mesh::ShellMesh& mb = spec.shells[b].mesh;
-          for (int k = 0; k < mb.node_count(); ++k)
-            if ((mb.points[k] - position_of(a, id)).norm() < tol) partner = node_id(b, k);
-          if (partner < 0)
-            throw SceneError({d.issue("joint.other", i, "node at (" + std::to_string(position_of(a, id).x()) + ", " +
-                                                            std::to_string(position_of(a, id).y()) + ", " +
-                                                            std::to_string(position_of(a, id).z()) +
-                                                            ") has no coincident node in body '" +
-                                                            d.string("joint.other", i) + "'")});
-        }
+      if (other_rigid) {
+        partner = shell_nodes + rigid;
+      } else if (!ground) {
+        for (int k : structure.parts[other].node_map)
+          if ((joined.points[k] - joined.points[id]).norm() < tol) partner = k;
+        if (partner < 0)
+          throw SceneError({d.issue("joint.other", i, "node at (" + std::to_string(joined.points[id].x()) + ", " +
+                                                          std::to_string(joined.points[id].y()) + ", " +
+                                                          std::to_string(joined.points[id].z()) +
+                                                          ") has no coincident node in part '" +
+                                                          d.string("joint.other", i) + "'")});
       }
-      pairs.push_back({node_id(a, id), partner});
+      pairs.push_back({id, partner});
     }
-    const bool six = spec.shells[a].options.drilling;
-    const bool other_rigid = b >= static_cast<int>(spec.shells.size());
+    const bool six = has("drilling");
     for (const auto& [na, nb] : pairs) {
       PositionConstraint pc;
       pc.a = na;
       pc.b = nb;
-      pc.target = position_of(a, na - offsets[a]);
+      pc.target = joined.points[na];
       // a rigid body carries the joint point at its offset from the centre of mass (body axes = W at t = 0)
-      if (other_rigid) pc.b_offset = pc.target - spec.rigid[b - spec.shells.size()].pose.p;
+      if (other_rigid) pc.b_offset = pc.target - spec.rigid[rigid].pose.p;
       spec.positions.push_back(pc);
     }
     if (type == "revolute" || type == "fixed") {
@@ -298,9 +300,9 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
         if (pairs.size() < 2)
           throw SceneError({d.issue("joint.select", i, "a revolute joint between 5-DoF shell nodes needs two or more "
                                                        "node pairs along its axis (or the drilling effect)")});
-        const Eigen::Vector3d p0 = position_of(a, pairs.front().first - offsets[a]);
+        const Eigen::Vector3d p0 = joined.points[pairs.front().first];
         for (const auto& pr : pairs) {
-          const Eigen::Vector3d off = position_of(a, pr.first - offsets[a]) - p0;
+          const Eigen::Vector3d off = joined.points[pr.first] - p0;
           if ((off - off.dot(axis) * axis).norm() > tol)
             throw SceneError({d.issue("joint.axis", i, "the selected nodes do not lie on one line along the axis; "
                                                        "a 5-DoF revolute joint is the line of its nodes")});
@@ -309,11 +311,8 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
         // rows (D13): two (revolute) or three (fixed) perpendicularities per pair, from the reference frames
         Eigen::Vector3d e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
         for (const auto& [na, nb] : pairs) {
-          const Mat3& Ra = spec.shells[a].mesh.frames[na - offsets[a]];
-          const Mat3 Rb = nb < 0 ? Mat3::Identity()
-                                 : (b < static_cast<int>(spec.shells.size())
-                                        ? spec.shells[b].mesh.frames[nb - offsets[b]]
-                                        : spec.rigid[b - spec.shells.size()].pose.R);
+          const Mat3& Ra = joined.frames[na];
+          const Mat3 Rb = nb < 0 ? Mat3::Identity() : (other_rigid ? spec.rigid[rigid].pose.R : Mat3(joined.frames[nb]));
           auto row = [&](const Eigen::Vector3d& u, const Eigen::Vector3d& w) {
             spec.perpendiculars.push_back({na, nb, Ra.transpose() * u, nb < 0 ? w : Eigen::Vector3d(Rb.transpose() * w)});
           };
@@ -379,9 +378,9 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
         spec.loads.push_back({loaded.loads[k], history}), load_entry.push_back(i);
       for (std::size_t k = pressures_before; k < loaded.pressures.size(); ++k) {
         TimedPressure p;
-        p.body = structure.quad_part[loaded.pressures[k].quad];
+        p.body = structure.has_junctions ? 0 : structure.quad_part[loaded.pressures[k].quad];
         p.load = loaded.pressures[k];
-        p.load.quad -= structure.first_quad(p.body);  // the body's own quad number
+        p.load.quad -= structure.has_junctions ? 0 : structure.first_quad(p.body);  // the body's own quad number
         p.history = history;
         spec.pressures.push_back(p);
         pressure_entry.push_back(i);
@@ -471,14 +470,19 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   } catch (const shell::BodySpecError& e) {
     using Part = shell::BodySpecError::Part;
     const std::size_t b = static_cast<std::size_t>(e.body());
+    // the part of a shell body (the part at the quad when the body is the joined structure)
+    const std::size_t part = structure.has_junctions && e.quad() >= 0
+                                 ? static_cast<std::size_t>(structure.quad_part.at(e.quad()))
+                                 : std::min(b, structure.parts.size() - 1);
+    const std::size_t material = static_cast<std::size_t>(structure.parts[part].material);
     switch (e.part()) {
       case Part::shell_element:
         // det J <= 0 through the thickness: the thickness against the curvature, or a distorted mesh
-        throw SceneError({d.issue("material.thickness", static_cast<std::size_t>(structure.parts[b].material),
+        throw SceneError({d.issue("material.thickness", material,
                                   std::string(e.what()) + " (a thickness larger than the local radius of curvature, "
                                                           "or a distorted mesh, makes the element invalid)")});
       case Part::shell_density:
-        throw SceneError({d.issue("material.density", static_cast<std::size_t>(structure.parts[b].material), e.what())});
+        throw SceneError({d.issue("material.density", material, e.what())});
       case Part::rigid_mass: throw SceneError({d.issue("rigid.mass", b, e.what())});
       case Part::rigid_inertia: throw SceneError({d.issue("rigid.inertia", b, e.what())});
     }

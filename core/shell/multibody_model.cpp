@@ -34,8 +34,13 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
     shell_offset_.push_back(static_cast<int>(reference_.size()));
     const mesh::ShellMesh& m = b.mesh;
     if (m.quad_count() == 0) throw std::invalid_argument("shell body '" + b.name + "' has no elements");
-    if (!(b.density > 0))
+    if (!(b.density > 0) && b.quad_material.empty())
       throw BodySpecError(BodySpecError::Part::shell_density, body, "shell body '" + b.name + "' needs a positive density");
+    for (std::size_t q = 0; q < b.quad_material.size(); ++q)
+      if (!(b.densities.at(b.quad_material[q]) > 0))
+        throw BodySpecError(BodySpecError::Part::shell_density, body,
+                            "shell body '" + b.name + "', quad " + std::to_string(q) + ": needs a positive density",
+                            static_cast<int>(q));
     for (int i = 0; i < m.node_count(); ++i) {
       reference_.push_back({m.frames[i], m.points[i]});
       six_dof_.push_back(b.options.drilling || (i < static_cast<int>(m.fold.size()) && m.fold[i]) ? 1 : 0);
@@ -101,10 +106,23 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
   for (int b = 0; b < static_cast<int>(spec_.shells.size()); ++b) {
     const ShellBodySpec& body = spec_.shells[b];
     const mesh::ShellMesh& m = body.mesh;
+    std::vector<ShellSection> sections{body.section};
+    std::vector<ShellOptions> options{body.options};
+    std::vector<double> densities{body.density};
+    if (!body.quad_material.empty()) {  // a body joined from parts of several materials
+      sections.clear(), options.clear(), densities.clear();
+      for (int k : body.quad_material) {
+        sections.push_back(body.sections.at(k));
+        densities.push_back(body.densities.at(k));
+        options.push_back(body.options);
+        options.back().drilling_factor = body.drilling_factors.at(k);
+      }
+    }
     try {
-      elements_.add_mesh(m, shell_offset_[b], {body.section}, {body.options}, body.density, b);
+      elements_.add_mesh(m, shell_offset_[b], sections, options, densities, b);
     } catch (const ShellElementError& err) {
-      throw BodySpecError(BodySpecError::Part::shell_element, b, "shell body '" + body.name + "', " + err.what());
+      throw BodySpecError(BodySpecError::Part::shell_element, b, "shell body '" + body.name + "', " + err.what(),
+                          err.quad());
     }
     const long long quads = m.quad_count();
     hr_elements_ += body.options.hr * quads, ans_elements_ += body.options.ans * quads,

@@ -32,6 +32,12 @@ struct ShellBodySpec {
   ShellSection section;
   ShellOptions options;
   double density = 1.0;
+  /// A body joined from parts of several materials (a scene's [[junction]]): quad q has
+  /// sections[quad_material[q]], densities[..] and drilling_factors[..]; empty: every quad has
+  /// section, density and options.drilling_factor.
+  std::vector<int> quad_material;
+  std::vector<ShellSection> sections;
+  std::vector<double> densities, drilling_factors;
 };
 
 struct RigidBodySpec {
@@ -116,13 +122,16 @@ struct LoadSwitch {
 class BodySpecError : public std::invalid_argument {
  public:
   enum class Part { shell_element, shell_density, rigid_mass, rigid_inertia };
-  BodySpecError(Part part, int body, const std::string& what) : std::invalid_argument(what), part_(part), body_(body) {}
+  BodySpecError(Part part, int body, const std::string& what, int quad = -1)
+      : std::invalid_argument(what), part_(part), body_(body), quad_(quad) {}
   Part part() const { return part_; }
   int body() const { return body_; }
+  int quad() const { return quad_; }  ///< shell_element, shell_density: the body's quad at fault, or -1
 
  private:
   Part part_;
   int body_;
+  int quad_;
 };
 
 /// What the MultibodyModel constructor refuses about one load, with its index in

@@ -5,11 +5,13 @@
 namespace ff::shell {
 
 void ShellElements::add_mesh(const mesh::ShellMesh& m, int node_offset, const std::vector<ShellSection>& sections,
-                             const std::vector<ShellOptions>& options, double density, int part) {
+                             const std::vector<ShellOptions>& options, const std::vector<double>& densities,
+                             int part) {
   elements_.reserve(elements_.size() + m.quad_count());
   for (int q = 0; q < m.quad_count(); ++q) {
     const ShellSection& section = sections.size() == 1 ? sections[0] : sections.at(q);
     const ShellOptions& opt = options.size() == 1 ? options[0] : options.at(q);
+    const double density = densities.size() == 1 ? densities[0] : densities.at(q);
     ShellElement e;
     e.part = part;
     e.thickness = section.thickness;

@@ -50,11 +50,11 @@ class ShellElementError : public std::invalid_argument {
 
 class ShellElements {
  public:
-  /// The elements of every quad of `m`, its node i being model node node_offset + i, each of
-  /// section sections[q] (one entry: all quads) with `options`; with density > 0 also its inertia.
-  /// Throws ShellElementError for a quad that cannot be formed.
+  /// The elements of every quad of `m`, its node i being model node node_offset + i, quad q of
+  /// section sections[q], options[q] and density densities[q] (one entry: every quad), with its
+  /// inertia where the density is > 0. Throws ShellElementError for a quad that cannot be formed.
   void add_mesh(const mesh::ShellMesh& m, int node_offset, const std::vector<ShellSection>& sections,
-                const std::vector<ShellOptions>& options, double density, int part);
+                const std::vector<ShellOptions>& options, const std::vector<double>& densities, int part);
 
   int size() const { return static_cast<int>(elements_.size()); }
   const ShellElement& operator[](int k) const { return elements_[k]; }
