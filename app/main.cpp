@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
   std::string pol_dts = "5e-4", pol_policies = "full,nni:2,nni:3,nni:4,frozen,lazy";
   CLI::App* policies = app.add_subcommand(
       "policies", "NOI/NOU and wall time per iteration-matrix policy and step (the shell paper's Tables 3-4)");
-  policies->add_option("scene", pol_opt.scene, "shell_dynamic scene file or bundled name");
+  policies->add_option("scene", pol_opt.scene, "shell scene with analysis = \"dynamic\" (file or bundled name)");
   policies->add_option("--dt", pol_dts, "time steps, comma separated");
   policies->add_option("--policies", pol_policies, "comma separated: full, frozen, nni:<i>, lazy, lazy:<refresh ratio>, lazy:<refresh ratio>:<step refresh ratio>");
   policies->add_option("--until", pol_opt.until, "simulated time per run [s]")->check(CLI::PositiveNumber);

@@ -1,6 +1,6 @@
 #pragma once
 /// `flexframe policies`: Tables 3-4 of the shell paper (Zhang, Liu, Zhang & Liu 2022) for any
-/// shell_dynamic scene -- Newton iterations (NOI) and iteration-matrix updates (NOU) for each
+/// shell scene of the dynamic analysis -- Newton iterations (NOI) and iteration-matrix updates (NOU) for each
 /// matrix policy and step size, with wall time.
 #include <atomic>
 #include <string>

@@ -36,16 +36,17 @@ const std::vector<ModelKind>& model_kinds() {
   // validated document becomes its Simulation, and its memory estimate
   static const std::vector<ModelKind> kinds = [] {
     std::vector<ModelKind> k = {
-        {"hub_beam", "rotating hub with a flexible beam (EFG or FEM)", hub_beam_schema, "solver.end", false,
+        {"hub_beam", "", "rotating hub with a flexible beam (EFG or FEM)", hub_beam_schema, "solver.end", false,
          build_hub_beam, estimated_hub_beam_bytes},
-        {"shell_static", "CB shell statics: load control or arc length", shell_static_schema, "solver.end", true,
-         build_shell_static, estimated_structure_bytes},
-        {"shell_dynamic", "CB shells, rigid bodies and joints in motion", shell_dynamic_schema, "solver.end", true,
-         build_shell_dynamic, estimated_structure_bytes},
+        {"shell", "static", "a CB shell structure in equilibrium: linear, load control or arc length",
+         shell_static_schema, "solver.end", true, build_shell_static, estimated_structure_bytes},
+        {"shell", "dynamic", "a CB shell structure, rigid bodies and joints in motion", shell_dynamic_schema,
+         "solver.end", true, build_shell_dynamic, estimated_structure_bytes},
     };
     // every schema's scene.model offers model_names() (scene_common.cpp, below this file)
     std::vector<std::string> names;
-    for (const ModelKind& m : k) names.push_back(m.name);
+    for (const ModelKind& m : k)
+      if (names.empty() || names.back() != m.name) names.push_back(m.name);
     if (names != model_names())
       throw std::logic_error("the model registry (scene.cpp) and model_names() (scene_common.cpp) name different models");
     return k;
@@ -53,9 +54,9 @@ const std::vector<ModelKind>& model_kinds() {
   return kinds;
 }
 
-const ModelKind* find_model(const std::string& name) {
+const ModelKind* find_model(const std::string& name, const std::string& analysis) {
   for (const ModelKind& k : model_kinds())
-    if (k.name == name) return &k;
+    if (k.name == name && k.analysis == analysis) return &k;
   return nullptr;
 }
 
@@ -63,16 +64,26 @@ namespace {
 // the model named in the file picks the schema; anything unreadable falls back to the first
 // model's schema, whose validation then reports the problem with its location
 struct Peeked {
-  std::string model;  // "" when the file has none (or cannot be parsed)
+  std::string model;     // "" when the file has none (or cannot be parsed)
+  std::string analysis;  // scene.analysis, "" when none
   bool given = false;
 };
 Peeked peek_model_text(const std::string& text, const std::string& path) {
   try {
     const toml::table t = toml::parse(text, path);
-    if (const auto m = t["scene"]["model"].value<std::string>()) return {*m, true};
+    if (const auto m = t["scene"]["model"].value<std::string>())
+      return {*m, t["scene"]["analysis"].value<std::string>().value_or(""), true};
   } catch (const toml::parse_error&) {
   }
   return {};
+}
+// a model's kind: its analysis's, or (no or an unknown analysis) its first, whose validation then
+// says what scene.analysis must be
+const ModelKind* model_kind(const Peeked& p) {
+  if (const ModelKind* k = find_model(p.model, p.analysis)) return k;
+  for (const ModelKind& k : model_kinds())
+    if (k.name == p.model) return &k;
+  return nullptr;
 }
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
@@ -81,14 +92,15 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 const ModelKind& kind_or_first(const Peeked& p) {
-  const ModelKind* k = find_model(p.model);
+  const ModelKind* k = model_kind(p);
   return k ? *k : model_kinds().front();
 }
-// a model name that is no model: refused at its own line, with the models there are
+// a model name that is no model: refused at its own line, with the models there are (the shell
+// models of before one structure had its analyses say how they are written now)
 void refuse_unknown_model(const Peeked& p, const std::string& path, const std::string& text) {
-  if (!p.given || find_model(p.model)) return;
+  if (!p.given || model_kind(p)) return;
   std::string known;
-  for (const ModelKind& k : model_kinds()) known += (known.empty() ? "" : ", ") + k.name;
+  for (const std::string& name : model_names()) known += (known.empty() ? "" : ", ") + name;
   Issue i;
   i.file = path;
   // the line of `model = ...` (the scene table's only key of that name)
@@ -105,7 +117,10 @@ void refuse_unknown_model(const Peeked& p, const std::string& path, const std::s
     ++line;
   }
   i.key = "scene.model";
-  i.message = "unknown model '" + p.model + "' (models: " + known + ")";
+  i.message = p.model == "shell_static" || p.model == "shell_dynamic"
+                  ? "'" + p.model + "' was renamed to model = \"shell\" with analysis = \"" + p.model.substr(6) +
+                        "\" (one structure, several analyses)"
+                  : "unknown model '" + p.model + "' (models: " + known + ")";
   throw SceneError({i});
 }
 }  // namespace
@@ -122,7 +137,9 @@ std::vector<CameraKey> camera_path_from_text(const std::string& text, const std:
 std::string scene_reference_markdown() {
   std::string out;
   for (const ModelKind& k : model_kinds())
-    out += (out.empty() ? "" : "\n") + std::string("## model = \"") + k.name + "\"\n\n" + k.schema().markdown_reference();
+    out += (out.empty() ? "" : "\n") + std::string("## model = \"") + k.name + "\"" +
+           (k.analysis.empty() ? std::string() : ", analysis = \"" + k.analysis + "\"") + "\n\n" +
+           k.schema().markdown_reference();
   return out;
 }
 

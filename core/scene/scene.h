@@ -27,6 +27,9 @@ struct LoadedScene {
 /// there plus its schema and builder (core/scene/<model>_scene.{h,cpp}).
 struct ModelKind {
   std::string name;         ///< the value of scene.model
+  /// the value of scene.analysis for the analyses of one model (the shell structure: "static",
+  /// "dynamic"); "" for a model with one analysis of its own (hub_beam)
+  std::string analysis;
   std::string description;  ///< one line
   const Schema& (*schema)();
   std::string end_key;      ///< the key that ends a run (its timeline's range)
@@ -37,8 +40,9 @@ struct ModelKind {
   double (*estimated_bytes)(const Document& d, const std::string& path, const SceneContext& ctx);
 };
 const std::vector<ModelKind>& model_kinds();
-/// The kind named `name`, or nullptr.
-const ModelKind* find_model(const std::string& name);
+/// The kind named `name` (with scene.analysis = `analysis` for a model of several analyses), or
+/// nullptr.
+const ModelKind* find_model(const std::string& name, const std::string& analysis = "");
 /// The schema a scene file is validated against, picked by its `scene.model` (the hub-beam
 /// schema when the file cannot be read or parsed; validating with it then reports why).
 /// Editors (the GUI's parameter list) read the keys, kinds, ranges and docs from it.

@@ -7,7 +7,7 @@
 namespace ff::scene {
 
 const std::vector<std::string>& model_names() {
-  static const std::vector<std::string> names = {"hub_beam", "shell_static", "shell_dynamic"};
+  static const std::vector<std::string> names = {"hub_beam", "shell"};
   return names;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 /// \file shell_boundary.h
-/// Supports ([[bc]]), loads ([[load]]) and probes ([[probe]]) of a shell_static scene: their
+/// Supports ([[bc]]), loads ([[load]]) and probes ([[probe]]) of a shell scene (both analyses): their
 /// schema keys and their translation into the model's spec (restraints in global, cylindrical or
 /// nodal axes, symmetry planes of any normal, prescribed displacements, point and line loads,
 /// pressures), with errors located at the scene entry that caused them.

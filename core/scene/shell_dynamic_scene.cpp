@@ -28,6 +28,10 @@ const Schema& shell_dynamic_schema() {
                         "effects to simulate: elastic and inertia (required), gravity, hr, ans, drilling (6 DoF "
                         "per shell node), joints (the [[joint]] constraints)",
                         {"elastic", "inertia", "gravity", "hr", "ans", "drilling", "joints"});
+    s.choice("scene.analysis",
+             "what is computed over the structure: static (equilibrium: linear, load control or arc length) or "
+             "dynamic (motion in time); the scene's other keys are that analysis's",
+             {"static", "dynamic"}, std::nullopt);
     s.table("solver", "time stepping: Lie-group generalized-alpha (core/solve/generalized_alpha.md)", true)
         .number("solver.dt", "time step [s]", std::nullopt, Range::positive())
         .number("solver.end", "end time [s]", std::nullopt, Range::positive())
@@ -151,7 +155,11 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   auto has = [&](const char* e) { return std::find(fx.begin(), fx.end(), e) != fx.end(); };
   for (const char* needed : {"elastic", "inertia"})
     if (!has(needed))
-      throw SceneError({d.issue("scene.effects", std::string("a shell_dynamic scene needs the effect '") + needed + "'")});
+      throw SceneError({d.issue("scene.effects", std::string("a dynamic analysis needs the effect '") + needed + "'")});
+  if (d.string("scene.analysis") != "dynamic")  // the file's analysis chose this schema; --set cannot change it
+    throw SceneError({d.issue("scene.analysis", "the analysis is chosen by the scene file (it picks the keys the "
+                                                "scene may have); write analysis = \"" + d.string("scene.analysis") +
+                                                "\" in the file instead of setting it")});
 
   MultibodySpec spec;
   // every part's nodes from its counts, so that parts that cannot fit are refused at the largest

@@ -1,5 +1,5 @@
 #pragma once
-/// Scene keys and model building for model = "shell_dynamic" (CB shells, rigid bodies and joints
+/// Scene keys and model building for model = "shell", analysis = "dynamic" (CB shells, rigid bodies and joints
 /// in motion with the Lie-group generalized-alpha).
 #include <memory>
 #include <string>

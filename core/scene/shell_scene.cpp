@@ -27,6 +27,10 @@ const Schema& shell_static_schema() {
                         "effects to simulate: elastic (required), hr (assumed membrane stress), ans (assumed "
                         "transverse shear), drilling (6 DoF per node, Fox-Simo penalty)",
                         {"elastic", "hr", "ans", "drilling"});
+    s.choice("scene.analysis",
+             "what is computed over the structure: static (equilibrium: linear, load control or arc length) or "
+             "dynamic (motion in time); the scene's other keys are that analysis's",
+             {"static", "dynamic"}, std::nullopt);
     declare_structure_keys(s);
     declare_bc_keys(s);
     declare_load_keys(s);
@@ -140,7 +144,11 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   using namespace ff::shell;
   const std::vector<std::string> fx = d.strings("scene.effects");
   auto has = [&](const char* e) { return std::find(fx.begin(), fx.end(), e) != fx.end(); };
-  if (!has("elastic")) throw SceneError({d.issue("scene.effects", "a shell_static scene needs the effect 'elastic'")});
+  if (d.string("scene.analysis") != "static")  // the file's analysis chose this schema; --set cannot change it
+    throw SceneError({d.issue("scene.analysis", "the analysis is chosen by the scene file (it picks the keys the "
+                                                "scene may have); write analysis = \"" + d.string("scene.analysis") +
+                                                "\" in the file instead of setting it")});
+  if (!has("elastic")) throw SceneError({d.issue("scene.effects", "a static analysis needs the effect 'elastic'")});
 
   ShellModelSpec spec;
   // the parts' node counts from their keys (exact, nothing built): a structure that cannot fit is

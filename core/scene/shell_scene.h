@@ -1,5 +1,5 @@
 #pragma once
-/// Scene keys and model building for model = "shell_static" (CB shell statics).
+/// Scene keys and model building for model = "shell", analysis = "static" (CB shell statics).
 #include <memory>
 #include <string>
 

@@ -608,8 +608,8 @@ std::string judge(const ProcResult& r, const std::string& scene, const std::vect
 /// The end that keeps a run of the scene's model to about a second, under the key's current name
 /// first and its older names after (a run refused at such a --set tries the next).
 std::vector<std::string> short_run_ends(const std::string& scene_text) {
-  if (scene_text.find("\"shell_static\"") != std::string::npos) return {"solver.end=0.05", "solver.lambda_end=0.05"};
-  if (scene_text.find("\"shell_dynamic\"") != std::string::npos) return {"solver.end=2e-3", "time.end=2e-3"};
+  if (scene_text.find("analysis = \"static\"") != std::string::npos) return {"solver.end=0.05", "solver.lambda_end=0.05"};
+  if (scene_text.find("analysis = \"dynamic\"") != std::string::npos) return {"solver.end=2e-3", "time.end=2e-3"};
   return {"solver.end=0.2", "solver.t_end=0.2"};
 }
 

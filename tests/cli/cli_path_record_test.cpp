@@ -137,7 +137,7 @@ TEST(CliPathRecord, EveryAttemptOfEveryBundledStaticSceneIsInSteps) {
   int scenes = 0, with_rejections = 0;
   for (const std::string& name : bundled_scene_names()) {
     const std::string text = read_text(scene_path(name));
-    if (text.find("model = \"shell_static\"") == std::string::npos) continue;
+    if (text.find("model = \"shell\"\nanalysis = \"static\"") == std::string::npos) continue;
     ++scenes;
     const bool arc = text.find("method = \"arc_length\"") != std::string::npos;
     const std::string out = fresh_test_dir() + "/" + name;

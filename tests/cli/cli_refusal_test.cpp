@@ -118,7 +118,7 @@ TEST(CliRefusalKey, MeshCausesAreNotBlamedOnTheThickness) {
 // ---- scenes written here ------------------------------------------------------------------------
 
 std::string static_scene(const std::string& mesh, const std::string& rest) {
-  return "[scene]\nname = \"refusal\"\nmodel = \"shell_static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n\n[[part]]\n" +
+  return "[scene]\nname = \"refusal\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n\n[[part]]\n" +
          mesh + "\n\n[[material]]\nyoungs_modulus = 1e6\nthickness = 0.01\n\n" + rest + "\n[solver]\n";
 }
 

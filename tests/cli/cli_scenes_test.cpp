@@ -26,14 +26,14 @@ double scene_t_end(const std::string& name) {
 constexpr double kShortLambda = 0.2;  // static scenes stop at this load factor
 
 bool is_static(const std::string& name) {
-  static const std::regex re(R"((^|\n)\s*model\s*=\s*"shell_static")");
+  static const std::regex re(R"((^|\n)\s*analysis\s*=\s*"static")");
   return std::regex_search(read_text(scene_path(name)), re);
 }
 
 constexpr double kShortShellDynamics = 0.01;  // s: shell dynamics scenes stop here (20 steps at 5e-4)
 
 bool is_shell_dynamic(const std::string& name) {
-  static const std::regex re(R"((^|\n)\s*model\s*=\s*"shell_dynamic")");
+  static const std::regex re(R"((^|\n)\s*analysis\s*=\s*"dynamic")");
   return std::regex_search(read_text(scene_path(name)), re);
 }
 

@@ -78,7 +78,7 @@ std::map<std::string, double> run_text(const std::string& name, const std::strin
 
 // A linear static shell scene around a [mesh] table and the supports, loads and probes.
 std::string static_scene(const std::string& mesh, const std::string& material, const std::string& rest) {
-  return "[scene]\nname = \"import\"\nmodel = \"shell_static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n[[part]]\n" +
+  return "[scene]\nname = \"import\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n[[part]]\n" +
          mesh + "\n[[material]]\n" + material + "\n" + rest +
          "\n[solver]\nmethod = \"load_control\"\ninitial_step = 1.0\nmax_step = 1.0\n[output]\nframes = false\nplots = "
          "false\n";

@@ -25,7 +25,7 @@ struct Picture {
 };
 
 ff::mesh::ShellMesh build(const std::string& mesh_table) {
-  const std::string text = "[scene]\nname = \"img\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[[part]]\n" + mesh_table +
+  const std::string text = "[scene]\nname = \"img\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = [\"elastic\"]\n[[part]]\n" + mesh_table +
                            "\n[[material]]\nyoungs_modulus = 1.0\nthickness = 0.1\n[[probe]]\nname = \"w\"\n"
                            "direction = [0.0, 0.0, 1.0]\n[solver]\n";
   const ff::scene::Document d = ff::scene::validate(ff::scene::shell_static_schema(), text, "img.toml");

@@ -56,7 +56,7 @@ TEST(Stability, StiffDoublePendulumWithFrozenMatrixAtTheLargestStep) {
 TEST(Stability, EnergyGrowthDoesNotDependOnTheGravityDatum) {
   auto growth = [](double z) {
     const std::string text =
-        "[scene]\nname = \"datum\"\nmodel = \"shell_dynamic\"\n"
+        "[scene]\nname = \"datum\"\nmodel = \"shell\"\nanalysis = \"dynamic\"\n"
         "effects = [\"elastic\", \"inertia\", \"gravity\", \"hr\", \"ans\", \"joints\"]\n"
         "[solver]\ndt = 1e-3\nend = 0.3\npolicy = \"lazy\"\npredictor = \"previous\"\ntolerance = 1e-6\n"
         "[[material]]\nyoungs_modulus = 70e9\npoisson_ratio = 0.33\nthickness = 0.002\ndensity = 2700.0\n"

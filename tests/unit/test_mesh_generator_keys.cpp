@@ -36,7 +36,7 @@ void expect_identical(const mesh::ShellMesh& a, const mesh::ShellMesh& b, const 
 }
 
 std::string mesh_issue(const std::string& toml_mesh) {
-  const std::string text = "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[[part]]\n" + toml_mesh +
+  const std::string text = "[scene]\nname = \"t\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = [\"elastic\"]\n[[part]]\n" + toml_mesh +
                            "\n[[material]]\nyoungs_modulus = 1.0\nthickness = 0.1\n[[probe]]\nname = \"w\"\n"
                            "direction = [0.0, 0.0, 1.0]\n[solver]\n";
   try {
@@ -161,7 +161,7 @@ TEST(MeshGeneratorKeys, ShapesThatCannotBeSolvedNameTheirKey) {
 
 TEST(MeshGeneratorKeys, EdgeNamesSelectInScenesAndTyposNameTheEntry) {
   auto scene = [](const std::string& edge) {
-    return "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[[part]]\ngenerator = \"spherical_cap\"\n"
+    return "[scene]\nname = \"t\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = [\"elastic\"]\n[[part]]\ngenerator = \"spherical_cap\"\n"
            "radius = 1.0\npolar_start = 30.0\npolar_end = 90.0\nend_angle = 90.0\nn1 = 2\nn2 = 2\n"
            "[[material]]\nyoungs_modulus = 1.0\nthickness = 0.1\n"
            "[[bc]]\ntype = \"clamped\"\nselect = \"patch_edge\"\npatch = \"cap\"\nedge = \"" + edge + "\"\n"

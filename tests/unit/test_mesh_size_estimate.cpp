@@ -16,7 +16,7 @@ using namespace ff;
 namespace {
 
 std::string scene_text(const std::string& mesh) {
-  return "[scene]\nname = \"t\"\nmodel = \"shell_static\"\neffects = [\"elastic\"]\n[[part]]\n" + mesh +
+  return "[scene]\nname = \"t\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = [\"elastic\"]\n[[part]]\n" + mesh +
          "\n[[material]]\nyoungs_modulus = 1.0\nthickness = 0.01\n[[probe]]\nname = \"w\"\n"
          "direction = [0.0, 0.0, 1.0]\n[solver]\n";
 }

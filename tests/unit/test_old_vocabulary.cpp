@@ -27,7 +27,8 @@ std::string refusal(const std::string& name, const std::string& text) {
 TEST(OldVocabulary, StaticMeshAndMaterialTablesSayWhereTheyWent) {
   const std::string e = refusal("static", R"([scene]
 name = "old_static"
-model = "shell_static"
+model = "shell"
+analysis = "static"
 effects = ["elastic"]
 [mesh]
 generator = "rectangular_plate"
@@ -41,7 +42,7 @@ name = "w"
 direction = [0.0, 0.0, 1.0]
 [solver]
 )");
-  EXPECT_NE(e.find("static.toml:5:"), std::string::npos) << e;
+  EXPECT_NE(e.find("static.toml:6:"), std::string::npos) << e;
   EXPECT_NE(e.find("'mesh' was renamed to 'part'"), std::string::npos) << e;
   EXPECT_NE(e.find("expected an array of tables [[material]]"), std::string::npos) << e;
 }
@@ -49,7 +50,8 @@ direction = [0.0, 0.0, 1.0]
 TEST(OldVocabulary, DynamicShellTableSplitsIntoPartAndMaterialKeyByKey) {
   const std::string e = refusal("dynamic", R"([scene]
 name = "old_dynamic"
-model = "shell_dynamic"
+model = "shell"
+analysis = "dynamic"
 effects = ["elastic", "inertia", "joints"]
 [solver]
 dt = 1e-3
@@ -70,7 +72,22 @@ select = "patch_edge"
   EXPECT_NE(e.find("'shell[0].density' was renamed to 'material.density'"), std::string::npos) << e;
   EXPECT_NE(e.find("'shell[0].phi_start' was renamed to 'part.start_angle'"), std::string::npos) << e;
   EXPECT_NE(e.find("'joint[0].body' was renamed to 'joint.patch'"), std::string::npos) << e;
-  EXPECT_NE(e.find("dynamic.toml:16:"), std::string::npos) << e;  // the body line
+  EXPECT_NE(e.find("dynamic.toml:17:"), std::string::npos) << e;  // the body line
+}
+
+// The two shell models of before are one structure with two analyses now.
+TEST(OldVocabulary, OldShellModelNamesSayHowTheyAreWrittenNow) {
+  for (const std::string analysis : {"static", "dynamic"}) {
+    const std::string e = refusal("model_" + analysis, "[scene]\nname = \"old\"\nmodel = \"shell_" + analysis +
+                                                           "\"\neffects = [\"elastic\"]\n");
+    EXPECT_NE(e.find("model_" + analysis + ".toml:3:"), std::string::npos) << e;
+    EXPECT_NE(e.find("'shell_" + analysis + "' was renamed to model = \"shell\" with analysis = \"" + analysis + "\""),
+              std::string::npos)
+        << e;
+  }
+  // the analysis is required: no silent choice between them
+  const std::string e = refusal("no_analysis", "[scene]\nname = \"x\"\nmodel = \"shell\"\neffects = [\"elastic\"]\n");
+  EXPECT_NE(e.find("scene.analysis"), std::string::npos) << e;
 }
 
 }  // namespace

@@ -39,7 +39,7 @@ inline std::map<std::string, double> run_scene_text(const std::string& name, con
 // The scene text around a [mesh] table and the supports, loads and probes of one problem.
 inline std::string linear_scene(const std::string& name, const std::string& effects, const std::string& mesh,
                                 const std::string& material, const std::string& rest) {
-  return "[scene]\nname = \"" + name + "\"\nmodel = \"shell_static\"\neffects = " + effects + "\n[[part]]\n" + mesh +
+  return "[scene]\nname = \"" + name + "\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = " + effects + "\n[[part]]\n" + mesh +
          "\n[[material]]\n" + material + "\n" + rest +
          "\n[solver]\nmethod = \"load_control\"\ninitial_step = 1.0\nmax_step = 1.0\n"
          "[output]\nframes = false\nplots = false\n";

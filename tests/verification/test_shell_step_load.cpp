@@ -319,7 +319,7 @@ double linear_static_twin(const std::string& scene, const std::string& drop = ""
   EXPECT_NE(structure.find("[[load]]"), std::string::npos) << scene;
   if (!drop.empty() && structure.find(drop) != std::string::npos) structure.erase(structure.find(drop), drop.size());
   const std::string static_text =
-      "[scene]\nname = \"" + scene + "_static\"\nmodel = \"shell_static\"\n"
+      "[scene]\nname = \"" + scene + "_static\"\nmodel = \"shell\"\nanalysis = \"static\"\n"
       "effects = [\"elastic\", \"hr\", \"ans\"]\n" +
       structure +
       "[[metric]]\nname = \"tip_w\"\nkind = \"final\"\nprobe = \"tip_w\"\n"

@@ -24,7 +24,7 @@ constexpr double kE = 1.0e7, kL = 10.0, kB = 1.0, kH = 0.1;
 constexpr double kI = kB * kH * kH * kH / 12.0;
 
 std::string strip_scene(int n_length, const std::string& supports, const std::string& loads, const std::string& probes) {
-  return "[scene]\nname = \"strip\"\nmodel = \"shell_static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n"
+  return "[scene]\nname = \"strip\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n"
          "[[part]]\ngenerator = \"rectangular_plate\"\nn1 = " + std::to_string(n_length) + "\nn2 = 2\nlength = " +
          std::to_string(kL) + "\nwidth = " + std::to_string(kB) + "\n"
          "[[material]]\nyoungs_modulus = " + std::to_string(kE) + "\npoisson_ratio = 0.0\nthickness = " + std::to_string(kH) +
