@@ -25,13 +25,17 @@ const Schema& shell_static_schema() {
     Schema s;
     declare_scene_table(s,
                         "effects to simulate: elastic (required), hr (assumed membrane stress), ans (assumed "
-                        "transverse shear), drilling (6 DoF per node, Fox-Simo penalty)",
-                        {"elastic", "hr", "ans", "drilling"});
+                        "transverse shear), drilling (6 DoF per node, Fox-Simo penalty), gravity (the self-weight "
+                        "of every part, density x thickness x g per unit area, times the load factor)",
+                        {"elastic", "hr", "ans", "drilling", "gravity"});
     s.choice("scene.analysis",
              "what is computed over the structure: static (equilibrium: linear, load control or arc length) or "
              "dynamic (motion in time); the scene's other keys are that analysis's",
              {"static", "dynamic"}, std::nullopt);
     declare_structure_keys(s);
+    s.table("gravity", "uniform gravity (effect gravity): in a static analysis the parts' self-weight, a dead load "
+                       "times the load factor")
+        .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3);
     declare_bc_keys(s);
     declare_load_keys(s);
     declare_probe_keys(s);
@@ -176,6 +180,27 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
 
   read_bcs(d, spec);
   read_loads(d, spec);
+  // gravity: each part's self-weight rho h g per unit area of its reference mid-surface, as
+  // consistent nodal forces of a dead surface load (shell_model.md (P5)), times the load factor
+  if (d.table_present("gravity") && !has("gravity"))
+    throw SceneError({d.issue("gravity.g", "the scene gives [gravity] but scene.effects lacks gravity")});
+  if (has("gravity")) {
+    const Eigen::Vector3d g(d.numbers("gravity.g")[0], d.numbers("gravity.g")[1], d.numbers("gravity.g")[2]);
+    for (std::size_t p = 0; p < structure.parts.size(); ++p) {
+      const StructureMaterial& material = structure.materials[structure.parts[p].material];
+      if (!(material.density > 0))
+        throw SceneError({d.issue(d.present("material.density", structure.parts[p].material) ? "material.density"
+                                                                                             : "material.youngs_modulus",
+                                  static_cast<std::size_t>(structure.parts[p].material),
+                                  "the effect gravity weighs every part: give material.density for part '" +
+                                      structure.parts[p].name + "'")});
+      std::vector<int> quads;
+      for (int q = 0; q < static_cast<int>(structure.quad_part.size()); ++q)
+        if (structure.quad_part[q] == static_cast<int>(p)) quads.push_back(q);
+      for (const auto& [node, f] : surface_load_forces(spec.mesh, quads, material.density * material.section.thickness * g))
+        spec.loads.push_back({node, f, Vec3::Zero(), false});
+    }
+  }
   // A zero [[load]] or a zero prescribed displacement is accepted (a load switched off with
   // --set, a displacement that holds its DoFs), alike; but a path needs something non-zero to follow.
   const bool loaded =
