@@ -30,7 +30,8 @@ void declare_structure_keys(Schema& s) {
       .number("material.drilling_factor", "effect drilling: c in the drilling penalty gamma = c G h0", 1e-3,
               Range::left_open(0.0, 1e3))
       .number("material.density",
-              "mass per unit volume rho; a dynamic analysis needs it (0 = not given; a static analysis reads none)",
+              "mass per unit volume rho; a dynamic analysis needs it, and a static one with the effect gravity "
+              "(0 = not given)",
               0.0, Range::non_negative());
   declare_part_keys(s);
   s.table_array("junction",
