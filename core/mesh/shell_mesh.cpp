@@ -68,6 +68,12 @@ int ShellMesh::fold_count() const {
   return static_cast<int>(std::count_if(fold.begin(), fold.end(), [](std::uint8_t f) { return f != 0; }));
 }
 
+int ShellMesh::find_group(const std::string& name) const {
+  for (std::size_t i = 0; i < groups.size(); ++i)
+    if (groups[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
 int ShellMesh::find_patch(const std::string& name) const {
   for (std::size_t i = 0; i < patches.size(); ++i)
     if (patches[i].name == name) return static_cast<int>(i);
@@ -290,6 +296,12 @@ MeshCheck validate(const ShellMesh& mesh) {
                                    " outside the mesh");
         break;
       }
+  for (const auto& g : mesh.groups) {
+    const bool nodes_ok = std::all_of(g.nodes.begin(), g.nodes.end(), [&](int id) { return id >= 0 && id < static_cast<int>(n); });
+    const bool quads_ok = std::all_of(g.quads.begin(), g.quads.end(), [&](int q) { return q >= 0 && q < static_cast<int>(nq); });
+    if (!nodes_ok || !quads_ok)
+      add(IssueKind::layout, "group '" + g.name + "' refers to a " + (nodes_ok ? "quad" : "node") + " outside the mesh");
+  }
   if (!check.ok()) return check;
 
   for (std::size_t i = 0; i < n; ++i) {

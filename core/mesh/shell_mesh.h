@@ -47,6 +47,17 @@ struct Patch {
   int node(int i, int j) const { return grid[static_cast<std::size_t>(j) * (nu + 1) + i]; }
 };
 
+/// A named set the mesh file (or CAD model) defines: a Gmsh physical group, an Abaqus *NSET or
+/// *ELSET. Scenes select it by name (select = "group"). Node and quad ids are those of the mesh
+/// it belongs to, ascending, without repeats.
+struct MeshGroup {
+  std::string name;
+  int dimension = 0;        ///< 0 points, 1 curves (edges), 2 surfaces (quads), as the file states it
+  std::vector<int> nodes;   ///< every node of the group (for a surface group: its quads' corners)
+  std::vector<int> quads;   ///< dimension 2: the group's quads; empty otherwise
+  std::string origin;       ///< where it came from in words, e.g. "Gmsh physical curve 3 in roof.msh"
+};
+
 struct ShellMesh {
   std::vector<Eigen::Vector3d> points;                        ///< p_WI, reference positions
   std::vector<std::array<int, 4>> quads;                      ///< CCW about the director
@@ -56,6 +67,7 @@ struct ShellMesh {
   std::vector<std::uint8_t> fold;                             ///< 1 at fold nodes (6 DoF)
   std::vector<int> quad_patch;                                ///< patch index per quad
   std::vector<Patch> patches;
+  std::vector<MeshGroup> groups;                               ///< named sets from the mesh file
   Eigen::Vector3d frame_reference = Eigen::Vector3d::UnitX();  ///< reference for e1
 
   int node_count() const { return static_cast<int>(points.size()); }
@@ -63,6 +75,8 @@ struct ShellMesh {
   int fold_count() const;
   /// Index of the patch called `name`, or -1.
   int find_patch(const std::string& name) const;
+  /// Index of the group called `name`, or -1.
+  int find_group(const std::string& name) const;
 };
 
 // ---- geometry of one quad (bilinear interpolation of its four corners) ----
