@@ -1,0 +1,672 @@
+#include "app/io/gmsh_import.h"
+
+// Gmsh's C API, for its function types only: the library is opened with dlopen in the child
+// process, so `flexframe` neither links it nor loads it (with OpenCASCADE, 91 libraries, 84 ms and
+// 50 MB at every start-up) unless a scene reads a Gmsh file
+#include <gmshc.h>
+
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <linux/audit.h>
+#include <linux/filter.h>
+#include <linux/seccomp.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace ff::io {
+
+namespace {
+
+namespace fs = std::filesystem;
+using ff::mesh::ImportedElement;
+using ff::mesh::ImportedGroup;
+using ff::mesh::ImportedSurface;
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+bool fail(std::string* error, const std::string& message) {
+  if (error) *error = message;
+  return false;
+}
+
+// ---- the byte stream between the child and the parent ------------------------------------------
+
+struct Writer {
+  std::string bytes;
+  template <class T>
+  void put(const T& v) {
+    bytes.append(reinterpret_cast<const char*>(&v), sizeof(T));
+  }
+  void put_string(const std::string& s) {
+    put<std::uint64_t>(s.size());
+    bytes += s;
+  }
+  template <class T>
+  void put_array(const std::vector<T>& v) {
+    put<std::uint64_t>(v.size());
+    bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+};
+
+struct Reader {
+  const std::string& bytes;
+  std::size_t at = 0;
+  bool ok = true;
+  template <class T>
+  T get() {
+    T v{};
+    if (!ok || bytes.size() - at < sizeof(T)) return ok = false, v;
+    std::memcpy(&v, bytes.data() + at, sizeof(T));
+    at += sizeof(T);
+    return v;
+  }
+  std::string get_string() {
+    const std::uint64_t n = get<std::uint64_t>();
+    if (!ok || bytes.size() - at < n) return ok = false, std::string();
+    std::string s = bytes.substr(at, n);
+    at += n;
+    return s;
+  }
+  template <class T>
+  std::vector<T> get_array() {
+    const std::uint64_t n = get<std::uint64_t>();
+    if (!ok || (bytes.size() - at) / sizeof(T) < n) return ok = false, std::vector<T>();
+    std::vector<T> v(n);
+    std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));
+    at += n * sizeof(T);
+    return v;
+  }
+};
+
+// ---- the child: Gmsh through its C API ----------------------------------------------------------
+
+// Gmsh's C functions, looked up by name in libgmsh
+struct GmshApi {
+  decltype(&::gmshInitialize) initialize = nullptr;
+  decltype(&::gmshOpen) open = nullptr;
+  decltype(&::gmshOptionSetNumber) set_number = nullptr;
+  decltype(&::gmshModelGetEntities) get_entities = nullptr;
+  decltype(&::gmshModelGetPhysicalGroups) get_physical_groups = nullptr;
+  decltype(&::gmshModelGetEntitiesForPhysicalGroup) get_entities_for_physical_group = nullptr;
+  decltype(&::gmshModelGetPhysicalName) get_physical_name = nullptr;
+  decltype(&::gmshModelGetBoundary) get_boundary = nullptr;
+  decltype(&::gmshModelGetType) get_type = nullptr;
+  decltype(&::gmshModelGetNormal) get_normal = nullptr;
+  decltype(&::gmshModelGetParametrization) get_parametrization = nullptr;
+  decltype(&::gmshModelMeshGenerate) generate = nullptr;
+  decltype(&::gmshModelMeshRecombine) recombine = nullptr;
+  decltype(&::gmshModelMeshGetNodes) get_nodes = nullptr;
+  decltype(&::gmshModelMeshGetNodesForPhysicalGroup) get_nodes_for_physical_group = nullptr;
+  decltype(&::gmshModelMeshGetElements) get_elements = nullptr;
+  decltype(&::gmshModelMeshSetSize) set_size = nullptr;
+  decltype(&::gmshLoggerStart) logger_start = nullptr;
+  decltype(&::gmshLoggerGetLastError) last_error = nullptr;
+  decltype(&::gmshLoggerGet) logger_get = nullptr;
+
+  std::string load() {
+    void* h = nullptr;
+    for (const char* name : {"libgmsh.so", "libgmsh.so.4.8"})
+      if ((h = dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
+    if (!h)
+      return std::string("the Gmsh library is not installed (Debian: apt-get install libgmsh-dev; scripts/setup does "
+                         "it): ") + dlerror();
+    std::string missing;
+    const auto find = [&](auto& fn, const char* symbol) {
+      fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(dlsym(h, symbol));
+      if (!fn) missing += std::string(missing.empty() ? "" : ", ") + symbol;
+    };
+    find(initialize, "gmshInitialize");
+    find(open, "gmshOpen");
+    find(set_number, "gmshOptionSetNumber");
+    find(get_entities, "gmshModelGetEntities");
+    find(get_physical_groups, "gmshModelGetPhysicalGroups");
+    find(get_entities_for_physical_group, "gmshModelGetEntitiesForPhysicalGroup");
+    find(get_physical_name, "gmshModelGetPhysicalName");
+    find(get_boundary, "gmshModelGetBoundary");
+    find(get_type, "gmshModelGetType");
+    find(get_normal, "gmshModelGetNormal");
+    find(get_parametrization, "gmshModelGetParametrization");
+    find(generate, "gmshModelMeshGenerate");
+    find(recombine, "gmshModelMeshRecombine");
+    find(get_nodes, "gmshModelMeshGetNodes");
+    find(get_nodes_for_physical_group, "gmshModelMeshGetNodesForPhysicalGroup");
+    find(get_elements, "gmshModelMeshGetElements");
+    find(set_size, "gmshModelMeshSetSize");
+    find(logger_start, "gmshLoggerStart");
+    find(last_error, "gmshLoggerGetLastError");
+    find(logger_get, "gmshLoggerGet");
+    return missing.empty() ? std::string() : "the Gmsh library lacks " + missing + " (Gmsh 4.8 or later is needed)";
+  }
+
+  // the first line Gmsh logged as an error, or ""
+  std::string first_logged_error() const {
+    char** log = nullptr;
+    std::size_t n = 0;
+    int ierr = 0;
+    logger_get(&log, &n, &ierr);
+    for (std::size_t k = 0; k < n; ++k)
+      if (log[k] && std::strncmp(log[k], "Error", 5) == 0) return log[k];
+    return {};
+  }
+
+  // the last error Gmsh logged (its API returns a non-zero ierr and logs why)
+  std::string why() const {
+    char* e = nullptr;
+    int ierr = 0;
+    last_error(&e, &ierr);
+    std::string s = e ? e : "";
+    if (s.empty()) {  // some failures log only ordinary messages: take the last error-like line
+      char** log = nullptr;
+      std::size_t n = 0;
+      logger_get(&log, &n, &ierr);
+      for (std::size_t k = n; k-- > 0;)
+        if (log[k] && std::strstr(log[k], "rror")) {
+          s = log[k];
+          break;
+        }
+    }
+    return s.empty() ? std::string("Gmsh gave no reason") : s;
+  }
+};
+
+struct GmshFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+void check(const GmshApi& g, int ierr, const std::string& doing) {
+  if (ierr != 0) throw GmshFailure(doing + ": " + g.why());
+}
+
+// Refuse every call that writes, creates, deletes, renames, executes or opens a socket: a .geo
+// script runs with what the file system offers to read, nothing more. Returns false when the
+// kernel refuses the filter (the caller then refuses scripts).
+bool enter_read_only_sandbox() {
+#if defined(__x86_64__)
+  constexpr std::uint32_t arch = AUDIT_ARCH_X86_64;
+#elif defined(__aarch64__)
+  constexpr std::uint32_t arch = AUDIT_ARCH_AARCH64;
+#else
+  return false;
+#endif
+#if defined(__x86_64__) || defined(__aarch64__)
+  const long denied[] = {
+      SYS_execve, SYS_execveat, SYS_unlinkat, SYS_renameat2, SYS_mkdirat, SYS_linkat, SYS_symlinkat, SYS_truncate,
+      SYS_fchmodat, SYS_fchownat, SYS_mknodat, SYS_socket, SYS_connect, SYS_ptrace, SYS_kill, SYS_openat2,
+#if defined(__x86_64__)
+      SYS_unlink, SYS_rename, SYS_renameat, SYS_mkdir, SYS_rmdir, SYS_link, SYS_symlink, SYS_chmod, SYS_chown,
+      SYS_lchown, SYS_mknod, SYS_creat,
+#endif
+  };
+  constexpr std::uint32_t write_flags = O_WRONLY | O_RDWR | O_CREAT | O_TRUNC | O_APPEND;
+  std::vector<sock_filter> f;
+  const auto stmt = [&](std::uint16_t code, std::uint32_t k) { f.push_back(BPF_STMT(code, k)); };
+  const auto jump = [&](std::uint16_t code, std::uint32_t k, std::uint8_t jt, std::uint8_t jf) {
+    f.push_back(BPF_JUMP(code, k, jt, jf));
+  };
+  const std::uint32_t refuse = SECCOMP_RET_ERRNO | (EPERM & SECCOMP_RET_DATA);
+  stmt(BPF_LD | BPF_W | BPF_ABS, offsetof(seccomp_data, arch));
+  jump(BPF_JMP | BPF_JEQ | BPF_K, arch, 1, 0);
+  stmt(BPF_RET | BPF_K, SECCOMP_RET_KILL_PROCESS);
+  stmt(BPF_LD | BPF_W | BPF_ABS, offsetof(seccomp_data, nr));
+  for (long nr : denied) {
+    jump(BPF_JMP | BPF_JEQ | BPF_K, static_cast<std::uint32_t>(nr), 0, 1);
+    stmt(BPF_RET | BPF_K, refuse);
+  }
+  // open/openat with any flag that writes: refused (read-only opens pass)
+#if defined(__x86_64__)
+  jump(BPF_JMP | BPF_JEQ | BPF_K, SYS_open, 0, 4);
+  stmt(BPF_LD | BPF_W | BPF_ABS, offsetof(seccomp_data, args[1]));
+  jump(BPF_JMP | BPF_JSET | BPF_K, write_flags, 0, 1);
+  stmt(BPF_RET | BPF_K, refuse);
+  stmt(BPF_RET | BPF_K, SECCOMP_RET_ALLOW);
+#endif
+  jump(BPF_JMP | BPF_JEQ | BPF_K, SYS_openat, 0, 4);
+  stmt(BPF_LD | BPF_W | BPF_ABS, offsetof(seccomp_data, args[2]));
+  jump(BPF_JMP | BPF_JSET | BPF_K, write_flags, 0, 1);
+  stmt(BPF_RET | BPF_K, refuse);
+  stmt(BPF_RET | BPF_K, SECCOMP_RET_ALLOW);
+  stmt(BPF_RET | BPF_K, SECCOMP_RET_ALLOW);  // every other call
+  sock_fprog prog{static_cast<unsigned short>(f.size()), f.data()};
+  if (prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0) return false;
+  return prctl(PR_SET_SECCOMP, SECCOMP_MODE_FILTER, &prog) == 0;
+#endif
+}
+
+// Gmsh element types (gmsh's numbering) and what a shell makes of them
+constexpr int kLine2 = 1, kTriangle3 = 2, kQuad4 = 3, kPoint = 15;
+std::string element_type_words(int type) {
+  switch (type) {
+    case 4: return "tetrahedra";
+    case 5: return "hexahedra";
+    case 6: return "prisms";
+    case 7: return "pyramids";
+    case 8: return "second-order lines";
+    case 9: return "6-node triangles";
+    case 10: return "9-node quads";
+    case 16: return "8-node quads";
+    default: return "elements of Gmsh type " + std::to_string(type);
+  }
+}
+
+// Everything the child does with Gmsh; throws GmshFailure with a sentence
+void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
+  int ierr = 0;
+  g.initialize(0, nullptr, 0, &ierr);
+  check(g, ierr, "Gmsh did not start");
+  g.logger_start(&ierr);
+  g.set_number("General.Terminal", 0, &ierr);
+  g.set_number("General.AbortOnError", 0, &ierr);
+  g.open(r.path.c_str(), &ierr);
+  check(g, ierr, "Gmsh could not read it");
+  // a reader that meets a malformed file, or a script command that the sandbox refused (Save,
+  // System), logs an error and goes on: any error while reading is the file's fault
+  if (const std::string e = g.first_logged_error(); !e.empty()) throw GmshFailure("Gmsh could not read it: " + e +
+                       (lower_extension(r.path) == ".geo"
+                            ? " (FlexFrame runs .geo scripts read-only: a script may not write files or run commands)"
+                            : ""));
+
+  // physical groups, read before meshing (their entities carry the per-group sizes)
+  int* pg = nullptr;
+  std::size_t pg_n = 0;
+  g.get_physical_groups(&pg, &pg_n, -1, &ierr);
+  check(g, ierr, "reading its physical groups");
+  struct Physical {
+    int dim, tag;
+    std::string name;
+    std::vector<int> entities;
+  };
+  std::vector<Physical> physicals;
+  for (std::size_t k = 0; k + 1 < pg_n; k += 2) {
+    Physical p{pg[k], pg[k + 1], {}, {}};
+    char* name = nullptr;
+    g.get_physical_name(p.dim, p.tag, &name, &ierr);
+    p.name = name && *name ? name : "";
+    int* ents = nullptr;
+    std::size_t ents_n = 0;
+    g.get_entities_for_physical_group(p.dim, p.tag, &ents, &ents_n, &ierr);
+    check(g, ierr, "reading the entities of physical group " + std::to_string(p.tag));
+    p.entities.assign(ents, ents + ents_n);
+    physicals.push_back(std::move(p));
+  }
+  const auto dim_words = [](int dim) {
+    return dim == 0 ? std::string("point") : dim == 1 ? std::string("curve") : dim == 2 ? std::string("surface") : std::string("volume");
+  };
+  const auto physical_label = [&](const Physical& p) {
+    return "physical " + dim_words(p.dim) + " " + std::to_string(p.tag) + (p.name.empty() ? "" : " '" + p.name + "'");
+  };
+
+  std::vector<std::string> notes;
+  if (r.mesh_geometry) {
+    if (r.mesh_size > 0) g.set_number("Mesh.MeshSizeMax", r.mesh_size, &ierr);
+    for (const auto& [name, size] : r.group_sizes) {
+      const auto it = std::find_if(physicals.begin(), physicals.end(), [&](const Physical& p) { return p.name == name; });
+      if (it == physicals.end()) throw GmshFailure("part.group_sizes names group '" + name + "', which the file does not define");
+      std::vector<int> dim_tags;
+      for (int e : it->entities) dim_tags.push_back(it->dim), dim_tags.push_back(e);
+      int* points = nullptr;
+      std::size_t points_n = 0;
+      if (it->dim == 0) {
+        g.set_size(dim_tags.data(), dim_tags.size(), size, &ierr);
+      } else {
+        g.get_boundary(dim_tags.data(), dim_tags.size(), &points, &points_n, 0, 0, 1, &ierr);
+        check(g, ierr, "finding the points of group '" + name + "'");
+        g.set_size(points, points_n, size, &ierr);
+      }
+      check(g, ierr, "setting the size of group '" + name + "'");
+    }
+    // Frontal-Delaunay (6) with Blossom recombination: robust in Gmsh 4.8, where the quad-dedicated
+    // Frontal-Delaunay for quads (8) segfaulted on a cylindrical roof
+    g.set_number("Mesh.Algorithm", 6, &ierr);
+    g.set_number("Mesh.RecombineAll", 1, &ierr);
+    g.set_number("Mesh.RecombinationAlgorithm", 1, &ierr);
+    g.set_number("Mesh.ElementOrder", 1, &ierr);
+    g.generate(2, &ierr);
+    check(g, ierr, "Gmsh could not mesh it");
+    notes.push_back("meshed by Gmsh (Frontal-Delaunay, Blossom recombination" +
+                    (r.mesh_size > 0 ? ", size at most " + std::to_string(r.mesh_size) : std::string(", the file's sizes")) + ")");
+  } else if (r.recombine_triangles) {
+    g.recombine(&ierr);
+    check(g, ierr, "Gmsh could not recombine its triangles");
+    notes.push_back("triangles recombined into quads by Gmsh (Blossom)");
+  }
+
+  // nodes
+  std::size_t* tags = nullptr;
+  std::size_t tags_n = 0, coord_n = 0, par_n = 0;
+  double* coord = nullptr;
+  double* par = nullptr;
+  g.get_nodes(&tags, &tags_n, &coord, &coord_n, &par, &par_n, -1, -1, 0, 0, &ierr);
+  check(g, ierr, "reading its nodes");
+  std::unordered_map<std::size_t, int> index;
+  std::vector<double> xyz(coord, coord + coord_n);
+  for (std::size_t k = 0; k < tags_n; ++k) index.emplace(tags[k], static_cast<int>(k));
+  const auto node = [&](std::size_t tag) {
+    const auto it = index.find(tag);
+    if (it == index.end()) throw GmshFailure("an element names node " + std::to_string(tag) + ", which the file does not define");
+    return it->second;
+  };
+
+  // volumes are not shells
+  int* vols = nullptr;
+  std::size_t vols_n = 0;
+  g.get_entities(&vols, &vols_n, 3, &ierr);
+  for (std::size_t k = 0; k + 1 < vols_n; k += 2) {
+    int* types = nullptr;
+    std::size_t types_n = 0, *et_n = nullptr, et_nn = 0, *nt_n = nullptr, nt_nn = 0;
+    std::size_t** et = nullptr;
+    std::size_t** nt = nullptr;
+    g.get_elements(&types, &types_n, &et, &et_n, &et_nn, &nt, &nt_n, &nt_nn, 3, vols[k + 1], &ierr);
+    if (types_n > 0)
+      throw GmshFailure("volume " + std::to_string(vols[k + 1]) + " holds " + element_type_words(types[0]) +
+                        ": a shell is a surface mesh; export only the surface (or its mid-surface)");
+  }
+
+  // surface elements, entity by entity; exact normals where the surface is CAD geometry
+  int* surfs = nullptr;
+  std::size_t surfs_n = 0;
+  g.get_entities(&surfs, &surfs_n, 2, &ierr);
+  check(g, ierr, "reading its surfaces");
+  std::vector<std::int32_t> elem_nodes, elem_entity;
+  std::vector<std::int64_t> elem_tag;
+  std::vector<double> normals;  // 12 per element when exact
+  std::map<std::size_t, int> element_index;  // Gmsh tag -> our index
+  bool exact = r.mesh_geometry;
+  for (std::size_t s = 0; s + 1 < surfs_n; s += 2) {
+    const int tag = surfs[s + 1];
+    int* types = nullptr;
+    std::size_t types_n = 0, *et_n = nullptr, et_nn = 0, *nt_n = nullptr, nt_nn = 0;
+    std::size_t** et = nullptr;
+    std::size_t** nt = nullptr;
+    g.get_elements(&types, &types_n, &et, &et_n, &et_nn, &nt, &nt_n, &nt_nn, 2, tag, &ierr);
+    check(g, ierr, "reading the elements of surface " + std::to_string(tag));
+    char* type_name = nullptr;
+    g.get_type(2, tag, &type_name, &ierr);
+    const bool discrete = !type_name || std::strstr(type_name, "Discrete") != nullptr;
+    if (discrete) exact = false;
+    for (std::size_t t = 0; t < types_n; ++t) {
+      const int k = types[t] == kTriangle3 ? 3 : types[t] == kQuad4 ? 4 : 0;
+      if (k == 0)
+        throw GmshFailure("surface " + std::to_string(tag) + " holds " + element_type_words(types[t]) +
+                          ": FlexFrame's shell element takes 3- and 4-node elements (set Mesh.ElementOrder = 1)");
+      for (std::size_t e = 0; e < et_n[t]; ++e) {
+        std::array<std::int32_t, 4> n{-1, -1, -1, -1};
+        for (int a = 0; a < k; ++a) n[a] = node(nt[t][e * k + a]);
+        element_index[et[t][e]] = static_cast<int>(elem_tag.size());
+        elem_nodes.insert(elem_nodes.end(), n.begin(), n.end());
+        elem_entity.push_back(tag);
+        elem_tag.push_back(static_cast<std::int64_t>(et[t][e]));
+        if (exact && !discrete) {
+          std::vector<double> c;
+          for (int a = 0; a < 4; ++a) {
+            const int id = n[a < k ? a : 0];
+            c.insert(c.end(), {xyz[3 * id], xyz[3 * id + 1], xyz[3 * id + 2]});
+          }
+          double* uv = nullptr;
+          std::size_t uv_n = 0;
+          g.get_parametrization(2, tag, c.data(), c.size(), &uv, &uv_n, &ierr);
+          double* nn = nullptr;
+          std::size_t nn_n = 0;
+          if (ierr == 0 && uv_n == 8) g.get_normal(tag, uv, uv_n, &nn, &nn_n, &ierr);
+          if (ierr != 0 || nn_n != 12) {
+            exact = false;
+          } else {
+            normals.insert(normals.end(), nn, nn + 12);
+          }
+        }
+      }
+    }
+  }
+  if (elem_tag.empty()) throw GmshFailure("it holds no surface elements (no triangles or quads on any surface)");
+  for (double v : normals)
+    if (!std::isfinite(v)) exact = false;
+  if (!exact) normals.clear();
+  else notes.push_back("directors from the CAD surfaces' own normals");
+
+  // groups
+  w.put<std::uint8_t>(1);
+  w.put_array(xyz);
+  w.put_array(elem_nodes);
+  w.put_array(elem_entity);
+  w.put_array(elem_tag);
+  w.put_array(normals);
+  w.put<std::uint64_t>(physicals.size());
+  for (const Physical& p : physicals) {
+    if (p.dim == 3) throw GmshFailure(physical_label(p) + " is a volume group; a shell mesh has no volumes");
+    w.put_string(p.name.empty() ? std::to_string(p.tag) : p.name);
+    w.put<std::int32_t>(p.dim);
+    w.put_string(physical_label(p));
+    std::size_t* nt = nullptr;
+    std::size_t nt_n = 0, c_n = 0;
+    double* c = nullptr;
+    g.get_nodes_for_physical_group(p.dim, p.tag, &nt, &nt_n, &c, &c_n, &ierr);
+    check(g, ierr, "reading the nodes of " + physical_label(p));
+    std::vector<std::int32_t> nodes;
+    for (std::size_t k = 0; k < nt_n; ++k) nodes.push_back(node(nt[k]));
+    std::vector<std::int32_t> elements, segments;
+    for (int entity : p.entities) {
+      int* types = nullptr;
+      std::size_t types_n = 0, *et_n = nullptr, et_nn = 0, *ntn = nullptr, nt_nn = 0;
+      std::size_t** et = nullptr;
+      std::size_t** ntt = nullptr;
+      g.get_elements(&types, &types_n, &et, &et_n, &et_nn, &ntt, &ntn, &nt_nn, p.dim, entity, &ierr);
+      check(g, ierr, "reading the elements of " + physical_label(p));
+      for (std::size_t t = 0; t < types_n; ++t) {
+        if (p.dim == 2)
+          for (std::size_t e = 0; e < et_n[t]; ++e) elements.push_back(element_index.at(et[t][e]));
+        if (p.dim == 1 && types[t] == kLine2)
+          for (std::size_t e = 0; e < et_n[t]; ++e)
+            segments.push_back(node(ntt[t][2 * e])), segments.push_back(node(ntt[t][2 * e + 1]));
+        if (p.dim == 0 && types[t] != kPoint) continue;
+      }
+    }
+    w.put_array(nodes);
+    w.put_array(elements);
+    w.put_array(segments);
+  }
+  w.put<std::uint64_t>(notes.size());
+  for (const std::string& n : notes) w.put_string(n);
+}
+
+[[noreturn]] void child_main(int fd, const GmshMeshRequest& r) {
+  // Gmsh and OpenCASCADE print to stdout and stderr: the run's own output must stay clean
+  const int devnull = ::open("/dev/null", O_RDWR);
+  if (devnull >= 0) dup2(devnull, 0), dup2(devnull, 1), dup2(devnull, 2);
+  // only the pipe stays open: no descriptor of the parent's (a results file) is reachable
+  if (fd != 3) {
+    dup2(fd, 3);
+    fd = 3;
+  }
+  syscall(SYS_close_range, 4u, ~0u, 0u);
+  if (r.memory_limit_bytes > 0) {
+    const rlim_t limit = static_cast<rlim_t>(r.memory_limit_bytes);
+    rlimit lim{limit, limit};
+    setrlimit(RLIMIT_AS, &lim);
+  }
+  Writer w;
+  GmshApi g;
+  std::string problem = g.load();
+  if (problem.empty() && !enter_read_only_sandbox())
+    problem = "the kernel refused the read-only sandbox in which FlexFrame runs Gmsh, so the file is not opened";
+  if (problem.empty()) {
+    try {
+      mesh_in_child(g, r, w);
+    } catch (const GmshFailure& e) {
+      problem = e.what();
+    } catch (const std::bad_alloc&) {
+      problem = "Gmsh ran out of the memory this machine allows";
+    } catch (const std::exception& e) {
+      problem = std::string("Gmsh failed: ") + e.what();
+    } catch (const std::string& e) {  // Gmsh's C++ core throws strings
+      problem = "Gmsh failed: " + e;
+    } catch (...) {
+      problem = "Gmsh failed with an unknown exception";
+    }
+  }
+  if (!problem.empty()) {
+    w.bytes.clear();
+    w.put<std::uint8_t>(0);
+    w.put_string(problem);
+  }
+  const char* p = w.bytes.data();
+  std::size_t left = w.bytes.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) _exit(3);
+    p += n, left -= static_cast<std::size_t>(n);
+  }
+  _exit(0);
+}
+
+std::string signal_words(int sig) {
+  const char* name = sigdescr_np(sig);
+  return std::string(name ? name : "signal") + " (signal " + std::to_string(sig) + ")";
+}
+
+}  // namespace
+
+bool gmsh_reads(const std::string& path) {
+  const std::string e = lower_extension(path);
+  return e == ".msh" || gmsh_is_geometry(path);
+}
+
+bool gmsh_is_geometry(const std::string& path) {
+  const std::string e = lower_extension(path);
+  return e == ".step" || e == ".stp" || e == ".iges" || e == ".igs" || e == ".brep" || e == ".brp" || e == ".geo";
+}
+
+bool read_with_gmsh(const GmshMeshRequest& r, ImportedSurface& out, std::string* error) {
+  const std::string who = "mesh file '" + r.path + "'";
+  std::error_code ec;
+  if (!fs::exists(r.path, ec)) return fail(error, who + " does not exist");
+  if (fs::is_directory(r.path, ec)) return fail(error, who + " is a directory, not a mesh file");
+  {  // readable at all, before a process is started for it
+    FILE* f = std::fopen(r.path.c_str(), "rb");
+    if (!f) return fail(error, "cannot open " + who);
+    std::fclose(f);
+  }
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0) return fail(error, "cannot start Gmsh for " + who + ": no pipe");
+  const pid_t pid = fork();
+  if (pid < 0) {
+    close(fds[0]), close(fds[1]);
+    return fail(error, "cannot start Gmsh for " + who + ": fork failed");
+  }
+  if (pid == 0) {
+    close(fds[0]);
+    child_main(fds[1], r);
+  }
+  close(fds[1]);
+  std::string bytes;
+  const auto start = std::chrono::steady_clock::now();
+  std::string stopped;
+  const double byte_limit = r.memory_limit_bytes > 0 ? r.memory_limit_bytes : 8e9;
+  char buffer[1 << 16];
+  while (true) {
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = poll(&p, 1, 100);
+    if (ready > 0) {
+      const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      bytes.append(buffer, static_cast<std::size_t>(n));
+      if (static_cast<double>(bytes.size()) > byte_limit) {
+        stopped = "its mesh exceeds the memory this machine allows";
+        break;
+      }
+    } else if (ready < 0 && errno != EINTR) {
+      break;
+    }
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (r.stop && r.stop->load()) {
+      stopped = "stopped by a signal while Gmsh was working";
+      break;
+    }
+    if (elapsed > r.time_limit_seconds) {
+      stopped = "Gmsh did not finish within " + std::to_string(static_cast<int>(r.time_limit_seconds)) +
+                " s (part.mesh_time_limit); a smaller part.mesh_size makes more elements and takes longer";
+      break;
+    }
+  }
+  close(fds[0]);
+  if (!stopped.empty()) kill(pid, SIGKILL);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (!stopped.empty()) return fail(error, who + ": " + stopped);
+  if (WIFSIGNALED(status))
+    return fail(error, who + ": Gmsh crashed on it (" + signal_words(WTERMSIG(status)) +
+                           "); the file may be malformed, or Gmsh cannot mesh this geometry");
+  Reader in{bytes};
+  const std::uint8_t ok = in.get<std::uint8_t>();
+  if (!in.ok) return fail(error, who + ": Gmsh ended without an answer (exit status " + std::to_string(WEXITSTATUS(status)) + ")");
+  if (!ok) return fail(error, who + ": " + in.get_string());
+
+  ImportedSurface s;
+  s.file = fs::path(r.path).filename().string();
+  const std::string ext = lower_extension(r.path);
+  s.format = r.mesh_geometry ? ext.substr(1) + " geometry meshed by Gmsh" : "Gmsh MSH";
+  const std::vector<double> xyz = in.get_array<double>();
+  const std::vector<std::int32_t> elem_nodes = in.get_array<std::int32_t>();
+  const std::vector<std::int32_t> elem_entity = in.get_array<std::int32_t>();
+  const std::vector<std::int64_t> elem_tag = in.get_array<std::int64_t>();
+  const std::vector<double> normals = in.get_array<double>();
+  if (!in.ok || xyz.size() % 3 != 0 || elem_nodes.size() != 4 * elem_entity.size() || elem_tag.size() != elem_entity.size() ||
+      (!normals.empty() && normals.size() != 12 * elem_tag.size()))
+    return fail(error, who + ": Gmsh's answer was cut short");
+  for (std::size_t k = 0; k < xyz.size(); k += 3) s.points.emplace_back(xyz[k], xyz[k + 1], xyz[k + 2]);
+  for (std::size_t e = 0; e < elem_entity.size(); ++e) {
+    ImportedElement el;
+    for (int a = 0; a < 4; ++a) el.nodes[a] = elem_nodes[4 * e + a];
+    el.entity = elem_entity[e];
+    el.where = "element " + std::to_string(elem_tag[e]) + " (surface " + std::to_string(elem_entity[e]) + ")";
+    s.elements.push_back(std::move(el));
+    if (!normals.empty()) {
+      std::array<Eigen::Vector3d, 4> n;
+      for (int a = 0; a < 4; ++a) n[a] = Eigen::Vector3d(normals[12 * e + 3 * a], normals[12 * e + 3 * a + 1], normals[12 * e + 3 * a + 2]);
+      s.corner_normals.push_back(n);
+    }
+  }
+  const std::uint64_t groups = in.get<std::uint64_t>();
+  for (std::uint64_t k = 0; in.ok && k < groups; ++k) {
+    ImportedGroup grp;
+    grp.name = in.get_string();
+    grp.dimension = in.get<std::int32_t>();
+    grp.origin = in.get_string() + " in " + s.file;
+    const auto nodes = in.get_array<std::int32_t>();
+    const auto elements = in.get_array<std::int32_t>();
+    const auto segments = in.get_array<std::int32_t>();
+    grp.nodes.assign(nodes.begin(), nodes.end());
+    grp.elements.assign(elements.begin(), elements.end());
+    for (std::size_t i = 0; i + 1 < segments.size(); i += 2) grp.segments.push_back({segments[i], segments[i + 1]});
+    s.groups.push_back(std::move(grp));
+  }
+  const std::uint64_t notes = in.get<std::uint64_t>();
+  for (std::uint64_t k = 0; in.ok && k < notes; ++k) s.notes.push_back(in.get_string());
+  if (!in.ok) return fail(error, who + ": Gmsh's answer was cut short");
+  out = std::move(s);
+  return true;
+}
+
+}  // namespace ff::io

@@ -1,0 +1,54 @@
+#pragma once
+/// \file gmsh_import.h
+/// Meshes through the Gmsh library: .msh files (formats 2 and 4) read as they are, and CAD parts
+/// (STEP, IGES, BREP) or Gmsh .geo scripts meshed into quads, into core's ImportedSurface
+/// (core/mesh/imported_surface.h) with every physical group as a named group.
+///
+/// Every Gmsh call runs in a child process (fork), for three reasons measured or read in Gmsh 4.8:
+/// - a crash in Gmsh (the quad mesher, Mesh.Algorithm = 8, segfaults on a simple cylindrical
+///   roof; malformed files reach asserts) must not take the run with it: the child's death is
+///   reported with its signal;
+/// - a mesher that runs long is bounded: the child is killed at the time limit, or when the
+///   stop flag (a signal) is set;
+/// - a .geo script is a program (it can Save files and run System commands): the child runs
+///   under a seccomp filter that refuses every write, create, delete, rename, exec and socket
+///   call, so a scene from a stranger cannot touch anything outside its output folder. Its
+///   memory is limited to the machine's limit (setrlimit), so a huge mesh fails in the child.
+/// The child sends the mesh back through a pipe; nothing is written to disk.
+
+#include <atomic>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/mesh/imported_surface.h"
+
+namespace ff::io {
+
+struct GmshMeshRequest {
+  std::string path;
+  /// CAD or .geo: generate a 2D mesh (recombined into quads). A .msh file is read as it is.
+  bool mesh_geometry = false;
+  /// the largest element size (Mesh.MeshSizeMax); 0 = the file's own sizes (a .geo's)
+  double mesh_size = 0.0;
+  /// a smaller size at the points of a named physical group (name, size)
+  std::vector<std::pair<std::string, double>> group_sizes;
+  /// a mesh file's triangles joined into quads by Gmsh's recombination (Blossom)
+  bool recombine_triangles = false;
+  double time_limit_seconds = 300.0;
+  double memory_limit_bytes = 0.0;  ///< 0: no limit
+  const std::atomic<bool>* stop = nullptr;
+};
+
+/// True for the extensions Gmsh reads here: .msh, .step/.stp, .iges/.igs, .brep/.brp, .geo.
+bool gmsh_reads(const std::string& path);
+/// True when the file is geometry to be meshed (not .msh).
+bool gmsh_is_geometry(const std::string& path);
+
+/// Reads or meshes `request.path` into `out`. False with a complete sentence naming the file and
+/// the entity or group at fault in *error: unreadable file, Gmsh error (with its last message),
+/// no surface, volume or second-order elements, an empty or unnamed-group problem, a crash (the
+/// signal), the time limit, a stop, or memory.
+bool read_with_gmsh(const GmshMeshRequest& request, ff::mesh::ImportedSurface& out, std::string* error);
+
+}  // namespace ff::io
