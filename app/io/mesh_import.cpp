@@ -1,5 +1,6 @@
 #include "app/io/mesh_import.h"
 
+#include "app/io/gmsh_import.h"
 #include "app/io/machine_memory.h"
 
 #include <assimp/Importer.hpp>
@@ -69,6 +70,8 @@ struct RawSurface {
   std::vector<std::array<int, 4>> quads;
   std::vector<std::array<Vec3, 4>> corner_normals;  // empty: the file has no normals
   std::vector<int> quad_line;                        // per quad; 0 where unknown
+  std::vector<std::array<int, 3>> triangle_faces;    // kept for TriangleHandling::split
+  std::vector<int> triangle_line;                    // per triangle; 0 where unknown
   int triangles = 0, polygons = 0, points_or_lines = 0, faces = 0;
   int first_other_line = 0, first_other_face = -1;   // where the first non-quad face is
   std::string format;                                // "OBJ", "PLY", ...
@@ -171,8 +174,12 @@ bool read_obj(const std::string& path, const std::string& who, RawSurface& raw, 
       }
       if (f.v.empty()) return bad(at, "a face with no vertex indices (a shell face is 4 vertices: 'f a b c d')");
       ++raw.faces;
-      if (f.v.size() == 4) {
+      if (f.v.size() == 4 || f.v.size() == 3) {
         faces.push_back(std::move(f));
+        if (faces.back().v.size() == 3) {
+          ++raw.triangles;
+          if (!raw.first_other_line) raw.first_other_line = at;
+        }
       } else {
         (f.v.size() == 3 ? raw.triangles : f.v.size() > 4 ? raw.polygons : raw.points_or_lines)++;
         if (!raw.first_other_line) raw.first_other_line = at;
@@ -189,8 +196,21 @@ bool read_obj(const std::string& path, const std::string& who, RawSurface& raw, 
   const long long nv = static_cast<long long>(raw.points.size()), nn = static_cast<long long>(normals.size());
   bool all_normals = !faces.empty();
   for (const Face& f : faces)
-    for (long long n : f.n) all_normals = all_normals && n != 0;
+    if (f.v.size() == 4)
+      for (long long n : f.n) all_normals = all_normals && n != 0;
   for (const Face& f : faces) {
+    if (f.v.size() == 3) {
+      std::array<int, 3> t;
+      for (int k = 0; k < 3; ++k) {
+        if (f.v[k] < 1 || f.v[k] > nv)
+          return bad(f.line, "vertex " + std::to_string(f.v[k]) + " does not exist (the file has " + std::to_string(nv) +
+                                 " vertices)");
+        t[k] = static_cast<int>(f.v[k] - 1);
+      }
+      raw.triangle_faces.push_back(t);
+      raw.triangle_line.push_back(f.line);
+      continue;
+    }
     std::array<int, 4> q;
     std::array<Vec3, 4> cn;
     for (int k = 0; k < 4; ++k) {
@@ -368,6 +388,11 @@ void add_mesh(const aiMesh& m, const aiMatrix4x4& X_WN, RawSurface& raw, bool& a
     } else {
       (face.mNumIndices == 3 ? raw.triangles : face.mNumIndices > 4 ? raw.polygons : raw.points_or_lines)++;
       if (raw.first_other_face < 0) raw.first_other_face = raw.faces - 1;
+      if (face.mNumIndices == 3) {
+        raw.triangle_faces.push_back({base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[1]),
+                                      base + static_cast<int>(face.mIndices[2])});
+        raw.triangle_line.push_back(0);
+      }
     }
   }
 }
@@ -404,6 +429,10 @@ bool read_with_assimp(const std::string& path, const std::string& who, RawSurfac
     if (raw.points[v].cwiseAbs().maxCoeff() > 1e150)
       return fail(error, who + ": vertex " + std::to_string(v) + " has a coordinate beyond 1e150");
   }
+  for (const auto& t : raw.triangle_faces)
+    for (int k : t)
+      if (k < 0 || k >= static_cast<int>(raw.points.size()))
+        return fail(error, who + ": a triangle names vertex " + std::to_string(k) + ", which does not exist");
   for (std::size_t q = 0; q < raw.quads.size(); ++q)  // ValidateDataStructure checks this too; cheap to be sure
     for (int k : raw.quads[q])
       if (k < 0 || k >= static_cast<int>(raw.points.size()))
@@ -494,6 +523,43 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
 
   if (raw.faces == 0) return fail(error, who + " contains no faces (a shell mesh needs quads)");
   const int not_quads = raw.faces - static_cast<int>(raw.quads.size());
+  if (not_quads > 0 && not_quads == raw.triangles && options.triangles == ff::mesh::TriangleHandling::split) {
+    // triangles (and quads): split into quads by core's conversion; the file's normals are not
+    // used (the split makes new nodes the file has no normal for), directors are averaged
+    if (options.weld_tolerance > 0) {
+      if (weld_tolerance_at_fault) *weld_tolerance_at_fault = true;
+      return fail(error, who + " holds triangles, and welding is done for quad meshes only: leave part.weld_tolerance "
+                               "at 0 (STL vertices at one place are joined anyway)");
+    }
+    ff::mesh::ImportedSurface surface;
+    surface.file = fs::path(path).filename().string();
+    surface.format = raw.format;
+    surface.points = raw.points;
+    for (std::size_t q = 0; q < raw.quads.size(); ++q) {
+      ff::mesh::ImportedElement e;
+      e.nodes = raw.quads[q];
+      e.where = where(raw, static_cast<int>(q));
+      surface.elements.push_back(std::move(e));
+    }
+    for (std::size_t t = 0; t < raw.triangle_faces.size(); ++t) {
+      ff::mesh::ImportedElement e;
+      e.nodes = {raw.triangle_faces[t][0], raw.triangle_faces[t][1], raw.triangle_faces[t][2], -1};
+      e.where = raw.triangle_line[t] > 0 ? "line " + std::to_string(raw.triangle_line[t]) : "triangle " + std::to_string(t);
+      surface.elements.push_back(std::move(e));
+    }
+    ff::mesh::SurfaceConversionOptions convert;
+    convert.triangles = ff::mesh::TriangleHandling::split;
+    convert.crease_angle_deg = options.crease_angle_deg;
+    convert.frame_reference = options.frame_reference;
+    convert.patch_name = fs::path(path).stem().string();
+    ff::mesh::SurfaceConversionReport report;
+    ShellMesh m;
+    if (!ff::mesh::shell_mesh_from_surface(surface, convert, m, error, &report)) return false;
+    m.patches[0].description = "imported from " + surface.file + " (" + raw.format + "; " + report.summary() +
+                               (raw.corner_normals.empty() ? "" : "; the file's normals are not used for a split mesh") + ")";
+    out = std::move(m);
+    return true;
+  }
   if (not_quads > 0) {
     std::string msg = who + ": " + std::to_string(not_quads) + " of " + std::to_string(raw.faces) +
                       " faces are not quads (" + std::to_string(raw.triangles) + " triangles, " +
@@ -501,8 +567,9 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
                       std::to_string(raw.points_or_lines) + " points or lines; the first " +
                       (raw.first_other_line ? "at line " + std::to_string(raw.first_other_line)
                                             : "is face " + std::to_string(raw.first_other_face)) +
-                      "); shell elements are 4-node quads and the importer neither "
-                      "triangulates nor recombines faces, so export the surface with quad faces only";
+                      "); shell elements are 4-node quads" +
+                      (raw.triangles == not_quads ? std::string(": set part.triangles = \"split\" to split each triangle into three quads")
+                                                  : std::string(", and only triangles can be split: export the surface with quads and triangles only"));
     if (ext == ".stl" || ext == ".gltf" || ext == ".glb")
       msg += " (STL and glTF 2.0 store triangles only: use OBJ or PLY for quad meshes)";
     return fail(error, msg);
@@ -650,17 +717,112 @@ ff::scene::SceneContext scene_context(const std::atomic<bool>* stop) {
     ctx.setup.progress = setup_progress_printer();
   }
   ctx.memory_limit_bytes = machine_memory_limit_bytes();
-  ctx.mesh_reader = [limit = ctx.memory_limit_bytes](const ff::scene::MeshFileRequest& request, ShellMesh& out,
-                                                     ff::scene::MeshFileError* error) {
-    MeshImportOptions options;
-    options.weld_tolerance = request.weld_tolerance;
-    options.memory_limit_bytes = limit;
-    bool tolerance_at_fault = false;
-    const bool ok = import_shell_mesh(request.path, out, error ? &error->message : nullptr, options, &tolerance_at_fault);
-    if (!ok && error && tolerance_at_fault) error->key = "part.weld_tolerance";
-    return ok;
+  // a scene's parts are read twice (their size first, for the memory check, then the mesh): a
+  // CAD part is meshed once
+  struct Cached {
+    ff::scene::MeshFileRequest request;
+    ShellMesh mesh;
+  };
+  auto cache = std::make_shared<std::vector<Cached>>();
+  ctx.mesh_reader = [limit = ctx.memory_limit_bytes, stop, cache](const ff::scene::MeshFileRequest& request, ShellMesh& out,
+                                                                  ff::scene::MeshFileError* error) {
+    for (const Cached& c : *cache)
+      if (c.request == request) {
+        out = c.mesh;
+        return true;
+      }
+    ff::scene::MeshFileError local;
+    ff::scene::MeshFileError& e = error ? *error : local;
+    if (!read_mesh_file(request, out, e, limit, stop)) return false;
+    cache->push_back({request, out});
+    return true;
   };
   return ctx;
+}
+
+bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, ff::scene::MeshFileError& error,
+                    double memory_limit_bytes, const std::atomic<bool>* stop) {
+  const std::string ext = lower_extension(request.path);
+  const std::string name = fs::path(request.path).filename().string();
+  const bool gmsh = gmsh_reads(request.path), geometry = gmsh_is_geometry(request.path);
+  const bool by_gmsh = gmsh || (ext == ".stl" && request.triangles == "recombine");
+  const auto refuse = [&](const std::string& key, const std::string& message) {
+    error.key = key;
+    error.message = message;
+    return false;
+  };
+  // keys that only some formats use: refused where they would do nothing
+  if (!geometry && request.mesh_size > 0)
+    return refuse("part.mesh_size", "part.mesh_size is the element size Gmsh meshes a CAD part at (STEP, IGES, BREP, "
+                                    ".geo); '" + name + "' is a mesh already");
+  if (!geometry && !request.local_size_groups.empty())
+    return refuse("part.local_size_groups", "part.local_size_groups sizes the mesh Gmsh makes of a CAD part; '" + name +
+                                                "' is a mesh already");
+  if (geometry && ext != ".geo" && !(request.mesh_size > 0))
+    return refuse("part.file", "'" + name + "' is a CAD part: Gmsh meshes it at the size part.mesh_size, which the "
+                               "scene must give (the largest element edge, in the scene's length unit)");
+  if (request.triangles == "recombine" && !by_gmsh)
+    return refuse("part.triangles", "Gmsh recombines the triangles of .msh and .stl files; '" + name +
+                                        "' is read otherwise: use part.triangles = \"split\"");
+  if (!request.group.empty() && !by_gmsh && ext != ".inp")
+    return refuse("part.group", "'" + name + "' has no named groups (they come from Gmsh .msh and CAD files, and "
+                                "Abaqus .inp sets): part.group cannot pick one");
+  if (request.weld_tolerance > 0 && (by_gmsh || ext == ".inp"))
+    return refuse("part.weld_tolerance", "part.weld_tolerance joins the loose vertices of OBJ and PLY files; '" + name +
+                                             "' numbers its nodes, and elements that share a node share it already");
+
+  ff::mesh::ImportedSurface surface;
+  if (by_gmsh) {
+    GmshMeshRequest g;
+    g.path = request.path;
+    g.mesh_geometry = geometry;
+    g.mesh_size = request.mesh_size;
+    for (std::size_t k = 0; k < request.local_size_groups.size() && k < request.local_sizes.size(); ++k)
+      g.group_sizes.emplace_back(request.local_size_groups[k], request.local_sizes[k]);
+    g.recombine_triangles = request.triangles == "recombine";
+    g.time_limit_seconds = request.time_limit_seconds;
+    g.memory_limit_bytes = memory_limit_bytes;
+    g.stop = stop;
+    std::string why;
+    if (!read_with_gmsh(g, surface, &why)) {
+      // a group size naming no group is the scene's key, not the file
+      return refuse(why.find("part.local_size_groups") != std::string::npos || why.find("group_sizes") != std::string::npos
+                        ? "part.local_size_groups" : "part.file", why);
+    }
+  } else {
+    MeshImportOptions options;
+    options.weld_tolerance = request.weld_tolerance;
+    options.memory_limit_bytes = memory_limit_bytes;
+    options.triangles = request.triangles == "refuse" ? ff::mesh::TriangleHandling::refuse : ff::mesh::TriangleHandling::split;
+    options.crease_angle_deg = request.crease_angle_deg;
+    bool tolerance_at_fault = false;
+    const bool ok = import_shell_mesh(request.path, out, &error.message, options, &tolerance_at_fault);
+    if (!ok && tolerance_at_fault) error.key = "part.weld_tolerance";
+    return ok;
+  }
+  ff::mesh::SurfaceConversionOptions convert;
+  convert.triangles = request.triangles == "refuse" ? ff::mesh::TriangleHandling::refuse : ff::mesh::TriangleHandling::split;
+  convert.crease_angle_deg = request.crease_angle_deg;
+  convert.patch_name = request.group.empty() ? fs::path(request.path).stem().string() : request.group;
+  convert.only_group = request.group;
+  ff::mesh::SurfaceConversionReport report;
+  ShellMesh m;
+  std::string why;
+  if (!ff::mesh::shell_mesh_from_surface(surface, convert, m, &why, &report)) {
+    const bool group_at_fault = !request.group.empty() && why.find("no surface group called") != std::string::npos;
+    const bool triangles_at_fault = why.find("part.triangles") != std::string::npos;
+    return refuse(group_at_fault ? "part.group" : triangles_at_fault ? "part.triangles" : "part.file",
+                  "mesh file '" + request.path + "': " + why);
+  }
+  std::string notes;
+  for (const std::string& n : surface.notes) notes += "; " + n;
+  std::string groups;
+  for (const ff::mesh::MeshGroup& grp : m.groups) groups += (groups.empty() ? "" : ", ") + grp.name;
+  m.patches[0].description = "imported from " + surface.file + " (" + surface.format + notes + "; " + report.summary() +
+                             "; " + std::to_string(m.node_count()) + " nodes, " + std::to_string(m.quad_count()) + " quads" +
+                             (groups.empty() ? std::string("; no named groups") : "; groups: " + groups) + ")";
+  out = std::move(m);
+  return true;
 }
 
 bool write_shell_mesh_obj(const std::string& path, const ShellMesh& mesh, std::string* error, bool normals) {

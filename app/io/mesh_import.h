@@ -28,6 +28,7 @@
 #include <atomic>
 #include <string>
 
+#include "core/mesh/imported_surface.h"
 #include "core/mesh/shell_mesh.h"
 #include "core/scene/scene_context.h"
 
@@ -46,6 +47,10 @@ struct MeshImportOptions {
   /// are checked against the file's size and this limit; a file that cannot hold what it declares,
   /// or whose elements would not fit, is refused without allocating for them.
   double memory_limit_bytes = 0.0;
+  /// triangles: refused (the default here), or split into quads with core's conversion
+  /// (core/mesh/imported_surface.h; then directors are averaged and the file's normals unused)
+  ff::mesh::TriangleHandling triangles = ff::mesh::TriangleHandling::refuse;
+  double crease_angle_deg = 30.0;  ///< for a split mesh's averaged directors
 };
 
 /// Reads `path` into `out`. Returns false and sets *error (a complete sentence naming the file)
@@ -63,6 +68,13 @@ bool import_shell_mesh(const std::string& path, ff::mesh::ShellMesh& out, std::s
 /// memory limit. With `stop`, long set-up polls it (a signal ends it within a fraction of a second)
 /// and says what it is doing on stderr once it has taken more than a second.
 ff::scene::SceneContext scene_context(const std::atomic<bool>* stop = nullptr);
+
+/// Reads the mesh a scene part asks for (core/scene/mesh_file.h), whatever its format: .msh and CAD
+/// (STEP, IGES, BREP, .geo) through Gmsh (gmsh_import.h), Abaqus .inp, OBJ/PLY/STL through
+/// import_shell_mesh; triangles as the request says; named groups kept. On failure, error says
+/// why and which part.* key is at fault.
+bool read_mesh_file(const ff::scene::MeshFileRequest& request, ff::mesh::ShellMesh& out, ff::scene::MeshFileError& error,
+                    double memory_limit_bytes = 0.0, const std::atomic<bool>* stop = nullptr);
 
 /// Writes points and quads as Wavefront OBJ (1-based "f a b c d", 17 significant digits); with
 /// `normals`, every quad corner's director as a vn record ("f a//i b//j ...").

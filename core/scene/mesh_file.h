@@ -7,25 +7,37 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/mesh/shell_mesh.h"
 
 namespace ff::scene {
 
-/// What a scene asks of its mesh file.
+/// What a scene asks of its mesh file (the part.* keys of generator = "file").
 struct MeshFileRequest {
   std::string path;             ///< resolved against the scene file's folder
-  double weld_tolerance = 0.0;  ///< mesh.weld_tolerance: join vertices closer than this (0: none)
+  double weld_tolerance = 0.0;  ///< part.weld_tolerance: join vertices closer than this (0: none)
+  /// part.triangles: "refuse", "split" (each triangle into three quads) or "recombine" (Gmsh)
+  std::string triangles = "split";
+  double crease_angle_deg = 30.0;  ///< part.crease_angle: averaged directors fold across sharper edges
+  std::string group;               ///< part.group: only this surface group of the file ("" = all)
+  double mesh_size = 0.0;          ///< part.mesh_size: CAD and .geo files, the largest element (0 = the file's)
+  std::vector<std::string> local_size_groups;  ///< part.local_size_groups
+  std::vector<double> local_sizes;             ///< part.local_sizes, one per group above
+  double time_limit_seconds = 300.0;           ///< part.mesh_time_limit: Gmsh is stopped after this
+  bool operator==(const MeshFileRequest&) const = default;
 };
 
 /// Why a mesh file was not read: a complete sentence naming the file, and the scene key at fault
-/// ("" = mesh.file itself; "mesh.weld_tolerance" when that request could not be met).
+/// ("" = part.file itself; e.g. "part.weld_tolerance", "part.group" when that request could not
+/// be met).
 struct MeshFileError {
   std::string message;
   std::string key;
 };
 
-/// Reads the quad mesh of `request` into `out`; on failure returns false and fills *error.
+/// Reads the mesh of `request` into `out` (quads, named groups in out.groups, what was done in
+/// the patch description); on failure returns false and fills *error.
 using MeshFileReader = std::function<bool(const MeshFileRequest& request, mesh::ShellMesh& out, MeshFileError* error)>;
 
 }  // namespace ff::scene

@@ -31,7 +31,9 @@ const std::map<std::string, std::vector<std::string>>& generator_keys() {
       {"spherical_cap",
        {"n1", "n2", "origin", "axis", "reference", "radius", "polar_start", "polar_end", "start_angle",
         "end_angle"}},
-      {"file", {"file", "weld_tolerance"}},
+      {"file",
+       {"file", "weld_tolerance", "triangles", "crease_angle", "group", "mesh_size", "local_size_groups",
+        "local_sizes", "mesh_time_limit"}},
   };
   return keys;
 }
@@ -52,7 +54,9 @@ const std::map<std::string, std::vector<std::string>>& required_keys() {
 const std::vector<std::string> kDimensionKeys = {"n1",     "n2",          "n3",                     "origin",
                                                  "axis",   "reference",   "length",      "length2",   "width",
                                                  "radius", "inner_radius", "start_angle", "end_angle", "polar_start",
-                                                 "polar_end", "fold_angle", "slit", "weld_tolerance", "end_slope"};
+                                                 "polar_end", "fold_angle", "slit", "weld_tolerance", "end_slope",
+                                                 "triangles", "crease_angle", "group", "mesh_size",
+                                                 "local_size_groups", "local_sizes", "mesh_time_limit"};
 
 double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }  // exact for 90 -> pi/2
 
@@ -474,7 +478,37 @@ void declare_part_keys(Schema& s) {
       .number("part.fold_angle",
               "folded_plate: how far leg2 turns up (towards +z) from leg1's continuation: 0 = flat, 90 = upright",
               90.0, Range::open(-180.0, 180.0), "deg")
-      .string("part.file", "generator = file: OBJ or PLY quad mesh, relative to the scene file", std::string{})
+      .string("part.file",
+              "generator = file: a mesh (Gmsh .msh, Abaqus .inp, OBJ, PLY, STL) or a CAD part meshed by Gmsh "
+              "(STEP .step/.stp, IGES .iges/.igs, BREP .brep, Gmsh script .geo), relative to the scene file",
+              std::string{})
+      .choice("part.triangles",
+              "generator = file: what becomes of triangles: split (each into three quads through its centroid and "
+              "edge midpoints; in a mesh with quads too, every quad into four), recombine (Gmsh joins them into "
+              "quads; .msh and .stl), refuse",
+              {"split", "recombine", "refuse"}, "split")
+      .number("part.crease_angle",
+              "generator = file, directors averaged from the elements: neighbours that turn more than this across "
+              "their edge are separate smooth pieces, and the nodes between them fold nodes (6 DoF)",
+              30.0, Range::open(0.0, 180.0), "deg")
+      .string("part.group",
+              "generator = file: only the elements of this surface group of the file (a Gmsh physical surface, an "
+              "Abaqus *ELSET); \"\" = every element. Parts from one file joined by a [[junction]] can have "
+              "materials of their own",
+              std::string{})
+      .number("part.mesh_size",
+              "generator = file, CAD or .geo: the largest element edge Gmsh makes (required for STEP, IGES and "
+              "BREP; 0 = a .geo script's own sizes)",
+              0.0, Range::non_negative(), "length")
+      .string_list("part.local_size_groups",
+                   "generator = file, CAD or .geo: named groups of the file meshed finer, each at the size in "
+                   "part.local_sizes at the same position",
+                   std::vector<std::string>{})
+      .number_list("part.local_sizes", "generator = file: the element size at each of part.local_size_groups",
+                   std::vector<double>{}, Range::positive())
+      .number("part.mesh_time_limit",
+              "generator = file, Gmsh files: the time Gmsh may take to read or mesh the file before it is stopped",
+              300.0, Range::positive(), "s")
       .number("part.weld_tolerance",
               "generator = file: join vertices closer than this length (0: every vertex of the file is a node of its "
               "own, so a slit written with separate vertices stays open)",

@@ -10,7 +10,7 @@
 namespace ff::scene {
 
 namespace {
-const std::vector<std::string> kSelect = {"nearest", "plane", "box", "sphere", "patch_edge", "all"};
+const std::vector<std::string> kSelect = {"nearest", "plane", "box", "sphere", "patch_edge", "group", "all"};
 
 Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 
@@ -43,6 +43,22 @@ mesh::NodeSelector base_selector(const Document& d, const mesh::ShellMesh& m, co
       const bool patch_exists = m.find_patch(patch) >= 0;
       throw SceneError({d.issue(patch_exists ? t + ".edge" : t + ".patch", i, e.what())});
     }
+  }
+  if (kind == "group") {
+    const std::string& name = d.string(t + ".group", i);
+    const int g = m.find_group(name);
+    if (g < 0) {
+      std::string names;
+      for (const mesh::MeshGroup& group : m.groups) names += (names.empty() ? "" : ", ") + group.name;
+      throw SceneError({d.issue(t + ".group", i,
+                                name.empty() ? "select = \"group\" needs " + t + ".group, the name of a group of the mesh file" +
+                                                   (names.empty() ? std::string(" (this structure has none)") : " (" + names + ")")
+                                             : "the structure has no group called '" + name + "' (" +
+                                                   (names.empty() ? std::string("its meshes define no named groups: they come "
+                                                                                "from Gmsh physical groups or Abaqus sets")
+                                                                  : "its groups: " + names) + ")")});
+    }
+    return mesh::NodeSelector::ids(m.groups[static_cast<std::size_t>(g)].nodes);
   }
   return mesh::NodeSelector::all();
 }
@@ -112,6 +128,9 @@ void declare_selector_keys(Schema& s, const std::string& t) {
               "patch_edge: which edge, u=0, u=1, v=0, v=1 or the generator's name for it (see [[part]]: e.g. "
               "\"start_angle\", \"rim\", \"inner\", \"x_min\")",
               std::string("u=0"))
+      .string(t + ".group",
+              "group: the name of a named group of a mesh file (a Gmsh physical group, an Abaqus *NSET or *ELSET)",
+              std::string{})
       .number(t + ".tolerance", "plane/box/sphere tolerance; 0 = automatic (1e-3 x shortest edge)", 0.0,
               Range::non_negative())
       .number_list(t + ".side",
@@ -135,6 +154,17 @@ std::vector<int> select_nodes(const Document& d, const mesh::ShellMesh& m, const
     throw SceneError({d.issue(t + ".select", i, mesh::empty_selection_message(t + "[" + std::to_string(i) + "]", sel, m))});
   if (d.string(t + ".select", i) == "nearest") refuse_ambiguous_nearest(d, m, t, i, ids.front());
   return ids;
+}
+
+std::vector<int> selected_quads(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i,
+                                const std::vector<int>& ids) {
+  if (d.string(t + ".select", i) == "group") {
+    const int g = m.find_group(d.string(t + ".group", i));
+    // a surface group names its elements: exactly those (a quad outside it whose corners all
+    // lie in it, e.g. across a narrow strip, is not part of it)
+    if (g >= 0 && !m.groups[static_cast<std::size_t>(g)].quads.empty()) return m.groups[static_cast<std::size_t>(g)].quads;
+  }
+  return quads_within(m, ids);
 }
 
 std::vector<int> quads_within(const mesh::ShellMesh& m, const std::vector<int>& ids) {

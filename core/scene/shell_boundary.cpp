@@ -118,9 +118,13 @@ void read_bcs(const Document& d, shell::ShellModelSpec& spec) {
     const std::string type = d.string("bc.type", i);
     const std::vector<int> ids = select_nodes(d, m, "bc", i);
     if (type == "symmetry") {
-      if (d.string("bc.select", i) != "plane")
+      const std::string& how = d.string("bc.select", i);
+      if (how != "plane" && how != "group")
         throw SceneError({d.issue("bc.select", i, "a symmetry condition needs select = \"plane\" (its normal is the "
-                                                  "plane's normal)")});
+                                                  "plane's normal) or select = \"group\" with bc.normal")});
+      if (how == "group" && !d.present("bc.normal", i))
+        throw SceneError({d.issue("bc.group", i, "a symmetry condition on a group needs bc.normal, the normal of its "
+                                                 "symmetry plane")});
       const Vec3 n = vec(d.numbers("bc.normal", i));
       if (!(n.norm() > 0) || !n.allFinite() || !std::isfinite(n.squaredNorm()))
         throw SceneError({d.issue("bc.normal", i, "the plane normal must be a finite non-zero vector")});
@@ -239,7 +243,7 @@ void read_load(const Document& d, std::size_t i, shell::ShellModelSpec& spec) {
       throw SceneError({d.issue("load.follower", i, type + " loads are dead loads (fixed direction); follower = true "
                                                     "is not supported for them (a pressure can follow the surface)")});
     if (type == "pressure" || type == "surface") {
-      const std::vector<int> quads = quads_within(m, ids);
+      const std::vector<int> quads = selected_quads(d, m, "load", i, ids);
       if (quads.empty())
         throw SceneError({d.issue("load.select", i, "selects " + std::to_string(ids.size()) +
                                                         " nodes but no quad with all 4 corners among them; a " + type +

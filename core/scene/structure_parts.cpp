@@ -76,17 +76,37 @@ std::string part_name(const Document& d, std::size_t i, const mesh::ShellMesh* m
   return d.string("part.generator", i) + std::to_string(i + 1);
 }
 
+// what part i asks of its file
+MeshFileRequest file_request(const Document& d, std::size_t i, const std::string& scene_path) {
+  MeshFileRequest r;
+  r.path = (fs::path(scene_path).parent_path() / d.string("part.file", i)).string();
+  r.weld_tolerance = d.number("part.weld_tolerance", i);
+  r.triangles = d.string("part.triangles", i);
+  r.crease_angle_deg = d.number("part.crease_angle", i);
+  r.group = d.string("part.group", i);
+  r.mesh_size = d.number("part.mesh_size", i);
+  r.local_size_groups = d.strings("part.local_size_groups", i);
+  r.local_sizes = d.numbers("part.local_sizes", i);
+  r.time_limit_seconds = d.number("part.mesh_time_limit", i);
+  if (r.local_size_groups.size() != r.local_sizes.size())
+    throw SceneError({d.issue("part.local_sizes", i,
+                              "part.local_sizes has " + std::to_string(r.local_sizes.size()) + " sizes for " +
+                                  std::to_string(r.local_size_groups.size()) +
+                                  " groups in part.local_size_groups: give one size per group, in the same order")});
+  return r;
+}
+
 mesh::ShellMesh read_part_file(const Document& d, std::size_t i, const std::string& scene_path, const SceneContext& ctx) {
   const std::string& file = d.string("part.file", i);
   if (file.empty())
-    throw SceneError({d.issue("part.generator", i, "generator = \"file\" needs part.file (an OBJ or PLY quad mesh, "
+    throw SceneError({d.issue("part.generator", i, "generator = \"file\" needs part.file (a mesh or CAD file, "
                                                    "relative to the scene file)")});
   if (!ctx.mesh_reader)
     throw SceneError({d.issue("part.file", i, "this program reads no mesh files (no reader was passed to the scene "
                                               "loader; the flexframe executable passes its assimp importer)")});
   mesh::ShellMesh m;
   MeshFileError error;
-  const MeshFileRequest request{(fs::path(scene_path).parent_path() / file).string(), d.number("part.weld_tolerance", i)};
+  const MeshFileRequest request = file_request(d, i, scene_path);
   if (!ctx.mesh_reader(request, m, &error))
     throw SceneError({d.issue(error.key.empty() ? "part.file" : error.key, i, error.message)});
   return m;
@@ -124,9 +144,7 @@ StructureSize structure_size(const Document& d, const std::string& scene_path, c
     } else if (ctx.mesh_reader && !d.string("part.file", i).empty()) {
       mesh::ShellMesh m;
       MeshFileError error;
-      if (ctx.mesh_reader({(fs::path(scene_path).parent_path() / d.string("part.file", i)).string(),
-                           d.number("part.weld_tolerance", i)},
-                          m, &error))
+      if (ctx.mesh_reader(file_request(d, i, scene_path), m, &error))
         nodes = m.node_count();
     }
     size.nodes += nodes;
@@ -335,6 +353,20 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
       for (int& id : patch.grid) id = s.parts[p].node_map[id];
       patch.first_quad += quad_offset;
       out.patches.push_back(std::move(patch));
+    }
+    // a file's named group selects its nodes in every part that has it (parts cut from one file
+    // by part.group share the file's curve and point groups)
+    for (const mesh::MeshGroup& g : m.groups) {
+      int k = out.find_group(g.name);
+      if (k < 0) {
+        k = static_cast<int>(out.groups.size());
+        out.groups.push_back({g.name, g.dimension, {}, {}, g.origin});
+      }
+      mesh::MeshGroup& joined_group = out.groups[static_cast<std::size_t>(k)];
+      for (int id : g.nodes) joined_group.nodes.push_back(s.parts[p].node_map[id]);
+      for (int q : g.quads) joined_group.quads.push_back(quad_offset + q);
+      std::sort(joined_group.nodes.begin(), joined_group.nodes.end());
+      joined_group.nodes.erase(std::unique(joined_group.nodes.begin(), joined_group.nodes.end()), joined_group.nodes.end());
     }
   }
   out.frame_reference = s.parts[0].mesh.frame_reference;
