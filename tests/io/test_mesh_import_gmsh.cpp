@@ -1,0 +1,389 @@
+// Meshes and CAD parts through Gmsh (app/io/gmsh_import.h) and the conversion of an imported
+// surface into a shell mesh (core/mesh/imported_surface.h): .msh 4 and 2.2 files with physical
+// groups, triangles split or recombined, CAD parts meshed into quads with the CAD surface's own
+// normals, fold nodes where CAD faces meet at a crease, the read-only sandbox of .geo scripts, a
+// crash or a long mesher contained in the child process, and the scene keys that name groups.
+// Fixtures: tests/io/data/gmsh/ (square.geo says how the .msh files were written).
+// Scratch files go to ${FF_BINARY_DIR}/test_out/mesh_import_gmsh/.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app/io/gmsh_import.h"
+#include "app/io/mesh_import.h"
+#include "core/mesh/imported_surface.h"
+#include "core/scene/scene.h"
+
+namespace fs = std::filesystem;
+using ff::mesh::ShellMesh;
+
+namespace {
+
+std::string data(const std::string& name) { return std::string(FF_SOURCE_DIR) + "/tests/io/data/gmsh/" + name; }
+
+std::string scratch(const std::string& name) {
+  const fs::path dir = fs::path(FF_BINARY_DIR) / "test_out" / "mesh_import_gmsh";
+  fs::create_directories(dir);
+  return (dir / name).string();
+}
+
+std::string write_text(const std::string& name, const std::string& text) {
+  const std::string path = scratch(name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+struct Read {
+  bool ok = false;
+  ShellMesh mesh;
+  ff::scene::MeshFileError error;
+};
+
+Read read(ff::scene::MeshFileRequest request) {
+  Read r;
+  r.ok = ff::io::read_mesh_file(request, r.mesh, r.error);
+  return r;
+}
+
+ff::scene::MeshFileRequest request(const std::string& path) {
+  ff::scene::MeshFileRequest q;
+  q.path = path;
+  return q;
+}
+
+const ff::mesh::MeshGroup& group(const ShellMesh& m, const std::string& name) {
+  const int g = m.find_group(name);
+  EXPECT_GE(g, 0) << "no group " << name;
+  static const ff::mesh::MeshGroup none;
+  return g >= 0 ? m.groups[static_cast<std::size_t>(g)] : none;
+}
+
+// the unit square's .geo (built-in kernel) with an optional extra line
+std::string square_geo(const std::string& extra) {
+  return "Point(1) = {0, 0, 0, 0.25}; Point(2) = {1, 0, 0, 0.25}; Point(3) = {1, 1, 0, 0.25}; Point(4) = {0, 1, 0, 0.25};\n"
+         "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+         "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
+         "Physical Curve(\"left\") = {4};\nPhysical Surface(\"plate\") = {1};\n" + extra;
+}
+
+}  // namespace
+
+TEST(GmshImport, ReadsAMsh4FileOfQuadsWithItsPhysicalGroups) {
+  const Read r = read(request(data("square_quads_v4.msh")));
+  ASSERT_TRUE(r.ok) << r.error.message;
+  const ShellMesh& m = r.mesh;
+  EXPECT_EQ(m.quad_count(), 16);
+  EXPECT_EQ(m.node_count(), 25);
+  EXPECT_NEAR(ff::mesh::total_area(m), 1.0, 1e-12);
+  const auto& left = group(m, "left");
+  EXPECT_EQ(left.dimension, 1);
+  EXPECT_EQ(left.nodes.size(), 5u);
+  for (int i : left.nodes) EXPECT_NEAR(m.points[i].x(), 0.0, 1e-12);
+  const auto& right = group(m, "right");
+  EXPECT_EQ(right.nodes.size(), 5u);
+  for (int i : right.nodes) EXPECT_NEAR(m.points[i].x(), 1.0, 1e-12);
+  const auto& corner = group(m, "corner");
+  EXPECT_EQ(corner.dimension, 0);
+  ASSERT_EQ(corner.nodes.size(), 1u);
+  EXPECT_NEAR((m.points[corner.nodes[0]] - Eigen::Vector3d(1, 1, 0)).norm(), 0.0, 1e-12);
+  const auto& plate = group(m, "plate");
+  EXPECT_EQ(plate.dimension, 2);
+  EXPECT_EQ(plate.quads.size(), 16u);
+  EXPECT_EQ(plate.nodes.size(), 25u);
+  EXPECT_NE(plate.origin.find("physical surface"), std::string::npos) << plate.origin;
+  // one side for every director (a flat plate: all along the same normal)
+  for (const auto& n : m.normals) EXPECT_NEAR(std::abs(n.z()), 1.0, 1e-12);
+  for (const auto& n : m.normals) EXPECT_GT(n.dot(m.normals[0]), 0.0);
+  EXPECT_EQ(m.fold_count(), 0);
+  EXPECT_NE(m.patches[0].description.find("16 quads as read"), std::string::npos) << m.patches[0].description;
+}
+
+TEST(GmshImport, AMsh22FileGivesTheSameMeshAndGroups) {
+  const Read a = read(request(data("square_quads_v4.msh"))), b = read(request(data("square_quads_v22.msh")));
+  ASSERT_TRUE(a.ok && b.ok) << a.error.message << b.error.message;
+  ASSERT_EQ(a.mesh.node_count(), b.mesh.node_count());
+  ASSERT_EQ(a.mesh.quad_count(), b.mesh.quad_count());
+  for (const std::string name : {"left", "right", "corner", "plate"}) {
+    const auto& ga = group(a.mesh, name);
+    const auto& gb = group(b.mesh, name);
+    ASSERT_EQ(ga.nodes.size(), gb.nodes.size()) << name;
+    std::vector<std::array<double, 3>> xa, xb;
+    for (int i : ga.nodes) xa.push_back({a.mesh.points[i].x(), a.mesh.points[i].y(), a.mesh.points[i].z()});
+    for (int i : gb.nodes) xb.push_back({b.mesh.points[i].x(), b.mesh.points[i].y(), b.mesh.points[i].z()});
+    std::sort(xa.begin(), xa.end());
+    std::sort(xb.begin(), xb.end());
+    for (std::size_t k = 0; k < xa.size(); ++k)
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(xa[k][c], xb[k][c], 1e-12) << name;
+  }
+}
+
+// imported_surface.md (S1)-(S2), (S6): every triangle into three quads, the area kept, a curve
+// group taking the midpoints of its own segments
+TEST(GmshImport, TrianglesAreSplitIntoThreeQuadsEachAndGroupsTakeTheirMidpoints) {
+  ff::mesh::ImportedSurface surface;
+  std::string why;
+  ff::io::GmshMeshRequest g;
+  g.path = data("square_triangles.msh");
+  ASSERT_TRUE(ff::io::read_with_gmsh(g, surface, &why)) << why;
+  int triangles = 0;
+  for (const auto& e : surface.elements) triangles += e.triangle();
+  ASSERT_GT(triangles, 0);
+  ASSERT_EQ(triangles, static_cast<int>(surface.elements.size()));
+
+  ff::scene::MeshFileRequest q = request(data("square_triangles.msh"));
+  const Read r = read(q);
+  ASSERT_TRUE(r.ok) << r.error.message;
+  EXPECT_EQ(r.mesh.quad_count(), 3 * triangles);
+  EXPECT_NEAR(ff::mesh::total_area(r.mesh), 1.0, 1e-12);
+  const auto& left = group(r.mesh, "left");
+  // the curve x = 0 has 4 segments at size 0.25: 5 nodes, and 4 midpoints after the split
+  EXPECT_EQ(left.nodes.size(), 9u);
+  for (int i : left.nodes) EXPECT_NEAR(r.mesh.points[i].x(), 0.0, 1e-12);
+  EXPECT_NE(r.mesh.patches[0].description.find("triangles split into"), std::string::npos) << r.mesh.patches[0].description;
+
+  q.triangles = "refuse";
+  const Read refused = read(q);
+  EXPECT_FALSE(refused.ok);
+  EXPECT_EQ(refused.error.key, "part.triangles");
+  EXPECT_NE(refused.error.message.find(std::to_string(triangles) + " triangles"), std::string::npos) << refused.error.message;
+}
+
+TEST(GmshImport, RecombinationJoinsTrianglesIntoFewerQuads) {
+  ff::scene::MeshFileRequest q = request(data("square_triangles.msh"));
+  const Read split = read(q);
+  q.triangles = "recombine";
+  const Read joined = read(q);
+  ASSERT_TRUE(split.ok && joined.ok) << split.error.message << joined.error.message;
+  EXPECT_LT(joined.mesh.quad_count(), split.mesh.quad_count());
+  EXPECT_NEAR(ff::mesh::total_area(joined.mesh), 1.0, 1e-12);
+  EXPECT_NE(joined.mesh.patches[0].description.find("recombined"), std::string::npos) << joined.mesh.patches[0].description;
+}
+
+TEST(GmshImport, AVolumeMeshIsRefused) {
+  const Read r = read(request(data("box_volume.msh")));
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.message.find("box_volume.msh"), std::string::npos) << r.error.message;
+  EXPECT_NE(r.error.message.find("volume"), std::string::npos) << r.error.message;
+}
+
+// a file cut anywhere is refused with its name, never a crash of the program
+TEST(GmshImport, TruncatedMshFilesAreRefusedNamingTheFile) {
+  std::ifstream in(data("square_quads_v4.msh"), std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string whole = ss.str();
+  int refused = 0, cuts = 0;
+  for (std::size_t cut = 1; cut < whole.size(); cut += 173) {
+    const std::string path = write_text("truncated.msh", whole.substr(0, cut));
+    const Read r = read(request(path));
+    ++cuts;
+    if (!r.ok) {
+      ++refused;
+      EXPECT_NE(r.error.message.find("truncated.msh"), std::string::npos) << r.error.message;
+    }
+  }
+  EXPECT_GT(refused, cuts / 2) << "most cuts leave no complete mesh";
+}
+
+// CAD: the cylinder's own normals are the directors (radial to 1e-9), not averaged facets
+TEST(GmshImport, ACadPartIsMeshedIntoQuadsWithTheSurfacesOwnNormals) {
+  const std::string geo = write_text("panel.geo",
+                                     "SetFactory(\"OpenCASCADE\");\nPoint(1) = {0, 0, 0};\nPoint(2) = {0, 0, 2};\n"
+                                     "Point(3) = {2 * Sin(Pi / 4), 0, 2 * Cos(Pi / 4)};\nCircle(1) = {2, 1, 3};\n"
+                                     "Extrude {0, 1, 0} { Curve{1}; }\nRecursive Delete { Point{1}; }\n");
+  ff::scene::MeshFileRequest q = request(geo);
+  q.mesh_size = 0.2;
+  const Read r = read(q);
+  ASSERT_TRUE(r.ok) << r.error.message;
+  EXPECT_GT(r.mesh.quad_count(), 20);
+  double worst = 0;
+  for (int i = 0; i < r.mesh.node_count(); ++i) {
+    const Eigen::Vector3d x = r.mesh.points[i];
+    const Eigen::Vector3d radial = Eigen::Vector3d(x.x(), 0, x.z()).normalized();
+    worst = std::max(worst, 1.0 - std::abs(r.mesh.normals[i].dot(radial)));
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_NE(r.mesh.patches[0].description.find("CAD surfaces' own normals"), std::string::npos);
+  // a STEP part has no sizes of its own: the scene must give one
+  const Read unsized = read(request(std::string(FF_SOURCE_DIR) + "/assets/geometry/scordelis_lo_roof.step"));
+  EXPECT_FALSE(unsized.ok);
+  EXPECT_EQ(unsized.error.key, "part.file");
+  EXPECT_NE(unsized.error.message.find("part.mesh_size"), std::string::npos) << unsized.error.message;
+}
+
+// imported_surface.md (S5): two CAD faces at 90 degrees share their edge's nodes, which are fold
+// nodes (6 DoF) with each face's normal at its quads' corners
+TEST(GmshImport, FacesMeetingAtACreaseShareFoldNodes) {
+  const std::string geo = write_text(
+      "fold.geo",
+      "Point(1) = {0, 0, 0, 0.25}; Point(2) = {1, 0, 0, 0.25}; Point(3) = {1, 1, 0, 0.25}; Point(4) = {0, 1, 0, 0.25};\n"
+      "Point(5) = {1, 0, 1, 0.25}; Point(6) = {1, 1, 1, 0.25};\n"
+      "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+      "Line(5) = {2, 5}; Line(6) = {5, 6}; Line(7) = {6, 3};\n"
+      "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
+      "Curve Loop(2) = {5, 6, 7, -2}; Plane Surface(2) = {2};\n"
+      "Physical Curve(\"fold_line\") = {2};\n");
+  ff::scene::MeshFileRequest q = request(geo);
+  q.mesh_size = 0.25;
+  const Read r = read(q);
+  ASSERT_TRUE(r.ok) << r.error.message;
+  const auto& line = group(r.mesh, "fold_line");
+  ASSERT_GE(line.nodes.size(), 5u);
+  EXPECT_EQ(r.mesh.fold_count(), static_cast<int>(line.nodes.size()));
+  for (int i : line.nodes) EXPECT_TRUE(r.mesh.fold[i]);
+  // every quad's corner director is its own face's normal: z on the floor, x on the wall
+  for (int q2 = 0; q2 < r.mesh.quad_count(); ++q2) {
+    const Eigen::Vector3d n = ff::mesh::quad_normal(r.mesh, q2);
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(r.mesh.corner_normals[q2][k].dot(n), 1.0, 1e-9);
+  }
+}
+
+// a stranger's .geo script cannot write a file or run a command: the sandbox refuses the calls,
+// the import is refused, and nothing appears
+TEST(GmshImport, AGeoScriptCannotWriteFilesOrRunCommands) {
+  const std::string target = scratch("written_by_script.msh"), touched = scratch("touched_by_script");
+  fs::remove(target);
+  fs::remove(touched);
+  const Read saved = read(request(write_text("save.geo", square_geo("Mesh 2;\nSave \"" + target + "\";\n"))));
+  EXPECT_FALSE(saved.ok);
+  EXPECT_FALSE(fs::exists(target));
+  EXPECT_NE(saved.error.message.find("read-only"), std::string::npos) << saved.error.message;
+  const Read ran = read(request(write_text("system.geo", square_geo("System \"touch " + touched + "\";\n"))));
+  EXPECT_FALSE(ran.ok);
+  EXPECT_FALSE(fs::exists(touched));
+}
+
+// Gmsh 4.8's quad mesher (Mesh.Algorithm = 8) segfaults on this cylindrical panel: the child
+// dies, the test process does not, and the message names the signal
+TEST(GmshImport, AGmshCrashIsContainedAndReported) {
+  const std::string geo = write_text("crash.geo",
+                                     "SetFactory(\"OpenCASCADE\");\nR = 25; phi = 40*Pi/180;\nPoint(1) = {0, 0, 0};\n"
+                                     "Point(2) = {R*Sin(phi), 0, R*Cos(phi)};\nPoint(3) = {0, 0, R};\nCircle(1) = {3, 1, 2};\n"
+                                     "Extrude {0, 25, 0} { Curve{1}; }\nMesh.Algorithm = 8; Mesh.RecombineAll = 1;\n"
+                                     "Mesh.MeshSizeMax = 2;\nMesh 2;\n");
+  const Read r = read(request(geo));
+  if (r.ok) GTEST_SKIP() << "this Gmsh meshes the panel with algorithm 8 (no crash to contain)";
+  EXPECT_NE(r.error.message.find("crash.geo"), std::string::npos) << r.error.message;
+  EXPECT_NE(r.error.message.find("signal"), std::string::npos) << r.error.message;
+}
+
+TEST(GmshImport, AMesherThatRunsLongIsStoppedAtTheTimeLimit) {
+  ff::scene::MeshFileRequest q = request(write_text("fine.geo", square_geo("")));
+  q.mesh_size = 0.0015;  // ~ 500 000 quads: tens of seconds
+  q.time_limit_seconds = 0.5;
+  const auto start = std::chrono::steady_clock::now();
+  const Read r = read(q);
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.message.find("did not finish within"), std::string::npos) << r.error.message;
+  EXPECT_LT(took, 5.0);
+}
+
+TEST(GmshImport, AStopFlagEndsTheMesherAtOnce) {
+  ff::io::GmshMeshRequest g;
+  g.path = write_text("fine_stop.geo", square_geo(""));
+  g.mesh_geometry = true;
+  g.mesh_size = 0.0015;
+  std::atomic<bool> stop{true};
+  g.stop = &stop;
+  ff::mesh::ImportedSurface s;
+  std::string why;
+  EXPECT_FALSE(ff::io::read_with_gmsh(g, s, &why));
+  EXPECT_NE(why.find("stopped"), std::string::npos) << why;
+}
+
+TEST(GmshImport, KeysThatDoNothingForAFormatAreRefusedAtTheirKey) {
+  ff::scene::MeshFileRequest q = request(data("square_quads_v4.msh"));
+  q.mesh_size = 0.1;
+  EXPECT_EQ(read(q).error.key, "part.mesh_size");
+  q = request(data("square_quads_v4.msh"));
+  q.weld_tolerance = 1e-6;
+  EXPECT_EQ(read(q).error.key, "part.weld_tolerance");
+  q = request(data("square_quads_v4.msh"));
+  q.group = "no_such_surface";
+  const Read r = read(q);
+  EXPECT_EQ(r.error.key, "part.group");
+  EXPECT_NE(r.error.message.find("plate"), std::string::npos) << "lists the surface groups: " << r.error.message;
+  q = request(std::string(FF_SOURCE_DIR) + "/assets/meshes/plate_4x4.obj");
+  q.triangles = "recombine";
+  EXPECT_EQ(read(q).error.key, "part.triangles");
+}
+
+// ---- scenes that select by group name ----------------------------------------------------------
+
+namespace {
+std::string plate_scene(const std::string& part_extra, const std::string& bc_select) {
+  return "[scene]\nname = \"g\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n"
+         "[[part]]\ngenerator = \"file\"\nfile = \"" + data("square_quads_v4.msh") + "\"\n" + part_extra +
+         "[[material]]\nyoungs_modulus = 1.0e6\npoisson_ratio = 0.3\nthickness = 0.01\n"
+         "[[bc]]\ntype = \"clamped\"\n" + bc_select +
+         "[[load]]\ntype = \"force\"\ntotal = [0.0, 0.0, 1.0e-3]\nselect = \"group\"\ngroup = \"right\"\n"
+         "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\nselect = \"group\"\ngroup = \"corner\"\n"
+         "[[metric]]\nname = \"w\"\nkind = \"final\"\nprobe = \"w\"\n"
+         "[solver]\nmethod = \"linear\"\n";
+}
+
+std::vector<ff::scene::Issue> issues_of(const std::string& text) {
+  const std::string path = write_text("scene.toml", text);
+  try {
+    ff::scene::load_scene(path, {}, ff::io::scene_context());
+  } catch (const ff::scene::SceneError& e) {
+    return e.issues;
+  }
+  return {};
+}
+}  // namespace
+
+TEST(GmshImport, SupportsLoadsAndProbesSelectTheFilesGroupsByName) {
+  const std::string path = write_text("cantilever.toml", plate_scene("", "select = \"group\"\ngroup = \"left\"\n"));
+  ff::scene::LoadedScene s = ff::scene::load_scene(path, {}, ff::io::scene_context());
+  std::atomic<bool> stop{false};
+  const ff::RunOutcome o = s.simulation->run([](ff::Frame&&) {}, stop);
+  ASSERT_EQ(o.status, ff::RunStatus::completed) << o.reason;
+  // a plate strip clamped at x = 0 under a tip line force: the Euler-Bernoulli tip deflection of
+  // the plate strip, P L^3 / (3 D b) with D = E h^3 / (12 (1 - nu^2)), to the 4 x 4 mesh's error
+  double w = NAN;
+  for (const auto& [k, v] : s.simulation->metrics())
+    if (k == "w") w = v;
+  const double D = 1.0e6 * 1e-6 / (12 * (1 - 0.09));
+  const double beam = 1.0e-3 / (3 * D);
+  EXPECT_NEAR(w / beam, 1.0, 0.05) << "w = " << w << ", plate-strip theory " << beam;
+}
+
+TEST(GmshImport, AGroupThatIsNotThereIsRefusedAtTheKeyListingTheGroups) {
+  const auto issues = issues_of(plate_scene("", "select = \"group\"\ngroup = \"leftt\"\n"));
+  ASSERT_FALSE(issues.empty());
+  EXPECT_EQ(issues[0].key, "bc[0].group");
+  EXPECT_NE(issues[0].message.find("left, right"), std::string::npos) << issues[0].message;
+}
+
+// The Scordelis-Lo roof (MacNeal & Harder, Finite Elements in Analysis and Design 1 (1985) 3-20,
+// problem 3; reference 0.3024) from its STEP part (assets/geometry/scordelis_lo_roof.step, named by
+// scordelis_lo_roof_named.geo), meshed by Gmsh at three sizes, supports and probe on named groups
+// (assets/scenes/scordelis_lo_roof_cad.toml). Measured: 0.31050 (size 3, +2.7 %), 0.30395 (1.5,
+// +0.51 %), 0.30136 (0.75, -0.34 %); the generator's structured 32 x 32 mesh gives 0.30135, so the
+// finest CAD mesh sits on the element's own converged value, 0.35 % under the reference.
+TEST(GmshImport, ScordelisLoRoofFromAStepPartConvergesToTheBenchmark) {
+  const std::string scene = std::string(FF_SOURCE_DIR) + "/assets/scenes/scordelis_lo_roof_cad.toml";
+  double err[3];
+  const char* sizes[3] = {"3.0", "1.5", "0.75"};
+  for (int k = 0; k < 3; ++k) {
+    ff::scene::LoadedScene s = ff::scene::load_scene(scene, {std::string("part[0].mesh_size=") + sizes[k]}, ff::io::scene_context());
+    std::atomic<bool> stop{false};
+    const ff::RunOutcome o = s.simulation->run([](ff::Frame&&) {}, stop);
+    ASSERT_EQ(o.status, ff::RunStatus::completed) << o.reason;
+    double w = NAN;
+    for (const auto& [name, v] : s.simulation->metrics())
+      if (name == "w_midside") w = v;
+    err[k] = w / 0.3024 - 1.0;
+    std::printf("Scordelis-Lo roof from STEP, size %s: w = %.5f (%+.2f %%)\n", sizes[k], w, 100 * err[k]);
+  }
+  EXPECT_LT(std::abs(err[2]), 0.02);
+  EXPECT_LT(std::abs(err[2]), std::abs(err[0]));
+}
