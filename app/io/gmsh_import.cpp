@@ -343,8 +343,11 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
     g.set_number("Mesh.ElementOrder", 1, &ierr);
     g.generate(2, &ierr);
     check(g, ierr, "Gmsh could not mesh it");
-    notes.push_back("meshed by Gmsh (Frontal-Delaunay, Blossom recombination" +
-                    (r.mesh_size > 0 ? ", size at most " + std::to_string(r.mesh_size) : std::string(", the file's sizes")) + ")");
+    char size[64];
+    std::snprintf(size, sizeof size, "%.6g", r.mesh_size);
+    notes.push_back("meshed by Gmsh 2D Frontal-Delaunay with Blossom recombination, " +
+                    (r.mesh_size > 0 ? "elements at most " + std::string(size) + " across" : std::string("the file's sizes")) +
+                    (r.group_sizes.empty() ? "" : ", finer at " + std::to_string(r.group_sizes.size()) + " named groups"));
   } else if (r.recombine_triangles) {
     g.recombine(&ierr);
     check(g, ierr, "Gmsh could not recombine its triangles");
@@ -441,7 +444,6 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   for (double v : normals)
     if (!std::isfinite(v)) exact = false;
   if (!exact) normals.clear();
-  else notes.push_back("directors from the CAD surfaces' own normals");
 
   // groups
   w.put<std::uint8_t>(1);
@@ -626,7 +628,11 @@ bool read_with_gmsh(const GmshMeshRequest& r, ImportedSurface& out, std::string*
   ImportedSurface s;
   s.file = fs::path(r.path).filename().string();
   const std::string ext = lower_extension(r.path);
-  s.format = r.mesh_geometry ? ext.substr(1) + " geometry meshed by Gmsh" : "Gmsh MSH";
+  s.format = !r.mesh_geometry ? "Gmsh MSH"
+             : ext == ".geo"   ? "Gmsh .geo script"
+             : ext == ".step" || ext == ".stp" ? "STEP part"
+             : ext == ".iges" || ext == ".igs" ? "IGES part"
+                                               : "BREP part";
   const std::vector<double> xyz = in.get_array<double>();
   const std::vector<std::int32_t> elem_nodes = in.get_array<std::int32_t>();
   const std::vector<std::int32_t> elem_entity = in.get_array<std::int32_t>();

@@ -819,8 +819,8 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
   std::string groups;
   for (const ff::mesh::MeshGroup& grp : m.groups) groups += (groups.empty() ? "" : ", ") + grp.name;
   m.patches[0].description = "imported from " + surface.file + " (" + surface.format + notes + "; " + report.summary() +
-                             "; " + std::to_string(m.node_count()) + " nodes, " + std::to_string(m.quad_count()) + " quads" +
-                             (groups.empty() ? std::string("; no named groups") : "; groups: " + groups) + ")";
+                             "; " + std::to_string(m.node_count()) + " nodes" +
+                             (groups.empty() ? std::string("; no named groups") : "; named groups: " + groups) + ")";
   out = std::move(m);
   return true;
 }

@@ -47,7 +47,7 @@ std::string SurfaceConversionReport::summary() const {
       << " split into " << quads_out << " quads" << (quads_split ? " (a mixed mesh: every quad into four, so it stays conforming)" : "");
   else
     s << quads_out << " quads as read";
-  s << "; " << flipped << " elements turned to agree with their neighbours";
+  if (flipped > 0) s << "; " << flipped << " elements turned to agree with their neighbours";
   s << "; directors " << (exact_normals ? "from the surface's own normals" : "averaged over each smooth piece");
   if (folds > 0) s << "; " << folds << " fold nodes (6 DoF) where pieces meet at a crease";
   return s.str();

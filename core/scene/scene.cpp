@@ -236,6 +236,9 @@ std::string check_scene(const std::string& path, const std::vector<std::string>&
   out << s.name << ": valid; effects";
   for (const std::string& e : info.effects) out << ' ' << e;
   out << "; " << info.mesh.point_count() << " drawn points; " << s.simulation->end_description();
+  // what became of each mesh file (its elements, triangles, directors, named groups)
+  for (const auto& [key, value] : info.settings)
+    if (key.rfind("mesh_import", 0) == 0) out << "\n  " << key << ": " << value;
   return out.str();
 }
 

@@ -468,6 +468,8 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   }
   RunInfo info;
   describe_run(d, path, info);
+  // how an imported mesh was read
+  for (auto& setting : mesh_import_settings(structure)) info.settings.push_back(std::move(setting));
   info.effects = fx;
   try {
     return std::make_unique<ShellDynamicSimulation>(std::move(spec), std::move(st), std::move(info));

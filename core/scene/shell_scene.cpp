@@ -251,10 +251,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   RunInfo info;
   describe_run(d, path, info);
   // how an imported mesh was read (vertices welded or not, where the directors came from)
-  for (const StructurePart& part : structure.parts)
-    if (part.from_file && !part.mesh.patches.empty())
-      info.settings.emplace_back(structure.parts.size() == 1 ? "mesh_import" : "mesh_import_" + part.name,
-                                 part.mesh.patches[0].description);
+  for (auto& setting : mesh_import_settings(structure)) info.settings.push_back(std::move(setting));
   info.effects = fx;
   for (std::size_t i = 0; i < d.count("reference"); ++i) {
     const std::string probe = d.string("reference.probe", i);

@@ -384,6 +384,14 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
   return s;
 }
 
+std::vector<std::pair<std::string, std::string>> mesh_import_settings(const Structure& s) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const StructurePart& part : s.parts)
+    if (part.from_file && !part.mesh.patches.empty())
+      out.emplace_back(s.parts.size() == 1 ? "mesh_import" : "mesh_import_" + part.name, part.mesh.patches[0].description);
+  return out;
+}
+
 void structure_sections(const Structure& s, std::vector<shell::ShellSection>& sections,
                         std::vector<double>& drilling_factors, std::vector<int>& quad_section) {
   sections.clear(), drilling_factors.clear(), quad_section.clear();

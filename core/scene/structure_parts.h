@@ -68,6 +68,11 @@ double estimated_structure_bytes(const Document& d, const std::string& scene_pat
 /// its radius is refused at the material's thickness.
 Structure read_structure(const Document& d, const std::string& scene_path, const SceneContext& ctx);
 
+/// How each file part was read (format, what became of triangles, directors, named groups), as
+/// run settings: ("mesh_import", text) for a one-part structure, ("mesh_import_<part>", text)
+/// per file part otherwise. `check` prints them and results.h5 keeps them.
+std::vector<std::pair<std::string, std::string>> mesh_import_settings(const Structure& s);
+
 /// The sections of a joined structure for the static model (ShellModelSpec::sections,
 /// drilling_factors, quad_section); empty quad_section when one material covers every part.
 void structure_sections(const Structure& s, std::vector<shell::ShellSection>& sections,

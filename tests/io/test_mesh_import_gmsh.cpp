@@ -209,7 +209,7 @@ TEST(GmshImport, ACadPartIsMeshedIntoQuadsWithTheSurfacesOwnNormals) {
     worst = std::max(worst, 1.0 - std::abs(r.mesh.normals[i].dot(radial)));
   }
   EXPECT_LT(worst, 1e-9);
-  EXPECT_NE(r.mesh.patches[0].description.find("CAD surfaces' own normals"), std::string::npos);
+  EXPECT_NE(r.mesh.patches[0].description.find("directors from the surface's own normals"), std::string::npos);
   // a STEP part has no sizes of its own: the scene must give one
   const Read unsized = read(request(std::string(FF_SOURCE_DIR) + "/assets/geometry/scordelis_lo_roof.step"));
   EXPECT_FALSE(unsized.ok);
