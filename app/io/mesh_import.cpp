@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -717,24 +718,39 @@ ff::scene::SceneContext scene_context(const std::atomic<bool>* stop) {
     ctx.setup.progress = setup_progress_printer();
   }
   ctx.memory_limit_bytes = machine_memory_limit_bytes();
-  // a scene's parts are read twice (their size first, for the memory check, then the mesh): a
-  // CAD part is meshed once
-  struct Cached {
-    ff::scene::MeshFileRequest request;
-    ShellMesh mesh;
-  };
-  auto cache = std::make_shared<std::vector<Cached>>();
-  ctx.mesh_reader = [limit = ctx.memory_limit_bytes, stop, cache](const ff::scene::MeshFileRequest& request, ShellMesh& out,
-                                                                  ff::scene::MeshFileError* error) {
-    for (const Cached& c : *cache)
-      if (c.request == request) {
-        out = c.mesh;
-        return true;
-      }
+  ctx.mesh_reader = [limit = ctx.memory_limit_bytes, stop](const ff::scene::MeshFileRequest& request, ShellMesh& out,
+                                                           ff::scene::MeshFileError* error) {
+    // a scene's parts are read more than once (their size for the memory check, then the mesh,
+    // and `check` loads twice): a file is read, and a CAD part meshed, once per process as long
+    // as it is unchanged on disk (its size and modification time)
+    struct Cached {
+      ff::scene::MeshFileRequest request;
+      std::uintmax_t size;
+      fs::file_time_type modified;
+      ShellMesh mesh;
+    };
+    static std::mutex mutex;
+    static std::vector<Cached> cache;
+    std::error_code ec1, ec2;
+    const std::uintmax_t size = fs::file_size(request.path, ec1);
+    const fs::file_time_type modified = fs::last_write_time(request.path, ec2);
+    const bool cacheable = !ec1 && !ec2;
+    if (cacheable) {
+      std::lock_guard<std::mutex> lock(mutex);
+      for (const Cached& c : cache)
+        if (c.request == request && c.size == size && c.modified == modified) {
+          out = c.mesh;
+          return true;
+        }
+    }
     ff::scene::MeshFileError local;
     ff::scene::MeshFileError& e = error ? *error : local;
     if (!read_mesh_file(request, out, e, limit, stop)) return false;
-    cache->push_back({request, out});
+    if (cacheable) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (cache.size() >= 4) cache.erase(cache.begin());  // a study's variants: a few meshes at a time
+      cache.push_back({request, size, modified, out});
+    }
     return true;
   };
   return ctx;

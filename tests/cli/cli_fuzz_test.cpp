@@ -25,7 +25,7 @@ namespace {
 
 constexpr std::uint64_t kSeed = 12;  // issue 12; a fixed seed: the same mutants on every run
 constexpr int kSceneMutants = 120;   // ~0.1 s each through `check` (Release)
-constexpr int kMeshMutants = 30;     // per mesh kind (OBJ, ASCII PLY, binary PLY)
+constexpr int kMeshMutants = 30;     // per mesh kind (OBJ, ASCII PLY, binary PLY, MSH 4 and 2.2, STEP)
 constexpr int kRunMutants = 6;       // valid scene mutants also run, ~1 s each
 
 // sanitizer builds run every child several times slower
@@ -457,6 +457,24 @@ std::vector<std::pair<const char*, Mutation>> obj_mutations() {
   };
 }
 
+/// Text meshes read through Gmsh (.msh) and CAD text (STEP): cut, lines lost or repeated, and
+/// numbers on the data lines replaced by non-finite, huge, negative or non-numbers.
+std::vector<std::pair<const char*, Mutation>> text_mesh_mutations() {
+  const auto numbers = [](const std::string& l) {
+    return !l.empty() && (std::isdigit(static_cast<unsigned char>(l[0])) || l[0] == '#' || l[0] == '-');
+  };
+  return {
+      {"truncate", truncate},
+      {"delete line", delete_line},
+      {"duplicate line", duplicate_line},
+      {"bad number",
+       [=](const std::string& t, Rng& r) {
+         return token_mutation(t, r, numbers, 0, {"nan", "inf", "-1", "0", "99999999999999999999", "2147483648", "1e308",
+                                                  "x", "", "#0", "(("});
+       }},
+  };
+}
+
 /// ASCII PLY: header counts, list counts, indices and coordinates.
 std::vector<std::pair<const char*, Mutation>> ply_ascii_mutations() {
   const auto element = [](const std::string& l) { return starts_with(l, "element "); };
@@ -678,6 +696,7 @@ std::string fuzz_dir() {
   fs::create_directories(dir + "/logs");
   fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/meshes", dir + "/meshes");
   fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/reference", dir + "/reference");
+  fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/geometry", dir + "/geometry");
   return dir;
 }
 
@@ -691,13 +710,16 @@ std::vector<std::string> listed_scenes(const std::string& dir) {
   return names;
 }
 
-/// The mesh scene (clamped_plate_pressure_obj) reading `mesh` instead of its OBJ.
+/// The mesh scene (clamped_plate_pressure_obj) reading `mesh` instead of its OBJ (a CAD part at
+/// mesh_size 0.25).
 std::string mesh_scene_text(const std::string& mesh) {
   std::string text = read_text(scene_path("clamped_plate_pressure_obj"));
   const std::string from = "\"../meshes/plate_8x8_unit.obj\"";
   const std::size_t p = text.find(from);
   EXPECT_NE(p, std::string::npos) << "clamped_plate_pressure_obj no longer reads ../meshes/plate_8x8_unit.obj";
-  if (p != std::string::npos) text.replace(p, from.size(), "\"" + mesh + "\"");
+  const std::string ext = fs::path(mesh).extension().string();
+  const bool cad = ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs" || ext == ".brep";
+  if (p != std::string::npos) text.replace(p, from.size(), "\"" + mesh + "\"" + (cad ? "\nmesh_size = 0.25" : ""));
   return text;
 }
 
@@ -775,9 +797,13 @@ TEST(CliFuzz, MeshMutants) {
       {"obj", ".obj", read_text(std::string(FF_SOURCE_DIR) + "/assets/meshes/plate_8x8_unit.obj"), obj_mutations()},
       {"ascii_ply", ".ply", ply, ply_ascii_mutations()},
       {"binary_ply", ".ply", binary_ply_of(ply), ply_binary_mutations()},
+      // issue 32: files read through Gmsh (in its sandboxed child process)
+      {"msh4", ".msh", read_text(std::string(FF_SOURCE_DIR) + "/tests/io/data/gmsh/square_quads_v4.msh"), text_mesh_mutations()},
+      {"msh22", ".msh", read_text(std::string(FF_SOURCE_DIR) + "/tests/io/data/gmsh/square_quads_v22.msh"), text_mesh_mutations()},
+      {"step", ".step", read_text(std::string(FF_SOURCE_DIR) + "/tests/io/data/gmsh/square.step"), text_mesh_mutations()},
   };
   Fuzzer f(dir);
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < static_cast<int>(std::size(kinds)); ++k) {
     const auto& kind = kinds[k];
     // the unmutated mesh is valid, so refusals below come from the mutations
     const std::string base = dir + "/scenes/base_" + kind.kind + kind.ext;
@@ -786,7 +812,9 @@ TEST(CliFuzz, MeshMutants) {
     f.try_case({std::string("unmutated ") + kind.kind, "(none)", dir + "/scenes/base_" + kind.kind + ".toml", base});
     EXPECT_TRUE(f.last_check_valid()) << "the unmutated " << kind.kind << " mesh must check valid";
     bool ran = false;
-    for (int i = 0; i < kMeshMutants * fuzz_scale(); ++i) {
+    // a file read through Gmsh costs a child process that loads Gmsh and OpenCASCADE (~0.3 s)
+    const int mutants = (std::string(kind.kind).rfind("msh", 0) == 0 || std::string(kind.kind) == "step" ? kMeshMutants / 2 : kMeshMutants);
+    for (int i = 0; i < mutants * fuzz_scale(); ++i) {
       Rng rng = mutant_rng(fuzz_seed(), 2 + k, i);
       const std::optional<Mutant> m = apply_any(kind.ops, kind.text, rng);
       if (!m) continue;
