@@ -239,7 +239,10 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
     // (S4) area-weighted normal of each node within each piece
     std::map<std::pair<int, int>, Vec3> piece_normal;  // (node, piece)
     for (int q = 0; q < nq; ++q)
-      for (int k = 0; k < 4; ++k) piece_normal[{m.quads[q][k], piece[q]}] += qn[q];
+      for (int k = 0; k < 4; ++k) {
+        const auto [it, fresh] = piece_normal.try_emplace({m.quads[q][k], piece[q]}, Vec3::Zero());
+        it->second += qn[q];
+      }
     std::vector<int> first_piece(nn, -1);
     for (const auto& [key, v] : piece_normal) {
       const int I = key.first;
@@ -277,10 +280,13 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
     out_group.dimension = g.dimension;
     out_group.origin = g.origin;
     std::vector<int> nodes;
+    // a surface group is its elements (its file nodes on a neighbour's edge are not its own when
+    // only part of the file is taken)
+    const bool by_elements = g.dimension == 2 && !g.elements.empty();
     for (int p : g.nodes) {
       if (p < 0 || p >= np)
         return fail(error, file + ": group '" + g.name + "'" + origin + " names node " + std::to_string(p) + ", which does not exist");
-      if (new_id[p] >= 0) nodes.push_back(new_id[p]);
+      if (new_id[p] >= 0 && !by_elements) nodes.push_back(new_id[p]);
     }
     for (int e : g.elements) {
       if (e < 0 || e >= static_cast<int>(in.elements.size()))
