@@ -50,6 +50,10 @@ std::string SurfaceConversionReport::summary() const {
   if (flipped > 0) s << "; " << flipped << " elements turned to agree with their neighbours";
   s << "; directors " << (exact_normals ? "from the surface's own normals" : "averaged over each smooth piece");
   if (folds > 0) s << "; " << folds << " fold nodes (6 DoF) where pieces meet at a crease";
+  if (coincident_unshared > 0)
+    s << "; WARNING: at " << coincident_unshared << " places two boundary nodes coincide without being one node, "
+      << "so the surfaces are not connected there (a slit; or faces meshed apart: join them in the CAD "
+         "model, e.g. Gmsh's BooleanFragments or Coherence)";
   return s.str();
 }
 
@@ -345,6 +349,36 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
                               "nodes in order of first use):\n" + summary);
   }
   if (report) {
+    // boundary nodes that coincide without being one node: a hash grid of cell 1e-9 x the extent
+    std::map<std::pair<int, int>, int> edge_uses;
+    for (const auto& q : m.quads)
+      for (int k = 0; k < 4; ++k) ++edge_uses[edge_key(q[k], q[(k + 1) % 4])];
+    std::vector<char> boundary(nn, 0);
+    for (const auto& [edge, uses] : edge_uses)
+      if (uses == 1) boundary[edge.first] = boundary[edge.second] = 1;
+    Vec3 lo = m.points[0], hi = lo;
+    for (const Vec3& x : m.points) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+    const double cell = std::max(1e-9 * (hi - lo).norm(), 1e-300);
+    std::map<std::array<long long, 3>, std::vector<int>> grid;
+    int coincident = 0;
+    for (int I = 0; I < nn; ++I) {
+      if (!boundary[I]) continue;
+      const std::array<long long, 3> c{static_cast<long long>(std::floor((m.points[I].x() - lo.x()) / cell)),
+                                       static_cast<long long>(std::floor((m.points[I].y() - lo.y()) / cell)),
+                                       static_cast<long long>(std::floor((m.points[I].z() - lo.z()) / cell))};
+      bool found = false;
+      for (long long dx = -1; dx <= 1 && !found; ++dx)
+        for (long long dy = -1; dy <= 1 && !found; ++dy)
+          for (long long dz = -1; dz <= 1 && !found; ++dz) {
+            const auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
+            if (it == grid.end()) continue;
+            for (int J : it->second)
+              if ((m.points[I] - m.points[J]).norm() <= cell) found = true;
+          }
+      coincident += found;
+      grid[c].push_back(I);
+    }
+    report->coincident_unshared = coincident;
     report->quads_in = quads;
     report->triangles_in = triangles;
     report->quads_out = nq;

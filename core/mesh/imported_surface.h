@@ -73,6 +73,9 @@ struct SurfaceConversionReport {
   int flipped = 0;                     ///< elements turned to agree with their neighbours
   int folds = 0;                       ///< fold nodes (6 DoF)
   bool exact_normals = false;          ///< directors from the surface's own normals
+  /// boundary nodes at the same place as another boundary node but not shared with it: the
+  /// pieces are not connected there (a slit, or CAD faces meshed apart that should be joined)
+  int coincident_unshared = 0;
   /// one line in words, e.g. "412 triangles split into 1236 quads; 0 flipped; 3 fold nodes"
   std::string summary() const;
 };

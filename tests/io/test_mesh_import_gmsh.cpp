@@ -433,3 +433,25 @@ TEST(GmshImport, PartsCutFromOneFileByGroupJoinWithMaterialsOfTheirOwn) {
   EXPECT_LT(wall.mesh.find_group("floor"), 0) << "a part cut by group keeps no other surface group";
   EXPECT_GE(wall.mesh.find_group("top"), 0);
 }
+
+// two CAD faces built apart (no BooleanFragments) are meshed apart: their common edge has two
+// rows of nodes, and the import says so instead of silently giving two disconnected plates
+TEST(GmshImport, FacesMeshedApartAreReportedAsNotConnected) {
+  ff::scene::MeshFileRequest q = request(write_text(
+      "apart.geo", "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 1, 1};\nRectangle(2) = {1, 0, 0, 1, 1};\n"));
+  q.mesh_size = 0.25;
+  const Read apart = read(q);
+  ASSERT_TRUE(apart.ok) << apart.error.message;
+  int on_common_edge = 0;
+  for (const auto& x : apart.mesh.points) on_common_edge += std::abs(x.x() - 1.0) < 1e-12;
+  ASSERT_EQ(on_common_edge % 2, 0) << "each face has its own row of nodes on x = 1";
+  EXPECT_NE(apart.mesh.patches[0].description.find("WARNING: at " + std::to_string(on_common_edge / 2) + " places"),
+            std::string::npos)
+      << apart.mesh.patches[0].description;
+  q = request(write_text("joined.geo", "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 1, 1};\n"
+                                       "Rectangle(2) = {1, 0, 0, 1, 1};\nBooleanFragments{ Surface{1}; Delete; }{ Surface{2}; Delete; }\n"));
+  q.mesh_size = 0.25;
+  const Read joined = read(q);
+  ASSERT_TRUE(joined.ok) << joined.error.message;
+  EXPECT_EQ(joined.mesh.patches[0].description.find("WARNING"), std::string::npos) << joined.mesh.patches[0].description;
+}
