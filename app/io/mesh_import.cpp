@@ -761,7 +761,7 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
   const std::string ext = lower_extension(request.path);
   const std::string name = fs::path(request.path).filename().string();
   const bool gmsh = gmsh_reads(request.path), geometry = gmsh_is_geometry(request.path);
-  const bool by_gmsh = gmsh || (ext == ".stl" && request.triangles == "recombine");
+  const bool by_gmsh = gmsh;
   const auto refuse = [&](const std::string& key, const std::string& message) {
     error.key = key;
     error.message = message;
@@ -778,7 +778,8 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
     return refuse("part.file", "'" + name + "' is a CAD part: Gmsh meshes it at the size part.mesh_size, which the "
                                "scene must give (the largest element edge, in the scene's length unit)");
   if (request.triangles == "recombine" && !by_gmsh)
-    return refuse("part.triangles", "Gmsh recombines the triangles of .msh and .stl files; '" + name +
+    return refuse("part.triangles", "Gmsh recombines the triangles of .msh files (on an STL it broke the surface: "
+                                    "Gmsh 4.8 found no boundary to match against); '" + name +
                                         "' is read otherwise: use part.triangles = \"split\"");
   if (!request.group.empty() && !by_gmsh && ext != ".inp")
     return refuse("part.group", "'" + name + "' has no named groups (they come from Gmsh .msh and CAD files, and "

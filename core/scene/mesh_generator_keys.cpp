@@ -485,7 +485,7 @@ void declare_part_keys(Schema& s) {
       .choice("part.triangles",
               "generator = file: what becomes of triangles: split (each into three quads through its centroid and "
               "edge midpoints; in a mesh with quads too, every quad into four), recombine (Gmsh joins them into "
-              "quads; .msh and .stl), refuse",
+              "quads; .msh files), refuse",
               {"split", "recombine", "refuse"}, "split")
       .number("part.crease_angle",
               "generator = file, directors averaged from the elements: neighbours that turn more than this across "

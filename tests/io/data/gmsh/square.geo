@@ -2,6 +2,7 @@
 //   gmsh -2 square.geo -o square_quads_v4.msh                    (4 x 4 structured quads)
 //   gmsh -2 square.geo -format msh22 -o square_quads_v22.msh
 //   gmsh -2 square.geo -setnumber triangles 1 -o square_triangles.msh
+//   gmsh -2 square.geo -setnumber triangles 1 -o square_triangles.stl     (ASCII STL: triangles only)
 If (!Exists(triangles))
   triangles = 0;
 EndIf
