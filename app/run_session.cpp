@@ -413,6 +413,10 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   Json events = Json::array();  // what the path did (statics: limit points, bifurcations, turn-backs)
   for (const PathEvent& e : outcome.events)
     events.push_back({{"kind", e.kind}, {"step", e.step}, {"load_factor", e.load_factor}, {"detail", e.detail}});
+  // how each mesh file was read (format, what became of triangles, directors, named groups)
+  Json mesh_import = Json::object();
+  for (const auto& [key, value] : info.settings)
+    if (key.rfind("mesh_import", 0) == 0) mesh_import[key] = value;
   const Json summary = {
       {"scene", scene.name},
       {"scene_path", scene.path},
@@ -431,6 +435,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       {"metrics_unreached", metrics_unreached},
       {"events", events},
       {"effect_stats", effect_stats},
+      {"mesh_import", mesh_import},
       {"outputs", outputs},
       {"render", render_info}};
   write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");  // throws WriteError: exit 1
