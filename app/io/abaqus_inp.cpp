@@ -616,9 +616,8 @@ bool InpReader::expand(SetDefinition& set, const std::unordered_map<long long, i
           continue;
         }
         const SetDefinition& other = sets_[static_cast<std::size_t>(it->second)];
-        if (&other == &set || !other.expanded) {
-          ok = fail_at(e.line, "set '" + shown(set.name) + "' names set '" + shown(other.name) +
-                                   "' before that set is complete (a set may name only sets written wholly above it)");
+        if (!other.expanded) {  // resolve() expands the sets a set names first; a cycle is refused there
+          ok = fail_at(e.line, "set '" + shown(set.name) + "' names set '" + shown(other.name) + "', which is not complete");
           continue;
         }
         for (int i : other.members) add(i);
@@ -632,8 +631,10 @@ bool InpReader::expand(SetDefinition& set, const std::unordered_map<long long, i
   }
   for (int i : set.members) in_set[static_cast<std::size_t>(i)] = 0;
   if (!ok) return false;
-  if (!block_named_something || set.members.empty())
-    return fail_at(block_line, "set '" + shown(set.name) + "' is empty: it names no " + item);
+  if (set.members.empty()) return fail_at(block_line, "set '" + shown(set.name) + "' is empty: it names no " + item);
+  if (!block_named_something)
+    return fail_at(block_line, "set '" + shown(set.name) + "' is empty here: this keyword line has no " + item +
+                                   " under it");
   set.expanded = true;
   return true;
 }
@@ -674,18 +675,50 @@ bool InpReader::resolve(ImportedSurface& out) {
     }
     out.elements.push_back(std::move(el));
   }
-  // element sets first: node sets never name them, and they name only element sets
+  // A set named in another is taken whole, wherever it is written: the sets a set names are
+  // expanded before it (depth first, with an explicit stack, so that a long chain of sets cannot
+  // exhaust the call stack); a set that names itself, directly or through others, is refused.
+  // Node sets name only node sets, element sets only element sets.
   int node_sets = 0, element_sets = 0;
   std::vector<char> in_node_set(points_.size(), 0), in_element_set(elements_.size(), 0);
-  for (int pass = 0; pass < 2; ++pass)
-    for (SetDefinition& s : sets_) {
-      if (s.of_nodes != (pass == 1)) continue;
-      if (!expand(s, s.of_nodes ? node_index_ : element_index_, s.of_nodes ? in_node_set : in_element_set))
+  enum : char { unvisited, open, expanded };
+  std::vector<char> state(sets_.size(), unvisited);
+  std::vector<std::size_t> cursor(sets_.size(), 0), stack;
+  for (std::size_t first = 0; first < sets_.size(); ++first) {
+    if (state[first] != unvisited) continue;
+    state[first] = open;
+    stack.assign(1, first);
+    while (!stack.empty()) {
+      const std::size_t t = stack.back();
+      SetDefinition& set = sets_[t];
+      const auto& by_name = set.of_nodes ? node_set_of_ : element_set_of_;
+      bool descended = false;
+      for (; cursor[t] < set.entries.size() && !descended; ++cursor[t]) {
+        const SetEntry& e = set.entries[cursor[t]];
+        if (e.kind != SetEntry::set_name) continue;
+        const auto it = by_name.find(names_[static_cast<std::size_t>(e.a)]);
+        if (it == by_name.end()) continue;  // expand() refuses it with its line
+        const std::size_t r = static_cast<std::size_t>(it->second);
+        if (state[r] == expanded) continue;
+        if (state[r] == open)
+          return fail_at(e.line, "set '" + shown(set.name) + "' names set '" + shown(sets_[r].name) + "', which " +
+                                     (r == t ? std::string("is itself")
+                                             : "contains '" + shown(set.name) + "' in turn (directly or through other sets)") +
+                                     "; a set cannot contain itself");
+        state[r] = open;
+        stack.push_back(r);
+        descended = true;
+      }
+      if (descended) continue;
+      if (!expand(set, set.of_nodes ? node_index_ : element_index_, set.of_nodes ? in_node_set : in_element_set))
         return false;
-      set_entries_ += static_cast<double>(s.members.size());
-      if (!within_memory(s.first_line)) return false;
-      (s.of_nodes ? node_sets : element_sets)++;
+      state[t] = expanded;
+      stack.pop_back();
+      set_entries_ += static_cast<double>(set.members.size());
+      if (!within_memory(set.first_line)) return false;
+      (set.of_nodes ? node_sets : element_sets)++;
     }
+  }
   for (SetDefinition& s : sets_) {
     ImportedGroup g;
     g.name = s.name;
