@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <string_view>
@@ -248,6 +249,10 @@ class InpReader {
   std::unordered_map<std::string, int> node_set_of_, element_set_of_;  // upper-case name -> sets_
   std::vector<std::string> names_;  // set names written in set data lines (upper case)
   double set_entries_ = 0;
+  double walk_ = 0;  // steps expanding the sets takes (see kMostNamesPerItem)
+  double walk_limit() const {
+    return kMostNamesPerItem * static_cast<double>(points_.size() + elements_.size()) + kNamesMargin;
+  }
 };
 
 bool InpReader::within_memory(int line) {
@@ -620,6 +625,13 @@ bool InpReader::expand(SetDefinition& set, const std::unordered_map<long long, i
           ok = fail_at(e.line, "set '" + shown(set.name) + "' names set '" + shown(other.name) + "', which is not complete");
           continue;
         }
+        walk_ += static_cast<double>(other.members.size());
+        if (walk_ > walk_limit()) {
+          ok = fail_at(e.line, "set '" + shown(set.name) + "' names set '" + shown(other.name) + "': the sets up to here " +
+                                   "name more than " + std::to_string(static_cast<long long>(kMostNamesPerItem)) +
+                                   " times the nodes and elements the file defines");
+          continue;
+        }
         for (int i : other.members) add(i);
         block_named_something = true;
         continue;
@@ -644,14 +656,13 @@ bool InpReader::resolve(ImportedSurface& out) {
     return fail(path_ + ": no *ELEMENT of type S4, S4R, S4R5, S3 or S3R; a shell needs elements");
   // what expanding the sets will walk: a range stops at its first undefined label, so it takes at
   // most one step more than the items there are
-  double walk = 0;
+  double& walk = walk_;
   for (const SetDefinition& set : sets_) {
     const double items = static_cast<double>(set.of_nodes ? points_.size() : elements_.size());
     for (const SetEntry& e : set.entries)
       walk += e.kind == SetEntry::range ? std::min(static_cast<double>((e.b - e.a) / e.step) + 1.0, items + 1.0) : 1.0;
   }
-  const double items = static_cast<double>(points_.size() + elements_.size());
-  if (walk > kMostNamesPerItem * items + kNamesMargin) {
+  if (walk > walk_limit()) {
     char n[32];
     std::snprintf(n, sizeof n, "%.3g", walk);
     return fail(path_ + ": its sets name " + n + " nodes and elements (GENERATE ranges counted by their length), more than " +
@@ -740,6 +751,8 @@ bool InpReader::resolve(ImportedSurface& out) {
 }
 
 bool InpReader::read(ImportedSurface& out) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path_, ec)) return fail(path_ + " is a directory, not an .inp file");
   std::ifstream in(path_, std::ios::binary);
   if (!in) return fail("cannot open " + path_);
   std::string raw, keyword_text;

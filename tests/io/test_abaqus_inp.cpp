@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -308,6 +309,21 @@ TEST(AbaqusInp, WholeFileRefusalsNameTheFile) {
   const std::string many = write_text("many_ranges.inp", deck);
   EXPECT_FALSE(ff::io::read_abaqus_inp(many, s, &error));
   EXPECT_EQ(error.rfind(many + ": its sets name 2e+06 nodes and elements", 0), 0u) << error;
+
+  // a chain of 300 sets, each naming the one before, would copy 299 * 10^4 members: the limit,
+  // 64 * (10^4 nodes + 1 element) + 10^6 = 1640064 steps, is passed at the 163rd copy (10599
+  // steps counted before: the range's 10^4 and one per other entry)
+  deck = "*NODE\n";
+  for (int i = 1; i <= 10000; ++i) deck += std::to_string(i) + ", " + std::to_string(i) + ", 0, 0\n";
+  deck += "*ELEMENT, TYPE=S4\n1, 1, 2, 3, 4\n*NSET, NSET=S0, GENERATE\n1, 10000\n";
+  for (int i = 1; i < 300; ++i) deck += "*NSET, NSET=S" + std::to_string(i) + "\nS" + std::to_string(i - 1) + "\n";
+  const std::string chain = write_text("chain_of_sets.inp", deck);
+  EXPECT_FALSE(ff::io::read_abaqus_inp(chain, s, &error));
+  EXPECT_EQ(error.rfind(chain + " line " + std::to_string(10005 + 2 * 163) + ": set 'S163' names set 'S162': the sets up to here", 0), 0u)
+      << error;
+
+  EXPECT_FALSE(ff::io::read_abaqus_inp(scratch(""), s, &error));
+  EXPECT_EQ(error, scratch("") + " is a directory, not an .inp file");
 }
 
 TEST(AbaqusInp, MemoryLimitRefusesBeforeReadingMore) {
@@ -362,15 +378,20 @@ TEST(AbaqusInp, FuzzedDecksNeverCrash) {
     std::ofstream(path, std::ios::binary | std::ios::trunc) << valid;
     ASSERT_TRUE(ff::io::read_abaqus_inp(path, s, &error)) << error;
   }
-  for (std::size_t n = 0; n < valid.size(); n += 3) check(valid.substr(0, n), "truncated at byte " + std::to_string(n));
+  for (std::size_t n = 0; n < valid.size(); n += 5) check(valid.substr(0, n), "truncated at byte " + std::to_string(n));
 
-  std::mt19937_64 rng(32);  // issue 32
+  // FF_FUZZ_SEED=<n> and FF_FUZZ_SCALE=<k> (k times the mutants) explore beyond the fixed seed,
+  // as in tests/cli/cli_fuzz_test.cpp
+  const char* seed = std::getenv("FF_FUZZ_SEED");
+  const char* scale = std::getenv("FF_FUZZ_SCALE");
+  std::mt19937_64 rng(seed && *seed ? std::strtoull(seed, nullptr, 0) : 32);  // issue 32
+  const int mutants = 1500 * (scale && *scale ? std::max(1, std::atoi(scale)) : 1);
   const auto below = [&](std::size_t n) { return n ? static_cast<std::size_t>(rng() % n) : 0; };
   const std::vector<std::string> replacements = {"99999999999999999999", "0", "-1", "nan", "1e999", ",", "", "*",
                                                  "**", "*NSET, NSET=X, GENERATE\n1, 9223372036854775807, 1",
                                                  "*ELSET, ELSET=PLATE", "*NODE", "\n", "\r", "1e150", "D", "\"",
                                                  "*ELEMENT, TYPE=S3,\n", "*INCLUDE, INPUT=x.inp"};
-  for (int m = 0; m < 2000; ++m) {
+  for (int m = 0; m < mutants; ++m) {
     std::string text = valid;
     std::string what = "mutant " + std::to_string(m);
     const int edits = 1 + static_cast<int>(below(4));
