@@ -761,6 +761,7 @@ bool InpReader::read(ImportedSurface& out) {
   while (std::getline(in, raw)) {
     ++line;
     if (!raw.empty() && raw.back() == '\r') raw.pop_back();
+    if (line == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw.erase(0, 3);  // a UTF-8 byte order mark
     const std::string_view text = trim(raw);
     if (in_keyword) {
       keyword_text += text;

@@ -173,8 +173,8 @@ TEST(AbaqusInp, TrianglesAndQuadsTogether) {
 
 TEST(AbaqusInp, KeywordsParametersAndNamesAreCaseInsensitive) {
   const std::string deck =
-      "*Heading\r\n"
-      "** Windows line ends, mixed case, a keyword line continued, Fortran exponents\r\n"
+      "\xEF\xBB\xBF*Heading\r\n"
+      "** a byte order mark, Windows line ends, mixed case, a keyword line continued, Fortran exponents\r\n"
       "*Part, name=Plate\r\n"
       "*node, nset=Edge\r\n"
       "1, 0.0D0, 0., 0.\r\n"
