@@ -1,6 +1,7 @@
 #include "app/io/abaqus_inp.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
