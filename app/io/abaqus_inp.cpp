@@ -359,9 +359,14 @@ bool InpReader::keyword(std::string_view text, int line) {
     } else if (t == "S3" || t == "S3R") {
       block_corners_ = 3;
     } else {
+      // Gmsh 4.8 writes its .inp with T3D2 lines and CPS3/CPS4 faces, whatever the mesh is for
+      const bool gmsh_like = t.rfind("T3D", 0) == 0 || t.rfind("CPS", 0) == 0 || t.rfind("CPE", 0) == 0;
       return fail_at(line, "*ELEMENT TYPE=" + shown(type) +
                                " is not read: FlexFrame reads the shell elements S4, S4R, S4R5 (quads) and S3, S3R "
-                               "(triangles) from an .inp");
+                               "(triangles) from an .inp" +
+                               (gmsh_like ? std::string("; a deck exported by Gmsh (T3D2 lines, CPS3/CPS4 faces) is read "
+                                                        "better as its .msh file")
+                                          : std::string()));
     }
     block_type_ = t;
     block_ = Block::element;

@@ -228,7 +228,11 @@ TEST(AbaqusInp, EveryRefusalNamesTheFileLineAndReason) {
       {"instance", nodes + quad + "*Instance, name=P-1, part=P\n", "8: *INSTANCE" + not_read},
       {"s8r", nodes + "*ELEMENT, TYPE=S8R\n1, 1, 2, 3, 4, 1, 2, 3, 4\n",
        "6: *ELEMENT TYPE=S8R is not read: FlexFrame reads the shell elements S4, S4R, S4R5 (quads) and S3, S3R"},
-      {"c3d8", nodes + "*ELEMENT, TYPE=C3D8\n", "6: *ELEMENT TYPE=C3D8 is not read"},
+      {"c3d8", nodes + "*ELEMENT, TYPE=C3D8\n", "6: *ELEMENT TYPE=C3D8 is not read: FlexFrame reads the shell elements "
+                                                 "S4, S4R, S4R5 (quads) and S3, S3R (triangles) from an .inp"},
+      {"gmsh_export", "*Heading\n gmsh.inp\n" + nodes + "******* E L E M E N T S *************\n*ELEMENT, type=T3D2, ELSET=Line4\n1, 1, 2\n",
+       "9: *ELEMENT TYPE=T3D2 is not read: FlexFrame reads the shell elements S4, S4R, S4R5 (quads) and S3, S3R (triangles) "
+       "from an .inp; a deck exported by Gmsh (T3D2 lines, CPS3/CPS4 faces) is read better as its .msh file"},
       {"no_type", nodes + "*ELEMENT, ELSET=A\n", "6: *ELEMENT needs TYPE="},
       {"include", nodes + "*INCLUDE, INPUT=../../etc/passwd\n", "6: *INCLUDE is not read: FlexFrame reads one .inp file"},
       {"unknown_parameter", "*NODE, SYSTEM=C\n1, 0, 0, 0\n", "1: *NODE parameter SYSTEM=C is not read"},
