@@ -501,7 +501,9 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
     g.get_nodes_for_physical_group(p.dim, p.tag, &nt, &nt_n, &c, &c_n, &ierr);
     check(g, ierr, "reading the nodes of " + physical_label(p));
     std::vector<std::int32_t> nodes;
-    for (std::size_t k = 0; k < nt_n; ++k) nodes.push_back(node(nt[k]));
+    // a surface group is its elements (their corners are its nodes); a curve or point group its nodes
+    if (p.dim != 2)
+      for (std::size_t k = 0; k < nt_n; ++k) nodes.push_back(node(nt[k]));
     std::vector<std::int32_t> elements, segments;
     for (int entity : p.entities) {
       int* types = nullptr;

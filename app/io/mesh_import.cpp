@@ -1,5 +1,6 @@
 #include "app/io/mesh_import.h"
 
+#include "app/io/abaqus_inp.h"
 #include "app/io/gmsh_import.h"
 #include "app/io/machine_memory.h"
 
@@ -789,7 +790,11 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
                                              "' numbers its nodes, and elements that share a node share it already");
 
   ff::mesh::ImportedSurface surface;
-  if (by_gmsh) {
+  if (ext == ".inp") {
+    std::string why;
+    if (!read_abaqus_inp(request.path, surface, &why, memory_limit_bytes)) return refuse("part.file", why);
+    surface.file = name;
+  } else if (by_gmsh) {
     GmshMeshRequest g;
     g.path = request.path;
     g.mesh_geometry = geometry;

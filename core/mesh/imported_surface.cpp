@@ -284,13 +284,10 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
     out_group.dimension = g.dimension;
     out_group.origin = g.origin;
     std::vector<int> nodes;
-    // a surface group is its elements (its file nodes on a neighbour's edge are not its own when
-    // only part of the file is taken)
-    const bool by_elements = g.dimension == 2 && !g.elements.empty();
     for (int p : g.nodes) {
       if (p < 0 || p >= np)
         return fail(error, file + ": group '" + g.name + "'" + origin + " names node " + std::to_string(p) + ", which does not exist");
-      if (new_id[p] >= 0 && !by_elements) nodes.push_back(new_id[p]);
+      if (new_id[p] >= 0) nodes.push_back(new_id[p]);
     }
     for (int e : g.elements) {
       if (e < 0 || e >= static_cast<int>(in.elements.size()))
@@ -334,10 +331,20 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
       if (!options.only_group.empty()) continue;
       return fail(error, file + ": group '" + g.name + "'" + origin + " selects no node of the surface mesh");
     }
+    // one name, one group: an Abaqus *NSET and *ELSET of one name (tools write both) are united
     const int existing = m.find_group(g.name);
-    if (existing >= 0)
-      return fail(error, file + ": two groups are called '" + g.name + "'" + origin +
-                             "; a scene selects groups by name, so each name must be used once");
+    if (existing >= 0) {
+      MeshGroup& same = m.groups[static_cast<std::size_t>(existing)];
+      same.dimension = std::max(same.dimension, out_group.dimension);
+      same.origin += " and " + out_group.origin;
+      same.nodes.insert(same.nodes.end(), out_group.nodes.begin(), out_group.nodes.end());
+      same.quads.insert(same.quads.end(), out_group.quads.begin(), out_group.quads.end());
+      for (std::vector<int>* v : {&same.nodes, &same.quads}) {
+        std::sort(v->begin(), v->end());
+        v->erase(std::unique(v->begin(), v->end()), v->end());
+      }
+      continue;
+    }
     m.groups.push_back(std::move(out_group));
   }
 
