@@ -25,7 +25,7 @@ namespace {
 
 constexpr std::uint64_t kSeed = 12;  // issue 12; a fixed seed: the same mutants on every run
 constexpr int kSceneMutants = 120;   // ~0.1 s each through `check` (Release)
-constexpr int kMeshMutants = 30;     // per mesh kind (OBJ, ASCII PLY, binary PLY, MSH 4 and 2.2, STEP)
+constexpr int kMeshMutants = 30;     // per mesh kind (OBJ, ASCII PLY, binary PLY, MSH 4 and 2.2, STEP, INP)
 constexpr int kRunMutants = 6;       // valid scene mutants also run, ~1 s each
 
 // sanitizer builds run every child several times slower
@@ -457,7 +457,7 @@ std::vector<std::pair<const char*, Mutation>> obj_mutations() {
   };
 }
 
-/// Text meshes read through Gmsh (.msh) and CAD text (STEP): cut, lines lost or repeated, and
+/// Text meshes (.msh and STEP through Gmsh, Abaqus .inp): cut, lines lost or repeated, and
 /// numbers on the data lines replaced by non-finite, huge, negative or non-numbers.
 std::vector<std::pair<const char*, Mutation>> text_mesh_mutations() {
   const auto numbers = [](const std::string& l) {
@@ -801,6 +801,7 @@ TEST(CliFuzz, MeshMutants) {
       {"msh4", ".msh", read_text(std::string(FF_SOURCE_DIR) + "/tests/io/data/gmsh/square_quads_v4.msh"), text_mesh_mutations()},
       {"msh22", ".msh", read_text(std::string(FF_SOURCE_DIR) + "/tests/io/data/gmsh/square_quads_v22.msh"), text_mesh_mutations()},
       {"step", ".step", read_text(std::string(FF_SOURCE_DIR) + "/tests/io/data/gmsh/square.step"), text_mesh_mutations()},
+      {"inp", ".inp", read_text(std::string(FF_SOURCE_DIR) + "/assets/meshes/plate_8x8_s4r.inp"), text_mesh_mutations()},
   };
   Fuzzer f(dir);
   for (int k = 0; k < static_cast<int>(std::size(kinds)); ++k) {
