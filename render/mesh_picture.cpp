@@ -512,9 +512,14 @@ void Picture::build_labels() {
     const PictureItem& item = in.items[which[i]];
     // a deep shade of the item's colour on a white halo: it reads over its own filled quads too
     // (polygons: VTK draws 2D lines wider than a pixel as several thin ones)
+    // from the rim of the anchor's dot (which stays visible) to the box
     const Vec2 end = nearest_on(placed[i], anchors[i]);
-    halos->AddActor2D(actor_2d(polygon_2d(band(anchors[i], end, 2.5), true), {1.0, 1.0, 1.0}));
-    leaders->AddActor2D(actor_2d(polygon_2d(band(anchors[i], end, 1.0), true), deep(item.color)));
+    const double length = std::hypot(end[0] - anchors[i][0], end[1] - anchors[i][1]);
+    const double rim = item.nodes.empty() ? 0.0 : std::min(0.5 * kDotPixels + 1.0, length);
+    const Vec2 start{anchors[i][0] + (end[0] - anchors[i][0]) * rim / std::max(length, 1e-9),
+                     anchors[i][1] + (end[1] - anchors[i][1]) * rim / std::max(length, 1e-9)};
+    halos->AddActor2D(actor_2d(polygon_2d(band(start, end, 2.5), true), {1.0, 1.0, 1.0}));
+    leaders->AddActor2D(actor_2d(polygon_2d(band(start, end, 1.0), true), deep(item.color)));
   }
   for (std::size_t i = 0; i < which.size(); ++i) {
     const PictureItem& item = in.items[which[i]];
@@ -554,7 +559,8 @@ void Picture::build_title_and_axes() {
   const double right[3] = {dop[1] * up[2] - dop[2] * up[1], dop[2] * up[0] - dop[0] * up[2], dop[0] * up[1] - dop[1] * up[0]};
   const double length = std::round(2.6 * text_px);
   const Vec2 origin{margin + length + 0.6 * text_px, margin + length + 0.6 * text_px};
-  const Rgb axis_colors[3] = {{0.80, 0.15, 0.15}, {0.15, 0.55, 0.15}, {0.15, 0.30, 0.80}};
+  // in ink, not red-green-blue: no axis may be taken for a selection of that colour
+  const Rgb axis_colors[3] = {{0.30, 0.30, 0.33}, {0.30, 0.30, 0.33}, {0.30, 0.30, 0.33}};
   const char* names[3] = {"x", "y", "z"};
   for (int k = 0; k < 3; ++k) {
     const Vec2 tip{origin[0] + length * right[k], origin[1] + length * up[k]};
@@ -587,6 +593,7 @@ std::vector<PixelBox> place_labels(const std::vector<std::array<double, 2>>& anc
   const double distances[] = {24, 48, 80, 120, 170, 240, 330};
   const double turns[] = {0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180};
   constexpr double kCrossing = 400.0;  // the cost of a leader line crossing a box, in square pixels
+  constexpr double kOutside = 1e6;     // and of a box reaching out of the area
   std::vector<PixelBox> placed;
   std::vector<std::array<Vec2, 2>> leaders;  // of the boxes placed
   for (std::size_t i = 0; i < anchors.size(); ++i) {
@@ -598,7 +605,7 @@ std::vector<PixelBox> place_labels(const std::vector<std::array<double, 2>>& anc
       if (b.x0 < area.x0 || b.y0 < area.y0 || b.x1 > area.x1 || b.y1 > area.y1) {
         const PixelBox inside{std::max(b.x0, area.x0), std::max(b.y0, area.y0), std::min(b.x1, area.x1),
                               std::min(b.y1, area.y1)};
-        c += (b.x1 - b.x0) * (b.y1 - b.y0) - overlap_area(b, inside) + 1.0;
+        c += kOutside + 10.0 * ((b.x1 - b.x0) * (b.y1 - b.y0) - overlap_area(b, inside));  // a cut label is worst
       }
       const PixelBox grown{b.x0 - kGap, b.y0 - kGap, b.x1 + kGap, b.y1 + kGap};
       for (const PixelBox& p : placed) c += overlap_area(grown, p) + (grown.overlaps(p) ? 1.0 : 0.0);
