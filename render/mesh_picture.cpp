@@ -40,7 +40,7 @@ constexpr double kInk[3] = {0.10, 0.10, 0.12};
 constexpr double kEdgeColor[3] = {0.42, 0.43, 0.47};
 constexpr double kMinEdgePixels = 7.0;  // element edges when elements are at least this large on screen
 // dots and lines of a selection; smaller for each earlier selection sharing its nodes
-constexpr double kDotPixels = 14.0, kDotStepPixels = 3.5, kMinDotPixels = 4.0;
+constexpr double kDotPixels = 14.0, kDotStepPixels = 4.5, kMinDotPixels = 4.0;
 constexpr double kLinePixels = 5.0, kMinLinePixels = 2.0;
 constexpr double kHiddenOpacity = 0.3;  // dots and lines behind a surface show through it this faintly
 
@@ -460,7 +460,7 @@ void Picture::build_markers() {
           p->SetDiffuse(0.55);
           p->SetOpacity(faint ? kHiddenOpacity : 1.0);
           if (as_lines) {
-            p->SetLineWidth(static_cast<float>(std::max(kMinLinePixels, kLinePixels - d)));
+            p->SetLineWidth(static_cast<float>(std::max(kMinLinePixels, kLinePixels - 2.0 * d)));
             p->RenderLinesAsTubesOn();
           } else {
             p->SetPointSize(static_cast<float>(dot_pixels(d)));

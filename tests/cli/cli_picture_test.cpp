@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 #include <sys/mount.h>
 
+#include "app/check_picture.h"
 #include "cli_support.h"
+#include "core/mesh/generators.h"
+#include "render/graphics_context.h"
 #include "render/mesh_picture.h"
 
 namespace ff::cli::test {
@@ -68,6 +71,53 @@ TEST(CheckPicture, ShowsThePartsOfAJoinedStructureAndAMeshFileScene) {
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   img = render::test::read_png(dir + "/obj.png");
   EXPECT_EQ(img.width, 1280);
+}
+
+// The mesh's named groups (from a mesh file: Gmsh physical groups, Abaqus sets): a surface group
+// fills its quads, a curve or point group marks its nodes, each in its own colour, labelled and
+// listed with its node count. No bundled mesh file has groups yet, so the selections are made here
+// and drawn as `check --picture` draws them (app::selections_picture, render::write_mesh_picture).
+TEST(CheckPicture, NamedGroupsAreColouredLabelledAndListed) {
+  const std::string dir = fresh_test_dir();
+  scene::SceneSelections s;
+  s.scene_name = "groups";
+  s.mesh = mesh::rectangular_plate(2.0, 1.0, 8, 4);
+  s.part_names = {"plate"};
+  s.quad_part.assign(s.mesh.quads.size(), 0);
+  mesh::MeshGroup skin{"skin", 2, {}, {}, "test"}, edge{"inlet", 1, {}, {}, "test"}, corner{"pin", 0, {0}, {}, "test"};
+  for (int q = 0; q < 16; ++q) skin.quads.push_back(q);  // the lower half (v < 0.5)
+  for (int q : skin.quads) skin.nodes.insert(skin.nodes.end(), s.mesh.quads[q].begin(), s.mesh.quads[q].end());
+  std::sort(skin.nodes.begin(), skin.nodes.end());
+  skin.nodes.erase(std::unique(skin.nodes.begin(), skin.nodes.end()), skin.nodes.end());
+  for (int j = 0; j <= 4; ++j) edge.nodes.push_back(j * 9 + 8);  // x = 2
+  s.mesh.groups = {skin, edge, corner};
+  scene::EntrySelection bc;
+  bc.table = "bc";
+  bc.label = "bc[0] clamped";
+  bc.extent = "5 nodes";
+  bc.nodes = edge.nodes;
+  s.entries = {bc};
+
+  const render::MeshPicture pic = app::selections_picture(s);
+  ASSERT_EQ(pic.items.size(), 4u);  // one part: not drawn apart
+  EXPECT_EQ(pic.items[0].legend, "group 'skin' (surface, 27 nodes)");
+  EXPECT_EQ(pic.items[0].quads.size(), 16u);
+  EXPECT_TRUE(pic.items[0].nodes.empty());
+  EXPECT_EQ(pic.items[1].legend, "group 'inlet' (curve, 5 nodes)");
+  EXPECT_EQ(pic.items[1].nodes.size(), 5u);
+  EXPECT_EQ(pic.items[1].anchor, 2 * 9 + 8);  // its middle node
+  EXPECT_EQ(pic.items[2].legend, "group 'pin' (point, 1 node)");
+  EXPECT_EQ(pic.items[3].legend, "bc[0] clamped (5 nodes)");
+  for (const auto& item : pic.items) EXPECT_GE(item.anchor, 0) << item.legend;
+
+  std::string error;
+  const auto gc = render::GraphicsContext::create(&error);
+  ASSERT_NE(gc, nullptr) << error;
+  ASSERT_TRUE(render::write_mesh_picture(*gc, pic, dir + "/groups.png", &error)) << error;
+  const render::test::Image img = render::test::read_png(dir + "/groups.png");
+  ASSERT_EQ(img.width, pic.width);
+  for (const auto& item : pic.items) EXPECT_GT(pixels_of(img, item.color), 10) << item.legend;
+  EXPECT_GT(pixels_of(img, pic.items[0].color), 20000) << "the surface group fills a quarter of the picture";
 }
 
 TEST(CheckPicture, APathItMayNotWriteIsRefusedBeforeAnyWork) {
