@@ -46,7 +46,8 @@ render::MeshPicture selections_picture(const scene::SceneSelections& s) {
   for (const auto& q : m.quads) pic.quads.insert(pic.quads.end(), {q[0], q[1], q[2], q[3]});
   pic.title = s.scene_name;
   pic.subtitle = count_of(m.points.size(), "node", "nodes") + ", " + count_of(m.quads.size(), "quad", "quads") + ", " +
-                 count_of(s.part_names.size(), "part", "parts") + "; isometric view";
+                 count_of(s.part_names.size(), "part", "parts") + "; isometric view" +
+                 (s.entries.empty() ? "" : "; faint dots lie behind the surface");
 
   // parts: pale, beneath everything else (one part is the whole mesh: nothing to tell apart)
   if (s.part_names.size() > 1)
