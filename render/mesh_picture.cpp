@@ -78,7 +78,7 @@ Rgb darker(const Rgb& c, double f) { return {c[0] * f, c[1] * f, c[2] * f}; }
 // of filled areas would vanish against their own fill)
 Rgb deep(const Rgb& c) {
   const double top = std::max({c[0], c[1], c[2], 1e-9});
-  return darker(c, std::min(1.0, 0.55 / top) * 1.0);
+  return darker(c, std::min(1.0, 0.55 / top));
 }
 
 // 2D geometry in pixels (vtkPolyDataMapper2D without a transform coordinate draws viewport pixels)
@@ -173,7 +173,7 @@ struct Picture {
   vtkNew<vtkRenderer> renderer;  // 0: the mesh and the dots where seen; legend, title, axes
   vtkNew<vtkRenderer> xray;      // 1: the dots again, faint, seen through the surfaces
   vtkNew<vtkRenderer> halos;     // 2: white halos of the leader lines
-  vtkNew<vtkRenderer> leaders;   // 3: the leader lines and anchor rings
+  vtkNew<vtkRenderer> leaders;   // 3: the leader lines
   vtkNew<vtkRenderer> boxes;     // 4: label boxes
   vtkNew<vtkRenderer> labels;    // 5: label frames and text
   std::unique_ptr<RenderSurface> surface;  // declared after the renderers: destroyed first (frees GL objects)
@@ -187,7 +187,7 @@ struct Picture {
   } camera;
   std::array<double, 3> mesh_centre{};  // the middle of the mesh as the picture shows it
   double pixel = 0;             // world length of one pixel
-  std::array<double, 3> toward_eye{};  // unit vector from the body to the eye
+  std::array<double, 3> toward_eye{};  // unit vector from the mesh towards the eye
   std::vector<PixelBox> occupied;     // title and axes: no label there
 
   Picture(GraphicsContext& gc, const MeshPicture& p) : in(p) {

@@ -11,14 +11,17 @@
 ///    when elements are large enough on screen to read them;
 ///  - each item's quads filled with its colour (a later item over an earlier one);
 ///  - each item's nodes as dots of its colour, and the mesh edges joining two of them as thick
-///    lines (so a selected edge reads as a line); dots of an item that shares nodes with earlier
-///    items are smaller and drawn over them, so every item at a shared node stays visible;
-///  - each item's label in a framed box next to its anchor point, with a leader line to it, the
-///    boxes placed so that they do not overlap one another (place_labels);
+///    lines (so a selected edge reads as a line); at a node an earlier item marks too, the dot is
+///    smaller and drawn over the earlier one, so every item at a shared node stays visible (rings);
+///    dots and lines behind a surface show through it faintly (30 % opacity, in a layer above);
+///  - each item's label in a framed box next to its anchor point, with a leader line (on a white
+///    halo) to it, the boxes placed so that they overlap neither one another, nor the dots, nor
+///    the title and axes (place_labels);
 ///  - a legend at the right (a colour swatch and the legend line of each item), the title and
 ///    a subtitle at the top left, x/y/z axes at the bottom left;
-///  - an isometric parallel view, from (1, -1, 1) with +z up, fitted to the whole mesh in the area
-///    left of the legend; white background.
+///  - an isometric parallel view, from (1, -1, 1) with +z up, fitted to the mesh's projected extent
+///    in the area left of the legend and below the title, with room around it for the labels;
+///    white background. The same picture gives the same bytes.
 
 #include <array>
 #include <cstdint>
