@@ -16,6 +16,8 @@ namespace {
 
 // white mixed into the palette's colours: parts beneath everything, filled groups and loads over them
 constexpr double kPartTint = 0.55, kFillTint = 0.3;
+// up to this many groups and entries, each label on the picture says all its legend line says
+constexpr std::size_t kFullLabels = 12;
 
 // the node of `nodes` nearest to their centroid: a point of the set to pin its label to (the
 // centroid of a curved edge or an L-shaped set may lie off the set)
@@ -87,8 +89,10 @@ render::MeshPicture selections_picture(const scene::SceneSelections& s) {
       item.quads = to_int32(e.quads);
     else
       item.nodes = to_int32(e.nodes);
-    item.label = e.label + " (" + e.extent + ")";
-    item.legend = item.label;
+    item.legend = e.label + " (" + e.extent + ")";
+    // many labels crowd the picture: there, only the entry's table and index (the legend has the rest)
+    item.label = s.entries.size() + m.groups.size() > kFullLabels ? e.table + "[" + std::to_string(e.index) + "]"
+                                                                  : item.legend;
     item.anchor = representative_node(m, e.nodes);
     pic.items.push_back(std::move(item));
   }

@@ -16,7 +16,9 @@ namespace ff::app {
 
 /// The picture of a scene's selections (plain arrays for render/): parts in pale colours when
 /// there are several, then the mesh's named groups and the scene's entries in strong colours, each
-/// labelled at its node nearest the centroid of its nodes.
+/// labelled at its node nearest the centroid of its nodes (an entry as its legend line, e.g.
+/// "bc[0] clamped (33 nodes)", or as "bc[0]" alone when more than 12 groups and entries crowd the
+/// picture).
 render::MeshPicture selections_picture(const scene::SceneSelections& s);
 
 /// Refuses (InputError) a picture path that is empty, does not end in .png, names a folder, or lies

@@ -109,6 +109,20 @@ TEST(CheckPicture, NamedGroupsAreColouredLabelledAndListed) {
   EXPECT_EQ(pic.items[2].legend, "group 'pin' (point, 1 node)");
   EXPECT_EQ(pic.items[3].legend, "bc[0] clamped (5 nodes)");
   for (const auto& item : pic.items) EXPECT_GE(item.anchor, 0) << item.legend;
+  EXPECT_EQ(pic.items[3].label, "bc[0] clamped (5 nodes)");  // few labels: each says it all
+
+  // many: on the picture only the entry's table and index; the legend keeps the whole line
+  scene::SceneSelections crowded = s;
+  for (std::size_t i = 1; i < 10; ++i) {
+    scene::EntrySelection e = bc;
+    e.index = i;
+    e.label = "bc[" + std::to_string(i) + "] clamped";
+    crowded.entries.push_back(e);
+  }
+  const render::MeshPicture busy = app::selections_picture(crowded);
+  ASSERT_EQ(busy.items.size(), 13u);
+  EXPECT_EQ(busy.items[12].label, "bc[9]");
+  EXPECT_EQ(busy.items[12].legend, "bc[9] clamped (5 nodes)");
 
   std::string error;
   const auto gc = render::GraphicsContext::create(&error);
