@@ -51,23 +51,31 @@ render::MeshPicture selections_picture(const scene::SceneSelections& s) {
                  count_of(s.part_names.size(), "part", "parts") + "; isometric view" +
                  (s.entries.empty() ? "" : "; faint dots lie behind the surface");
 
-  // parts: pale, beneath everything else (one part is the whole mesh: nothing to tell apart)
-  if (s.part_names.size() > 1)
-    for (std::size_t p = 0; p < s.part_names.size(); ++p) {
+  // the pieces of the structure, pale, beneath everything else: its patches where there are several
+  // (a part's own, or those l_plate and folded_plate name: select = "patch_edge" names them), else
+  // its parts; one piece is the whole mesh, nothing to tell apart
+  const bool by_patch = m.patches.size() > 1 && m.quad_patch.size() == m.quads.size();
+  const std::size_t pieces = by_patch ? m.patches.size() : s.part_names.size();
+  if (pieces > 1)
+    for (std::size_t p = 0; p < pieces; ++p) {
       render::PictureItem item;
       std::vector<int> nodes;
+      const std::vector<int>& owner = by_patch ? m.quad_patch : s.quad_part;
       for (int q = 0; q < m.quad_count(); ++q)
-        if (q < static_cast<int>(s.quad_part.size()) && s.quad_part[q] == static_cast<int>(p)) {
+        if (q < static_cast<int>(owner.size()) && owner[q] == static_cast<int>(p)) {
           item.quads.push_back(q);
           nodes.insert(nodes.end(), m.quads[q].begin(), m.quads[q].end());
         }
+      const std::string& name = by_patch ? m.patches[p].name : s.part_names[p];
+      const bool a_part = std::find(s.part_names.begin(), s.part_names.end(), name) != s.part_names.end();
       item.color = render::picture_color(static_cast<int>(p), kPartTint);
-      item.label = "part '" + s.part_names[p] + "'";
+      item.label = (a_part ? "part '" : "patch '") + name + "'";
       item.legend = item.label + " (" + count_of(item.quads.size(), "quad", "quads") + ")";
       item.anchor = representative_node(m, nodes);
       pic.items.push_back(std::move(item));
     }
-  int strong = 0;  // the next strong colour
+  // the next strong colour: after the hues of the pieces, so that no dot sits on its own hue
+  int strong = pieces > 1 ? static_cast<int>(pieces) : 0;
   for (const mesh::MeshGroup& g : m.groups) {
     render::PictureItem item;
     item.color = render::picture_color(strong++, g.dimension == 2 ? kFillTint : 0.0);

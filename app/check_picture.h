@@ -14,8 +14,9 @@
 
 namespace ff::app {
 
-/// The picture of a scene's selections (plain arrays for render/): parts in pale colours when
-/// there are several, then the mesh's named groups and the scene's entries in strong colours, each
+/// The picture of a scene's selections (plain arrays for render/): the patches in pale colours
+/// when there are several (parts, or l_plate's arm1, corner, arm2: what select = "patch_edge"
+/// names), then the mesh's named groups and the scene's entries in strong colours, each
 /// labelled at its node nearest the centroid of its nodes (an entry as its legend line, e.g.
 /// "bc[0] clamped (33 nodes)", or as "bc[0]" alone when more than 12 groups and entries crowd the
 /// picture).
