@@ -62,6 +62,11 @@ TEST(CheckPicture, ShowsThePartsOfAJoinedStructureAndAMeshFileScene) {
   render::test::Image img = render::test::read_png(dir + "/hook.png");
   EXPECT_GT(pixels_of(img, render::picture_color(0, 0.55)), 2000) << "part 'small_arc'";
   EXPECT_GT(pixels_of(img, render::picture_color(1, 0.55)), 10000) << "part 'large_arc'";
+  // one part of three named patches (l_plate: arm1, corner, arm2): each patch its pale colour
+  r = run_flexframe({"check", "l_plate_force", "--picture", dir + "/l_plate.png"}, dir + "/l_plate");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  img = render::test::read_png(dir + "/l_plate.png");
+  for (int k = 0; k < 3; ++k) EXPECT_GT(pixels_of(img, render::picture_color(k, 0.55)), 500) << "patch " << k;
   // a dynamic scene: joints and arcs are selections too
   r = run_flexframe({"check", "double_pendulum_shells", "--picture", dir + "/pendulum.png"}, dir + "/pendulum");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
