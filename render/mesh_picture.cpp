@@ -220,6 +220,7 @@ struct Picture {
   }
 
   void build_legend();
+  std::array<double, 3> view_direction() const;  // from the mesh towards the eye, unit
   void build_camera();
   void build_surface();
   std::vector<std::vector<int>> depth;  // per item and node: how many earlier items mark the node
@@ -288,11 +289,29 @@ void Picture::build_legend() {
   }
 }
 
+std::array<double, 3> Picture::view_direction() const {
+  const double r = 1 / std::sqrt(3.0);
+  const std::array<std::array<double, 3>, 4> candidates = {{{r, -r, r}, {r, r, r}, {-r, -r, r}, {-r, r, r}}};
+  std::array<double, 4> shown{};  // projected area of the quads, seen from each candidate
+  for (std::size_t q = 0; q + 3 < in.quads.size(); q += 4) {
+    const auto a = point(in.quads[q]), b = point(in.quads[q + 1]), c = point(in.quads[q + 2]), e = point(in.quads[q + 3]);
+    const double u[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, v[3] = {e[0] - b[0], e[1] - b[1], e[2] - b[2]};
+    const double area[3] = {0.5 * (u[1] * v[2] - u[2] * v[1]), 0.5 * (u[2] * v[0] - u[0] * v[2]),
+                            0.5 * (u[0] * v[1] - u[1] * v[0])};  // vector area of the quad
+    for (std::size_t k = 0; k < candidates.size(); ++k)
+      shown[k] += std::fabs(area[0] * candidates[k][0] + area[1] * candidates[k][1] + area[2] * candidates[k][2]);
+  }
+  const std::size_t best = static_cast<std::size_t>(std::max_element(shown.begin(), shown.end()) - shown.begin());
+  return shown[0] >= 0.5 * shown[best] ? candidates[0] : candidates[best];
+}
+
 void Picture::build_camera() {
-  // isometric: from (1, -1, 1) towards the body, +z up; fitted to the mesh as the picture shows it
-  // (its projected extent, not a sphere round it: nothing moves here), in the area left of the
-  // legend and below the title, with room around it for the labels
-  const double d[3] = {1 / std::sqrt(3.0), -1 / std::sqrt(3.0), 1 / std::sqrt(3.0)};
+  // isometric, +z up: from (1, -1, 1), unless the mesh shows less than half the area there that it
+  // shows from another of (±1, ±1, 1) (a plate in the plane x = -y is a line from (1, -1, 1)).
+  // Fitted to the mesh as the picture shows it (its projected extent, not a sphere round it:
+  // nothing moves here), in the area left of the legend and below the title, with room around it
+  // for the labels.
+  const std::array<double, 3> d = view_direction();
   double up[3] = {-d[2] * d[0], -d[2] * d[1], 1.0 - d[2] * d[2]};  // z made normal to d
   const double up_len = std::sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
   for (double& c : up) c /= up_len;

@@ -19,7 +19,8 @@
 ///    the title and axes (place_labels);
 ///  - a legend at the right (a colour swatch and the legend line of each item), the title and
 ///    a subtitle at the top left, x/y/z axes at the bottom left;
-///  - an isometric parallel view, from (1, -1, 1) with +z up, fitted to the mesh's projected extent
+///  - an isometric parallel view with +z up, from (1, -1, 1) unless another of (±1, ±1, 1) shows
+///    more than twice the mesh's area (a plate edge-on from there), fitted to its projected extent
 ///    in the area left of the legend and below the title, with room around it for the labels;
 ///    white background. The same picture gives the same bytes.
 

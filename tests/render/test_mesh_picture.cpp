@@ -48,6 +48,17 @@ int pixels_of(const Image& img, const std::array<double, 3>& c) {
   return count;
 }
 
+// Pixels of the mesh's grey, lit: grey (channels within 14 of each other), neither the white
+// background nor dark text.
+int mesh_pixels(const Image& img) {
+  int count = 0;
+  for (const auto& px : img.rgb) {
+    const int lo = std::min({px[0], px[1], px[2]}), hi = std::max({px[0], px[1], px[2]});
+    count += lo >= 90 && hi <= 235 && hi - lo <= 14;
+  }
+  return count;
+}
+
 class MeshPictureTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -89,7 +100,7 @@ TEST_F(MeshPictureTest, WritesThePictureAtItsSizeWithEveryItemsColour) {
   EXPECT_GT(pixels_of(img, surface.color), 5000);
   EXPECT_GT(pixels_of(img, edge.color), 150);
   EXPECT_GT(pixels_of(img, probe.color), 10);
-  EXPECT_GT(pixels_of(img, kPictureMeshColor), 0);  // the right half: no item fills it
+  EXPECT_GT(mesh_pixels(img), 5000);  // the right half: no item fills it
 
   // without the items none of their colours is there (the counts above are not the mesh's)
   MeshPicture bare = plate(8, 4);
@@ -99,6 +110,24 @@ TEST_F(MeshPictureTest, WritesThePictureAtItsSizeWithEveryItemsColour) {
   EXPECT_EQ(pixels_of(none, surface.color), 0);
   EXPECT_EQ(pixels_of(none, edge.color), 0);
   EXPECT_EQ(pixels_of(none, probe.color), 0);
+}
+
+// A plate in the plane x = -y is seen edge-on from (1, -1, 1): the view turns to another of
+// (±1, ±1, 1), from which its face shows.
+TEST_F(MeshPictureTest, APlateSeenEdgeOnIsViewedFromAnotherSide) {
+  MeshPicture p = plate(8, 4);
+  for (std::size_t i = 0; i < p.points.size(); i += 3) {
+    const double x = p.points[i], y = p.points[i + 1];
+    p.points[i] = x / std::sqrt(2.0);
+    p.points[i + 1] = -x / std::sqrt(2.0);
+    p.points[i + 2] = y;
+  }
+  const std::string path = test::out_dir() + "/mesh_picture_edge_on.png";
+  std::string error;
+  ASSERT_TRUE(write_mesh_picture(*gc_, p, path, &error)) << error;
+  const Image img = test::read_png(path);
+  // the 8 x 4 plate fills much of the picture (from (1, -1, 1) it was a line of some 2000 pixels)
+  EXPECT_GT(mesh_pixels(img), 40000);
 }
 
 TEST_F(MeshPictureTest, SameInputGivesTheSameBytes) {
