@@ -80,9 +80,9 @@ render::MeshPicture selections_picture(const scene::SceneSelections& s) {
     render::PictureItem item;
     item.color = render::picture_color(strong++, g.dimension == 2 ? kFillTint : 0.0);
     const char* kind = g.dimension == 2 ? "surface" : g.dimension == 1 ? "curve" : "point";
-    if (g.dimension == 2)
+    if (g.dimension == 2 && !g.quads.empty())
       item.quads = to_int32(g.quads);
-    else
+    else  // a curve or point group, or a surface group given by its nodes alone
       item.nodes = to_int32(g.nodes);
     item.label = "group '" + g.name + "'";
     item.legend = item.label + " (" + kind + ", " + count_of(g.nodes.size(), "node", "nodes") + ")";
