@@ -11,6 +11,7 @@
 
 #include "app/io/machine_memory.h"
 #include "app/bench.h"
+#include "app/check_picture.h"
 #include "app/compare.h"
 #include "app/gui/gui_app.h"
 #include "app/policy_table.h"
@@ -100,6 +101,11 @@ int main(int argc, char** argv) {
   CLI::App* check = app.add_subcommand("check", "validate a scene without running it");
   check->add_option("scene", check_scene, "scene file or bundled scene name")->required();
   check->add_option("--set", check_overrides, "override a scene key")->take_all();
+  std::string check_picture;
+  CLI::Option* check_picture_opt = check->add_option(
+      "--picture", check_picture,
+      "also draw the shell structure to this PNG file (its folder must exist): parts, named groups and the nodes "
+      "every bc, load, probe, joint and arc selects, coloured and labelled");
 
   // scenes
   bool reference = false;
@@ -239,8 +245,12 @@ int main(int argc, char** argv) {
       return ff::app::replay(replay_opt, g_stop);
     }
     if (*check) {
+      if (check_picture_opt->count() > 0) ff::app::check_picture_path(check_picture);  // before any work
       std::printf("%s\n",
                   ff::scene::check_scene(ff::app::resolve_scene(check_scene), check_overrides, ff::io::scene_context(&g_stop)).c_str());
+      if (check_picture_opt->count() > 0)
+        std::printf("%s\n", ff::app::write_check_picture(ff::app::resolve_scene(check_scene), check_overrides,
+                                                         check_picture, ff::io::scene_context(&g_stop)).c_str());
       return 0;
     }
     if (*scenes) {

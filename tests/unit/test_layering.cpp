@@ -76,6 +76,8 @@ const std::map<std::string, SceneLevel> kSceneLevels = {
     {"shell_dynamic_scene", kModels},
     // model_kinds() and load_scene
     {"scene", kRegistry},
+    // what a scene's names select, for check --picture (reads a scene as the registry does)
+    {"scene_selections", kRegistry},
     // writing edited scenes back
     {"scene_edit", kEditing},
 };
