@@ -776,8 +776,9 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
     return refuse("part.local_size_groups", "part.local_size_groups sizes the mesh Gmsh makes of a CAD part; '" + name +
                                                 "' is a mesh already");
   if (geometry && ext != ".geo" && !(request.mesh_size > 0))
-    return refuse("part.file", "'" + name + "' is a CAD part: Gmsh meshes it at the size part.mesh_size, which the "
-                               "scene must give (the largest element edge, in the scene's length unit)");
+    return refuse("part.mesh_size", "'" + name + "' is a CAD part: Gmsh meshes it at the size part.mesh_size, which "
+                                    "the scene must give, greater than 0 (the largest element edge, in the scene's "
+                                    "length unit)");
   if (request.triangles == "recombine" && !by_gmsh)
     return refuse("part.triangles", "Gmsh recombines the triangles of .msh files (on an STL it broke the surface: "
                                     "Gmsh 4.8 found no boundary to match against); '" + name +
