@@ -254,3 +254,30 @@ TEST(ImportedGeometryAccuracy, AveragedDirectorsDoNotDependOnWhatTheHeapHeld) {
   ASSERT_TRUE(ff::io::read_mesh_file(q, m, error)) << error.message;
   for (int i = 0; i < m.node_count(); ++i) EXPECT_NEAR(m.normals[static_cast<std::size_t>(i)].z(), 1.0, 1e-12) << "node " << i;
 }
+
+// The CAD hemisphere (assets/geometry/hemisphere_18deg_quarter.geo): an OpenCASCADE sphere's face
+// whose seam is its edge on y = 0 and whose pole lies in the hole. The directors are the sphere's
+// radial normals at every node, seam edge included, and no node is a fold (a seam inside the mesh
+// would give its nodes two normals and make them folds).
+TEST(ImportedGeometryAccuracy, CadHemisphereDirectorsAreRadialWithNoFoldAtTheSeam) {
+  ff::scene::MeshFileRequest q;
+  q.path = std::string(FF_SOURCE_DIR) + "/assets/geometry/hemisphere_18deg_quarter.geo";
+  q.mesh_size = 1.0;
+  ff::mesh::ShellMesh m;
+  ff::scene::MeshFileError error;
+  ASSERT_TRUE(ff::io::read_mesh_file(q, m, error)) << error.message;
+  EXPECT_EQ(m.fold_count(), 0);
+  double worst = 0, radius_error = 0;
+  int on_seam = 0;
+  for (int i = 0; i < m.node_count(); ++i) {
+    const Eigen::Vector3d x = m.points[static_cast<std::size_t>(i)];
+    worst = std::max(worst, 1.0 - std::abs(m.normals[static_cast<std::size_t>(i)].dot(x.normalized())));
+    radius_error = std::max(radius_error, std::abs(x.norm() - 10.0));
+    on_seam += std::abs(x.y()) < 1e-9;
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(radius_error, 1e-9);
+  EXPECT_GE(on_seam, 10);
+  EXPECT_EQ(m.find_group("symmetry_y") >= 0 ? m.groups[static_cast<std::size_t>(m.find_group("symmetry_y"))].nodes.size() : 0u,
+            static_cast<std::size_t>(on_seam));
+}
