@@ -166,7 +166,7 @@ TEST(ImportedGeometryAccuracy, HemisphereFromCadQuadsAndSplitTrianglesAgainstSze
 // u_y(0, r) = sigma ((1 + nu) a^4 - (3 - nu) a^2 r^2 - 2 nu r^4) / (2 E r^3).
 // The plate of assets/geometry/plate_with_hole.geo is finite (d/W = 0.1, L/b = 2): Howland's
 // finite-width solution (Phil. Trans. R. Soc. A 229 (1930) 49-86) raises the peak stress from 3 to
-// about 3.03 of the gross stress there, and the fine mesh below moves the hole's edge 1.2 % (u_x)
+// about 3.03 of the gross stress there (Heywood's fit K_net = 2 + (1 - d/W)^3, over 1 - d/W), and the fine mesh below moves the hole's edge 1.2 % (u_x)
 // and 3.2 % (u_y) more than Kirsch's infinite plate; with the hole halved (d/W = 0.05) these
 // fall to 0.2-0.4 % and 0.6 % (measured: the (a/b)^2 of a finite-width correction).
 // Mesh error against the fine mesh (size 0.25, hole 0.025: 16 138 quads; 0.2 / 0.02 changes it by
