@@ -243,10 +243,8 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
     // (S4) area-weighted normal of each node within each piece
     std::map<std::pair<int, int>, Vec3> piece_normal;  // (node, piece)
     for (int q = 0; q < nq; ++q)
-      for (int k = 0; k < 4; ++k) {
-        const auto [it, fresh] = piece_normal.try_emplace({m.quads[q][k], piece[q]}, Vec3::Zero());
-        it->second += qn[q];
-      }
+      for (int k = 0; k < 4; ++k)  // try_emplace starts each sum at zero (operator[] leaves an Eigen vector uninitialized)
+        piece_normal.try_emplace({m.quads[q][k], piece[q]}, Vec3::Zero()).first->second += qn[q];
     std::vector<int> first_piece(nn, -1);
     for (const auto& [key, v] : piece_normal) {
       const int I = key.first;

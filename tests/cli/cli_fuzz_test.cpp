@@ -688,13 +688,14 @@ class Fuzzer {
   bool last_check_valid_ = false;
 };
 
-/// A test folder with `meshes` and `reference` beside `scenes`, so the bundled scenes' relative
-/// paths (../meshes/..., ../reference/...) resolve from dir/scenes.
+/// A test folder with `meshes`, `geometry` and `reference` beside `scenes`, so the bundled scenes'
+/// relative paths (../meshes/..., ../geometry/..., ../reference/...) resolve from dir/scenes.
 std::string fuzz_dir() {
   const std::string dir = fresh_test_dir();
   fs::create_directories(dir + "/scenes");
   fs::create_directories(dir + "/logs");
   fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/meshes", dir + "/meshes");
+  fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/geometry", dir + "/geometry");
   fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/reference", dir + "/reference");
   fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/geometry", dir + "/geometry");
   return dir;
