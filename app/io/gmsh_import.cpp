@@ -116,6 +116,7 @@ struct GmshApi {
   decltype(&::gmshModelGetParametrization) get_parametrization = nullptr;
   decltype(&::gmshModelMeshGenerate) generate = nullptr;
   decltype(&::gmshModelMeshRecombine) recombine = nullptr;
+  decltype(&::gmshModelMeshClear) clear = nullptr;
   decltype(&::gmshModelMeshGetNodes) get_nodes = nullptr;
   decltype(&::gmshModelMeshGetNodesForPhysicalGroup) get_nodes_for_physical_group = nullptr;
   decltype(&::gmshModelMeshGetElements) get_elements = nullptr;
@@ -149,6 +150,7 @@ struct GmshApi {
     find(get_parametrization, "gmshModelGetParametrization");
     find(generate, "gmshModelMeshGenerate");
     find(recombine, "gmshModelMeshRecombine");
+    find(clear, "gmshModelMeshClear");
     find(get_nodes, "gmshModelMeshGetNodes");
     find(get_nodes_for_physical_group, "gmshModelMeshGetNodesForPhysicalGroup");
     find(get_elements, "gmshModelMeshGetElements");
@@ -300,6 +302,20 @@ double surface_area(const GmshApi& g) {
   return area;
 }
 
+// 3-node surface elements in the current mesh
+std::size_t count_triangles(const GmshApi& g) {
+  int ierr = 0;
+  int* types = nullptr;
+  std::size_t types_n = 0, *et_n = nullptr, et_nn = 0, *nt_n = nullptr, nt_nn = 0;
+  std::size_t** et = nullptr;
+  std::size_t** nt = nullptr;
+  g.get_elements(&types, &types_n, &et, &et_n, &et_nn, &nt, &nt_n, &nt_nn, 2, -1, &ierr);
+  std::size_t n = 0;
+  for (std::size_t t = 0; t < types_n; ++t)
+    if (types[t] == 2) n += et_n[t];
+  return n;
+}
+
 // Everything the child does with Gmsh; throws GmshFailure with a sentence
 void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   int ierr = 0;
@@ -348,24 +364,40 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   };
 
   std::vector<std::string> notes;
+  bool subdivided = false;
   if (r.mesh_geometry) {
-    if (r.mesh_size > 0) g.set_number("Mesh.MeshSizeMax", r.mesh_size, &ierr);
-    for (const auto& [name, size] : r.group_sizes) {
-      const auto it = std::find_if(physicals.begin(), physicals.end(), [&](const Physical& p) { return p.name == name; });
-      if (it == physicals.end()) throw GmshFailure("part.group_sizes names group '" + name + "', which the file does not define");
-      std::vector<int> dim_tags;
-      for (int e : it->entities) dim_tags.push_back(it->dim), dim_tags.push_back(e);
-      int* points = nullptr;
-      std::size_t points_n = 0;
-      if (it->dim == 0) {
-        g.set_size(dim_tags.data(), dim_tags.size(), size, &ierr);
-      } else {
-        g.get_boundary(dim_tags.data(), dim_tags.size(), &points, &points_n, 0, 0, 1, &ierr);
-        check(g, ierr, "finding the points of group '" + name + "'");
-        g.set_size(points, points_n, size, &ierr);
+    // sizes times `factor`: part.mesh_size at every point of the geometry (a CAD file's points
+    // carry no sizes, and Gmsh would give them a tenth of the part's diagonal, which
+    // Mesh.MeshSizeMax only lowers) and as the cap; each named group's points at its own size
+    const auto apply_sizes = [&](double factor) {
+      if (r.mesh_size > 0) {
+        g.set_number("Mesh.MeshSizeMax", factor * r.mesh_size, &ierr);
+        int* points = nullptr;
+        std::size_t points_n = 0;
+        g.get_entities(&points, &points_n, 0, &ierr);
+        check(g, ierr, "reading its points");
+        if (points_n > 0) g.set_size(points, points_n, factor * r.mesh_size, &ierr);
+        check(g, ierr, "setting its size");
       }
-      check(g, ierr, "setting the size of group '" + name + "'");
-    }
+      for (const auto& [name, size] : r.group_sizes) {
+        const auto it = std::find_if(physicals.begin(), physicals.end(), [&](const Physical& p) { return p.name == name; });
+        if (it == physicals.end())
+          throw GmshFailure("part.local_size_groups names group '" + name + "', which the file does not define");
+        std::vector<int> dim_tags;
+        for (int e : it->entities) dim_tags.push_back(it->dim), dim_tags.push_back(e);
+        int* points = nullptr;
+        std::size_t points_n = 0;
+        if (it->dim == 0) {
+          g.set_size(dim_tags.data(), dim_tags.size(), factor * size, &ierr);
+        } else {
+          g.get_boundary(dim_tags.data(), dim_tags.size(), &points, &points_n, 0, 0, 1, &ierr);
+          check(g, ierr, "finding the points of group '" + name + "'");
+          g.set_size(points, points_n, factor * size, &ierr);
+        }
+        check(g, ierr, "setting the size of group '" + name + "'");
+      }
+    };
+    apply_sizes(1.0);
     // Frontal-Delaunay (6) with Blossom recombination: robust in Gmsh 4.8, where the quad-dedicated
     // Frontal-Delaunay for quads (8) segfaulted on a cylindrical roof
     g.set_number("Mesh.Algorithm", 6, &ierr);
@@ -374,10 +406,27 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
     g.set_number("Mesh.ElementOrder", 1, &ierr);
     g.generate(2, &ierr);
     check(g, ierr, "Gmsh could not mesh it");
+    // Blossom can leave a few triangles (a hemisphere at size 0.35 left 2 of 1467 elements), and
+    // one triangle would make FlexFrame split every element of the part. Then the part is meshed
+    // at twice the size and Gmsh subdivides every element into quads (Mesh.SubdivisionAlgorithm =
+    // 1), its new nodes on the CAD surface. (The full-quad recombinations 2 and 3 refuse periodic
+    // surfaces such as a sphere in Gmsh 4.8.)
+    if (count_triangles(g) > 0) {
+      g.clear(nullptr, 0, &ierr);
+      check(g, ierr, "clearing a mesh with triangles");
+      apply_sizes(2.0);
+      g.set_number("Mesh.SubdivisionAlgorithm", 1, &ierr);
+      g.generate(2, &ierr);
+      check(g, ierr, "Gmsh could not mesh it into quads only");
+      subdivided = true;
+    }
     char size[64];
     std::snprintf(size, sizeof size, "%.6g", r.mesh_size);
-    notes.push_back("meshed by Gmsh 2D Frontal-Delaunay with Blossom recombination, " +
-                    (r.mesh_size > 0 ? "elements at most " + std::string(size) + " across" : std::string("the file's sizes")) +
+    notes.push_back(std::string("meshed by Gmsh 2D Frontal-Delaunay with Blossom recombination") +
+                    (subdivided ? " at twice the size, then every element subdivided into quads (plain Blossom left "
+                                  "triangles), "
+                                : ", ") +
+                    (r.mesh_size > 0 ? "elements about " + std::string(size) + " across" : std::string("the file's sizes")) +
                     (r.group_sizes.empty() ? "" : ", finer at " + std::to_string(r.group_sizes.size()) + " named groups"));
   } else if (r.recombine_triangles) {
     const double before = surface_area(g);

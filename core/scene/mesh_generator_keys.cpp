@@ -497,8 +497,8 @@ void declare_part_keys(Schema& s) {
               "materials of their own",
               std::string{})
       .number("part.mesh_size",
-              "generator = file, CAD or .geo: the largest element edge Gmsh makes (required for STEP, IGES and "
-              "BREP; 0 = a .geo script's own sizes)",
+              "generator = file, CAD or .geo: the element size Gmsh meshes at, given to every point of the geometry "
+              "and as the largest edge (required for STEP, IGES and BREP; 0 = a .geo script's own sizes)",
               0.0, Range::non_negative(), "length")
       .string_list("part.local_size_groups",
                    "generator = file, CAD or .geo: named groups of the file meshed finer, each at the size in "
