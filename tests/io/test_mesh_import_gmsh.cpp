@@ -508,3 +508,38 @@ TEST(GmshImport, ALocalSizeRefinesTheMeshAtItsGroup) {
   EXPECT_FALSE(unknown.ok);
   EXPECT_EQ(unknown.error.key, "part.local_size_groups");
 }
+
+// part.mesh_size is the size at every point: a CAD point without a size had a tenth of the part's
+// diagonal (1.7 on the hemisphere), and a cap alone made every size from 2 up give the same 80 quads
+TEST(GmshImport, AMeshSizeAboveATenthOfThePartStillCoarsensIt) {
+  const std::string geo = std::string(FF_SOURCE_DIR) + "/assets/geometry/hemisphere_18deg_quarter.geo";
+  ff::scene::MeshFileRequest q = request(geo);
+  int quads[3];
+  const double sizes[3] = {5.0, 3.0, 2.0};
+  for (int k = 0; k < 3; ++k) {
+    q.mesh_size = sizes[k];
+    const Read r = read(q);
+    ASSERT_TRUE(r.ok) << r.error.message;
+    quads[k] = r.mesh.quad_count();
+  }
+  EXPECT_LT(quads[0], quads[1]);
+  EXPECT_LT(quads[1], quads[2]);
+}
+
+// Blossom leaves 2 triangles on the hemisphere at 0.35 (Gmsh 4.8): the part is meshed at twice
+// the size and subdivided into quads by Gmsh, not split 4-fold by FlexFrame with flat midpoints
+TEST(GmshImport, WhereBlossomLeavesTrianglesGmshSubdividesIntoQuadsOnTheSurface) {
+  ff::scene::MeshFileRequest q = request(std::string(FF_SOURCE_DIR) + "/assets/geometry/hemisphere_18deg_quarter.geo");
+  q.mesh_size = 0.35;
+  const Read r = read(q);
+  ASSERT_TRUE(r.ok) << r.error.message;
+  const std::string& d = r.mesh.patches[0].description;
+  if (d.find("subdivided into quads") == std::string::npos)
+    GTEST_SKIP() << "this Gmsh's Blossom left no triangle at 0.35: " << d;
+  EXPECT_EQ(d.find("triangles split"), std::string::npos) << d;
+  EXPECT_LT(r.mesh.quad_count(), 2500) << "about the size asked, not four times the elements";
+  // every node on the sphere of radius 10 (the subdivision's new nodes too)
+  double worst = 0;
+  for (const auto& x : r.mesh.points) worst = std::max(worst, std::abs(x.norm() - 10.0));
+  EXPECT_LT(worst, 1e-6);
+}
