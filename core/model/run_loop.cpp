@@ -31,7 +31,7 @@ RunOutcome RunLoop::run(const Publish& publish, const std::atomic<bool>& stop) {
 bool RunLoop::start(const Publish& publish, const std::atomic<bool>* stop) {
   wall0_ = std::chrono::steady_clock::now();
   if (std::string why = sim_.start(); !why.empty()) {
-    finish(publish, stop && stop->load() ? RunStatus::interrupted : RunStatus::failed, std::move(why));
+    finish(publish, stop && stop->load() ? RunStatus::interrupted : sim_.start_failure_status(), std::move(why));
     return false;
   }
   Frame f = sim_.frame();

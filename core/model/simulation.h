@@ -87,6 +87,9 @@ class Simulation {
   virtual std::string start() = 0;
   /// Newton statistics of that preparation (the initial frame's stats).
   virtual StepStats start_stats() const { return {}; }
+  /// How a start() that gave a reason ended: failed by default; diverged where its Newton
+  /// iteration (a static start) did not converge or went non-finite.
+  virtual RunStatus start_failure_status() const { return RunStatus::failed; }
   /// Time (or load factor, in statics) of the current state.
   virtual double time() const = 0;
   /// The regular step of a time-stepping model (the loop keeps later steps on its grid when a

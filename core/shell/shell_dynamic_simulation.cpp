@@ -102,6 +102,8 @@ std::string ShellDynamicSimulation::start() {
   apply_changes(0.0);  // [[timeline]] gravity at t = 0
   if (settings_.static_start) {  // a static preload first (generalized_alpha.md (G11))
     const std::string why = integrator_->find_static_equilibrium(0.0, static_start_corrections_);
+    // its Newton iteration did not converge (or went non-finite under an absurd load): diverged
+    static_start_diverged_ = !why.empty();
     if (!why.empty()) return "the static equilibrium at t = 0 (solver.initial_state): " + why;
   }
   const std::string why = integrator_->initialize(0.0, Eigen::VectorXd::Zero(model_->size()));

@@ -63,6 +63,9 @@ class ShellDynamicSimulation final : public Simulation {
   const RunInfo& info() const override { return info_; }
   double end_time() const override { return settings_.end_time; }
   std::string start() override;
+  RunStatus start_failure_status() const override {
+    return static_start_diverged_ ? RunStatus::diverged : RunStatus::failed;
+  }
   double time() const override { return integrator_->time(); }
   double nominal_step() const override { return settings_.dt; }
   double next_change(double t) const override;
@@ -98,6 +101,7 @@ class ShellDynamicSimulation final : public Simulation {
   ShellDynamicSettings settings_;
   RunInfo info_;
   int static_start_corrections_ = 0;
+  bool static_start_diverged_ = false;
   double load_changed_at() const;
   SolverTotals totals_;
   std::vector<double> arc_chord0_, arc_length0_;

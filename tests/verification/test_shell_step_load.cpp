@@ -378,6 +378,17 @@ TEST(ShellStepLoad, StaticStartOfAMechanismIsRefusedBeforeTheFirstStep) {
   EXPECT_NE(o.reason.find("static equilibrium"), std::string::npos) << o.reason;
 }
 
+// An absurd preload (1e200 N) sends the static start's Newton iteration to non-finite numbers:
+// the run ends diverged (exit 3, as a diverging time step does), not failed
+TEST(ShellStepLoad, AStaticStartThatDoesNotConvergeEndsDiverged) {
+  const std::string path = std::string(FF_SOURCE_DIR) + "/assets/scenes/cantilever_preload_release.toml";
+  ff::scene::LoadedScene s = ff::scene::load_scene(path, {"load[0].total=[0.0, 1e200, 0.5]"});
+  std::atomic<bool> stop{false};
+  const ff::RunOutcome o = s.simulation->run([](ff::Frame&&) {}, stop);
+  EXPECT_EQ(o.status, ff::RunStatus::diverged) << o.reason;
+  EXPECT_NE(o.reason.find("static equilibrium"), std::string::npos) << o.reason;
+}
+
 // Junctions in dynamics: the strip of cantilever_step_load.toml written as two parts (root and
 // tip halves) joined where they meet is the same structure, so it swings the same: the joined body
 // differs from the single plate only in its node and element numbering (sums in another order),
