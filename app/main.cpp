@@ -240,7 +240,8 @@ int main(int argc, char** argv) {
     }
     if (*check) {
       std::printf("%s\n",
-                  ff::scene::check_scene(ff::app::resolve_scene(check_scene), check_overrides, ff::io::scene_context(&g_stop)).c_str());
+                  ff::scene::check_scene_report(ff::app::resolve_scene(check_scene), check_overrides,
+                                                ff::io::scene_context(&g_stop)).c_str());
       return 0;
     }
     if (*scenes) {
