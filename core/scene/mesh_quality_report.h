@@ -38,7 +38,8 @@ struct MeshQualityReport {
 /// naming the quads. When ctx.mesh_quality is set, the report is left there.
 MeshQualityReport report_mesh_quality(const Document& d, const Structure& structure, const SceneContext& ctx);
 
-/// "12.3" style: 3 significant digits (4 for values near 1 that would otherwise read 1).
+/// A metric's value for sentences: aspect ratio to 3 significant digits ("2.59"), skew and warping
+/// to 0.1 deg ("26.6 deg"), Jacobian ratio to 3 decimals ("0.808").
 std::string quality_value_text(mesh::QualityMetric m, double v);
 
 }  // namespace ff::scene

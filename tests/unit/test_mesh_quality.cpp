@@ -106,6 +106,20 @@ TEST(MeshQuality, TrapezoidJacobianRatioIsHalf) {
   EXPECT_TRUE(measure_quality(m, t).summary(QualityMetric::jacobian_ratio).beyond.empty());
 }
 
+TEST(MeshQuality, TriangleSplitInThreeHasJacobianRatioOneThird) {
+  // a triangle cut into three quads at its centroid and edge midpoints (what a mesh of triangles
+  // becomes when split): in a right isosceles triangle the corner Jacobians of each quad are
+  // 3 : 2 : 1 : 2 (vertex, midpoint, centroid, midpoint), and ratios of areas are affine
+  // invariants, so every such quad of any flat triangle has Jacobian ratio exactly 1/3
+  const Vector3d a(0, 0, 0), b(5, 0.4, 0), c(1.2, 2.9, 0);
+  const Vector3d g = (a + b + c) / 3.0, ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+  const ShellMesh m = flat({a, b, c, g, ab, bc, ca}, {{0, 4, 3, 6}, {1, 5, 3, 4}, {2, 6, 3, 5}});
+  const MeshQuality r = measure_quality(m);
+  ASSERT_TRUE(r.ok());
+  for (int q = 0; q < 3; ++q) EXPECT_NEAR(r.quads[q].jacobian_ratio, 1.0 / 3.0, 1e-12) << "quad " << q;
+  EXPECT_TRUE(r.summary(QualityMetric::jacobian_ratio).beyond.empty());  // the default 0.3 lets them pass
+}
+
 TEST(MeshQuality, LiftedCornerWarps) {
   // corner 2 of the unit square lifted by h: the split along 0-2 folds by acos(1/(1+h^2)), more
   // than the split along 1-3 (acos(1/sqrt(1+2h^2))); the director of a single imported quad is
