@@ -247,7 +247,8 @@ int main(int argc, char** argv) {
     if (*check) {
       if (check_picture_opt->count() > 0) ff::app::check_picture_path(check_picture);  // before any work
       std::printf("%s\n",
-                  ff::scene::check_scene(ff::app::resolve_scene(check_scene), check_overrides, ff::io::scene_context(&g_stop)).c_str());
+                  ff::scene::check_scene_report(ff::app::resolve_scene(check_scene), check_overrides,
+                                                ff::io::scene_context(&g_stop)).c_str());
       if (check_picture_opt->count() > 0)
         std::printf("%s\n", ff::app::write_check_picture(ff::app::resolve_scene(check_scene), check_overrides,
                                                          check_picture, ff::io::scene_context(&g_stop)).c_str());

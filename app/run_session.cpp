@@ -46,6 +46,29 @@ std::string format_duration(double s) {
   std::snprintf(buf, sizeof buf, "%ld:%02ld", t / 60, t % 60);
   return buf;
 }
+
+// summary.json "mesh_quality": counts, per metric the worst quad (number and name), the median,
+// the limit and the quads past it (worst first, at most 20 numbers), and the warnings' sentences
+nlohmann::ordered_json mesh_quality_json(const scene::MeshQualityReport& r) {
+  using Json = nlohmann::ordered_json;
+  Json metrics = Json::object();
+  for (int k = 0; k < mesh::quality_metric_count; ++k) {
+    const mesh::MetricSummary& s = r.quality.metrics[k];
+    const auto m = static_cast<mesh::QualityMetric>(k);
+    Json past = Json::array();
+    for (std::size_t i = 0; i < s.beyond.size() && i < 20; ++i) past.push_back(s.beyond[i]);
+    metrics[mesh::metric_key(m)] = {{"unit", mesh::metric_unit(m)},
+                                    {"worst", s.worst_quad >= 0 ? Json(s.worst) : Json()},
+                                    {"worst_quad", s.worst_quad},
+                                    {"worst_element", s.worst_quad >= 0 ? r.quad_name(s.worst_quad) : ""},
+                                    {"typical", s.worst_quad >= 0 ? Json(s.typical) : Json()},
+                                    {"limit", s.limit},
+                                    {"past_limit", s.beyond.size()},
+                                    {"past_limit_quads", past}};
+  }
+  return {{"quads", r.quality.quad_count}, {"nodes", r.quality.node_count}, {"parts", r.part_names.size()},
+          {"poor_quads", r.quality.poor_count()}, {"metrics", metrics}, {"warnings", r.warnings()}};
+}
 }  // namespace
 
 std::string scene_dir() {
@@ -92,6 +115,8 @@ int exit_code(const RunOutcome& o) {
 
 RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&stop));
+  if (scene.mesh_quality)  // poor quads run, but the user hears of them before a long run
+    for (const std::string& w : scene.mesh_quality->warnings()) std::fprintf(stderr, "warning: mesh quality: %s\n", w.c_str());
   Simulation& sim = *scene.simulation;
   const RunInfo info = sim.info();
   scene::OutputSettings out = scene.output;
@@ -417,7 +442,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   Json mesh_import = Json::object();
   for (const auto& [key, value] : info.settings)
     if (key.rfind("mesh_import", 0) == 0) mesh_import[key] = value;
-  const Json summary = {
+  Json summary = {
       {"scene", scene.name},
       {"scene_path", scene.path},
       {"status", to_string(outcome.status)},
@@ -438,6 +463,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       {"mesh_import", mesh_import},
       {"outputs", outputs},
       {"render", render_info}};
+  if (scene.mesh_quality) summary["mesh_quality"] = mesh_quality_json(*scene.mesh_quality);
   write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");  // throws WriteError: exit 1
   return result;
 }

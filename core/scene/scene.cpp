@@ -191,7 +191,11 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
   s.output = read_output(d, kind.camera_keys);
   s.output.camera_path = read_timeline(d, d.number(kind.end_key)).camera;
   refuse_repeated_names(d);
-  s.simulation = kind.build(d, path, ctx);
+  SceneContext with_report = ctx;  // a shell structure's builder leaves its mesh quality report here
+  MeshQualityReport report;
+  with_report.mesh_quality = &report;
+  s.simulation = kind.build(d, path, with_report);
+  if (report.quality.quad_count > 0) s.mesh_quality = std::move(report);
   s.schema = &kind.schema();
   return s;
 }
@@ -229,8 +233,8 @@ double estimated_run_bytes(const std::string& path, const std::vector<std::strin
   }
 }
 
-std::string check_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
-  LoadedScene s = load_scene(path, overrides, ctx);
+namespace {
+std::string check_line(const LoadedScene& s) {
   const RunInfo& info = s.simulation->info();
   std::ostringstream out;
   out << s.name << ": valid; effects";
@@ -240,6 +244,20 @@ std::string check_scene(const std::string& path, const std::vector<std::string>&
   for (const auto& [key, value] : info.settings)
     if (key.rfind("mesh_import", 0) == 0) out << "\n  " << key << ": " << value;
   return out.str();
+}
+}  // namespace
+
+std::string check_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
+  return check_line(load_scene(path, overrides, ctx));
+}
+
+std::string check_scene_report(const std::string& path, const std::vector<std::string>& overrides,
+                               const SceneContext& ctx) {
+  const LoadedScene s = load_scene(path, overrides, ctx);
+  std::string out = check_line(s);
+  if (s.mesh_quality) out += "\n" + s.mesh_quality->text();
+  while (!out.empty() && out.back() == '\n') out.pop_back();
+  return out;
 }
 
 }  // namespace ff::scene

@@ -4,10 +4,12 @@
 /// ff::scene::SceneError naming file, line, key and what was expected.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/model/simulation.h"
+#include "core/scene/mesh_quality_report.h"
 #include "core/scene/output_settings.h"
 #include "core/scene/scene_context.h"
 #include "core/scene/schema.h"
@@ -20,6 +22,9 @@ struct LoadedScene {
   const Schema* schema = nullptr;  ///< what the scene was validated against (its live keys)
   std::unique_ptr<Simulation> simulation;
   OutputSettings output;
+  /// The shell structure's mesh quality report (core/scene/mesh_quality_report.h); none for a
+  /// model without a shell mesh (hub_beam).
+  std::optional<MeshQualityReport> mesh_quality;
 };
 
 /// One kind of model a scene can name in `scene.model`: the registry that load_scene, the
@@ -88,5 +93,9 @@ double estimated_run_bytes(const std::string& path, const std::vector<std::strin
 /// run (the hub-beam's dense matrices: built at the run's start). Returns a one-line description.
 std::string check_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                         const SceneContext& ctx = {});
+/// What `flexframe check` prints: check_scene's line, then, for a shell structure, its mesh
+/// quality report (counts, worst and typical per metric, "warning: " lines for poor quads).
+std::string check_scene_report(const std::string& path, const std::vector<std::string>& overrides = {},
+                               const SceneContext& ctx = {});
 
 }  // namespace ff::scene

@@ -9,6 +9,8 @@
 
 namespace ff::scene {
 
+struct MeshQualityReport;
+
 /// What building a scene may need from the program around it (passed in, never global).
 struct SceneContext {
   MeshFileReader mesh_reader;  ///< reads generator = "file" meshes; empty: such scenes are refused
@@ -18,6 +20,9 @@ struct SceneContext {
   /// Long set-up (a large mesh, the hub-beam's matrices) polls its stop flag and reports progress
   /// through it; a model that builds later (at its start()) keeps a copy. Empty: never stopped.
   SetupMonitor setup;
+  /// Where a shell structure's builder leaves its mesh quality report (mesh_quality_report.h);
+  /// load_scene points it at LoadedScene::mesh_quality. nullptr: the report is not kept.
+  MeshQualityReport* mesh_quality = nullptr;
 };
 
 }  // namespace ff::scene

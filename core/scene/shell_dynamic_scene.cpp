@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "core/mesh/generators.h"
+#include "core/scene/mesh_quality_report.h"
 #include "core/scene/node_selection.h"
 #include "core/scene/scene_common.h"
 #include "core/scene/shell_boundary.h"
@@ -168,6 +169,7 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   refuse_oversized(d, ctx, static_cast<int>(std::min<long long>(size.nodes, std::numeric_limits<int>::max())),
                    has("drilling") ? 1.0 : 0.0, size.key, size.part);
   Structure structure = read_structure(d, path, ctx);
+  report_mesh_quality(d, structure, ctx);  // refuses inverted or degenerate quads; warnings for poor ones
   // the shell bodies: one per part, or, where [[junction]]s make parts share nodes, one body of
   // the joined structure whose quads keep their parts' materials. Either way the model's shell
   // node ids are the joined structure's (parts in order), so selections on it need no mapping.

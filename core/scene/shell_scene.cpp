@@ -8,6 +8,7 @@
 #include "core/mesh/node_sets.h"
 #include "core/scene/mesh_file.h"
 #include "core/scene/mesh_generator_keys.h"
+#include "core/scene/mesh_quality_report.h"
 #include "core/scene/node_selection.h"
 #include "core/scene/reference_csv.h"
 #include "core/scene/shell_boundary.h"
@@ -162,6 +163,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
                    has("drilling") ? 1.0 : 0.0, size.key, size.part);
   ctx.setup.poll("generating the mesh", 0.0);
   Structure structure = read_structure(d, path, ctx);
+  report_mesh_quality(d, structure, ctx);  // refuses inverted or degenerate quads; warnings for poor ones
   spec.mesh = std::move(structure.joined);
   {
     int six = 0;
