@@ -75,6 +75,7 @@ const Schema& shell_dynamic_schema() {
         .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3)
         .live("gravity.g");
     declare_structure_keys(s);
+    declare_mesh_quality_keys(s);
     s.table_array("rigid", "rigid bodies (SE(3) pose, mass, inertia about the centre of mass)", 0, 64)
         .string("rigid.name", "body name", std::nullopt)
         .number_list("rigid.position", "centre of mass [m]", std::nullopt, {}, 3, 3)

@@ -34,6 +34,7 @@ const Schema& shell_static_schema() {
              "dynamic (motion in time); the scene's other keys are that analysis's",
              {"static", "dynamic"}, std::nullopt);
     declare_structure_keys(s);
+    declare_mesh_quality_keys(s);
     s.table("gravity", "uniform gravity (effect gravity): in a static analysis the parts' self-weight, a dead load "
                        "times the load factor")
         .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3);

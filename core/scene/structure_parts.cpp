@@ -10,7 +10,6 @@
 
 #include "core/scene/mesh_file.h"
 #include "core/scene/mesh_generator_keys.h"
-#include "core/scene/mesh_quality_report.h"
 #include "core/shell/shell_model.h"
 
 namespace ff::scene {
@@ -45,7 +44,6 @@ void declare_structure_keys(Schema& s) {
               "nodes of different parts closer than this are one node; 0 = automatic (1e-6 x the shortest element "
               "edge of the joined parts)",
               0.0, Range::non_negative(), "length");
-  declare_mesh_quality_keys(s);
 }
 
 int Structure::find(const std::string& name) const {

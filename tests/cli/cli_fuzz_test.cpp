@@ -697,7 +697,6 @@ std::string fuzz_dir() {
   fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/meshes", dir + "/meshes");
   fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/geometry", dir + "/geometry");
   fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/reference", dir + "/reference");
-  fs::create_directory_symlink(std::string(FF_SOURCE_DIR) + "/assets/geometry", dir + "/geometry");
   return dir;
 }
 

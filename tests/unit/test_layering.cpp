@@ -69,6 +69,7 @@ const std::map<std::string, SceneLevel> kSceneLevels = {
     {"mesh_generator_keys", kSharedKeys},
     {"shell_boundary", kSharedKeys},
     {"structure_parts", kSharedKeys},
+    {"mesh_quality_report", kSharedKeys},
     {"reference_csv", kSharedKeys},
     // one file per model: its schema and builder
     {"hub_beam_scene", kModels},
