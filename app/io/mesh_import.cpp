@@ -201,24 +201,17 @@ bool read_obj(const std::string& path, const std::string& who, RawSurface& raw, 
     if (f.v.size() == 4)
       for (long long n : f.n) all_normals = all_normals && n != 0;
   for (const Face& f : faces) {
+    for (long long v : f.v)
+      if (v < 1 || v > nv)
+        return bad(f.line, "vertex " + std::to_string(v) + " does not exist (the file has " + std::to_string(nv) + " vertices)");
     if (f.v.size() == 3) {
-      std::array<int, 3> t;
-      for (int k = 0; k < 3; ++k) {
-        if (f.v[k] < 1 || f.v[k] > nv)
-          return bad(f.line, "vertex " + std::to_string(f.v[k]) + " does not exist (the file has " + std::to_string(nv) +
-                                 " vertices)");
-        t[k] = static_cast<int>(f.v[k] - 1);
-      }
-      raw.triangle_faces.push_back(t);
+      raw.triangle_faces.push_back({static_cast<int>(f.v[0] - 1), static_cast<int>(f.v[1] - 1), static_cast<int>(f.v[2] - 1)});
       raw.triangle_line.push_back(f.line);
       continue;
     }
     std::array<int, 4> q;
     std::array<Vec3, 4> cn;
     for (int k = 0; k < 4; ++k) {
-      if (f.v[k] < 1 || f.v[k] > nv)
-        return bad(f.line, "vertex " + std::to_string(f.v[k]) + " does not exist (the file has " + std::to_string(nv) +
-                               " vertices)");
       q[k] = static_cast<int>(f.v[k] - 1);
       if (f.n[k] != 0 && (f.n[k] < 1 || f.n[k] > nn))
         return bad(f.line, "normal " + std::to_string(f.n[k]) + " does not exist (the file has " + std::to_string(nn) +

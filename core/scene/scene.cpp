@@ -240,10 +240,14 @@ std::string check_line(const LoadedScene& s) {
   out << s.name << ": valid; effects";
   for (const std::string& e : info.effects) out << ' ' << e;
   out << "; " << info.mesh.point_count() << " drawn points; " << s.simulation->end_description();
-  // what became of each mesh file (its elements, triangles, directors, named groups)
-  for (const auto& [key, value] : info.settings)
-    if (key.rfind("mesh_import", 0) == 0) out << "\n  " << key << ": " << value;
   return out.str();
+}
+// what became of each mesh file (its elements, triangles, directors, named groups), a line each
+std::string mesh_import_lines(const LoadedScene& s) {
+  std::string out;
+  for (const auto& [key, value] : s.simulation->info().settings)
+    if (key.rfind("mesh_import", 0) == 0) out += "\n  " + key + ": " + value;
+  return out;
 }
 }  // namespace
 
@@ -254,7 +258,7 @@ std::string check_scene(const std::string& path, const std::vector<std::string>&
 std::string check_scene_report(const std::string& path, const std::vector<std::string>& overrides,
                                const SceneContext& ctx) {
   const LoadedScene s = load_scene(path, overrides, ctx);
-  std::string out = check_line(s);
+  std::string out = check_line(s) + mesh_import_lines(s);
   if (s.mesh_quality) out += "\n" + s.mesh_quality->text();
   while (!out.empty() && out.back() == '\n') out.pop_back();
   return out;
