@@ -5,6 +5,8 @@
 // Scratch files go to ${FF_BINARY_DIR}/test_out/abaqus_inp/.
 #include <gtest/gtest.h>
 
+#include "tests/support/scratch_files.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -22,16 +24,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string scratch(const std::string& name) {
-  const fs::path dir = fs::path(FF_BINARY_DIR) / "test_out" / "abaqus_inp";
-  fs::create_directories(dir);
-  return (dir / name).string();
-}
+std::string scratch(const std::string& name) { return ff::testing::scratch_path("abaqus_inp", name); }
 
 std::string write_text(const std::string& name, const std::string& text) {
-  const std::string path = scratch(name);
-  std::ofstream(path, std::ios::binary) << text;
-  return path;
+  return ff::testing::write_scratch("abaqus_inp", name, text);
 }
 
 const ImportedGroup* group(const ImportedSurface& s, const std::string& name, int dimension) {

@@ -7,6 +7,8 @@
 // Scratch files go to ${FF_BINARY_DIR}/test_out/mesh_import_gmsh/.
 #include <gtest/gtest.h>
 
+#include "tests/support/scratch_files.h"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -27,16 +29,10 @@ namespace {
 
 std::string data(const std::string& name) { return std::string(FF_SOURCE_DIR) + "/tests/io/data/gmsh/" + name; }
 
-std::string scratch(const std::string& name) {
-  const fs::path dir = fs::path(FF_BINARY_DIR) / "test_out" / "mesh_import_gmsh";
-  fs::create_directories(dir);
-  return (dir / name).string();
-}
+std::string scratch(const std::string& name) { return ff::testing::scratch_path("mesh_import_gmsh", name); }
 
 std::string write_text(const std::string& name, const std::string& text) {
-  const std::string path = scratch(name);
-  std::ofstream(path) << text;
-  return path;
+  return ff::testing::write_scratch("mesh_import_gmsh", name, text);
 }
 
 struct Read {

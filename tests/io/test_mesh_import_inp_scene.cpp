@@ -5,6 +5,8 @@
 // ${FF_BINARY_DIR}/test_out/mesh_import_inp/.
 #include <gtest/gtest.h>
 
+#include "tests/support/scratch_files.h"
+
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -17,16 +19,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string scratch(const std::string& name) {
-  const fs::path dir = fs::path(FF_BINARY_DIR) / "test_out" / "mesh_import_inp";
-  fs::create_directories(dir);
-  return (dir / name).string();
-}
+std::string scratch(const std::string& name) { return ff::testing::scratch_path("mesh_import_inp", name); }
 
 std::string write_text(const std::string& name, const std::string& text) {
-  const std::string path = scratch(name);
-  std::ofstream(path) << text;
-  return path;
+  return ff::testing::write_scratch("mesh_import_inp", name, text);
 }
 
 const std::string kDeck = std::string(FF_SOURCE_DIR) + "/assets/meshes/plate_8x8_s4r.inp";
