@@ -601,8 +601,12 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   Writer w;
   GmshApi g;
   std::string problem = g.load();
-  if (problem.empty() && !enter_read_only_sandbox())
-    problem = "the kernel refused the read-only sandbox in which FlexFrame runs Gmsh, so the file is not opened";
+  // a .geo script is a program and runs only inside the sandbox; a data file (.msh, STEP, IGES,
+  // BREP) has no commands, and is still read in this child (crashes and time bounded) where the
+  // kernel offers no seccomp filter (some containers)
+  if (problem.empty() && !enter_read_only_sandbox() && lower_extension(r.path) == ".geo")
+    problem = "the kernel refused the read-only sandbox in which FlexFrame runs Gmsh scripts, so the .geo script "
+              "is not run (a script can write files and run commands); give its geometry as STEP or BREP instead";
   if (problem.empty()) {
     try {
       mesh_in_child(g, r, w);
