@@ -65,7 +65,7 @@ struct Writer {
   template <class T>
   void put_array(const std::vector<T>& v) {
     put<std::uint64_t>(v.size());
-    bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    if (!v.empty()) bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
   }
 };
 
@@ -93,7 +93,7 @@ struct Reader {
     const std::uint64_t n = get<std::uint64_t>();
     if (!ok || (bytes.size() - at) / sizeof(T) < n) return ok = false, std::vector<T>();
     std::vector<T> v(n);
-    std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));
+    if (n > 0) std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));  // an empty vector's data() may be null
     at += n * sizeof(T);
     return v;
   }
