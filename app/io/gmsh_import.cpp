@@ -719,7 +719,11 @@ bool read_with_gmsh(const GmshMeshRequest& r, ImportedSurface& out, std::string*
                            "); the file may be malformed, or Gmsh cannot mesh this geometry");
   Reader in{bytes};
   const std::uint8_t ok = in.get<std::uint8_t>();
-  if (!in.ok) return fail(error, who + ": Gmsh ended without an answer (exit status " + std::to_string(WEXITSTATUS(status)) + ")");
+  // the child always answers before it exits: no answer is a crash that a handler turned into an
+  // exit status (a sanitizer's, or a library's own)
+  if (!in.ok)
+    return fail(error, who + ": Gmsh crashed on it (it ended with exit status " + std::to_string(WEXITSTATUS(status)) +
+                           " and no answer); the file may be malformed, or Gmsh cannot mesh this geometry");
   if (!ok) return fail(error, who + ": " + in.get_string());
 
   ImportedSurface s;
