@@ -178,6 +178,13 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
                  d.number("material.thickness", k), d.number("material.shear_factor", k)};
     m.drilling_factor = d.number("material.drilling_factor", k);
     m.density = d.number("material.density", k);
+    // a density this small makes a mass matrix whose products underflow to zero (5e-324 gave a
+    // zero pivot in the initial accelerations): not a material, a typo or a unit slip
+    if (m.density > 0 && m.density < 1e-100)
+      throw SceneError({d.issue("material.density", k,
+                                "a density of " + g(m.density) + " is too small to make a mass matrix (its products with "
+                                "the element's lengths underflow to zero); give it in the scene's units, e.g. 7850 for "
+                                "steel in kg/m^3, or leave it out of a static analysis")});
     s.materials.push_back(m);
   }
   std::vector<char> material_used(nm, 0);
