@@ -69,8 +69,8 @@ std::optional<SceneSelections> scene_selections(const std::string& path, const s
     const std::string type = d.string("load.type", i);
     std::vector<int> ids = select_nodes(d, m, "load", i);
     EntrySelection* e = add("load", i, "load[" + std::to_string(i) + "] " + type, ids);
-    if (type == "pressure" || type == "surface") {  // acts on the quads with all 4 corners selected
-      e->quads = quads_within(m, ids);
+    if (type == "pressure" || type == "surface") {  // the quads the model loads (a surface group's own)
+      e->quads = selected_quads(d, m, "load", i, ids);
       std::vector<int> corners;
       for (int q : e->quads) corners.insert(corners.end(), m.quads[q].begin(), m.quads[q].end());
       std::sort(corners.begin(), corners.end());
