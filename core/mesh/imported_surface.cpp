@@ -267,11 +267,16 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
     if (quad_of_element_first[e] < 0) quad_of_element_first[e] = static_cast<int>(q);
     ++quads_of_element[e];
   }
-  std::map<std::pair<int, int>, int> file_edge_uses;  // edges of the chosen elements, by file nodes
-  for (int e : chosen) {
-    const ImportedElement& el = in.elements[static_cast<std::size_t>(e)];
-    const int k = corners(el);
-    for (int a = 0; a < k; ++a) ++file_edge_uses[edge_key(el.nodes[a], el.nodes[(a + 1) % k])];
+  std::map<std::pair<int, int>, int> file_edge_uses;  // after a split: edges of the chosen elements, by file nodes
+  std::vector<char> on_boundary(points.size(), 0);     // ... and the file nodes on a boundary edge
+  if (split) {
+    for (int e : chosen) {
+      const ImportedElement& el = in.elements[static_cast<std::size_t>(e)];
+      const int k = corners(el);
+      for (int a = 0; a < k; ++a) ++file_edge_uses[edge_key(el.nodes[a], el.nodes[(a + 1) % k])];
+    }
+    for (const auto& [edge, uses] : file_edge_uses)
+      if (uses == 1) on_boundary[edge.first] = on_boundary[edge.second] = 1;
   }
   for (const ImportedGroup& g : in.groups) {
     const std::string origin = g.origin.empty() ? "" : " (" + g.origin + ")";
@@ -302,9 +307,6 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
       std::vector<char> in_group(points.size(), 0);
       for (int p : g.nodes) in_group[p] = 1;
       bool all_on_boundary = true;
-      std::vector<char> on_boundary(points.size(), 0);
-      for (const auto& [edge, uses] : file_edge_uses)
-        if (uses == 1) on_boundary[edge.first] = on_boundary[edge.second] = 1;
       for (int p : g.nodes) all_on_boundary = all_on_boundary && on_boundary[p];
       if (!g.segments.empty()) {
         for (const auto& s : g.segments) {
