@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 #include <array>
 #include <memory>
+#include <vector>
 
 #include "core/lie/se3.h"
 
@@ -24,11 +25,48 @@ using Mat24 = Eigen::Matrix<double, 24, 24>;
 using NodePose = lie::Pose;
 using ElementPoses = std::array<NodePose, 4>;  ///< counter-clockwise about the directors
 
+/// One ply of a laminated section (laminate.md (L1)-(L2)), in its material axes: 1 along the
+/// fibre, 2 across it in the ply's plane, 3 along the director. An isotropic ply has
+/// e1 = e2 = E, g12 = g13 = g23 = E / (2 (1 + nu)), nu12 = nu.
+struct Ply {
+  double e1 = 1.0, e2 = 1.0, g12 = 0.5, g13 = 0.5, g23 = 0.5, nu12 = 0.0;
+  double thickness = 0.0;  ///< h_k
+  double angle = 0.0;      ///< theta_k [rad], about the director from the reference direction to the fibre
+  double density = 0.0;    ///< rho_k (dynamics, gravity)
+  /// Tsai-Wu strengths (L12), positive: Xt, Xc, Yt, Yc, S12; all zero: no failure index
+  std::array<double, 5> strength{};
+};
+
 struct ShellSection {
   double youngs_modulus = 1.0;     ///< E
   double poisson_ratio = 0.0;      ///< nu
-  double thickness = 0.1;          ///< h0 (constant)
-  double shear_factor = 5.0 / 6.0; ///< kappa of eq. (7)
+  double thickness = 0.1;          ///< h0 (constant); with plies, their sum
+  double shear_factor = 5.0 / 6.0; ///< kappa of eq. (7), (L9)
+  /// A laminated section: its plies from the bottom (the director's negative side) up
+  /// (laminate.md (L6)); null: one isotropic layer of youngs_modulus and poisson_ratio.
+  std::shared_ptr<const std::vector<Ply>> plies;
+  /// The direction fibre angles are measured from (world), projected on each element's tangent
+  /// plane (laminate.md section 2); zero: the element's own xi direction at its centre (a
+  /// generator's u direction). Also the x1 axis of the stresses the element reports.
+  Eigen::Vector3d reference_direction = Eigen::Vector3d::Zero();
+};
+/// The largest ply count a section may have (a fixed bound keeps the element's workspace fixed).
+inline constexpr int kMaxPlies = 64;
+
+using Vec5 = Eigen::Matrix<double, 5, 1>;
+
+/// Stresses an engineer reads, recovered at an element's centre (laminate.md section 6). Section
+/// axes: x1 the reference direction projected on the tangent plane, x3 the normal, x2 = x3 x x1.
+/// Components of a station: [s11, s22, s12, s13, s23] (second Piola-Kirchhoff in the lamina
+/// frame; equal to the Cauchy stress to first order in the strains).
+struct ElementStress {
+  std::array<Vec5, 3> surface;  ///< section axes at its bottom (zeta = -1), middle (0) and top (+1)
+  Eigen::Vector3d N, M;         ///< resultants per unit length: N11 N22 N12, M11 M22 M12
+  Eigen::Vector2d Q;            ///< transverse shear resultants Q1 Q2 per unit length
+  int plies = 0;                ///< entries of ply and tsai_wu in use (0: an isotropic section)
+  /// each ply in its fibre axes (1 fibre, 2 across): [s1, s2, t12, t13, t23] at its bottom, middle, top
+  std::array<std::array<Vec5, 3>, kMaxPlies> ply;
+  std::array<double, kMaxPlies> tsai_wu;  ///< (L12), the largest over the ply's stations; NaN without strengths
 };
 
 /// Effects of the element (scene "effects"): each switches a term of cb_shell.md.
@@ -56,6 +94,10 @@ class BasicCbShellElement {
   void evaluate(const ElementPoses& current, Vector24& force, Matrix24* tangent) const;
   /// Strain energy (condensed HR functional when hr is on), for consistency checks.
   Scalar energy(const ElementPoses& current) const;
+  /// Stresses and resultants at `current` (laminate.md section 6), averaged over the element's
+  /// 2 x 2 in-plane points; the in-plane stress is the assumed field with `hr`, the transverse
+  /// shear the tied one with `ans`: the stresses the element's own energy uses.
+  void stresses(const ElementPoses& current, ElementStress& out) const;
 
   const ShellOptions& options() const { return opt_; }
   const ShellSection& section() const { return sec_; }
