@@ -194,7 +194,8 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     std::string joined_names;
     for (const StructurePart& part : structure.parts) joined_names += (joined_names.empty() ? "" : "+") + part.name;
     ShellBodySpec b = body_of(joined_names, structure.joined);
-    const StructureMaterial& first = structure.materials.front();
+    // the first part's section (the first [[material]] may be only a ply of a layup)
+    const StructureMaterial& first = structure.materials[structure.parts.front().material];
     b.section = first.section, b.density = first.density, b.options.drilling_factor = first.drilling_factor;
     for (const StructureMaterial& m : structure.materials)
       b.sections.push_back(m.section), b.densities.push_back(m.density), b.drilling_factors.push_back(m.drilling_factor);

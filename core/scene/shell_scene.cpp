@@ -172,7 +172,8 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     const double six_fraction = has("drilling") ? 1.0 : spec.mesh.node_count() > 0 ? double(six) / spec.mesh.node_count() : 0.0;
     refuse_oversized(d, ctx, spec.mesh.node_count(), six_fraction, size.key, size.part);
   }
-  const StructureMaterial& first = structure.materials.front();
+  // the first part's section (the first [[material]] may be only a ply of a layup)
+  const StructureMaterial& first = structure.materials[structure.parts.front().material];
   spec.section = first.section;
   structure_sections(structure, spec.sections, spec.drilling_factors, spec.quad_section);
   spec.quad_reference_direction = structure.quad_reference_direction;

@@ -321,6 +321,8 @@ void read_layups(const Document& d, Structure& s, const std::vector<shell::Ply>&
       thickness += ply.thickness, mass += ply.density * ply.thickness;
       plies.push_back(ply);
     }
+    if (!std::isfinite(thickness))
+      throw SceneError({d.issue("layup.ply_thicknesses", l, "the plies' thicknesses add up to more than a double holds")});
     warn_radian_angles(d, l, angles, ctx);
     // youngs_modulus and poisson_ratio of a laminated section only name it in messages: the
     // element takes the plies (laminate.md); they are the bottom ply's e1 and nu12

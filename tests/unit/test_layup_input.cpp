@@ -253,6 +253,9 @@ TEST(LayupInput, LaminatedElementsCarryPliesAndReferenceDirections) {
     const shell::ShellModel& model = static_model(s);
     const mesh::ShellMesh& m = model.spec().mesh;
     ASSERT_EQ(model.elements().size(), 16);
+    // the model's own section is the first part's (the layup), not the first [[material]] (a ply)
+    EXPECT_EQ(model.spec().section.plies, model.elements()[0].elastic->section().plies);
+    EXPECT_NEAR(model.spec().section.thickness, 12.7, 1e-12);
     ASSERT_EQ(model.spec().quad_reference_direction.size(), 16u);
     for (int q = 0; q < 16; ++q) {
       const shell::ShellSection& section = model.elements()[q].elastic->section();
