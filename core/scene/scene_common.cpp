@@ -44,7 +44,7 @@ void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool 
                  "plyK_tsai_wu when the plies have strengths); checked once the structure is read",
              first)
         .boolean("output.stresses",
-                 "write every stress field of the structure (docs/guide/outputs.md: stresses at the bottom, middle and "
+                 "write every stress field of the structure (docs/guide/running.md, stress fields: stresses at the bottom, middle and "
                  "top surfaces, von Mises, principal, the resultants N, M, Q, each ply's) in every frame: results.h5, "
                  "exports, replay --field; also on when output.color_field or a [[probe]] names a stress field",
                  false);
