@@ -125,16 +125,18 @@ double nodal_stress_value(const ShellElements& elements, const StressLayout& lay
   ElementPoses cur;
   double sum = 0.0;
   int count = 0;
-  // in element order, each element once per corner at the node, as nodal_stress_fields sums (the
-  // mean over the adjacent elements that have the field, 0 when none has): the same value bit for bit
+  // in element order, the element's value at each of its corners on the node, as
+  // nodal_stress_fields sums (the mean over the adjacent elements that have the field, 0 when
+  // none has): the same value bit for bit
   for (const ShellElement& e : elements.all()) {
-    const int corners = static_cast<int>(std::count(e.nodes.begin(), e.nodes.end(), node));
-    if (corners == 0) continue;
+    if (std::find(e.nodes.begin(), e.nodes.end(), node) == e.nodes.end()) continue;
     ShellElements::corner_poses(e, X_WN, cur);
-    e.elastic->stresses(cur, s);
-    element_values(s, layout, v, has);
-    if (has[field])
-      for (int c = 0; c < corners; ++c) sum += v[field], ++count;
+    for (int c = 0; c < 4; ++c) {
+      if (e.nodes[c] != node) continue;
+      e.elastic->stresses(cur, s, c);
+      element_values(s, layout, v, has);
+      if (has[field]) sum += v[field], ++count;
+    }
   }
   return count ? sum / count : 0.0;
 }
