@@ -4,8 +4,11 @@
 
 #include "core/shell/counted_scalar.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 
 namespace ff::shell {
@@ -14,7 +17,6 @@ namespace {
 using Mat8 = Eigen::Matrix<double, 8, 8>;
 using Mat83 = Eigen::Matrix<double, 8, 3>;
 using Mat38 = Eigen::Matrix<double, 3, 8>;
-using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Vec10 = Eigen::Matrix<double, 10, 1>;
 using Mat20 = Eigen::Matrix<double, 20, 20>;
 using Mat20x5 = Eigen::Matrix<double, 20, 5>;
@@ -112,19 +114,25 @@ template <class T>
   return S;
 }
 
-// What is the same for every element: the fixed points and the shape derivatives there
-// (master_derivatives, eq. 5 of the tied components, the drilling points' quad functions).
-// Shared by all elements, so the per-element data a force evaluation streams stay small.
+}  // namespace
+
+// What is the same for every element with the same layer interval [lo, hi] of the thickness
+// coordinate: the fixed points and the shape derivatives there (master_derivatives, eq. 5 of the
+// tied components, the drilling points' quad functions). Shared by all such elements, so the
+// per-element data a force evaluation streams stay small. An isotropic section is one layer on
+// [-1, 1]; a laminate has one per ply (laminate.md (L6)): 2 Gauss points on its own interval.
+namespace cb_detail {
 constexpr int kPoints = 8;
 template <class T = double>
 struct SolidConst {
-  T xi, eta, zeta;
-  int layer;       // thickness layer (tying values)
+  T xi, eta, zeta;  // zeta: the section's thickness coordinate of the point
+  T zeta_hat;       // the layer's own coordinate (+-1/sqrt 3): the assumed stress's, (L7)
+  int layer;        // thickness station (tying values)
   Mat<T, 8, 3> phi;  // rows I: sum over the two slaves of master I of dN/d(xi, eta, zeta); rows 4 + I:
                    // the same weighted by s, so g = [x_I, h0/2 d_I] * phi (eqs. 1, 3)
 };
 template <class T = double>
-struct TyingConst {  // eq. (8) at one thickness layer
+struct TyingConst {  // eq. (8) at one thickness station
   Mat<T, 8, 3> phi;  // as SolidConst::phi
   Mat<T, 8, 8> M;    // eq. (5) of the tied component in phi's basis
   int i;             // 1 (eta-zeta) or 0 (xi-zeta)
@@ -136,15 +144,27 @@ struct DrillConst {
 template <class T = double>
 struct Tables {
   std::array<SolidConst<T>, kPoints> pts;
-  std::array<std::array<TyingConst<T>, 4>, 2> tying;  // [layer][A, B, C, D]
+  std::array<std::array<TyingConst<T>, 4>, 2> tying;  // [station][A, B, C, D]
   std::array<DrillConst<T>, 4> drill;
-  T gpts[2];
+  T gpts[2];                // the layer's Gauss points, -+1/sqrt 3
+  T zeta[2];                // the stations in the section's coordinate, (L6)
+  T zeta_mid, zeta_half;    // zeta = zeta_mid + zeta_half zeta_hat; the Gauss weight is zeta_half
 };
+}  // namespace cb_detail
 
-Tables<> make_tables() {
+namespace {
+using cb_detail::kPoints;
+using cb_detail::DrillConst;
+using cb_detail::SolidConst;
+using cb_detail::Tables;
+using cb_detail::TyingConst;
+
+Tables<> make_tables(double lo, double hi) {
   Tables<> t;
   const double gp = 1.0 / std::sqrt(3.0);
   t.gpts[0] = -gp, t.gpts[1] = gp;
+  t.zeta_mid = 0.5 * (lo + hi), t.zeta_half = 0.5 * (hi - lo);
+  for (int l = 0; l < 2; ++l) t.zeta[l] = t.zeta_mid + t.zeta_half * t.gpts[l];  // [-1, 1]: exactly -+gp
   int k = 0;
   for (int l = 0; l < 2; ++l)
     for (int jy = 0; jy < 2; ++jy)
@@ -152,16 +172,17 @@ Tables<> make_tables() {
         SolidConst<>& p = t.pts[k];
         p.xi = t.gpts[jx];
         p.eta = t.gpts[jy];
-        p.zeta = t.gpts[l];
+        p.zeta = t.zeta[l];
+        p.zeta_hat = t.gpts[l];
         p.layer = l;
         p.phi = master_derivatives(p.xi, p.eta, p.zeta);
       }
-  // tying points of eq. (8): A(-1,0), B(0,-1), C(1,0), D(0,1) at each layer
+  // tying points of eq. (8): A(-1,0), B(0,-1), C(1,0), D(0,1) at each station
   const double tp[4][2] = {{-1, 0}, {0, -1}, {1, 0}, {0, 1}};
   for (int l = 0; l < 2; ++l)
     for (int q = 0; q < 4; ++q) {
       TyingConst<>& c = t.tying[l][q];
-      c.phi = master_derivatives(tp[q][0], tp[q][1], t.gpts[l]);
+      c.phi = master_derivatives(tp[q][0], tp[q][1], t.zeta[l]);
       c.i = (q == 0 || q == 2) ? 1 : 0;
       c.M = 0.5 * (c.phi.col(c.i) * c.phi.col(2).transpose() + c.phi.col(2) * c.phi.col(c.i).transpose());
     }
@@ -180,7 +201,8 @@ template <class T>
 Tables<T> convert_tables(const Tables<>& d) {
   Tables<T> t;
   for (int k = 0; k < kPoints; ++k)
-    t.pts[k] = {d.pts[k].xi, d.pts[k].eta, d.pts[k].zeta, d.pts[k].layer, d.pts[k].phi.template cast<T>()};
+    t.pts[k] = {d.pts[k].xi, d.pts[k].eta, d.pts[k].zeta, d.pts[k].zeta_hat, d.pts[k].layer,
+                d.pts[k].phi.template cast<T>()};
   for (int l = 0; l < 2; ++l)
     for (int q = 0; q < 4; ++q) {
       const TyingConst<>& c = d.tying[l][q];
@@ -188,20 +210,85 @@ Tables<T> convert_tables(const Tables<>& d) {
     }
   for (int k = 0; k < 4; ++k)
     t.drill[k] = {d.drill[k].N.template cast<T>(), d.drill[k].dNxi.template cast<T>(), d.drill[k].dNeta.template cast<T>()};
-  t.gpts[0] = d.gpts[0], t.gpts[1] = d.gpts[1];
+  for (int l = 0; l < 2; ++l) t.gpts[l] = d.gpts[l], t.zeta[l] = d.zeta[l];
+  t.zeta_mid = d.zeta_mid, t.zeta_half = d.zeta_half;
   return t;
 }
 
+// The tables of the layer [lo, hi], made once per interval and scalar and kept for the process
+// (a laminate's plies repeat across its elements; element construction is not a hot path).
 template <class T = double>
-const Tables<T>& tables() {
-  if constexpr (std::is_same_v<T, double>) {
-    static const Tables<> t = make_tables();
-    return t;
-  } else {
-    static const Tables<T> t = convert_tables<T>(tables<double>());
-    return t;
+const Tables<T>* layer_tables(double lo, double hi) {
+  static std::mutex mutex;
+  static std::map<std::pair<double, double>, std::unique_ptr<const Tables<T>>> made;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::unique_ptr<const Tables<T>>& t = made[{lo, hi}];
+  if (!t) {
+    if constexpr (std::is_same_v<T, double>) t = std::make_unique<const Tables<>>(make_tables(lo, hi));
+    else t = std::make_unique<const Tables<T>>(convert_tables<T>(*layer_tables<double>(lo, hi)));
   }
+  return t.get();
 }
+// the whole section's interval [-1, 1]: the isotropic layer, and the drilling points (in-plane
+// only, the same for every interval)
+template <class T = double>
+const Tables<T>& section_tables() {
+  static const Tables<T>* t = layer_tables<T>(-1.0, 1.0);
+  return *t;
+}
+
+// Lamina strains of a point from its base vectors g, eqs. (3), (6), with the tied transverse
+// components of eq. (8) when `tied` (the tying values of the point's station) is given
+template <class T, class Point>
+[[gnu::always_inline]] inline void point_strains(const Mat<T, 3, 3>& g, const Point& p, const SolidConst<T>& pc,
+                                                 const T* tied, Mat<T, 3, 1>& em, Mat<T, 2, 1>& es) {
+  T e[5];
+  for (int c = 0; c < 5; ++c) e[c] = 0.5 * (g.col(kPair[c][0]).dot(g.col(kPair[c][1])) - p.ref_metric[c]);
+  if (tied) {  // eq. (8)
+    e[kEtaZeta] = 0.5 * (1 - pc.xi) * tied[0] + 0.5 * (1 + pc.xi) * tied[2];
+    e[kXiZeta] = 0.5 * (1 - pc.eta) * tied[1] + 0.5 * (1 + pc.eta) * tied[3];
+  }
+  // Q e as columns times the strain scalars (a strain vector stored whole and read back in halves
+  // stalled the store forwarding)
+  em.noalias() = p.Qm.col(0) * e[0] + p.Qm.col(1) * e[1] + p.Qm.col(2) * e[2];
+  es.noalias() = p.Qs.col(0) * e[0] + p.Qs.col(1) * e[1] + p.Qs.col(2) * e[2] + p.Qs.col(3) * e[3] + p.Qs.col(4) * e[4];
+}
+
+// g is affine in zeta at every in-plane point q: g_j = X_x D_j + zeta X_d D_j (j = xi, eta),
+// g_zeta = X_d N, with D, N the same in every layer (rows I of phi, and N in rows 4 + I); the
+// tied components likewise at A..D, eq. (8). The zeta-free parts, formed once per evaluation
+// for every layer (column by column, as 3-vectors: whole 3 x 2 temporaries were written and read
+// back in differently split packets, which stalls the store forwarding).
+template <class T>
+struct ZetaFreeBases {
+  Mat<T, 3, 1> in[4][2], th[4][2], z[4];
+  Mat<T, 3, 1> tie_x[4], tie_d[4], tie_z[4];
+  ZetaFreeBases(const Mat<T, 3, 8>& X, const Tables<T>& section, bool ans) {
+    for (int q = 0; q < 4; ++q) {
+      const Mat<T, 8, 3>& phi = section.pts[q].phi;
+      for (int j = 0; j < 2; ++j) {
+        in[q][j].noalias() = X.template leftCols<4>().lazyProduct(phi.template block<4, 1>(0, j));
+        th[q][j].noalias() = X.template rightCols<4>().lazyProduct(phi.template block<4, 1>(0, j));
+      }
+      z[q].noalias() = X.template rightCols<4>().lazyProduct(phi.template block<4, 1>(4, 2));
+    }
+    for (int t = 0; t < 4 && ans; ++t) {
+      const Mat<T, 8, 3>& phi = section.tying[0][t].phi;
+      const int i = section.tying[0][t].i;
+      tie_x[t].noalias() = X.template leftCols<4>().lazyProduct(phi.col(i).template head<4>());
+      tie_d[t].noalias() = X.template rightCols<4>().lazyProduct(phi.col(i).template head<4>());
+      tie_z[t].noalias() = X.template rightCols<4>().lazyProduct(phi.col(2).template tail<4>());
+    }
+  }
+  void at(int q, const T& zeta, Mat<T, 3, 3>& g) const {
+    for (int j = 0; j < 2; ++j) g.col(j).noalias() = in[q][j] + zeta * th[q][j];
+    g.col(2) = z[q];
+  }
+  /// the tied component of tying point t at zeta, (3) with (8)'s base vectors
+  T tied(int t, const T& zeta, const T& reference) const {
+    return 0.5 * ((tie_x[t] + zeta * tie_d[t]).dot(tie_z[t]) - reference);
+  }
+};
 
 // P-hat of eq. (9) at a point from the element's coefficients a1^2, b1^2, a1 b1, a2^2, b2^2, a2 b2
 template <class T>
@@ -209,7 +296,7 @@ Mat<T, 3, 10> p_hat(const std::array<T, 6>& c, const SolidConst<T>& p) {
   Mat<T, 3, 5> P;
   P << 1, 0, 0, c[0] * p.eta, c[3] * p.xi, 0, 1, 0, c[1] * p.eta, c[4] * p.xi, 0, 0, 1, c[2] * p.eta, c[5] * p.xi;
   Mat<T, 3, 10> Ph;
-  Ph << P, p.zeta * P;
+  Ph << P, p.zeta_hat * P;  // the layer's own coordinate, (L7)
   return Ph;
 }
 }  // namespace
@@ -220,32 +307,86 @@ struct BasicCbShellElement<Scalar>::TangentData {
   using Mat37 = Eigen::Matrix<Scalar, 3, 7>;
   struct Point {
     // master rows of node I from R_I^T g: u part Ku, theta part Kt; columns: with hr the five
-    // columns of w B_m^T P (eq. 11, per layer) then the two scaled shear rows; without hr the
+    // columns of w B_m^T P (eq. 11, per station) then the two scaled shear rows; without hr the
     // three membrane rows times sqrt(w) L_c (C_m = L_c L_c^T), the two shear rows, two unused
     std::array<Mat37, 4> Ku, Kt;
     Eigen::Matrix<Scalar, 4, 2> ans;  // tying rows into the shear rows, eq. (8)
   };
-  std::array<Point, kPoints> pts;
-  Eigen::Matrix<Scalar, 10, 10> h_inv_factor;  // L with L L^T = h_inv_
+  struct Layer {
+    std::array<Point, kPoints> pts;
+    Eigen::Matrix<Scalar, 10, 10> h_inv_factor;  // L with L L^T = the layer's h_inv
+  };
+  std::vector<Layer> layers;
 };
+
+namespace {
+// A layer's stiffness in the element frame (t1 = the centre's G_xi direction): the isotropic
+// section by eq. (7), a ply by (L1), (L3)-(L5) turned by psi from t1 to its fibre, and kappa (L9).
+struct LayerMaterial {
+  double lo, hi;          // its interval of the thickness coordinate, (L6)
+  Eigen::Matrix3d Cm;
+  Eigen::Matrix2d Cs;
+  double fibre_angle;
+};
+
+std::vector<LayerMaterial> layer_materials(const ShellSection& sec, double reference_angle) {
+  std::vector<LayerMaterial> out;
+  if (!sec.plies) {
+    const double E = sec.youngs_modulus, nu = sec.poisson_ratio, cm = E / (1.0 - nu * nu);
+    LayerMaterial m{-1.0, 1.0, Eigen::Matrix3d::Zero(), Eigen::Matrix2d::Zero(), 0.0};
+    m.Cm(0, 0) = m.Cm(1, 1) = cm;
+    m.Cm(0, 1) = m.Cm(1, 0) = cm * nu;
+    m.Cm(2, 2) = cm * 0.5 * (1.0 - nu);
+    m.Cs(0, 0) = m.Cs(1, 1) = sec.shear_factor * (E / (2.0 * (1.0 + nu)));
+    out.push_back(m);
+    return out;
+  }
+  const std::vector<Ply>& plies = *sec.plies;
+  if (plies.empty() || static_cast<int>(plies.size()) > kMaxPlies)
+    throw std::invalid_argument("CB shell: a laminated section needs 1 to " + std::to_string(kMaxPlies) + " plies");
+  double below = 0.0;  // thickness under the ply
+  for (std::size_t k = 0; k < plies.size(); ++k) {
+    const Ply& p = plies[k];
+    const double nu21 = p.nu12 * p.e2 / p.e1, den = 1.0 - p.nu12 * nu21;
+    if (!(p.e1 > 0 && p.e2 > 0 && p.g12 > 0 && p.g13 > 0 && p.g23 > 0 && den > 0 && p.thickness > 0))  // (L2)
+      throw std::invalid_argument("CB shell: ply " + std::to_string(k + 1) + " is not a stable material");
+    Eigen::Matrix3d Q = Eigen::Matrix3d::Zero();  // (L1)
+    Q(0, 0) = p.e1 / den, Q(1, 1) = p.e2 / den, Q(0, 1) = Q(1, 0) = p.nu12 * p.e2 / den, Q(2, 2) = p.g12;
+    const double psi = reference_angle + p.angle, c = std::cos(psi), s = std::sin(psi);
+    Eigen::Matrix3d T;  // (L3): material strains from element-frame strains (engineering shear)
+    T << c * c, s * s, c * s, s * s, c * c, -c * s, -2 * c * s, 2 * c * s, c * c - s * s;
+    Eigen::Matrix2d R;  // (L4)
+    R << c, s, -s, c;
+    LayerMaterial m;
+    // (L6): zeta_{k+1} = zeta_k + 2 h_k / h; the top ply ends at 1 exactly
+    m.lo = -1.0 + 2.0 * below / sec.thickness;
+    below += p.thickness;
+    m.hi = k + 1 == plies.size() ? 1.0 : -1.0 + 2.0 * below / sec.thickness;
+    m.Cm = T.transpose() * Q * T;                                                          // (L5)
+    m.Cs = sec.shear_factor * (R.transpose() * Eigen::Vector2d(p.g13, p.g23).asDiagonal() * R);  // (L5), (L9)
+    m.fibre_angle = psi;
+    out.push_back(m);
+  }
+  return out;
+}
+
+// L with L L^T = A for a symmetric positive definite 2 x 2 (written out: for a diagonal A it is
+// exactly the square roots, so an isotropic layer's shear rows are scaled as by sqrt(w kappa G))
+Eigen::Matrix2d cholesky2(const Eigen::Matrix2d& A) {
+  Eigen::Matrix2d L = Eigen::Matrix2d::Zero();
+  L(0, 0) = std::sqrt(A(0, 0));
+  L(1, 0) = A(1, 0) / L(0, 0);
+  L(1, 1) = std::sqrt(A(1, 1) - L(1, 0) * L(1, 0));
+  return L;
+}
+}  // namespace
 
 // The reference data are computed in double only (other scalars convert a built element).
 template <>
 BasicCbShellElement<double>::BasicCbShellElement(const ElementPoses& ref, const ShellSection& sec,
                                                  const ShellOptions& opt)
     : sec_(sec), opt_(opt) {
-  const Tables<>& tab = tables();
-  const double h = sec.thickness, hh = 0.5 * h, E = sec.youngs_modulus, nu = sec.poisson_ratio;
-  const double shear_modulus = E / (2.0 * (1.0 + nu));
-  // eq. (7)
-  const double cm = E / (1.0 - nu * nu);
-  Cm_.setZero();
-  Cm_(0, 0) = Cm_(1, 1) = cm;
-  Cm_(0, 1) = Cm_(1, 0) = cm * nu;
-  Cm_(2, 2) = cm * 0.5 * (1.0 - nu);
-  kG_ = sec.shear_factor * shear_modulus;
-  gamma_ = opt.drilling_factor * shear_modulus * h;  // eq. (13)
-
+  const double h = sec.thickness, hh = 0.5 * h;
   const Mat38 X0 = node_columns(ref, hh);
   // centre frame for the assumed stress, eq. (9)
   const Mat3 Gc = X0 * master_derivatives(0, 0, 0);
@@ -255,107 +396,142 @@ BasicCbShellElement<double>::BasicCbShellElement(const ElementPoses& ref, const 
   const double a1 = Gc.col(0).dot(t1c), b1 = Gc.col(0).dot(t2c), a2 = Gc.col(1).dot(t1c), b2 = Gc.col(1).dot(t2c);
   if (!(Gc.col(0).cross(Gc.col(1)).norm() > 0)) throw std::invalid_argument("CB shell: degenerate element");
   p_coef_ = {a1 * a1, b1 * b1, a1 * b1, a2 * a2, b2 * b2, a2 * b2};
+  // the section's x1: its reference direction projected on the tangent plane (laminate.md section 2)
+  if (sec.reference_direction.squaredNorm() > 0) {
+    const Vec3& r = sec.reference_direction;
+    const Vec3 rt = r - r.dot(t3c) * t3c;
+    if (!(rt.norm() >= 1e-3 * r.norm()))
+      throw std::invalid_argument("CB shell: the reference direction is parallel to the element's normal");
+    reference_angle_ = std::atan2(rt.dot(t2c), rt.dot(t1c));
+  }
+  const std::vector<LayerMaterial> materials = layer_materials(sec, reference_angle_);
+  // eq. (13); a laminate's G is the thickness mean of its plies' in-plane shear moduli
+  double shear_modulus = sec.youngs_modulus / (2.0 * (1.0 + sec.poisson_ratio));
+  if (sec.plies) {
+    shear_modulus = 0.0;
+    for (const Ply& p : *sec.plies) shear_modulus += p.g12 * p.thickness / h;
+  }
+  gamma_ = opt.drilling_factor * shear_modulus * h;
 
   auto td = std::make_shared<TangentData>();
-  const Eigen::Matrix3d Cm_inv = Cm_.inverse();
-  const Eigen::Matrix3d Lc = Cm_.llt().matrixL();
-  Eigen::Matrix<double, 10, 10> H = Eigen::Matrix<double, 10, 10>::Zero();
-  for (int k = 0; k < kPoints; ++k) {
-    const SolidConst<>& pc = tab.pts[k];
-    SolidPoint& p = pts_[k];
-    TangentData::Point& pt = td->pts[k];
-    const Mat3 J = X0 * pc.phi;  // columns G_xi, G_eta, G_zeta
-    const double detJ = J.determinant();
-    if (!(detJ > 0)) throw std::invalid_argument("CB shell: inverted or degenerate element (det J <= 0)");
-    p.weight = detJ;
-    for (int c = 0; c < 5; ++c) p.ref_metric[c] = J.col(kPair[c][0]).dot(J.col(kPair[c][1]));
-    // lamina frame: normal at the point, t1 from the centre frame (common in-plane orientation)
-    const Vec3 t3 = J.col(0).cross(J.col(1)).normalized();
-    const Vec3 t1 = (t1c - t1c.dot(t3) * t3).normalized();
-    const Vec3 t2 = t3.cross(t1);
-    const Mat3 dual = J.inverse();  // rows: contravariant G^i
-    Mat3 c;                         // c(i, k) = G^i . t_k
-    for (int i = 0; i < 3; ++i) c.row(i) << dual.row(i).dot(t1), dual.row(i).dot(t2), dual.row(i).dot(t3);
-    // eq. (6): rows eps11, eps22, 2eps12, 2eps13, 2eps23. G^zeta is parallel to t3, so the
-    // in-plane rows have no ez, xz (and no row has a zz) weight: those entries are round-off
-    const int kl[5][2] = {{0, 0}, {1, 1}, {0, 1}, {0, 2}, {1, 2}};
-    Eigen::Matrix<double, 5, 5> Q;
-    for (int r = 0; r < 5; ++r) {
-      const int kk = kl[r][0], ll = kl[r][1];
-      const double eng = kk == ll ? 1.0 : 2.0;
-      for (int q = 0; q < 5; ++q) {
-        const int i = kPair[q][0], j = kPair[q][1];
-        const double coef = i == j ? c(i, kk) * c(j, ll) : c(i, kk) * c(j, ll) + c(j, kk) * c(i, ll);
-        Q(r, q) = eng * coef;
-      }
-    }
-    p.Qm = Q.topLeftCorner<3, 3>();
-    p.Qs = Q.bottomRows<2>();
-    Eigen::Matrix<double, 3, 5> P;
-    if (opt.hr) {
-      const Eigen::Matrix<double, 3, 10> Ph = p_hat(p_coef_, pc);
-      P = Ph.leftCols<5>();
-      H.noalias() += p.weight * Ph.transpose() * Cm_inv * Ph;  // eq. (10)
-    }
-
-    // B rows of eps (eq. 4 through 6) on master increments: row r at slave A is
-    // sum_ij dN_A,i S_r(i, j) g_j; summed over the two slaves of master I and rotated to its
-    // frame this is (R_I^T g) Su (u part) and, weighted by s, the theta part (speed notes)
-    const double shear_scale = std::sqrt(p.weight * kG_);
-    Eigen::Matrix<double, 3, 5> Su, St;  // columns: sum_i phi(I, i) S_r(i, :) per row r
-    for (int I = 0; I < 4; ++I) {
+  layers_.resize(materials.size());
+  td->layers.resize(materials.size());
+  for (std::size_t layer_index = 0; layer_index < materials.size(); ++layer_index) {
+    const LayerMaterial& mat = materials[layer_index];
+    Layer& layer = layers_[layer_index];
+    typename TangentData::Layer& tl = td->layers[layer_index];
+    const Tables<>& tab = *layer_tables(mat.lo, mat.hi);
+    layer.tab = &tab;
+    layer.zeta_lo = mat.lo, layer.zeta_hi = mat.hi;
+    layer.Cm = mat.Cm;
+    layer.Cs = mat.Cs;
+    layer.fibre_angle = mat.fibre_angle;
+    const Eigen::Matrix3d Cm_inv = mat.Cm.inverse();
+    const Eigen::Matrix3d Lc = mat.Cm.llt().matrixL();
+    Eigen::Matrix<double, 10, 10> H = Eigen::Matrix<double, 10, 10>::Zero();
+    for (int k = 0; k < kPoints; ++k) {
+      const SolidConst<>& pc = tab.pts[k];
+      SolidPoint& p = layer.pts[k];
+      TangentData::Point& pt = tl.pts[k];
+      const Mat3 J = X0 * pc.phi;  // columns G_xi, G_eta, G_zeta
+      const double detJ = J.determinant();
+      if (!(detJ > 0)) throw std::invalid_argument("CB shell: inverted or degenerate element (det J <= 0)");
+      p.weight = detJ * tab.zeta_half;  // the layer's Gauss weight, (L6)
+      for (int c = 0; c < 5; ++c) p.ref_metric[c] = J.col(kPair[c][0]).dot(J.col(kPair[c][1]));
+      // lamina frame: normal at the point, t1 from the centre frame (common in-plane orientation)
+      const Vec3 t3 = J.col(0).cross(J.col(1)).normalized();
+      const Vec3 t1 = (t1c - t1c.dot(t3) * t3).normalized();
+      const Vec3 t2 = t3.cross(t1);
+      const Mat3 dual = J.inverse();  // rows: contravariant G^i
+      Mat3 c;                         // c(i, k) = G^i . t_k
+      for (int i = 0; i < 3; ++i) c.row(i) << dual.row(i).dot(t1), dual.row(i).dot(t2), dual.row(i).dot(t3);
+      // eq. (6): rows eps11, eps22, 2eps12, 2eps13, 2eps23. G^zeta is parallel to t3, so the
+      // in-plane rows have no ez, xz (and no row has a zz) weight: those entries are round-off
+      const int kl[5][2] = {{0, 0}, {1, 1}, {0, 1}, {0, 2}, {1, 2}};
+      Eigen::Matrix<double, 5, 5> Q;
       for (int r = 0; r < 5; ++r) {
-        Vec5 q = Q.row(r).transpose();
-        if (r < 3) q.tail<2>().setZero();
-        const Mat3 S = covariant_matrix(q, !(opt.ans && r >= 3));
-        Su.col(r) = S * pc.phi.row(I).transpose();
-        St.col(r) = hh * (S * pc.phi.row(4 + I).transpose());
+        const int kk = kl[r][0], ll = kl[r][1];
+        const double eng = kk == ll ? 1.0 : 2.0;
+        for (int q = 0; q < 5; ++q) {
+          const int i = kPair[q][0], j = kPair[q][1];
+          const double coef = i == j ? c(i, kk) * c(j, ll) : c(i, kk) * c(j, ll) + c(j, kk) * c(i, ll);
+          Q(r, q) = eng * coef;
+        }
       }
-      Su.rightCols<2>() *= shear_scale;
-      St.rightCols<2>() *= shear_scale;
-      TangentData::Mat37& ku = pt.Ku[I];
-      TangentData::Mat37& kt = pt.Kt[I];
-      ku.setZero();
-      kt.setZero();
-      if (opt.hr) {  // this point's share of G^T (first five columns of P-hat), eq. (11)
-        ku.leftCols<5>() = p.weight * Su.leftCols<3>() * P;
-        kt.leftCols<5>() = p.weight * St.leftCols<3>() * P;
-        ku.rightCols<2>() = Su.rightCols<2>();
-        kt.rightCols<2>() = St.rightCols<2>();
-      } else {      // K = Y Y^T with the membrane rows times sqrt(w) L_c
-        ku.leftCols<3>() = Su.leftCols<3>() * (std::sqrt(p.weight) * Lc);
-        kt.leftCols<3>() = St.leftCols<3>() * (std::sqrt(p.weight) * Lc);
-        ku.middleCols<2>(3) = Su.rightCols<2>();
-        kt.middleCols<2>(3) = St.rightCols<2>();
+      p.Qm = Q.topLeftCorner<3, 3>();
+      p.Qs = Q.bottomRows<2>();
+      Eigen::Matrix<double, 3, 5> P;
+      if (opt.hr) {
+        const Eigen::Matrix<double, 3, 10> Ph = p_hat(p_coef_, pc);
+        P = Ph.leftCols<5>();
+        H.noalias() += p.weight * Ph.transpose() * Cm_inv * Ph;  // eq. (10), (L8)
+      }
+
+      // B rows of eps (eq. 4 through 6) on master increments: row r at slave A is
+      // sum_ij dN_A,i S_r(i, j) g_j; summed over the two slaves of master I and rotated to its
+      // frame this is (R_I^T g) Su (u part) and, weighted by s, the theta part (speed notes).
+      // The shear rows are scaled by L_s, L_s L_s^T = w C_s (sqrt(w kappa G) when isotropic)
+      const Eigen::Matrix2d Ls = cholesky2(p.weight * mat.Cs);
+      Eigen::Matrix<double, 3, 5> Su, St;  // columns: sum_i phi(I, i) S_r(i, :) per row r
+      for (int I = 0; I < 4; ++I) {
+        for (int r = 0; r < 5; ++r) {
+          Vec5 q = Q.row(r).transpose();
+          if (r < 3) q.tail<2>().setZero();
+          const Mat3 S = covariant_matrix(q, !(opt.ans && r >= 3));
+          Su.col(r) = S * pc.phi.row(I).transpose();
+          St.col(r) = hh * (S * pc.phi.row(4 + I).transpose());
+        }
+        for (Eigen::Matrix<double, 3, 5>* M : {&Su, &St}) {
+          const Vec3 s0 = M->col(3), s1 = M->col(4);
+          M->col(3) = Ls(0, 0) * s0 + Ls(1, 0) * s1;
+          M->col(4) = Ls(1, 1) * s1;
+        }
+        TangentData::Mat37& ku = pt.Ku[I];
+        TangentData::Mat37& kt = pt.Kt[I];
+        ku.setZero();
+        kt.setZero();
+        if (opt.hr) {  // this point's share of G^T (first five columns of P-hat), eq. (11)
+          ku.leftCols<5>() = p.weight * Su.leftCols<3>() * P;
+          kt.leftCols<5>() = p.weight * St.leftCols<3>() * P;
+          ku.rightCols<2>() = Su.rightCols<2>();
+          kt.rightCols<2>() = St.rightCols<2>();
+        } else {      // K = Y Y^T with the membrane rows times sqrt(w) L_c
+          ku.leftCols<3>() = Su.leftCols<3>() * (std::sqrt(p.weight) * Lc);
+          kt.leftCols<3>() = St.leftCols<3>() * (std::sqrt(p.weight) * Lc);
+          ku.middleCols<2>(3) = Su.rightCols<2>();
+          kt.middleCols<2>(3) = St.rightCols<2>();
+        }
+      }
+      // eq. (8): tying points A, B, C, D feed ez (A, C) and xz (B, D) of the shear rows
+      const double w[4] = {0.5 * (1 - pc.xi), 0.5 * (1 - pc.eta), 0.5 * (1 + pc.xi), 0.5 * (1 + pc.eta)};
+      if (!opt.ans) pt.ans.setConstant(kUnused);
+      for (int t = 0; t < 4 && opt.ans; ++t) {
+        const int comp = (t == 0 || t == 2) ? kEtaZeta : kXiZeta;
+        const double row0 = p.Qs(0, comp) * Ls(0, 0) + p.Qs(1, comp) * Ls(1, 0), row1 = p.Qs(1, comp) * Ls(1, 1);
+        pt.ans(t, 0) = row0 * w[t];
+        pt.ans(t, 1) = row1 * w[t];
       }
     }
-    // eq. (8): tying points A, B, C, D feed ez (A, C) and xz (B, D) of the shear rows
-    const double w[4] = {0.5 * (1 - pc.xi), 0.5 * (1 - pc.eta), 0.5 * (1 + pc.xi), 0.5 * (1 + pc.eta)};
-    if (!opt.ans) pt.ans.setConstant(kUnused);
-    for (int t = 0; t < 4 && opt.ans; ++t) {
-      const int comp = (t == 0 || t == 2) ? kEtaZeta : kXiZeta;
-      for (int r = 0; r < 2; ++r) pt.ans(t, r) = shear_scale * p.Qs(r, comp) * w[t];
+    if (opt.hr) {
+      layer.h_inv = H.inverse();
+      tl.h_inv_factor = layer.h_inv.llt().matrixL();
+    } else {
+      layer.h_inv.setConstant(kUnused);
+      tl.h_inv_factor.setConstant(kUnused);
     }
-  }
-  if (opt.hr) {
-    h_inv_ = H.inverse();
-    td->h_inv_factor = h_inv_.llt().matrixL();
-  } else {
-    h_inv_.setConstant(kUnused);
-    td->h_inv_factor.setConstant(kUnused);
+    // reference values of the tied components, eq. (8)
+    for (auto& station : layer.tie_ref) station.fill(kUnused);
+    for (int l = 0; l < 2 && opt.ans; ++l)
+      for (int t = 0; t < 4; ++t) {
+        const TyingConst<>& tc = tab.tying[l][t];
+        const Mat3 G = X0 * tc.phi;
+        layer.tie_ref[l][t] = G.col(tc.i).dot(G.col(2));
+      }
   }
   tan_ = std::move(td);
 
-  // reference values of the tied components, eq. (8)
-  for (auto& layer : tie_ref_) layer.fill(kUnused);
-  for (int l = 0; l < 2 && opt.ans; ++l)
-    for (int t = 0; t < 4; ++t) {
-      const TyingConst<>& tc = tab.tying[l][t];
-      const Mat3 G = X0 * tc.phi;
-      tie_ref_[l][t] = G.col(tc.i).dot(G.col(2));
-    }
-
   // drilling points, eq. (12)
+  const Tables<>& tab = section_tables();
   for (DrillPoint& d : drill_) {
     d.weight = d.inv2A = kUnused;
     d.g1_local.fill(Vec3::Constant(kUnused));
@@ -380,6 +556,8 @@ BasicCbShellElement<double>::BasicCbShellElement(const ElementPoses& ref, const 
 // force from the stress vectors g Sigma (eq. 4), geometric stiffness from the 8 x 8 scalar
 // matrix of eq. (5) in the (sum, s-weighted) slave basis, material stiffness K = Y Y^T with Y
 // the scaled master B rows (and H^{-1/2} G for the assumed stress). See cb_shell.md, speed notes.
+// Layer by layer (laminate.md (L6)-(L8)): each has its stations, stiffness and assumed stress;
+// the force, the geometric matrix and the material stiffness are sums over the layers.
 template <class Scalar>
 Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector24& F, Matrix24* K) const {
   using Vec3 = Mat<Scalar, 3, 1>;
@@ -391,211 +569,204 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
   using Mat20 = Mat<Scalar, 20, 20>;
   using Mat20x5 = Mat<Scalar, 20, 5>;
   const Scalar hh = 0.5 * sec_.thickness;
-  const Tables<Scalar>& tab = tables<Scalar>();
   const TangentData* td = K ? tan_.get() : nullptr;  // only the tangent reads its kernels
   const Mat38 X = node_columns(cur, hh);
   std::array<Mat3, 4> Rt;
   for (int I = 0; I < 4; ++I) Rt[I] = cur[I].R.transpose().template cast<Scalar>();
 
-  // tying values and their master B rows, eq. (8)
-  Scalar e_tie[2][4] = {};
-  Vec3 g_tie[2][4][2];  // g_i, g_zeta
-  Eigen::Matrix<Scalar, 20, 4> B_tie[2];
-  if (opt_.ans)
-    for (int t = 0; t < 4; ++t) {  // per thickness pair: g_i = X_x d + zeta X_d d, g_zeta = X_d N on both
-      const Mat<Scalar, 8, 3>& phi = tab.tying[0][t].phi;
-      const int i = tab.tying[0][t].i;
-      const Vec3 gx = X.template leftCols<4>().lazyProduct(phi.col(i).template head<4>());
-      const Vec3 gd = X.template rightCols<4>().lazyProduct(phi.col(i).template head<4>());
-      const Vec3 gz = X.template rightCols<4>().lazyProduct(phi.col(2).template tail<4>());
-      for (int l = 0; l < 2; ++l) g_tie[l][t][0].noalias() = gx + tab.gpts[l] * gd, g_tie[l][t][1] = gz;
-    }
-  if (opt_.ans)
-    for (int l = 0; l < 2; ++l)
-      for (int t = 0; t < 4; ++t) {
-        const TyingConst<Scalar>& tp = tab.tying[l][t];
-        const Vec3 &gi = g_tie[l][t][0], &gz = g_tie[l][t][1];
-        e_tie[l][t] = 0.5 * (gi.dot(gz) - tie_ref_[l][t]);
-        if (!K) continue;
-        for (int I = 0; I < 4; ++I) {
-          const Vec3 gzl = Rt[I] * gz;
-          const Scalar gx = Rt[I].row(0).dot(gi), gy = Rt[I].row(1).dot(gi);
-          B_tie[l].template block<3, 1>(5 * I, t) = (0.5 * tp.phi(I, tp.i)) * gzl;
-          const Scalar wx = 0.5 * (tp.phi(4 + I, tp.i) * gzl.x() + tp.phi(4 + I, 2) * gx);
-          const Scalar wy = 0.5 * (tp.phi(4 + I, tp.i) * gzl.y() + tp.phi(4 + I, 2) * gy);
-          B_tie[l](5 * I + 3, t) = -hh * wy;
-          B_tie[l](5 * I + 4, t) = hh * wx;
-        }
-      }
-
-  // strains at the points; B rows when a tangent is wanted
+  const ZetaFreeBases<Scalar> bases(X, section_tables<Scalar>(), opt_.ans);
   const int shear_col = opt_.hr ? 10 : 24;
-  Eigen::Matrix<Scalar, 20, 40> Y;  // K_material = Y Y^T (first 26 columns with hr)
-  Mat20x5 G_layer[2];                // G^T per layer (hr), eq. (11)
-  if (K && opt_.hr) G_layer[0].setZero(), G_layer[1].setZero();
-  std::array<Mat3, kPoints> g;
-  std::array<Vec3, kPoints> em;
-  std::array<Mat<Scalar, 2, 1>, kPoints> es;
-  Vec10 gv = Vec10::Zero();
   Scalar energy = 0.0;
-  // Thickness pairs: point q (layer 0) and q + 4 (layer 1) share the in-plane derivatives D and
-  // the quad functions N of their phi (rows I: (D, 0), rows 4 + I: (zeta D, N)), so
-  // g = [X_x D + zeta X_d D, X_d N] is formed once per pair (cb_shell.md, speed notes)
-  // (column by column, as 3-vectors: whole 3 x 2 temporaries were written and read back in
-  // differently split packets, which stalls the store forwarding)
-  for (int q = 0; q < 4; ++q) {
-    const Mat<Scalar, 8, 3>& phi = tab.pts[q].phi;
-    for (int j = 0; j < 2; ++j) {
-      const Vec3 ax = X.template leftCols<4>().lazyProduct(phi.template block<4, 1>(0, j));
-      const Vec3 ad = X.template rightCols<4>().lazyProduct(phi.template block<4, 1>(0, j));
-      for (int k = q; k < kPoints; k += 4) g[k].col(j).noalias() = ax + tab.pts[k].zeta * ad;
-    }
-    const Vec3 c = X.template rightCols<4>().lazyProduct(phi.template block<4, 1>(4, 2));
-    for (int k = q; k < kPoints; k += 4) g[k].col(2) = c;
-  }
-  for (int k = 0; k < kPoints; ++k) {
-    const SolidPoint& p = pts_[k];
-    const SolidConst<Scalar>& pc = tab.pts[k];
-    Scalar e[5];
-    for (int c = 0; c < 5; ++c) e[c] = 0.5 * (g[k].col(kPair[c][0]).dot(g[k].col(kPair[c][1])) - p.ref_metric[c]);
-    if (opt_.ans) {  // eq. (8)
-      const Scalar* et = e_tie[pc.layer];
-      e[kEtaZeta] = 0.5 * (1 - pc.xi) * et[0] + 0.5 * (1 + pc.xi) * et[2];
-      e[kXiZeta] = 0.5 * (1 - pc.eta) * et[1] + 0.5 * (1 + pc.eta) * et[3];
-    }
-    // Q e as columns times the strain scalars (a strain vector stored whole and read back in halves
-    // stalled the store forwarding)
-    em[k].noalias() = p.Qm.col(0) * e[0] + p.Qm.col(1) * e[1] + p.Qm.col(2) * e[2];
-    es[k].noalias() = p.Qs.col(0) * e[0] + p.Qs.col(1) * e[1] + p.Qs.col(2) * e[2] + p.Qs.col(3) * e[3] +
-                      p.Qs.col(4) * e[4];
-    if (opt_.hr) {  // eq. (10): w P-hat^T em, with P-hat = [P, zeta P] and P = [I, c eta, c' xi] of (9)
-      const Vec3& m = em[k];
-      Mat<Scalar, 5, 1> pe;
-      pe << m[0], m[1], m[2], pc.eta * (p_coef_[0] * m[0] + p_coef_[1] * m[1] + p_coef_[2] * m[2]),
-          pc.xi * (p_coef_[3] * m[0] + p_coef_[4] * m[1] + p_coef_[5] * m[2]);
-      for (int c = 0; c < 5; ++c) {
-        const Scalar wpe = p.weight * pe[c];
-        gv[c] += wpe;
-        gv[5 + c] += pc.zeta * wpe;
-      }
-    }
-    if (!K) continue;
-    const typename TangentData::Point& pt = td->pts[k];
-    if (opt_.hr) {
-      Eigen::Matrix<Scalar, 20, 7> B;
-      master_rows<7>(Rt, g[k], pt.Ku, pt.Kt, B);
-      G_layer[pc.layer] += B.template leftCols<5>();
-      if (opt_.ans) B.template rightCols<2>().noalias() += B_tie[pc.layer].lazyProduct(pt.ans);
-      Y.template middleCols<2>(shear_col + 2 * k) = B.template rightCols<2>();
-    } else {
-      Eigen::Matrix<Scalar, 20, 5> B;
-      master_rows<5>(Rt, g[k], pt.Ku, pt.Kt, B);
-      if (opt_.ans) B.template rightCols<2>().noalias() += B_tie[pc.layer].lazyProduct(pt.ans);
-      Y.template middleCols<2>(shear_col + 2 * k) = B.template rightCols<2>();
-      Y.template middleCols<3>(3 * k) = B.template leftCols<3>();
-    }
-  }
-  Vec10 beta;
-  if (opt_.hr) {
-    beta.noalias() = h_inv_.lazyProduct(gv);  // eq. (10)
-    energy += 0.5 * gv.dot(beta);
-  }
-
-  // stresses: force and the scalar geometric matrix, eqs. (4), (5), (11)
-  const Scalar kG = kG_;
   Mat38 Fg = Mat38::Zero();  // columns: sum over s of slave forces of I, and weighted by s
   // eq. (5) weighted by stresses in the basis of phi: rows I of phi are (D_I, 0), rows 4 + I are
   // (zeta D_I, N_I), so the 8 x 8 matrix is [[A0, A1], [A1, A2]] + the N terms
   Mat<Scalar, 4, 4> A0, A1, A2, V1, V2;
   if (K) A0.setZero(), A1.setZero(), A2.setZero(), V1.setZero(), V2.setZero();
-  Scalar sig_tie[2][4] = {};
-  std::array<Mat3, kPoints> S, T;  // covariant stress matrix (weighted) and stress vectors g S
-  for (int k = 0; k < kPoints; ++k) {
-    const SolidPoint& p = pts_[k];
-    const SolidConst<Scalar>& pc = tab.pts[k];
-    Vec3 Sm;
-    if (opt_.hr) {  // assumed stress at the point, P-hat beta = P (beta_0:5 + zeta beta_5:10), eq. (9)
-      const Mat<Scalar, 5, 1> b = beta.template head<5>() + pc.zeta * beta.template tail<5>();
-      const Scalar b3 = pc.eta * b[3], b4 = pc.xi * b[4];
-      Sm << b[0] + p_coef_[0] * b3 + p_coef_[3] * b4, b[1] + p_coef_[1] * b3 + p_coef_[4] * b4,
-          b[2] + p_coef_[2] * b3 + p_coef_[5] * b4;
-    } else {
-      Sm.noalias() = Cm_ * em[k];
-      energy += 0.5 * p.weight * em[k].dot(Sm);
+  Scalar sig_tie[kMaxPlies][2][4];  // tied stresses per layer, station, tying point
+  Mat20 Km, Km_layer;               // material stiffness on the 5 bending DoFs per node
+  const int layer_count = static_cast<int>(layers_.size());
+  for (int li = 0; li < layer_count; ++li) {
+    const Layer& L = layers_[li];
+    const Tables<Scalar>& tab = *L.tab;
+    const typename TangentData::Layer* tl = td ? &td->layers[li] : nullptr;
+    // the layer's stations: sum_l zeta_l x_l = zm (x0 + x1) + zd (x1 - x0), and
+    // sum_l zeta_l^2 x_l = (zm^2 + zd^2)(x0 + x1) + 2 zm zd (x1 - x0); zm = 0 for [-1, 1]
+    const Scalar zm = tab.zeta_mid, zd = tab.zeta[1] - tab.zeta_mid;
+    const Scalar zsq = zm * zm + zd * zd, zcross = 2.0 * zm * zd;
+
+    // tying values and their master B rows, eq. (8)
+    Scalar e_tie[2][4] = {};
+    Vec3 g_tie[2][4][2];  // g_i, g_zeta
+    Eigen::Matrix<Scalar, 20, 4> B_tie[2];
+    if (opt_.ans)
+      for (int l = 0; l < 2; ++l)
+        for (int t = 0; t < 4; ++t) {
+          g_tie[l][t][0].noalias() = bases.tie_x[t] + tab.zeta[l] * bases.tie_d[t];
+          g_tie[l][t][1] = bases.tie_z[t];
+          const TyingConst<Scalar>& tp = tab.tying[l][t];
+          const Vec3 &gi = g_tie[l][t][0], &gz = g_tie[l][t][1];
+          e_tie[l][t] = 0.5 * (gi.dot(gz) - L.tie_ref[l][t]);
+          if (!K) continue;
+          for (int I = 0; I < 4; ++I) {
+            const Vec3 gzl = Rt[I] * gz;
+            const Scalar gx = Rt[I].row(0).dot(gi), gy = Rt[I].row(1).dot(gi);
+            B_tie[l].template block<3, 1>(5 * I, t) = (0.5 * tp.phi(I, tp.i)) * gzl;
+            const Scalar wx = 0.5 * (tp.phi(4 + I, tp.i) * gzl.x() + tp.phi(4 + I, 2) * gx);
+            const Scalar wy = 0.5 * (tp.phi(4 + I, tp.i) * gzl.y() + tp.phi(4 + I, 2) * gy);
+            B_tie[l](5 * I + 3, t) = -hh * wy;
+            B_tie[l](5 * I + 4, t) = hh * wx;
+          }
+        }
+
+    // strains at the points; B rows when a tangent is wanted
+    Eigen::Matrix<Scalar, 20, 40> Y;  // K_material = Y Y^T (first 26 columns with hr)
+    Mat20x5 G_layer[2];                // G^T per station (hr), eq. (11)
+    if (K && opt_.hr) G_layer[0].setZero(), G_layer[1].setZero();
+    std::array<Mat3, kPoints> g;
+    std::array<Vec3, kPoints> em;
+    std::array<Mat<Scalar, 2, 1>, kPoints> es;
+    Vec10 gv = Vec10::Zero();
+    for (int k = 0; k < kPoints; ++k) bases.at(k % 4, tab.pts[k].zeta, g[k]);
+    for (int k = 0; k < kPoints; ++k) {
+      const SolidPoint& p = L.pts[k];
+      const SolidConst<Scalar>& pc = tab.pts[k];
+      point_strains(g[k], p, pc, opt_.ans ? e_tie[pc.layer] : nullptr, em[k], es[k]);
+      if (opt_.hr) {  // eq. (10): w P-hat^T em, with P-hat = [P, zeta-hat P] and P = [I, c eta, c' xi] of (9)
+        const Vec3& m = em[k];
+        Mat<Scalar, 5, 1> pe;
+        pe << m[0], m[1], m[2], pc.eta * (p_coef_[0] * m[0] + p_coef_[1] * m[1] + p_coef_[2] * m[2]),
+            pc.xi * (p_coef_[3] * m[0] + p_coef_[4] * m[1] + p_coef_[5] * m[2]);
+        for (int c = 0; c < 5; ++c) {
+          const Scalar wpe = p.weight * pe[c];
+          gv[c] += wpe;
+          gv[5 + c] += pc.zeta_hat * wpe;
+        }
+      }
+      if (!K) continue;
+      const typename TangentData::Point& pt = tl->pts[k];
+      if (opt_.hr) {
+        Eigen::Matrix<Scalar, 20, 7> B;
+        master_rows<7>(Rt, g[k], pt.Ku, pt.Kt, B);
+        G_layer[pc.layer] += B.template leftCols<5>();
+        if (opt_.ans) B.template rightCols<2>().noalias() += B_tie[pc.layer].lazyProduct(pt.ans);
+        Y.template middleCols<2>(shear_col + 2 * k) = B.template rightCols<2>();
+      } else {
+        Eigen::Matrix<Scalar, 20, 5> B;
+        master_rows<5>(Rt, g[k], pt.Ku, pt.Kt, B);
+        if (opt_.ans) B.template rightCols<2>().noalias() += B_tie[pc.layer].lazyProduct(pt.ans);
+        Y.template middleCols<2>(shear_col + 2 * k) = B.template rightCols<2>();
+        Y.template middleCols<3>(3 * k) = B.template leftCols<3>();
+      }
     }
-    const Mat<Scalar, 2, 1> Ss = kG * es[k];
-    energy += 0.5 * p.weight * es[k].dot(Ss);
-    Vec5 sig = p.Qs.transpose().lazyProduct(Ss);
-    sig.template head<3>().noalias() += p.Qm.transpose().lazyProduct(Sm);
-    sig *= p.weight;  // covariant stress x weight
-    if (opt_.ans) {
-      Scalar* st = sig_tie[pc.layer];
-      st[0] += 0.5 * (1 - pc.xi) * sig[kEtaZeta];
-      st[2] += 0.5 * (1 + pc.xi) * sig[kEtaZeta];
-      st[1] += 0.5 * (1 - pc.eta) * sig[kXiZeta];
-      st[3] += 0.5 * (1 + pc.eta) * sig[kXiZeta];
+    Vec10 beta = Vec10::Zero();  // read only with hr (zero keeps the compiler from guessing)
+    if (opt_.hr) {
+      beta.noalias() = L.h_inv.lazyProduct(gv);  // eq. (10), (L8)
+      energy += 0.5 * gv.dot(beta);
     }
-    // stress vectors T = g S with S = covariant_matrix(sig) written out (its (2, 2) entry is 0):
-    // forming S in memory first and reading it back whole stalled the store forwarding
-    const Scalar s0 = sig[0], s1 = sig[1], h2 = 0.5 * sig[2];
-    const Scalar h3 = opt_.ans ? Scalar(0) : 0.5 * sig[3], h4 = opt_.ans ? Scalar(0) : 0.5 * sig[4];
-    T[k].col(0).noalias() = s0 * g[k].col(0) + h2 * g[k].col(1) + h4 * g[k].col(2);
-    T[k].col(1).noalias() = h2 * g[k].col(0) + s1 * g[k].col(1) + h3 * g[k].col(2);
-    T[k].col(2).noalias() = h4 * g[k].col(0) + h3 * g[k].col(1);
-    if (K) S[k] = covariant_matrix(sig, !opt_.ans);  // the geometric matrix reads S itself
-  }
-  // per thickness pair (as g above): T phi^T summed over the pair is
-  // [(T0 + T1)_xy D^T, zeta1 (T1 - T0)_xy D^T + (T0 + T1)_z N^T], and the geometric 4 x 4 blocks
-  // D (sum zeta^j S_xy) D^T (zeta0 = -zeta1)
-  for (int q = 0; q < 4; ++q) {
-    const Mat<Scalar, 8, 3>& phi = tab.pts[q].phi;
-    const auto D = phi.template topLeftCorner<4, 2>();
-    const Scalar z1 = tab.pts[q + 4].zeta;
-    // column by column as 3-vectors, for the store forwarding (as g above)
-    for (int j = 0; j < 2; ++j) {
-      const Vec3 tsum = T[q].col(j) + T[q + 4].col(j);
-      const Vec3 tmom = z1 * (T[q + 4].col(j) - T[q].col(j));
-      Fg.template leftCols<4>().noalias() += tsum.lazyProduct(D.col(j).transpose());
-      Fg.template rightCols<4>().noalias() += tmom.lazyProduct(D.col(j).transpose());
+
+    // stresses: force and the scalar geometric matrix, eqs. (4), (5), (11)
+    Scalar(&st_layer)[2][4] = sig_tie[li];
+    for (auto& station : st_layer)
+      for (Scalar& v : station) v = 0.0;
+    std::array<Mat3, kPoints> S, T;  // covariant stress matrix (weighted) and stress vectors g S
+    for (int k = 0; k < kPoints; ++k) {
+      const SolidPoint& p = L.pts[k];
+      const SolidConst<Scalar>& pc = tab.pts[k];
+      Vec3 Sm;
+      if (opt_.hr) {  // assumed stress at the point, P-hat beta = P (beta_0:5 + zeta-hat beta_5:10), eq. (9)
+        const Mat<Scalar, 5, 1> b = beta.template head<5>() + pc.zeta_hat * beta.template tail<5>();
+        const Scalar b3 = pc.eta * b[3], b4 = pc.xi * b[4];
+        Sm << b[0] + p_coef_[0] * b3 + p_coef_[3] * b4, b[1] + p_coef_[1] * b3 + p_coef_[4] * b4,
+            b[2] + p_coef_[2] * b3 + p_coef_[5] * b4;
+      } else {
+        Sm.noalias() = L.Cm * em[k];
+        energy += 0.5 * p.weight * em[k].dot(Sm);
+      }
+      const Mat<Scalar, 2, 1> Ss = L.Cs * es[k];
+      energy += 0.5 * p.weight * es[k].dot(Ss);
+      Vec5 sig = p.Qs.transpose().lazyProduct(Ss);
+      sig.template head<3>().noalias() += p.Qm.transpose().lazyProduct(Sm);
+      sig *= p.weight;  // covariant stress x weight
+      if (opt_.ans) {
+        Scalar* st = st_layer[pc.layer];
+        st[0] += 0.5 * (1 - pc.xi) * sig[kEtaZeta];
+        st[2] += 0.5 * (1 + pc.xi) * sig[kEtaZeta];
+        st[1] += 0.5 * (1 - pc.eta) * sig[kXiZeta];
+        st[3] += 0.5 * (1 + pc.eta) * sig[kXiZeta];
+      }
+      // stress vectors T = g S with S = covariant_matrix(sig) written out (its (2, 2) entry is 0):
+      // forming S in memory first and reading it back whole stalled the store forwarding
+      const Scalar s0 = sig[0], s1 = sig[1], h2 = 0.5 * sig[2];
+      const Scalar h3 = opt_.ans ? Scalar(0) : 0.5 * sig[3], h4 = opt_.ans ? Scalar(0) : 0.5 * sig[4];
+      T[k].col(0).noalias() = s0 * g[k].col(0) + h2 * g[k].col(1) + h4 * g[k].col(2);
+      T[k].col(1).noalias() = h2 * g[k].col(0) + s1 * g[k].col(1) + h3 * g[k].col(2);
+      T[k].col(2).noalias() = h4 * g[k].col(0) + h3 * g[k].col(1);
+      if (K) S[k] = covariant_matrix(sig, !opt_.ans);  // the geometric matrix reads S itself
     }
-    const Vec3 tz = T[q].col(2) + T[q + 4].col(2);
-    Fg.template rightCols<4>().noalias() += tz.lazyProduct(phi.template block<4, 1>(4, 2).transpose());
+    // per in-plane point (the layer's two stations): T phi^T summed over the stations is
+    // [(T0 + T1)_xy D^T, sum zeta T_xy D^T + (T0 + T1)_z N^T], and the geometric 4 x 4 blocks
+    // D (sum zeta^j S_xy) D^T
+    for (int q = 0; q < 4; ++q) {
+      const Mat<Scalar, 8, 3>& phi = tab.pts[q].phi;
+      const auto D = phi.template topLeftCorner<4, 2>();
+      // column by column as 3-vectors, for the store forwarding (as g above)
+      for (int j = 0; j < 2; ++j) {
+        const Vec3 tsum = T[q].col(j) + T[q + 4].col(j);
+        const Vec3 tmom = zm * tsum + zd * (T[q + 4].col(j) - T[q].col(j));
+        Fg.template leftCols<4>().noalias() += tsum.lazyProduct(D.col(j).transpose());
+        Fg.template rightCols<4>().noalias() += tmom.lazyProduct(D.col(j).transpose());
+      }
+      const Vec3 tz = T[q].col(2) + T[q + 4].col(2);
+      Fg.template rightCols<4>().noalias() += tz.lazyProduct(phi.template block<4, 1>(4, 2).transpose());
+      if (!K) continue;
+      const Mat<Scalar, 2, 2> Ssum = S[q].template topLeftCorner<2, 2>() + S[q + 4].template topLeftCorner<2, 2>();
+      const Mat<Scalar, 2, 2> Sdiff = S[q + 4].template topLeftCorner<2, 2>() - S[q].template topLeftCorner<2, 2>();
+      const Mat<Scalar, 2, 2> Smom = zm * Ssum + zd * Sdiff;
+      const Mat<Scalar, 2, 2> Ssq = zsq * Ssum + zcross * Sdiff;
+      A0.noalias() += D.lazyProduct(Ssum.lazyProduct(D.transpose()));
+      A1.noalias() += D.lazyProduct(Smom.lazyProduct(D.transpose()));
+      A2.noalias() += D.lazyProduct(Ssq.lazyProduct(D.transpose()));
+      if (!opt_.ans) {  // S(0:2, 2) with phi(4 + J, 2) = N_J
+        const auto N = phi.template block<4, 1>(4, 2);
+        const Mat<Scalar, 2, 1> vsum = S[q].template block<2, 1>(0, 2) + S[q + 4].template block<2, 1>(0, 2);
+        const Mat<Scalar, 2, 1> vdiff = S[q + 4].template block<2, 1>(0, 2) - S[q].template block<2, 1>(0, 2);
+        V1.noalias() += (D * vsum) * N.transpose();
+        V2.noalias() += (D * (zm * vsum + zd * vdiff)) * N.transpose();
+      }
+    }
+    // tying forces 1/2 s (g_zeta phi_i^T + g_i phi_zeta^T), eqs. (4), (8), per layer: phi_i
+    // is (d, zeta d) and phi_zeta (0, N) with d, N the same at both stations, and g_zeta too
+    if (opt_.ans)
+      for (int t = 0; t < 4; ++t) {
+        const TyingConst<Scalar>& tp = tab.tying[0][t];
+        const auto d = tp.phi.col(tp.i).template head<4>();
+        const auto N = tp.phi.col(2).template tail<4>();
+        const Scalar s0 = 0.5 * st_layer[0][t], s1 = 0.5 * st_layer[1][t];
+        const Vec3& gz = g_tie[0][t][1];
+        const Vec3 gz_sum = (s0 + s1) * gz, gz_mom = (zm * (s0 + s1) + zd * (s1 - s0)) * gz;
+        const Vec3 gi_sum = s0 * g_tie[0][t][0] + s1 * g_tie[1][t][0];
+        Fg.template leftCols<4>().noalias() += gz_sum.lazyProduct(d.transpose());
+        Fg.template rightCols<4>().noalias() += gz_mom.lazyProduct(d.transpose());
+        Fg.template rightCols<4>().noalias() += gi_sum.lazyProduct(N.transpose());
+      }
     if (!K) continue;
-    const Mat<Scalar, 2, 2> Ssum = S[q].template topLeftCorner<2, 2>() + S[q + 4].template topLeftCorner<2, 2>();
-    const Mat<Scalar, 2, 2> Smom = z1 * (S[q + 4].template topLeftCorner<2, 2>() - S[q].template topLeftCorner<2, 2>());
-    const Mat<Scalar, 2, 2> Ssq = (z1 * z1) * Ssum;
-    A0.noalias() += D.lazyProduct(Ssum.lazyProduct(D.transpose()));
-    A1.noalias() += D.lazyProduct(Smom.lazyProduct(D.transpose()));
-    A2.noalias() += D.lazyProduct(Ssq.lazyProduct(D.transpose()));
-    if (!opt_.ans) {  // S(0:2, 2) with phi(4 + J, 2) = N_J
-      const auto N = phi.template block<4, 1>(4, 2);
-      V1.noalias() += (D * (S[q].template block<2, 1>(0, 2) + S[q + 4].template block<2, 1>(0, 2))) * N.transpose();
-      V2.noalias() += (D * (z1 * (S[q + 4].template block<2, 1>(0, 2) - S[q].template block<2, 1>(0, 2)))) * N.transpose();
+    // the layer's material stiffness, summed over the layers (the first one written in place)
+    Mat20& Kl = li == 0 ? Km : Km_layer;
+    if (opt_.hr) {
+      Eigen::Matrix<Scalar, 20, 10> Gt;
+      Gt.template leftCols<5>() = G_layer[0] + G_layer[1];
+      Gt.template rightCols<5>() = tab.pts[0].zeta_hat * G_layer[0] + tab.pts[kPoints - 1].zeta_hat * G_layer[1];
+      const Eigen::Matrix<Scalar, 10, 10>& Lh = tl->h_inv_factor;
+      for (int j = 0; j < 10; ++j) {  // W = G^T L, L lower triangular: W W^T = G^T H^{-1} G
+        Y.col(j) = Lh(j, j) * Gt.col(j);
+        for (int i = j + 1; i < 10; ++i) Y.col(j) += Lh(i, j) * Gt.col(i);
+      }
+      gram20<26>(Y.template leftCols<26>(), Kl);
+    } else {
+      gram20<40>(Y, Kl);
     }
+    if (li > 0) Km += Km_layer;
   }
-  Mat8 Gb;
-  if (K) {
-    Gb.template topLeftCorner<4, 4>() = A0;
-    Gb.template topRightCorner<4, 4>() = A1 + V1;
-    Gb.template bottomLeftCorner<4, 4>() = A1 + V1.transpose();
-    Gb.template bottomRightCorner<4, 4>() = A2 + V2 + V2.transpose();
-  }
-  // tying forces 1/2 s (g_zeta phi_i^T + g_i phi_zeta^T), eqs. (4), (8), per thickness pair: phi_i
-  // is (d, zeta d) and phi_zeta (0, N) with d, N the same on both layers, and g_zeta too
-  if (opt_.ans)
-    for (int t = 0; t < 4; ++t) {
-      const TyingConst<Scalar>& tp = tab.tying[0][t];
-      const auto d = tp.phi.col(tp.i).template head<4>();
-      const auto N = tp.phi.col(2).template tail<4>();
-      const Scalar s0 = 0.5 * sig_tie[0][t], s1 = 0.5 * sig_tie[1][t], zeta1 = tab.gpts[1];
-      const Vec3& gz = g_tie[0][t][1];
-      const Vec3 gz_sum = (s0 + s1) * gz, gz_mom = (zeta1 * (s1 - s0)) * gz;
-      const Vec3 gi_sum = s0 * g_tie[0][t][0] + s1 * g_tie[1][t][0];
-      Fg.template leftCols<4>().noalias() += gz_sum.lazyProduct(d.transpose());
-      Fg.template rightCols<4>().noalias() += gz_mom.lazyProduct(d.transpose());
-      Fg.template rightCols<4>().noalias() += gi_sum.lazyProduct(N.transpose());
-      if (K) Gb.noalias() += sig_tie[0][t] * tp.M + sig_tie[1][t] * tab.tying[1][t].M;
-    }
 
   // master force, eq. (15): F_u = R^T sum f, F_theta = (h0/2) e3~ R^T sum s f
   std::array<Vec3, 4> fu, fs;
@@ -607,21 +778,16 @@ Scalar BasicCbShellElement<Scalar>::solid_terms(const ElementPoses& cur, Vector2
   }
   if (!K) return energy;
 
-  // material stiffness on the 5 bending DoFs per node (u0 u1 u2 theta0 theta1)
-  Mat20 Km;
-  if (opt_.hr) {
-    Eigen::Matrix<Scalar, 20, 10> Gt;
-    Gt.template leftCols<5>() = G_layer[0] + G_layer[1];
-    Gt.template rightCols<5>() = tab.pts[0].zeta * G_layer[0] + tab.pts[kPoints - 1].zeta * G_layer[1];
-    const Eigen::Matrix<Scalar, 10, 10>& Lh = td->h_inv_factor;
-    for (int j = 0; j < 10; ++j) {  // W = G^T L, L lower triangular: W W^T = G^T H^{-1} G
-      Y.col(j) = Lh(j, j) * Gt.col(j);
-      for (int i = j + 1; i < 10; ++i) Y.col(j) += Lh(i, j) * Gt.col(i);
+  Mat8 Gb;
+  Gb.template topLeftCorner<4, 4>() = A0;
+  Gb.template topRightCorner<4, 4>() = A1 + V1;
+  Gb.template bottomLeftCorner<4, 4>() = A1 + V1.transpose();
+  Gb.template bottomRightCorner<4, 4>() = A2 + V2 + V2.transpose();
+  if (opt_.ans)  // eq. (5) of the tied components, eq. (8)
+    for (int li = 0; li < layer_count; ++li) {
+      const Tables<Scalar>& tab = *layers_[li].tab;
+      for (int t = 0; t < 4; ++t) Gb.noalias() += sig_tie[li][0][t] * tab.tying[0][t].M + sig_tie[li][1][t] * tab.tying[1][t].M;
     }
-    gram20<26>(Y.template leftCols<26>(), Km);
-  } else {
-    gram20<40>(Y, Km);
-  }
   // geometric stiffness and the variation of T, eqs. (15), (16), node block by node block
   const Scalar hh2 = hh * hh;
   for (int I = 0; I < 4; ++I)
@@ -671,7 +837,7 @@ Scalar BasicCbShellElement<Scalar>::drilling_terms(const ElementPoses& cur, Vect
     }
   for (int q = 0; q < 4; ++q) {
     const DrillPoint& d = drill_[q];
-    const DrillConst<Scalar>& dc = tables<Scalar>().drill[q];
+    const DrillConst<Scalar>& dc = section_tables<Scalar>().drill[q];
     Vec3 gx = Vec3::Zero(), ge = Vec3::Zero(), abar = Vec3::Zero(), bbar = Vec3::Zero();
     for (int I = 0; I < 4; ++I) {
       gx += dc.dNxi[I] * cur[I].p.template cast<Scalar>();
@@ -733,27 +899,39 @@ Scalar BasicCbShellElement<Scalar>::energy(const ElementPoses& cur) const {
 template <class Scalar>
 template <class Other>
 BasicCbShellElement<Scalar>::BasicCbShellElement(const BasicCbShellElement<Other>& o)
-    : sec_(o.sec_), opt_(o.opt_), kG_(Scalar(o.kG_)), gamma_(Scalar(o.gamma_)) {
-  for (int k = 0; k < kPoints; ++k) {
-    pts_[k].weight = Scalar(o.pts_[k].weight);
-    pts_[k].ref_metric = o.pts_[k].ref_metric.template cast<Scalar>();
-    pts_[k].Qm = o.pts_[k].Qm.template cast<Scalar>();
-    pts_[k].Qs = o.pts_[k].Qs.template cast<Scalar>();
-  }
-  for (int l = 0; l < 2; ++l)
-    for (int t = 0; t < 4; ++t) tie_ref_[l][t] = Scalar(o.tie_ref_[l][t]);
+    : sec_(o.sec_), opt_(o.opt_), reference_angle_(Scalar(o.reference_angle_)), gamma_(Scalar(o.gamma_)) {
   for (int c = 0; c < 6; ++c) p_coef_[c] = Scalar(o.p_coef_[c]);
-  h_inv_ = o.h_inv_.template cast<Scalar>();
-  Cm_ = o.Cm_.template cast<Scalar>();
   auto td = std::make_shared<TangentData>();
-  for (int k = 0; k < kPoints; ++k) {
-    for (int I = 0; I < 4; ++I) {
-      td->pts[k].Ku[I] = o.tan_->pts[k].Ku[I].template cast<Scalar>();
-      td->pts[k].Kt[I] = o.tan_->pts[k].Kt[I].template cast<Scalar>();
+  layers_.resize(o.layers_.size());
+  td->layers.resize(o.layers_.size());
+  for (std::size_t li = 0; li < o.layers_.size(); ++li) {
+    const auto& ol = o.layers_[li];
+    Layer& l = layers_[li];
+    l.tab = layer_tables<Scalar>(ol.zeta_lo, ol.zeta_hi);
+    l.zeta_lo = ol.zeta_lo, l.zeta_hi = ol.zeta_hi;
+    for (int k = 0; k < kPoints; ++k) {
+      l.pts[k].weight = Scalar(ol.pts[k].weight);
+      l.pts[k].ref_metric = ol.pts[k].ref_metric.template cast<Scalar>();
+      l.pts[k].Qm = ol.pts[k].Qm.template cast<Scalar>();
+      l.pts[k].Qs = ol.pts[k].Qs.template cast<Scalar>();
     }
-    td->pts[k].ans = o.tan_->pts[k].ans.template cast<Scalar>();
+    for (int s = 0; s < 2; ++s)
+      for (int t = 0; t < 4; ++t) l.tie_ref[s][t] = Scalar(ol.tie_ref[s][t]);
+    l.h_inv = ol.h_inv.template cast<Scalar>();
+    l.Cm = ol.Cm.template cast<Scalar>();
+    l.Cs = ol.Cs.template cast<Scalar>();
+    l.fibre_angle = Scalar(ol.fibre_angle);
+    const auto& otl = o.tan_->layers[li];
+    auto& tl = td->layers[li];
+    for (int k = 0; k < kPoints; ++k) {
+      for (int I = 0; I < 4; ++I) {
+        tl.pts[k].Ku[I] = otl.pts[k].Ku[I].template cast<Scalar>();
+        tl.pts[k].Kt[I] = otl.pts[k].Kt[I].template cast<Scalar>();
+      }
+      tl.pts[k].ans = otl.pts[k].ans.template cast<Scalar>();
+    }
+    tl.h_inv_factor = otl.h_inv_factor.template cast<Scalar>();
   }
-  td->h_inv_factor = o.tan_->h_inv_factor.template cast<Scalar>();
   tan_ = std::move(td);
   for (int q = 0; q < 4; ++q) {
     drill_[q].weight = Scalar(o.drill_[q].weight);
@@ -791,11 +969,89 @@ ElementFlops count_element_flops(const CbShellElement& element, const ElementPos
 }  // namespace ff::shell
 
 namespace ff::shell {
-// placeholder until the recovery lands (issue 33 work in progress): zeros, never reported as data
+
+namespace {
+// in-plane stress [s11, s22, s12] and transverse shear [s13, s23] of a station turned into axes
+// at angle a from the element's t1 (the stress transformation, Jones ch. 2)
+Vec5 turn_stress(const Vec5& s, double a) {
+  const double c = std::cos(a), n = std::sin(a);
+  Vec5 r;
+  r[0] = c * c * s[0] + n * n * s[1] + 2 * c * n * s[2];
+  r[1] = n * n * s[0] + c * c * s[1] - 2 * c * n * s[2];
+  r[2] = c * n * (s[1] - s[0]) + (c * c - n * n) * s[2];
+  r[3] = c * s[3] + n * s[4];
+  r[4] = -n * s[3] + c * s[4];
+  return r;
+}
+double tsai_wu(const Vec5& s, const std::array<double, 5>& strength) {  // laminate.md (L12)
+  const double Xt = strength[0], Xc = strength[1], Yt = strength[2], Yc = strength[3], S = strength[4];
+  const double F1 = 1 / Xt - 1 / Xc, F2 = 1 / Yt - 1 / Yc, F11 = 1 / (Xt * Xc), F22 = 1 / (Yt * Yc), F66 = 1 / (S * S);
+  const double F12 = -0.5 * std::sqrt(F11 * F22);
+  return F1 * s[0] + F2 * s[1] + F11 * s[0] * s[0] + F22 * s[1] * s[1] + F66 * s[2] * s[2] + 2 * F12 * s[0] * s[1];
+}
+}  // namespace
+
+// laminate.md section 6: per layer the stresses the energy uses at its 8 points (the assumed
+// in-plane stress with hr, the tied shear with ans), averaged over the 2 x 2 in-plane points of
+// each station, are linear in the layer's own coordinate (exactly so for the assumed stress), so
+// the bottom, middle and top of a layer follow from its two stations; the resultants integrate
+// the same stations (2-point Gauss, exact for a linear stress times z).
 template <>
-void BasicCbShellElement<double>::stresses(const ElementPoses&, ElementStress& out) const {
-  out.surface.fill(Vec5::Zero());
+void BasicCbShellElement<double>::stresses(const ElementPoses& cur, ElementStress& out) const {
+  const double hh = 0.5 * sec_.thickness;
+  const Mat38 X = node_columns(cur, hh);
+  const ZetaFreeBases<double> bases(X, section_tables(), opt_.ans);
   out.N.setZero(), out.M.setZero(), out.Q.setZero();
-  out.plies = 0;
+  out.plies = sec_.plies ? static_cast<int>(layers_.size()) : 0;
+  const int last = static_cast<int>(layers_.size()) - 1;
+  for (int li = 0; li <= last; ++li) {
+    const Layer& L = layers_[li];
+    const Tables<>& tab = *L.tab;
+    double tied[2][4] = {};
+    for (int l = 0; l < 2 && opt_.ans; ++l)
+      for (int t = 0; t < 4; ++t) tied[l][t] = bases.tied(t, tab.zeta[l], L.tie_ref[l][t]);
+    std::array<Vec3, kPoints> em;
+    std::array<Eigen::Vector2d, kPoints> es;
+    Vec10 gv = Vec10::Zero();
+    for (int k = 0; k < kPoints; ++k) {
+      const SolidConst<>& pc = tab.pts[k];
+      Mat3 g;
+      bases.at(k % 4, pc.zeta, g);
+      point_strains(g, L.pts[k], pc, opt_.ans ? tied[pc.layer] : nullptr, em[k], es[k]);
+      if (opt_.hr) gv += L.pts[k].weight * p_hat(p_coef_, pc).transpose() * em[k];  // eq. (10)
+    }
+    const Vec10 beta = opt_.hr ? Vec10(L.h_inv * gv) : Vec10::Zero();
+    Vec5 station[2] = {Vec5::Zero(), Vec5::Zero()};  // element frame, mean over the in-plane points
+    for (int k = 0; k < kPoints; ++k) {
+      const SolidConst<>& pc = tab.pts[k];
+      Vec5 sk;
+      sk.head<3>() = opt_.hr ? Vec3(p_hat(p_coef_, pc) * beta) : Vec3(L.Cm * em[k]);
+      sk.tail<2>() = L.Cs * es[k];
+      station[pc.layer] += 0.25 * sk;
+    }
+    // resultants per unit length, in the section axes: dz = (h/2) zeta_half dzeta-hat
+    const double w = hh * tab.zeta_half;
+    for (int l = 0; l < 2; ++l) {
+      const Vec5 s = turn_stress(station[l], reference_angle_);
+      out.N += w * s.head<3>();
+      out.M += w * hh * tab.zeta[l] * s.head<3>();
+      out.Q += w * s.tail<2>();
+    }
+    // the layer's stress at its own coordinate zh (linear through the two stations at -+gp)
+    const double gp = tab.gpts[1];
+    auto at = [&](double zh) -> Vec5 { return 0.5 * (station[0] + station[1]) + (zh / (2 * gp)) * (station[1] - station[0]); };
+    if (li == 0) out.surface[0] = turn_stress(at(-1.0), reference_angle_);
+    if (li == last) out.surface[2] = turn_stress(at(1.0), reference_angle_);
+    if (L.zeta_lo <= 0.0 && (0.0 < L.zeta_hi || li == last))  // the reference surface (the upper ply at an interface)
+      out.surface[1] = turn_stress(at(-tab.zeta_mid / tab.zeta_half), reference_angle_);
+    if (!sec_.plies) continue;
+    const Ply& ply = (*sec_.plies)[li];
+    const bool failure = ply.strength[0] > 0;
+    out.tsai_wu[li] = failure ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
+    for (int j = 0; j < 3; ++j) {
+      out.ply[li][j] = turn_stress(at(j - 1.0), L.fibre_angle);
+      if (failure) out.tsai_wu[li] = std::max(out.tsai_wu[li], tsai_wu(out.ply[li][j], ply.strength));
+    }
+  }
 }
 }  // namespace ff::shell

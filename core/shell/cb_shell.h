@@ -15,6 +15,11 @@
 
 namespace ff::shell {
 
+namespace cb_detail {
+template <class T>
+struct Tables;  // the element's fixed points on one thickness interval (cb_shell.cpp)
+}
+
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using Vec24 = Eigen::Matrix<double, 24, 1>;
@@ -108,34 +113,43 @@ class BasicCbShellElement {
   using V3 = Eigen::Matrix<Scalar, 3, 1>;
   using M3 = Eigen::Matrix<Scalar, 3, 3>;
   // Reference-only data of the kernels, precomputed here (cb_shell.md, "Implementation notes").
-  // The element keeps inline only what the force needs (about 2.6 kB, contiguous); the tangent's
+  // Per layer (the whole section when isotropic, else one ply: laminate.md (L6)) the element keeps
+  // what the force needs (about 2.6 kB, contiguous in one block for all layers); the tangent's
   // kernels live in one heap block (TangentData) that a force-only evaluation never touches, and
-  // what is the same for every element (shape derivatives at the fixed points) is shared.
-  static constexpr int kPoints = 8;  // 2 x 2 in plane x 2 through the thickness
+  // what is the same for every element with the same layer interval (shape derivatives at the
+  // fixed points) is shared.
+  static constexpr int kPoints = 8;  // per layer: 2 x 2 in plane x 2 through the layer
   struct SolidPoint {                              // force data of one integration point
     Scalar weight;                                 // Gauss weight x det J (reference volume)
     Eigen::Matrix<Scalar, 5, 1> ref_metric;        // G_i.G_j for xx, ee, xe, eta-zeta, xi-zeta
     M3 Qm;                                         // eq. (6): in-plane rows, columns xx ee xe
     Eigen::Matrix<Scalar, 2, 5> Qs;                // eq. (6): shear rows, columns xx ee xe ez xz
   };
+  struct Layer {                                   // laminate.md (L6)-(L9)
+    const cb_detail::Tables<Scalar>* tab;          // fixed points of [zeta_lo, zeta_hi] (shared)
+    double zeta_lo, zeta_hi;                       // its interval of the thickness coordinate
+    std::array<SolidPoint, kPoints> pts;
+    std::array<std::array<Scalar, 4>, 2> tie_ref;  // G_i.G_zeta of the tied components [station][A..D]
+    Eigen::Matrix<Scalar, 10, 10> h_inv;           // eq. (10), (L8): this layer's H^{-1}
+    M3 Cm;                                         // eq. (7) / (L5): in-plane stiffness, element frame
+    Eigen::Matrix<Scalar, 2, 2> Cs;                // eq. (7) / (L5), (L9): kappa x transverse shear stiffness
+    Scalar fibre_angle;                            // psi: from the element's t1 to the fibre (0 isotropic)
+  };
   struct DrillPoint {
     Scalar weight;                                 // Gauss weight x A
     Scalar inv2A;                                  // 1 / (2A)
     std::array<V3, 4> g1_local, g2_local;          // R0_I^T G_xi, R0_I^T G_eta
   };
-  struct TangentData;                              // Ku, Kt, ANS rows, H^{-1} factor (cb_shell.cpp)
+  struct TangentData;                              // Ku, Kt, ANS rows, H^{-1} factor per layer (cb_shell.cpp)
 
   Scalar solid_terms(const ElementPoses& cur, Vector24& f, Matrix24* K) const;
   Scalar drilling_terms(const ElementPoses& cur, Vector24& f, Matrix24* K) const;
 
   ShellSection sec_;
   ShellOptions opt_;
-  std::array<SolidPoint, kPoints> pts_;
-  std::array<std::array<Scalar, 4>, 2> tie_ref_;   // G_i.G_zeta of the tied components [layer][A..D]
+  std::vector<Layer> layers_;                      // bottom up
   std::array<Scalar, 6> p_coef_;                   // eq. (9): a1^2, b1^2, a1 b1, a2^2, b2^2, a2 b2
-  Eigen::Matrix<Scalar, 10, 10> h_inv_;            // eq. (10)
-  M3 Cm_;                                          // eq. (7), membrane block
-  Scalar kG_ = 0.0;                                // eq. (7), shear
+  Scalar reference_angle_ = 0.0;                   // phi: from the element's t1 to the section's x1
   Scalar gamma_ = 0.0;                             // eq. (13)
   std::shared_ptr<const TangentData> tan_;         // immutable, shared by copies
   std::array<DrillPoint, 4> drill_;
