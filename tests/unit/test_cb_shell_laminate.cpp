@@ -148,11 +148,9 @@ TEST_P(CbShellLaminate, OneIsotropicPlyIsTheIsotropicElement) {
   const ElementPoses ref = curved();
   const CbShellElement iso(ref, isotropic_section(E, nu, h), options(c));
   for (const auto& [angle, direction] : {std::pair{0.0, Vec3::Zero().eval()}, std::pair{0.7, Vec3(0.3, 1.0, -0.2)}}) {
-    ShellSection one = laminated({isotropic_ply(E, nu, h, angle)}, direction);
-    // the drilling penalty's gamma = c G h0 (cb_shell.md (13)) is the section's: only there the
-    // isotropic constants are given as a scene would give them
-    if (c.drilling) one.youngs_modulus = E, one.poisson_ratio = nu;
-    const CbShellElement lam(ref, one, options(c));
+    // the section's own isotropic constants are far off (laminated()): the plies alone must give
+    // the element, its drilling penalty gamma = c G h0 (cb_shell.md (13)) included
+    const CbShellElement lam(ref, laminated({isotropic_ply(E, nu, h, angle)}, direction), options(c));
     for (unsigned seed : {3u, 4u}) {
       const ElementPoses cur = deformed(ref, seed);
       Vec24 Fi, Fl;
@@ -307,11 +305,15 @@ TEST(CbShellLaminate, StressesOfARigidMotionAreZero) {
 // unchanged) is exact for the element with and without hr (test_cb_shell.cpp's affine state), so
 // St. Venant-Kirchhoff gives, at every station of ply k, S = Qbar_k E in section axes and
 // Q T E in fibre axes (laminate.md (L1), (L3), (L5), section 6, written here from Jones's explicit
-// formulas, ch. 2), N = sum Qbar_k h_k E, M = sum Qbar_k zbar_k h_k E, Q = 0.
+// formulas, ch. 2), N = sum Qbar_k h_k E, M = sum Qbar_k zbar_k h_k E, Q = 0; and each ply's
+// Tsai-Wu index (L12) of that stress (Tsai & Wu 1971, F12 = -sqrt(F11 F22)/2 of Tsai & Hahn), NaN
+// for a ply without strengths.
 TEST(CbShellLaminate, UniformMembraneStrainGivesEachPlyItsQbarE) {
   const ElementPoses ref = flat_distorted();
   const Vec3 r(1.0, 0.2, 0.0);
-  const std::vector<Ply> plies{orthotropic_ply(30, 0.02), orthotropic_ply(-60, 0.01), orthotropic_ply(0, 0.03)};
+  std::vector<Ply> plies{orthotropic_ply(30, 0.02), orthotropic_ply(-60, 0.01), orthotropic_ply(0, 0.03)};
+  const std::array<double, 5> strength{1500, 1200, 50, 250, 70};  // Xt Xc Yt Yc S12, carbon/epoxy-like (MPa)
+  plies[0].strength = strength, plies[2].strength = strength;     // ply 1 has none
   Eigen::Matrix3d Fd = Eigen::Matrix3d::Identity();
   Fd.topLeftCorner<2, 2>() << 1.003, 0.002, -0.001, 0.998;
   ElementPoses cur = ref;
@@ -351,6 +353,12 @@ TEST(CbShellLaminate, UniformMembraneStrainGivesEachPlyItsQbarE) {
         EXPECT_LT((s.ply[k][w].head<3>() - S1).cwiseAbs().maxCoeff(), 1e-9 * S.norm()) << "ply " << k << " station " << w << (hr ? " hr" : "");
         EXPECT_LT(s.ply[k][w].tail<2>().cwiseAbs().maxCoeff(), 1e-9 * S.norm()) << "ply " << k;
       }
+      const double Xt = strength[0], Xc = strength[1], Yt = strength[2], Yc = strength[3], S12 = strength[4];
+      const double F11 = 1 / (Xt * Xc), F22 = 1 / (Yt * Yc);
+      const double index = (1 / Xt - 1 / Xc) * S1[0] + (1 / Yt - 1 / Yc) * S1[1] + F11 * S1[0] * S1[0] + F22 * S1[1] * S1[1] +
+                           S1[2] * S1[2] / (S12 * S12) - std::sqrt(F11 * F22) * S1[0] * S1[1];
+      if (k == 1) EXPECT_TRUE(std::isnan(s.tsai_wu[k])) << "a ply without strengths has no index";
+      else EXPECT_NEAR(s.tsai_wu[k], index, 1e-9 * std::abs(index)) << "ply " << k << (hr ? " hr" : "");
       if (k == 0) EXPECT_LT((s.surface[0].head<3>() - S).cwiseAbs().maxCoeff(), 1e-9 * S.norm()) << "bottom";
       if (k == 2) EXPECT_LT((s.surface[2].head<3>() - S).cwiseAbs().maxCoeff(), 1e-9 * S.norm()) << "top";
       N += S * p.thickness;
