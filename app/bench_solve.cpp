@@ -108,6 +108,35 @@ nlohmann::ordered_json element_figures(int rounds) {
     A(0, 0) = 1e-30 * sink;  // a data dependence between calls
   });
   const double same_flop_us = product_us * flops.force_tangent / (2.0 * n * n * n);
+  // a laminated section on the same element (laminate.md): n orthotropic plies [0/90/0/...],
+  // each its own layer of the kernel, timed in this run so the ratio to the isotropic one holds
+  auto laminate = [&](int n) {
+    auto plies = std::make_shared<std::vector<Ply>>();
+    for (int k = 0; k < n; ++k)
+      plies->push_back({1.4e5, 1.0e4, 5.0e3, 5.0e3, 3.5e3, 0.3, 0.05 / n, k % 2 ? 1.5707963267948966 : 0.0, 0.0, {}});
+    ShellSection sec{1.4e5, 0.3, 0.05, 5.0 / 6.0, plies, Vec3::Zero()};
+    const CbShellElement lam(ref, sec, o);
+    const double lam_force = best_mean_us(rounds, 20000 / n, [&] {
+      lam.evaluate(cur, f, nullptr);
+      sink += f[0];
+    });
+    const double lam_tangent = best_mean_us(rounds, 5000 / n, [&] {
+      lam.evaluate(cur, f, &K);
+      sink += K(0, 0);
+    });
+    return std::pair<double, double>{lam_force, lam_tangent};
+  };
+  nlohmann::ordered_json laminated = nlohmann::ordered_json::array();
+  std::string laminated_lines;
+  for (int n : {1, 3, 8}) {
+    const auto [lf, lt] = laminate(n);
+    laminated.push_back({{"plies", n}, {"force_us", lf}, {"force_tangent_us", lt},
+                         {"force_ratio", lf / force_us}, {"force_tangent_ratio", lt / tangent_us}});
+    char line[200];
+    std::snprintf(line, sizeof line, "  %d orthotropic plies: force %.3f us (x %.2f), force + tangent %.3f us (x %.2f)\n", n,
+                  lf, lf / force_us, lt, lt / tangent_us);
+    laminated_lines += line;
+  }
   if (!std::isfinite(sink)) std::printf("(non-finite sink)\n");
   std::printf("CB element (curved, distorted, deformed; 5 DoF, hr + ans), one core:\n"
               "  force %.3f us, %lld flops (%.2f Gflop/s)\n"
@@ -116,12 +145,15 @@ nlohmann::ordered_json element_figures(int rounds) {
               force_us, static_cast<long long>(flops.force), 1e-3 * flops.force / force_us, tangent_us,
               static_cast<long long>(flops.force_tangent), 1e-3 * flops.force_tangent / tangent_us, n, n, same_flop_us,
               1e-3 * flops.force_tangent / same_flop_us, tangent_us / same_flop_us);
+  std::printf("Laminated sections on the same element, against the isotropic one above (x: time ratio):\n%s\n",
+              laminated_lines.c_str());
   return {{"force_us", force_us},
           {"force_tangent_us", tangent_us},
           {"force_flops", flops.force},
           {"force_tangent_flops", flops.force_tangent},
           {"same_flop_product_us", same_flop_us},
-          {"product_size", n}};
+          {"product_size", n},
+          {"laminated", laminated}};
 }
 
 // which BLAS kernels the factorizations run on: OpenBLAS names the kernel set it picked for this

@@ -30,32 +30,63 @@ Eigen::Matrix<double, 6, 6> left(const Eigen::Matrix<double, 3, 6>& Y, double sh
 }
 }  // namespace
 
-CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, double density) : half_h_(0.5 * thickness) {
-  if (!(thickness > 0) || !(density > 0))
-    throw std::invalid_argument("CB shell inertia needs a positive thickness and density");
+CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, double density)
+    : CbShellInertia(ref, thickness, std::vector<DensityLayer>{{-1.0, 1.0, density}}) {
+  if (!(density > 0)) throw std::invalid_argument("CB shell inertia needs a positive thickness and density");
+}
+
+CbShellInertia::CbShellInertia(const ElementPoses& ref, const ShellSection& section, double density)
+    : CbShellInertia(ref, section.thickness, density_layers(section, density)) {}
+
+std::vector<CbShellInertia::DensityLayer> CbShellInertia::density_layers(const ShellSection& section, double density) {
+  if (!section.plies) {
+    if (!(density > 0)) throw std::invalid_argument("CB shell inertia needs a positive thickness and density");
+    return {{-1.0, 1.0, density}};
+  }
+  std::vector<DensityLayer> layers;
+  double below = 0.0, mass = 0.0;
+  const std::vector<Ply>& plies = *section.plies;
+  for (std::size_t k = 0; k < plies.size(); ++k) {  // (L6), as the element's layers
+    const double lo = -1.0 + 2.0 * below / section.thickness;
+    below += plies[k].thickness;
+    const double hi = k + 1 == plies.size() ? 1.0 : -1.0 + 2.0 * below / section.thickness;
+    layers.push_back({lo, hi, plies[k].density});
+    mass += plies[k].density * plies[k].thickness;
+  }
+  if (!(mass > 0)) throw std::invalid_argument("CB shell inertia: the section's plies have no mass");
+  return layers;
+}
+
+// (D3) with 3x3x3 Gauss points per layer: N_A N_B det J has degree <= 4 per direction, and the
+// density is constant within a layer (L10)
+CbShellInertia::CbShellInertia(const ElementPoses& ref, double thickness, const std::vector<DensityLayer>& layers)
+    : half_h_(0.5 * thickness) {
+  if (!(thickness > 0)) throw std::invalid_argument("CB shell inertia needs a positive thickness and density");
   Vec3 X[8];
   for (int A = 0; A < 8; ++A) X[A] = ref[A % 4].p + side(A) * half_h_ * ref[A % 4].R.col(2);  // (S1)
-  // (D3) with 3x3x3 Gauss points: N_A N_B det J has degree <= 4 per direction
   const double gp[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
   const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
   mass_matrix_.setZero();
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) {
-        const double xi = gp[i], eta = gp[j], zeta = gp[k];
-        Eigen::Matrix<double, 8, 1> N;
-        Vec3 G[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-        for (int A = 0; A < 8; ++A) {
-          const int I = A % 4;
-          const double s = side(A), a = kXiNode[I], b = kEtaNode[I];
-          const double nq = 0.25 * (1 + a * xi) * (1 + b * eta), nz = 0.5 * (1 + s * zeta);
-          N[A] = nq * nz;
-          G[0] += 0.25 * a * (1 + b * eta) * nz * X[A];
-          G[1] += 0.25 * b * (1 + a * xi) * nz * X[A];
-          G[2] += nq * 0.5 * s * X[A];
+      for (const DensityLayer& layer : layers) {
+        const double mid = 0.5 * (layer.lo + layer.hi), half = 0.5 * (layer.hi - layer.lo);
+        for (int k = 0; k < 3; ++k) {
+          const double xi = gp[i], eta = gp[j], zeta = mid + half * gp[k];
+          Eigen::Matrix<double, 8, 1> N;
+          Vec3 G[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+          for (int A = 0; A < 8; ++A) {
+            const int I = A % 4;
+            const double s = side(A), a = kXiNode[I], b = kEtaNode[I];
+            const double nq = 0.25 * (1 + a * xi) * (1 + b * eta), nz = 0.5 * (1 + s * zeta);
+            N[A] = nq * nz;
+            G[0] += 0.25 * a * (1 + b * eta) * nz * X[A];
+            G[1] += 0.25 * b * (1 + a * xi) * nz * X[A];
+            G[2] += nq * 0.5 * s * X[A];
+          }
+          const double detJ = std::abs(G[0].dot(G[1].cross(G[2])));
+          mass_matrix_.noalias() += (layer.density * gw[i] * gw[j] * (gw[k] * half) * detJ) * (N * N.transpose());
         }
-        const double detJ = std::abs(G[0].dot(G[1].cross(G[2])));
-        mass_matrix_.noalias() += (density * gw[i] * gw[j] * gw[k] * detJ) * (N * N.transpose());
       }
   slave_mass_ = mass_matrix_.rowwise().sum();
   for (int I = 0; I < 4; ++I)

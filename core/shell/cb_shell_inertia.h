@@ -6,6 +6,7 @@
 /// same local increments as CbShellElement (x ← x + R δu, R ← R exp(δθ~)).
 
 #include <array>
+#include <vector>
 
 #include "core/shell/cb_shell.h"
 
@@ -25,6 +26,9 @@ class CbShellInertia {
  public:
   /// Consistent mass m_AB of the solid (D3) on the reference geometry.
   CbShellInertia(const ElementPoses& reference, double thickness, double density);
+  /// The same for a section: a laminate's plies each with their own density, through the stack
+  /// (laminate.md (L10)); an isotropic section with `density`.
+  CbShellInertia(const ElementPoses& reference, const ShellSection& section, double density);
 
   /// Inertia force F (D4) for velocities `v` and accelerations `a` (local, per node), with the
   /// Jacobians that are asked for. With `g` given, F is the inertia force minus the gravity
@@ -54,6 +58,11 @@ class CbShellInertia {
     double m = 0, m_a = 0, m_b = 0, m_ab = 0;
     double c0[2] = {0, 0}, c1[2] = {0, 0};
   };
+  struct DensityLayer {
+    double lo, hi, density;  // an interval of the thickness coordinate and its density
+  };
+  CbShellInertia(const ElementPoses& reference, double thickness, const std::vector<DensityLayer>& layers);
+  static std::vector<DensityLayer> density_layers(const ShellSection& section, double density);
   void add_rate_and_position_blocks_plain(const ElementPoses& current, const ElementRates& v, const Vec3 w[8],
                                           const Vec3 b[8], const InertiaJacobians& jac) const;
   double half_h_;

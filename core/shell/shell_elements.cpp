@@ -41,7 +41,7 @@ void ShellElements::add_mesh(const mesh::ShellMesh& m, int node_offset, const st
       }
       throw ShellElementError(q, part, forms_thin, "quad " + std::to_string(q) + ": " + err.what());
     }
-    if (density > 0) e.inertia = std::make_unique<CbShellInertia>(ref, section.thickness, density);
+    if (density > 0) e.inertia = std::make_unique<CbShellInertia>(ref, section, density);  // plies: (L10)
     elements_.push_back(std::move(e));
   }
 }
