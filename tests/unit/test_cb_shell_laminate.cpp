@@ -413,3 +413,14 @@ TEST(CbShellLaminate, InertiaOfTheStackGivesTheKineticEnergyOfARigidRotation) {
   EXPECT_GT(std::abs(2 * z0 * S * A), 1e-3 * T);
   EXPECT_GT(J * A, 1e-4 * T);
 }
+
+// A reference direction with no projection on the element's tangent plane names no fibre
+// direction (laminate.md section 2: refused when |r - (r.t3) t3| < 1e-3 |r|); one just outside
+// that cone is accepted.
+TEST(CbShellLaminate, ReferenceDirectionAlongTheNormalIsRefused) {
+  const ElementPoses ref = flat_distorted();  // normal +z
+  const std::vector<Ply> plies{orthotropic_ply(0, 0.02), orthotropic_ply(90, 0.02)};
+  EXPECT_THROW(CbShellElement(ref, laminated(plies, Vec3(0, 0, -2)), ShellOptions{}), std::invalid_argument);
+  EXPECT_THROW(CbShellElement(ref, laminated(plies, Vec3(0.5e-3, 0, 1)), ShellOptions{}), std::invalid_argument);
+  EXPECT_NO_THROW(CbShellElement(ref, laminated(plies, Vec3(2e-3, 0, 1)), ShellOptions{}));
+}
