@@ -377,10 +377,12 @@ std::array<double, 4> strip_against_lamination_theory(const std::vector<Ply>& la
 }  // namespace
 
 // (c) [0/90] strip (0 at the bottom, the director's negative side) in uniaxial tension N11: B != 0,
-// so it curls (kappa11 and kappa22 from the coupling), and each ply's stresses follow
-// Qbar_k (eps0 + z kappa). Strip 20 x 5 mm, h = 1 mm; N = 0.075 N/mm gives eps0 ~ 1e-6, and the
+// so it curls (kappa11 = 2.6 eps0 / h from the coupling), and each ply's stresses follow
+// Qbar_k (eps0 + z kappa). Strip 20 x 5 mm, h = 1 mm; N = 0.075 N/mm gives eps0 = 2.3e-6, and the
 // tension's moment on the curled strip, relative to the coupling, is of order
-// eps0 (L/h)^2 ~ 4e-4: geometric nonlinearity negligible against the 1 %.
+// eps0 (L/h)^2 ~ 1e-3: geometric nonlinearity negligible against the 1 %. Measured: worst ply
+// stress error 9.8e-4 here, 9.8e-5 at a tenth of the load (likewise for (d)): all of it is that
+// nonlinearity, the element's linear response is classical lamination theory's.
 TEST(LaminateClosedForm, CrossPlyStripInTensionFollowsClassicalLaminationTheory) {
   const std::vector<Ply> layup{ply(0, 0.5), ply(90, 0.5)};
   const std::array<double, 4> worst = strip_against_lamination_theory(layup, 0.075, 0.0, "[0/90] tension");
