@@ -117,6 +117,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&stop));
   if (scene.mesh_quality)  // poor quads run, but the user hears of them before a long run
     for (const std::string& w : scene.mesh_quality->warnings()) std::fprintf(stderr, "warning: mesh quality: %s\n", w.c_str());
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   Simulation& sim = *scene.simulation;
   const RunInfo info = sim.info();
   scene::OutputSettings out = scene.output;

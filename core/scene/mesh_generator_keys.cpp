@@ -419,6 +419,21 @@ void declare_part_keys(Schema& s) {
               std::string{})
       .string("part.material", "the [[material]] it is made of, by name; \"\" = the scene's only material",
               std::string{})
+      .string("part.layup",
+              "the [[layup]] it is made of, by name (a laminated section), instead of part.material; \"\" = none",
+              std::string{})
+      .choice("part.fibre_reference",
+              "the direction ply angles are measured from (projected on each element's surface; also the x1 axis of "
+              "the part's stresses): u or v, the generator's u or v grid direction at each element's centre (the "
+              "edge names list which is which: u runs from edge u=0 to u=1); for generator = file, u is each "
+              "element's edge from its first corner to its second and v to its fourth, so a file part of orthotropic plies needs \"vector\"; vector: "
+              "part.fibre_vector",
+              {"u", "v", "vector"}, "u")
+      .number_list("part.fibre_vector",
+                   "fibre_reference = \"vector\" (required there, refused otherwise): the world vector ply angles are "
+                   "measured from, projected on each element's surface; refused where it is parallel to an "
+                   "element's normal",
+                   std::vector<double>{}, {}, 0, 3)
       .boolean("part.flip_director",
                "turn the part's directors (and the sense of its quads) to the other side of its surface, so that it "
                "matches a part it is joined to: a junction needs both parts' directors on the same side",
@@ -523,11 +538,11 @@ bool mesh_from_file(const Document& d, std::size_t i) {
   return gen == "file";
 }
 
-void check_thickness_against_radius(const Document& d, std::size_t i, const std::string& thickness_key,
+void check_thickness_against_radius(const Document& d, std::size_t i, double h, const std::string& thickness_key,
                                     std::size_t t) {
   const std::string& gen = d.string("part.generator", i);
   if (gen != "cylinder" && gen != "cut_cylinder" && gen != "spherical_cap") return;
-  const double h = d.number(thickness_key, t), r = d.number("part.radius", i);
+  const double r = d.number("part.radius", i);
   if (h < r) return;
   const bool cylinder = gen != "spherical_cap";
   const std::string m = "a shell " + g(h) + " thick on a " + (cylinder ? "cylinder" : "sphere") +

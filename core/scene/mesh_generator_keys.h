@@ -24,10 +24,10 @@ void declare_part_keys(Schema& s);
 /// generator dimension is given with it.
 bool mesh_from_file(const Document& d, std::size_t i);
 
-/// Refuses a cylinder, cut cylinder or spherical cap at least as thick (the key `thickness_key`,
-/// entry `thickness_index` of its array) as its part.radius, naming both keys; other generators
-/// have no radius to compare with.
-void check_thickness_against_radius(const Document& d, std::size_t i, const std::string& thickness_key,
+/// Refuses a cylinder, cut cylinder or spherical cap at least as thick (`thickness`, set by the key
+/// `thickness_key`, entry `thickness_index` of its array: a material's thickness or a layup's ply
+/// thicknesses) as its part.radius, naming both keys; other generators have no radius to compare with.
+void check_thickness_against_radius(const Document& d, std::size_t i, double thickness, const std::string& thickness_key,
                                     std::size_t thickness_index);
 
 /// The mesh of a parametric generator (part.generator != "file"), built from part i's keys.

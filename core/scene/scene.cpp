@@ -194,6 +194,7 @@ LoadedScene load_scene(const std::string& path, const std::vector<std::string>& 
   SceneContext with_report = ctx;  // a shell structure's builder leaves its mesh quality report here
   MeshQualityReport report;
   with_report.mesh_quality = &report;
+  with_report.warnings = &s.warnings;
   s.simulation = kind.build(d, path, with_report);
   if (report.quality.quad_count > 0) s.mesh_quality = std::move(report);
   s.schema = &kind.schema();
@@ -261,6 +262,7 @@ std::string check_scene_report(const std::string& path, const std::vector<std::s
   std::string out = check_line(s) + mesh_import_lines(s);
   if (s.mesh_quality) out += "\n" + s.mesh_quality->text();
   while (!out.empty() && out.back() == '\n') out.pop_back();
+  for (const std::string& w : s.warnings) out += "\nwarning: " + w;
   return out;
 }
 

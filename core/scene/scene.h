@@ -25,6 +25,9 @@ struct LoadedScene {
   /// The shell structure's mesh quality report (core/scene/mesh_quality_report.h); none for a
   /// model without a shell mesh (hub_beam).
   std::optional<MeshQualityReport> mesh_quality;
+  /// What the scene's builder accepted but warns about (SceneContext::warnings), each a located
+  /// "file:line:column: key '...': ..." line: `check` prints them, `run` writes them to stderr.
+  std::vector<std::string> warnings;
 };
 
 /// One kind of model a scene can name in `scene.model`: the registry that load_scene, the
@@ -94,7 +97,8 @@ double estimated_run_bytes(const std::string& path, const std::vector<std::strin
 std::string check_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                         const SceneContext& ctx = {});
 /// What `flexframe check` prints: check_scene's line, then, for a shell structure, its mesh
-/// quality report (counts, worst and typical per metric, "warning: " lines for poor quads).
+/// quality report (counts, worst and typical per metric, "warning: " lines for poor quads), then
+/// the scene's own warnings ("warning: " lines, LoadedScene::warnings).
 std::string check_scene_report(const std::string& path, const std::vector<std::string>& overrides = {},
                                const SceneContext& ctx = {});
 

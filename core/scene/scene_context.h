@@ -4,6 +4,9 @@
 /// run may use, the stop flag and progress of a long set-up. The caller of load_scene fills it
 /// (the app: ff::io::scene_context(), app/io/mesh_import.h); core keeps no global of its own.
 
+#include <string>
+#include <vector>
+
 #include "core/model/setup_monitor.h"
 #include "core/scene/mesh_file.h"
 
@@ -23,6 +26,10 @@ struct SceneContext {
   /// Where a shell structure's builder leaves its mesh quality report (mesh_quality_report.h);
   /// load_scene points it at LoadedScene::mesh_quality. nullptr: the report is not kept.
   MeshQualityReport* mesh_quality = nullptr;
+  /// Where a builder leaves its warnings: input it accepts but that is likely a mistake (ply angles
+  /// that look like radians), each a located Issue::to_string() line; load_scene points it at
+  /// LoadedScene::warnings. nullptr: warnings are not kept.
+  std::vector<std::string>* warnings = nullptr;
 };
 
 }  // namespace ff::scene

@@ -304,7 +304,7 @@ Issue located(const Document& d, const shell::ShellSpecError& e, const Structure
   const int q = e.source();
   const std::size_t part =
       q >= 0 && q < static_cast<int>(structure.quad_part.size()) ? static_cast<std::size_t>(structure.quad_part[q]) : 0;
-  const std::size_t material = part < structure.parts.size() ? static_cast<std::size_t>(structure.parts[part].material) : 0;
+  const int material = part < structure.parts.size() ? structure.parts[part].material : 0;
   switch (e.part()) {
     case Part::restraint:
     case Part::symmetry:
@@ -315,7 +315,7 @@ Issue located(const Document& d, const shell::ShellSpecError& e, const Structure
     case Part::element:
       // an element that forms with a thinner section (det J <= 0 through this thickness only):
       // the thickness against the curvature
-      return d.issue("material.thickness", material,
+      return thickness_issue(d, structure, material,
                      std::string(e.what()) +
                          " (the element forms with a thinner section: this thickness is larger than the local radius "
                          "of curvature of the mesh)");

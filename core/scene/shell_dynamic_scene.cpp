@@ -177,12 +177,8 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   std::vector<std::string> names;
   for (std::size_t i = 0; i < structure.parts.size(); ++i) {
     const StructurePart& part = structure.parts[i];
-    const StructureMaterial& material = structure.materials[part.material];
-    if (!(material.density > 0))
-      throw SceneError({d.issue(d.present("material.density", part.material) ? "material.density" : "material.youngs_modulus",
-                                static_cast<std::size_t>(part.material),
-                                "a dynamic analysis needs material.density (mass per unit volume) for part '" +
-                                    part.name + "'")});
+    require_density(d, structure, i,
+                    "a dynamic analysis needs material.density (mass per unit volume) for part '" + part.name + "'");
     names.push_back(part.name);
   }
   auto body_of = [&](const std::string& name, const mesh::ShellMesh& m) {
@@ -198,11 +194,13 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     std::string joined_names;
     for (const StructurePart& part : structure.parts) joined_names += (joined_names.empty() ? "" : "+") + part.name;
     ShellBodySpec b = body_of(joined_names, structure.joined);
-    const StructureMaterial& first = structure.materials.front();
+    // the first part's section (the first [[material]] may be only a ply of a layup)
+    const StructureMaterial& first = structure.materials[structure.parts.front().material];
     b.section = first.section, b.density = first.density, b.options.drilling_factor = first.drilling_factor;
     for (const StructureMaterial& m : structure.materials)
       b.sections.push_back(m.section), b.densities.push_back(m.density), b.drilling_factors.push_back(m.drilling_factor);
     for (int part : structure.quad_part) b.quad_material.push_back(structure.parts[part].material);
+    b.quad_reference_direction = structure.quad_reference_direction;
     spec.shells.push_back(std::move(b));
   } else {
     for (const StructurePart& part : structure.parts) {
@@ -211,6 +209,7 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
       b.section = material.section;
       b.density = material.density;
       b.options.drilling_factor = material.drilling_factor;
+      if (!structure.quad_reference_direction.empty()) b.quad_reference_direction = part.reference_direction;
       spec.shells.push_back(std::move(b));
     }
   }
@@ -487,15 +486,15 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
     const std::size_t part = structure.has_junctions && e.quad() >= 0
                                  ? static_cast<std::size_t>(structure.quad_part.at(e.quad()))
                                  : std::min(b, structure.parts.size() - 1);
-    const std::size_t material = static_cast<std::size_t>(structure.parts[part].material);
+    const int material = structure.parts[part].material;
     switch (e.part()) {
       case Part::shell_element:
         // det J <= 0 through the thickness: the thickness against the curvature, or a distorted mesh
-        throw SceneError({d.issue("material.thickness", material,
-                                  std::string(e.what()) + " (a thickness larger than the local radius of curvature, "
-                                                          "or a distorted mesh, makes the element invalid)")});
+        throw SceneError({thickness_issue(d, structure, material,
+                                          std::string(e.what()) + " (a thickness larger than the local radius of curvature, "
+                                                                  "or a distorted mesh, makes the element invalid)")});
       case Part::shell_density:
-        throw SceneError({d.issue("material.density", material, e.what())});
+        throw SceneError({density_issue(d, structure, material, e.what())});
       case Part::rigid_mass: throw SceneError({d.issue("rigid.mass", b, e.what())});
       case Part::rigid_inertia: throw SceneError({d.issue("rigid.inertia", b, e.what())});
     }

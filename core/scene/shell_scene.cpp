@@ -172,9 +172,11 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     const double six_fraction = has("drilling") ? 1.0 : spec.mesh.node_count() > 0 ? double(six) / spec.mesh.node_count() : 0.0;
     refuse_oversized(d, ctx, spec.mesh.node_count(), six_fraction, size.key, size.part);
   }
-  const StructureMaterial& first = structure.materials.front();
+  // the first part's section (the first [[material]] may be only a ply of a layup)
+  const StructureMaterial& first = structure.materials[structure.parts.front().material];
   spec.section = first.section;
   structure_sections(structure, spec.sections, spec.drilling_factors, spec.quad_section);
+  spec.quad_reference_direction = structure.quad_reference_direction;
   spec.options.hr = has("hr");
   spec.options.ans = has("ans");
   spec.options.drilling = has("drilling");
@@ -191,12 +193,8 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     const Eigen::Vector3d g(d.numbers("gravity.g")[0], d.numbers("gravity.g")[1], d.numbers("gravity.g")[2]);
     for (std::size_t p = 0; p < structure.parts.size(); ++p) {
       const StructureMaterial& material = structure.materials[structure.parts[p].material];
-      if (!(material.density > 0))
-        throw SceneError({d.issue(d.present("material.density", structure.parts[p].material) ? "material.density"
-                                                                                             : "material.youngs_modulus",
-                                  static_cast<std::size_t>(structure.parts[p].material),
-                                  "the effect gravity weighs every part: give material.density for part '" +
-                                      structure.parts[p].name + "'")});
+      require_density(d, structure, p,
+                      "the effect gravity weighs every part: give material.density for part '" + structure.parts[p].name + "'");
       std::vector<int> quads;
       for (int q = 0; q < static_cast<int>(structure.quad_part.size()); ++q)
         if (structure.quad_part[q] == static_cast<int>(p)) quads.push_back(q);

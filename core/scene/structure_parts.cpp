@@ -4,6 +4,9 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
+#include <numbers>
+#include <stdexcept>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -18,14 +21,42 @@ namespace fs = std::filesystem;
 
 void declare_structure_keys(Schema& s) {
   s.table_array("material",
-                "what the parts are made of: St. Venant-Kirchhoff, plane stress, and the shell's section (one form "
-                "for every part and every analysis)",
+                "what the parts are made of: St. Venant-Kirchhoff, plane stress (sigma33 = 0), small strain and "
+                "large rotation; isotropic (youngs_modulus, poisson_ratio) or orthotropic (e1, e2, g12, g13, g23, "
+                "nu12: a ply, axis 1 along the fibre); with thickness, the shell's whole section, or without, a ply "
+                "of a [[layup]] (one form for every part and every analysis)",
                 1, 64)
-      .string("material.name", "its name, for part.material; \"\" is allowed when the scene has one material",
+      .string("material.name", "its name, for part.material and layup.plies; \"\" is allowed when the scene has one material",
               std::string{})
-      .number("material.youngs_modulus", "E", std::nullopt, Range::positive())
-      .number("material.poisson_ratio", "nu", 0.3, Range::right_open(0.0, 0.5))
-      .number("material.thickness", "h0, the shell's thickness", std::nullopt, Range::positive())
+      // "0 = not given": the two forms exclude each other, so neither can be required by the schema
+      .number("material.youngs_modulus", "E, isotropic (required unless the orthotropic e1 ... nu12 are given; 0 = not given)",
+              0.0, Range::non_negative())
+      .number("material.poisson_ratio", "nu, isotropic (not with e1 ... nu12)", 0.3, Range::right_open(0.0, 0.5))
+      .number("material.e1", "orthotropic: E1, the modulus along the fibre (give all of e1, e2, g12, g13, g23, nu12; 0 = not given)",
+              0.0, Range::non_negative())
+      .number("material.e2", "orthotropic: E2, the modulus across the fibre in the ply's plane (0 = not given)", 0.0,
+              Range::non_negative())
+      .number("material.g12", "orthotropic: G12, the in-plane shear modulus (0 = not given)", 0.0, Range::non_negative())
+      .number("material.g13", "orthotropic: G13, the transverse shear modulus in the fibre's plane (0 = not given)", 0.0,
+              Range::non_negative())
+      .number("material.g23", "orthotropic: G23, the transverse shear modulus across the fibre (0 = not given)", 0.0,
+              Range::non_negative())
+      .number("material.nu12",
+              "orthotropic: nu12, strain across over strain along the fibre; nu21 = nu12 e2 / e1, and 1 - nu12 nu21 must "
+              "be > 0 (a stable ply)",
+              0.0)
+      .number("material.strength_xt", "Tsai-Wu failure index: tensile strength along the fibre (give all five strengths or none; 0 = not given)",
+              0.0, Range::non_negative())
+      .number("material.strength_xc", "Tsai-Wu: compressive strength along the fibre, a positive number (0 = not given)", 0.0,
+              Range::non_negative())
+      .number("material.strength_yt", "Tsai-Wu: tensile strength across the fibre (0 = not given)", 0.0, Range::non_negative())
+      .number("material.strength_yc", "Tsai-Wu: compressive strength across the fibre, a positive number (0 = not given)", 0.0,
+              Range::non_negative())
+      .number("material.strength_s12", "Tsai-Wu: in-plane shear strength (0 = not given)", 0.0, Range::non_negative())
+      .number("material.thickness",
+              "h0, the shell's thickness: required for a material a part is made of (part.material); not given for a "
+              "ply of a [[layup]], whose ply_thicknesses set it (0 = not given)",
+              0.0, Range::non_negative())
       .number("material.shear_factor", "transverse shear correction factor", 5.0 / 6.0, Range::left_open(0.0, 1.0))
       .number("material.drilling_factor", "effect drilling: c in the drilling penalty gamma = c G h0", 1e-3,
               Range::left_open(0.0, 1e3))
@@ -33,6 +64,23 @@ void declare_structure_keys(Schema& s) {
               "mass per unit volume rho; a dynamic analysis needs it, and a static one with the effect gravity "
               "(0 = not given)",
               0.0, Range::non_negative());
+  s.table_array("layup",
+                "a laminated section: plies of [[material]]s stacked from the bottom (the directors' negative side) up, "
+                "each with its thickness and its fibre angle from the part's part.fibre_reference (core/shell/laminate.md)",
+                0, 64)
+      .string("layup.name", "its name, for part.layup (not a material's name)", std::nullopt)
+      .string_list("layup.plies", "the material of each ply, by name, bottom ply first (at most 64 plies)", std::nullopt)
+      .number_list("layup.ply_thicknesses", "each ply's thickness (> 0), in the order of layup.plies; the section's "
+                   "thickness is their sum",
+                   std::nullopt, {}, 0, SIZE_MAX, "length")
+      .number_list("layup.ply_angles",
+                   "each ply's fibre angle, in the order of layup.plies: from the part's fibre reference direction to "
+                   "the fibre, right-handed about the director",
+                   std::nullopt, {}, 0, SIZE_MAX, "deg")
+      .number("layup.shear_factor", "transverse shear correction factor of the section (laminate.md (L9))", 5.0 / 6.0,
+              Range::left_open(0.0, 1.0))
+      .number("layup.drilling_factor", "effect drilling: c in the drilling penalty gamma = c G h0", 1e-3,
+              Range::left_open(0.0, 1e3));
   declare_part_keys(s);
   s.table_array("junction",
                 "parts that share their nodes where their edges coincide (a T, a stiffener, two panels meeting at a "
@@ -130,7 +178,283 @@ int root(std::vector<int>& parent, int i) {
   return i;
 }
 
+// [[material]] k as a ply (laminate.md (L1)-(L2)), thickness and angle left to its use: the
+// orthotropic constants checked for a stable ply, an isotropic material as the case E1 = E2 = E,
+// G = E / (2 (1 + nu)); Tsai-Wu strengths when given
+shell::Ply read_material_ply(const Document& d, std::size_t k) {
+  static const char* const kOrthotropic[] = {"e1", "e2", "g12", "g13", "g23", "nu12"};
+  static const char* const kStrengths[] = {"strength_xt", "strength_xc", "strength_yt", "strength_yc", "strength_s12"};
+  auto key = [](const char* name) { return std::string("material.") + name; };
+  // all of a set or none: a partial set is refused at the first key missing from it
+  auto all_or_none = [&](const auto& set, const std::string& what) {
+    const char* given = nullptr;
+    for (const char* name : set)
+      if (d.present(key(name), k)) given = name;
+    if (!given) return false;
+    for (const char* name : set)
+      if (!d.present(key(name), k)) {
+        std::string list;
+        for (const char* n : set) list += (list.empty() ? "" : ", ") + std::string(n);
+        throw SceneError({d.issue(key(name), k, what + " needs all of " + list + ": material." + given + " is given, " +
+                                                    key(name) + " is missing")});
+      }
+    return true;
+  };
+  shell::Ply ply;
+  if (all_or_none(kOrthotropic, "an orthotropic material")) {
+    for (const char* iso : {"youngs_modulus", "poisson_ratio"})
+      if (d.present(key(iso), k))
+        throw SceneError({d.issue(key(iso), k, "material." + std::string(iso) + " belongs to an isotropic material; this "
+                                                "one is orthotropic (e1, e2, g12, g13, g23, nu12): give one form, not both")});
+    for (const char* modulus : {"e1", "e2", "g12", "g13", "g23"})
+      if (!(d.number(key(modulus), k) > 0))
+        throw SceneError({d.issue(key(modulus), k, key(modulus) + " must be > 0: a ply whose modulus is zero has no "
+                                                   "stiffness there (laminate.md (L2))")});
+    ply.e1 = d.number("material.e1", k), ply.e2 = d.number("material.e2", k);
+    ply.g12 = d.number("material.g12", k), ply.g13 = d.number("material.g13", k), ply.g23 = d.number("material.g23", k);
+    ply.nu12 = d.number("material.nu12", k);
+    // (L2): the plane-stress compliance is positive definite exactly when 1 - nu12 nu21 > 0
+    const double nu21 = ply.nu12 * ply.e2 / ply.e1, margin = 1.0 - ply.nu12 * nu21;
+    if (!(margin > 0))
+      throw SceneError({d.issue("material.nu12", k,
+                                "the material is unstable (its strain energy is not positive; laminate.md (L2)): nu12 = " +
+                                    g(ply.nu12) + ", nu21 = nu12 e2 / e1 = " + g(nu21) + ", 1 - nu12 nu21 = " + g(margin) +
+                                    " must be > 0, i.e. |nu12| < sqrt(e1 / e2) = " + g(std::sqrt(ply.e1 / ply.e2)))});
+  } else {
+    if (!d.present("material.youngs_modulus", k))
+      throw SceneError({d.issue("material.youngs_modulus", k,
+                                "a material needs its elastic constants: youngs_modulus (and poisson_ratio, default 0.3) "
+                                "for an isotropic one, or e1, e2, g12, g13, g23, nu12 for an orthotropic ply")});
+    const double E = d.number("material.youngs_modulus", k), nu = d.number("material.poisson_ratio", k);
+    if (!(E > 0)) throw SceneError({d.issue("material.youngs_modulus", k, "youngs_modulus must be > 0")});
+    ply.e1 = ply.e2 = E;
+    ply.g12 = ply.g13 = ply.g23 = E / (2.0 * (1.0 + nu));
+    ply.nu12 = nu;
+  }
+  if (all_or_none(kStrengths, "a Tsai-Wu failure index")) {
+    for (std::size_t c = 0; c < 5; ++c) {
+      ply.strength[c] = d.number(key(kStrengths[c]), k);
+      if (!(ply.strength[c] > 0))
+        throw SceneError({d.issue(key(kStrengths[c]), k, key(kStrengths[c]) + " must be > 0 (a strength is a magnitude; "
+                                                         "compressive ones too)")});
+    }
+  }
+  if (d.present("material.thickness", k) && !(d.number("material.thickness", k) > 0))
+    throw SceneError({d.issue("material.thickness", k, "a thickness must be > 0")});
+  ply.density = d.number("material.density", k);
+  return ply;
+}
+
+// an isotropic ply: the same for every angle and reference direction
+bool isotropic(const shell::Ply& p) {
+  return p.e1 == p.e2 && p.g12 == p.g13 && p.g13 == p.g23 && p.g12 == p.e1 / (2.0 * (1.0 + p.nu12));
+}
+
+// Angles written in radians by mistake: every |angle| <= 2 pi, one at least non-zero, and one
+// non-zero angle at least not a whole number of degrees ([0, 1.5708, 0]). Whole small numbers
+// ([0, 1, 0], [0, 5, -5]) are plausible degrees and pass silently; radians are then rare.
+void warn_radian_angles(const Document& d, std::size_t l, const std::vector<double>& angles, const SceneContext& ctx) {
+  bool small = true, nonzero = false, fractional = false;
+  for (double a : angles) {
+    small = small && std::abs(a) <= 2.0 * std::numbers::pi;
+    nonzero = nonzero || a != 0.0;
+    fractional = fractional || (a != 0.0 && a != std::round(a));
+  }
+  if (!(small && nonzero && fractional) || !ctx.warnings) return;
+  std::string list;
+  double example = 0.0;  // the first angle that is not a whole number of degrees
+  for (double a : angles) {
+    list += (list.empty() ? "" : ", ") + g(a);
+    if (example == 0.0 && a != std::round(a)) example = a;
+  }
+  ctx.warnings->push_back(d.issue("layup.ply_angles", l,
+                                  "ply angles [" + list + "] are read in degrees, but look like radians (all within 2 pi, "
+                                  "some not whole degrees): " + g(example) + " rad would be " +
+                                      g(example * 180.0 / std::numbers::pi) + " deg; write degrees (90, not 1.5708)")
+                              .to_string());
+}
+
+// [[layup]] entries: sections appended to s.materials after the [[material]] entries
+void read_layups(const Document& d, Structure& s, const std::vector<shell::Ply>& material_ply, const SceneContext& ctx) {
+  const std::size_t nm = s.materials_in_file;
+  for (std::size_t l = 0; l < d.count("layup"); ++l) {
+    StructureMaterial m;
+    m.layup = static_cast<int>(l);
+    m.name = d.string("layup.name", l);
+    for (const StructureMaterial& other : s.materials)
+      if (other.name == m.name)
+        throw SceneError({d.issue("layup.name", l, std::string(other.layup < 0 ? "a material" : "another layup") +
+                                                       " is called '" + m.name + "': a layup needs a name of its own")});
+    const std::vector<std::string> names = d.strings("layup.plies", l);
+    const std::vector<double> thicknesses = d.numbers("layup.ply_thicknesses", l), angles = d.numbers("layup.ply_angles", l);
+    if (names.empty()) throw SceneError({d.issue("layup.plies", l, "a layup needs at least one ply")});
+    if (names.size() > static_cast<std::size_t>(shell::kMaxPlies))
+      throw SceneError({d.issue("layup.plies", l, "a layup has at most " + std::to_string(shell::kMaxPlies) + " plies; this one has " +
+                                                      std::to_string(names.size()))});
+    for (const auto& [key, count] : {std::pair<const char*, std::size_t>{"layup.ply_thicknesses", thicknesses.size()},
+                                     {"layup.ply_angles", angles.size()}})
+      if (count != names.size())
+        throw SceneError({d.issue(key, l, std::string(key) + " has " + std::to_string(count) + " entries for the " +
+                                              std::to_string(names.size()) + " plies of layup.plies: give one per ply, in "
+                                              "the same order (bottom ply first)")});
+    std::vector<shell::Ply> plies;
+    double thickness = 0.0, mass = 0.0;
+    for (std::size_t j = 0; j < names.size(); ++j) {
+      int k = -1;
+      for (std::size_t c = 0; c < nm; ++c)
+        if (s.materials[c].name == names[j]) k = static_cast<int>(c);
+      if (k < 0)
+        throw SceneError({d.issue("layup.plies", l, "ply " + std::to_string(j + 1) + " of layup '" + m.name +
+                                                        "': no [[material]] is called '" + names[j] + "'")});
+      if (d.present("material.thickness", k))
+        throw SceneError({d.issue("material.thickness", k,
+                                  "material '" + names[j] + "' is a ply of layup '" + m.name + "', whose " +
+                                      "layup.ply_thicknesses set its thickness: leave thickness out of the material")});
+      if (!(thicknesses[j] > 0))
+        throw SceneError({d.issue("layup.ply_thicknesses", l,
+                                  "entry " + std::to_string(j + 1) + " (ply '" + names[j] + "', counting from 1 at the bottom) is " +
+                                      g(thicknesses[j]) + ": every ply needs a thickness > 0")});
+      shell::Ply ply = material_ply[k];
+      ply.thickness = thicknesses[j];
+      ply.angle = angles[j] * std::numbers::pi / 180.0;  // exact for 90 -> pi/2, as the generators' angles
+      if (!(ply.density > 0) && m.ply_without_density < 0) m.ply_without_density = k;
+      thickness += ply.thickness, mass += ply.density * ply.thickness;
+      plies.push_back(ply);
+    }
+    if (!std::isfinite(thickness))
+      throw SceneError({d.issue("layup.ply_thicknesses", l, "the plies' thicknesses add up to more than a double holds")});
+    warn_radian_angles(d, l, angles, ctx);
+    // youngs_modulus and poisson_ratio of a laminated section only name it in messages: the
+    // element takes the plies (laminate.md); they are the bottom ply's e1 and nu12
+    m.section.youngs_modulus = plies.front().e1;
+    m.section.poisson_ratio = plies.front().nu12;
+    m.section.thickness = thickness;
+    m.section.shear_factor = d.number("layup.shear_factor", l);
+    m.section.plies = std::make_shared<const std::vector<shell::Ply>>(std::move(plies));
+    m.drilling_factor = d.number("layup.drilling_factor", l);
+    // the section's mass per area over its thickness (laminate.md (L10)'s translational term)
+    m.density = mass / thickness;
+    s.materials.push_back(std::move(m));
+  }
+}
+
+// The direction part i's ply angles are measured from, per quad of its mesh (laminate.md
+// section 2): part.fibre_reference u or v, the generator's grid direction at each quad's centre
+// (from the patch grid, since a patch may run its quads' corners either way round), or for a file
+// part the quad's edge from corner 0 to 1 (u) or 0 to 3 (v); vector: part.fibre_vector, refused
+// where it is parallel to a quad's normal.
+std::vector<Eigen::Vector3d> fibre_reference_directions(const Document& d, std::size_t i, const StructurePart& p,
+                                                        const shell::ShellSection& section) {
+  const std::string& reference = d.string("part.fibre_reference", i);
+  const mesh::ShellMesh& m = p.mesh;
+  const int nq = m.quad_count();
+  if (reference != "vector" && d.present("part.fibre_vector", i))
+    throw SceneError({d.issue("part.fibre_vector", i, "part.fibre_vector belongs to fibre_reference = \"vector\"; this "
+                                                      "part's fibre_reference = \"" + reference + "\" would ignore it")});
+  bool orthotropic = false;
+  if (section.plies)
+    for (const shell::Ply& ply : *section.plies) orthotropic = orthotropic || !isotropic(ply);
+  if (p.from_file && orthotropic && reference != "vector")
+    throw SceneError({d.issue("part.fibre_reference", i,
+                              "a file part has no u and v grid (\"" + reference + "\" would be each element's own edge, "
+                              "turning from element to element), and this part's plies are orthotropic: give "
+                              "fibre_reference = \"vector\" and part.fibre_vector")});
+  std::vector<Eigen::Vector3d> out(static_cast<std::size_t>(nq), Eigen::Vector3d::Zero());
+  if (reference == "vector") {
+    if (!d.present("part.fibre_vector", i))
+      throw SceneError({d.issue("part.fibre_reference", i, "fibre_reference = \"vector\" needs part.fibre_vector = [x, y, z]")});
+    const std::vector<double> v = d.numbers("part.fibre_vector", i);
+    if (v.size() != 3)
+      throw SceneError({d.issue("part.fibre_vector", i, "a vector has three components [x, y, z]; this one has " +
+                                                        std::to_string(v.size()))});
+    const Eigen::Vector3d r(v[0], v[1], v[2]);
+    if (!(r.norm() > 0)) throw SceneError({d.issue("part.fibre_vector", i, "the direction is the zero vector")});
+    for (int q = 0; q < nq; ++q) {
+      const auto& c = m.quads[q];
+      const Eigen::Vector3d n = (m.points[c[2]] - m.points[c[0]]).cross(m.points[c[3]] - m.points[c[1]]).normalized();
+      if (r.cross(n).norm() < 1e-3 * r.norm()) {
+        const Eigen::Vector3d x = 0.25 * (m.points[c[0]] + m.points[c[1]] + m.points[c[2]] + m.points[c[3]]);
+        throw SceneError({d.issue("part.fibre_vector", i,
+                                  "part.fibre_vector is parallel to the normal of quad " + std::to_string(q) + " of part '" +
+                                      p.name + "' at (" + g(x.x()) + ", " + g(x.y()) + ", " + g(x.z()) +
+                                      "): it has no direction in that element's surface to measure ply angles from; give "
+                                      "a vector across the surface, or fibre_reference = \"u\" or \"v\"")});
+      }
+      out[q] = r;
+    }
+    return out;
+  }
+  const bool along_u = reference == "u";
+  if (p.from_file) {
+    for (int q = 0; q < nq; ++q) {
+      const auto& c = m.quads[q];
+      out[q] = (m.points[c[along_u ? 1 : 3]] - m.points[c[0]]).normalized();
+    }
+    return out;
+  }
+  // a generated patch's quad (i, j) is its quad first_quad + j nu + i, on grid nodes (i..i+1, j..j+1)
+  std::vector<char> done(static_cast<std::size_t>(nq), 0);
+  for (const mesh::Patch& patch : m.patches) {
+    if (patch.nu <= 0 || patch.nv <= 0 || patch.quad_count != patch.nu * patch.nv ||
+        patch.grid.size() != static_cast<std::size_t>((patch.nu + 1) * (patch.nv + 1)))
+      continue;
+    auto at = [&](int a, int b) { return m.points[patch.grid[static_cast<std::size_t>(b * (patch.nu + 1) + a)]]; };
+    for (int b = 0; b < patch.nv; ++b)
+      for (int a = 0; a < patch.nu; ++a) {
+        const int q = patch.first_quad + b * patch.nu + a;
+        // the mean of the two opposite edges: the grid direction at the quad's centre
+        const Eigen::Vector3d dir = along_u ? (at(a + 1, b) - at(a, b)) + (at(a + 1, b + 1) - at(a, b + 1))
+                                            : (at(a, b + 1) - at(a, b)) + (at(a + 1, b + 1) - at(a + 1, b));
+        out[q] = dir.normalized();
+        done[q] = 1;
+      }
+  }
+  for (int q = 0; q < nq; ++q)
+    if (!done[q])  // every generator's patches carry their grids (tests/unit/test_layup_input.cpp)
+      throw std::logic_error("part '" + p.name + "': quad " + std::to_string(q) + " lies on no patch grid");
+  return out;
+}
+
 }  // namespace
+
+Issue thickness_issue(const Document& d, const Structure& s, int section, const std::string& message) {
+  const StructureMaterial& m = s.materials.at(static_cast<std::size_t>(section));
+  if (m.layup >= 0) return d.issue("layup.ply_thicknesses", static_cast<std::size_t>(m.layup), message);
+  return d.issue("material.thickness", static_cast<std::size_t>(section), message);
+}
+
+namespace {
+// where material k's density is or would be written
+Issue material_density_issue(const Document& d, std::size_t k, const std::string& message) {
+  return d.issue(d.present("material.density", k)          ? "material.density"
+                 : d.present("material.youngs_modulus", k) ? "material.youngs_modulus"
+                 : d.present("material.e1", k)             ? "material.e1"
+                                                           : "material.density",
+                 k, message);
+}
+}  // namespace
+
+Issue density_issue(const Document& d, const Structure& s, int section, const std::string& message) {
+  const StructureMaterial& m = s.materials.at(static_cast<std::size_t>(section));
+  if (m.layup < 0) return material_density_issue(d, static_cast<std::size_t>(section), message);
+  const int k = m.ply_without_density >= 0 ? m.ply_without_density : 0;
+  return material_density_issue(d, static_cast<std::size_t>(k), message);
+}
+
+void require_density(const Document& d, const Structure& s, std::size_t p, const std::string& message) {
+  const StructurePart& part = s.parts.at(p);
+  const StructureMaterial& m = s.materials.at(static_cast<std::size_t>(part.material));
+  if (m.layup < 0) {
+    if (!(m.density > 0)) throw SceneError({density_issue(d, s, part.material, message)});
+    return;
+  }
+  if (m.ply_without_density < 0) return;
+  const std::string& ply = s.materials[static_cast<std::size_t>(m.ply_without_density)].name;
+  throw SceneError({density_issue(d, s, part.material,
+                                  message + " (part '" + part.name + "' is made of layup '" + m.name + "', whose ply material '" +
+                                      ply + "' has no material.density: every ply needs one, the section's mass is their "
+                                      "thickness-weighted sum)")});
+}
 
 StructureSize structure_size(const Document& d, const std::string& scene_path, const SceneContext& ctx) {
   StructureSize size;
@@ -166,6 +490,8 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
   Structure s;
   // materials: names unique; a nameless one only when it is the only one
   const std::size_t nm = d.count("material");
+  s.materials_in_file = nm;
+  std::vector<shell::Ply> material_ply(nm);  // each material as a ply (no thickness, angle 0)
   for (std::size_t k = 0; k < nm; ++k) {
     StructureMaterial m;
     m.name = d.string("material.name", k);
@@ -174,8 +500,20 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
                                                         " materials: each needs a name for part.material to use")});
     for (const StructureMaterial& other : s.materials)
       if (other.name == m.name) throw SceneError({d.issue("material.name", k, "another material is called '" + m.name + "'")});
-    m.section = {d.number("material.youngs_modulus", k), d.number("material.poisson_ratio", k),
-                 d.number("material.thickness", k), d.number("material.shear_factor", k)};
+    material_ply[k] = read_material_ply(d, k);
+    const shell::Ply& ply = material_ply[k];
+    const bool orthotropic = d.present("material.e1", k);
+    m.section.youngs_modulus = orthotropic ? ply.e1 : d.number("material.youngs_modulus", k);
+    m.section.poisson_ratio = orthotropic ? ply.nu12 : d.number("material.poisson_ratio", k);
+    m.section.thickness = d.number("material.thickness", k);  // 0 for a ply's material
+    m.section.shear_factor = d.number("material.shear_factor", k);
+    // an orthotropic material, or one with strengths (a failure index per ply), is a section of
+    // one ply at angle 0; an isotropic one keeps the one-layer section (plies null) it always had
+    if (orthotropic || d.present("material.strength_xt", k)) {
+      shell::Ply whole = ply;
+      whole.thickness = m.section.thickness;
+      m.section.plies = std::make_shared<const std::vector<shell::Ply>>(1, whole);
+    }
     m.drilling_factor = d.number("material.drilling_factor", k);
     m.density = d.number("material.density", k);
     // a density this small makes a mass matrix whose products underflow to zero (5e-324 gave a
@@ -187,16 +525,28 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
                                 "steel in kg/m^3, or leave it out of a static analysis")});
     s.materials.push_back(m);
   }
-  std::vector<char> material_used(nm, 0);
+  read_layups(d, s, material_ply, ctx);
+  const std::size_t nl = d.count("layup");
+  std::vector<char> material_used(nm + nl, 0);
   const std::size_t np = d.count("part");
+  bool any_reference_key = false;
   for (std::size_t i = 0; i < np; ++i) {
     StructurePart p;
     const std::string& material = d.string("part.material", i);
+    const std::string& layup = d.string("part.layup", i);
     p.material = -1;
-    if (material.empty()) {
+    if (d.present("part.layup", i)) {
+      if (d.present("part.material", i))
+        throw SceneError({d.issue("part.layup", i, "a part is made of one section: part.material = '" + material +
+                                                       "' or part.layup = '" + layup + "', not both")});
+      for (std::size_t l = 0; l < nl; ++l)
+        if (s.materials[nm + l].name == layup) p.material = static_cast<int>(nm + l);
+      if (p.material < 0) throw SceneError({d.issue("part.layup", i, "no [[layup]] is called '" + layup + "'")});
+    } else if (material.empty()) {
       if (nm > 1)
         throw SceneError({d.issue("part.material", i, "the scene has " + std::to_string(nm) +
-                                                          " materials: say which one this part is made of")});
+                                                          " materials: say which one this part is made of (part.material, "
+                                                          "or part.layup for a laminated section)")});
       p.material = 0;
     } else {
       for (std::size_t k = 0; k < nm; ++k)
@@ -204,6 +554,13 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
       if (p.material < 0) throw SceneError({d.issue("part.material", i, "no [[material]] is called '" + material + "'")});
     }
     material_used[p.material] = 1;
+    // a material a part is made of directly is the whole section: it needs its thickness
+    if (p.material < static_cast<int>(nm) && !d.present("material.thickness", p.material))
+      throw SceneError({d.issue("material.thickness", p.material,
+                                "part " + std::to_string(i + 1) + " is made of material '" + s.materials[p.material].name +
+                                    "' directly, so the material needs its thickness (or make the part of a [[layup]] "
+                                    "of it with part.layup)")});
+    const double thickness = s.materials[p.material].section.thickness;
     p.from_file = mesh_from_file(d, i);
     if (p.from_file) {
       try {
@@ -213,7 +570,10 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
       }
     } else {
       p.mesh = generate_mesh(d, i);
-      check_thickness_against_radius(d, i, "material.thickness", static_cast<std::size_t>(p.material));
+      if (p.material < static_cast<int>(nm))
+        check_thickness_against_radius(d, i, thickness, "material.thickness", static_cast<std::size_t>(p.material));
+      else
+        check_thickness_against_radius(d, i, thickness, "layup.ply_thicknesses", static_cast<std::size_t>(p.material) - nm);
     }
     if (d.boolean("part.flip_director", i)) flip_directors(p.mesh);
     p.name = part_name(d, i, &p.mesh);
@@ -233,12 +593,33 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
                                                            "(arm1, corner, arm2; leg1, leg2), so a structure holds one "
                                                            "of each")
                                              : std::string("give the part a name of its own")))});
+    p.reference_direction = fibre_reference_directions(d, i, p, s.materials[p.material].section);
+    any_reference_key = any_reference_key || d.present("part.fibre_reference", i) || d.present("part.fibre_vector", i);
     s.parts.push_back(std::move(p));
   }
+  // a material used only as a ply is used; a [[layup]] no part is made of is refused like a material
+  for (std::size_t l = 0; l < nl; ++l)
+    for (const std::string& ply : d.strings("layup.plies", l))
+      for (std::size_t k = 0; k < nm; ++k)
+        if (s.materials[k].name == ply && !material_used[k]) material_used[k] = 2;
   for (std::size_t k = 0; k < nm; ++k)
     if (!material_used[k])
-      throw SceneError({d.issue(d.present("material.name", k) ? "material.name" : "material.youngs_modulus", k,
-                                "no part is made of material '" + s.materials[k].name + "'")});
+      throw SceneError({d.issue(d.present("material.name", k)           ? "material.name"
+                                : d.present("material.youngs_modulus", k) ? "material.youngs_modulus"
+                                                                          : "material.e1",
+                                k, "no part is made of material '" + s.materials[k].name + "'")});
+  for (std::size_t l = 0; l < nl; ++l)
+    if (!material_used[nm + l])
+      throw SceneError({d.issue("layup.name", l, "no part is made of layup '" + s.materials[nm + l].name +
+                                                     "' (part.layup names it)")});
+  // per-quad reference directions only where they can matter: a laminated part, or a part that
+  // chose its reference (its stresses' axes); otherwise every element keeps its own xi direction
+  bool laminated = false;
+  for (const StructurePart& p : s.parts) laminated = laminated || s.materials[p.material].section.plies != nullptr;
+  if (laminated || any_reference_key)
+    for (const StructurePart& p : s.parts)
+      s.quad_reference_direction.insert(s.quad_reference_direction.end(), p.reference_direction.begin(),
+                                        p.reference_direction.end());
 
   // every node of every part, in part order; a junction unites coincident nodes of its parts
   std::vector<int> offset;

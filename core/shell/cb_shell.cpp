@@ -993,11 +993,15 @@ double tsai_wu(const Vec5& s, const std::array<double, 5>& strength) {  // lamin
 
 // laminate.md section 6: per layer the stresses the energy uses at its 8 points (the assumed
 // in-plane stress with hr, the tied shear with ans), averaged over the 2 x 2 in-plane points of
-// each station, are linear in the layer's own coordinate (exactly so for the assumed stress), so
+// each station (or extrapolated from them to a corner), are linear in the layer's own coordinate (exactly so for the assumed stress), so
 // the bottom, middle and top of a layer follow from its two stations; the resultants integrate
 // the same stations (2-point Gauss, exact for a linear stress times z).
 template <>
-void BasicCbShellElement<double>::stresses(const ElementPoses& cur, ElementStress& out) const {
+void BasicCbShellElement<double>::stresses(const ElementPoses& cur, ElementStress& out, int corner) const {
+  // weights of the 2 x 2 points: the mean (centre), or the bilinear function through the four
+  // points (at -+1/sqrt 3) evaluated at the corner, 1/4 (1 + 3 xi_c xi_q)(1 + 3 eta_c eta_q)
+  const bool at_corner = corner >= 0 && corner < 4;
+  const double xi_c = at_corner ? kXiNode[corner] : 0.0, eta_c = at_corner ? kEtaNode[corner] : 0.0;
   const double hh = 0.5 * sec_.thickness;
   const Mat38 X = node_columns(cur, hh);
   const ZetaFreeBases<double> bases(X, section_tables(), opt_.ans);
@@ -1027,7 +1031,7 @@ void BasicCbShellElement<double>::stresses(const ElementPoses& cur, ElementStres
       Vec5 sk;
       sk.head<3>() = opt_.hr ? Vec3(p_hat(p_coef_, pc) * beta) : Vec3(L.Cm * em[k]);
       sk.tail<2>() = L.Cs * es[k];
-      station[pc.layer] += 0.25 * sk;
+      station[pc.layer] += (0.25 * (1 + 3 * xi_c * pc.xi) * (1 + 3 * eta_c * pc.eta)) * sk;
     }
     // resultants per unit length, in the section axes: dz = (h/2) zeta_half dzeta-hat
     const double w = hh * tab.zeta_half;

@@ -60,7 +60,7 @@ inline constexpr int kMaxPlies = 64;
 
 using Vec5 = Eigen::Matrix<double, 5, 1>;
 
-/// Stresses an engineer reads, recovered at an element's centre (laminate.md section 6). Section
+/// Stresses an engineer reads, recovered at an element's centre or a corner (laminate.md section 6). Section
 /// axes: x1 the reference direction projected on the tangent plane, x3 the normal, x2 = x3 x x1.
 /// Components of a station: [s11, s22, s12, s13, s23] (second Piola-Kirchhoff in the lamina
 /// frame; equal to the Cauchy stress to first order in the strains).
@@ -99,10 +99,11 @@ class BasicCbShellElement {
   void evaluate(const ElementPoses& current, Vector24& force, Matrix24* tangent) const;
   /// Strain energy (condensed HR functional when hr is on), for consistency checks.
   Scalar energy(const ElementPoses& current) const;
-  /// Stresses and resultants at `current` (laminate.md section 6), averaged over the element's
-  /// 2 x 2 in-plane points; the in-plane stress is the assumed field with `hr`, the transverse
-  /// shear the tied one with `ans`: the stresses the element's own energy uses.
-  void stresses(const ElementPoses& current, ElementStress& out) const;
+  /// Stresses and resultants at `current` (laminate.md section 6): at the element's centre (the
+  /// mean over its 2 x 2 in-plane points), or with `corner` 0..3 at that corner (the bilinear
+  /// field through the four points, extrapolated); the in-plane stress is the assumed field with
+  /// `hr`, the transverse shear the tied one with `ans`: the stresses the element's energy uses.
+  void stresses(const ElementPoses& current, ElementStress& out, int corner = -1) const;
 
   const ShellOptions& options() const { return opt_; }
   const ShellSection& section() const { return sec_; }

@@ -119,7 +119,7 @@ MultibodyModel::MultibodyModel(MultibodySpec spec) : spec_(std::move(spec)) {
       }
     }
     try {
-      elements_.add_mesh(m, shell_offset_[b], sections, options, densities, b);
+      elements_.add_mesh(m, shell_offset_[b], sections, options, densities, b, body.quad_reference_direction);
     } catch (const ShellElementError& err) {
       throw BodySpecError(BodySpecError::Part::shell_element, b, "shell body '" + body.name + "', " + err.what(),
                           err.quad());

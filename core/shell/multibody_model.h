@@ -38,6 +38,10 @@ struct ShellBodySpec {
   std::vector<int> quad_material;
   std::vector<ShellSection> sections;
   std::vector<double> densities, drilling_factors;
+  /// Per quad of `mesh`: the world direction its fibre angles (and stress axes) are measured from
+  /// (ShellSection::reference_direction, laminate.md section 2); empty: zero vectors, each
+  /// element's own xi direction.
+  std::vector<Vec3> quad_reference_direction;
 };
 
 struct RigidBodySpec {
@@ -204,6 +208,8 @@ class MultibodyModel final : public ff::DynamicProblem {
   /// Largest |Φ_i| of the current configuration (length units for positions, cosines for axes).
   double constraint_violation() const;
   const MultibodySpec& spec() const { return spec_; }
+  /// The shell elements of every body, bodies in order, each in its mesh's quad order.
+  const ShellElements& elements() const { return elements_; }
   /// Gravity g [m/s^2] from now on (a scene's [[timeline]] gravity); used only when spec().gravity.
   void set_gravity(const Vec3& g) { spec_.g = g; }
   double total_mass() const;

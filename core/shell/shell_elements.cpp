@@ -6,10 +6,15 @@ namespace ff::shell {
 
 void ShellElements::add_mesh(const mesh::ShellMesh& m, int node_offset, const std::vector<ShellSection>& sections,
                              const std::vector<ShellOptions>& options, const std::vector<double>& densities,
-                             int part) {
+                             int part, const std::vector<Vec3>& reference_directions) {
   elements_.reserve(elements_.size() + m.quad_count());
   for (int q = 0; q < m.quad_count(); ++q) {
-    const ShellSection& section = sections.size() == 1 ? sections[0] : sections.at(q);
+    const ShellSection& shared = sections.size() == 1 ? sections[0] : sections.at(q);
+    // a per-quad copy only when directions are given: an isotropic structure without them builds
+    // its elements from the very section it always did
+    ShellSection directed;
+    if (!reference_directions.empty()) directed = shared, directed.reference_direction = reference_directions.at(q);
+    const ShellSection& section = reference_directions.empty() ? shared : directed;
     const ShellOptions& opt = options.size() == 1 ? options[0] : options.at(q);
     const double density = densities.size() == 1 ? densities[0] : densities.at(q);
     ShellElement e;

@@ -52,9 +52,12 @@ class ShellElements {
  public:
   /// The elements of every quad of `m`, its node i being model node node_offset + i, quad q of
   /// section sections[q], options[q] and density densities[q] (one entry: every quad), with its
-  /// inertia where the density is > 0. Throws ShellElementError for a quad that cannot be formed.
+  /// inertia where the density is > 0. reference_directions[q] (world; empty: none) becomes quad
+  /// q's ShellSection::reference_direction, the direction its fibre angles and stress axes are
+  /// measured from (laminate.md section 2). Throws ShellElementError for a quad that cannot be formed.
   void add_mesh(const mesh::ShellMesh& m, int node_offset, const std::vector<ShellSection>& sections,
-                const std::vector<ShellOptions>& options, const std::vector<double>& densities, int part);
+                const std::vector<ShellOptions>& options, const std::vector<double>& densities, int part,
+                const std::vector<Vec3>& reference_directions);
 
   int size() const { return static_cast<int>(elements_.size()); }
   const ShellElement& operator[](int k) const { return elements_[k]; }

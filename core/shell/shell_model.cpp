@@ -336,7 +336,7 @@ ShellModel::ShellModel(ShellModelSpec spec) : spec_(std::move(spec)) {
     }
   }
   try {
-    elements_.add_mesh(m, 0, sections, options, {0.0}, 0);
+    elements_.add_mesh(m, 0, sections, options, {0.0}, 0, spec_.quad_reference_direction);
   } catch (const ShellElementError& e) {
     throw ShellSpecError(e.thickness_at_fault() ? ShellSpecError::Part::element : ShellSpecError::Part::mid_surface,
                          e.quad(), e.what());

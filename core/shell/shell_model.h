@@ -69,6 +69,10 @@ struct ShellModelSpec {
   std::vector<ShellSection> sections;
   std::vector<double> drilling_factors;
   std::vector<int> quad_section;
+  /// Per quad of `mesh`: the world direction its fibre angles (and stress axes) are measured from
+  /// (ShellSection::reference_direction, laminate.md section 2); empty: zero vectors, each
+  /// element's own xi direction.
+  std::vector<Vec3> quad_reference_direction;
   std::vector<std::pair<int, unsigned>> restraints;  ///< node, Restraint mask (global directions)
   std::vector<std::pair<int, int>> symmetry;         ///< node, axis (0, 1, 2) of the plane normal
   std::vector<DirectionRestraint> directions;        ///< restraints in any direction, prescribed values
@@ -135,6 +139,8 @@ class ShellModel final : public ff::StaticProblem {
 
   const std::vector<NodePose>& poses() const { return state_.poses; }
   const ShellModelSpec& spec() const { return spec_; }
+  /// The elements, in quad order of spec().mesh (their sections, as built).
+  const ShellElements& elements() const { return elements_; }
   int dofs_of_node(int node) const { return six_dof_[node] ? 6 : 5; }
   /// Global displacement of a node from its reference position.
   Vec3 node_displacement(int node) const { return state_.poses[node].p - spec_.mesh.points[node]; }

@@ -103,11 +103,11 @@ std::vector<std::vector<double>> nodal_stress_fields(const ShellElements& elemen
   ElementPoses cur;
   for (const ShellElement& e : elements.all()) {
     ShellElements::corner_poses(e, X_WN, cur);
-    e.elastic->stresses(cur, s);
-    element_values(s, layout, v, has);
-    for (std::size_t f = 0; f < nf; ++f) {
-      if (!has[f]) continue;
-      for (int c = 0; c < 4; ++c) sum[f][e.nodes[c]] += v[f], ++count[f][e.nodes[c]];
+    for (int c = 0; c < 4; ++c) {
+      e.elastic->stresses(cur, s, c);
+      element_values(s, layout, v, has);
+      for (std::size_t f = 0; f < nf; ++f)
+        if (has[f]) sum[f][e.nodes[c]] += v[f], ++count[f][e.nodes[c]];
     }
   }
   for (std::size_t f = 0; f < nf; ++f)

@@ -3,9 +3,11 @@
 /// Stress fields of a structure's CB shell elements for output (laminate.md section 6): the
 /// section stresses at the bottom, middle and top surfaces, von Mises, the in-plane principal
 /// stresses, the resultants N, M, Q and, for laminates, each ply's stresses in its fibre axes and
-/// its Tsai-Wu index. Recovered per element at its centre (CbShellElement::stresses) and written
-/// per node as the mean of the adjacent elements' values, as the display strain is (a node no
-/// element with that ply touches gets 0). Not used by the solver.
+/// its Tsai-Wu index. Recovered per element at its corners (CbShellElement::stresses: the bilinear
+/// field through the element's 2 x 2 points, extrapolated, as contour plots of finite element codes
+/// do) and written per node as the mean of the adjacent elements' corner values (a node no element
+/// with that ply touches gets 0). The derived values (von Mises, principal, Tsai-Wu) are formed at
+/// the corners before averaging. Not used by the solver.
 
 #include <string>
 #include <vector>

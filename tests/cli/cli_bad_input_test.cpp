@@ -329,5 +329,55 @@ TEST(CliMemoryEstimate, EstimateMatchesAMeasuredPeak) {
   EXPECT_LT(std::abs(estimated / measured - 1.0), 0.35);
 }
 
+// Issue 33, laminated sections through the executable: `check` refuses a ply of zero thickness
+// and a file part of orthotropic plies without a fibre vector (a file has no u grid) with exit 2
+// at file:line and key, and accepts angles that look like radians with a located warning line.
+TEST(CliLaminate, BadLayupInputIsLocatedAndRadiansWarn) {
+  const std::string dir = fresh_test_dir();
+  const std::string obj = std::string(FF_SOURCE_DIR) + "/assets/meshes/plate_8x8_unit.obj";
+  auto scene = [&](const std::string& angles, const std::string& thicknesses, const std::string& part) {
+    return "[scene]\nname = \"cli_laminate\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = [\"elastic\"]\n"  // 1-5
+           "[[material]]\nname = \"ply\"\ne1 = 140e9\ne2 = 10e9\ng12 = 5e9\ng13 = 5e9\ng23 = 4e9\nnu12 = 0.3\n"  // 6-13
+           "[[layup]]\nname = \"cross\"\nplies = [\"ply\", \"ply\"]\n"                                              // 14-16
+           "ply_thicknesses = " + thicknesses + "\n"                                                               // 17
+           "ply_angles = " + angles + "\n"                                                                         // 18
+           "[[part]]\nlayup = \"cross\"\n" + part +                                                               // 19-
+           "[[bc]]\ntype = \"clamped\"\nselect = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [1.0, 0.0, 0.0]\n"
+           "[[load]]\ntype = \"pressure\"\npressure = 1000.0\nselect = \"all\"\n"
+           "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\nselect = \"nearest\"\npoint = [1.0, 0.5, 0.0]\n[solver]\n";
+  };
+  const std::string plate = "generator = \"rectangular_plate\"\nlength = 1.0\nwidth = 1.0\nn1 = 4\nn2 = 4\n";
+  struct Case {
+    std::string name, text;
+    int exit_code, line;
+    std::string key, fragment;
+  };
+  const std::vector<Case> cases = {
+      {"zero_ply", scene("[0.0, 90.0]", "[0.005, 0.0]", plate), 2, 17, "layup[0].ply_thicknesses", "entry 2"},
+      {"file_part_u", scene("[0.0, 90.0]", "[0.005, 0.005]", "generator = \"file\"\nfile = \"" + obj + "\"\n"), 2, 19,
+       "part[0].fibre_reference", "fibre_reference = \"vector\""},
+      {"file_part_vector",
+       scene("[0.0, 90.0]", "[0.005, 0.005]",
+             "generator = \"file\"\nfile = \"" + obj + "\"\nfibre_reference = \"vector\"\nfibre_vector = [1.0, 0.0, 0.0]\n"),
+       0, 0, "", ""},
+      {"radians", scene("[0.0, 1.5708]", "[0.005, 0.005]", plate), 0, 18, "layup[0].ply_angles", "look like radians"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string path = dir + "/" + c.name + ".toml";
+    write_text(path, c.text);
+    const ProcResult r = run_flexframe({"check", path}, dir + "/" + c.name);
+    EXPECT_EQ(r.exit_code, c.exit_code) << r.describe();
+    if (c.key.empty()) continue;
+    // an error on stderr, a warning in check's report on stdout
+    const std::string& text = c.exit_code == 0 ? r.out : r.err;
+    const std::string where = c.name + ".toml:" + std::to_string(c.line) + ":";
+    EXPECT_NE(text.find(where), std::string::npos) << r.describe();
+    EXPECT_NE(text.find("key '" + c.key + "'"), std::string::npos) << r.describe();
+    EXPECT_NE(text.find(c.fragment), std::string::npos) << r.describe();
+    if (c.exit_code == 0) EXPECT_NE(r.out.find("\nwarning: "), std::string::npos) << r.describe();
+  }
+}
+
 }  // namespace
 }  // namespace ff::cli::test
