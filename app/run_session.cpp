@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -186,6 +187,14 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   std::vector<std::string> plot_files;
   std::promise<void> frames_done;
 
+  // summary.json "stresses": the run's largest von Mises stress, at which node (mesh point) and
+  // frame (row of results.h5), when the run records its stress fields
+  const int von_mises = field_index(info, "von_mises");
+  struct StressPeak {
+    double value = std::numeric_limits<double>::quiet_NaN(), time = 0.0, load_factor = 0.0;
+    long long node = -1, frame = -1, step = -1;
+  } von_mises_peak;
+
   // store thread: every frame to HDF5, every n-th to the renderer
   std::thread store([&] {
     long long index = 0;
@@ -199,6 +208,12 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       {
         std::lock_guard lock(history_mutex);
         history.add(*f);
+      }
+      if (von_mises >= 0 && static_cast<std::size_t>(von_mises) < f->fields.size()) {
+        const std::vector<double>& v = f->fields[von_mises];
+        for (std::size_t i = 0; i < v.size(); ++i)
+          if (v[i] > von_mises_peak.value || (std::isnan(von_mises_peak.value) && std::isfinite(v[i])))
+            von_mises_peak = {v[i], f->time, f->load_factor, static_cast<long long>(i), index, f->step};
       }
       progress_time = f->time;
       progress_steps = f->step;
@@ -465,6 +480,15 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       {"outputs", outputs},
       {"render", render_info}};
   if (scene.mesh_quality) summary["mesh_quality"] = mesh_quality_json(*scene.mesh_quality);
+  if (von_mises >= 0)  // null node and frame: no stored frame had a finite value
+    summary["stresses"] = {
+        {"von_mises_max", von_mises_peak.value},
+        {"node", von_mises_peak.node >= 0 ? Json(von_mises_peak.node) : Json()},
+        {"frame", von_mises_peak.frame >= 0 ? Json(von_mises_peak.frame) : Json()},
+        {"step", von_mises_peak.step >= 0 ? Json(von_mises_peak.step) : Json()},
+        {"time", von_mises_peak.frame >= 0 ? Json(von_mises_peak.time) : Json()},
+        {"load_factor", von_mises_peak.frame >= 0 ? Json(von_mises_peak.load_factor) : Json()},
+        {"unit", info.fields[von_mises].unit}};
   write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");  // throws WriteError: exit 1
   return result;
 }

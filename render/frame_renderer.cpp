@@ -20,6 +20,7 @@
 #include <vtkScalarBarActor.h>
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
+#include <vtkTextRenderer.h>
 #include <vtkTubeFilter.h>
 
 #include <algorithm>
@@ -378,8 +379,21 @@ void FrameRenderer::Impl::build_overlay(const RunInfo& info) {
   if (field < 0) return;
   // right strip: the field title (right-aligned; the bar's own title would be squeezed to
   // the bar width), the bar below it with its labels to the right
-  bar_title->SetInput(quantity_title(info.fields[static_cast<std::size_t>(field)]).c_str());
   set_text_style(bar_title->GetTextProperty(), text_px(), ink, true);
+  {
+    // a label too long to stand beside the title on the top line (a stress field's one-line
+    // description) gives way to the field's name
+    const Quantity& q = info.fields[static_cast<std::size_t>(field)];
+    const int dpi = surface->window()->GetDPI();
+    auto width = [&](const std::string& text, vtkTextProperty* p) {
+      int box[4] = {0, 0, 0, 0};
+      return vtkTextRenderer::GetInstance()->GetBoundingBox(p, text, box, dpi) ? box[1] - box[0] : 0;
+    };
+    const double room = w - 3 * m - (style.title.empty() ? 0.0 : width(style.title, title->GetTextProperty()));
+    std::string text = quantity_title(q);
+    if (width(text, bar_title->GetTextProperty()) > room) text = quantity_title({q.name, q.unit, ""});
+    bar_title->SetInput(text.c_str());
+  }
   bar_title->GetTextProperty()->SetJustificationToRight();
   bar_title->GetTextProperty()->SetVerticalJustificationToTop();
   bar_title->GetPositionCoordinate()->SetCoordinateSystemToViewport();

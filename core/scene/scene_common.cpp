@@ -19,7 +19,8 @@ void declare_scene_table(Schema& s, const std::string& effects_doc, std::vector<
       .string_list("scene.effects", effects_doc, std::nullopt, std::move(effects));
 }
 
-void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool camera_keys) {
+void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool camera_keys,
+                         const std::vector<std::string>& stress_fields) {
   const std::string first = color_fields.front();
   color_fields.push_back("none");
   s.table("output", "what a run writes besides results.h5")
@@ -28,9 +29,27 @@ void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool 
       .integer("output.width", "frame width", 960, IntRange::closed(64, 8192))
       .integer("output.height", "frame height", 720, IntRange::closed(64, 8192))
       .number("output.deformation_scale", "drawn deformation = scale x true deformation", 1.0,
-              Range::left_open(0.0, 1e6))
-      .choice("output.color_field", "field that colours the body", color_fields, first)
-      .boolean("output.plots", "write plots/*.png at the end", true);
+              Range::left_open(0.0, 1e6));
+  if (stress_fields.empty()) {
+    s.choice("output.color_field", "field that colours the body", color_fields, first);
+  } else {
+    // the ply fields depend on the layup: any name here, checked against the run's fields
+    std::string names;
+    for (const std::string& f : color_fields) names += (names.empty() ? "" : ", ") + f;
+    std::string stresses;
+    for (const std::string& f : stress_fields) stresses += (stresses.empty() ? "" : ", ") + f;
+    s.string("output.color_field",
+             "field that colours the body: " + names + ", or a stress field (which turns output.stresses on): " +
+                 stresses + "; with a layup of K plies also plyK_sigma1, plyK_sigma2, plyK_tau12 (and tsai_wu, "
+                 "plyK_tsai_wu when the plies have strengths); checked once the structure is read",
+             first)
+        .boolean("output.stresses",
+                 "write every stress field of the structure (docs/guide/running.md, stress fields: stresses at the bottom, middle and "
+                 "top surfaces, von Mises, principal, the resultants N, M, Q, each ply's) in every frame: results.h5, "
+                 "exports, replay --field; also on when output.color_field or a [[probe]] names a stress field",
+                 false);
+  }
+  s.boolean("output.plots", "write plots/*.png at the end", true);
   if (!camera_keys) return;
   s.choice("output.view", "camera: iso, front (looking along +y, z up), top (looking down z)", {"iso", "front", "top"},
            "iso")
@@ -38,6 +57,23 @@ void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool 
                    0, 3)
       .number("output.view_radius", "half height of the view in length units; 0 = fit the mesh", 0.0,
               Range::non_negative());
+}
+
+void refuse_unknown_color_field(const Document& d, const RunInfo& info) {
+  const std::string& name = d.string("output.color_field");
+  if (name == "none") return;
+  std::string names;
+  for (const Quantity& f : info.fields) {
+    if (f.name == name) return;
+    names += (names.empty() ? "" : ", ") + f.name;
+  }
+  const bool ply = name.rfind("ply", 0) == 0 || name.find("tsai_wu") != std::string::npos;
+  throw SceneError({d.issue("output.color_field", "'" + name + "' is not a field of this run (its fields: " + names +
+                                                      ", none)" +
+                                                      (ply ? "; the ply fields and tsai_wu follow the structure's "
+                                                             "layup: plyK for K up to its most plies, tsai_wu only when "
+                                                             "the plies have strengths"
+                                                           : ""))});
 }
 
 void declare_linear_solver(Schema& s, const std::string& default_doc) {

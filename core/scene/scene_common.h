@@ -19,7 +19,14 @@ const std::vector<std::string>& model_names();
 /// [scene]: name, description, model, and the model's effects list.
 void declare_scene_table(Schema& s, const std::string& effects_doc, std::vector<std::string> effects);
 /// [output]: frames, cadence, size, deformation scale, colour field, plots (and camera keys if asked).
-void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool camera_keys);
+/// With `stress_fields` (the shell analyses): output.stresses, and output.color_field takes any
+/// name, the fixed `color_fields` or a stress field, which depend on the structure's layup:
+/// refuse_unknown_color_field checks it once the run's fields are known.
+void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool camera_keys,
+                         const std::vector<std::string>& stress_fields = {});
+/// Refuses, at output.color_field, a name that is neither "none" nor one of the run's fields,
+/// naming the fields it has.
+void refuse_unknown_color_field(const Document& d, const RunInfo& info);
 /// OutputSettings from a document declared with declare_output_keys.
 OutputSettings read_output(const Document& d, bool camera_keys);
 /// The most time steps a scene may ask for: beyond it no run could finish (10^9 steps at 10^5

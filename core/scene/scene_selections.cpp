@@ -88,8 +88,10 @@ std::optional<SceneSelections> scene_selections(const std::string& path, const s
       e->extent = "summed over " + e->extent;
       continue;
     }
-    // a displacement probe reads the first node the selector returns (shell_boundary.cpp, read_probes)
-    EntrySelection* e = add("probe", i, label, {ids.front()});
+    // a displacement or stress probe reads the first node the selector returns (shell_boundary.cpp,
+    // read_probes); a stress probe's label names its field
+    const bool stress = reaction_probes && d.string("probe.quantity", i) == "stress";
+    EntrySelection* e = add("probe", i, stress ? label + " (" + d.string("probe.field", i) + ")" : label, {ids.front()});
     e->extent = "node " + std::to_string(ids.front());
     if (ids.size() > 1) e->extent += " (the first of " + std::to_string(ids.size()) + " selected)";
   }

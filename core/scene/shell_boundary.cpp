@@ -104,10 +104,79 @@ void declare_probe_keys(Schema& s) {
       .choice("probe.quantity",
               "displacement: direction . u of the (first) selected node; reaction: direction . (support force) "
               "summed over the selected nodes (the force the supports exert on the shell, with the sign of the "
-              "external load it balances reversed: f_int - lambda f_ext)",
-              {"displacement", "reaction"}, "displacement")
-      .number_list("probe.direction", "global direction the quantity is projected on", std::nullopt, {}, 3, 3);
+              "external load it balances reversed: f_int - lambda f_ext); stress: the nodal value of the stress "
+              "field probe.field at the (first) selected node",
+              {"displacement", "reaction", "stress"}, "displacement")
+      .number_list("probe.direction",
+                   "displacement, reaction (required there): global direction the quantity is projected on",
+                   std::vector<double>{0, 0, 0}, {}, 3, 3);
+  declare_probe_field_key(s);
   declare_selector_keys(s, "probe");
+}
+
+std::vector<std::string> stress_field_names() {
+  std::vector<std::string> names;
+  for (const shell::StressField& f : shell::stress_fields(shell::StressLayout{})) names.push_back(f.name);
+  return names;
+}
+
+void declare_probe_field_key(Schema& s) {
+  s.string("probe.field",
+           "quantity = \"stress\" (required there): the stress field read, e.g. von_mises, sigma11_top, N11, "
+           "ply2_sigma1 (every name: docs/guide/running.md, stress fields); its value at the node is the mean of the "
+           "values at the centres of the elements around it. Turns output.stresses on",
+           std::string{});
+}
+
+bool probe_reads_stress(const Document& d, std::size_t i) {
+  const std::string quantity = d.string("probe.quantity", i);
+  if (quantity == "stress") {
+    if (!d.present("probe.field", i))
+      throw SceneError({d.issue("probe.quantity", i, "quantity = \"stress\" needs probe.field, the stress field to "
+                                                     "read at the node (e.g. \"von_mises\")")});
+    if (d.present("probe.direction", i))
+      throw SceneError({d.issue("probe.direction", i, "a stress probe reads the value of probe.field at its node, "
+                                                      "along no direction; probe.direction belongs to quantity = "
+                                                      "\"displacement\" or \"reaction\"")});
+    return true;
+  }
+  if (d.present("probe.field", i))
+    throw SceneError({d.issue("probe.field", i, "probe.field belongs to quantity = \"stress\"; this probe's quantity "
+                                                "is \"" + quantity + "\"")});
+  if (!d.present("probe.direction", i))
+    throw SceneError({d.issue("probe.direction", i, "quantity = \"" + quantity + "\" needs probe.direction, the "
+                                                    "global direction the " + quantity + " is projected on")});
+  return false;
+}
+
+bool stresses_wanted(const Document& d, const std::vector<std::string>& fixed_fields) {
+  if (d.boolean("output.stresses")) return true;
+  const std::string& colour = d.string("output.color_field");
+  if (colour != "none" && std::find(fixed_fields.begin(), fixed_fields.end(), colour) == fixed_fields.end()) return true;
+  for (std::size_t i = 0; i < d.count("probe"); ++i)
+    if (d.string("probe.quantity", i) == "stress") return true;
+  return false;
+}
+
+void refuse_unknown_probe_fields(const Document& d, const std::vector<shell::StressField>& fields) {
+  for (std::size_t i = 0; i < d.count("probe"); ++i) {
+    if (d.string("probe.quantity", i) != "stress") continue;
+    const std::string& name = d.string("probe.field", i);
+    std::string names;
+    bool known = false;
+    for (const shell::StressField& f : fields) {
+      known = known || f.name == name;
+      names += (names.empty() ? "" : ", ") + f.name;
+    }
+    if (known) continue;
+    const bool ply = name.rfind("ply", 0) == 0 || name.find("tsai_wu") != std::string::npos;
+    throw SceneError({d.issue("probe.field", i, "'" + name + "' is not a stress field of this structure (its fields: " +
+                                                    names + ")" +
+                                                    (ply ? "; the ply fields and tsai_wu follow the structure's "
+                                                           "layup: plyK for K up to its most plies, tsai_wu only "
+                                                           "when the plies have strengths"
+                                                         : ""))});
+  }
 }
 
 void read_bcs(const Document& d, shell::ShellModelSpec& spec) {
@@ -288,7 +357,10 @@ std::vector<shell::ShellProbe> read_probes(const Document& d, const mesh::ShellM
     p.label = label.empty() ? name : label;
     p.node = ids.front();
     p.direction = vec(d.numbers("probe.direction", i));
-    if (d.string("probe.quantity", i) == "reaction") {
+    if (probe_reads_stress(d, i)) {
+      p.quantity = shell::ShellProbe::Quantity::stress;
+      p.field = d.string("probe.field", i);
+    } else if (d.string("probe.quantity", i) == "reaction") {
       p.quantity = shell::ShellProbe::Quantity::reaction;
       p.nodes = ids;
     }

@@ -11,6 +11,7 @@
 #include "core/scene/structure_parts.h"
 #include "core/shell/shell_model.h"
 #include "core/shell/shell_static_simulation.h"
+#include "core/shell/shell_stress.h"
 
 namespace ff::scene {
 
@@ -18,8 +19,23 @@ namespace ff::scene {
 void declare_bc_keys(Schema& s);
 /// Declares [[load]] (type, total, per_length, pressure, follower and the selector keys).
 void declare_load_keys(Schema& s);
-/// Declares [[probe]] (name, label, quantity, direction and the selector keys).
+/// Declares [[probe]] (name, label, quantity, direction, field and the selector keys).
 void declare_probe_keys(Schema& s);
+/// The stress fields every shell structure has (an isotropic one's: no ply fields), for the key
+/// reference of output.color_field.
+std::vector<std::string> stress_field_names();
+/// Declares probe.field, the stress field a probe of quantity "stress" reads (both analyses).
+void declare_probe_field_key(Schema& s);
+/// Whether [[probe]] entry i reads a stress (probe.quantity = "stress"); refuses probe.field
+/// without that quantity, and the quantity without probe.field or with probe.direction, and a
+/// displacement or reaction probe without probe.direction.
+bool probe_reads_stress(const Document& d, std::size_t i);
+/// Whether a shell run records its stress fields: output.stresses, or a colour field other than
+/// `fixed_fields` and "none", or a stress probe.
+bool stresses_wanted(const Document& d, const std::vector<std::string>& fixed_fields);
+/// Refuses, at probe.field, a stress probe whose field is not one of `fields` (the built
+/// structure's; the ply fields depend on its layup), naming those it has.
+void refuse_unknown_probe_fields(const Document& d, const std::vector<shell::StressField>& fields);
 
 /// Restraints, symmetry planes and prescribed displacements of every [[bc]] into `spec`
 /// (each tagged with its entry index as `source`). Needs spec.mesh. Throws SceneError.

@@ -102,10 +102,17 @@ const Schema& shell_dynamic_schema() {
                 Range::non_negative(), "s")
         .number("load.ramp", "dynamics: the load rises linearly from 0 over this long from load.start; 0 = suddenly",
                 0.0, Range::non_negative(), "s");
-    s.table_array("probe", "node displacements recorded every step (direction . u)", 0, 32)
+    s.table_array("probe", "node displacements (direction . u) or stresses recorded every step", 0, 32)
         .string("probe.name", "probe name (also the plot file name)", std::nullopt)
         .string("probe.label", "plot label", std::string{})
-        .number_list("probe.direction", "global direction the displacement is projected on", std::nullopt, {}, 3, 3);
+        .choice("probe.quantity",
+                "displacement: direction . u of the (first) selected node; stress: the nodal value of the stress "
+                "field probe.field there",
+                {"displacement", "stress"}, "displacement")
+        .number_list("probe.direction",
+                     "displacement (required there): global direction the displacement is projected on",
+                     std::vector<double>{0, 0, 0}, {}, 3, 3);
+    declare_probe_field_key(s);
     declare_selector_keys(s, "probe");
     s.table_array("arc", "curves whose relative chord and length changes are recorded (arc_rate_<name>)", 0, 16)
         .string("arc.name", "arc name", std::nullopt);
@@ -117,7 +124,7 @@ const Schema& shell_dynamic_schema() {
                 "run, trapezoid rule over every step)",
                 {"min", "max", "max_abs", "final", "mean"}, std::nullopt)
         .string("metric.probe", "probe (or arc_rate_<arc>, arc_strain_<arc>) it reads", std::nullopt);
-    declare_output_keys(s, {"displacement", "strain"}, true);
+    declare_output_keys(s, {"displacement", "strain"}, true, stress_field_names());
     declare_timeline(s, "time of the event", "s", {"gravity"});
     // one vocabulary across models: time stepping and the integrator are the [solver] table
     s.renamed("time", "solver").renamed("integrator", "solver");
@@ -430,7 +437,8 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   for (std::size_t i = 0; i < d.count("probe"); ++i) {
     const std::vector<int> ids = select_nodes(d, structure.joined, "probe", i);
     const std::string name = d.string("probe.name", i), label = d.string("probe.label", i);
-    st.probes.push_back({name, label.empty() ? name : label, ids.front(), vec(d.numbers("probe.direction", i))});
+    st.probes.push_back({name, label.empty() ? name : label, ids.front(), vec(d.numbers("probe.direction", i)),
+                         probe_reads_stress(d, i) ? d.string("probe.field", i) : std::string()});
   }
   for (std::size_t i = 0; i < d.count("arc"); ++i) {
     std::vector<int> ids = ordered(structure.joined, select_nodes(d, structure.joined, "arc", i));
@@ -473,8 +481,13 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   // how an imported mesh was read
   for (auto& setting : mesh_import_settings(structure)) info.settings.push_back(std::move(setting));
   info.effects = fx;
+  st.record_stresses = stresses_wanted(d, {"displacement", "strain"});
   try {
-    return std::make_unique<ShellDynamicSimulation>(std::move(spec), std::move(st), std::move(info));
+    auto sim = std::make_unique<ShellDynamicSimulation>(std::move(spec), std::move(st), std::move(info));
+    // the stress fields follow the structure's layup: known once its elements are built
+    refuse_unknown_probe_fields(d, shell::stress_fields(sim->model().stress_layout()));
+    refuse_unknown_color_field(d, sim->info());
+    return sim;
   } catch (const shell::LoadSpecError& e) {
     const std::vector<std::size_t>& entry = e.part() == shell::LoadSpecError::Part::nodal_load ? load_entry : pressure_entry;
     const std::size_t i = e.index() >= 0 && static_cast<std::size_t>(e.index()) < entry.size() ? entry[e.index()] : 0;

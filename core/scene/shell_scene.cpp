@@ -101,7 +101,7 @@ const Schema& shell_static_schema() {
         .string("solver.monitor_probe", "arc length: probe whose displacement limit ends the run", std::string{})
         .number("solver.displacement_limit", "arc length: stop when |monitor probe| reaches this", 1e300, Range::positive());
     declare_linear_solver(s, "mumps where compiled in, LDLᵀ when the tangent is symmetric: 1.4-2.3x faster than umfpack on 16 x 16 to 128 x 128 plates, chosen by measurement: core/solve/static_solvers.md §7");
-    declare_output_keys(s, {"displacement", "strain"}, true);
+    declare_output_keys(s, {"displacement", "strain"}, true, stress_field_names());
     declare_timeline(s, "load factor of the event (statics: camera keys only)", "", {});
     // one vocabulary across models (the end of a run, material constants)
     s.renamed("solver.lambda_end", "solver.end").renamed("drilling.factor", "material.drilling_factor");
@@ -335,12 +335,16 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   st.displacement_limit = d.number("solver.displacement_limit");
   if (!st.monitor_probe.empty() && !has_probe(st.monitor_probe))
     throw SceneError({d.issue("solver.monitor_probe", "no probe named '" + st.monitor_probe + "'")});
+  st.record_stresses = stresses_wanted(d, {"displacement", "strain"});
   std::unique_ptr<ShellStaticSimulation> sim;
   try {
     sim = std::make_unique<ShellStaticSimulation>(std::move(spec), st, std::move(info));
   } catch (const ShellSpecError& e) {
     throw SceneError({located(d, e, structure)});
   }
+  // the stress fields follow the structure's layup: known once its elements are built
+  refuse_unknown_probe_fields(d, stress_fields(sim->model().stress_layout()));
+  refuse_unknown_color_field(d, sim->info());
   return sim;
 }
 

@@ -21,6 +21,7 @@
 #include "core/shell/cb_shell.h"
 #include "core/shell/cb_shell_inertia.h"
 #include "core/shell/shell_elements.h"
+#include "core/shell/shell_stress.h"
 #include "core/shell/loads.h"
 #include "core/solve/dynamic_problem.h"
 
@@ -216,6 +217,19 @@ class MultibodyModel final : public ff::DynamicProblem {
   /// Display strain per node (cb_shell.md eq. V3, averaged over the adjacent elements); 0 at
   /// rigid-body nodes.
   std::vector<double> nodal_surface_strain() const;
+  /// What the elements can report (shell_stress.h): the ply fields up to the most plies of a
+  /// section, the failure index when a ply has strengths.
+  StressLayout stress_layout() const { return shell::stress_layout(elements_); }
+  /// Every field of stress_fields(stress_layout()) per node (0 at rigid-body nodes): each element's value at its
+  /// centre, averaged over the elements around the node (shell_stress.h).
+  std::vector<std::vector<double>> nodal_stress_fields() const {
+    return shell::nodal_stress_fields(elements_, stress_layout(), state_.poses);
+  }
+  /// Field number `field` of stress_fields(stress_layout()) at one node, equal to
+  /// nodal_stress_fields()[field][node], from the elements around the node only (a probe).
+  double nodal_stress(int node, std::size_t field) const {
+    return shell::nodal_stress_value(elements_, stress_layout(), field, node, state_.poses);
+  }
   /// Effects that ran with their counters: "elastic", "inertia", "gravity" (element evaluations),
   /// "hr", "ans", "drilling" (element evaluations with the term on, timed inside "elastic" as in
   /// ShellModel), "rigid_body", "joints" (assemblies), "point_loads" (nodal loads evaluated),

@@ -12,6 +12,14 @@ namespace {
 double chord(const MultibodyModel& m, const DynamicArc& a) {
   return (m.poses()[a.nodes.back()].p - m.poses()[a.nodes.front()].p).norm();
 }
+// SI units of a stress field (shell_stress.h names): resultants per unit length, the failure
+// index a pure number, stresses in pascal
+std::string stress_unit(const std::string& field) {
+  if (field.rfind("tsai_wu", 0) == 0 || field.find("_tsai_wu") != std::string::npos) return "";
+  if (field[0] == 'N' || field[0] == 'Q') return "N/m";
+  if (field[0] == 'M') return "N";  // N m per m
+  return "Pa";
+}
 double polyline(const MultibodyModel& m, const DynamicArc& a) {
   double l = 0.0;
   for (std::size_t k = 1; k < a.nodes.size(); ++k) l += (m.poses()[a.nodes[k]].p - m.poses()[a.nodes[k - 1]].p).norm();
@@ -36,7 +44,15 @@ ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicS
     for (const auto& q : model_->spec().shells[b].mesh.quads)
       for (int c = 0; c < 4; ++c) info_.mesh.quads.push_back(off + q[c]);
   }
-  for (const DynamicProbe& p : settings_.probes) info_.probes.push_back({p.name, "m", p.label});
+  // a stress probe reads its field by number; the scene refuses a name the structure lacks
+  const std::vector<StressField> stresses = stress_fields(model_->stress_layout());
+  for (const DynamicProbe& p : settings_.probes) {
+    std::size_t field = std::string::npos;
+    for (std::size_t k = 0; k < stresses.size() && !p.field.empty(); ++k)
+      if (stresses[k].name == p.field) field = k;
+    probe_field_.push_back(field);
+    info_.probes.push_back({p.name, p.field.empty() ? "m" : stress_unit(p.field), p.label});
+  }
   for (const DynamicArc& a : settings_.arcs) {
     if (a.nodes.size() < 2) throw std::invalid_argument("arc '" + a.name + "' needs at least two nodes");
     info_.probes.push_back({"arc_rate_" + a.name, "", "relative chord change of arc " + a.name});
@@ -48,13 +64,20 @@ ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicS
   info_.probes.push_back({"strain_energy", "J", "strain energy"});
   info_.probes.push_back({"total_energy", "J", "kinetic + strain + gravity potential + dead-load potential energy"});
   info_.fields = {{"displacement", "m", "displacement magnitude"}, {"strain", "", "largest principal surface strain"}};
+  if (settings_.record_stresses)
+    for (const StressField& f : stresses) info_.fields.push_back({f.name, stress_unit(f.name), f.description});
   values_.resize(settings_.probes.size() + 2 * settings_.arcs.size());
 }
 
 std::vector<double> ShellDynamicSimulation::probe_values() const {
   std::vector<double> v;
   v.reserve(values_.size());
-  for (const DynamicProbe& p : settings_.probes) v.push_back(p.direction.dot(model_->node_displacement(p.node)));
+  for (std::size_t k = 0; k < settings_.probes.size(); ++k) {
+    const DynamicProbe& p = settings_.probes[k];
+    if (p.field.empty()) v.push_back(p.direction.dot(model_->node_displacement(p.node)));
+    else v.push_back(probe_field_[k] == std::string::npos ? std::numeric_limits<double>::quiet_NaN()
+                                                          : model_->nodal_stress(p.node, probe_field_[k]));
+  }
   for (std::size_t k = 0; k < settings_.arcs.size(); ++k) {
     v.push_back(chord(*model_, settings_.arcs[k]) / arc_chord0_[k] - 1.0);
     v.push_back(polyline(*model_, settings_.arcs[k]) / arc_length0_[k] - 1.0);
@@ -70,6 +93,8 @@ Frame ShellDynamicSimulation::frame() const {
   f.base_points.reserve(3 * nn);
   f.fields.assign(1, std::vector<double>(nn));
   f.fields.push_back(model_->nodal_surface_strain());
+  if (settings_.record_stresses)
+    for (std::vector<double>& values : model_->nodal_stress_fields()) f.fields.push_back(std::move(values));
   for (int I = 0; I < nn; ++I) {
     const Vec3& x = model_->poses()[I].p;
     const Vec3& X = model_->reference_pose(I).p;

@@ -18,11 +18,13 @@
 
 namespace ff::shell {
 
-/// direction . u(node): a displacement component of one node (model-wide id).
+/// direction . u(node): a displacement component of one node (model-wide id); with a `field`
+/// (a name of stress_fields, shell_stress.h) the nodal value of that stress field instead.
 struct DynamicProbe {
   std::string name, label;
   int node = -1;
   Vec3 direction = Vec3::UnitZ();
+  std::string field;  ///< "" : a displacement probe
 };
 
 /// A curve through ordered nodes (e.g. arc AC): its relative change of chord |x_last − x_first|
@@ -52,6 +54,9 @@ struct ShellDynamicSettings {
   std::vector<DynamicProbe> probes;
   std::vector<DynamicArc> arcs;
   std::vector<DynamicMetric> metrics;
+  /// every stress field (shell_stress.h) of the shells in every published frame, after
+  /// displacement and strain (a scene's output.stresses, or a stress field it colours or probes)
+  bool record_stresses = false;
   /// [[timeline]] gravity: (time, g from then on), ascending in time. The step containing a time
   /// is split there, so the change happens exactly at it.
   std::vector<std::pair<double, Vec3>> gravity_changes;
@@ -107,6 +112,7 @@ class ShellDynamicSimulation final : public Simulation {
   std::vector<double> arc_chord0_, arc_length0_;
   std::vector<double> times_;
   std::vector<std::vector<double>> values_;  // [probe][recorded step]
+  std::vector<std::size_t> probe_field_;     // [probe]: a stress probe's field in stress_fields(), npos: none
   long long window_noi_ = 0, window_nou_ = 0;
   std::chrono::steady_clock::time_point wall0_;
   double wall_ = 0.0, simulated_ = 0.0, energy0_ = 0.0, max_energy_growth_ = 0.0, max_violation_ = 0.0;

@@ -25,6 +25,7 @@
 #include "core/model/simulation.h"
 #include "core/shell/cb_shell.h"
 #include "core/shell/shell_elements.h"
+#include "core/shell/shell_stress.h"
 #include "core/shell/loads.h"
 #include "core/solve/static_problem.h"
 
@@ -163,6 +164,19 @@ class ShellModel final : public ff::StaticProblem {
   static constexpr double kSymmetryDirectorSnap = 1e-3;
   /// Display strain per node (cb_shell.md eq. V3, averaged over the adjacent elements).
   std::vector<double> nodal_surface_strain() const;
+  /// What the elements can report (shell_stress.h): the ply fields up to the most plies of a
+  /// section, the failure index when a ply has strengths.
+  StressLayout stress_layout() const { return shell::stress_layout(elements_); }
+  /// Every field of stress_fields(stress_layout()) per node: each element's value at its
+  /// centre, averaged over the elements around the node (shell_stress.h).
+  std::vector<std::vector<double>> nodal_stress_fields() const {
+    return shell::nodal_stress_fields(elements_, stress_layout(), state_.poses);
+  }
+  /// Field number `field` of stress_fields(stress_layout()) at one node, equal to
+  /// nodal_stress_fields()[field][node], from the elements around the node only (a probe).
+  double nodal_stress(int node, std::size_t field) const {
+    return shell::nodal_stress_value(elements_, stress_layout(), field, node, state_.poses);
+  }
   /// Equation index of (node, slot) or -1 when restrained; slots 0-2 translations along the
   /// columns of translation_basis(node), 3-5 rotations (about rotation_basis(node) for 6-DoF nodes,
   /// about the node's own e1, e2 for 5-DoF nodes).

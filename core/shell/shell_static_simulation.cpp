@@ -25,6 +25,16 @@ ShellStaticSimulation::ShellStaticSimulation(ShellModelSpec spec, ShellStaticSet
   info_.probes = {{"lambda", "", "load factor"}, {"load", settings_.load_unit, settings_.load_label}};
   for (const ShellProbe& p : settings_.probes) info_.probes.push_back({p.name, "", p.label});
   info_.fields = {{"displacement", "", "displacement magnitude"}, {"strain", "", "largest principal surface strain"}};
+  const std::vector<StressField> stresses = stress_fields(model_->stress_layout());
+  if (settings_.record_stresses)
+    for (const StressField& f : stresses) info_.fields.push_back({f.name, "", f.description});
+  // a stress probe reads its field by number; the scene refuses a name the structure lacks
+  for (const ShellProbe& p : settings_.probes) {
+    std::size_t field = std::string::npos;
+    for (std::size_t k = 0; k < stresses.size() && p.quantity == ShellProbe::Quantity::stress; ++k)
+      if (stresses[k].name == p.field) field = k;
+    probe_field_.push_back(field);
+  }
   info_.plot_x_probe = "load";
   values_.resize(settings_.probes.size());
 }
@@ -48,8 +58,12 @@ std::string ShellStaticSimulation::end_description() const {
   return s;
 }
 
-double ShellStaticSimulation::probe_value(const ShellProbe& p) const {
+double ShellStaticSimulation::probe_value(std::size_t k) const {
+  const ShellProbe& p = settings_.probes[k];
   if (p.quantity == ShellProbe::Quantity::displacement) return p.direction.dot(model_->node_displacement(p.node));
+  if (p.quantity == ShellProbe::Quantity::stress)
+    return probe_field_[k] == std::string::npos ? std::numeric_limits<double>::quiet_NaN()
+                                                : model_->nodal_stress(p.node, probe_field_[k]);
   Vec3 total = Vec3::Zero();
   for (int I : p.nodes) total += model_->node_reaction(I);
   return p.direction.dot(total);
@@ -66,19 +80,21 @@ Frame ShellStaticSimulation::frame() const {
   f.points.reserve(3 * poses.size());
   f.fields.assign(1, std::vector<double>(poses.size()));
   f.fields.push_back(model_->nodal_surface_strain());
+  if (settings_.record_stresses)
+    for (std::vector<double>& values : model_->nodal_stress_fields()) f.fields.push_back(std::move(values));
   for (std::size_t i = 0; i < poses.size(); ++i) {
     f.points.insert(f.points.end(), {poses[i].p.x(), poses[i].p.y(), poses[i].p.z()});
     f.base_points.insert(f.base_points.end(), {ref[i].x(), ref[i].y(), ref[i].z()});
     f.fields[0][i] = (poses[i].p - ref[i]).norm();
   }
   f.probes = {lambda_, lambda_ * settings_.load_scale};
-  for (const ShellProbe& p : settings_.probes) f.probes.push_back(probe_value(p));
+  for (std::size_t k = 0; k < settings_.probes.size(); ++k) f.probes.push_back(probe_value(k));
   return f;
 }
 
 void ShellStaticSimulation::record() {
   loads_.push_back(lambda_ * settings_.load_scale);
-  for (std::size_t k = 0; k < settings_.probes.size(); ++k) values_[k].push_back(probe_value(settings_.probes[k]));
+  for (std::size_t k = 0; k < settings_.probes.size(); ++k) values_[k].push_back(probe_value(k));
 }
 
 std::string ShellStaticSimulation::start() {
@@ -86,9 +102,9 @@ std::string ShellStaticSimulation::start() {
   record();
   if (settings_.linear) return "";
   if (settings_.arc_length) {
-    for (const ShellProbe& p : settings_.probes)
-      if (p.name == settings_.monitor_probe) {
-        settings_.arc.monitor = [this, &p] { return probe_value(p); };
+    for (std::size_t k = 0; k < settings_.probes.size(); ++k)
+      if (settings_.probes[k].name == settings_.monitor_probe) {
+        settings_.arc.monitor = [this, k] { return probe_value(k); };
         settings_.arc.displacement_limit = settings_.displacement_limit;
       }
     arc_length_ = std::make_unique<ArcLengthPath>(*model_, settings_.arc);

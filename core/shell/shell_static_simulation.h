@@ -18,14 +18,16 @@
 namespace ff::shell {
 
 /// A scalar probe: direction . u(node) for a displacement, direction . (sum of the reactions
-/// over `nodes`) for a reaction (global direction, unit or not).
+/// over `nodes`) for a reaction (global direction, unit or not), the nodal value of the stress
+/// field `field` (a name of stress_fields, shell_stress.h) at `node` for a stress.
 struct ShellProbe {
-  enum class Quantity { displacement, reaction };
+  enum class Quantity { displacement, reaction, stress };
   std::string name, label;
   int node = -1;
   Vec3 direction = Vec3::UnitZ();
   Quantity quantity = Quantity::displacement;
   std::vector<int> nodes;  ///< reaction: the nodes summed
+  std::string field;       ///< stress: the field read
 };
 
 /// A metric of the load path (summary.json "metrics").
@@ -48,6 +50,9 @@ struct ShellStaticSettings {
   std::string load_label = "load", load_unit;
   std::vector<ShellProbe> probes;
   std::vector<ShellMetric> metrics;
+  /// every stress field (shell_stress.h) of the structure in every frame, after displacement and
+  /// strain (a scene's output.stresses, or a stress field it colours or probes)
+  bool record_stresses = false;
   std::string monitor_probe;      ///< arc length: probe whose |value| ends the run at displacement_limit
   double displacement_limit = std::numeric_limits<double>::infinity();
 };
@@ -73,7 +78,7 @@ class ShellStaticSimulation final : public Simulation {
   const ShellModel& model() const { return *model_; }
 
  private:
-  double probe_value(const ShellProbe& p) const;
+  double probe_value(std::size_t k) const;  // probe k of settings_.probes
   /// every metric of the scene in its order: its value (NaN when it has none) and why it has none
   std::vector<std::tuple<std::string, double, std::string>> evaluate_metrics() const;
   std::string unreached_reason(const ShellMetric& metric, int limit_sample) const;
@@ -88,6 +93,7 @@ class ShellStaticSimulation final : public Simulation {
   double lambda_ = 0.0;
   std::vector<double> loads_;                 // load per step
   std::vector<std::vector<double>> values_;   // [probe][step]
+  std::vector<std::size_t> probe_field_;      // [probe]: a stress probe's field in stress_fields(), npos: none
 };
 
 }  // namespace ff::shell

@@ -116,4 +116,27 @@ std::vector<std::vector<double>> nodal_stress_fields(const ShellElements& elemen
   return sum;
 }
 
+double nodal_stress_value(const ShellElements& elements, const StressLayout& layout, std::size_t field, int node,
+                          const std::vector<NodePose>& X_WN) {
+  const std::size_t nf = stress_fields(layout).size();
+  std::vector<double> v(nf);
+  std::vector<char> has(nf);
+  ElementStress s;
+  ElementPoses cur;
+  double sum = 0.0;
+  int count = 0;
+  // in element order, each element once per corner at the node, as nodal_stress_fields sums (the
+  // mean over the adjacent elements that have the field, 0 when none has): the same value bit for bit
+  for (const ShellElement& e : elements.all()) {
+    const int corners = static_cast<int>(std::count(e.nodes.begin(), e.nodes.end(), node));
+    if (corners == 0) continue;
+    ShellElements::corner_poses(e, X_WN, cur);
+    e.elastic->stresses(cur, s);
+    element_values(s, layout, v, has);
+    if (has[field])
+      for (int c = 0; c < corners; ++c) sum += v[field], ++count;
+  }
+  return count ? sum / count : 0.0;
+}
+
 }  // namespace ff::shell

@@ -37,6 +37,12 @@ std::vector<StressField> stress_fields(const StressLayout& layout);
 std::vector<std::vector<double>> nodal_stress_fields(const ShellElements& elements, const StressLayout& layout,
                                                      const std::vector<NodePose>& X_WN);
 
+/// Field number `field` of stress_fields(layout) at node `node`, by the rule of nodal_stress_fields
+/// and equal to its value there bit for bit, evaluating only the elements around the node (a scan
+/// of the node numbers finds them): what a probe reads.
+double nodal_stress_value(const ShellElements& elements, const StressLayout& layout, std::size_t field, int node,
+                          const std::vector<NodePose>& X_WN);
+
 /// von Mises stress of a station [s11, s22, s12, s13, s23], (L11).
 double von_mises(const Vec5& s);
 /// In-plane principal stresses (larger first) of a station.

@@ -160,6 +160,37 @@ TEST_F(FrameRendererTest, FieldColoursBeamAndShowsColourBarAndText) {
   EXPECT_GT(dark, 300) << "no title/time overlay";
 }
 
+TEST_F(FrameRendererTest, ColourBarTitleTooLongForTheTopLineGivesWayToTheFieldName) {
+  // a stress field's label is a one-line description; right-aligned on the title's line it would
+  // run into the scene title: the field's name stands there instead
+  for (Quantity& q : info_.fields)
+    if (q.name == "axial_strain")
+      q.label = "axial strain of the beam's neutral axis, the largest over the cross-section's stations (a long "
+                "description of the kind results.h5 keeps for a reader)";
+  FrameRenderer renderer(*gc_, info_, field_style());
+  ASSERT_TRUE(renderer.ok()) << renderer.error();
+  const std::string path = test::out_dir() + "/long_field_label.png";
+  std::string err;
+  ASSERT_TRUE(renderer.render_png(test::hub_beam_frame(info_, 0.3, 0.05, 1.25, 0.5), path, &err)) << err;
+  const test::Image img = test::read_png(path);
+  // the top line between the title (about a third of the width) and the bar title's column
+  int dark = 0;
+  for (int r = 0; r < img.height / 20; ++r)
+    for (int c = static_cast<int>(0.45 * img.width); c < static_cast<int>(0.75 * img.width); ++c) {
+      const auto& p = img.at(c, r);
+      dark += p[0] < 80 && p[1] < 80 && p[2] < 80;
+    }
+  EXPECT_EQ(dark, 0) << "the colour-bar title runs across the top line";
+  // and the name is drawn at the top right
+  int named = 0;
+  for (int r = 0; r < img.height / 20; ++r)
+    for (int c = static_cast<int>(0.8 * img.width); c < img.width; ++c) {
+      const auto& p = img.at(c, r);
+      named += p[0] < 80 && p[1] < 80 && p[2] < 80;
+    }
+  EXPECT_GT(named, 30) << "no colour-bar title";
+}
+
 TEST_F(FrameRendererTest, DeformationScaleMagnifiesElasticPartOnly) {
   FrameStyle s1 = field_style(), s5 = field_style();
   s5.deformation_scale = 5.0;

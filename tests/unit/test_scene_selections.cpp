@@ -104,6 +104,13 @@ TEST(SceneSelections, EachEntrySaysWhatItActsOn) {
   EXPECT_EQ(reaction.extent, "summed over 3 nodes");
   EXPECT_EQ(reaction.nodes, (std::vector<int>{0, 5, 10}));
 
+  // a stress probe reads one node too, and its label names the field it reads
+  const std::optional<SceneSelections> stress = scene_selections(
+      write_scene("plate", kPlate), {"probe[0].quantity=stress", "probe[0].field=N11"}, {});
+  ASSERT_TRUE(stress.has_value());
+  EXPECT_EQ(stress->entries[2].label, "probe[0] edge_w (N11)");
+  EXPECT_EQ(stress->entries[2].nodes, probe.nodes);
+
   // --set reaches the selections as it reaches the model
   const std::optional<SceneSelections> moved =
       scene_selections(write_scene("plate", kPlate), {"bc[0].point=[2.0, 0.0, 0.0]"}, {});
