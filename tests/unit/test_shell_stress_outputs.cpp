@@ -111,8 +111,9 @@ TEST(StressOutputs, StaticNodeValueIsTheNodalFieldBitForBit) {
 }
 
 TEST(StressOutputs, PlyFieldIsTheMeanOverTheElementsWithThePly) {
-  // node 1 (on the clamped edge) touches laminated quad 0 and isotropic quad 1: its ply fields are
-  // quad 0's values, its section fields the mean of both
+  // node 1 (on the clamped edge) touches laminated quad 0 (its corner 1) and isotropic quad 1 (its
+  // corner 0): its ply fields are quad 0's corner values, its section fields the mean of both
+  // quads' values at that corner
   ShellModelSpec spec = mixed_panel();
   const mesh::ShellMesh mesh = spec.mesh;
   ShellModel model(spec);
@@ -120,19 +121,19 @@ TEST(StressOutputs, PlyFieldIsTheMeanOverTheElementsWithThePly) {
   const std::vector<StressField> names = stress_fields(model.stress_layout());
   const auto fields = model.nodal_stress_fields();
   ElementStress s0, s1;
-  auto element_stress = [&](int q, const ShellSection& section, ElementStress& out) {
+  auto element_stress = [&](int q, const ShellSection& section, int corner, ElementStress& out) {
     ElementPoses ref, cur;
     for (int c = 0; c < 4; ++c) {
       const int I = mesh.quads[q][c];
       ref[c] = {mesh.frames[I], mesh.points[I]};
       cur[c] = model.poses()[I];
     }
-    CbShellElement(ref, section, spec.options).stresses(cur, out);
+    CbShellElement(ref, section, spec.options).stresses(cur, out, corner);
   };
   ASSERT_EQ(mesh.quads[0][1], 1);
   ASSERT_EQ(mesh.quads[1][0], 1);
-  element_stress(0, spec.sections[1], s0);
-  element_stress(1, spec.sections[0], s1);
+  element_stress(0, spec.sections[1], 1, s0);
+  element_stress(1, spec.sections[0], 0, s1);
   ASSERT_EQ(s0.plies, 2);
   ASSERT_EQ(s1.plies, 0);
   ASSERT_NE(s0.ply[1][1][0], 0.0);
