@@ -7,6 +7,7 @@
 // their line (exit 2). Small bundled scenes, shortened: a few seconds in all.
 
 #include <gtest/gtest.h>
+#include <cmath>
 #include <hdf5.h>
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
@@ -388,5 +389,52 @@ TEST(CliStress, UnknownStressNamesAndMisplacedKeysAreRefusedAtTheirLine) {
   EXPECT_NE(hub.err.find("output.stresses"), std::string::npos) << hub.err;
 }
 
+}  // namespace
+}  // namespace ff::cli::test
+
+namespace ff::cli::test {
+namespace {
+// A laminated roof, shortened: its stored fields are the isotropic ones, then tsai_wu and the ply
+// fields of its three plies (stress_fields of a 3-ply layout with strengths, in that order); a ply
+// field colours the frames and replays; a ply the layup lacks is refused at its line.
+TEST(CliStress, LaminatedRoofRecordsItsPliesAndTheirFailureIndex) {
+  const std::string dir = fresh_test_dir();
+  const std::string run = dir + "/run";
+  const std::vector<std::string> strengths = {"material[0].strength_xt=60.0", "material[0].strength_xc=120.0",
+                                              "material[0].strength_yt=20.0", "material[0].strength_yc=60.0",
+                                              "material[0].strength_s12=30.0"};
+  std::vector<std::string> args = {"run", "hinged_roof_h127_0_90_0", "--out", run, "--quiet", "--no-plots",
+                                   "--set", "solver.end=0.2", "--set", "output.frame_every=6", "--set",
+                                   "output.color_field=ply2_sigma1", "--set", "output.width=320", "--set",
+                                   "output.height=240"};
+  for (const std::string& s : strengths) args.insert(args.end(), {"--set", s});
+  const ProcResult r = run_flexframe(args, run);
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const auto h5 = open_results(run);
+  ASSERT_TRUE(h5);
+  std::vector<std::string> expected = kFixedFields;
+  for (const shell::StressField& f : shell::stress_fields(shell::StressLayout{3, true})) expected.push_back(f.name);
+  EXPECT_EQ(field_names(h5->info()), expected);
+  EXPECT_GE(pngs_in(run + "/frames").size(), 2u) << "every 6th step drawn (results.h5 keeps every step)";
+  // the middle ply runs around the arc (90 degrees from the axis): under the load its fibres carry
+  // stress, and every ply's failure index is finite and not negative at the loaded crown
+  const Frame last = h5->frame(h5->frame_count() - 1);
+  const RunInfo& info = h5->info();
+  const std::size_t crown = nearest_point(info, 0.0, 0.0, 0.0);
+  for (std::size_t k = 0; k < info.fields.size(); ++k) {
+    const std::string& name = info.fields[k].name;
+    if (name == "ply2_sigma1") EXPECT_NE(last.fields[k][crown], 0.0);
+    if (name.find("tsai_wu") != std::string::npos) EXPECT_TRUE(std::isfinite(last.fields[k][crown])) << name;
+  }
+  const std::string out = dir + "/replay";
+  const ProcResult p =
+      run_flexframe({"replay", run + "/results.h5", "--out", out, "--field", "ply3_tsai_wu", "--size", "160x120"}, out);
+  ASSERT_EQ(p.exit_code, 0) << p.describe();
+  const ProcResult bad = run_flexframe({"check", "hinged_roof_h127_0_90_0", "--set", "output.color_field=ply4_sigma1"},
+                                       dir + "/bad");
+  EXPECT_EQ(bad.exit_code, 2) << bad.describe();
+  EXPECT_NE(bad.err.find("output.color_field"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("ply3_sigma1"), std::string::npos) << bad.err << " (the fields it has are listed)";
+}
 }  // namespace
 }  // namespace ff::cli::test
