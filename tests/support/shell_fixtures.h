@@ -36,4 +36,24 @@ inline ElementPoses moved(ElementPoses p, const Mat3& Q, const Vec3& c) {
   return p;
 }
 
+// Central differences with step h through perturb(): of the energy (the force's oracle) and of
+// the force (the tangent's oracle) of `el` at `cur`
+template <class Element>
+void central_differences(const Element& el, const ElementPoses& cur, double h, Vec24& Ffd, Mat24& Kfd) {
+  for (int k = 0; k < 24; ++k) {
+    Ffd[k] = (el.energy(perturb(cur, k, h)) - el.energy(perturb(cur, k, -h))) / (2 * h);
+    Vec24 Fp, Fm;
+    el.evaluate(perturb(cur, k, h), Fp, nullptr);
+    el.evaluate(perturb(cur, k, -h), Fm, nullptr);
+    Kfd.col(k) = (Fp - Fm) / (2 * h);
+  }
+}
+
+// An isotropic section of E, nu and thickness h (the other members at their defaults)
+inline ShellSection isotropic_section(double E, double nu, double h) {
+  ShellSection s;
+  s.youngs_modulus = E, s.poisson_ratio = nu, s.thickness = h;
+  return s;
+}
+
 }  // namespace ff::shell::testing

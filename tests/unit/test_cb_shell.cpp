@@ -48,13 +48,7 @@ TEST_P(CbShellConsistency, ForceIsEnergyGradientAndTangentIsForceDerivative) {
     const double h = 1e-6;
     Vec24 Ffd;
     Mat24 Kfd;
-    for (int k = 0; k < 24; ++k) {
-      Ffd[k] = (el.energy(perturb(cur, k, h)) - el.energy(perturb(cur, k, -h))) / (2 * h);
-      Vec24 Fp, Fm;
-      el.evaluate(perturb(cur, k, h), Fp, nullptr);
-      el.evaluate(perturb(cur, k, -h), Fm, nullptr);
-      Kfd.col(k) = (Fp - Fm) / (2 * h);
-    }
+    central_differences(el, cur, h, Ffd, Kfd);
     // central differences, h = 1e-6: truncation ~h^2 |third derivative|, round-off ~eps |F| / h
     const double fscale = F.cwiseAbs().maxCoeff(), kscale = K.cwiseAbs().maxCoeff();
     EXPECT_LT((F - Ffd).cwiseAbs().maxCoeff(), 1e-6 * fscale) << name(c) << " seed " << seed;

@@ -34,19 +34,15 @@
 #include "core/mesh/generators.h"
 #include "core/shell/shell_model.h"
 #include "core/shell/shell_stress.h"
+#include "tests/support/shell_fixtures.h"
 
 using namespace ff;
 using namespace ff::shell;
+using ff::shell::testing::isotropic_section;
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-ShellSection isotropic_section(double E, double nu, double h) {
-  ShellSection s;
-  s.youngs_modulus = E, s.poisson_ratio = nu, s.thickness = h;
-  return s;
-}
 
 // Newton on the static model at lambda = 1 until the increment is below 1e-9 of the largest
 // displacement; returns the iterations taken (the loads below are small: two or three suffice).
