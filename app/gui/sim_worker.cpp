@@ -19,7 +19,8 @@ const char* to_string(WorkerState s) {
   return "?";
 }
 
-SimWorker::SimWorker(scene::LoadedScene scene, std::vector<std::string> overrides) : scene_(std::move(scene)) {
+SimWorker::SimWorker(scene::LoadedScene scene, std::vector<std::string> overrides, std::function<void()> on_change)
+    : scene_(std::move(scene)), on_change_(std::move(on_change)) {
   status_.scene_path = scene_.path;
   status_.overrides = std::move(overrides);
   start_generation();
@@ -81,14 +82,20 @@ void SimWorker::start_generation() {
   frame_.reset();
   samples_.clear();
   steps_left_ = 0;
-  first_frame_ = true;
   finished_ = false;
+  changed();
+}
+
+void SimWorker::changed() {
+  ++status_.revision;
+  if (on_change_) on_change_();
 }
 
 void SimWorker::set_message(std::string text, bool error) {
   status_.message = std::move(text);
   status_.message_is_error = error;
   ++status_.message_seq;
+  changed();
 }
 
 bool SimWorker::settled() const { return !pending_ && steps_left_ == 0; }
@@ -117,6 +124,14 @@ void SimWorker::main() {
         if (quit_ || pending_) break;
       }
       going = guarded([&] { return loop.advance(publish, stop_); });
+      if (going && steps_left_ > 0) {
+        std::unique_lock lock(mutex_);
+        // Step counts solver steps: the last one shows its state even between output frames
+        if (--steps_left_ == 0) {
+          lock.unlock();
+          loop.publish_pending(publish);
+        }
+      }
     }
     std::unique_lock lock(mutex_);
     if (!quit_ && !pending_) {
@@ -128,8 +143,9 @@ void SimWorker::main() {
       steps_left_ = 0;
       status_.outcome = outcome;
       status_.state = outcome.status == RunStatus::failed ? WorkerState::failed : WorkerState::finished;
+      changed();
       while (!quit_ && !pending_) {
-        status_.settled_seq = handled_seq_;
+        if (status_.settled_seq != handled_seq_) status_.settled_seq = handled_seq_, changed();
         cv_.wait(lock, [&] { return !queue_.empty(); });
         while (!queue_.empty() && !quit_ && !pending_) {
           const Command c = queue_.front();
@@ -168,8 +184,7 @@ void SimWorker::on_frame(Frame&& f) {
   std::lock_guard lock(mutex_);
   frame_ = std::move(f);
   samples_.push_back(std::move(s));
-  if (!first_frame_ && steps_left_ > 0) --steps_left_;  // `step N` asks for N frames
-  first_frame_ = false;
+  changed();
 }
 
 void SimWorker::serve(std::unique_lock<std::mutex>& lock) {
@@ -181,8 +196,12 @@ void SimWorker::serve(std::unique_lock<std::mutex>& lock) {
       handle(c, lock);
     }
     if (quit_ || pending_) return;  // main() ends this run and swaps in the new scene
-    status_.state = running_ ? WorkerState::running : steps_left_ > 0 ? WorkerState::stepping : WorkerState::paused;
-    if (settled()) status_.settled_seq = handled_seq_;
+    const WorkerState state = running_ ? WorkerState::running : steps_left_ > 0 ? WorkerState::stepping : WorkerState::paused;
+    const std::uint64_t settled_seq = settled() ? handled_seq_ : status_.settled_seq;
+    if (state != status_.state || settled_seq != status_.settled_seq) {
+      status_.state = state, status_.settled_seq = settled_seq;
+      changed();
+    }
     if (steps_left_ > 0) return;
     if (running_) {
       if (pace_ <= 0) return;
@@ -294,6 +313,7 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
       break;
   }
   handled_seq_ = c.seq;
+  changed();
 }
 
 }  // namespace ff::app::gui
