@@ -661,6 +661,16 @@ class GuiApp {
     ImGui::SetNextItemWidth(60);
     ImGui::InputInt("##steps", &step_count_, 0);
     step_count_ = std::max(1, step_count_);
+    if (status_.steps_per_frame > 1) {
+      // output frames are a separate control: up to the next frame of the output cadence
+      ImGui::SameLine();
+      if (ImGui::Button("Next frame")) {
+        const long long at = history_.empty() ? 0 : history_.back().step;
+        worker_->step(status_.steps_per_frame - at % status_.steps_per_frame);
+      }
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("advance to the next output frame (every %lld solver steps)", status_.steps_per_frame);
+    }
     ImGui::SetNextItemWidth(150);
     if (ImGui::InputDouble("max steps/s", &pace_, 0, 0, "%.0f", ImGuiInputTextFlags_EnterReturnsTrue))
       worker_->pace(pace_);
@@ -788,7 +798,9 @@ class GuiApp {
     const char* unit = status_.info ? status_.info->time_unit.c_str() : "";
     const double t = history_.empty() ? 0.0 : history_.back().time;
     const long long step = history_.empty() ? 0 : history_.back().step;
-    std::string line = std::string(to_string(status_.state)) + " | t = " + fmt("%.4g", t) + " / " +
+    // a load-controlled run (no time unit) counts the load factor
+    const std::string t_name = status_.info && status_.info->time_unit.empty() ? lambda_text() : "t";
+    std::string line = std::string(to_string(status_.state)) + " | " + t_name + " = " + fmt("%.4g", t) + " / " +
                        fmt("%.4g", status_.end_time) + " " + unit + " | step " + std::to_string(step) + " | " +
                        fmt("%.0f", steps_per_second()) + " steps/s | last frame: " +
                        std::to_string(last_stats_.iterations) + " Newton it., " +

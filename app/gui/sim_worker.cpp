@@ -2,6 +2,7 @@
 #include "app/io/mesh_import.h"
 #include "core/model/run_loop.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -75,6 +76,7 @@ void SimWorker::start_generation() {
   status_.scene_path = scene_.path;
   status_.output = scene_.output;
   status_.end_time = sim.end_time();
+  status_.steps_per_frame = std::max<long long>(1, sim.output_every());
   status_.outcome.reset();
   if (probe_node_ >= static_cast<int>(status_.info->mesh.point_count())) probe_node_ = -1;
   status_.probe_node = probe_node_;

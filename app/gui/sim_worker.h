@@ -57,6 +57,7 @@ struct WorkerStatus {
   std::shared_ptr<const RunInfo> info;  ///< of this generation
   scene::OutputSettings output;
   double end_time = 0.0;
+  long long steps_per_frame = 1;        ///< solver steps between published frames (the output cadence)
   int probe_node = -1;
   double pace = 0.0;                    ///< max steps per second, 0 = as fast as it goes
   std::optional<RunOutcome> outcome;    ///< once the run has ended
