@@ -206,7 +206,7 @@ int main(int argc, char** argv) {
   gui->add_option("--set", gui_opt.overrides, "override a scene key, e.g. --set solver.dt=0.01")->take_all();
   gui->add_option("--actions", gui_opt.actions_file,
                   "run a script of GUI actions, one per line: run, pause, step [N], reset, set KEY VALUE, "
-                  "wait SECONDS, screenshot FILE, probe NODE, save FILE, export FILE, quit");
+                  "wait SECONDS, screenshot FILE, probe NODE, save FILE, export FILE, redraws, quit");
   gui->add_option("--screenshot", gui_opt.screenshot, "write the window as PNG just before quitting");
   gui->add_option("--quit-after", gui_opt.quit_after, "quit after this many seconds")->check(CLI::NonNegativeNumber);
   gui->add_flag("--run", gui_opt.run, "start the solver at once (default: paused at t = 0)");

@@ -36,7 +36,7 @@ bool parse_number(const std::string& s, double* out) {
 }
 
 constexpr const char* kVerbs = "run, pause, step [N], reset, set KEY VALUE, wait SECONDS, screenshot FILE, "
-                               "probe NODE, save FILE, export FILE, quit";
+                               "probe NODE, save FILE, export FILE, redraws, quit";
 
 }  // namespace
 
@@ -69,6 +69,8 @@ std::vector<Action> parse_actions(const std::string& text, const std::string& fi
       a.kind = Action::Kind::pause, no_args();
     } else if (verb == "reset") {
       a.kind = Action::Kind::reset, no_args();
+    } else if (verb == "redraws") {
+      a.kind = Action::Kind::redraws, no_args();
     } else if (verb == "quit") {
       a.kind = Action::Kind::quit, no_args();
     } else if (verb == "step") {

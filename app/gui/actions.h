@@ -2,7 +2,8 @@
 /// \file actions.h
 /// Scripted GUI sessions (`flexframe gui --actions FILE`): one action per line,
 ///   run | pause | step [N] | reset | set KEY VALUE | wait SECONDS | screenshot FILE |
-///   probe NODE | save FILE | export FILE | quit
+///   probe NODE | save FILE | export FILE | redraws | quit
+/// (`redraws` prints "redraws N", the window frames drawn so far: an idle window draws none.)
 /// Blank lines and lines starting with '#' are skipped. No GL or ImGui here (unit tested).
 
 #include <stdexcept>
@@ -12,9 +13,9 @@
 namespace ff::app::gui {
 
 struct Action {
-  enum class Kind { run, pause, step, reset, set, wait, screenshot, probe, save, export_png, quit };
+  enum class Kind { run, pause, step, reset, set, wait, screenshot, probe, save, export_png, redraws, quit };
   Kind kind = Kind::run;
-  long long count = 1;   ///< step: steps; probe: node index
+  long long count = 1;   ///< step: solver steps; probe: node index
   double seconds = 0.0;  ///< wait
   std::string key;       ///< set
   std::string text;      ///< set: value (TOML text, rest of the line); screenshot/save/export: path

@@ -49,10 +49,67 @@ constexpr float kSideWidth = 390.0f;
 constexpr float kPlotHeight = 250.0f;
 constexpr float kStatusHeight = 30.0f;
 constexpr double kViewportMinInterval = 1.0 / 20.0;  // viewport renders at most 20 times per second
+constexpr double kMinFrameInterval = 1.0 / 60.0;     // the window draws at most 60 times per second
+// Idle, the window sleeps in glfwWaitEventsTimeout until input, the solver thread's wake-up
+// (glfwPostEmptyEvent) or a scripted wait's end; this timeout only bounds how late a Ctrl-C is seen.
+constexpr double kIdleWake = 0.5;
+// ImGui settles hover and layout changes over a frame or two after an input or a change
+constexpr int kSettleFrames = 3;
 constexpr std::size_t kMaxPlotPoints = 800;
 
 std::string g_glfw_error;
 void on_glfw_error(int, const char* text) { g_glfw_error = text ? text : "unknown GLFW error"; }
+
+// Input marks the window for redrawing. Installed before ImGui's GLFW backend, which chains
+// them (all are called on the main thread, inside glfwWaitEvents*).
+bool g_input_seen = false;
+void on_input_cursor(GLFWwindow*, double, double) { g_input_seen = true; }
+void on_input_button(GLFWwindow*, int, int, int) { g_input_seen = true; }
+void on_input_scroll(GLFWwindow*, double, double) { g_input_seen = true; }
+void on_input_key(GLFWwindow*, int, int, int, int) { g_input_seen = true; }
+void on_input_char(GLFWwindow*, unsigned int) { g_input_seen = true; }
+void on_input_focus(GLFWwindow*, int) { g_input_seen = true; }
+void on_input_enter(GLFWwindow*, int) { g_input_seen = true; }
+void on_window_size(GLFWwindow*, int, int) { g_input_seen = true; }
+void on_window_refresh(GLFWwindow*) { g_input_seen = true; }
+void install_input_callbacks(GLFWwindow* window) {
+  glfwSetCursorPosCallback(window, on_input_cursor);
+  glfwSetMouseButtonCallback(window, on_input_button);
+  glfwSetScrollCallback(window, on_input_scroll);
+  glfwSetKeyCallback(window, on_input_key);
+  glfwSetCharCallback(window, on_input_char);
+  glfwSetWindowFocusCallback(window, on_input_focus);
+  glfwSetCursorEnterCallback(window, on_input_enter);
+  glfwSetFramebufferSizeCallback(window, on_window_size);
+  glfwSetWindowRefreshCallback(window, on_window_refresh);
+}
+
+// λ and other Greek letters: the default ImGui font (ProggyClean) has Latin-1 only, so Greek
+// glyphs are merged in from a system TTF; without one the window spells the names out.
+bool g_greek_glyphs = false;
+const char* kGreekFonts[] = {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+                             "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+                             "/usr/share/fonts/TTF/DejaVuSans.ttf",
+                             "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
+                             "/usr/share/fonts/truetype/freefont/FreeSans.ttf"};
+void load_fonts() {
+  ImGuiIO& io = ImGui::GetIO();
+  io.Fonts->AddFontDefault();
+  for (const char* path : kGreekFonts) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) continue;
+    ImFontConfig merge;
+    merge.MergeMode = true;
+    merge.PixelSnapH = true;
+    static const ImWchar greek[] = {0x0370, 0x03FF, 0};  // Greek and Coptic
+    if (io.Fonts->AddFontFromFileTTF(path, 13.0f, &merge, greek) != nullptr) {
+      g_greek_glyphs = true;
+      return;
+    }
+  }
+  std::fprintf(stderr, "note: no font with Greek letters found (looked for DejaVu Sans); the window writes 'lambda'\n");
+}
+const char* lambda_text() { return g_greek_glyphs ? "\u03bb" : "lambda"; }
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -131,6 +188,10 @@ class Viewport {
     release();
   }
   const std::optional<Frame>& frame() const { return frame_; }
+  /// A frame or view waits to be rendered by update() (so the window must draw again).
+  bool needs_render(int w, int h) const {
+    return info_ && frame_ && dirty_ && w >= 32 && h >= 32 && (renderer_ || error_.empty());
+  }
 
   /// Re-renders if the frame or view changed (at most 20 per second unless forced).
   void update(int w, int h, bool force) {
@@ -302,10 +363,30 @@ class GuiApp {
 
   int loop() {
     if (opt_.run) worker_->run();
+    int settle = kSettleFrames;  // the first frames draw the window
+    Clock::time_point last_draw{};
     while (!glfwWindowShouldClose(window_) && !quit_) {
-      // idle frames wait for input; while the solver runs the window refreshes ~30 times a second
-      glfwWaitEventsTimeout(1.0 / 30.0);
-      pull();
+      // Sleep until there is something to draw: input, news from the solver thread (it posts an
+      // empty event), a scripted wait's end, --quit-after, or the next draw due while the solver
+      // runs (at most kMinFrameInterval apart). An idle window draws nothing.
+      {
+        int fb_w = 0, fb_h = 0;
+        glfwGetFramebufferSize(window_, &fb_w, &fb_h);
+        const ImVec2 vp = viewport_size(static_cast<float>(fb_w), static_cast<float>(fb_h));
+        const bool draw_wanted = settle > 0 || ImGui::GetIO().WantTextInput ||
+                                 viewport_.needs_render(static_cast<int>(vp.x), static_cast<int>(vp.y));
+        double timeout = draw_wanted ? kMinFrameInterval - seconds_since(last_draw) : kIdleWake;
+        if (wait_until_ > Clock::now())
+          timeout = std::min(timeout, std::chrono::duration<double>(wait_until_ - Clock::now()).count());
+        if (opt_.quit_after > 0) timeout = std::min(timeout, opt_.quit_after - seconds_since(start_));
+        if (!pending_screenshot_.empty() || !pending_export_.empty()) timeout = 0.0;
+        if (timeout > 0)
+          glfwWaitEventsTimeout(timeout);
+        else
+          glfwPollEvents();
+      }
+      if (pull()) settle = std::max(settle, 1);
+      if (g_input_seen) settle = kSettleFrames, g_input_seen = false;
       run_actions();
       if (opt_.quit_after > 0 && seconds_since(start_) >= opt_.quit_after && !quit_) {
         quit_ = true;
@@ -321,6 +402,13 @@ class GuiApp {
       int fb_w = 0, fb_h = 0;
       glfwGetFramebufferSize(window_, &fb_w, &fb_h);
       const ImVec2 vp = viewport_size(static_cast<float>(fb_w), static_cast<float>(fb_h));
+      const bool must_draw = want_capture || !pending_screenshot_.empty() || !pending_export_.empty();
+      const bool draw_wanted = settle > 0 || ImGui::GetIO().WantTextInput ||
+                               viewport_.needs_render(static_cast<int>(vp.x), static_cast<int>(vp.y));
+      if (!must_draw && !(draw_wanted && seconds_since(last_draw) >= kMinFrameInterval)) continue;
+      last_draw = Clock::now();
+      settle = std::max(0, settle - 1);
+      ++redraws_;
       viewport_.update(static_cast<int>(vp.x), static_cast<int>(vp.y),
                        !pending_screenshot_.empty() || !pending_export_.empty() || want_capture);
       if (!pending_export_.empty()) {
@@ -365,8 +453,10 @@ class GuiApp {
  private:
   // ---- solver updates ---------------------------------------------------------------------------
 
-  void pull() {
+  /// Takes the solver thread's news; true when there was any (the window must draw).
+  bool pull() {
     WorkerUpdate u = worker_->take();
+    const bool news = u.status.revision != status_.revision || u.frame || !u.samples.empty();
     if (u.status.generation != status_.generation) {
       history_.clear();
       rate_.clear();
@@ -382,6 +472,12 @@ class GuiApp {
       message_ = u.status.message;
       message_is_error_ = u.status.message_is_error;
       if (message_is_error_) std::fprintf(stderr, "%s\n", message_.c_str());
+      // a refusal, reworded for the window, under the key it refused and in the status line
+      refusal_ = message_is_error_ ? readable_refusal(message_) : std::nullopt;
+      if (refusal_)
+        params_.show_refusal(*refusal_);
+      else
+        params_.clear_refusal();
     }
     if (u.status.probe_node >= 0 && u.status.probe_node != status_.probe_node) probe_input_ = u.status.probe_node;
     status_ = std::move(u.status);
@@ -394,6 +490,7 @@ class GuiApp {
       last_stats_ = u.frame->stats;
       viewport_.set_frame(*u.frame);
     }
+    return news;
   }
 
   double steps_per_second() const {
@@ -457,6 +554,10 @@ class GuiApp {
         case Action::Kind::export_png: pending_export_ = a.text; break;
         case Action::Kind::save: save_scene(a.text); break;
         case Action::Kind::quit: quit_ = true; break;
+        case Action::Kind::redraws:
+          std::printf("redraws %lld\n", redraws_);
+          std::fflush(stdout);
+          break;
       }
     }
   }
@@ -474,6 +575,7 @@ class GuiApp {
       case Action::Kind::export_png: return "export " + a.text;
       case Action::Kind::save: return "save " + a.text;
       case Action::Kind::quit: return "quit";
+      case Action::Kind::redraws: return "redraws";
     }
     return "";
   }
@@ -547,13 +649,28 @@ class GuiApp {
       if (ImGui::Button(finished ? "Run again" : "Run", button)) worker_->run();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Step", button)) worker_->step(step_count_);
+    if (ImGui::Button("Reset", button)) worker_->reset();
+    // Step advances solver steps (as the status line counts them), not output frames
+    const std::string step_label = "Step " + std::to_string(step_count_) +
+                                   (step_count_ == 1 ? " solver step" : " solver steps") + "###step";
+    if (ImGui::Button(step_label.c_str(), ImVec2(170, 0))) worker_->step(step_count_);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("advance the solver by this many time (or load) steps, then pause; frames are drawn at "
+                        "each step reached");
     ImGui::SameLine();
     ImGui::SetNextItemWidth(60);
     ImGui::InputInt("##steps", &step_count_, 0);
     step_count_ = std::max(1, step_count_);
-    ImGui::SameLine();
-    if (ImGui::Button("Reset", button)) worker_->reset();
+    if (status_.steps_per_frame > 1) {
+      // output frames are a separate control: up to the next frame of the output cadence
+      ImGui::SameLine();
+      if (ImGui::Button("Next frame")) {
+        const long long at = history_.empty() ? 0 : history_.back().step;
+        worker_->step(status_.steps_per_frame - at % status_.steps_per_frame);
+      }
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("advance to the next output frame (every %lld solver steps)", status_.steps_per_frame);
+    }
     ImGui::SetNextItemWidth(150);
     if (ImGui::InputDouble("max steps/s", &pace_, 0, 0, "%.0f", ImGuiInputTextFlags_EnterReturnsTrue))
       worker_->pace(pace_);
@@ -656,7 +773,7 @@ class GuiApp {
       // the axes in words: the y range at the plot's corners, the time span below it
       const std::string t_unit = info.time_unit.empty() ? "" : " " + info.time_unit;
       const std::string x_axis = history_.empty() ? std::string()
-                                                  : std::string(info.time_unit.empty() ? "λ" : "t") + ": " +
+                                                  : std::string(info.time_unit.empty() ? lambda_text() : "t") + ": " +
                                                         fmt("%.4g", history_.front().time) + " .. " +
                                                         fmt("%.4g", history_.back().time) + t_unit;
       for (const Series& s : series) {
@@ -681,7 +798,9 @@ class GuiApp {
     const char* unit = status_.info ? status_.info->time_unit.c_str() : "";
     const double t = history_.empty() ? 0.0 : history_.back().time;
     const long long step = history_.empty() ? 0 : history_.back().step;
-    std::string line = std::string(to_string(status_.state)) + " | t = " + fmt("%.4g", t) + " / " +
+    // a load-controlled run (no time unit) counts the load factor
+    const std::string t_name = status_.info && status_.info->time_unit.empty() ? lambda_text() : "t";
+    std::string line = std::string(to_string(status_.state)) + " | " + t_name + " = " + fmt("%.4g", t) + " / " +
                        fmt("%.4g", status_.end_time) + " " + unit + " | step " + std::to_string(step) + " | " +
                        fmt("%.0f", steps_per_second()) + " steps/s | last frame: " +
                        std::to_string(last_stats_.iterations) + " Newton it., " +
@@ -692,7 +811,7 @@ class GuiApp {
     ImGui::TextUnformatted(line.c_str());
     if (!message_.empty()) {
       ImGui::SameLine();
-      const std::string first = message_.substr(0, message_.find('\n'));
+      const std::string first = refusal_ ? refusal_->text : message_.substr(0, message_.find('\n'));
       ImGui::TextColored(message_is_error_ ? ImVec4(0.8f, 0.1f, 0.1f, 1) : ImVec4(0.2f, 0.45f, 0.2f, 1), "| %s",
                          first.c_str());
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", message_.c_str());
@@ -712,6 +831,8 @@ class GuiApp {
   std::string scene_field_, save_path_, export_path_;
   std::string message_;
   bool message_is_error_ = false;
+  std::optional<Refusal> refusal_;  // the last message, when it is a refusal, in the window's words
+  long long redraws_ = 0;           // window frames drawn (the `redraws` action prints it)
   int step_count_ = 1, probe_input_ = 0;
   double pace_ = 0.0;
 
@@ -791,10 +912,12 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
   }
   glfwMakeContextCurrent(window);
   glfwSwapInterval(0);
+  install_input_callbacks(window);
 
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
+  load_fonts();
   ImGui::StyleColorsLight();
   ImGuiStyle& style = ImGui::GetStyle();
   style.WindowRounding = 0.0f;
@@ -805,7 +928,8 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
 
   int code = 0;
   {
-    auto worker = std::make_unique<SimWorker>(std::move(scene), opt.overrides);
+    // the solver thread wakes the sleeping window when it has news
+    auto worker = std::make_unique<SimWorker>(std::move(scene), opt.overrides, [] { glfwPostEmptyEvent(); });
     GuiApp app(window, opt, std::move(worker), std::move(actions), stop);
     code = app.loop();
   }

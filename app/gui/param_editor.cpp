@@ -1,5 +1,7 @@
 #include "app/gui/param_editor.h"
 
+#include <sstream>
+
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
@@ -245,6 +247,14 @@ std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
               if (!spec.unit.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", spec.unit.c_str());
             }
           }
+          if (refusal_ && refusal_->key == it.key) {
+            // the reason under the key it refused, in the panel, not only in a tooltip
+            ImGui::TableNextRow();
+            ImGui::TableSetColumnIndex(1);
+            ImGui::PushTextWrapPos(0.0f);
+            ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1.0f), "%s", refusal_->text.c_str());
+            ImGui::PopTextWrapPos();
+          }
           ImGui::PopID();
         }
         ImGui::EndTable();
@@ -254,7 +264,40 @@ std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
     ImGui::PopID();
     i = end;
   }
+  for (const auto& e : edits)
+    if (refusal_ && refusal_->key == e.first) refusal_.reset();
   return edits;
+}
+
+std::optional<Refusal> readable_refusal(const std::string& message) {
+  const std::string suffix = " refused:";
+  const std::size_t eol = message.find('\n');
+  const std::string head = message.substr(0, eol);
+  if (head.size() <= suffix.size() || head.compare(head.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return std::nullopt;
+  const std::string what = head.substr(0, head.size() - suffix.size());
+  Refusal r;
+  std::string value;
+  if (what.rfind("set ", 0) == 0 && what.find(" = ") != std::string::npos) {
+    r.key = what.substr(4, what.find(" = ") - 4);
+    value = what.substr(what.find(" = ") + 3);
+  }
+  // the reasons, without the CLI's "--set KEY=VALUE: " and "key 'KEY': " prefixes
+  std::string reasons;
+  std::istringstream lines(eol == std::string::npos ? "" : message.substr(eol + 1));
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("--set ", 0) == 0 && line.find(": ") != std::string::npos) line = line.substr(line.find(": ") + 2);
+    const std::string key_prefix = "key '" + r.key + "': ";
+    if (!r.key.empty() && line.rfind(key_prefix, 0) == 0) line = line.substr(key_prefix.size());
+    if (line.empty()) continue;
+    reasons += (reasons.empty() ? "" : "; ") + line;
+  }
+  if (reasons.empty()) reasons = "no reason given";
+  if (!r.key.empty())
+    r.text = r.key + " = " + value + " was not applied: " + reasons + ". Nothing changed; the run goes on as it was.";
+  else
+    r.text = "Could not " + what + ": " + reasons + ". Nothing changed.";
+  return r;
 }
 
 }  // namespace ff::app::gui

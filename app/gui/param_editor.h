@@ -4,6 +4,7 @@
 /// every model (and every key a future model declares) is editable with no GUI change. Edits
 /// come out as `--set`-style (key, TOML value) pairs for the solver thread's command queue.
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +29,15 @@ struct ParamItem {
 /// Throws SceneError when the scene does not validate.
 std::vector<ParamItem> scene_params(const std::string& scene_path, const std::vector<std::string>& overrides);
 
+/// A refusal of the solver thread in a window user's words.
+struct Refusal {
+  std::string key;   ///< the refused key ("" when not an edit: a load or a reset)
+  std::string text;  ///< e.g. "solver.dt = -1 was not applied: expected a number > 0, got -1. ..."
+};
+/// Rewords a refusal message of the solver thread ("set KEY = VALUE refused:\n--set KEY=VALUE:
+/// key 'KEY': why"), which names the CLI's --set syntax, for the window; nullopt for other messages.
+std::optional<Refusal> readable_refusal(const std::string& message);
+
 /// Draws the list (ImGui) and returns the edits made this frame: (key, TOML value text).
 class ParamEditor {
  public:
@@ -37,6 +47,9 @@ class ParamEditor {
   const std::string& error() const { return error_; }
   /// The listed keys the scene's schema declares live (an edit changes the running model).
   std::vector<std::string> live_keys() const;
+  /// Shows a refused edit's reason under its key (until that key is edited again or cleared).
+  void show_refusal(Refusal refusal) { refusal_ = std::move(refusal); }
+  void clear_refusal() { refusal_.reset(); }
 
  private:
   struct Row {
@@ -48,6 +61,7 @@ class ParamEditor {
   std::vector<Row> rows_;
   std::string filter_;
   std::string error_;
+  std::optional<Refusal> refusal_;
 };
 
 }  // namespace ff::app::gui

@@ -2,6 +2,7 @@
 #include "app/io/mesh_import.h"
 #include "core/model/run_loop.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -19,7 +20,8 @@ const char* to_string(WorkerState s) {
   return "?";
 }
 
-SimWorker::SimWorker(scene::LoadedScene scene, std::vector<std::string> overrides) : scene_(std::move(scene)) {
+SimWorker::SimWorker(scene::LoadedScene scene, std::vector<std::string> overrides, std::function<void()> on_change)
+    : scene_(std::move(scene)), on_change_(std::move(on_change)) {
   status_.scene_path = scene_.path;
   status_.overrides = std::move(overrides);
   start_generation();
@@ -74,6 +76,7 @@ void SimWorker::start_generation() {
   status_.scene_path = scene_.path;
   status_.output = scene_.output;
   status_.end_time = sim.end_time();
+  status_.steps_per_frame = std::max<long long>(1, sim.output_every());
   status_.outcome.reset();
   if (probe_node_ >= static_cast<int>(status_.info->mesh.point_count())) probe_node_ = -1;
   status_.probe_node = probe_node_;
@@ -81,14 +84,20 @@ void SimWorker::start_generation() {
   frame_.reset();
   samples_.clear();
   steps_left_ = 0;
-  first_frame_ = true;
   finished_ = false;
+  changed();
+}
+
+void SimWorker::changed() {
+  ++status_.revision;
+  if (on_change_) on_change_();
 }
 
 void SimWorker::set_message(std::string text, bool error) {
   status_.message = std::move(text);
   status_.message_is_error = error;
   ++status_.message_seq;
+  changed();
 }
 
 bool SimWorker::settled() const { return !pending_ && steps_left_ == 0; }
@@ -117,6 +126,14 @@ void SimWorker::main() {
         if (quit_ || pending_) break;
       }
       going = guarded([&] { return loop.advance(publish, stop_); });
+      if (going && steps_left_ > 0) {
+        std::unique_lock lock(mutex_);
+        // Step counts solver steps: the last one shows its state even between output frames
+        if (--steps_left_ == 0) {
+          lock.unlock();
+          loop.publish_pending(publish);
+        }
+      }
     }
     std::unique_lock lock(mutex_);
     if (!quit_ && !pending_) {
@@ -128,8 +145,9 @@ void SimWorker::main() {
       steps_left_ = 0;
       status_.outcome = outcome;
       status_.state = outcome.status == RunStatus::failed ? WorkerState::failed : WorkerState::finished;
+      changed();
       while (!quit_ && !pending_) {
-        status_.settled_seq = handled_seq_;
+        if (status_.settled_seq != handled_seq_) status_.settled_seq = handled_seq_, changed();
         cv_.wait(lock, [&] { return !queue_.empty(); });
         while (!queue_.empty() && !quit_ && !pending_) {
           const Command c = queue_.front();
@@ -168,8 +186,7 @@ void SimWorker::on_frame(Frame&& f) {
   std::lock_guard lock(mutex_);
   frame_ = std::move(f);
   samples_.push_back(std::move(s));
-  if (!first_frame_ && steps_left_ > 0) --steps_left_;  // `step N` asks for N frames
-  first_frame_ = false;
+  changed();
 }
 
 void SimWorker::serve(std::unique_lock<std::mutex>& lock) {
@@ -181,8 +198,12 @@ void SimWorker::serve(std::unique_lock<std::mutex>& lock) {
       handle(c, lock);
     }
     if (quit_ || pending_) return;  // main() ends this run and swaps in the new scene
-    status_.state = running_ ? WorkerState::running : steps_left_ > 0 ? WorkerState::stepping : WorkerState::paused;
-    if (settled()) status_.settled_seq = handled_seq_;
+    const WorkerState state = running_ ? WorkerState::running : steps_left_ > 0 ? WorkerState::stepping : WorkerState::paused;
+    const std::uint64_t settled_seq = settled() ? handled_seq_ : status_.settled_seq;
+    if (state != status_.state || settled_seq != status_.settled_seq) {
+      status_.state = state, status_.settled_seq = settled_seq;
+      changed();
+    }
     if (steps_left_ > 0) return;
     if (running_) {
       if (pace_ <= 0) return;
@@ -294,6 +315,7 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
       break;
   }
   handled_seq_ = c.seq;
+  changed();
 }
 
 }  // namespace ff::app::gui

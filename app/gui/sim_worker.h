@@ -18,6 +18,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -56,12 +57,14 @@ struct WorkerStatus {
   std::shared_ptr<const RunInfo> info;  ///< of this generation
   scene::OutputSettings output;
   double end_time = 0.0;
+  long long steps_per_frame = 1;        ///< solver steps between published frames (the output cadence)
   int probe_node = -1;
   double pace = 0.0;                    ///< max steps per second, 0 = as fast as it goes
   std::optional<RunOutcome> outcome;    ///< once the run has ended
   std::string message;                  ///< the last refusal or notice ("" = none)
   std::uint64_t message_seq = 0;        ///< +1 per message
   bool message_is_error = false;
+  std::uint64_t revision = 0;           ///< +1 at every change of the status, a frame or a sample
 };
 
 /// What take() returns: the status plus what arrived since the last take().
@@ -74,8 +77,10 @@ struct WorkerUpdate {
 class SimWorker {
  public:
   /// Starts the thread on a scene already loaded (so bad input is reported before any window
-  /// opens); paused at the initial state.
-  SimWorker(scene::LoadedScene scene, std::vector<std::string> overrides);
+  /// opens); paused at the initial state. `on_change` is called (on the worker thread, under its
+  /// lock: it must only post a wake-up, e.g. glfwPostEmptyEvent) whenever take() has news, so the
+  /// window can sleep until then instead of polling.
+  SimWorker(scene::LoadedScene scene, std::vector<std::string> overrides, std::function<void()> on_change = {});
   ~SimWorker();  ///< quits and joins
   SimWorker(const SimWorker&) = delete;
   SimWorker& operator=(const SimWorker&) = delete;
@@ -83,6 +88,7 @@ class SimWorker {
   // Each returns the command's sequence number (compare with WorkerStatus::settled_seq).
   std::uint64_t run();
   std::uint64_t pause();
+  /// Advances n solver steps (not output frames), then pauses and shows the state reached.
   std::uint64_t step(long long n = 1);
   std::uint64_t reset();
   std::uint64_t set(const std::string& key, const std::string& value);
@@ -116,6 +122,8 @@ class SimWorker {
   void start_generation();
   void set_message(std::string text, bool error);
   bool settled() const;
+  /// Marks the mailbox changed (under mutex_) and wakes the window.
+  void changed();
 
   std::mutex mutex_;
   std::condition_variable cv_;
@@ -130,8 +138,7 @@ class SimWorker {
   std::atomic<bool> stop_{false};
   std::string failure_;  // an exception out of the solver ends the run as failed
   bool running_ = false;
-  long long steps_left_ = 0;
-  bool first_frame_ = true;
+  long long steps_left_ = 0;  // solver steps a Step still asks for
   bool quit_ = false;
   bool finished_ = false;
   int probe_node_ = -1;
@@ -143,6 +150,7 @@ class SimWorker {
   std::optional<Frame> frame_;
   std::vector<Sample> samples_;
 
+  std::function<void()> on_change_;
   std::thread thread_;
 };
 

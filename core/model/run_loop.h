@@ -24,6 +24,11 @@ class RunLoop {
   /// One step of the model, publishing it by the cadence; false when the run has ended (outcome()).
   /// A raised `stop` ends the run as interrupted before the step.
   bool advance(const Publish& publish, const std::atomic<bool>& stop);
+  /// Publishes the state now when steps were taken since the last frame (a caller that pauses
+  /// between output frames, such as the GUI's Step, shows where it stopped).
+  void publish_pending(const Publish& publish) {
+    if (!log_.empty()) publish_state(publish);
+  }
   bool finished() const { return finished_; }
   const RunOutcome& outcome() const { return outcome_; }
   /// start() and advance() until the end.

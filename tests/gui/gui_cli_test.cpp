@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <set>
+#include <sstream>
 
 #include "tests/cli/cli_support.h"
 
@@ -144,6 +145,34 @@ TEST(GuiCli, ShellSceneScreenshotAfterQuitAfter) {
        "1280", "--height", "800"},
       dir + "/gui");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
+  expect_body_in_viewport(read_png(dir + "/shot.png"), 1280, 800);
+}
+
+/// The N of every "redraws N" line of a GUI's stdout, in order.
+std::vector<long long> redraw_counts(const std::string& out) {
+  std::vector<long long> counts;
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("redraws ", 0) == 0) counts.push_back(std::stoll(line.substr(8)));
+  return counts;
+}
+
+// Idle costs nothing: a finished window with no input draws (nearly) no frames. It used to
+// redraw 30 times a second (about 90 frames in these 3 s) and use a third of a core.
+TEST(GuiCli, IdleFinishedWindowDoesNotRedraw) {
+  if (!have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup installs it)";
+  const std::string dir = fresh_test_dir();
+  const std::string actions = dir + "/idle.txt";
+  write_text(actions, "run\nwait 2\nredraws\nwait 3\nredraws\nscreenshot " + dir + "/shot.png\nquit\n");
+  const ProcResult r = run_gui_under_xvfb({"hub_beam_fem_tau1", "--set", "solver.end=0.5", "--actions", actions,
+                                           "--width", "1280", "--height", "800", "--quit-after", "40"},
+                                          dir + "/gui");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const std::vector<long long> counts = redraw_counts(r.out);
+  ASSERT_EQ(counts.size(), 2u) << r.describe();
+  EXPECT_GT(counts[0], 0) << "the window never drew";
+  EXPECT_LE(counts[1] - counts[0], 5) << "an idle window went on redrawing: " << r.describe();
+  // and it still shows the finished run when asked for a picture
   expect_body_in_viewport(read_png(dir + "/shot.png"), 1280, 800);
 }
 

@@ -24,9 +24,10 @@ TEST(GuiActions, ParsesEveryVerb) {
       "probe 7\n"
       "save edited.toml\n"
       "export frame.png\n"
-      "quit\n";
+      "quit\n"
+      "redraws\n";
   const std::vector<Action> a = parse_actions(text, "s.txt");
-  ASSERT_EQ(a.size(), 14u);
+  ASSERT_EQ(a.size(), 15u);
   EXPECT_EQ(a[0].kind, Action::Kind::run);
   EXPECT_EQ(a[0].line, 3);
   EXPECT_EQ(a[2].kind, Action::Kind::step);
@@ -44,6 +45,7 @@ TEST(GuiActions, ParsesEveryVerb) {
   EXPECT_EQ(a[12].kind, Action::Kind::export_png);
   EXPECT_EQ(a[13].kind, Action::Kind::quit);
   EXPECT_EQ(a[13].where(), "s.txt:16");
+  EXPECT_EQ(a[14].kind, Action::Kind::redraws);
 }
 
 TEST(GuiActions, BadLinesNameFileAndLine) {

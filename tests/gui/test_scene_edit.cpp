@@ -96,5 +96,39 @@ TEST(SceneParams, EveryModelListsItsKeys) {
   EXPECT_TRUE(found);
 }
 
+// A refused edit is reworded for the window: no "--set KEY=VALUE:" or "key '...':" CLI syntax,
+// the key and value named once, the reason kept, and that nothing changed.
+TEST(GuiRefusal, ReadsAsAWindowMessage) {
+  const auto r = app::gui::readable_refusal(
+      "set solver.dt = -1 refused:\n--set solver.dt=-1: key 'solver.dt': expected a number > 0, got -1");
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->key, "solver.dt");
+  EXPECT_EQ(r->text,
+            "solver.dt = -1 was not applied: expected a number > 0, got -1. Nothing changed; the run goes on as it was.");
+  const auto load = app::gui::readable_refusal("load x.toml refused:\nx.toml: cannot read the file");
+  ASSERT_TRUE(load.has_value());
+  EXPECT_EQ(load->key, "");
+  EXPECT_EQ(load->text, "Could not load x.toml: x.toml: cannot read the file. Nothing changed.");
+  EXPECT_FALSE(app::gui::readable_refusal("saved a.toml").has_value());
+}
+
+// The worker's own refusal text, as the window receives it, reads without CLI syntax.
+TEST(GuiRefusal, WorkerRefusalHasNoCliSyntax) {
+  const std::string scene = kScenes + "hub_beam_fem_tau1.toml";
+  std::string error;
+  try {
+    load_scene(scene, {"torque.amplitude=fast"});
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  ASSERT_FALSE(error.empty());
+  const auto r = app::gui::readable_refusal("set torque.amplitude = fast refused:\n" + error);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->text.find("--set"), std::string::npos) << r->text;
+  EXPECT_EQ(r->text.find("key '"), std::string::npos) << r->text;
+  EXPECT_NE(r->text.find("torque.amplitude = fast was not applied: expected a number >= 0"), std::string::npos)
+      << r->text;
+}
+
 }  // namespace
 }  // namespace ff::scene

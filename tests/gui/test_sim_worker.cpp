@@ -3,6 +3,7 @@
 // refused edit leaves the model alone and says why; run goes to the end.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <thread>
@@ -159,6 +160,40 @@ TEST(GuiSimWorker, RefusedLiveValueLeavesTheRunAlone) {
   }
   ASSERT_TRUE(watch.settled(w.step(1)));
   EXPECT_EQ(watch.frame->step, 3);  // went on from step 2
+}
+
+// Step counts solver steps, not output frames: with a frame every 5 steps (a coarse double
+// pendulum of shells), step 3 stops at solver step 3 and shows that state (a frame published
+// between the output cadence), step 4 more at 7. It used to advance 3 frames, 15 steps.
+TEST(GuiSimWorker, StepAdvancesSolverStepsNotFrames) {
+  const std::vector<std::string> coarse = {"part[0].n1=4", "part[0].n2=4", "part[1].n1=4", "part[1].n2=4",
+                                           "solver.output_every=5"};
+  SimWorker w(scene::load_scene(std::string(FF_SOURCE_DIR) + "/assets/scenes/double_pendulum_shells.toml", coarse),
+              coarse);
+  Watcher watch{w, {}, {}, {}};
+  ASSERT_TRUE(watch.until([&] { return watch.frame.has_value(); }));
+  EXPECT_EQ(watch.status.steps_per_frame, 5);
+  ASSERT_TRUE(watch.settled(w.step(3)));
+  EXPECT_EQ(watch.frame->step, 3);
+  EXPECT_EQ(watch.status.state, WorkerState::paused);
+  ASSERT_TRUE(watch.settled(w.step(4)));
+  EXPECT_EQ(watch.frame->step, 7);
+  // the news wakes the window: every change bumps the revision
+  const std::uint64_t revision = watch.status.revision;
+  ASSERT_TRUE(watch.settled(w.step(1)));
+  EXPECT_EQ(watch.frame->step, 8);
+  EXPECT_GT(watch.status.revision, revision);
+}
+
+// The worker calls its wake-up for every change, so a window may sleep until then.
+TEST(GuiSimWorker, WakesTheWindowOnNews) {
+  std::atomic<int> wakes{0};
+  SimWorker w(scene::load_scene(kScene), {}, [&wakes] { ++wakes; });
+  Watcher watch{w, {}, {}, {}};
+  ASSERT_TRUE(watch.until([&] { return watch.frame.has_value(); }));
+  const int before = wakes.load();
+  ASSERT_TRUE(watch.settled(w.step(2)));
+  EXPECT_GE(wakes.load(), before + 2);  // two frames at least
 }
 
 }  // namespace
