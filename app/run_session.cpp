@@ -245,6 +245,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   std::atomic<bool> render_busy{false};
   const std::atomic<bool> never{false};  // what the solver computed is drawn, also after Ctrl-C
   std::array<double, 2> color_range{0, 0};  // the frames' one colour range, set before frames_done
+  std::string drawing_stopped;  // "k of n" frames drawn when a Ctrl-C stopped the drawing
   const int color_field = out.color_field == "none" ? -1 : field_index(info, out.color_field);
   std::thread render([&] {
     std::unique_ptr<render::GraphicsContext> gc;
@@ -259,11 +260,17 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     }
     int n = 0;
     const auto t0 = std::chrono::steady_clock::now();
+    // a Ctrl-C during the solve: the frames it computed are drawn; one during the drawing stops it
+    const bool solve_interrupted = stop;
     const SequenceView sequence = sequence_view(
         to_draw.size(), [&](std::size_t k) { return to_draw[k]; }, color_field, out.deformation_scale, never);
     for (std::size_t k = 0; k < to_draw.size(); ++k) {
       const Frame* f = &to_draw[k];
       if (!render_error.empty() || !failed_write().empty()) break;
+      if (stop && !solve_interrupted) {
+        drawing_stopped = std::to_string(n) + " of " + std::to_string(to_draw.size());
+        break;
+      }
       if (!gc) {
         gc = render::GraphicsContext::create(&render_error);
         if (!gc) {  // no OpenGL on this machine: a warning, the run goes on without pictures
@@ -386,6 +393,12 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   result.metrics = sim.metrics();
   result.totals = sim.totals();
   frames_done.get_future().wait();
+  // the solve completed but its pictures did not: the run does not call itself completed
+  if (!drawing_stopped.empty() && outcome.status == RunStatus::completed) {
+    outcome.status = RunStatus::interrupted;
+    outcome.reason = "interrupted by the user while the frames were drawn (" + drawing_stopped +
+                     " drawn); the solve had completed and results.h5 holds every frame: `flexframe replay` draws them";
+  }
   // a failed write is the run's outcome, whatever the solver would have said (it was stopped for it)
   const auto record_write_failure = [&] {
     const std::string what = failed_write();
