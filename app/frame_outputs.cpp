@@ -7,6 +7,7 @@
 
 #include "app/io/frame_export.h"
 #include "app/io/movie_writer.h"
+#include "render/frame_layout.h"
 #include "render/image_io.h"
 #include "render/mesh_export.h"
 
@@ -37,6 +38,37 @@ std::array<double, 2> field_range(const io::ResultReader& reader, const std::vec
     }
   }
   return {lo, hi};
+}
+
+SequenceView sequence_view(std::size_t count, const std::function<Frame(std::size_t)>& frame_at, int field,
+                           double deformation_scale, const std::atomic<bool>& stop) {
+  SequenceView view;
+  double lo = 0, hi = 0;
+  bool any = false;
+  const std::size_t fit_stride = std::max<std::size_t>(1, count / kMaxFitFrames);
+  for (std::size_t k = 0; k < count && !stop; ++k) {
+    const Frame f = frame_at(k);
+    if (field >= 0 && static_cast<std::size_t>(field) < f.fields.size()) {
+      for (double v : f.fields[static_cast<std::size_t>(field)]) {
+        if (!std::isfinite(v)) continue;
+        lo = any ? std::min(lo, v) : v;
+        hi = any ? std::max(hi, v) : v;
+        any = true;
+      }
+    }
+    if (k % fit_stride != 0 && k + 1 != count) continue;
+    const bool have_base = f.base_points.size() == f.points.size();
+    std::vector<double> drawn(f.points.size());
+    bool finite = true;
+    for (std::size_t i = 0; i < f.points.size(); ++i) {
+      const double b = have_base ? f.base_points[i] : f.points[i];
+      drawn[i] = b + deformation_scale * (f.points[i] - b);
+      finite = finite && std::isfinite(drawn[i]);
+    }
+    if (finite) view.fit_points.insert(view.fit_points.end(), drawn.begin(), drawn.end());
+  }
+  if (any) view.color_range = render::color_range_for(lo, hi);
+  return view;
 }
 
 int field_index(const RunInfo& info, const std::string& name) {

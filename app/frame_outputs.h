@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,21 @@ std::vector<std::size_t> frame_selection(std::size_t count, int every, bool incl
 /// there are none). Reads the frames.
 std::array<double, 2> field_range(const io::ResultReader& reader, const std::vector<std::size_t>& frames,
                                   int field);
+
+/// What every frame of one stored sequence shares, so that a run's frames, its replay and their
+/// movies agree (docs/guide/replay-and-export.md, "Colour range and camera"): one colour range,
+/// render::color_range_for() of the field's values over all the frames, and the drawn
+/// positions (base + deformation_scale * (points - base)) the camera must keep in view.
+struct SequenceView {
+  std::array<double, 2> color_range{0, 0};  ///< {0, 0} without a field or a finite value
+  std::vector<double> fit_points;           ///< 3 per point, from at most kMaxFitFrames frames
+};
+inline constexpr std::size_t kMaxFitFrames = 200;  // frames sampled to fit the camera to the motion
+
+/// One pass over frames 0..count-1 of a sequence (frame_at(k) gives the k-th); field -1 = none.
+/// Returns early (partial) when stop is set.
+SequenceView sequence_view(std::size_t count, const std::function<Frame(std::size_t)>& frame_at, int field,
+                           double deformation_scale, const std::atomic<bool>& stop);
 
 /// Index of field `name` in info.fields, -1 if there is none.
 int field_index(const RunInfo& info, const std::string& name);

@@ -26,8 +26,6 @@ namespace ff::app {
 
 namespace {
 
-constexpr std::size_t kMaxFitFrames = 200;  // frames sampled to fit the camera to the motion
-
 // a scene key as stored in /run/settings (TOML value text), quotes removed; "" if absent
 std::string setting(const RunInfo& info, const std::string& key) {
   for (const auto& [k, v] : info.settings) {
@@ -112,31 +110,15 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   const std::vector<std::size_t> selection = frame_selection(count, opt.frame_every, true);
   int status = 0;
 
-  // ---- one pass over the selection: the field's range and the points the camera must keep in view
-  std::array<double, 2> range{0, 0};
-  std::vector<double> fit_points;
+  // ---- one pass over the selection: the colour range and the motion the camera must hold (the
+  // policy `run` shares: frame_outputs.h)
+  SequenceView sequence;
+  const double deformation_scale = setting_number(info, "output.deformation_scale", 1.0);
   if (opt.frames || formats.gltf || formats.obj) {
-    double lo = 0, hi = 0;
-    bool any = false;
-    const std::size_t fit_stride = std::max<std::size_t>(1, selection.size() / kMaxFitFrames);
-    for (std::size_t k = 0; k < selection.size(); ++k) {
-      if (stop) return 130;
-      const Frame f = reader->frame(selection[k]);
-      if (field >= 0) {
-        for (double v : f.fields[static_cast<std::size_t>(field)]) {
-          if (!std::isfinite(v)) continue;
-          lo = any ? std::min(lo, v) : v;
-          hi = any ? std::max(hi, v) : v;
-          any = true;
-        }
-      }
-      const bool finite = std::all_of(f.points.begin(), f.points.end(), [](double p) { return std::isfinite(p); });
-      if (finite && (k % fit_stride == 0 || k + 1 == selection.size()))
-        fit_points.insert(fit_points.end(), f.points.begin(), f.points.end());
-    }
-    if (any) range = {lo, hi};
+    sequence = sequence_view(
+        selection.size(), [&](std::size_t k) { return reader->frame(selection[k]); }, field, deformation_scale, stop);
+    if (stop) return 130;
   }
-
   // ---- frames
   int rendered = 0;
   if (opt.frames) {
@@ -144,13 +126,10 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     render::FrameStyle style;
     style.width = width;
     style.height = height;
-    style.deformation_scale = setting_number(info, "output.deformation_scale", 1.0);
+    style.deformation_scale = deformation_scale;
     style.color_field = field >= 0 ? field_name : "";
-    if (range[1] > range[0]) {  // one range for the whole sequence
-      const auto r = render::round_range(range[0], range[1]);
-      style.color_min = r[0];
-      style.color_max = r[1];
-    }
+    style.color_min = sequence.color_range[0];  // one range for the whole sequence
+    style.color_max = sequence.color_range[1];
     style.title = info.scene_name;
     if (outcome.status != RunStatus::completed) style.title += std::string(" (") + to_string(outcome.status) + ")";
     // the stored scene's camera path ([[timeline]] camera keys), followed unless --camera is given
@@ -165,10 +144,10 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     const std::string view = setting(info, "output.view");
     if (camera_path.empty() && opt.camera == "auto" && (view == "iso" || view == "front" || view == "top")) {
       style.camera = scene_camera(info.mesh, view, setting_numbers(info, "output.view_center"),
-                                  setting_number(info, "output.view_radius", 0.0));  // as the run showed it
+                                  setting_number(info, "output.view_radius", 0.0), sequence.fit_points);
     } else {
       style.camera = camera_path.empty() ? camera : *camera_on_path(camera_path, reader->frame(selection[0]).time);
-      style.fit_points = std::move(fit_points);
+      style.fit_points = sequence.fit_points;
     }
     std::unique_ptr<render::GraphicsContext> gc = render::GraphicsContext::create(&err);
     std::unique_ptr<render::FrameRenderer> renderer;
@@ -225,7 +204,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   // ---- mesh exports
   if (formats.any() && !stop) {
     const ExportReport x =
-        export_frames(*reader, selection, formats, folder.sub_folder("export").string(), field, range, stop);
+        export_frames(*reader, selection, formats, folder.sub_folder("export").string(), field, sequence.color_range, stop);
     for (const std::string& f : x.written) folder.record("export/" + f);
     std::printf("  export: %d frames in %s", x.frames, (dir / "export").string().c_str());
     for (const std::string& f : x.files) std::printf(" %s", fs::path(f).filename().c_str());

@@ -29,6 +29,7 @@
 #include "app/view_options.h"
 #include "core/assembly/element_threads.h"
 #include "core/scene/scene.h"
+#include "render/frame_layout.h"
 #include "render/frame_renderer.h"
 #include "render/graphics_context.h"
 
@@ -37,6 +38,13 @@ namespace fs = std::filesystem;
 namespace ff::app {
 
 namespace {
+
+// "[lo, hi]" exactly (results.h5 attribute color_range)
+std::string format_range(const std::array<double, 2>& r) {
+  char text[64];
+  std::snprintf(text, sizeof text, "[%.17g, %.17g]", r[0], r[1]);
+  return text;
+}
 constexpr std::size_t kStoreChannelCapacity = 256;  // frames the solver may run ahead of the store
 constexpr std::size_t kRenderChannelCapacity = 8;   // frames queued for PNG output
 
@@ -229,26 +237,45 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     render_ch.close();
   });
 
-  // render thread: owns its GL context
+  // render thread: owns its GL context. The frames to draw are kept (positions and the colour
+  // field only) and drawn once the solver is done, so that they share one colour range and a
+  // camera that holds the whole motion, as replay draws them (SequenceView, frame_outputs.h):
+  // a live range or camera would have to change mid-movie. Drawing after the solve costs about
+  // what drawing beside it did, as the renderer took a core from the solver (docs/performance.md).
   std::atomic<bool> render_busy{false};
+  const std::atomic<bool> never{false};  // what the solver computed is drawn, also after Ctrl-C
+  std::array<double, 2> color_range{0, 0};  // the frames' one colour range, set before frames_done
+  std::string drawing_stopped;  // "k of n" frames drawn when a Ctrl-C stopped the drawing
+  const int color_field = out.color_field == "none" ? -1 : field_index(info, out.color_field);
   std::thread render([&] {
     std::unique_ptr<render::GraphicsContext> gc;
     std::unique_ptr<render::FrameRenderer> renderer;
+    std::vector<Frame> to_draw;
+    while (std::optional<Frame> f = render_ch.pop()) {
+      // keep draining so the solver never blocks; after a failed write nothing more is drawn
+      if (!failed_write().empty()) continue;
+      for (std::size_t k = 0; k < f->fields.size(); ++k)
+        if (static_cast<int>(k) != color_field) std::vector<double>().swap(f->fields[k]);
+      to_draw.push_back(std::move(*f));
+    }
     int n = 0;
     const auto t0 = std::chrono::steady_clock::now();
-    while (std::optional<Frame> f = render_ch.pop()) {
-      // keep draining so the solver never blocks; after a failed write nothing more is written
-      if (!render_error.empty() || !failed_write().empty()) continue;
-      render_busy = true;  // the element loops leave this core to the renderer until the frame is out
-      struct Idle {
-        std::atomic<bool>& flag;
-        ~Idle() { flag = false; }
-      } idle{render_busy};
+    // a Ctrl-C during the solve: the frames it computed are drawn; one during the drawing stops it
+    const bool solve_interrupted = stop;
+    const SequenceView sequence = sequence_view(
+        to_draw.size(), [&](std::size_t k) { return to_draw[k]; }, color_field, out.deformation_scale, never);
+    for (std::size_t k = 0; k < to_draw.size(); ++k) {
+      const Frame* f = &to_draw[k];
+      if (!render_error.empty() || !failed_write().empty()) break;
+      if (stop && !solve_interrupted) {
+        drawing_stopped = std::to_string(n) + " of " + std::to_string(to_draw.size());
+        break;
+      }
       if (!gc) {
         gc = render::GraphicsContext::create(&render_error);
         if (!gc) {  // no OpenGL on this machine: a warning, the run goes on without pictures
           no_graphics = true;
-          continue;
+          break;
         }
         render_backend = gc->backend();
         gl_renderer = gc->gl_renderer();
@@ -256,18 +283,23 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
         style.width = out.width;
         style.height = out.height;
         style.deformation_scale = out.deformation_scale;
-        style.color_field = out.color_field == "none" ? "" : out.color_field;
+        style.color_field = color_field >= 0 ? out.color_field : "";
+        style.color_min = sequence.color_range[0];  // one range for the whole movie
+        style.color_max = sequence.color_range[1];
+        color_range = sequence.color_range;
         style.title = scene.name;
         if (camera)
           style.camera = *camera;
         else if (!out.camera_path.empty())  // the path's start sizes the tubes; each frame sets its own
           style.camera = *camera_on_path(out.camera_path, f->time);
         else if (out.view != "auto")
-          style.camera = scene_camera(info.mesh, out.view, out.view_center, out.view_radius);
+          style.camera = scene_camera(info.mesh, out.view, out.view_center, out.view_radius, sequence.fit_points);
+        else
+          style.fit_points = sequence.fit_points;
         renderer = std::make_unique<render::FrameRenderer>(*gc, info, style);
         if (!renderer->ok()) {
           render_error = renderer->error();
-          continue;
+          break;
         }
       }
       // the scene's camera path, unless --camera fixed the view
@@ -277,15 +309,17 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       try {
         if (!renderer->render_png(*f, folder.file(name).string(), &render_error)) {
           fail_write(render_error);
-          continue;
+          break;
         }
       } catch (const WriteError& e) {  // the manifest could not record the frame
         render_error = e.what();
         fail_write(render_error);
-        continue;
+        break;
       }
       ++n;
     }
+    to_draw.clear();
+    to_draw.shrink_to_fit();
     result.frames_rendered = n;
     result.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     frames_done.set_value();  // render_backend, gl_renderer, render_error and the counts are final
@@ -359,6 +393,12 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   result.metrics = sim.metrics();
   result.totals = sim.totals();
   frames_done.get_future().wait();
+  // the solve completed but its pictures did not: the run does not call itself completed
+  if (!drawing_stopped.empty() && outcome.status == RunStatus::completed) {
+    outcome.status = RunStatus::interrupted;
+    outcome.reason = "interrupted by the user while the frames were drawn (" + drawing_stopped +
+                     " drawn); the solve had completed and results.h5 holds every frame: `flexframe replay` draws them";
+  }
   // a failed write is the run's outcome, whatever the solver would have said (it was stopped for it)
   const auto record_write_failure = [&] {
     const std::string what = failed_write();
@@ -384,6 +424,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   if (!render_backend.empty()) {
     writer->set_attribute("render_backend", render_backend);
     writer->set_attribute("gl_renderer", gl_renderer);
+    if (color_field >= 0) writer->set_attribute("color_range", format_range(color_range));
   }
   if (!writer->finish(outcome, result.metrics, &err)) {
     std::fprintf(stderr, "error: results.h5 could not record the outcome: %s\n", err.c_str());
@@ -410,7 +451,8 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       ExportReport x;
       try {
         const fs::path export_dir = folder.sub_folder("export");
-        x = export_frames(*reader, frames, formats, export_dir.string(), field, field_range(*reader, frames, field), stop);
+        const auto [lo, hi] = field_range(*reader, frames, field);  // the frames' policy (SequenceView)
+        x = export_frames(*reader, frames, formats, export_dir.string(), field, render::color_range_for(lo, hi), stop);
         for (const std::string& f : x.written) folder.record("export/" + f);
       } catch (const WriteError& w) {
         if (x.error.empty()) x.error = w.what();
@@ -450,7 +492,10 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   const Json render_info = {
       {"backend", render_backend},
       {"gl_renderer", gl_renderer},
-      {"frames_per_second", result.render_seconds > 0 ? result.frames_rendered / result.render_seconds : 0.0}};
+      {"frames_per_second", result.render_seconds > 0 ? result.frames_rendered / result.render_seconds : 0.0},
+      {"color_field", color_field >= 0 && result.frames_rendered > 0 ? out.color_field : ""},
+      {"color_range", color_field >= 0 && result.frames_rendered > 0 ? Json::array({color_range[0], color_range[1]})
+                                                                      : Json::array()}};
   Json events = Json::array();  // what the path did (statics: limit points, bifurcations, turn-backs)
   for (const PathEvent& e : outcome.events)
     events.push_back({{"kind", e.kind}, {"step", e.step}, {"load_factor", e.load_factor}, {"detail", e.detail}});

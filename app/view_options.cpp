@@ -66,10 +66,11 @@ ExportFormats parse_export_formats(const std::string& spec) {
 }
 
 render::Camera scene_camera(const FrameMesh& mesh, const std::string& view, const std::vector<double>& center,
-                            double radius) {
-  const auto& p = mesh.reference_points;
+                            double radius, const std::vector<double>& motion) {
   double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (std::size_t i = 0; i < p.size(); ++i) lo[i % 3] = std::min(lo[i % 3], p[i]), hi[i % 3] = std::max(hi[i % 3], p[i]);
+  for (const std::vector<double>* p : {&mesh.reference_points, &motion})
+    for (std::size_t i = 0; i < p->size() / 3 * 3; ++i)
+      lo[i % 3] = std::min(lo[i % 3], (*p)[i]), hi[i % 3] = std::max(hi[i % 3], (*p)[i]);
   std::array<double, 3> c{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
   if (center.size() == 3) c = {center[0], center[1], center[2]};
   const double r = 0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +

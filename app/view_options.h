@@ -47,8 +47,10 @@ struct ExportFormats {
 ExportFormats parse_export_formats(const std::string& spec);
 
 /// The fixed camera of a scene's output.view (iso, front, top), output.view_center (empty =
-/// centre of the reference bounding box) and output.view_radius (0 = fit the mesh).
+/// centre of the bounding box) and output.view_radius (0 = fit the mesh). The bounding box holds
+/// the reference mesh and `motion` (3 coordinates per point, e.g. SequenceView::fit_points): with
+/// the positions of every frame, the view holds the body for the whole sequence.
 render::Camera scene_camera(const FrameMesh& mesh, const std::string& view, const std::vector<double>& center,
-                            double radius);
+                            double radius, const std::vector<double>& motion = {});
 
 }  // namespace ff::app

@@ -202,6 +202,13 @@ std::array<double, 2> round_range(double lo, double hi) {
   return {std::min(a, lo), std::max(b, hi)};
 }
 
+std::array<double, 2> color_range_for(double lo, double hi) {
+  if (!std::isfinite(lo) || !std::isfinite(hi) || hi < lo) return {lo, hi};
+  if (lo >= 0.0) return hi > 0.0 ? std::array<double, 2>{0.0, round_range(0.0, hi)[1]} : std::array<double, 2>{0.0, 1.0};
+  if (hi <= 0.0) return {round_range(lo, 0.0)[0], 0.0};
+  return round_range(lo, hi);
+}
+
 Ticks color_bar_ticks(double lo, double hi, int max_ticks) {
   Ticks t;
   max_ticks = std::max(max_ticks, 2);

@@ -67,6 +67,13 @@ std::string quantity_title(const Quantity& q);
 /// [0.0012, 0.0456] -> [0, 0.05], [0.97, 1.03] -> [0.97, 1.03]. Returns lo == hi unchanged.
 std::array<double, 2> round_range(double lo, double hi);
 
+/// The colour range FlexFrame shows for field values spanning [lo, hi] (the policy of
+/// docs/guide/replay-and-export.md, "Colour range and camera"): a field that is nowhere negative
+/// (a magnitude, von Mises, an all-zero initial state) gets a range from 0, one nowhere positive
+/// a range up to 0, others round_range(lo, hi); a constant non-zero value c gets [0, c] rounded
+/// (or [c, 0]), an all-zero field [0, 1]. Never lo == hi for finite input.
+std::array<double, 2> color_range_for(double lo, double hi);
+
 /// Colour-bar labels: round values inside [lo, hi] (steps of 1, 2, 2.5 or 5 times a power of
 /// ten, at most max_ticks of them) and one printf format for all, fixed-point when the
 /// largest magnitude is in [0.01, 1e5), else scientific, with the digits the step needs:

@@ -432,14 +432,12 @@ void FrameRenderer::Impl::update_range(const std::vector<double>& values) {
   if (range_fixed) {
     if (style.color_max > style.color_min) return;  // the caller's range is kept as given
     if (lo >= range[0] && hi <= range[1]) return;
-    range = round_range(std::min(lo, range[0]), std::max(hi, range[1]));
-  } else if (hi > lo) {
-    range = round_range(lo, hi);
-    range_fixed = true;
+    range = color_range_for(std::min(lo, range[0]), std::max(hi, range[1]));
   } else {
-    // a constant field (often the initial state): a provisional range around it
-    const double pad = lo != 0.0 ? 0.1 * std::fabs(lo) : 1.0;
-    range = {lo - pad, lo + pad};
+    // a constant field (often the all-zero initial state) gets a provisional range from 0 to
+    // its value (never below 0 for a magnitude), replaced by the first varying frame's
+    range = color_range_for(lo, hi);
+    range_fixed = hi > lo;
   }
   lut->SetTableRange(range[0], range[1]);
   set_bar_labels();

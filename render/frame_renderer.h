@@ -50,11 +50,12 @@ struct FrameStyle {
   int width = 960, height = 720;  ///< image size in pixels
   double deformation_scale = 1.0;  ///< drawn points = base + scale * (points - base)
   std::string color_field;         ///< name from RunInfo::fields; "" = uniform colour
-  /// Colour range of the field. Equal values = automatic: the range of the first frame whose
-  /// field is not constant, rounded outward to round numbers, kept for later frames and only
-  /// ever widened (to round numbers again) when a later frame goes outside it, so colours do
-  /// not flicker and never saturate. Pass the run's range (e.g. from the HDF5 file on
-  /// replay) to get one fixed range for the whole sequence.
+  /// Colour range of the field. Equal values = automatic (live views such as the window): the
+  /// range of the first frame whose field is not constant by color_range_for() (from 0 for a
+  /// field nowhere negative), kept for later frames and only ever widened (to round numbers
+  /// again) when a later frame goes outside it, so colours do not flicker and never saturate.
+  /// `run` and `replay` pass the range of the whole stored sequence (app/frame_outputs.h,
+  /// sequence_view), so every frame and movie of a run shares one range.
   double color_min = 0, color_max = 0;
   Camera camera;
   /// Extra world points (3*m coordinates p_W) the automatic camera keeps in view besides the

@@ -89,5 +89,61 @@ TEST(CliFrames, FramesShowTheBeamAndPlotsAreWritten) {
   }
 }
 
+// Item 3 and 4 of issue 34: the frames of `run` share one colour range (a magnitude's from 0) and
+// a camera that holds the whole motion, and replay draws the same stored frames identically.
+// The double pendulum on coarse shells, with the scene's hand-set view replaced by the fit
+// (view_radius = 0): by t = 1.2 s the shells swing out of a view fitted to their initial position
+// (the camera before issue 34), on the left.
+TEST(CliFrames, RunFramesShareOneRangeAndHoldTheFallingBodyAsReplayDraws) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  const ProcResult r = run_flexframe(
+      {"run", "double_pendulum_shells", "--out", out, "--quiet", "--no-plots", "--set", "solver.end=1.5", "--set",
+       "output.view_radius=0", "--set", "output.view_center=[]", "--set", "part[0].n1=8", "--set", "part[0].n2=8",
+       "--set", "part[1].n1=8", "--set", "part[1].n2=8", "--frame-every", "10", "--width", std::to_string(kWidth),
+       "--height", std::to_string(kHeight)},
+      dir + "/run");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  std::string err;
+  const std::optional<Json> s = read_summary(out, &err);
+  ASSERT_TRUE(s) << err;
+  const Json* render = s->get("render");
+  ASSERT_TRUE(render && render->get("color_range")) << "summary.json has no render.color_range";
+  const Json& range = *render->get("color_range");
+  ASSERT_EQ(range.array.size(), 2u);
+  // |u| is a magnitude: its range starts at 0 (at t = 0 it is all zero; never -1..1), and the
+  // shells swing over metres in 1.5 s, so the one range reaches past 1 m
+  EXPECT_EQ(range.array[0].number, 0.0);
+  EXPECT_GT(range.array[1].number, 1.0);
+
+  const std::vector<std::string> frames = pngs_in(out + "/frames");
+  ASSERT_EQ(frames.size(), 16u);  // 151 stored frames (t = 0, 0.01, ..., 1.5), every 10th
+  // the body in view in every frame: nothing drawn on the picture's left, bottom or right edge of
+  // the 3D view (the colour bar's strip, the right 15 %, and the text at the top left aside)
+  const int view_right = kWidth - static_cast<int>(std::lround(0.15 * kWidth));
+  for (const std::string& path : frames) {
+    const std::string name = fs::path(path).filename().string();
+    const Image img = read_png(path);
+    ASSERT_EQ(img.width, kWidth) << name;
+    EXPECT_EQ(drawn_pixels(img, 0, 2, kHeight / 6, kHeight), 0) << name << ": the body leaves the view on the left";
+    EXPECT_EQ(drawn_pixels(img, 0, view_right, kHeight - 2, kHeight), 0) << name << ": the body leaves the view below";
+    EXPECT_EQ(drawn_pixels(img, view_right - 2, view_right, kHeight / 6, kHeight), 0)
+        << name << ": the body leaves the view on the right";
+  }
+
+  // replay draws the stored frames with the same range and camera: the same pictures
+  const ProcResult rp = run_flexframe(
+      {"replay", out, "--out", dir + "/replay", "--no-plots", "--frame-every", "10", "--size",
+       std::to_string(kWidth) + "x" + std::to_string(kHeight)}, dir + "/replay");
+  ASSERT_EQ(rp.exit_code, 0) << rp.describe();
+  ASSERT_EQ(pngs_in(dir + "/replay/frames").size(), frames.size());
+  for (const std::string& path : frames) {
+    const std::string name = fs::path(path).filename().string();
+    const Image a = read_png(out + "/frames/" + name), b = read_png(dir + "/replay/frames/" + name);
+    ASSERT_EQ(a.rgb.size(), b.rgb.size()) << name;
+    EXPECT_TRUE(a.rgb == b.rgb) << name << " differs between run and replay";
+  }
+}
+
 }  // namespace
 }  // namespace ff::cli::test

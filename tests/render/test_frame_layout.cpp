@@ -157,6 +157,27 @@ TEST(ColourRange, RoundsOutwardToTheSpansDecade) {
   EXPECT_GE(r[1], 0.9876);
 }
 
+TEST(ColourRange, AFieldNowhereNegativeStartsAtZero) {
+  // a magnitude at t = 0 (all zero) and a constant magnitude: from 0, never below
+  auto r = color_range_for(0.0, 0.0);
+  EXPECT_DOUBLE_EQ(r[0], 0.0);
+  EXPECT_DOUBLE_EQ(r[1], 1.0);
+  r = color_range_for(0.37, 0.37);
+  EXPECT_DOUBLE_EQ(r[0], 0.0);
+  EXPECT_NEAR(r[1], 0.4, 1e-15);
+  // a field nowhere negative starts at 0 although its smallest value is not 0
+  r = color_range_for(0.2, 3.4);
+  EXPECT_DOUBLE_EQ(r[0], 0.0);
+  EXPECT_NEAR(r[1], 4.0, 1e-15);
+  // nowhere positive: up to 0; both signs: rounded outward as round_range
+  r = color_range_for(-0.0123, -0.002);
+  EXPECT_NEAR(r[0], -0.02, 1e-17);
+  EXPECT_DOUBLE_EQ(r[1], 0.0);
+  r = color_range_for(-3.2, 7.9);
+  EXPECT_NEAR(r[0], -10.0, 1e-12);
+  EXPECT_NEAR(r[1], 10.0, 1e-12);
+}
+
 TEST(ColourBarTicks, RoundValuesAndOneFormat) {
   Ticks t = color_bar_ticks(0.0, 0.05);
   ASSERT_EQ(t.values.size(), 6u);
