@@ -164,7 +164,7 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
     // the markers of coinciding curves sit side by side instead of on top of each other
     if (!markers && s.marker != MarkerShape::none) {
       const vtkIdType n = xs->GetNumberOfTuples();
-      const vtkIdType stride = std::max<vtkIdType>(1, n / 12);
+      const vtkIdType stride = std::max<vtkIdType>(4, n / 12);
       const vtkIdType offset = (static_cast<vtkIdType>(k) * std::max<vtkIdType>(1, stride / 4)) % stride;
       vtkNew<vtkTable> marks;
       vtkNew<vtkDoubleArray> mx, my;
