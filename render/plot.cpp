@@ -248,7 +248,13 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
       auto& t = texts.emplace_back(vtkSmartPointer<vtkTextActor>::New());
       t->SetInput(s.point_labels[i].c_str());
       set_text_style(t->GetTextProperty(), 0.8 * font_px, label_ink, false);
-      t->SetDisplayPosition(static_cast<int>(px + 0.5 * font_px), static_cast<int>(py + 0.3 * font_px));
+      // right of the point, or left of it where the text would run off the image
+      std::size_t glyphs = 0;
+      for (unsigned char c : s.point_labels[i]) glyphs += (c & 0xC0) != 0x80;
+      const double text_px = 0.6 * 0.8 * font_px * static_cast<double>(glyphs);
+      const double left = px + 0.5 * font_px + text_px < spec.width - 4.0 ? px + 0.5 * font_px
+                                                                          : px - 0.5 * font_px - text_px;
+      t->SetDisplayPosition(static_cast<int>(std::max(2.0, left)), static_cast<int>(py + 0.3 * font_px));
       renderer->AddActor2D(t);
       ++labels;
     }
