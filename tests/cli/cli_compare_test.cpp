@@ -9,6 +9,7 @@
 #include <regex>
 
 #include "app/io/results.h"
+#include "app/plots.h"
 #include "cli_support.h"
 
 namespace ff::cli::test {
@@ -96,6 +97,21 @@ TEST(CliCompare, IdenticalRunsOfOneSceneStayDistinguishable) {
   }
   EXPECT_GT(first, 200) << "the first run is hidden under the second";
   EXPECT_GT(second, 200);
+}
+
+// the difference itself, on grids that do not line up: run b sampled at other times, over a
+// shorter range; y = x and y = 2x differ most (by the end of the common range) at x = 1.5
+TEST(CompareDelta, InterpolatesOverTheCommonRangeOnly) {
+  const std::vector<double> xa = {0.0, 1.0, 2.0, 3.0}, ya = {0.0, 1.0, 2.0, 3.0};
+  const std::vector<double> xb = {0.5, 1.5}, yb = {1.0, 3.0};
+  double lo = NAN, hi = NAN;
+  EXPECT_DOUBLE_EQ(app::max_abs_difference(xa, ya, xb, yb, &lo, &hi), 1.5);
+  EXPECT_DOUBLE_EQ(lo, 0.5);
+  EXPECT_DOUBLE_EQ(hi, 1.5);
+  EXPECT_DOUBLE_EQ(app::max_abs_difference(xb, yb, xa, ya), 1.5);  // symmetric
+  // a load that goes back (an x that decreases) has no single y per x; disjoint ranges have none
+  EXPECT_TRUE(std::isnan(app::max_abs_difference({0.0, 1.0, 0.5}, {0.0, 1.0, 2.0}, xa, ya)));
+  EXPECT_TRUE(std::isnan(app::max_abs_difference({5.0, 6.0}, {0.0, 1.0}, xa, ya)));
 }
 
 }  // namespace
