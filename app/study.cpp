@@ -1036,7 +1036,7 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
   write_text_file(folder->file("study.md"), md.str());
 
   // pareto.png: error against wall time, log-log; a line per value of the later axes
-  std::string err;
+  std::string err, pareto_note;
   auto gc = render::GraphicsContext::create(&err);
   if (gc) {
     render::PlotSpec plot;
@@ -1044,6 +1044,22 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     plot.x_label = "wall time [s]";
     plot.y_label = "error in " + spec.metric + " [%]";
     plot.log_x = plot.log_y = true;
+    // the front first, in grey, so that the variants' markers are drawn over it
+    render::PlotSeries front{"Pareto front", {}, {}, false};
+    front.grey = true;
+    front.dash = render::LineDash::dashed;
+    for (std::size_t i : order)
+      if (rows[i].pareto) {
+        front.x.push_back(rows[i].wall_s);
+        front.y.push_back(rows[i].error_percent);
+      }
+    const bool draw_front = front.x.size() > 1;
+    if (draw_front) plot.series.push_back(front);
+    // the second varied key's value picks a marker shape (colours tell the series apart as well)
+    constexpr render::MarkerShape kShapes[] = {render::MarkerShape::circle, render::MarkerShape::square,
+                                               render::MarkerShape::diamond, render::MarkerShape::cross,
+                                               render::MarkerShape::plus};
+    std::map<std::string, std::size_t> shape_of;
     std::map<std::string, std::size_t> series_of;
     for (const Row& r : rows) {
       std::string group;
@@ -1057,28 +1073,43 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
       if (!axis_row) group = r.variant.label;
       if (group.empty()) group = spec.axes.empty() ? "variants" : spec.axes.front().name();
       auto [it, fresh] = series_of.emplace(group, plot.series.size());
-      if (fresh) plot.series.push_back({group, {}, {}, true});  // markers: neighbours are not a continuum in time
-      plot.series[it->second].x.push_back(r.wall_s);
-      plot.series[it->second].y.push_back(r.error_percent);
-    }
-    render::PlotSeries front{"Pareto front", {}, {}, false};
-    for (std::size_t i : order)
-      if (rows[i].pareto) {
-        front.x.push_back(rows[i].wall_s);
-        front.y.push_back(rows[i].error_percent);
+      if (fresh) {
+        render::PlotSeries s{group, {}, {}, true};  // markers: neighbours are not a continuum in time
+        if (r.variant.axis_labels.size() > 1 && !r.variant.axis_labels[1].empty()) {
+          const auto [shape, unused] = shape_of.emplace(r.variant.axis_labels[1], shape_of.size());
+          s.marker = kShapes[shape->second % std::size(kShapes)];
+        }
+        plot.series.push_back(s);
       }
-    if (front.x.size() > 1) plot.series.push_back(front);
+      render::PlotSeries& s = plot.series[it->second];
+      s.x.push_back(r.wall_s);
+      s.y.push_back(r.error_percent);
+      // a point on the front says which value of the (first) varied key it is
+      std::string tag;
+      if (r.pareto) {
+        for (std::size_t a = 0; a < r.variant.axis_labels.size() && a < spec.axes.size(); ++a)
+          if (tag.empty() && !r.variant.axis_labels[a].empty())
+            tag = spec.axes[a].name() + "=" + r.variant.axis_labels[a];
+        if (tag.empty()) tag = r.variant.label;  // an extra variant (another scene) varies no key
+      }
+      s.point_labels.push_back(tag);
+    }
     // a plot with nothing to draw (every variant stopped early) is a warning; a file that
     // cannot be written is the study's failure
-    if (!render::write_plot_png(*gc, plot, folder->file("pareto.png").string(), &err)) {
+    render::PlotDrawn drawn;
+    if (!render::write_plot_png(*gc, plot, folder->file("pareto.png").string(), &err, &drawn)) {
       if (err.find("could not write PNG") != std::string::npos) throw WriteError("pareto plot: " + err);
       std::fprintf(stderr, "warning: pareto plot: %s\n", err.c_str());
+    } else {
+      pareto_note = fmt("pareto.png: error axis %.3g", drawn.y_min) + fmt(" to %.3g %%", drawn.y_max) + ", " +
+                    std::to_string(drawn.point_labels) + " Pareto point(s) labelled\n";
     }
   } else {
     std::fprintf(stderr, "warning: no graphics context for pareto.png: %s\n", err.c_str());
   }
   std::cout << md.str();
-  std::printf("\nwrote %s/{study.csv, study.md, pareto.png}\n", dir.string().c_str());
+  std::printf("\n%s", pareto_note.c_str());
+  std::printf("wrote %s/{study.csv, study.md, pareto.png}\n", dir.string().c_str());
   return stop ? 130 : 0;
 }
 

@@ -13,9 +13,13 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkTable.h>
+#include <vtkSmartPointer.h>
+#include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "render/render_surface.h"
 #include "render/text_style.h"
@@ -55,6 +59,40 @@ void style_axis(vtkAxis* axis, const std::string& title, bool log, double font_p
   axis->GetGridPen()->SetColor(220, 220, 224, 255);
 }
 
+int vtk_pen_style(LineDash d) {
+  switch (d) {
+    case LineDash::dashed: return vtkPen::DASH_LINE;
+    case LineDash::dotted: return vtkPen::DOT_LINE;
+    case LineDash::dash_dot: return vtkPen::DASH_DOT_LINE;
+    case LineDash::solid: break;
+  }
+  return vtkPen::SOLID_LINE;
+}
+
+int vtk_marker(MarkerShape m) {
+  switch (m) {
+    case MarkerShape::square: return vtkPlotPoints::SQUARE;
+    case MarkerShape::diamond: return vtkPlotPoints::DIAMOND;
+    case MarkerShape::cross: return vtkPlotPoints::CROSS;
+    case MarkerShape::plus: return vtkPlotPoints::PLUS;
+    case MarkerShape::circle:
+    case MarkerShape::none: break;
+  }
+  return vtkPlotPoints::CIRCLE;
+}
+
+constexpr double kGrey[3] = {0.55, 0.55, 0.58};
+
+// a data value's position along an axis drawn from p1 to p2 (pixels) over [lo, hi] (data values)
+double to_pixel(double v, double lo, double hi, double p1, double p2, bool log) {
+  if (log) {
+    v = std::log10(v);
+    lo = std::log10(lo);
+    hi = std::log10(hi);
+  }
+  return hi > lo ? p1 + (v - lo) / (hi - lo) * (p2 - p1) : p1;
+}
+
 }  // namespace
 
 std::string axis_title(const Quantity& q) {
@@ -64,7 +102,7 @@ std::string axis_title(const Quantity& q) {
 }
 
 bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string& png_path,
-                    std::string* error) {
+                    std::string* error, PlotDrawn* drawn) {
   auto fail = [&](const std::string& why) {
     if (error) *error = why;
     return false;
@@ -91,6 +129,7 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
   style_axis(chart->GetAxis(vtkAxis::BOTTOM), spec.x_label, spec.log_x, font_px, 0.85 * spec.width);
   style_axis(chart->GetAxis(vtkAxis::LEFT), spec.y_label, spec.log_y, font_px, 0.75 * spec.height);
   double y_lo = INFINITY, y_hi = -INFINITY;  // of what is drawn, for the legend's headroom
+  std::size_t curves = 0;
 
   for (std::size_t k = 0; k < spec.series.size(); ++k) {
     const PlotSeries& s = spec.series[k];
@@ -112,15 +151,44 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
     const bool markers = s.markers_only || xs->GetNumberOfTuples() < 2;
     vtkPlot* plot = chart->AddPlot(markers ? vtkChart::POINTS : vtkChart::LINE);
     plot->SetInputData(table, 0, 1);
-    const double* c = kPalette[k % kPaletteSize];
+    ++curves;
+    const double* c = s.grey ? kGrey : kPalette[k % kPaletteSize];
     plot->SetColor(c[0], c[1], c[2]);
     plot->SetWidth(markers ? 1.5f : 2.5f);
+    if (!markers) plot->GetPen()->SetLineType(vtk_pen_style(s.dash));
     if (auto* points = vtkPlotPoints::SafeDownCast(plot)) {
-      points->SetMarkerStyle(markers ? vtkPlotPoints::CIRCLE : vtkPlotPoints::NONE);
-      points->SetMarkerSize(static_cast<float>(0.6 * font_px));
+      points->SetMarkerStyle(markers ? vtk_marker(s.marker) : vtkPlotPoints::NONE);
+      points->SetMarkerSize(static_cast<float>((s.marker == MarkerShape::none ? 0.6 : 0.8) * font_px));
+    }
+    // a line's markers: about a dozen of its points, starting at an offset of its own so that
+    // the markers of coinciding curves sit side by side instead of on top of each other
+    if (!markers && s.marker != MarkerShape::none) {
+      const vtkIdType n = xs->GetNumberOfTuples();
+      const vtkIdType stride = std::max<vtkIdType>(4, n / 12);
+      const vtkIdType offset = (static_cast<vtkIdType>(k) * std::max<vtkIdType>(1, stride / 4)) % stride;
+      vtkNew<vtkTable> marks;
+      vtkNew<vtkDoubleArray> mx, my;
+      mx->SetName("x");
+      my->SetName((std::string(ys->GetName()) + " markers").c_str());
+      for (vtkIdType i = offset; i < n; i += stride) {
+        mx->InsertNextValue(xs->GetValue(i));
+        my->InsertNextValue(ys->GetValue(i));
+      }
+      marks->AddColumn(mx);
+      marks->AddColumn(my);
+      vtkPlot* mp = chart->AddPlot(vtkChart::POINTS);
+      mp->SetInputData(marks, 0, 1);
+      mp->SetColor(c[0], c[1], c[2]);
+      mp->SetWidth(1.5f);
+      mp->SetLegendVisibility(false);
+      if (auto* points = vtkPlotPoints::SafeDownCast(mp)) {
+        points->SetMarkerStyle(vtk_marker(s.marker));
+        points->SetMarkerSize(static_cast<float>(0.8 * font_px));
+      }
     }
   }
   chart->SetShowLegend(spec.series.size() > 1);
+  bool legend_inside = false;
   if (spec.series.size() > 1) {
     set_text_style(chart->GetLegend()->GetLabelProperties(), 0.9 * font_px, ink, false);
     chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
@@ -128,18 +196,25 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
     // headroom above the data for the legend box (one row per series), so it covers no curve
     const double plot_px = spec.height - 7.0 * font_px;
     const double legend_px = (1.5 * static_cast<double>(spec.series.size()) + 1.0) * font_px;
+    vtkAxis* y = chart->GetAxis(vtkAxis::LEFT);
+    const double f = legend_px / plot_px;
     if (std::isfinite(y_lo) && plot_px > 2.0 * legend_px) {
-      const double f = legend_px / plot_px;
-      vtkAxis* y = chart->GetAxis(vtkAxis::LEFT);
       if (spec.log_y && y_lo > 0) {
+        // headroom on a log axis grows with the decades the data span: for errors from 1e-3 % to
+        // 159 % it ran the axis to 1e6 %. Beyond one decade above the data the legend goes beside.
         const double lo = std::log10(y_lo), hi = std::log10(y_hi), span = std::max(hi - lo, 1.0);
-        y->SetRange(std::pow(10.0, lo - 0.05 * span), std::pow(10.0, hi + span * f / (1.0 - f)));
+        const double headroom = span * f / (1.0 - f);
+        legend_inside = headroom <= 1.0;
+        y->SetUnscaledRange(std::pow(10.0, lo - 0.05 * span),
+                            std::pow(10.0, hi + (legend_inside ? headroom : 0.05 * span)));
       } else if (!spec.log_y) {
         const double span = y_hi > y_lo ? y_hi - y_lo : std::max(std::abs(y_hi), 1.0);
         y->SetRange(y_lo - 0.05 * span, y_hi + span * (f / (1.0 - f) + 0.05));
+        legend_inside = true;
       }
       y->SetBehavior(vtkAxis::FIXED);
     }
+    if (!legend_inside) chart->GetLegend()->SetInline(false);  // beside the plot area, right
   }
 
   vtkNew<vtkContextScene> scene;
@@ -155,6 +230,42 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
   // scale it gives values far from zero relative to their spread (an energy near 327 J varying by
   // 2 J): a single render leaves such a curve out (measured 2026-11-25)
   surface.window()->Render();
+
+  // point labels: placed in pixels from the axes as laid out by the render above
+  std::size_t labels = 0;
+  vtkAxis* xa = chart->GetAxis(vtkAxis::BOTTOM);
+  vtkAxis* ya = chart->GetAxis(vtkAxis::LEFT);
+  std::vector<vtkSmartPointer<vtkTextActor>> texts;
+  const double label_ink[3] = {0.15, 0.15, 0.18};
+  for (const PlotSeries& s : spec.series) {
+    if (s.point_labels.size() != s.x.size()) continue;
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (s.point_labels[i].empty() || !keep_point(s.x[i], s.y[i], spec)) continue;
+      const double px = to_pixel(s.x[i], xa->GetUnscaledMinimum(), xa->GetUnscaledMaximum(), xa->GetPoint1()[0],
+                                 xa->GetPoint2()[0], spec.log_x);
+      const double py = to_pixel(s.y[i], ya->GetUnscaledMinimum(), ya->GetUnscaledMaximum(), ya->GetPoint1()[1],
+                                 ya->GetPoint2()[1], spec.log_y);
+      auto& t = texts.emplace_back(vtkSmartPointer<vtkTextActor>::New());
+      t->SetInput(s.point_labels[i].c_str());
+      set_text_style(t->GetTextProperty(), 0.8 * font_px, label_ink, false);
+      // right of the point, or left of it where the text would run off the image
+      std::size_t glyphs = 0;
+      for (unsigned char c : s.point_labels[i]) glyphs += (c & 0xC0) != 0x80;
+      const double text_px = 0.6 * 0.8 * font_px * static_cast<double>(glyphs);
+      const double left = px + 0.5 * font_px + text_px < spec.width - 4.0 ? px + 0.5 * font_px
+                                                                          : px - 0.5 * font_px - text_px;
+      t->SetDisplayPosition(static_cast<int>(std::max(2.0, left)), static_cast<int>(py + 0.3 * font_px));
+      renderer->AddActor2D(t);
+      ++labels;
+    }
+  }
+  if (drawn) {
+    drawn->y_min = ya->GetUnscaledMinimum();
+    drawn->y_max = ya->GetUnscaledMaximum();
+    drawn->legend_inside = legend_inside;
+    drawn->curves = curves;
+    drawn->point_labels = labels;
+  }
   std::string why;
   // the surface, declared first, is destroyed last: it frees the GL objects of all of the above
   return surface.render_to_png(png_path, &why) ? true : fail(why);

@@ -11,12 +11,25 @@
 
 namespace ff::render {
 
+/// How a line is stroked: curves that coincide stay distinguishable by their dash pattern.
+enum class LineDash { solid, dashed, dotted, dash_dot };
+/// A marker's shape. For a line it marks about a dozen of its points (placed differently per
+/// series, so that markers of coinciding curves do not cover each other); for a markers-only
+/// series every point (`none` there means a circle).
+enum class MarkerShape { none, circle, square, diamond, cross, plus };
+
 /// One curve. x and y have equal length; points with a non-finite coordinate (or a
 /// non-positive one on a log axis) are left out.
 struct PlotSeries {
   std::string label;  ///< legend entry
   std::vector<double> x, y;
   bool markers_only = false;  ///< markers without a connecting line (e.g. reference data)
+  LineDash dash = LineDash::solid;
+  MarkerShape marker = MarkerShape::none;
+  /// text drawn beside each point (empty, or one entry per point; an empty entry draws nothing)
+  std::vector<std::string> point_labels{};
+  /// a neutral grey instead of the palette colour of its position (e.g. a front drawn under markers)
+  bool grey = false;
 };
 
 /// A chart. Axis labels should carry their unit, e.g. "hub angle [deg]"; see axis_title().
@@ -27,12 +40,24 @@ struct PlotSpec {
   bool log_x = false, log_y = false;
 };
 
+/// What write_plot_png drew, read back from the chart (for tests and callers that report it).
+struct PlotDrawn {
+  double y_min = 0, y_max = 0;     ///< the y axis range as drawn (data values, also on a log axis)
+  bool legend_inside = false;      ///< legend over the plot area (with headroom) rather than beside it
+  std::size_t curves = 0;          ///< series drawn (a series without a drawable point is not)
+  std::size_t point_labels = 0;    ///< point labels drawn
+};
+
 /// Writes spec as a PNG: white background, distinct colours per series (a fixed palette, in
 /// order), a legend when there is more than one series, axis titles, chart title.
+/// The legend sits in headroom above the data when that costs little axis range (a linear axis,
+/// or at most a quarter of a log axis' decades); otherwise beside the plot area, so that a log
+/// axis spans the data and no more.
 /// Returns false and fills *error (if non-null) when the spec is unusable (no series, x/y
-/// length mismatch, no drawable point) or the file cannot be written.
+/// length mismatch, no drawable point) or the file cannot be written. *drawn, when given,
+/// receives what was drawn.
 bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string& png_path,
-                    std::string* error);
+                    std::string* error, PlotDrawn* drawn = nullptr);
 
 /// "label [unit]" for an axis from a Quantity ("label" alone when the unit is empty).
 std::string axis_title(const Quantity& q);

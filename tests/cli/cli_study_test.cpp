@@ -133,6 +133,39 @@ TEST(CliStudy, GridWithFinestReferenceWritesConsistentTableAndPlot) {
   EXPECT_GT(png.width, 100);
 }
 
+// pareto.png (issue 34): its error axis spans the data (it once ran to 1e6 % for a 159 % maximum)
+// and every Pareto point is labelled; the study states both, checked against study.csv here.
+TEST(CliStudy, ParetoPlotAxisFitsTheErrorsAndLabelsTheFront) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  const ProcResult r = run_flexframe({"study", "hub_beam_efg_tau1", "--vary", "efg.scale=1.5,2.0,2.5", "--vary",
+                                      "efg.gauss_points=4,6", "--metric", "tip_transverse_at_2s_m", "--set",
+                                      "solver.end=2.5", "--out", out},
+                                     dir + "/study");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  double lo = INFINITY, hi = 0.0;
+  std::size_t front = 0;
+  for (const auto& row : read_study_csv(out + "/study.csv")) {
+    const double e = num(row, "error_percent");
+    if (row.at("is_reference") == "1" || !(e > 0.0)) continue;
+    lo = std::min(lo, e);
+    hi = std::max(hi, e);
+    front += row.at("pareto") == "1";
+  }
+  ASSERT_GT(hi, 0.0);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m,
+                                std::regex(R"(pareto.png: error axis ([0-9.eE+-]+) to ([0-9.eE+-]+) %, ([0-9]+) Pareto)")))
+      << r.out;
+  const double axis_lo = std::stod(m[1].str()), axis_hi = std::stod(m[2].str());
+  EXPECT_LE(axis_lo, lo * 1.001);
+  EXPECT_GE(axis_hi, hi * 0.999);
+  // no more than a decade of room above or below the data (the legend sits beside a log axis)
+  EXPECT_LT(axis_hi, 10.0 * hi);
+  EXPECT_GT(axis_lo, 0.1 * lo);
+  EXPECT_EQ(std::stoul(m[3].str()), front);
+}
+
 // Reference from a table (a CSV written here: y = x / 10, interpolated at x = 5 * 2 after the
 // x_scale) and an extra variant from another scene; --each runs each axis alone.
 TEST(CliStudy, StudyFileWithTableReferenceExtraVariantAndEach) {

@@ -110,6 +110,51 @@ TEST_F(PlotTest, LogAxesAndCustomSize) {
   EXPECT_GT(curve_pixels(320, 630, 240, 430), 50) << "no curve in the lower-right quarter";
 }
 
+// two runs whose curves coincide: the second is dashed with markers, so the first one's colour
+// still shows through its gaps (two solid lines drew only the later colour)
+TEST_F(PlotTest, CoincidingCurvesStayVisibleThroughDashes) {
+  PlotSpec spec = two_series();
+  spec.series[1] = spec.series[0];
+  spec.series[1].label = "second run";
+  spec.series[1].dash = LineDash::dashed;
+  spec.series[1].marker = MarkerShape::square;
+  const std::string path = test::out_dir() + "/plot_coinciding.png";
+  std::string err;
+  PlotDrawn drawn;
+  ASSERT_TRUE(write_plot_png(*gc_, spec, path, &err, &drawn)) << err;
+  EXPECT_EQ(drawn.curves, 2u);
+  const test::Image img = test::read_png(path);
+  EXPECT_GT(count_near(img, 0.122, 0.467, 0.706, 40), 300) << "first run hidden under the second";
+  EXPECT_GT(count_near(img, 0.890, 0.420, 0.055, 40), 300) << "second run missing";
+}
+
+// a Pareto-like chart: errors from 1e-3 % to 159 % on a log axis with six legend rows. The
+// legend's headroom once ran the axis to 1e6 %; the axis now ends within a decade of the data.
+TEST_F(PlotTest, LogAxisWithManySeriesIsSizedToTheData) {
+  PlotSpec spec;
+  spec.title = "error against wall time";
+  spec.x_label = "wall time [s]";
+  spec.y_label = "error [%]";
+  spec.log_x = spec.log_y = true;
+  const double errors[] = {159.0, 20.0, 3.0, 0.4, 0.02, 0.001};
+  for (int k = 0; k < 6; ++k) {
+    PlotSeries s{"dt=" + std::to_string(k), {0.1 * (k + 1)}, {errors[k]}, true};
+    s.point_labels = {"v" + std::to_string(k)};
+    spec.series.push_back(s);
+  }
+  const std::string path = test::out_dir() + "/plot_pareto_range.png";
+  std::string err;
+  PlotDrawn drawn;
+  ASSERT_TRUE(write_plot_png(*gc_, spec, path, &err, &drawn)) << err;
+  EXPECT_GE(drawn.y_max, 159.0);
+  EXPECT_LT(drawn.y_max, 1590.0) << "y axis runs far above the largest error";
+  EXPECT_LE(drawn.y_min, 0.001);
+  EXPECT_GT(drawn.y_min, 1e-5);
+  EXPECT_FALSE(drawn.legend_inside);
+  EXPECT_EQ(drawn.point_labels, 6u);
+  EXPECT_EQ(drawn.curves, 6u);
+}
+
 TEST_F(PlotTest, UnusableSpecsAreErrors) {
   std::string err;
   PlotSpec empty;
