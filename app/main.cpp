@@ -72,6 +72,11 @@ int main(int argc, char** argv) {
   run->add_option("--camera", run_opt.camera, std::string(ff::app::kCameraHelp) + " (default: the scene's view)");
   run->add_flag("--movie", run_opt.movie, "also assemble the frames into DIR/movie.mp4");
   run->add_option("--fps", run_opt.fps, "movie frames per second")->check(CLI::Range(1, 240));
+  run->add_option("--frame-memory", run_opt.frame_memory_mb,
+                  "MB the frames may hold until the solve ends, to be drawn in one colour range and view; beyond "
+                  "it the rest is drawn as it comes in the first frames' range (default: a quarter of the "
+                  "machine's memory, at most 2048)")
+      ->check(CLI::Range(0.001, 1e7));
   run->add_option("--export", run_opt.export_formats,
                   "write the rendered frames' deformed mesh to DIR/export: vtu (+ .pvd), gltf (.glb), obj");
 

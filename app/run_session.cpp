@@ -39,6 +39,14 @@ namespace ff::app {
 
 namespace {
 
+// a quarter of the machine's memory, at most 2 GB: what the frames kept for drawing after the
+// solve may hold by default
+double default_frame_memory_mb() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  const double machine_mb = pages > 0 && page > 0 ? 1e-6 * static_cast<double>(pages) * static_cast<double>(page) : 8000.0;
+  return std::min(2048.0, 0.25 * machine_mb);
+}
+
 // "[lo, hi]" exactly (results.h5 attribute color_range)
 std::string format_range(const std::array<double, 2>& r) {
   char text[64];
@@ -246,36 +254,25 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   const std::atomic<bool> never{false};  // what the solver computed is drawn, also after Ctrl-C
   std::array<double, 2> color_range{0, 0};  // the frames' one colour range, set before frames_done
   std::string drawing_stopped;  // "k of n" frames drawn when a Ctrl-C stopped the drawing
+  std::string frame_memory_note;  // what drawing did when the kept frames outgrew their budget
+  const double frame_memory_mb = opt.frame_memory_mb > 0 ? opt.frame_memory_mb : default_frame_memory_mb();
   const int color_field = out.color_field == "none" ? -1 : field_index(info, out.color_field);
   std::thread render([&] {
     std::unique_ptr<render::GraphicsContext> gc;
     std::unique_ptr<render::FrameRenderer> renderer;
     std::vector<Frame> to_draw;
-    while (std::optional<Frame> f = render_ch.pop()) {
-      // keep draining so the solver never blocks; after a failed write nothing more is drawn
-      if (!failed_write().empty()) continue;
-      for (std::size_t k = 0; k < f->fields.size(); ++k)
-        if (static_cast<int>(k) != color_field) std::vector<double>().swap(f->fields[k]);
-      to_draw.push_back(std::move(*f));
-    }
+    SequenceView sequence;
     int n = 0;
-    const auto t0 = std::chrono::steady_clock::now();
-    // a Ctrl-C during the solve: the frames it computed are drawn; one during the drawing stops it
-    const bool solve_interrupted = stop;
-    const SequenceView sequence = sequence_view(
-        to_draw.size(), [&](std::size_t k) { return to_draw[k]; }, color_field, out.deformation_scale, never);
-    for (std::size_t k = 0; k < to_draw.size(); ++k) {
-      const Frame* f = &to_draw[k];
-      if (!render_error.empty() || !failed_write().empty()) break;
-      if (stop && !solve_interrupted) {
-        drawing_stopped = std::to_string(n) + " of " + std::to_string(to_draw.size());
-        break;
-      }
+    auto t0 = std::chrono::steady_clock::now();
+    // one frame out, the renderer made at the first with the sequence's range and view; false
+    // when drawing must end (no graphics on this machine, a renderer or write error)
+    auto draw = [&](const Frame& f) -> bool {
+      if (!render_error.empty() || !failed_write().empty()) return false;
       if (!gc) {
         gc = render::GraphicsContext::create(&render_error);
         if (!gc) {  // no OpenGL on this machine: a warning, the run goes on without pictures
           no_graphics = true;
-          break;
+          return false;
         }
         render_backend = gc->backend();
         gl_renderer = gc->gl_renderer();
@@ -291,7 +288,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
         if (camera)
           style.camera = *camera;
         else if (!out.camera_path.empty())  // the path's start sizes the tubes; each frame sets its own
-          style.camera = *camera_on_path(out.camera_path, f->time);
+          style.camera = *camera_on_path(out.camera_path, f.time);
         else if (out.view != "auto")
           style.camera = scene_camera(info.mesh, out.view, out.view_center, out.view_radius, sequence.fit_points);
         else
@@ -299,25 +296,72 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
         renderer = std::make_unique<render::FrameRenderer>(*gc, info, style);
         if (!renderer->ok()) {
           render_error = renderer->error();
-          break;
+          return false;
         }
       }
       // the scene's camera path, unless --camera fixed the view
-      if (!camera && !out.camera_path.empty()) renderer->set_camera(*camera_on_path(out.camera_path, f->time));
+      if (!camera && !out.camera_path.empty()) renderer->set_camera(*camera_on_path(out.camera_path, f.time));
       char name[32];
       std::snprintf(name, sizeof name, "frames/frame_%05d.png", n);
       try {
-        if (!renderer->render_png(*f, folder.file(name).string(), &render_error)) {
+        if (!renderer->render_png(f, folder.file(name).string(), &render_error)) {
           fail_write(render_error);
-          break;
+          return false;
         }
       } catch (const WriteError& e) {  // the manifest could not record the frame
         render_error = e.what();
         fail_write(render_error);
-        break;
+        return false;
       }
       ++n;
+      return true;
+    };
+    // the kept frames, drawn in their one range and view; `stoppable`: a Ctrl-C (after a solve
+    // that was not interrupted) ends the drawing
+    auto draw_kept = [&](bool stoppable) {
+      t0 = std::chrono::steady_clock::now();
+      const bool solve_interrupted = stop;
+      sequence = sequence_view(
+          to_draw.size(), [&](std::size_t k) { return to_draw[k]; }, color_field, out.deformation_scale, never);
+      for (std::size_t k = 0; k < to_draw.size(); ++k) {
+        if (stoppable && stop && !solve_interrupted) {
+          drawing_stopped = std::to_string(n) + " of " + std::to_string(to_draw.size());
+          break;
+        }
+        if (!draw(to_draw[k])) break;
+      }
+      to_draw.clear();
+      to_draw.shrink_to_fit();
+    };
+    double kept_mb = 0.0;
+    bool live = false;  // over the budget: the kept frames are out, the rest is drawn as it comes
+    while (std::optional<Frame> f = render_ch.pop()) {
+      // keep draining so the solver never blocks; after a failed write nothing more is drawn
+      if (!failed_write().empty()) continue;
+      for (std::size_t k = 0; k < f->fields.size(); ++k)
+        if (static_cast<int>(k) != color_field) std::vector<double>().swap(f->fields[k]);
+      if (live) {
+        render_busy = true;  // the element loops leave this core to the renderer while it draws
+        draw(*f);
+        render_busy = false;
+        continue;
+      }
+      for (const std::vector<double>* v : {&f->points, &f->base_points})
+        kept_mb += 8e-6 * static_cast<double>(v->size());
+      if (color_field >= 0 && static_cast<std::size_t>(color_field) < f->fields.size())
+        kept_mb += 8e-6 * static_cast<double>(f->fields[static_cast<std::size_t>(color_field)].size());
+      to_draw.push_back(std::move(*f));
+      if (kept_mb > frame_memory_mb) {  // the frames so far set the range and view of the rest
+        live = true;
+        char held[96];
+        std::snprintf(held, sizeof held, "%zu frames held %.3g MB, beyond --frame-memory %.3g MB", to_draw.size(), kept_mb,
+                      frame_memory_mb);
+        frame_memory_note = std::string(held) + ": the later frames were drawn as they came, in the first frames' colour range and "
+                            "view (values beyond it saturate); `flexframe replay` draws every frame in one range";
+        draw_kept(false);
+      }
     }
+    if (!live) draw_kept(true);
     to_draw.clear();
     to_draw.shrink_to_fit();
     result.frames_rendered = n;
@@ -435,6 +479,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   render.join();  // its last frames and the plots
   record_write_failure();  // the plots are written while results.h5 closes
   if (no_graphics && !render_error.empty()) std::fprintf(stderr, "warning: frames not rendered: %s\n", render_error.c_str());
+  if (!frame_memory_note.empty()) std::fprintf(stderr, "warning: frames: %s\n", frame_memory_note.c_str());
   if (no_graphics && !plot_error.empty()) std::fprintf(stderr, "warning: plots: %s\n", plot_error.c_str());
   const auto unreached = sim.metrics_unreached();  // kept in summary.json as null, with why
   for (const auto& [name, why] : unreached)
@@ -495,7 +540,8 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       {"frames_per_second", result.render_seconds > 0 ? result.frames_rendered / result.render_seconds : 0.0},
       {"color_field", color_field >= 0 && result.frames_rendered > 0 ? out.color_field : ""},
       {"color_range", color_field >= 0 && result.frames_rendered > 0 ? Json::array({color_range[0], color_range[1]})
-                                                                      : Json::array()}};
+                                                                      : Json::array()},
+      {"frame_memory_note", frame_memory_note}};
   Json events = Json::array();  // what the path did (statics: limit points, bifurcations, turn-backs)
   for (const PathEvent& e : outcome.events)
     events.push_back({{"kind", e.kind}, {"step", e.step}, {"load_factor", e.load_factor}, {"detail", e.detail}});

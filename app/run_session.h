@@ -31,6 +31,10 @@ struct RunOptions {
   bool movie = false;                      ///< DIR/movie.mp4 from the frames
   int fps = 25;                            ///< movie frame rate
   std::string export_formats;              ///< --export: "" = none, else e.g. "vtu,gltf" (DIR/export/)
+  /// --frame-memory: MB the frames to draw may hold while the solver runs (they are drawn after
+  /// it, in one colour range and view); beyond it the rest is drawn as it comes, in the range and
+  /// view of the frames kept. 0 = a quarter of the machine's memory, at most 2048 MB.
+  double frame_memory_mb = 0.0;
 };
 
 struct RunResult {

@@ -147,3 +147,43 @@ TEST(CliFrames, RunFramesShareOneRangeAndHoldTheFallingBodyAsReplayDraws) {
 
 }  // namespace
 }  // namespace ff::cli::test
+
+namespace ff::cli::test {
+namespace {
+// The frames kept for drawing after the solve have a memory budget (--frame-memory): beyond it the
+// kept ones are drawn at once and the rest as they come, in the kept frames' colour range and
+// view, so a run of a huge mesh does not hold every frame in memory. Every frame is still drawn,
+// and the run says so (stderr, summary.json).
+TEST(CliFrames, FramesBeyondTheirMemoryBudgetAreDrawnAsTheyComeAndSaySo) {
+  const std::string dir = fresh_test_dir();
+  auto run = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"run", "double_pendulum_shells", "--out", dir + "/" + name, "--no-plots",
+                                     "--set", "solver.end=0.3", "--set", "part[0].n1=8", "--set", "part[0].n2=8",
+                                     "--set", "part[1].n1=8", "--set", "part[1].n2=8", "--frame-every", "3",
+                                     "--width", "160", "--height", "120"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_flexframe(args, dir + "/" + name + "_log");
+  };
+  const ProcResult whole = run("whole", {});
+  ASSERT_EQ(whole.exit_code, 0) << whole.describe();
+  const ProcResult tight = run("tight", {"--frame-memory", "0.05"});  // a few frames of 2 x 81 points
+  ASSERT_EQ(tight.exit_code, 0) << tight.describe();
+  EXPECT_EQ(pngs_in(dir + "/tight/frames").size(), pngs_in(dir + "/whole/frames").size());
+  EXPECT_NE(tight.err.find("beyond --frame-memory"), std::string::npos) << tight.err;
+  EXPECT_EQ(whole.err.find("beyond --frame-memory"), std::string::npos) << whole.err;
+  std::string err;
+  const std::optional<Json> s = read_summary(dir + "/tight", &err);
+  ASSERT_TRUE(s) << err;
+  const Json* note = s->get("render") ? s->get("render")->get("frame_memory_note") : nullptr;
+  ASSERT_TRUE(note);
+  EXPECT_NE(note->string.find("drawn as they came"), std::string::npos) << note->string;
+  // the kept frames' range: from 0 (a magnitude), narrower than the whole run's
+  const Json& tight_range = *s->get("render")->get("color_range");
+  const std::optional<Json> w = read_summary(dir + "/whole", &err);
+  ASSERT_TRUE(w) << err;
+  const Json& whole_range = *w->get("render")->get("color_range");
+  EXPECT_EQ(tight_range.array[0].number, 0.0);
+  EXPECT_LE(tight_range.array[1].number, whole_range.array[1].number);
+}
+}  // namespace
+}  // namespace ff::cli::test
