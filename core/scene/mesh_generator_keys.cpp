@@ -528,6 +528,15 @@ void declare_part_keys(Schema& s) {
               "generator = file: join vertices closer than this length (0: every vertex of the file is a node of its "
               "own, so a slit written with separate vertices stays open)",
               0.0, Range::non_negative(), "length");
+  // each dimension belongs to the generators that read it (the window lists and keeps only those)
+  std::vector<std::string> conditional = kDimensionKeys;
+  conditional.push_back("file");
+  for (const std::string& k : conditional) {
+    std::vector<std::string> owners;
+    for (const auto& [gen, keys] : generator_keys())
+      if (std::find(keys.begin(), keys.end(), k) != keys.end()) owners.push_back(gen);
+    s.applies_when("part." + k, "part.generator", owners);
+  }
 }
 
 bool mesh_from_file(const Document& d, std::size_t i) {

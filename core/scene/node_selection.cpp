@@ -10,9 +10,10 @@
 namespace ff::scene {
 
 namespace {
-const std::vector<std::string> kSelect = {"nearest", "plane", "box", "sphere", "patch_edge", "group", "all"};
+const std::vector<std::string> kSelect = {"nearest", "plane", "box", "sphere", "patch_edge", "group", "nodes", "all"};
 
 Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+std::string number_text(double v);
 
 mesh::NodeSelector base_selector(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
   const std::string kind = d.string(t + ".select", i);
@@ -59,6 +60,19 @@ mesh::NodeSelector base_selector(const Document& d, const mesh::ShellMesh& m, co
                                                                   : "its groups: " + names) + ")")});
     }
     return mesh::NodeSelector::ids(m.groups[static_cast<std::size_t>(g)].nodes);
+  }
+  if (kind == "nodes") {
+    // node numbers of the joined structure, as the window's picking writes them
+    const std::vector<double> given = d.numbers(t + ".nodes", i);
+    if (given.empty()) throw SceneError({d.issue(t + ".nodes", i, "select = \"nodes\" needs " + t + ".nodes, a list of node numbers")});
+    std::vector<int> ids;
+    for (double v : given) {
+      if (v != std::floor(v) || v < 0 || v >= m.node_count())
+        throw SceneError({d.issue(t + ".nodes", i, "node " + number_text(v) + " is not a node number of this structure (0 to " +
+                                                       std::to_string(m.node_count() - 1) + ")")});
+      ids.push_back(static_cast<int>(v));
+    }
+    return mesh::NodeSelector::ids(std::move(ids));
   }
   return mesh::NodeSelector::all();
 }
@@ -137,7 +151,23 @@ void declare_selector_keys(Schema& s, const std::string& t) {
                    "keep only the selected nodes whose quads all lie toward this direction from the node: "
                    "picks one lip of a slit (two coincident edges) apart from the other; with nearest, the "
                    "nearest such node; [0, 0, 0] = every selected node",
-                   std::vector<double>{0, 0, 0}, {}, 3, 3);
+                   std::vector<double>{0, 0, 0}, {}, 3, 3)
+      .number_list(t + ".nodes",
+                   "nodes: the node numbers of the joined structure (what the window's picking writes; `flexframe "
+                   "check --picture` shows the structure)",
+                   std::vector<double>{}, Range::non_negative());
+  // each selector key serves the kinds of selection that read it
+  s.applies_when(t + ".point", t + ".select", {"nearest", "plane", "sphere"})
+      // a symmetry support on a named group takes the plane's normal from bc.normal
+      .applies_when(t + ".normal", t + ".select", t == "bc" ? std::vector<std::string>{"plane", "group"} : std::vector<std::string>{"plane"})
+      .applies_when(t + ".box_min", t + ".select", {"box"})
+      .applies_when(t + ".box_max", t + ".select", {"box"})
+      .applies_when(t + ".radius", t + ".select", {"sphere"})
+      .applies_when(t + ".patch", t + ".select", {"patch_edge"})
+      .applies_when(t + ".edge", t + ".select", {"patch_edge"})
+      .applies_when(t + ".group", t + ".select", {"group"})
+      .applies_when(t + ".tolerance", t + ".select", {"plane", "box", "sphere"})
+      .applies_when(t + ".nodes", t + ".select", {"nodes"});
 }
 
 std::vector<int> select_nodes(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {

@@ -1,6 +1,8 @@
 #include "core/scene/scene.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -175,12 +177,30 @@ std::string output_name_problem(const std::string& name) {
   return "";
 }
 
+std::string read_scene_text(const std::string& path) {
+  const auto cannot = [&](const std::string& why) {
+    return SceneError({Issue{path, 0, 0, "", "cannot read scene file: " + why}});
+  };
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw cannot("it is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw cannot(std::strerror(errno));
+  std::stringstream buf;
+  buf << in.rdbuf();
+  if (in.bad()) throw cannot("read error");
+  return buf.str();
+}
+
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
-  const std::string text = read_text(path);
+  return load_scene_text(read_scene_text(path), path, overrides, ctx);
+}
+
+LoadedScene load_scene_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides,
+                            const SceneContext& ctx) {
   const Peeked peeked = peek_model_text(text, path);
   refuse_unknown_model(peeked, path, text);
   const ModelKind& kind = kind_or_first(peeked);
-  const Document d = validate_file(kind.schema(), path, overrides);
+  const Document d = validate(kind.schema(), text, path, overrides);
   LoadedScene s;
   s.name = d.string("scene.name");
   if (const std::string why = output_name_problem(s.name); !why.empty())

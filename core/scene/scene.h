@@ -76,6 +76,12 @@ std::string output_name_problem(const std::string& name);
 /// the program around provides (a mesh file reader).
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                        const SceneContext& ctx = {});
+/// The contents of the scene file `path`; a SceneError naming it when it cannot be read.
+std::string read_scene_text(const std::string& path);
+/// load_scene on a scene text held in memory (the window's scene being set up). `path` names it in
+/// messages, and relative mesh files are read from its folder, as for a file at `path`.
+LoadedScene load_scene_text(const std::string& text, const std::string& path,
+                            const std::vector<std::string>& overrides = {}, const SceneContext& ctx = {});
 
 /// A live edit of the scene's running model (the GUI's `set` of a live key): `value` validated
 /// against the scene's schema (validate_live), then handed typed to Simulation::change_live.

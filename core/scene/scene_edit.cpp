@@ -178,9 +178,10 @@ std::map<std::string, std::string> values_of(const Document& d) {
 
 }  // namespace
 
-std::string scene_text_with_overrides(const std::string& path, const std::vector<std::string>& overrides) {
-  const Schema& schema = scene_schema(path);
-  const Document wanted = validate_file(schema, path, overrides);  // throws SceneError
+std::string edited_scene_text(const std::string& text, const std::string& path,
+                              const std::vector<std::string>& overrides) {
+  const Schema& schema = schema_for_text(text);
+  const Document wanted = validate(schema, text, path, overrides);  // throws SceneError
 
   // one edit per key, the last override winning
   std::vector<Edit> edits;
@@ -211,10 +212,6 @@ std::string scene_text_with_overrides(const std::string& path, const std::vector
     }
   }
 
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buf;
-  buf << in.rdbuf();
-  const std::string text = buf.str();
   const auto want = values_of(wanted);
   auto reads_back = [&](const std::string& candidate) {
     try {
@@ -229,6 +226,149 @@ std::string scene_text_with_overrides(const std::string& path, const std::vector
   if (!reads_back(rewritten))
     throw std::runtime_error("could not write the edited scene " + path + " so that it reads back the same");
   return rewritten;
+}
+
+std::string scene_text_with_overrides(const std::string& path, const std::vector<std::string>& overrides) {
+  return edited_scene_text(read_scene_text(path), path, overrides);
+}
+
+namespace {
+
+toml::table parsed(const std::string& text, const std::string& path) {
+  try {
+    return toml::parse(text, std::string_view(path));
+  } catch (const toml::parse_error& e) {
+    const auto& at = e.source().begin;
+    throw SceneError({Issue{path, static_cast<int>(at.line), static_cast<int>(at.column), "",
+                            std::string(e.description())}});
+  }
+}
+
+bool is_header(const std::string& line) { return trim(line).rfind('[', 0) == 0; }
+bool is_comment_or_blank(const std::string& line) {
+  const std::string t = trim(line);
+  return t.empty() || t[0] == '#';
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    const auto nl = text.find('\n', pos);
+    lines.push_back(text.substr(pos, nl == std::string::npos ? std::string::npos : nl + 1 - pos));
+    pos = nl == std::string::npos ? text.size() : nl + 1;
+  }
+  return lines;
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+  std::string s;
+  for (const std::string& l : lines) s += l;
+  return s;
+}
+
+/// The candidate text when it parses to `expected`, else the whole document written by toml++
+/// (comments lost, said in a first line).
+std::string checked_or_rewritten(const std::string& candidate, const toml::table& expected, const std::string& path) {
+  try {
+    if (toml::parse(candidate, std::string_view(path)) == expected) return candidate;
+  } catch (const toml::parse_error&) {
+  }
+  std::ostringstream out;
+  out << "# written by flexframe from " << path << " (comments were not kept)\n" << expected << "\n";
+  return out.str();
+}
+
+/// 0-based line of the header of element `index` of [[array]]; npos when absent.
+std::size_t header_line(const toml::table& root, const std::string& array, std::size_t index) {
+  const toml::array* arr = root[array].as_array();
+  if (!arr || index >= arr->size() || !(*arr)[index].is_table()) return std::string::npos;
+  const auto line = (*arr)[index].source().begin.line;
+  return line == 0 ? std::string::npos : line - 1;
+}
+
+}  // namespace
+
+std::string text_with_element(const std::string& text, const std::string& path, const std::string& array,
+                              const std::vector<std::pair<std::string, std::string>>& keys,
+                              std::optional<std::size_t> before) {
+  toml::table expected = parsed(text, path);
+  toml::table element;
+  std::string block = "[[" + array + "]]\n";
+  for (const auto& [key, value] : keys) {
+    const toml::table holder = parsed("v = " + value, path + " (" + array + "." + key + ")");
+    element.insert_or_assign(key, *holder.get("v"));
+    block += key + " = " + value + "\n";
+  }
+  toml::array* arr = expected[array].as_array();
+  if (!arr) {
+    expected.insert_or_assign(array, toml::array{});
+    arr = expected[array].as_array();
+  }
+  const std::size_t at = before && *before < arr->size() ? *before : arr->size();
+  arr->insert(arr->begin() + static_cast<std::ptrdiff_t>(at), element);
+
+  std::vector<std::string> lines = lines_of(text);
+  const std::size_t header = at < arr->size() - 1 ? header_line(parsed(text, path), array, at) : std::string::npos;
+  if (header != std::string::npos) {
+    lines.insert(lines.begin() + static_cast<std::ptrdiff_t>(header), block + "\n");
+  } else {
+    if (!lines.empty() && lines.back().back() != '\n') lines.back() += '\n';
+    lines.push_back("\n" + block);
+  }
+  return checked_or_rewritten(joined(lines), expected, path);
+}
+
+std::string text_without_element(const std::string& text, const std::string& path, const std::string& array,
+                                 std::size_t index) {
+  toml::table expected = parsed(text, path);
+  toml::array* arr = expected[array].as_array();
+  if (!arr || index >= arr->size())
+    throw std::invalid_argument(path + ": there is no " + array + "[" + std::to_string(index) + "] to remove");
+  const std::size_t first = header_line(expected, array, index);
+  arr->erase(arr->begin() + static_cast<std::ptrdiff_t>(index));
+  if (arr->empty()) expected.erase(array);
+
+  std::vector<std::string> lines = lines_of(text);
+  if (first == std::string::npos || first >= lines.size()) return checked_or_rewritten("", expected, path);
+  // the element runs to the next header; comment lines right above that header belong to it
+  std::size_t end = first + 1;
+  while (end < lines.size() && !is_header(lines[end])) ++end;
+  std::size_t keep_from = end;
+  while (keep_from > first + 1 && is_comment_or_blank(lines[keep_from - 1])) --keep_from;
+  if (end == lines.size()) keep_from = end;  // trailing comments of the last element go with it
+  lines.erase(lines.begin() + static_cast<std::ptrdiff_t>(first), lines.begin() + static_cast<std::ptrdiff_t>(keep_from));
+  return checked_or_rewritten(joined(lines), expected, path);
+}
+
+std::string text_without_keys(const std::string& text, const std::string& path, const std::vector<std::string>& keys) {
+  toml::table expected = parsed(text, path);
+  std::vector<std::pair<std::size_t, std::size_t>> drop;  // 0-based line ranges [first, last]
+  for (const std::string& key : keys) {
+    toml::table* t = &expected;
+    std::string rest = key;
+    if (const auto lb = key.find('['); lb != std::string::npos) {
+      const auto rb = key.find(']', lb);
+      toml::array* arr = expected[key.substr(0, lb)].as_array();
+      const std::size_t i = std::stoul(key.substr(lb + 1, rb - lb - 1));
+      t = arr && i < arr->size() ? (*arr)[i].as_table() : nullptr;
+      rest = key.substr(rb + 2);
+    }
+    std::vector<std::string> segs = split(rest, '.');
+    const std::string leaf = segs.back();
+    segs.pop_back();
+    for (const std::string& seg : segs) t = t && t->get(seg) ? t->get(seg)->as_table() : nullptr;
+    const toml::node* v = t ? t->get(leaf) : nullptr;
+    if (!v) continue;  // nothing to drop
+    const auto& r = v->source();
+    if (r.begin.line > 0 && r.end.line >= r.begin.line) drop.emplace_back(r.begin.line - 1, r.end.line - 1);
+    t->erase(leaf);
+  }
+  std::vector<std::string> lines = lines_of(text);
+  std::sort(drop.begin(), drop.end(), std::greater<>());
+  for (const auto& [first, last] : drop)
+    if (last < lines.size()) lines.erase(lines.begin() + static_cast<std::ptrdiff_t>(first), lines.begin() + static_cast<std::ptrdiff_t>(last + 1));
+  return checked_or_rewritten(joined(lines), expected, path);
 }
 
 }  // namespace ff::scene

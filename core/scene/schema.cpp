@@ -251,6 +251,30 @@ Schema& Schema::live(std::string_view path) {
   return *this;
 }
 
+bool Schema::KeySpec::applies(const std::string& condition_value) const {
+  return condition_key.empty() ||
+         std::find(condition_values.begin(), condition_values.end(), condition_value) != condition_values.end();
+}
+
+Schema& Schema::applies_when(std::string_view path, std::string condition_key, std::vector<std::string> values) {
+  const std::string p(path);
+  auto find = [&](const std::string& k) {
+    return std::find_if(keys_.begin(), keys_.end(), [&](const KeySpec& spec) { return spec.path == k; });
+  };
+  const auto it = find(p);
+  if (it == keys_.end()) bad_declaration(p, "given a condition but not declared as a key (declare it first)");
+  const auto cond = find(condition_key);
+  if (cond == keys_.end() || cond->kind != Kind::Choice)
+    bad_declaration(p, "its condition key '" + condition_key + "' is not a declared choice key");
+  if (parent_of(cond->path) != parent_of(p)) bad_declaration(p, "its condition key '" + condition_key + "' is in another table");
+  for (const std::string& v : values)
+    if (std::find(cond->choices.begin(), cond->choices.end(), v) == cond->choices.end())
+      bad_declaration(p, "its condition value '" + v + "' is not a choice of '" + condition_key + "'");
+  it->condition_key = std::move(condition_key);
+  it->condition_values = std::move(values);
+  return *this;
+}
+
 std::vector<std::string> Schema::live_keys() const {
   std::vector<std::string> out;
   for (const auto& k : keys_)
@@ -380,6 +404,14 @@ std::string allowed_text(const Schema::KeySpec& k) {
   return "";
 }
 
+/// " (only with generator = cylinder, annulus)" for a key with a condition.
+std::string condition_text(const Schema::KeySpec& k) {
+  if (k.condition_key.empty()) return "";
+  std::string values;
+  for (const std::string& v : k.condition_values) values += (values.empty() ? "" : ", ") + v;
+  return cell(" (only with " + k.condition_key.substr(k.condition_key.rfind('.') + 1) + " = " + values + ")");
+}
+
 /// "0 or more", "exactly 2", "1 to 3".
 std::string count_text(const Schema::TableSpec& t) {
   if (t.min_count == t.max_count) return "exactly " + std::to_string(t.min_count);
@@ -420,7 +452,7 @@ std::string Schema::markdown_reference() const {
       }
       out += "| `" + k->path + "` | " + cell(type_text(*k)) + " | " + cell(def) + " | " +
              cell(allowed_text(*k)) + " | " + cell(k->doc) +
-             (k->live ? " (live: changes while the run goes on)" : "") + " |\n";
+             (k->live ? " (live: changes while the run goes on)" : "") + condition_text(*k) + " |\n";
     }
     out += "\n";
   }

@@ -132,7 +132,13 @@ class Schema {
     std::size_t min_len = 0;              ///< lists
     std::size_t max_len = SIZE_MAX;       ///< lists
     bool live = false;                    ///< may change while a run goes on (see live())
+    /// The key means something only while a sibling choice key (`condition_key`, a full path such
+    /// as "part.generator") has one of `condition_values` (see applies_when()); "" = always.
+    std::string condition_key;
+    std::vector<std::string> condition_values;
     bool required() const { return std::holds_alternative<std::monostate>(default_value); }
+    /// Whether the key applies when its condition key has the value `condition_value`.
+    bool applies(const std::string& condition_value) const;
   };
 
   /// A table; `doc` is its one-line meaning. Its parent table must be declared first.
@@ -171,6 +177,11 @@ class Schema {
   Schema& live(std::string_view path);
   /// The live keys, in declaration order.
   std::vector<std::string> live_keys() const;
+
+  /// Declares that the key `path` applies only while the choice key `condition_key` of the same
+  /// table has one of `values` (a generator's dimensions, a selector's point): editors list it
+  /// only then, and drop it when the choice changes to a value it does not serve.
+  Schema& applies_when(std::string_view path, std::string condition_key, std::vector<std::string> values);
 
   /// A key (or a whole table) that a newer vocabulary renamed: input that still uses `old_path`
   /// is refused at its line with "renamed to 'new_path'" instead of a bare "unknown key".
