@@ -214,6 +214,10 @@ int main(int argc, char** argv) {
                   "wait SECONDS, screenshot FILE, probe NODE, save FILE, export FILE, redraws, quit");
   gui->add_option("--screenshot", gui_opt.screenshot, "write the window as PNG just before quitting");
   gui->add_option("--quit-after", gui_opt.quit_after, "quit after this many seconds")->check(CLI::NonNegativeNumber);
+  gui->add_option("--new", gui_opt.new_problem,
+                  "start from a new problem (a 1 m steel plate to set up) instead of a scene: static or dynamic")
+      ->check(CLI::IsMember({"static", "dynamic"}))
+      ->excludes(gui->get_option("scene"));
   gui->add_flag("--run", gui_opt.run, "start the solver at once (default: paused at t = 0)");
   gui->add_option("--width", gui_opt.width, "window width in pixels")->check(CLI::Range(640, 8192));
   gui->add_option("--height", gui_opt.height, "window height in pixels")->check(CLI::Range(480, 8192));

@@ -668,4 +668,24 @@ std::array<double, 2> FrameRenderer::color_range() const {
 
 Camera FrameRenderer::camera() const { return impl_->camera; }
 
+// every mesh point whose drawn position projects into the rectangle (box picking in the window)
+std::vector<int> FrameRenderer::points_in_rect(double x0_px, double y0_px, double x1_px, double y1_px) {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  Impl& m = *impl_;
+  std::vector<int> inside;
+  if (!m.error.empty() || m.n == 0) return inside;
+  const double xlo = std::min(x0_px, x1_px), xhi = std::max(x0_px, x1_px);
+  // VTK's display y grows upwards
+  const double ylo = m.style.height - 1 - std::max(y0_px, y1_px), yhi = m.style.height - 1 - std::min(y0_px, y1_px);
+  for (std::size_t i = 0; i < m.n; ++i) {
+    double p[3], d[3];
+    m.points->GetPoint(static_cast<vtkIdType>(i), p);
+    m.renderer->SetWorldPoint(p[0], p[1], p[2], 1.0);
+    m.renderer->WorldToDisplay();
+    m.renderer->GetDisplayPoint(d);
+    if (d[0] >= xlo && d[0] <= xhi && d[1] >= ylo && d[1] <= yhi) inside.push_back(static_cast<int>(i));
+  }
+  return inside;
+}
+
 }  // namespace ff::render

@@ -115,6 +115,9 @@ class FrameRenderer {
   /// top left): the point closest to where the body is hit, or, where no body is hit, the point
   /// projected nearest within max_px; -1 when none.
   int pick_point(double x_px, double y_px, double max_px = 24.0);
+  /// Indices of the mesh points drawn inside the pixel rectangle with corners (x0, y0) and
+  /// (x1, y1) of the last rendered frame (origin top left), front or back: box picking.
+  std::vector<int> points_in_rect(double x0_px, double y0_px, double x1_px, double y1_px);
   /// Image size in pixels.
   int width() const;
   int height() const;

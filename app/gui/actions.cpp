@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <cctype>
 #include <sstream>
 
 namespace ff::app::gui {
@@ -36,7 +37,39 @@ bool parse_number(const std::string& s, double* out) {
 }
 
 constexpr const char* kVerbs = "run, pause, step [N], reset, set KEY VALUE, wait SECONDS, screenshot FILE, "
-                               "probe NODE, save FILE, export FILE, redraws, quit";
+                               "probe NODE, save FILE, export FILE, redraws, quit, new static|dynamic, open FILE, "
+                               "add TABLE [KEY=VALUE ...], remove TABLE[I], preset material[I] NAME, pick NODE..., "
+                               "pick-box X0 Y0 X1 Y1, pick-clear, use-pick TABLE[I], click X Y, show all|none|TABLE[I]";
+
+/// "bc[2]" -> ("bc", 2); false when it is not NAME[INDEX].
+bool parse_entry(const std::string& s, std::string* table, long long* index) {
+  const auto lb = s.find('[');
+  if (lb == std::string::npos || lb == 0 || s.back() != ']') return false;
+  *table = s.substr(0, lb);
+  for (char c : *table)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return parse_int(s.substr(lb + 1, s.size() - lb - 2), index) && *index >= 0;
+}
+
+/// Splits at blanks outside [...] and "...": `type=force point=[1, 0, 0]` -> 2 words.
+std::vector<std::string> words(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  int depth = 0;
+  bool quoted = false;
+  for (char c : s) {
+    if (c == '"') quoted = !quoted;
+    if (!quoted && c == '[') ++depth;
+    if (!quoted && c == ']') --depth;
+    if (!quoted && depth <= 0 && (c == ' ' || c == '\t')) {
+      if (!cur.empty()) out.push_back(cur), cur.clear();
+      continue;
+    }
+    cur += c;
+  }
+  if (!cur.empty()) out.push_back(cur);
+  return out;
+}
 
 }  // namespace
 
@@ -93,6 +126,59 @@ std::vector<Action> parse_actions(const std::string& text, const std::string& fi
       if (!value.empty() && value[0] == '=') value = trim(value.substr(1));  // set KEY=VALUE works too
       if (a.key.empty() || value.empty()) fail("'set' needs a key and a value: set KEY VALUE (e.g. set solver.dt 0.01)");
       a.text = value;
+    } else if (verb == "new") {
+      a.kind = Action::Kind::new_problem;
+      if (rest != "static" && rest != "dynamic") fail("'new' takes static or dynamic: new static");
+      a.text = rest;
+    } else if (verb == "open") {
+      a.kind = Action::Kind::open, need_path();
+    } else if (verb == "add") {
+      a.kind = Action::Kind::add;
+      const std::vector<std::string> w = words(rest);
+      if (w.empty()) fail("'add' needs a table: add TABLE [KEY=VALUE ...] (e.g. add bc type=clamped)");
+      a.key = w[0];
+      for (std::size_t k = 1; k < w.size(); ++k) {
+        const auto eq = w[k].find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == w[k].size())
+          fail("'add' takes KEY=VALUE after the table, got '" + w[k] + "'");
+        a.fields.emplace_back(w[k].substr(0, eq), w[k].substr(eq + 1));
+      }
+    } else if (verb == "remove" || verb == "use-pick") {
+      a.kind = verb == "remove" ? Action::Kind::remove : Action::Kind::use_pick;
+      if (!parse_entry(rest, &a.key, &a.count)) fail("'" + verb + "' needs an entry: " + verb + " TABLE[I] (e.g. bc[0])");
+    } else if (verb == "preset") {
+      a.kind = Action::Kind::preset;
+      const auto ws = rest.find_first_of(" \t");
+      const std::string entry = rest.substr(0, ws);
+      a.text = ws == std::string::npos ? "" : trim(rest.substr(ws));
+      if (!parse_entry(entry, &a.key, &a.count) || a.key != "material" || a.text.empty())
+        fail("'preset' needs a material entry and a preset name: preset material[0] steel");
+    } else if (verb == "pick") {
+      a.kind = Action::Kind::pick;
+      for (const std::string& w : words(rest)) {
+        long long n = 0;
+        if (!parse_int(w, &n) || n < 0) fail("'pick' takes node numbers >= 0, got '" + w + "'");
+        a.nodes.push_back(n);
+      }
+      if (a.nodes.empty()) fail("'pick' needs node numbers: pick NODE...");
+    } else if (verb == "pick-clear") {
+      a.kind = Action::Kind::pick_clear, no_args();
+    } else if (verb == "click" || verb == "pick-box") {
+      a.kind = verb == "click" ? Action::Kind::click : Action::Kind::pick_box;
+      const std::size_t want = verb == "click" ? 2 : 4;
+      for (const std::string& w : words(rest)) {
+        double v = 0;
+        if (!parse_number(w, &v) || v < 0) fail("'" + verb + "' takes pixel coordinates >= 0, got '" + w + "'");
+        a.pixels.push_back(v);
+      }
+      if (a.pixels.size() != want)
+        fail(verb == "click" ? "'click' needs X Y: click 400 300" : "'pick-box' needs X0 Y0 X1 Y1: pick-box 100 100 300 250");
+    } else if (verb == "show") {
+      a.kind = Action::Kind::show;
+      if (rest == "all" || rest == "none")
+        a.text = rest;
+      else if (!parse_entry(rest, &a.key, &a.count))
+        fail("'show' takes all, none or an entry: show bc[0]");
     } else if (verb == "screenshot") {
       a.kind = Action::Kind::screenshot, need_path();
     } else if (verb == "save") {

@@ -3,22 +3,35 @@
 /// Scripted GUI sessions (`flexframe gui --actions FILE`): one action per line,
 ///   run | pause | step [N] | reset | set KEY VALUE | wait SECONDS | screenshot FILE |
 ///   probe NODE | save FILE | export FILE | redraws | quit
+/// and, to set a problem up (app/gui/scene_draft.h):
+///   new static|dynamic | open FILE | add TABLE [KEY=VALUE ...] | remove TABLE[I] |
+///   preset material[I] NAME | pick NODE... | pick-box X0 Y0 X1 Y1 | pick-clear | use-pick TABLE[I] |
+///   click X Y | show all|none|TABLE[I]
+/// (click and pick-box take pixels of the 3D view, origin top left, as a mouse would.)
 /// (`redraws` prints "redraws N", the window frames drawn so far: an idle window draws none.)
 /// Blank lines and lines starting with '#' are skipped. No GL or ImGui here (unit tested).
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ff::app::gui {
 
 struct Action {
-  enum class Kind { run, pause, step, reset, set, wait, screenshot, probe, save, export_png, redraws, quit };
+  enum class Kind {
+    run, pause, step, reset, set, wait, screenshot, probe, save, export_png, redraws, quit,
+    new_problem, open, add, remove, preset, pick, pick_box, pick_clear, use_pick, click, show
+  };
   Kind kind = Kind::run;
-  long long count = 1;   ///< step: solver steps; probe: node index
+  long long count = 1;   ///< step: solver steps; probe: node index; remove/preset/use-pick/show: entry index
   double seconds = 0.0;  ///< wait
-  std::string key;       ///< set
-  std::string text;      ///< set: value (TOML text, rest of the line); screenshot/save/export: path
+  std::string key;       ///< set: the key; add/remove/use-pick/show: the table ("" for show all|none)
+  std::vector<std::pair<std::string, std::string>> fields;  ///< add: KEY=VALUE (value as --set takes it)
+  std::vector<long long> nodes;  ///< pick: node numbers
+  std::vector<double> pixels;    ///< click: x, y; pick-box: x0, y0, x1, y1
+  std::string text;      ///< set: value (TOML text, rest of the line); screenshot/save/export/open: path;
+                         ///< new: static|dynamic; preset: its name; show: all|none
   std::string file;      ///< where it was read from, for messages
   int line = 0;
   /// "actions.txt:3"

@@ -25,6 +25,8 @@
 #include "app/io/mesh_import.h"
 #include "app/gui/actions.h"
 #include "app/gui/param_editor.h"
+#include "app/gui/scene_draft.h"
+#include "app/gui/setup_panel.h"
 #include "app/gui/sim_worker.h"
 #include "app/run_session.h"
 #include "app/view_options.h"
@@ -38,6 +40,15 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+std::string quoted_toml(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
 
 constexpr const char* kHeadlessHint =
     "Without a display use the headless verbs: `flexframe run SCENE` (frames, plots, results.h5, "
@@ -72,6 +83,12 @@ void on_input_focus(GLFWwindow*, int) { g_input_seen = true; }
 void on_input_enter(GLFWwindow*, int) { g_input_seen = true; }
 void on_window_size(GLFWwindow*, int, int) { g_input_seen = true; }
 void on_window_refresh(GLFWwindow*) { g_input_seen = true; }
+// files dropped on the window, opened by the loop (a scene, or a mesh as a new problem's part)
+std::vector<std::string> g_dropped;
+void on_drop(GLFWwindow*, int count, const char** paths) {
+  for (int i = 0; i < count; ++i) g_dropped.emplace_back(paths[i]);
+  g_input_seen = true;
+}
 void install_input_callbacks(GLFWwindow* window) {
   glfwSetCursorPosCallback(window, on_input_cursor);
   glfwSetMouseButtonCallback(window, on_input_button);
@@ -82,6 +99,29 @@ void install_input_callbacks(GLFWwindow* window) {
   glfwSetCursorEnterCallback(window, on_input_enter);
   glfwSetFramebufferSizeCallback(window, on_window_size);
   glfwSetWindowRefreshCallback(window, on_window_refresh);
+  glfwSetDropCallback(window, on_drop);
+}
+
+/// Mesh and CAD files a part reads (part.generator = "file"); other dropped files open as scenes.
+bool is_mesh_file(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* e : {".msh", ".inp", ".obj", ".ply", ".stl", ".step", ".stp", ".iges", ".igs", ".brep", ".geo"})
+    if (ext == e) return true;
+  return false;
+}
+
+/// Where a new problem's text lives until it is saved: the working folder (relative files of a
+/// later Save are read from there); nothing is written there until Save.
+std::string new_problem_path(const std::string& name) { return (fs::current_path() / (name + ".toml")).string(); }
+
+/// A new static problem whose one part is the mesh file `mesh` (absolute, so the text works from
+/// anywhere it is saved).
+std::string mesh_problem_text(const std::string& mesh) {
+  const std::string text = new_scene_text("static", fs::path(mesh).stem().string());
+  const std::string path = new_problem_path("mesh");
+  std::string t = scene::text_without_keys(text, path, {"part[0].length", "part[0].width", "part[0].n1", "part[0].n2"});
+  return scene::edited_scene_text(t, path, {"part[0].generator=\"file\"", "part[0].file=" + quoted_toml(fs::absolute(mesh).string())});
 }
 
 // λ and other Greek letters: the default ImGui font (ProggyClean) has Latin-1 only, so Greek
@@ -219,9 +259,26 @@ class Viewport {
     last_render_ = Clock::now();
   }
 
+  /// A node under pixel (x, y) of the view (origin top left), as a click picks it; -1 for none.
+  int node_at(double x, double y) {
+    if (!renderer_) return -1;
+    const int n = renderer_->pick_point(x, y);
+    glfwMakeContextCurrent(window_);
+    return n;
+  }
+  /// The nodes drawn inside a pixel rectangle of the view.
+  std::vector<int> nodes_in(double x0, double y0, double x1, double y1) {
+    if (!renderer_) return {};
+    std::vector<int> nodes = renderer_->points_in_rect(x0, y0, x1, y1);
+    glfwMakeContextCurrent(window_);
+    return nodes;
+  }
+  bool ready() const { return renderer_ != nullptr; }
+
   /// Draws the image into the current ImGui window and handles the mouse (orbit, pan, zoom,
-  /// click to pick). Returns the node picked this frame, or -1.
-  int draw(float w, float h) {
+  /// click to pick, shift-drag a box when `box_picking`). Returns the node clicked this frame, or
+  /// -1; a box dragged this frame comes back in *boxed.
+  int draw(float w, float h, bool box_picking = false, std::vector<int>* boxed = nullptr) {
     int picked = -1;
     if (!texture_) {
       ImGui::SetCursorPos(ImVec2(20, 20));
@@ -244,7 +301,19 @@ class Viewport {
       }
       if (ImGui::IsMouseClicked(ImGuiMouseButton_Left) || ImGui::IsMouseClicked(ImGuiMouseButton_Right) ||
           ImGui::IsMouseClicked(ImGuiMouseButton_Middle))
-        dragged_ = false, dragging_ = true;
+        dragged_ = false, dragging_ = true, box_start_ = ImVec2(io.MousePos.x - origin.x, io.MousePos.y - origin.y);
+    }
+    if (box_picking && dragging_ && io.KeyShift && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 3.0f)) {
+      // shift-drag: a rubber band instead of orbiting; released, it picks what it encloses
+      ImGui::GetWindowDrawList()->AddRect(ImVec2(origin.x + box_start_.x, origin.y + box_start_.y), io.MousePos,
+                                          IM_COL32(230, 120, 0, 255), 0.0f, 0, 2.0f);
+      dragged_ = true;
+      return picked;
+    }
+    if (box_picking && dragging_ && dragged_ && io.KeyShift && ImGui::IsMouseReleased(ImGuiMouseButton_Left) && boxed) {
+      *boxed = nodes_in(box_start_.x, box_start_.y, io.MousePos.x - origin.x, io.MousePos.y - origin.y);
+      dragging_ = false;
+      return picked;
     }
     if (dragging_) {
       const ImVec2 d = io.MouseDelta;
@@ -346,6 +415,7 @@ class Viewport {
   std::vector<unsigned char> rgb_;
   GLuint texture_ = 0;
   bool dirty_ = true, dragging_ = false, dragged_ = false;
+  ImVec2 box_start_{0, 0};  // where a shift-drag box began, in view pixels
   Clock::time_point last_render_{};
   std::string error_;
 };
@@ -386,6 +456,14 @@ class GuiApp {
           glfwPollEvents();
       }
       if (pull()) settle = std::max(settle, 1);
+      for (const std::string& dropped : std::exchange(g_dropped, {})) {
+        try {
+          open_file(dropped);
+          notice("opening " + dropped);
+        } catch (const std::exception& e) {
+          message_ = e.what(), message_is_error_ = true;
+        }
+      }
       if (g_input_seen) settle = kSettleFrames, g_input_seen = false;
       run_actions();
       if (opt_.quit_after > 0 && seconds_since(start_) >= opt_.quit_after && !quit_) {
@@ -461,12 +539,18 @@ class GuiApp {
       history_.clear();
       rate_.clear();
       viewport_.set_run(u.status.info, u.status.output, u.status.scene_name);
-      params_.load(u.status.scene_path, u.status.overrides);
+      params_.load(u.status.scene_text, u.status.scene_path, u.status.opened_text);
+      setup_.load(u.status);
       save_path_ = u.status.scene_name + "_edited.toml";
       export_path_ = u.status.scene_name + ".png";
-      scene_field_ = u.status.scene_path;
-    } else if (u.status.message_seq != status_.message_seq && u.status.message_is_error) {
-      params_.load(u.status.scene_path, u.status.overrides);  // drop the refused edit from the list
+      scene_field_ = u.status.opened_from;
+      if (u.status.info && !pick_.nodes.empty() && *pick_.nodes.rbegin() >= static_cast<int>(u.status.info->mesh.point_count()))
+        pick_.nodes.clear();  // picked on another mesh
+    } else if ((u.status.message_seq != status_.message_seq && u.status.message_is_error) ||
+               u.status.scene_text != status_.scene_text) {
+      // a refused edit leaves the list as it was; a live edit adds its [[timeline]] entry
+      params_.load(u.status.scene_text, u.status.scene_path, u.status.opened_text);
+      setup_.load(u.status);
     }
     if (u.status.message_seq != status_.message_seq && !u.status.message.empty()) {
       message_ = u.status.message;
@@ -523,10 +607,9 @@ class GuiApp {
       if (waiting_seq_ != 0) {
         if (status_.settled_seq < waiting_seq_) return;
         waiting_seq_ = 0;
-        if (current_action_ && current_action_->kind == Action::Kind::set && status_.message_is_error &&
+        if (current_action_ && edits_scene(*current_action_) && status_.message_is_error &&
             status_.message_seq != message_seq_at_issue_) {
-          action_failed("set " + current_action_->key + " " + current_action_->text + " was refused:\n" +
-                        status_.message);
+          action_failed(describe(*current_action_) + " was refused:\n" + status_.message);
           return;
         }
       }
@@ -558,7 +641,98 @@ class GuiApp {
           std::printf("redraws %lld\n", redraws_);
           std::fflush(stdout);
           break;
+        case Action::Kind::new_problem: waiting_seq_ = request({a.text, {}, a.text}); break;
+        case Action::Kind::open:
+          try {
+            waiting_seq_ = open_file(a.text);
+          } catch (const std::exception& e) {
+            action_failed(e.what());
+          }
+          break;
+        case Action::Kind::add: {
+          const std::string table = a.key;
+          const auto fields = a.fields;
+          waiting_seq_ = request({describe(a), [table, fields](const std::string& t, const std::string& p) {
+                                    return with_entry_added(t, p, table, fields);
+                                  }, std::nullopt});
+          break;
+        }
+        case Action::Kind::remove: {
+          const std::string table = a.key;
+          const auto index = static_cast<std::size_t>(a.count);
+          waiting_seq_ = request({describe(a), [table, index](const std::string& t, const std::string& p) {
+                                    return with_entry_removed(t, p, table, index);
+                                  }, std::nullopt});
+          break;
+        }
+        case Action::Kind::preset: {
+          const auto index = static_cast<std::size_t>(a.count);
+          const std::string preset = a.text;
+          waiting_seq_ = request({describe(a), [index, preset](const std::string& t, const std::string& p) {
+                                    return with_material_preset(t, p, index, preset);
+                                  }, std::nullopt});
+          break;
+        }
+        case Action::Kind::pick: {
+          const long long n = status_.info ? static_cast<long long>(status_.info->mesh.point_count()) : 0;
+          for (long long node : a.nodes) {
+            if (node >= n) {
+              action_failed("pick " + std::to_string(node) + ": the mesh has nodes 0 to " + std::to_string(n - 1));
+              break;
+            }
+            pick_.nodes.insert(static_cast<int>(node));
+          }
+          break;
+        }
+        case Action::Kind::pick_clear: pick_.nodes.clear(); break;
+        case Action::Kind::use_pick:
+          if (pick_.nodes.empty()) {
+            action_failed("use-pick: no nodes are picked (pick NODE..., click X Y with picking on, or pick-box)");
+            break;
+          }
+          waiting_seq_ = request(use_picked_nodes(a.key + "[" + std::to_string(a.count) + "]", pick_.nodes));
+          break;
+        case Action::Kind::click:
+        case Action::Kind::pick_box:
+          // as the mouse would: the view must have drawn the current frame first
+          if (!viewport_.ready()) {
+            --next_action_;  // try again after the next draw
+            current_action_ = nullptr;
+            return;
+          }
+          if (a.kind == Action::Kind::click) {
+            const int node = viewport_.node_at(a.pixels[0], a.pixels[1]);
+            if (node < 0) {
+              action_failed("click " + fmt("%g", a.pixels[0]) + " " + fmt("%g", a.pixels[1]) + ": no node there");
+              break;
+            }
+            clicked(node);
+            std::printf("clicked node %d\n", node);
+          } else {
+            const std::vector<int> nodes = viewport_.nodes_in(a.pixels[0], a.pixels[1], a.pixels[2], a.pixels[3]);
+            pick_.nodes.insert(nodes.begin(), nodes.end());
+            std::printf("picked %zu nodes in the box\n", nodes.size());
+          }
+          std::fflush(stdout);
+          break;
+        case Action::Kind::show:
+          pick_.shown = a.key.empty() ? a.text : a.key + "[" + std::to_string(a.count) + "]";
+          break;
       }
+    }
+  }
+
+  /// Actions whose refusal by the solver thread fails the script.
+  static bool edits_scene(const Action& a) {
+    switch (a.kind) {
+      case Action::Kind::set:
+      case Action::Kind::new_problem:
+      case Action::Kind::open:
+      case Action::Kind::add:
+      case Action::Kind::remove:
+      case Action::Kind::preset:
+      case Action::Kind::use_pick: return true;
+      default: return false;
     }
   }
 
@@ -576,15 +750,37 @@ class GuiApp {
       case Action::Kind::save: return "save " + a.text;
       case Action::Kind::quit: return "quit";
       case Action::Kind::redraws: return "redraws";
+      case Action::Kind::new_problem: return "new " + a.text;
+      case Action::Kind::open: return "open " + a.text;
+      case Action::Kind::add: {
+        std::string s = "add " + a.key;
+        for (const auto& [k, v] : a.fields) s += " " + k + "=" + v;
+        return s;
+      }
+      case Action::Kind::remove: return "remove " + a.key + "[" + std::to_string(a.count) + "]";
+      case Action::Kind::preset: return "preset " + a.key + "[" + std::to_string(a.count) + "] " + a.text;
+      case Action::Kind::pick: {
+        std::string s = "pick";
+        for (long long n : a.nodes) s += " " + std::to_string(n);
+        return s;
+      }
+      case Action::Kind::pick_clear: return "pick-clear";
+      case Action::Kind::use_pick: return "use-pick " + a.key + "[" + std::to_string(a.count) + "]";
+      case Action::Kind::click: return "click " + fmt("%g", a.pixels[0]) + " " + fmt("%g", a.pixels[1]);
+      case Action::Kind::pick_box:
+        return "pick-box " + fmt("%g", a.pixels[0]) + " " + fmt("%g", a.pixels[1]) + " " + fmt("%g", a.pixels[2]) + " " +
+               fmt("%g", a.pixels[3]);
+      case Action::Kind::show: return "show " + (a.key.empty() ? a.text : a.key + "[" + std::to_string(a.count) + "]");
     }
     return "";
   }
 
   void save_scene(const std::string& path) {
     try {
-      const std::string text = scene::scene_text_with_overrides(status_.scene_path, status_.overrides);
+      const std::string text =
+          text_to_save(status_.scene_text, status_.scene_path, path, status_.opened_text, status_.opened_from);
       std::ofstream out(path, std::ios::binary);
-      if (!(out << text)) throw std::runtime_error("cannot write " + path);
+      if (!(out << text) || !(out.flush())) throw std::runtime_error("cannot write " + path);
       notice("saved " + path);
       std::printf("saved %s\n", path.c_str());
     } catch (const std::exception& e) {
@@ -610,11 +806,12 @@ class GuiApp {
     ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0.0f);
     ImGui::Begin("viewport", nullptr, kPanel | ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoScrollbar |
                                           ImGuiWindowFlags_NoScrollWithMouse);
-    const int picked = viewport_.draw(vp.x, vp.y);
-    if (picked >= 0) {
-      probe_input_ = picked;
-      worker_->probe(picked);
-      notice("probing node " + std::to_string(picked));
+    std::vector<int> boxed;
+    const int picked = viewport_.draw(vp.x, vp.y, pick_.picking, &boxed);
+    if (picked >= 0) clicked(picked);
+    if (!boxed.empty()) {
+      pick_.nodes.insert(boxed.begin(), boxed.end());
+      notice("picked " + std::to_string(boxed.size()) + " nodes in the box (" + std::to_string(pick_.nodes.size()) + " in all)");
     }
     ImGui::End();
     ImGui::PopStyleVar(2);
@@ -717,6 +914,8 @@ class GuiApp {
         ImGui::TextDisabled("click the body or enter a node index");
       }
     }
+    if (ImGui::CollapsingHeader("Set up", ImGuiTreeNodeFlags_DefaultOpen))
+      for (SetupRequest& r : setup_.draw(status_, pick_)) request(std::move(r));
     if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
       // the live keys are the schema's, so a model that declares more shows them here too
       std::string hint = "edits rebuild the model and restart at t = 0";
@@ -729,9 +928,41 @@ class GuiApp {
     }
   }
 
+  /// A click on node `node`: picked or unpicked while picking, else probed.
+  void clicked(int node) {
+    if (pick_.picking) {
+      const bool had = pick_.nodes.erase(node) > 0;
+      if (!had) pick_.nodes.insert(node);
+      notice((had ? "unpicked node " : "picked node ") + std::to_string(node) + " (" + std::to_string(pick_.nodes.size()) +
+             " picked)");
+      return;
+    }
+    probe_input_ = node;
+    worker_->probe(node);
+    notice("probing node " + std::to_string(node));
+  }
+
+  /// Sends a set-up edit to the solver thread; returns its sequence number.
+  std::uint64_t request(SetupRequest r) {
+    if (r.new_problem) {
+      const std::string name = "new_" + *r.new_problem;
+      return worker_->load_text(new_scene_text(*r.new_problem, name), new_problem_path(name), "");
+    }
+    return worker_->edit(r.what, std::move(r.op));
+  }
+
+  /// Opens a scene file, or a mesh file as a new problem's part.
+  std::uint64_t open_file(const std::string& path) {
+    if (is_mesh_file(path)) {
+      const std::string text = mesh_problem_text(path);
+      return worker_->load_text(text, new_problem_path(fs::path(path).stem().string()), path);
+    }
+    return worker_->load(resolve_scene(path));
+  }
+
   void open_scene(const std::string& name) {
     try {
-      worker_->load(resolve_scene(name));
+      open_file(name);
     } catch (const std::exception& e) {
       message_ = e.what();
       message_is_error_ = true;
@@ -823,6 +1054,8 @@ class GuiApp {
   std::unique_ptr<SimWorker> worker_;
   Viewport viewport_;
   ParamEditor params_;
+  SetupPanel setup_;
+  PickState pick_;
   WorkerStatus status_;
   std::vector<Sample> history_;
   std::deque<std::pair<Clock::time_point, long long>> rate_;
@@ -848,17 +1081,29 @@ class GuiApp {
   int exit_code_ = 0;
 };
 
-/// Checks every `set` of a script against the scene before any window opens.
-void check_actions(const std::vector<Action>& actions, const std::string& scene_path,
-                   std::vector<std::string> overrides) {
-  const scene::Schema& schema = scene::scene_schema(scene_path);
+/// Checks a script's edits before any window opens, by making them on the scene text in order
+/// (the picks of use-pick come from clicks and are left to the run): a bad one is FILE:LINE.
+void check_actions(const std::vector<Action>& actions, std::string text, std::string path) {
   for (const Action& a : actions) {
-    if (a.kind != Action::Kind::set) continue;
-    overrides.push_back(a.key + "=" + a.text);
     try {
-      scene::validate_file(schema, scene_path, overrides);
-    } catch (const scene::SceneError& e) {
-      throw ActionError(a.where() + ": set " + a.key + " " + a.text + ": " + e.what());
+      switch (a.kind) {
+        case Action::Kind::set: text = with_key_set(text, path, a.key, a.text).text; break;
+        case Action::Kind::new_problem:
+          text = new_scene_text(a.text, "new_" + a.text), path = new_problem_path("new_" + a.text);
+          break;
+        case Action::Kind::open:
+          if (is_mesh_file(a.text))
+            text = mesh_problem_text(a.text), path = new_problem_path(fs::path(a.text).stem().string());
+          else
+            path = resolve_scene(a.text), text = scene::read_scene_text(path);
+          break;
+        case Action::Kind::add: text = with_entry_added(text, path, a.key, a.fields).text; break;
+        case Action::Kind::remove: text = with_entry_removed(text, path, a.key, static_cast<std::size_t>(a.count)).text; break;
+        case Action::Kind::preset: text = with_material_preset(text, path, static_cast<std::size_t>(a.count), a.text).text; break;
+        default: break;
+      }
+    } catch (const std::exception& e) {
+      throw ActionError(a.where() + ": " + e.what());
     }
   }
 }
@@ -870,8 +1115,24 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
   try {
     if (!opt.actions_file.empty()) {
       actions = read_actions(opt.actions_file);
-      check_actions(actions, opt.scene_path, opt.overrides);
     }
+  } catch (const ActionError& e) {
+    std::fprintf(stderr, "error: bad actions file: %s\n", e.what());
+    return 2;
+  }
+  // the scene as a text: a file with its --set edits folded in, or a new problem
+  std::string path, text, opened_text, opened_from;
+  if (!opt.new_problem.empty()) {
+    const std::string name = "new_" + opt.new_problem;
+    path = new_problem_path(name);
+    text = opened_text = new_scene_text(opt.new_problem, name);
+  } else {
+    path = opened_from = opt.scene_path;
+    opened_text = scene::read_scene_text(path);
+    text = scene::edited_scene_text(opened_text, path, opt.overrides);
+  }
+  try {
+    check_actions(actions, text, path);
   } catch (const ActionError& e) {
     std::fprintf(stderr, "error: bad actions file: %s\n", e.what());
     return 2;
@@ -893,7 +1154,7 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
   // the scene is read before the window opens: bad input is reported like `flexframe run` does
   scene::LoadedScene scene;
   try {
-    scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context());
+    scene = scene::load_scene_text(text, path, {}, io::scene_context());
   } catch (...) {
     glfwTerminate();
     throw;
@@ -929,7 +1190,8 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
   int code = 0;
   {
     // the solver thread wakes the sleeping window when it has news
-    auto worker = std::make_unique<SimWorker>(std::move(scene), opt.overrides, [] { glfwPostEmptyEvent(); });
+    auto worker = std::make_unique<SimWorker>(std::move(scene), text, opened_text, opened_from,
+                                              [] { glfwPostEmptyEvent(); });
     GuiApp app(window, opt, std::move(worker), std::move(actions), stop);
     code = app.loop();
   }

@@ -11,6 +11,7 @@ namespace ff::app::gui {
 
 struct GuiOptions {
   std::string scene_path;               ///< resolved scene file
+  std::string new_problem;              ///< --new static|dynamic: start from a new problem instead
   std::vector<std::string> overrides;   ///< --set key=value
   std::string actions_file;             ///< --actions FILE ("" = none)
   std::string screenshot;               ///< --screenshot FILE: the window, written just before quitting

@@ -68,12 +68,20 @@ std::string allowed_text(const scene::Schema::KeySpec& k) {
 
 }  // namespace
 
-std::vector<ParamItem> scene_params(const std::string& path, const std::vector<std::string>& overrides) {
-  const scene::Schema& schema = scene::scene_schema(path);
-  const scene::Document doc = scene::validate_file(schema, path, overrides);
-  auto is_edited = [&](const std::string& key) {
-    return std::any_of(overrides.begin(), overrides.end(),
-                       [&](const std::string& o) { return o.substr(0, o.find('=')) == key; });
+std::vector<ParamItem> scene_params(const std::string& text, const std::string& path, const std::string& opened_text) {
+  const scene::Schema& schema = scene::schema_for_text(text);
+  const scene::Document doc = scene::validate(schema, text, path);
+  // what the scene was when opened; an opened text that no longer validates marks nothing
+  std::optional<scene::Document> opened;
+  try {
+    if (&scene::schema_for_text(opened_text) == &schema) opened = scene::validate(schema, opened_text, path);
+  } catch (const scene::SceneError&) {
+  }
+  auto differs = [&](const std::string& key, const std::string& value, std::optional<std::size_t> index) {
+    if (!opened) return false;
+    if (!index) return opened->value_text(key) != value;
+    const std::string array = schema.array_of(key);
+    return *index >= opened->count(array) || opened->value_text(key, *index) != value;
   };
   std::vector<ParamItem> items;
   for (const std::string& k : doc.key_paths()) {
@@ -86,21 +94,26 @@ std::vector<ParamItem> scene_params(const std::string& path, const std::vector<s
     it.spec = schema.find_key(k);
     it.value = doc.value_text(k);
     it.where = doc.where(k);
-    it.edited = is_edited(k);
+    it.edited = differs(k, it.value, std::nullopt);
     if (it.spec) items.push_back(it);
   }
   for (const std::string& a : doc.array_paths()) {
     for (std::size_t i = 0; i < doc.count(a); ++i) {
       for (const std::string& k : doc.element_key_paths(a)) {
+        const scene::Schema::KeySpec* spec = schema.find_key(k);
+        if (!spec) continue;
+        // a key of another generator or selection is not listed (switching drops it)
+        if (!spec->condition_key.empty() && !spec->applies(doc.string(spec->condition_key, i)) && !doc.present(k, i))
+          continue;
         ParamItem it;
         it.group = a + "[" + std::to_string(i) + "]";
         it.name = k.substr(a.size() + 1);
         it.key = it.group + "." + it.name;
-        it.spec = schema.find_key(k);
+        it.spec = spec;
         it.value = doc.value_text(k, i);
         it.where = doc.where(k, i);
-        it.edited = is_edited(it.key);
-        if (it.spec) items.push_back(it);
+        it.edited = differs(k, it.value, i);
+        items.push_back(it);
       }
     }
   }
@@ -121,11 +134,11 @@ std::vector<std::string> ParamEditor::live_keys() const {
   return keys;
 }
 
-void ParamEditor::load(const std::string& path, const std::vector<std::string>& overrides) {
+void ParamEditor::load(const std::string& text, const std::string& path, const std::string& opened_text) {
   rows_.clear();
   error_.clear();
   try {
-    for (ParamItem& it : scene_params(path, overrides)) {
+    for (ParamItem& it : scene_params(text, path, opened_text)) {
       Row r;
       r.item = std::move(it);
       const Kind kind = r.item.spec->kind;

@@ -24,10 +24,12 @@ struct ParamItem {
   bool edited = false;  ///< an edit of this session is in effect
 };
 
-/// The editable keys of a scene: every declared key outside arrays of tables, then every key of
-/// every element of the arrays the file has. scene.model is left out (it picks the schema).
-/// Throws SceneError when the scene does not validate.
-std::vector<ParamItem> scene_params(const std::string& scene_path, const std::vector<std::string>& overrides);
+/// The editable keys of a scene text: every declared key outside arrays of tables, then every key
+/// of every element of the arrays the text has, leaving out keys that do not apply to the entry's
+/// choices (another generator's dimensions, another selection's point) unless the text gives them.
+/// scene.model is left out (it picks the schema). `edited` marks values that differ from
+/// `opened_text` (the scene as opened). Throws SceneError when the text does not validate.
+std::vector<ParamItem> scene_params(const std::string& text, const std::string& path, const std::string& opened_text);
 
 /// A refusal of the solver thread in a window user's words.
 struct Refusal {
@@ -42,7 +44,7 @@ std::optional<Refusal> readable_refusal(const std::string& message);
 class ParamEditor {
  public:
   /// Refills the list; call when the scene, its edits or the solver's answer changed.
-  void load(const std::string& scene_path, const std::vector<std::string>& overrides);
+  void load(const std::string& text, const std::string& path, const std::string& opened_text);
   std::vector<std::pair<std::string, std::string>> draw();
   const std::string& error() const { return error_; }
   /// The listed keys the scene's schema declares live (an edit changes the running model).

@@ -5,9 +5,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 
 namespace ff::app::gui {
+namespace {
+std::string short_number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+}  // namespace
 
 const char* to_string(WorkerState s) {
   switch (s) {
@@ -20,10 +28,19 @@ const char* to_string(WorkerState s) {
   return "?";
 }
 
-SimWorker::SimWorker(scene::LoadedScene scene, std::vector<std::string> overrides, std::function<void()> on_change)
+SimWorker::SimWorker(scene::LoadedScene scene, std::string scene_text, std::string opened_text, std::string opened_from,
+                     std::function<void()> on_change)
     : scene_(std::move(scene)), on_change_(std::move(on_change)) {
   status_.scene_path = scene_.path;
-  status_.overrides = std::move(overrides);
+  status_.scene_text = std::move(scene_text);
+  status_.opened_text = std::move(opened_text);
+  status_.opened_from = std::move(opened_from);
+  try {
+    if (auto sel = scene::scene_selections_of_text(status_.scene_text, scene_.path, {}, io::scene_context()))
+      status_.selections = std::make_shared<const std::vector<scene::EntrySelection>>(std::move(sel->entries));
+  } catch (const std::exception&) {
+    // no highlights; the scene itself was accepted
+  }
   start_generation();
   thread_ = std::thread([this] { main(); });
 }
@@ -49,7 +66,17 @@ std::uint64_t SimWorker::reset() { return push(Command::make(Command::Kind::rese
 std::uint64_t SimWorker::set(const std::string& key, const std::string& value) {
   return push(Command::make(Command::Kind::set, key, value));
 }
+std::uint64_t SimWorker::edit(const std::string& what, DraftOp op) {
+  Command c = Command::make(Command::Kind::edit, what);
+  c.op = std::move(op);
+  return push(std::move(c));
+}
 std::uint64_t SimWorker::load(const std::string& path) { return push(Command::make(Command::Kind::load, path)); }
+std::uint64_t SimWorker::load_text(const std::string& text, const std::string& path, const std::string& opened_from) {
+  Command c = Command::make(Command::Kind::load_text, path, text);
+  c.c = opened_from;
+  return push(std::move(c));
+}
 std::uint64_t SimWorker::probe(int node) { return push(Command::make(Command::Kind::probe, "", "", node)); }
 std::uint64_t SimWorker::pace(double steps_per_second) {
   return push(Command::make(Command::Kind::pace, "", "", 0, steps_per_second));
@@ -159,7 +186,10 @@ void SimWorker::main() {
     if (quit_) return;
     scene_ = std::move(*pending_);
     pending_.reset();
-    status_.overrides = pending_overrides_;
+    status_.scene_text = std::move(pending_text_);
+    status_.opened_text = std::move(pending_opened_text_);
+    status_.opened_from = std::move(pending_opened_from_);
+    status_.selections = std::move(pending_selections_);
     start_generation();
   }
 }
@@ -219,16 +249,25 @@ void SimWorker::serve(std::unique_lock<std::mutex>& lock) {
 }
 
 void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
-  // builds a scene off the lock; on success it waits in pending_ for the run to stop
-  const auto rebuild = [&](const std::string& path, const std::vector<std::string>& overrides,
-                           const std::string& what) {
+  // the text in effect once the commands before this one have: a built edit waits in pending_
+  const std::string path = pending_ ? pending_->path : status_.scene_path;
+  const std::string text = pending_ ? pending_text_ : status_.scene_text;
+  const std::string opened_text = pending_ ? pending_opened_text_ : status_.opened_text;
+  const std::string opened_from = pending_ ? pending_opened_from_ : status_.opened_from;
+  // builds a scene text off the lock; on success it waits in pending_ for the run to stop
+  const auto rebuild = [&](const std::string& new_path, const std::string& new_text, const std::string& what,
+                           const std::string& new_opened_text, const std::string& new_opened_from) {
     lock.unlock();
     std::optional<scene::LoadedScene> built;
     std::string error;
+    std::shared_ptr<const std::vector<scene::EntrySelection>> selections;
     try {
-      built = scene::load_scene(path, overrides, io::scene_context());
+      built = scene::load_scene_text(new_text, new_path, {}, io::scene_context());
+      // what the entries select, for the window's highlights; a model without a shell structure has none
+      if (auto sel = scene::scene_selections_of_text(new_text, new_path, {}, io::scene_context()))
+        selections = std::make_shared<const std::vector<scene::EntrySelection>>(std::move(sel->entries));
     } catch (const std::exception& e) {
-      error = e.what();
+      if (!built) error = e.what();
     }
     lock.lock();
     if (!built) {
@@ -236,16 +275,38 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
       return false;
     }
     pending_ = std::move(built);
-    pending_overrides_ = overrides;
+    pending_text_ = new_text;
+    pending_opened_text_ = new_opened_text;
+    pending_opened_from_ = new_opened_from;
+    pending_selections_ = std::move(selections);
     return true;
   };
-  const std::string& path = pending_ ? pending_->path : status_.scene_path;
-  const std::vector<std::string>& overrides = pending_ ? pending_overrides_ : status_.overrides;
+  const auto rebuild_edit = [&](const std::string& new_text, const std::string& what) {
+    return rebuild(path, new_text, what, opened_text, opened_from);
+  };
+  // a set-up edit composed off the lock from the text in effect; its refusal says why
+  const auto compose = [&](const DraftOp& op, const std::string& what) -> std::optional<DraftEdit> {
+    lock.unlock();
+    std::optional<DraftEdit> e;
+    std::string error;
+    try {
+      e = op(text, path);
+    } catch (const std::exception& ex) {
+      error = ex.what();
+    }
+    lock.lock();
+    if (!e) set_message(what + " refused:\n" + error, true);
+    return e;
+  };
+  const auto restarted = [&](const std::string& what, const std::string& note) {
+    if (finished_) running_ = false;
+    set_message(what + (note.empty() ? "" : " (" + note + ")") + "; restarted at t = 0", false);
+  };
 
   switch (c.kind) {
     case Command::Kind::run:
       if (finished_) {
-        if (rebuild(path, overrides, "restart")) running_ = true;
+        if (rebuild_edit(text, "restart")) running_ = true;
       } else {
         running_ = true;
         steps_left_ = 0;
@@ -265,31 +326,59 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
       }
       break;
     case Command::Kind::reset:
-      if (rebuild(path, overrides, "reset")) running_ = false;
+      if (rebuild_edit(text, "reset")) running_ = false;
       break;
     case Command::Kind::set: {
-      std::vector<std::string> next;
-      for (const std::string& o : overrides)
-        if (o.substr(0, o.find('=')) != c.a) next.push_back(o);
-      next.push_back(c.a + "=" + c.b);
-      // a key the schema declares live changes the running model at the next step; the run goes
-      // on. Anything else (another key, a refused value) rebuilds, whose validation says why.
-      if (!finished_ && !pending_ && scene::change_live(scene_, c.a, c.b).empty()) {
-        status_.overrides = next;
-        set_message("set " + c.a + " = " + c.b + " live: the run goes on with it from the next step", false);
+      const std::string what = "set " + c.a + " = " + c.b;
+      // a key the schema declares live changes the running model from its next step, once the run
+      // has left t = 0 (before, it is the scene's own value); the run goes on, and the text gets a
+      // [[timeline]] entry at the time it took effect. Anything else rebuilds.
+      const double now = scene_.simulation->time();
+      const bool live_now = !finished_ && !pending_ && now > 0 && scene_.schema &&
+                            scene_.schema->find_key(c.a) && scene_.schema->find_key(c.a)->live;
+      if (live_now) {
+        const std::optional<DraftEdit> e =
+            compose([&](const std::string& t, const std::string& p) { return with_live_edit(t, p, c.a, c.b, now); }, what);
+        if (!e) break;
+        if (const std::string why = scene::change_live(scene_, c.a, c.b); !why.empty()) {
+          set_message(what + " refused:\n" + why, true);
+          break;
+        }
+        status_.scene_text = e->text;
+        set_message(what + " live from t = " + short_number(now) + ": the run goes on with it (" + e->note + ")",
+                    false);
         break;
       }
-      if (rebuild(path, next, "set " + c.a + " = " + c.b)) {
-        if (finished_) running_ = false;
-        set_message("set " + c.a + " = " + c.b + "; restarted at t = 0", false);
-      }
+      const std::optional<DraftEdit> e =
+          compose([&](const std::string& t, const std::string& p) { return with_key_set(t, p, c.a, c.b); }, what);
+      if (e && rebuild_edit(e->text, what)) restarted(what, e->note);
       break;
     }
-    case Command::Kind::load:
-      if (rebuild(c.a, {}, "load " + c.a)) {
+    case Command::Kind::edit: {
+      const std::optional<DraftEdit> e = compose(c.op, c.a);
+      if (e && rebuild_edit(e->text, c.a)) restarted(c.a, e->note);
+      break;
+    }
+    case Command::Kind::load: {
+      std::string file_text;
+      try {
+        file_text = scene::read_scene_text(c.a);
+      } catch (const std::exception& e) {
+        set_message("load " + c.a + " refused:\n" + e.what(), true);
+        break;
+      }
+      if (rebuild(c.a, file_text, "load " + c.a, file_text, c.a)) {
         running_ = false;
         probe_node_ = -1;
         set_message("loaded " + c.a, false);
+      }
+      break;
+    }
+    case Command::Kind::load_text:
+      if (rebuild(c.a, c.b, "open", c.b, c.c)) {
+        running_ = false;
+        probe_node_ = -1;
+        set_message("opened " + (c.c.empty() ? std::string("a new problem") : c.c), false);
       }
       break;
     case Command::Kind::probe: {

@@ -7,10 +7,13 @@
 /// How it works: the worker drives the scene's Simulation with a RunLoop (core/model/run_loop.h),
 /// one advance() at a time, and applies the queued commands between steps; pausing is simply not
 /// stepping (it waits for a command), so the solver's state never leaves its thread.
-/// Commands that change the model (reset, set, load) build a new Simulation first (a refused
-/// edit leaves the running one alone and says why), then stop the current run and start the
-/// new one at t = 0, paused unless it was running. A `set` of a key the scene schema declares
-/// live (scene::change_live: torque.amplitude, gravity.g) changes the running model instead.
+/// The scene is a TOML text (scene_draft.h): the worker holds the text in effect, and every
+/// command that changes the model (reset, set, edit, load) builds a new Simulation from a new
+/// text first (a refused one leaves the running model and its text alone and says why), then stops
+/// the current run and starts the new one at t = 0, paused unless it was running. A `set` of a key
+/// the scene schema declares live (scene::change_live: torque.amplitude, gravity.g) made after t = 0
+/// changes the running model instead, and is written into the text as a [[timeline]] entry at the
+/// time it took effect, so the text always reproduces the run.
 
 #include <array>
 #include <atomic>
@@ -26,8 +29,10 @@
 #include <thread>
 #include <vector>
 
+#include "app/gui/scene_draft.h"
 #include "core/frame/frame.h"
 #include "core/scene/scene.h"
+#include "core/scene/scene_selections.h"
 
 namespace ff::app::gui {
 
@@ -51,9 +56,14 @@ struct WorkerStatus {
   std::uint64_t generation = 0;  ///< +1 at every (re)build; samples belong to this generation
   std::uint64_t settled_seq = 0; ///< every command up to this sequence number has taken effect
   WorkerState state = WorkerState::paused;
-  std::string scene_path;
-  std::vector<std::string> overrides;  ///< "key=value", the edits in effect
+  std::string scene_path;   ///< names the text in messages; relative mesh files are read from its folder
+  std::string scene_text;   ///< the scene in effect: it reproduces this run (live edits as [[timeline]])
+  std::string opened_text;  ///< the text as opened (a file or a new problem): what "edited" compares with
+  std::string opened_from;  ///< the file it was opened from; "" for a new problem
   std::string scene_name;
+  /// the nodes each [[bc]], [[load]], [[probe]], [[joint]], [[arc]] entry acts on (shell scenes;
+  /// empty when they could not be worked out), for highlighting them on the body
+  std::shared_ptr<const std::vector<scene::EntrySelection>> selections;
   std::shared_ptr<const RunInfo> info;  ///< of this generation
   scene::OutputSettings output;
   double end_time = 0.0;
@@ -80,7 +90,9 @@ class SimWorker {
   /// opens); paused at the initial state. `on_change` is called (on the worker thread, under its
   /// lock: it must only post a wake-up, e.g. glfwPostEmptyEvent) whenever take() has news, so the
   /// window can sleep until then instead of polling.
-  SimWorker(scene::LoadedScene scene, std::vector<std::string> overrides, std::function<void()> on_change = {});
+  /// `scene_text` is the text `scene` was built from; `opened_text` and `opened_from` as in WorkerStatus.
+  SimWorker(scene::LoadedScene scene, std::string scene_text, std::string opened_text, std::string opened_from,
+            std::function<void()> on_change = {});
   ~SimWorker();  ///< quits and joins
   SimWorker(const SimWorker&) = delete;
   SimWorker& operator=(const SimWorker&) = delete;
@@ -92,7 +104,15 @@ class SimWorker {
   std::uint64_t step(long long n = 1);
   std::uint64_t reset();
   std::uint64_t set(const std::string& key, const std::string& value);
+  /// A set-up edit (scene_draft.h) of the text in effect when it is handled (after the edits
+  /// queued before it); `what` names it in messages ("add bc").
+  using DraftOp = std::function<DraftEdit(const std::string& text, const std::string& path)>;
+  std::uint64_t edit(const std::string& what, DraftOp op);
+  /// Opens a scene file.
   std::uint64_t load(const std::string& scene_path);
+  /// Opens a scene text (a new problem); `path` names it (and is where relative files are read
+  /// from); `opened_from` as in WorkerStatus.
+  std::uint64_t load_text(const std::string& text, const std::string& path, const std::string& opened_from);
   std::uint64_t probe(int node);
   std::uint64_t pace(double steps_per_second);
 
@@ -100,9 +120,10 @@ class SimWorker {
 
  private:
   struct Command {
-    enum class Kind { run, pause, step, reset, set, load, probe, pace, quit };
+    enum class Kind { run, pause, step, reset, set, edit, load, load_text, probe, pace, quit };
     Kind kind = Kind::run;
-    std::string a, b;
+    std::string a, b, c;
+    DraftOp op;
     long long n = 0;
     double x = 0.0;
     std::uint64_t seq = 0;
@@ -134,7 +155,8 @@ class SimWorker {
   // worker-owned solver state (touched only on the worker thread)
   scene::LoadedScene scene_;
   std::optional<scene::LoadedScene> pending_;
-  std::vector<std::string> pending_overrides_;
+  std::string pending_text_, pending_opened_text_, pending_opened_from_;
+  std::shared_ptr<const std::vector<scene::EntrySelection>> pending_selections_;
   std::atomic<bool> stop_{false};
   std::string failure_;  // an exception out of the solver ends the run as failed
   bool running_ = false;

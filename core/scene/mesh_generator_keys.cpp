@@ -539,6 +539,11 @@ void declare_part_keys(Schema& s) {
   }
 }
 
+std::vector<std::string> generator_required_keys(const std::string& generator) {
+  const auto it = required_keys().find(generator);
+  return it == required_keys().end() ? std::vector<std::string>{} : it->second;
+}
+
 bool mesh_from_file(const Document& d, std::size_t i) {
   const std::string& gen = d.string("part.generator", i);
   // generator = "file" without part.file: the reader's "needs part.file" comes first

@@ -10,6 +10,7 @@
 /// scene does not give, a key that does not belong to the chosen generator, inconsistent ranges.
 
 #include <string>
+#include <vector>
 
 #include "core/mesh/shell_mesh.h"
 #include "core/scene/schema.h"
@@ -19,6 +20,10 @@ namespace ff::scene {
 /// Declares the [[part]] array and its keys (name, material, generator, element counts,
 /// dimensions, file).
 void declare_part_keys(Schema& s);
+
+/// The dimensions generator `generator` cannot do without (part.radius for a cylinder, ...), as
+/// key names inside [[part]]; empty for "file" (it needs part.file) and unknown names.
+std::vector<std::string> generator_required_keys(const std::string& generator);
 
 /// True when part.generator = "file" (the caller reads part.file); checks first that no
 /// generator dimension is given with it.

@@ -289,6 +289,20 @@ std::size_t header_line(const toml::table& root, const std::string& array, std::
 
 }  // namespace
 
+std::string toml_value_as_set_reads_it(const std::string& value) {
+  try {
+    (void)toml::parse("v = " + value);
+    return value;
+  } catch (const toml::parse_error&) {
+    std::string out = "\"";
+    for (char c : value) {
+      if (c == '"' || c == '\\') out += '\\';
+      out += c;
+    }
+    return out + "\"";
+  }
+}
+
 std::string text_with_element(const std::string& text, const std::string& path, const std::string& array,
                               const std::vector<std::pair<std::string, std::string>>& keys,
                               std::optional<std::size_t> before) {

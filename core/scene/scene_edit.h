@@ -22,6 +22,10 @@ std::string scene_text_with_overrides(const std::string& path, const std::vector
 /// in messages. Throws SceneError when `text` + `overrides` do not validate.
 std::string edited_scene_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides);
 
+/// A value as --set reads it, as TOML text: TOML value syntax (0.01, true, "str", [1, 2]) as it is,
+/// a bare word that is not TOML (efg) as a quoted string.
+std::string toml_value_as_set_reads_it(const std::string& value);
+
 // Structural edits of a scene text. Each keeps the text's comments and layout where it can, and
 // checks that the result parses to exactly the edited TOML document; when it would not (an unusual
 // layout), the whole document is written by the TOML library instead (comments lost, said in its

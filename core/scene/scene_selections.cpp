@@ -41,9 +41,14 @@ std::string bc_label(const Document& d, std::size_t i) {
 
 std::optional<SceneSelections> scene_selections(const std::string& path, const std::vector<std::string>& overrides,
                                                 const SceneContext& ctx) {
-  const Schema& schema = scene_schema(path);
+  return scene_selections_of_text(read_scene_text(path), path, overrides, ctx);
+}
+
+std::optional<SceneSelections> scene_selections_of_text(const std::string& text, const std::string& path,
+                                                        const std::vector<std::string>& overrides, const SceneContext& ctx) {
+  const Schema& schema = schema_for_text(text);
   if (&schema != &shell_static_schema() && &schema != &shell_dynamic_schema()) return std::nullopt;
-  const Document d = validate_file(schema, path, overrides);
+  const Document d = validate(schema, text, path, overrides);
   Structure structure = read_structure(d, path, ctx);
 
   SceneSelections out;

@@ -41,5 +41,8 @@ struct SceneSelections {
 /// selection refuses (an empty node set ...); call it on a scene load_scene accepted.
 std::optional<SceneSelections> scene_selections(const std::string& path, const std::vector<std::string>& overrides,
                                                 const SceneContext& ctx);
+/// The same for a scene text held in memory (the window's); `path` names it as for load_scene_text.
+std::optional<SceneSelections> scene_selections_of_text(const std::string& text, const std::string& path,
+                                                        const std::vector<std::string>& overrides, const SceneContext& ctx);
 
 }  // namespace ff::scene

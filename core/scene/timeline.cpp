@@ -1,6 +1,7 @@
 #include "core/scene/timeline.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
@@ -134,6 +135,21 @@ Timeline read_timeline(const Document& d, double end) {
   }
   if (!issues.empty()) throw SceneError(std::move(issues));
   return tl;
+}
+
+std::vector<std::pair<std::string, std::string>> live_edit_as_timeline(const Document& d, const std::string& key,
+                                                                       const std::string& value) {
+  if (key == "gravity.g") return {{"gravity", value}};
+  if (key == "torque.amplitude") {
+    const double base = d.number("torque.amplitude");
+    if (base == 0.0)
+      throw SceneError({d.issue("torque.amplitude", "is 0, so a live torque amplitude has no timeline torque_scale "
+                                                    "to be written as; set torque.amplitude before the run instead")});
+    char text[32];
+    std::snprintf(text, sizeof text, "%.17g", std::strtod(value.c_str(), nullptr) / base);
+    return {{"torque_scale", text}};
+  }
+  throw SceneError({Issue{"", 0, 0, key, "has no [[timeline]] form (timeline keys: gravity, torque_scale)"}});
 }
 
 }  // namespace ff::scene

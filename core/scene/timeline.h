@@ -12,6 +12,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/scene/schema.h"
@@ -64,5 +65,13 @@ void declare_timeline(Schema& s, const std::string& at_doc, const std::string& a
 /// Reads and checks the timeline: `at` strictly ascending and within [0, end], every entry
 /// changing something, camera views valid. Bad input throws SceneError at the offending key.
 Timeline read_timeline(const Document& d, double end);
+
+/// The [[timeline]] keys (besides `at`), as (name, TOML value text), that make the change of a live
+/// edit `key` = `value` (TOML value text, already validated) in the scene whose document is `d`:
+/// gravity.g = [gx, gy, gz] is gravity = [gx, gy, gz]; torque.amplitude = A is torque_scale =
+/// A / torque.amplitude (the scale the model applies). Throws SceneError for a live key with no
+/// timeline form or a torque amplitude of 0 in the scene (nothing to scale).
+std::vector<std::pair<std::string, std::string>> live_edit_as_timeline(const Document& d, const std::string& key,
+                                                                       const std::string& value);
 
 }  // namespace ff::scene

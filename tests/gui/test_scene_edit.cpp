@@ -74,7 +74,8 @@ TEST(SceneEdit, ArrayElementsAndBadEdits) {
 TEST(SceneParams, EveryModelListsItsKeys) {
   for (const char* name : {"hub_beam_efg_tau1", "double_pendulum_shells", "hemisphere_18deg_h004"}) {
     const std::string path = kScenes + name + ".toml";
-    const auto items = app::gui::scene_params(path, {});
+    const std::string text = read_scene_text(path);
+    const auto items = app::gui::scene_params(text, path, text);
     ASSERT_FALSE(items.empty()) << name;
     bool has_effects = false;
     for (const auto& it : items) {
@@ -84,7 +85,9 @@ TEST(SceneParams, EveryModelListsItsKeys) {
     }
     EXPECT_TRUE(has_effects) << name;
   }
-  const auto shells = app::gui::scene_params(kScenes + "double_pendulum_shells.toml", {"part[1].n1=8"});
+  const std::string pendulum = kScenes + "double_pendulum_shells.toml";
+  const auto shells = app::gui::scene_params(edited_scene_text(read_scene_text(pendulum), pendulum, {"part[1].n1=8"}),
+                                             pendulum, read_scene_text(pendulum));
   bool found = false;
   for (const auto& it : shells) {
     if (it.key != "part[1].n1") continue;

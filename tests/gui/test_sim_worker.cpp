@@ -9,11 +9,24 @@
 #include <thread>
 
 #include "app/gui/sim_worker.h"
+#include "core/scene/scene_edit.h"
 
 namespace ff::app::gui {
 namespace {
 
 const std::string kScene = std::string(FF_SOURCE_DIR) + "/assets/scenes/hub_beam_fem_tau1.toml";
+
+/// A worker on the scene file `path` with `overrides` folded into its text, as the window starts one.
+std::unique_ptr<SimWorker> worker_on(const std::string& path, const std::vector<std::string>& overrides = {},
+                                     std::function<void()> wake = {}) {
+  const std::string opened = scene::read_scene_text(path);
+  const std::string text = scene::edited_scene_text(opened, path, overrides);
+  return std::make_unique<SimWorker>(scene::load_scene_text(text, path), text, opened, path, std::move(wake));
+}
+
+scene::Document document_of(const WorkerStatus& s) {
+  return scene::validate(scene::schema_for_text(s.scene_text), s.scene_text, s.scene_path);
+}
 
 /// Takes updates until `done` holds (10 s at most), keeping the samples and the newest frame.
 struct Watcher {
@@ -40,7 +53,8 @@ struct Watcher {
 };
 
 TEST(GuiSimWorker, StepsSetsAndRuns) {
-  SimWorker w(scene::load_scene(kScene), {});
+  const auto worker = worker_on(kScene);
+  SimWorker& w = *worker;
   Watcher watch{w, {}, {}, {}};
   ASSERT_TRUE(watch.until([&] { return watch.frame.has_value(); }));
   EXPECT_EQ(watch.status.state, WorkerState::paused);
@@ -64,7 +78,7 @@ TEST(GuiSimWorker, StepsSetsAndRuns) {
   // a valid edit: new generation, back at t = 0 with the new step
   ASSERT_TRUE(watch.settled(w.set("solver.dt", "0.02")));
   EXPECT_EQ(watch.status.generation, gen0 + 1);
-  ASSERT_EQ(watch.status.overrides, std::vector<std::string>{"solver.dt=0.02"});
+  EXPECT_EQ(document_of(watch.status).number("solver.dt"), 0.02);  // the text in effect has it
   ASSERT_TRUE(watch.settled(w.step(2)));
   EXPECT_NEAR(watch.frame->time, 0.04, 1e-12);
 
@@ -91,7 +105,8 @@ TEST(GuiSimWorker, StepsSetsAndRuns) {
 }
 
 TEST(GuiSimWorker, StepQueuedBehindASetStepsTheNewModel) {
-  SimWorker w(scene::load_scene(kScene), {});
+  const auto worker = worker_on(kScene);
+  SimWorker& w = *worker;
   Watcher watch{w, {}, {}, {}};
   w.set("solver.dt", "0.02");
   ASSERT_TRUE(watch.settled(w.step(2)));
@@ -102,7 +117,8 @@ TEST(GuiSimWorker, StepQueuedBehindASetStepsTheNewModel) {
 }
 
 TEST(GuiSimWorker, PausesWhileRunningAndQuitsPromptly) {
-  SimWorker w(scene::load_scene(kScene), {"solver.end=1000"});
+  const auto worker = worker_on(kScene, {"solver.end=1000"});
+  SimWorker& w = *worker;
   Watcher watch{w, {}, {}, {}};
   ASSERT_TRUE(watch.settled(w.pace(2000)));
   ASSERT_TRUE(watch.settled(w.run()));
@@ -117,9 +133,12 @@ TEST(GuiSimWorker, PausesWhileRunningAndQuitsPromptly) {
 }
 
 // A live key (scene::change_live) changes the running model: same generation, time goes on
-// from where it was, the edit is kept for saving; the torque probe shows the new amplitude.
+// from where it was; the torque probe shows the new amplitude; the text in effect gets a
+// [[timeline]] entry at the time the change took effect, so a reset (a run of the text) makes
+// the same change at the same step.
 TEST(GuiSimWorker, LiveKeyChangesTheRunWithoutRestart) {
-  SimWorker w(scene::load_scene(kScene), {});
+  const auto worker = worker_on(kScene);
+  SimWorker& w = *worker;
   Watcher watch{w, {}, {}, {}};
   ASSERT_TRUE(watch.until([&] { return watch.frame.has_value(); }));
   const std::uint64_t gen0 = watch.status.generation;
@@ -127,23 +146,43 @@ TEST(GuiSimWorker, LiveKeyChangesTheRunWithoutRestart) {
   ASSERT_TRUE(watch.settled(w.set("torque.amplitude", "0")));
   EXPECT_EQ(watch.status.generation, gen0);  // not rebuilt
   EXPECT_NE(watch.status.message.find("live"), std::string::npos) << watch.status.message;
-  ASSERT_EQ(watch.status.overrides.size(), 1u);
-  EXPECT_EQ(watch.status.overrides[0], "torque.amplitude=0");
+  const double changed_at = watch.frame->time;  // step 4
+  {
+    const scene::Document d = document_of(watch.status);
+    ASSERT_EQ(d.count("timeline"), 1u);
+    EXPECT_EQ(d.number("timeline.at", 0), changed_at);
+    EXPECT_EQ(d.number("timeline.torque_scale", 0), 0.0);
+    const scene::Document opened = scene::validate(scene::schema_for_text(watch.status.opened_text),
+                                                   watch.status.opened_text, kScene);
+    EXPECT_EQ(d.number("torque.amplitude"), opened.number("torque.amplitude"));  // the scene's own value stays
+  }
   ASSERT_TRUE(watch.settled(w.step(2)));
   ASSERT_TRUE(watch.frame.has_value());
   EXPECT_EQ(watch.frame->step, 6);  // went on from step 4
   const RunInfo& info = *watch.status.info;
-  for (std::size_t k = 0; k < info.probes.size(); ++k) {
-    if (info.probes[k].name == "torque") {
-      EXPECT_EQ(watch.frame->probes[k], 0.0);
-    }
+  std::size_t torque = info.probes.size();
+  for (std::size_t k = 0; k < info.probes.size(); ++k)
+    if (info.probes[k].name == "torque") torque = k;
+  ASSERT_LT(torque, info.probes.size());
+  EXPECT_EQ(watch.frame->probes[torque], 0.0);
+  const std::vector<Sample> live_run = watch.samples;
+
+  // the text reproduces the run: reset rebuilds from it, and the same steps give the same probes
+  ASSERT_TRUE(watch.settled(w.reset()));
+  EXPECT_EQ(watch.status.generation, gen0 + 1);
+  ASSERT_TRUE(watch.settled(w.step(6)));
+  ASSERT_EQ(watch.samples.size(), live_run.size());
+  for (std::size_t i = 0; i < live_run.size(); ++i) {
+    EXPECT_EQ(watch.samples[i].step, live_run[i].step);
+    EXPECT_EQ(watch.samples[i].probes, live_run[i].probes) << "sample " << i;
   }
 }
 
 // A live key's value the schema refuses changes nothing: same generation, same edits, time where
 // it was, and an error naming the key and what it expects.
 TEST(GuiSimWorker, RefusedLiveValueLeavesTheRunAlone) {
-  SimWorker w(scene::load_scene(kScene), {});
+  const auto worker = worker_on(kScene);
+  SimWorker& w = *worker;
   Watcher watch{w, {}, {}, {}};
   ASSERT_TRUE(watch.until([&] { return watch.frame.has_value(); }));
   const std::uint64_t gen0 = watch.status.generation;
@@ -152,7 +191,7 @@ TEST(GuiSimWorker, RefusedLiveValueLeavesTheRunAlone) {
     const std::uint64_t msg = watch.status.message_seq;
     ASSERT_TRUE(watch.settled(w.set("torque.amplitude", bad)));
     EXPECT_EQ(watch.status.generation, gen0) << bad;
-    EXPECT_TRUE(watch.status.overrides.empty()) << bad;
+    EXPECT_EQ(watch.status.scene_text, watch.status.opened_text) << bad;  // nothing written
     EXPECT_GT(watch.status.message_seq, msg) << bad;
     EXPECT_TRUE(watch.status.message_is_error) << bad;
     EXPECT_NE(watch.status.message.find("key 'torque.amplitude': expected a number >= 0"), std::string::npos)
@@ -168,8 +207,8 @@ TEST(GuiSimWorker, RefusedLiveValueLeavesTheRunAlone) {
 TEST(GuiSimWorker, StepAdvancesSolverStepsNotFrames) {
   const std::vector<std::string> coarse = {"part[0].n1=4", "part[0].n2=4", "part[1].n1=4", "part[1].n2=4",
                                            "solver.output_every=5"};
-  SimWorker w(scene::load_scene(std::string(FF_SOURCE_DIR) + "/assets/scenes/double_pendulum_shells.toml", coarse),
-              coarse);
+  const auto worker = worker_on(std::string(FF_SOURCE_DIR) + "/assets/scenes/double_pendulum_shells.toml", coarse);
+  SimWorker& w = *worker;
   Watcher watch{w, {}, {}, {}};
   ASSERT_TRUE(watch.until([&] { return watch.frame.has_value(); }));
   EXPECT_EQ(watch.status.steps_per_frame, 5);
@@ -188,7 +227,8 @@ TEST(GuiSimWorker, StepAdvancesSolverStepsNotFrames) {
 // The worker calls its wake-up for every change, so a window may sleep until then.
 TEST(GuiSimWorker, WakesTheWindowOnNews) {
   std::atomic<int> wakes{0};
-  SimWorker w(scene::load_scene(kScene), {}, [&wakes] { ++wakes; });
+  const auto worker = worker_on(kScene, {}, [&wakes] { ++wakes; });
+  SimWorker& w = *worker;
   Watcher watch{w, {}, {}, {}};
   ASSERT_TRUE(watch.until([&] { return watch.frame.has_value(); }));
   const int before = wakes.load();
