@@ -420,6 +420,46 @@ class Viewport {
   std::string error_;
 };
 
+/// An action as its line reads (for messages).
+std::string describe(const Action& a) {
+  switch (a.kind) {
+    case Action::Kind::run: return "run";
+    case Action::Kind::pause: return "pause";
+    case Action::Kind::step: return "step " + std::to_string(a.count);
+    case Action::Kind::reset: return "reset";
+    case Action::Kind::set: return "set " + a.key + " " + a.text;
+    case Action::Kind::probe: return "probe " + std::to_string(a.count);
+    case Action::Kind::wait: return "wait " + fmt("%g", a.seconds);
+    case Action::Kind::screenshot: return "screenshot " + a.text;
+    case Action::Kind::export_png: return "export " + a.text;
+    case Action::Kind::save: return "save " + a.text;
+    case Action::Kind::quit: return "quit";
+    case Action::Kind::redraws: return "redraws";
+    case Action::Kind::new_problem: return "new " + a.text;
+    case Action::Kind::open: return "open " + a.text;
+    case Action::Kind::add: {
+      std::string s = "add " + a.key;
+      for (const auto& [k, v] : a.fields) s += " " + k + "=" + v;
+      return s;
+    }
+    case Action::Kind::remove: return "remove " + a.key + "[" + std::to_string(a.count) + "]";
+    case Action::Kind::preset: return "preset " + a.key + "[" + std::to_string(a.count) + "] " + a.text;
+    case Action::Kind::pick: {
+      std::string s = "pick";
+      for (long long n : a.nodes) s += " " + std::to_string(n);
+      return s;
+    }
+    case Action::Kind::pick_clear: return "pick-clear";
+    case Action::Kind::use_pick: return "use-pick " + a.key + "[" + std::to_string(a.count) + "]";
+    case Action::Kind::click: return "click " + fmt("%g", a.pixels[0]) + " " + fmt("%g", a.pixels[1]);
+    case Action::Kind::pick_box:
+      return "pick-box " + fmt("%g", a.pixels[0]) + " " + fmt("%g", a.pixels[1]) + " " + fmt("%g", a.pixels[2]) + " " +
+             fmt("%g", a.pixels[3]);
+    case Action::Kind::show: return "show " + (a.key.empty() ? a.text : a.key + "[" + std::to_string(a.count) + "]");
+  }
+  return "";
+}
+
 /// Everything the window shows and does.
 class GuiApp {
  public:
@@ -736,44 +776,7 @@ class GuiApp {
     }
   }
 
-  static std::string describe(const Action& a) {
-    switch (a.kind) {
-      case Action::Kind::run: return "run";
-      case Action::Kind::pause: return "pause";
-      case Action::Kind::step: return "step " + std::to_string(a.count);
-      case Action::Kind::reset: return "reset";
-      case Action::Kind::set: return "set " + a.key + " " + a.text;
-      case Action::Kind::probe: return "probe " + std::to_string(a.count);
-      case Action::Kind::wait: return "wait " + fmt("%g", a.seconds);
-      case Action::Kind::screenshot: return "screenshot " + a.text;
-      case Action::Kind::export_png: return "export " + a.text;
-      case Action::Kind::save: return "save " + a.text;
-      case Action::Kind::quit: return "quit";
-      case Action::Kind::redraws: return "redraws";
-      case Action::Kind::new_problem: return "new " + a.text;
-      case Action::Kind::open: return "open " + a.text;
-      case Action::Kind::add: {
-        std::string s = "add " + a.key;
-        for (const auto& [k, v] : a.fields) s += " " + k + "=" + v;
-        return s;
-      }
-      case Action::Kind::remove: return "remove " + a.key + "[" + std::to_string(a.count) + "]";
-      case Action::Kind::preset: return "preset " + a.key + "[" + std::to_string(a.count) + "] " + a.text;
-      case Action::Kind::pick: {
-        std::string s = "pick";
-        for (long long n : a.nodes) s += " " + std::to_string(n);
-        return s;
-      }
-      case Action::Kind::pick_clear: return "pick-clear";
-      case Action::Kind::use_pick: return "use-pick " + a.key + "[" + std::to_string(a.count) + "]";
-      case Action::Kind::click: return "click " + fmt("%g", a.pixels[0]) + " " + fmt("%g", a.pixels[1]);
-      case Action::Kind::pick_box:
-        return "pick-box " + fmt("%g", a.pixels[0]) + " " + fmt("%g", a.pixels[1]) + " " + fmt("%g", a.pixels[2]) + " " +
-               fmt("%g", a.pixels[3]);
-      case Action::Kind::show: return "show " + (a.key.empty() ? a.text : a.key + "[" + std::to_string(a.count) + "]");
-    }
-    return "";
-  }
+
 
   void save_scene(const std::string& path) {
     try {
@@ -1103,7 +1106,7 @@ void check_actions(const std::vector<Action>& actions, std::string text, std::st
         default: break;
       }
     } catch (const std::exception& e) {
-      throw ActionError(a.where() + ": " + e.what());
+      throw ActionError(a.where() + ": " + describe(a) + ": " + e.what());
     }
   }
 }
