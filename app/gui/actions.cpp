@@ -39,7 +39,7 @@ bool parse_number(const std::string& s, double* out) {
 constexpr const char* kVerbs = "run, pause, step [N], reset, set KEY VALUE, wait SECONDS, screenshot FILE, "
                                "probe NODE, save FILE, export FILE, redraws, quit, new static|dynamic, open FILE, "
                                "add TABLE [KEY=VALUE ...], remove TABLE[I], preset material[I] NAME, pick NODE..., "
-                               "pick-box X0 Y0 X1 Y1, pick-clear, use-pick TABLE[I], click X Y, show all|none|TABLE[I]";
+                               "pick-box X0 Y0 X1 Y1, pick-clear, use-pick TABLE[I], click X Y, show all|none|TABLE[I], wait-end, metrics";
 
 /// "bc[2]" -> ("bc", 2); false when it is not NAME[INDEX].
 bool parse_entry(const std::string& s, std::string* table, long long* index) {
@@ -161,6 +161,10 @@ std::vector<Action> parse_actions(const std::string& text, const std::string& fi
         a.nodes.push_back(n);
       }
       if (a.nodes.empty()) fail("'pick' needs node numbers: pick NODE...");
+    } else if (verb == "wait-end") {
+      a.kind = Action::Kind::wait_end, no_args();
+    } else if (verb == "metrics") {
+      a.kind = Action::Kind::metrics, no_args();
     } else if (verb == "pick-clear") {
       a.kind = Action::Kind::pick_clear, no_args();
     } else if (verb == "click" || verb == "pick-box") {

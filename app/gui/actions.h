@@ -6,7 +6,8 @@
 /// and, to set a problem up (app/gui/scene_draft.h):
 ///   new static|dynamic | open FILE | add TABLE [KEY=VALUE ...] | remove TABLE[I] |
 ///   preset material[I] NAME | pick NODE... | pick-box X0 Y0 X1 Y1 | pick-clear | use-pick TABLE[I] |
-///   click X Y | show all|none|TABLE[I]
+///   click X Y | show all|none|TABLE[I] | wait-end | metrics
+/// (`wait-end` waits until the run has ended; `metrics` prints "metric NAME = VALUE" for each metric of the run, which must have ended.)
 /// (click and pick-box take pixels of the 3D view, origin top left, as a mouse would.)
 /// (`redraws` prints "redraws N", the window frames drawn so far: an idle window draws none.)
 /// Blank lines and lines starting with '#' are skipped. No GL or ImGui here (unit tested).
@@ -21,7 +22,7 @@ namespace ff::app::gui {
 struct Action {
   enum class Kind {
     run, pause, step, reset, set, wait, screenshot, probe, save, export_png, redraws, quit,
-    new_problem, open, add, remove, preset, pick, pick_box, pick_clear, use_pick, click, show
+    new_problem, open, add, remove, preset, pick, pick_box, pick_clear, use_pick, click, show, wait_end, metrics
   };
   Kind kind = Kind::run;
   long long count = 1;   ///< step: solver steps; probe: node index; remove/preset/use-pick/show: entry index

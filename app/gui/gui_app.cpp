@@ -456,6 +456,8 @@ std::string describe(const Action& a) {
       return "pick-box " + fmt("%g", a.pixels[0]) + " " + fmt("%g", a.pixels[1]) + " " + fmt("%g", a.pixels[2]) + " " +
              fmt("%g", a.pixels[3]);
     case Action::Kind::show: return "show " + (a.key.empty() ? a.text : a.key + "[" + std::to_string(a.count) + "]");
+    case Action::Kind::metrics: return "metrics";
+    case Action::Kind::wait_end: return "wait-end";
   }
   return "";
 }
@@ -654,6 +656,10 @@ class GuiApp {
         }
       }
       if (Clock::now() < wait_until_) return;
+      if (waiting_end_) {
+        if (!status_.outcome) return;
+        waiting_end_ = false;
+      }
       if (next_action_ >= actions_.size()) {
         current_action_ = nullptr;  // the script is done; later failures are the user's clicks
         return;
@@ -753,6 +759,15 @@ class GuiApp {
             pick_.nodes.insert(nodes.begin(), nodes.end());
             std::printf("picked %zu nodes in the box\n", nodes.size());
           }
+          std::fflush(stdout);
+          break;
+        case Action::Kind::wait_end: waiting_end_ = true; break;
+        case Action::Kind::metrics:
+          if (!status_.outcome) {
+            action_failed("metrics: the run has not ended (run, then wait until it has)");
+            break;
+          }
+          for (const auto& [name, value] : status_.metrics) std::printf("metric %s = %.17g\n", name.c_str(), value);
           std::fflush(stdout);
           break;
         case Action::Kind::show:
@@ -1077,6 +1092,7 @@ class GuiApp {
   const Action* current_action_ = nullptr;
   std::uint64_t waiting_seq_ = 0, message_seq_at_issue_ = 0;
   Clock::time_point wait_until_{};
+  bool waiting_end_ = false;  // a wait-end action waits for the run's outcome
   std::string pending_screenshot_, pending_export_;
   Clock::time_point start_;
   const std::atomic<bool>& stop_;

@@ -105,6 +105,7 @@ void SimWorker::start_generation() {
   status_.end_time = sim.end_time();
   status_.steps_per_frame = std::max<long long>(1, sim.output_every());
   status_.outcome.reset();
+  status_.metrics.clear();
   if (probe_node_ >= static_cast<int>(status_.info->mesh.point_count())) probe_node_ = -1;
   status_.probe_node = probe_node_;
   status_.state = running_ ? WorkerState::running : WorkerState::paused;
@@ -171,6 +172,11 @@ void SimWorker::main() {
       running_ = false;
       steps_left_ = 0;
       status_.outcome = outcome;
+      try {
+        status_.metrics = scene_.simulation->metrics();
+      } catch (const std::exception&) {
+        status_.metrics.clear();  // a run that failed early may have nothing to measure
+      }
       status_.state = outcome.status == RunStatus::failed ? WorkerState::failed : WorkerState::finished;
       changed();
       while (!quit_ && !pending_) {

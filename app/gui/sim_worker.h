@@ -71,6 +71,7 @@ struct WorkerStatus {
   int probe_node = -1;
   double pace = 0.0;                    ///< max steps per second, 0 = as fast as it goes
   std::optional<RunOutcome> outcome;    ///< once the run has ended
+  Metrics metrics;                      ///< the scene's metrics, once the run has ended
   std::string message;                  ///< the last refusal or notice ("" = none)
   std::uint64_t message_seq = 0;        ///< +1 per message
   bool message_is_error = false;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <set>
 #include <fstream>
 #include <sstream>
 
@@ -97,6 +98,21 @@ TEST(SceneParams, EveryModelListsItsKeys) {
     EXPECT_EQ(it.group, "part[1]");
   }
   EXPECT_TRUE(found);
+}
+
+// Only the keys that serve an entry's choices are listed: a plate's dimensions, not a cap's; a
+// plane selection's point and normal, not a box's corners or a patch edge. (Every generator key was
+// listed for every generator, and every selector key for every select.)
+TEST(SceneParams, ListsOnlyTheKeysOfTheChosenGeneratorAndSelection) {
+  const std::string path = kScenes + "clamped_plate_pressure.toml";
+  const std::string text = read_scene_text(path);
+  std::set<std::string> keys;
+  for (const auto& it : app::gui::scene_params(text, path, text)) keys.insert(it.key);
+  for (const char* k : {"part[0].length", "part[0].width", "part[0].n1", "bc[0].point", "bc[0].normal", "load[0].select"})
+    EXPECT_TRUE(keys.count(k)) << k;
+  for (const char* k : {"part[0].radius", "part[0].polar_end", "part[0].file", "bc[0].box_min", "bc[0].edge",
+                        "bc[0].group", "bc[0].nodes", "load[0].point"})
+    EXPECT_FALSE(keys.count(k)) << k;
 }
 
 // A refused edit is reworded for the window: no "--set KEY=VALUE:" or "key '...':" CLI syntax,
