@@ -311,6 +311,13 @@ DraftEdit with_material_preset(const std::string& text, const std::string& path,
   const std::string bare = scene::text_without_keys(text, path, drop);
   std::vector<std::string> overrides;
   for (const auto& [k, v] : p->keys) overrides.push_back(element_name("material", index) + "." + k + "=" + v);
+  // the entry takes the preset's name unless a part names it (renaming would cut that link)
+  const std::string old_name = d.string("material.name", index);
+  bool named_by_a_part = false;
+  for (std::size_t i = 0; i < d.count("part"); ++i) named_by_a_part = named_by_a_part || d.string("part.material", i) == old_name;
+  const std::string short_name = p->name.substr(0, p->name.find(' '));
+  if (!named_by_a_part && old_name != short_name && (!old_name.empty() || d.count("material") > 1))
+    overrides.push_back(element_name("material", index) + ".name=" + quoted(unique_name(d, "material", short_name)));
   return {scene::edited_scene_text(bare, path, overrides), element_name("material", index) + " is " + p->about};
 }
 

@@ -5,6 +5,7 @@
 // actions line is reported as FILE:LINE with exit code 2.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <set>
 #include <sstream>
@@ -133,6 +134,66 @@ TEST(GuiCli, ScriptedSessionUnderXvfb) {
   EXPECT_NE(saved.find("amplitude = 7"), std::string::npos) << saved;
   const ProcResult check = run_flexframe({"check", dir + "/edited.toml"}, dir + "/check");
   EXPECT_EQ(check.exit_code, 0) << check.describe();
+}
+
+/// The value after "metric NAME = " in the window's output; NaN when absent.
+double printed_metric(const std::string& out, const std::string& name) {
+  const std::string tag = "metric " + name + " = ";
+  const auto at = out.find(tag);
+  return at == std::string::npos ? std::nan("") : std::strtod(out.c_str() + at + tag.size(), nullptr);
+}
+
+// Issue 34's acceptance: from a new problem, with actions and clicks only, a cantilever with a tip
+// force is set up (a support on a patch edge picked from the list, the load moved to the other
+// edge, the probe on a picked node, a metric, a material preset), run, probed by a click and
+// saved; the saved file passes `check`, and its headless run gives the window's metric to the
+// last digit.
+TEST(GuiCli, CantileverSetUpFromNothingRerunsHeadlessToTheSameMetric) {
+  if (!have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup installs it)";
+  const std::string dir = fresh_test_dir();
+  const std::string actions = dir + "/set_up.txt";
+  write_text(actions,
+             "new static\n"
+             "set part[0].width 0.1\n"
+             "set part[0].n1 16\n"
+             "set part[0].n2 2\n"
+             "add bc type=clamped select=patch_edge edge=x_min\n"
+             "set load[0].select patch_edge\n"
+             "set load[0].edge x_max\n"
+             "set load[0].total [0.0, 0.0, 1000.0]\n"
+             "set probe[0].name tip_w\n"
+             "pick 33\n"  // the middle node of the free end (17 x 3 nodes, row by row)
+             "use-pick probe[0]\n"
+             "add metric\n"
+             "preset material[0] aluminium\n"
+             "run\n"
+             "wait-end\n"
+             "metrics\n"
+             "click 445 280\n"  // the middle of the 3D view: the strip
+             "save " + dir + "/my_cantilever.toml\n"
+             "screenshot " + dir + "/shot.png\n"
+             "quit\n");
+  const ProcResult r = run_gui_under_xvfb({"--new", "static", "--actions", actions, "--width", "1280", "--height",
+                                           "800", "--quit-after", "50"}, dir + "/gui");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const double window_tip = printed_metric(r.out, "tip_w_final");
+  ASSERT_TRUE(std::isfinite(window_tip)) << r.describe();
+  EXPECT_GT(window_tip, 0.3) << "a 1 kN tip force bends a 1 m aluminium strip 10 mm thick by tens of cm";
+  EXPECT_NE(r.out.find("clicked node "), std::string::npos) << r.describe();
+  expect_body_in_viewport(read_png(dir + "/shot.png"), 1280, 800);
+
+  const std::string saved = read_text(dir + "/my_cantilever.toml");
+  EXPECT_NE(saved.find("name = \"my_cantilever\""), std::string::npos) << saved;  // its own output folder
+  EXPECT_NE(saved.find("select = \"nodes\""), std::string::npos) << saved;
+  EXPECT_NE(saved.find("youngs_modulus = 7e+10"), std::string::npos) << saved;  // the aluminium preset
+  const ProcResult check = run_flexframe({"check", dir + "/my_cantilever.toml"}, dir + "/check");
+  EXPECT_EQ(check.exit_code, 0) << check.describe();
+  const ProcResult run = run_flexframe({"run", dir + "/my_cantilever.toml", "--out", dir + "/out", "--no-frames"}, dir + "/run");
+  ASSERT_EQ(run.exit_code, 0) << run.describe();
+  const std::string summary = read_text(dir + "/out/summary.json");
+  const auto at = summary.find("\"tip_w_final\": ");
+  ASSERT_NE(at, std::string::npos) << summary;
+  EXPECT_EQ(std::strtod(summary.c_str() + at + 15, nullptr), window_tip) << "the saved scene reproduces the window's run";
 }
 
 TEST(GuiCli, ShellSceneScreenshotAfterQuitAfter) {

@@ -164,6 +164,7 @@ TEST(SceneDraft, MaterialPresetsReplaceTheElasticKeys) {
   EXPECT_EQ(doc(al.text).number("material.youngs_modulus", 0), 7.0e10);
   EXPECT_EQ(doc(al.text).number("material.density", 0), 2700.0);
   EXPECT_EQ(doc(al.text).number("material.thickness", 0), 0.01);  // kept
+  EXPECT_EQ(doc(al.text).string("material.name", 0), "aluminium");    // no part names it: renamed
   const DraftEdit ply = with_material_preset(al.text, kPath, 0, "CFRP ply (T300/5208)");
   const scene::Document d = doc(ply.text);
   EXPECT_FALSE(d.present("material.youngs_modulus", 0));
