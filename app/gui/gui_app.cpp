@@ -115,14 +115,6 @@ bool is_mesh_file(const std::string& path) {
 /// later Save are read from there); nothing is written there until Save.
 std::string new_problem_path(const std::string& name) { return (fs::current_path() / (name + ".toml")).string(); }
 
-/// A new static problem whose one part is the mesh file `mesh` (absolute, so the text works from
-/// anywhere it is saved).
-std::string mesh_problem_text(const std::string& mesh) {
-  const std::string text = new_scene_text("static", fs::path(mesh).stem().string());
-  const std::string path = new_problem_path("mesh");
-  std::string t = scene::text_without_keys(text, path, {"part[0].length", "part[0].width", "part[0].n1", "part[0].n2"});
-  return scene::edited_scene_text(t, path, {"part[0].generator=\"file\"", "part[0].file=" + quoted_toml(fs::absolute(mesh).string())});
-}
 
 // λ and other Greek letters: the default ImGui font (ProggyClean) has Latin-1 only, so Greek
 // glyphs are merged in from a system TTF; without one the window spells the names out.
@@ -972,7 +964,7 @@ class GuiApp {
   /// Opens a scene file, or a mesh file as a new problem's part.
   std::uint64_t open_file(const std::string& path) {
     if (is_mesh_file(path)) {
-      const std::string text = mesh_problem_text(path);
+      const std::string text = mesh_scene_text(fs::absolute(path).string(), fs::path(path).stem().string());
       return worker_->load_text(text, new_problem_path(fs::path(path).stem().string()), path);
     }
     return worker_->load(resolve_scene(path));
@@ -1112,7 +1104,7 @@ void check_actions(const std::vector<Action>& actions, std::string text, std::st
           break;
         case Action::Kind::open:
           if (is_mesh_file(a.text))
-            text = mesh_problem_text(a.text), path = new_problem_path(fs::path(a.text).stem().string());
+            text = mesh_scene_text(fs::absolute(a.text).string(), fs::path(a.text).stem().string()), path = new_problem_path(fs::path(a.text).stem().string());
           else
             path = resolve_scene(a.text), text = scene::read_scene_text(path);
           break;

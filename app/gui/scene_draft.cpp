@@ -171,6 +171,13 @@ std::string new_scene_text(const std::string& analysis, const std::string& name)
   return t;
 }
 
+std::string mesh_scene_text(const std::string& mesh_path, const std::string& name) {
+  const std::string text = new_scene_text("static", name);
+  const std::string path = "new problem";
+  const std::string bare = scene::text_without_keys(text, path, {"part[0].length", "part[0].width", "part[0].n1", "part[0].n2"});
+  return scene::edited_scene_text(bare, path, {"part[0].generator=\"file\"", "part[0].file=" + quoted(mesh_path)});
+}
+
 std::vector<std::string> addable_tables(const scene::Schema& schema) {
   std::vector<std::string> out;
   for (const char* t : {"part", "material", "bc", "load", "joint", "probe", "metric"})

@@ -28,6 +28,11 @@ struct DraftEdit {
 /// gravity); `name` is scene.name. std::invalid_argument for another analysis.
 std::string new_scene_text(const std::string& analysis, const std::string& name);
 
+/// The text of a new static problem whose one part is the mesh or CAD file `mesh_path` (written as
+/// given: pass an absolute path so the text works wherever it is saved), named `name`: a file
+/// dropped on the window.
+std::string mesh_scene_text(const std::string& mesh_path, const std::string& name);
+
 /// The arrays of tables the window can add entries to for the scene text's model, in the order
 /// a problem is set up: part, material, bc, load, joint, probe, metric (those its schema has).
 std::vector<std::string> addable_tables(const scene::Schema& schema);

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "app/gui/scene_draft.h"
+#include "app/io/mesh_import.h"
 #include "app/gui/setup_panel.h"
 #include "core/scene/scene.h"
 #include "core/scene/scene_edit.h"
@@ -22,7 +23,7 @@ scene::Document doc(const std::string& text) { return scene::validate(scene::sch
 /// The text builds a model, as the solver thread would.
 void expect_builds(const std::string& text) {
   try {
-    scene::load_scene_text(text, kPath);
+    scene::load_scene_text(text, kPath, {}, io::scene_context());  // with the executable's mesh reader
   } catch (const std::exception& e) {
     ADD_FAILURE() << e.what() << "\n--- text ---\n" << text;
   }
@@ -39,6 +40,17 @@ TEST(SceneDraft, NewProblemsBuild) {
     EXPECT_EQ(d.count("bc"), 0u);  // supports are the user's to add
   }
   EXPECT_THROW(new_scene_text("modal", "x"), std::invalid_argument);
+}
+
+// A mesh file dropped on the window becomes a new problem's part; its force finds the nearest node.
+TEST(SceneDraft, AMeshFileBecomesANewProblem) {
+  const std::string mesh = std::string(FF_SOURCE_DIR) + "/assets/meshes/plate_8x8_unit.obj";
+  const std::string text = mesh_scene_text(mesh, "plate_8x8_unit");
+  const scene::Document d = doc(text);
+  EXPECT_EQ(d.string("part.generator", 0), "file");
+  EXPECT_EQ(d.string("part.file", 0), mesh);
+  EXPECT_FALSE(d.present("part.length", 0));
+  expect_builds(text);
 }
 
 // Each template validates and builds on the new problem's plate; names stay unique.
