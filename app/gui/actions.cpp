@@ -39,7 +39,7 @@ bool parse_number(const std::string& s, double* out) {
 constexpr const char* kVerbs = "run, pause, step [N], reset, set KEY VALUE, wait SECONDS, screenshot FILE, "
                                "probe NODE, save FILE, export FILE, redraws, quit, new static|dynamic, open FILE, "
                                "add TABLE [KEY=VALUE ...], remove TABLE[I], preset material[I] NAME, pick NODE..., "
-                               "pick-box X0 Y0 X1 Y1, pick-clear, use-pick TABLE[I], click X Y, show all|none|TABLE[I], wait-end, metrics";
+                               "pick-box X0 Y0 X1 Y1, pick-clear, use-pick TABLE[I], use-edge TABLE[I] PATCH EDGE, click X Y, show all|none|TABLE[I], wait-end, metrics";
 
 /// "bc[2]" -> ("bc", 2); false when it is not NAME[INDEX].
 bool parse_entry(const std::string& s, std::string* table, long long* index) {
@@ -146,6 +146,12 @@ std::vector<Action> parse_actions(const std::string& text, const std::string& fi
     } else if (verb == "remove" || verb == "use-pick") {
       a.kind = verb == "remove" ? Action::Kind::remove : Action::Kind::use_pick;
       if (!parse_entry(rest, &a.key, &a.count)) fail("'" + verb + "' needs an entry: " + verb + " TABLE[I] (e.g. bc[0])");
+    } else if (verb == "use-edge") {
+      a.kind = Action::Kind::use_edge;
+      const std::vector<std::string> w = words(rest);
+      if (w.size() != 3 || !parse_entry(w[0], &a.key, &a.count))
+        fail("'use-edge' needs an entry, a patch and an edge: use-edge bc[0] plate x_min");
+      a.patch = w[1], a.edge = w[2];
     } else if (verb == "preset") {
       a.kind = Action::Kind::preset;
       const auto ws = rest.find_first_of(" \t");

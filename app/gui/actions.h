@@ -6,6 +6,7 @@
 /// and, to set a problem up (app/gui/scene_draft.h):
 ///   new static|dynamic | open FILE | add TABLE [KEY=VALUE ...] | remove TABLE[I] |
 ///   preset material[I] NAME | pick NODE... | pick-box X0 Y0 X1 Y1 | pick-clear | use-pick TABLE[I] |
+///   use-edge TABLE[I] PATCH EDGE |
 ///   click X Y | show all|none|TABLE[I] | wait-end | metrics
 /// (`wait-end` waits until the run has ended; `metrics` prints "metric NAME = VALUE" for each metric of the run, which must have ended.)
 /// (click and pick-box take pixels of the 3D view, origin top left, as a mouse would.)
@@ -22,7 +23,7 @@ namespace ff::app::gui {
 struct Action {
   enum class Kind {
     run, pause, step, reset, set, wait, screenshot, probe, save, export_png, redraws, quit,
-    new_problem, open, add, remove, preset, pick, pick_box, pick_clear, use_pick, click, show, wait_end, metrics
+    new_problem, open, add, remove, preset, pick, pick_box, pick_clear, use_pick, use_edge, click, show, wait_end, metrics
   };
   Kind kind = Kind::run;
   long long count = 1;   ///< step: solver steps; probe: node index; remove/preset/use-pick/show: entry index
@@ -30,6 +31,7 @@ struct Action {
   std::string key;       ///< set: the key; add/remove/use-pick/show: the table ("" for show all|none)
   std::vector<std::pair<std::string, std::string>> fields;  ///< add: KEY=VALUE (value as --set takes it)
   std::vector<long long> nodes;  ///< pick: node numbers
+  std::string patch, edge;       ///< use-edge
   std::vector<double> pixels;    ///< click: x, y; pick-box: x0, y0, x1, y1
   std::string text;      ///< set: value (TOML text, rest of the line); screenshot/save/export/open: path;
                          ///< new: static|dynamic; preset: its name; show: all|none

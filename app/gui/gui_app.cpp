@@ -443,6 +443,7 @@ std::string describe(const Action& a) {
     }
     case Action::Kind::pick_clear: return "pick-clear";
     case Action::Kind::use_pick: return "use-pick " + a.key + "[" + std::to_string(a.count) + "]";
+    case Action::Kind::use_edge: return "use-edge " + a.key + "[" + std::to_string(a.count) + "] " + a.patch + " " + a.edge;
     case Action::Kind::click: return "click " + fmt("%g", a.pixels[0]) + " " + fmt("%g", a.pixels[1]);
     case Action::Kind::pick_box:
       return "pick-box " + fmt("%g", a.pixels[0]) + " " + fmt("%g", a.pixels[1]) + " " + fmt("%g", a.pixels[2]) + " " +
@@ -730,6 +731,9 @@ class GuiApp {
           }
           waiting_seq_ = request(use_picked_nodes(a.key + "[" + std::to_string(a.count) + "]", pick_.nodes));
           break;
+        case Action::Kind::use_edge:
+          waiting_seq_ = request(use_patch_edge(a.key + "[" + std::to_string(a.count) + "]", a.patch, a.edge));
+          break;
         case Action::Kind::click:
         case Action::Kind::pick_box:
           // as the mouse would: the view must have drawn the current frame first
@@ -778,7 +782,8 @@ class GuiApp {
       case Action::Kind::add:
       case Action::Kind::remove:
       case Action::Kind::preset:
-      case Action::Kind::use_pick: return true;
+      case Action::Kind::use_pick:
+      case Action::Kind::use_edge: return true;
       default: return false;
     }
   }
@@ -1110,6 +1115,9 @@ void check_actions(const std::vector<Action>& actions, std::string text, std::st
           break;
         case Action::Kind::add: text = with_entry_added(text, path, a.key, a.fields).text; break;
         case Action::Kind::remove: text = with_entry_removed(text, path, a.key, static_cast<std::size_t>(a.count)).text; break;
+        case Action::Kind::use_edge:
+          text = use_patch_edge(a.key + "[" + std::to_string(a.count) + "]", a.patch, a.edge).op(text, path).text;
+          break;
         case Action::Kind::preset: text = with_material_preset(text, path, static_cast<std::size_t>(a.count), a.text).text; break;
         default: break;
       }

@@ -43,6 +43,18 @@ SetupRequest use_picked_nodes(const std::string& entry, const std::set<int>& nod
   return r;
 }
 
+SetupRequest use_patch_edge(const std::string& entry, const std::string& patch, const std::string& edge) {
+  SetupRequest r;
+  r.what = entry + " on the edge " + edge + " of " + patch;
+  r.op = [entry, patch, edge](const std::string& text, const std::string& path) {
+    DraftEdit e = with_key_set(text, path, entry + ".select", "\"patch_edge\"");
+    e.text = with_key_set(e.text, path, entry + ".patch", "\"" + patch + "\"").text;
+    e.text = with_key_set(e.text, path, entry + ".edge", "\"" + edge + "\"").text;
+    return e;
+  };
+  return r;
+}
+
 std::vector<int> shown_nodes(const WorkerStatus& status, const std::string& shown) {
   std::vector<int> nodes;
   if (!status.selections || shown == "none") return nodes;
@@ -144,6 +156,17 @@ std::vector<SetupRequest> SetupPanel::draw(const WorkerStatus& status, PickState
       ImGui::SameLine();
       if (ImGui::RadioButton("##show", pick.shown == name)) pick.shown = pick.shown == name ? "all" : name;
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("show only the nodes %s acts on", name.c_str());
+      if (status.patch_edges && !status.patch_edges->empty()) {
+        // an edge of a generated part, from the list of the generators' edge names
+        ImGui::SameLine();
+        ImGui::SetNextItemWidth(60);
+        if (ImGui::BeginCombo("##edge", "edge", ImGuiComboFlags_NoArrowButton)) {
+          for (const auto& [patch, edge] : *status.patch_edges)
+            if (ImGui::Selectable((patch + ": " + edge).c_str())) out.push_back(use_patch_edge(name, patch, edge));
+          ImGui::EndCombo();
+        }
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("select an edge of a part by its name (select = \"patch_edge\")");
+      }
       if (!pick.nodes.empty()) {
         ImGui::SameLine();
         if (ImGui::SmallButton("use picked")) out.push_back(use_picked_nodes(name, pick.nodes));
@@ -173,7 +196,6 @@ std::vector<SetupRequest> SetupPanel::draw(const WorkerStatus& status, PickState
     ImGui::TextUnformatted(e.label.c_str());
     ImGui::PopID();
   }
-  (void)status;
   return out;
 }
 

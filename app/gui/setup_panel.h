@@ -32,6 +32,9 @@ struct SetupRequest {
 /// The edit that makes entry `entry` ("bc[0]") select exactly `nodes` (select = "nodes").
 SetupRequest use_picked_nodes(const std::string& entry, const std::set<int>& nodes);
 
+/// The edit that makes entry `entry` select the edge `edge` of patch `patch` (select = "patch_edge").
+SetupRequest use_patch_edge(const std::string& entry, const std::string& patch, const std::string& edge);
+
 /// The nodes to highlight for `shown` ("all", "none", "bc[0]") from the entries' selections.
 std::vector<int> shown_nodes(const WorkerStatus& status, const std::string& shown);
 

@@ -35,12 +35,7 @@ SimWorker::SimWorker(scene::LoadedScene scene, std::string scene_text, std::stri
   status_.scene_text = std::move(scene_text);
   status_.opened_text = std::move(opened_text);
   status_.opened_from = std::move(opened_from);
-  try {
-    if (auto sel = scene::scene_selections_of_text(status_.scene_text, scene_.path, {}, io::scene_context()))
-      status_.selections = std::make_shared<const std::vector<scene::EntrySelection>>(std::move(sel->entries));
-  } catch (const std::exception&) {
-    // no highlights; the scene itself was accepted
-  }
+  find_selections(status_.scene_text, scene_.path, &status_.selections, &status_.patch_edges);
   start_generation();
   thread_ = std::thread([this] { main(); });
 }
@@ -91,6 +86,24 @@ WorkerUpdate SimWorker::take() {
   frame_.reset();
   samples_.clear();
   return u;
+}
+
+void SimWorker::find_selections(const std::string& text, const std::string& path,
+                                std::shared_ptr<const std::vector<scene::EntrySelection>>* selections,
+                                std::shared_ptr<const std::vector<std::pair<std::string, std::string>>>* patch_edges) {
+  // a model without a shell structure has none; one whose selections cannot be worked out shows
+  // no highlights (the scene itself was accepted)
+  try {
+    auto sel = scene::scene_selections_of_text(text, path, {}, io::scene_context());
+    if (!sel) return;
+    std::vector<std::pair<std::string, std::string>> edges;
+    for (const mesh::Patch& p : sel->mesh.patches)
+      for (const std::string& e : p.edge_names)
+        if (!e.empty()) edges.emplace_back(p.name, e);
+    *patch_edges = std::make_shared<const std::vector<std::pair<std::string, std::string>>>(std::move(edges));
+    *selections = std::make_shared<const std::vector<scene::EntrySelection>>(std::move(sel->entries));
+  } catch (const std::exception&) {
+  }
 }
 
 // ---- worker thread ------------------------------------------------------------------------------
@@ -196,6 +209,7 @@ void SimWorker::main() {
     status_.opened_text = std::move(pending_opened_text_);
     status_.opened_from = std::move(pending_opened_from_);
     status_.selections = std::move(pending_selections_);
+    status_.patch_edges = std::move(pending_patch_edges_);
     start_generation();
   }
 }
@@ -267,14 +281,13 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
     std::optional<scene::LoadedScene> built;
     std::string error;
     std::shared_ptr<const std::vector<scene::EntrySelection>> selections;
+    std::shared_ptr<const std::vector<std::pair<std::string, std::string>>> patch_edges;
     try {
       built = scene::load_scene_text(new_text, new_path, {}, io::scene_context());
-      // what the entries select, for the window's highlights; a model without a shell structure has none
-      if (auto sel = scene::scene_selections_of_text(new_text, new_path, {}, io::scene_context()))
-        selections = std::make_shared<const std::vector<scene::EntrySelection>>(std::move(sel->entries));
     } catch (const std::exception& e) {
-      if (!built) error = e.what();
+      error = e.what();
     }
+    if (built) find_selections(new_text, new_path, &selections, &patch_edges);
     lock.lock();
     if (!built) {
       set_message(what + " refused:\n" + error, true);
@@ -285,6 +298,7 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
     pending_opened_text_ = new_opened_text;
     pending_opened_from_ = new_opened_from;
     pending_selections_ = std::move(selections);
+    pending_patch_edges_ = std::move(patch_edges);
     return true;
   };
   const auto rebuild_edit = [&](const std::string& new_text, const std::string& what) {

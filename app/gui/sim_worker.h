@@ -64,6 +64,8 @@ struct WorkerStatus {
   /// the nodes each [[bc]], [[load]], [[probe]], [[joint]], [[arc]] entry acts on (shell scenes;
   /// empty when they could not be worked out), for highlighting them on the body
   std::shared_ptr<const std::vector<scene::EntrySelection>> selections;
+  /// the structure's named patch edges (patch name, edge name), for picking an edge from a list
+  std::shared_ptr<const std::vector<std::pair<std::string, std::string>>> patch_edges;
   std::shared_ptr<const RunInfo> info;  ///< of this generation
   scene::OutputSettings output;
   double end_time = 0.0;
@@ -158,6 +160,11 @@ class SimWorker {
   std::optional<scene::LoadedScene> pending_;
   std::string pending_text_, pending_opened_text_, pending_opened_from_;
   std::shared_ptr<const std::vector<scene::EntrySelection>> pending_selections_;
+  std::shared_ptr<const std::vector<std::pair<std::string, std::string>>> pending_patch_edges_;
+  /// Works out what a scene text's entries select (selections, patch_edges) for the window.
+  static void find_selections(const std::string& text, const std::string& path,
+                              std::shared_ptr<const std::vector<scene::EntrySelection>>* selections,
+                              std::shared_ptr<const std::vector<std::pair<std::string, std::string>>>* patch_edges);
   std::atomic<bool> stop_{false};
   std::string failure_;  // an exception out of the solver ends the run as failed
   bool running_ = false;

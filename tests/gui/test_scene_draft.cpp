@@ -170,6 +170,21 @@ TEST(SceneDraft, PickedNodesBecomeTheSelection) {
   }
 }
 
+// An edge picked from the list of the generators' edge names: select = "patch_edge".
+TEST(SceneDraft, AnEdgeFromTheListBecomesTheSelection) {
+  std::string text = with_entry_added(new_scene_text("static", "fresh"), kPath, "bc").text;
+  text = use_patch_edge("bc[0]", "plate", "x_max").op(text, kPath).text;
+  const scene::Document d = doc(text);
+  EXPECT_EQ(d.string("bc.select", 0), "patch_edge");
+  EXPECT_EQ(d.string("bc.edge", 0), "x_max");
+  EXPECT_FALSE(d.present("bc.normal", 0));
+  const auto sel = scene::scene_selections_of_text(text, kPath, {}, {});
+  ASSERT_TRUE(sel.has_value());
+  ASSERT_FALSE(sel->entries.empty());
+  EXPECT_EQ(sel->entries[0].nodes.size(), 9u);  // the 9 nodes of the 8 x 8 plate's edge x = 1
+  for (int n : sel->entries[0].nodes) EXPECT_DOUBLE_EQ(sel->mesh.points[n].x(), 1.0);
+}
+
 TEST(SceneDraft, MaterialPresetsReplaceTheElasticKeys) {
   const std::string text = new_scene_text("dynamic", "fresh");
   const DraftEdit al = with_material_preset(text, kPath, 0, "aluminium");
