@@ -41,15 +41,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-std::string quoted_toml(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
-
 constexpr const char* kHeadlessHint =
     "Without a display use the headless verbs: `flexframe run SCENE` (frames, plots, results.h5, "
     "summary.json) and `flexframe replay RUN` (frames again from a results.h5); or give the GUI a "

@@ -9,6 +9,7 @@
 #include <cctype>
 
 #include "core/scene/scene.h"
+#include "core/scene/schema_text.h"
 
 namespace ff::app::gui {
 namespace {
@@ -20,15 +21,7 @@ std::string lower(std::string s) {
   return s;
 }
 
-/// TOML basic string.
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
+std::string quoted(const std::string& s) { return scene::text::quoted(s); }  // TOML basic string
 
 /// "\"efg\"" -> "efg" (strings and choices are edited without their quotes).
 std::string unquoted(const std::string& toml) {

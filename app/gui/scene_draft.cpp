@@ -17,20 +17,9 @@ namespace {
 
 using Fields = std::vector<std::pair<std::string, std::string>>;
 
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
-
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.17g", v);
-  return text;
-}
+std::string quoted(const std::string& s) { return scene::text::quoted(s); }  // TOML basic string
+/// The shortest text that reads back to `v` exactly (a time of a [[timeline]] entry must).
+std::string number(double v) { return scene::text::toml_number(v); }
 
 scene::Document validated(const std::string& text, const std::string& path) {
   return scene::validate(scene::schema_for_text(text), text, path);

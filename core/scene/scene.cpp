@@ -1,8 +1,6 @@
 #include "core/scene/scene.h"
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -175,20 +173,6 @@ std::string output_name_problem(const std::string& name) {
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return "contains a control character";
   }
   return "";
-}
-
-std::string read_scene_text(const std::string& path) {
-  const auto cannot = [&](const std::string& why) {
-    return SceneError({Issue{path, 0, 0, "", "cannot read scene file: " + why}});
-  };
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw cannot("it is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw cannot(std::strerror(errno));
-  std::stringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) throw cannot("read error");
-  return buf.str();
 }
 
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {

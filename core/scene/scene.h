@@ -76,8 +76,6 @@ std::string output_name_problem(const std::string& name);
 /// the program around provides (a mesh file reader).
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                        const SceneContext& ctx = {});
-/// The contents of the scene file `path`; a SceneError naming it when it cannot be read.
-std::string read_scene_text(const std::string& path);
 /// load_scene on a scene text held in memory (the window's scene being set up). `path` names it in
 /// messages, and relative mesh files are read from its folder, as for a file at `path`.
 LoadedScene load_scene_text(const std::string& text, const std::string& path,

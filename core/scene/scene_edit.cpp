@@ -10,6 +10,7 @@
 
 #include "core/scene/scene.h"
 #include "core/scene/schema.h"
+#include "core/scene/schema_text.h"
 
 namespace ff::scene {
 namespace {
@@ -294,12 +295,7 @@ std::string toml_value_as_set_reads_it(const std::string& value) {
     (void)toml::parse("v = " + value);
     return value;
   } catch (const toml::parse_error&) {
-    std::string out = "\"";
-    for (char c : value) {
-      if (c == '"' || c == '\\') out += '\\';
-      out += c;
-    }
-    return out + "\"";
+    return text::quoted(value);
   }
 }
 

@@ -869,8 +869,7 @@ Value validate_live(const Schema& schema, const std::string& key, const std::str
   return DocumentBuilder(schema, "", no_file, {}).live_value(trim(key), trim(value));
 }
 
-Document validate_file(const Schema& schema, const std::string& path,
-                       const std::vector<std::string>& overrides) {
+std::string read_scene_text(const std::string& path) {
   const auto cannot = [&](const std::string& why) {
     return SceneError({Issue{path, 0, 0, "", "cannot read scene file: " + why}});
   };
@@ -881,7 +880,12 @@ Document validate_file(const Schema& schema, const std::string& path,
   std::ostringstream buf;
   buf << in.rdbuf();
   if (in.bad()) throw cannot("read error");
-  return validate(schema, buf.str(), path, overrides);
+  return buf.str();
+}
+
+Document validate_file(const Schema& schema, const std::string& path,
+                       const std::vector<std::string>& overrides) {
+  return validate(schema, read_scene_text(path), path, overrides);
 }
 
 }  // namespace ff::scene
