@@ -257,6 +257,8 @@ class Viewport {
     return nodes;
   }
   bool ready() const { return renderer_ != nullptr; }
+  /// A frame has arrived that the view has not drawn yet.
+  bool needs_render_any() const { return info_ && frame_ && dirty_; }
 
   /// Draws the image into the current ImGui window and handles the mouse (orbit, pan, zoom,
   /// click to pick, shift-drag a box when `box_picking`). Returns the node clicked this frame, or
@@ -650,8 +652,11 @@ class GuiApp {
       }
       const Action& a = actions_[next_action_++];
       current_action_ = &a;
-      std::printf("action %s: %s\n", a.where().c_str(), describe(a).c_str());
-      std::fflush(stdout);
+      if (announced_ != next_action_) {  // once, also for an action that waits for the view
+        std::printf("action %s: %s\n", a.where().c_str(), describe(a).c_str());
+        std::fflush(stdout);
+        announced_ = next_action_;
+      }
       message_seq_at_issue_ = status_.message_seq;
       switch (a.kind) {
         case Action::Kind::run: waiting_seq_ = worker_->run(); break;
@@ -663,8 +668,17 @@ class GuiApp {
         case Action::Kind::wait:
           wait_until_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.seconds));
           break;
-        case Action::Kind::screenshot: pending_screenshot_ = a.text; break;
-        case Action::Kind::export_png: pending_export_ = a.text; break;
+        case Action::Kind::screenshot:
+        case Action::Kind::export_png:
+          // a picture shows the current frame: wait until the view has drawn one (a new scene
+          // builds its renderer at the next draw)
+          if (!viewport_.ready() || viewport_.needs_render_any()) {
+            --next_action_;
+            current_action_ = nullptr;
+            return;
+          }
+          (a.kind == Action::Kind::screenshot ? pending_screenshot_ : pending_export_) = a.text;
+          break;
         case Action::Kind::save: save_scene(a.text); break;
         case Action::Kind::quit: quit_ = true; break;
         case Action::Kind::redraws:
@@ -1081,6 +1095,7 @@ class GuiApp {
   std::uint64_t waiting_seq_ = 0, message_seq_at_issue_ = 0;
   Clock::time_point wait_until_{};
   bool waiting_end_ = false;  // a wait-end action waits for the run's outcome
+  std::size_t announced_ = 0;  // the last action whose line was printed (1-based)
   std::string pending_screenshot_, pending_export_;
   Clock::time_point start_;
   const std::atomic<bool>& stop_;

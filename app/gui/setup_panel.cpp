@@ -141,6 +141,7 @@ std::vector<SetupRequest> SetupPanel::draw(const WorkerStatus& status, PickState
   ImGui::SameLine();
   if (ImGui::RadioButton("none", pick.shown == "none")) pick.shown = "none";
 
+  // one line per entry: remove, what it is and what it selects; below it, indented, its controls
   for (const Entry& e : entries_) {
     const std::string name = entry_name(e.table, e.index);
     ImGui::PushID(name.c_str());
@@ -152,15 +153,17 @@ std::vector<SetupRequest> SetupPanel::draw(const WorkerStatus& status, PickState
                      std::nullopt});
     }
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("remove %s", name.c_str());
+    ImGui::SameLine();
+    ImGui::TextUnformatted(e.label.c_str());
+    if (e.selects || e.table == "material") ImGui::Indent(22.0f);
     if (e.selects) {
-      ImGui::SameLine();
-      if (ImGui::RadioButton("##show", pick.shown == name)) pick.shown = pick.shown == name ? "all" : name;
+      if (ImGui::RadioButton("show", pick.shown == name)) pick.shown = pick.shown == name ? "all" : name;
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("show only the nodes %s acts on", name.c_str());
       if (status.patch_edges && !status.patch_edges->empty()) {
         // an edge of a generated part, from the list of the generators' edge names
         ImGui::SameLine();
-        ImGui::SetNextItemWidth(60);
-        if (ImGui::BeginCombo("##edge", "edge", ImGuiComboFlags_NoArrowButton)) {
+        ImGui::SetNextItemWidth(110);
+        if (ImGui::BeginCombo("##edge", "edge...")) {
           for (const auto& [patch, edge] : *status.patch_edges)
             if (ImGui::Selectable((patch + ": " + edge).c_str())) out.push_back(use_patch_edge(name, patch, edge));
           ImGui::EndCombo();
@@ -174,9 +177,8 @@ std::vector<SetupRequest> SetupPanel::draw(const WorkerStatus& status, PickState
       }
     }
     if (e.table == "material") {
-      ImGui::SameLine();
-      ImGui::SetNextItemWidth(90);
-      if (ImGui::BeginCombo("##preset", "preset")) {
+      ImGui::SetNextItemWidth(200);
+      if (ImGui::BeginCombo("##preset", "preset...")) {
         for (const MaterialPreset& m : material_presets()) {
           if (ImGui::Selectable(m.name.c_str())) {
             const std::size_t index = e.index;
@@ -192,8 +194,7 @@ std::vector<SetupRequest> SetupPanel::draw(const WorkerStatus& status, PickState
         ImGui::EndCombo();
       }
     }
-    ImGui::SameLine();
-    ImGui::TextUnformatted(e.label.c_str());
+    if (e.selects || e.table == "material") ImGui::Unindent(22.0f);
     ImGui::PopID();
   }
   return out;
