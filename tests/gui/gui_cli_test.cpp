@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
@@ -194,6 +195,57 @@ TEST(GuiCli, CantileverSetUpFromNothingRerunsHeadlessToTheSameMetric) {
   const auto at = summary.find("\"tip_w_final\": ");
   ASSERT_NE(at, std::string::npos) << summary;
   EXPECT_EQ(std::strtod(summary.c_str() + at + 15, nullptr), window_tip) << "the saved scene reproduces the window's run";
+}
+
+/// Compares region `r` of `actual` with the stored picture `reference`: pixels whose colour
+/// differs by more than 60 (sum over R, G, B) may be at most 2 % of the region's content (the
+/// pixels that are not the region's background, the colour of its top-left corner, in either
+/// picture), and the mean difference over the region at most 3, so anti-aliasing and round-off
+/// in the rasteriser pass and a changed layout, colour or body does not. FF_UPDATE_GUI_REFERENCES=1 stores `actual` as the reference.
+void expect_like_reference(const std::string& actual, const std::string& reference, Region r) {
+  if (std::getenv("FF_UPDATE_GUI_REFERENCES")) {
+    std::filesystem::create_directories(std::filesystem::path(reference).parent_path());
+    std::filesystem::copy_file(actual, reference, std::filesystem::copy_options::overwrite_existing);
+    GTEST_SKIP() << "stored " << reference;
+  }
+  const Image a = read_png(actual), b = read_png(reference);
+  ASSERT_GT(b.width, 0) << "no stored picture " << reference << " (FF_UPDATE_GUI_REFERENCES=1 stores one)";
+  ASSERT_EQ(a.width, b.width) << actual;
+  ASSERT_EQ(a.height, b.height) << actual;
+  long long off = 0, total = 0, content = 0;
+  double sum = 0;
+  const auto background = b.at(r.x0, r.y0);
+  for (int y = r.y0; y < r.y1; ++y)
+    for (int x = r.x0; x < r.x1; ++x) {
+      const int d = differs(a.at(x, y), b.at(x, y));
+      sum += d, ++total;
+      if (d > 60) ++off;
+      if (differs(a.at(x, y), background) > 6 || differs(b.at(x, y), background) > 6) ++content;
+    }
+  ASSERT_GT(content, 0) << reference << " is blank";
+  EXPECT_LE(off, content / 50) << actual << " differs from " << reference << " in " << off << " of its " << content
+                               << " content pixels";
+  EXPECT_LE(sum / static_cast<double>(total), 3.0) << actual << " against " << reference;
+}
+
+// The window's pictures against stored ones (tests/gui/reference/): the 3D view of the guide's
+// cantilever after its run, with its selections shown and a probe, and the set-up panel listing
+// its entries. A change that moves the body, its colours, the highlights or the panel's layout
+// shows here; the status line (rates, times) is left out.
+TEST(GuiCli, PicturesOfTheSetUpCantileverMatchTheStoredOnes) {
+  if (!have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup installs it)";
+  const std::string dir = fresh_test_dir();
+  const std::string actions = dir + "/pictures.txt";
+  std::string script = read_text(std::string(FF_SOURCE_DIR) + "/docs/guide/gui_cantilever.actions");
+  script = script.substr(0, script.find("save "));  // the set-up and the run
+  write_text(actions, script + "show all\nprobe 50\nexport " + dir + "/view.png\nscreenshot " + dir +
+                          "/window.png\nquit\n");
+  const ProcResult r = run_gui_under_xvfb({"--new", "static", "--actions", actions, "--width", "1280", "--height",
+                                           "800", "--quit-after", "50"}, dir + "/gui");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const std::string stored = std::string(FF_SOURCE_DIR) + "/tests/gui/reference/";
+  expect_like_reference(dir + "/view.png", stored + "cantilever_view.png", Region{0, 0, 1280 - 390, 800 - 250 - 30});
+  expect_like_reference(dir + "/window.png", stored + "cantilever_window.png", Region{1280 - 390, 0, 1280, 600});
 }
 
 TEST(GuiCli, ShellSceneScreenshotAfterQuitAfter) {
