@@ -831,17 +831,22 @@ class GuiApp {
     if (!status_.info) return;
     const RunInfo& info = *status_.info;
     std::vector<PlotSeries> series;
+    // x is the time (or load factor) while it only goes forward; along a path that turns back
+    // (arc length through a limit point) it is the solver step, so no curve folds over itself
+    const bool by_time = std::is_sorted(history_.begin(), history_.end(),
+                                        [](const Sample& a, const Sample& b) { return a.time < b.time; });
+    auto x_of = [by_time](const Sample& s) { return by_time ? s.time : static_cast<double>(s.step); };
     // the samples of [from, end), thinned to about kMaxPlotPoints, the last one always
     auto collect = [&](std::size_t from, auto&& value) {
       const std::size_t n = history_.size() - from;
       const std::size_t stride = std::max<std::size_t>(1, (n + kMaxPlotPoints - 1) / kMaxPlotPoints);
       std::vector<double> t, y;
       for (std::size_t i = from; i < history_.size(); i += stride) {
-        t.push_back(history_[i].time);
+        t.push_back(x_of(history_[i]));
         y.push_back(value(history_[i]));
       }
       if (n > 0 && (n - 1) % stride != 0) {
-        t.push_back(history_.back().time);
+        t.push_back(x_of(history_.back()));
         y.push_back(value(history_.back()));
       }
       return std::pair{std::move(t), std::move(y)};
@@ -873,11 +878,12 @@ class GuiApp {
     const float row_h = std::floor(ImGui::GetContentRegionAvail().y / 2.0f);
     const float plot_h = std::max(24.0f, row_h - 2.0f * kCellPadY - 2.0f * ImGui::GetTextLineHeight() - 6.0f);
     if (ImGui::BeginTable("plots", columns, ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingStretchSame)) {
-      const std::string x_name = info.time_unit.empty() ? lambda_text() : "t";
+      const std::string x_name = !by_time ? "step" : info.time_unit.empty() ? lambda_text() : "t";
+      const std::string x_unit = by_time ? info.time_unit : "";
       for (const PlotSeries& ps : series) {
         ImGui::TableNextColumn();
         ImGui::PushID(ps.title.c_str());
-        draw_plot(ps, plot_h, x_name, info.time_unit);
+        draw_plot(ps, plot_h, x_name, x_unit);
         ImGui::PopID();
       }
       ImGui::EndTable();
@@ -887,7 +893,7 @@ class GuiApp {
 
   struct PlotSeries {
     std::string title;
-    std::vector<double> t, y;  ///< time (or load factor) and value
+    std::vector<double> t, y;  ///< x (time, load factor or step) and value
   };
 
   /// One plot in the current cell: the title cut to the cell with the latest value at its right;
@@ -980,7 +986,7 @@ class GuiApp {
     // a load-controlled run (no time unit) counts the load factor
     const std::string t_name = status_.info && status_.info->time_unit.empty() ? lambda_text() : "t";
     std::string line = std::string(to_string(status_.state)) + " | " + t_name + " = " + fmt("%.4g", t) + " / " +
-                       fmt("%.4g", status_.end_time) + " " + unit + " | step " + std::to_string(step) + " | " +
+                       fmt("%.4g", status_.end_time) + (unit[0] ? " " : "") + unit + " | step " + std::to_string(step) + " | " +
                        fmt("%.0f", steps_per_second()) + " steps/s" + pace_text() + " | " +
                        std::to_string(frames_per_second()) + " fps | last frame: " +
                        std::to_string(last_stats_.iterations) + " Newton it., " +
