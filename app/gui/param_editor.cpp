@@ -196,6 +196,14 @@ std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
     if (!f.empty()) ImGui::SetNextItemOpen(true);  // a filter shows every match
     const bool open = ImGui::TreeNodeEx(title.c_str(), stepping ? ImGuiTreeNodeFlags_DefaultOpen : 0);
     if (open) {
+      // units sit in a column of their own width at the right of the values, so the fields of a
+      // table line up
+      float unit_room = 0.0f;
+      for (std::size_t r = i; r < end; ++r) {
+        const std::string unit = unit_of(*rows_[r].item.spec);
+        if (!unit.empty())
+          unit_room = std::max(unit_room, ImGui::CalcTextSize(unit.c_str()).x + ImGui::GetStyle().ItemInnerSpacing.x);
+      }
       if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_SizingStretchProp)) {
         ImGui::TableSetupColumn("key", ImGuiTableColumnFlags_WidthStretch, 0.42f);
         ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 0.58f);
@@ -230,12 +238,10 @@ std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
             ImGui::EndTooltip();
           }
           ImGui::TableSetColumnIndex(1);
-          // the unit beside the value, the field narrowed to leave room for it
+          // the unit beside the value
           const std::string unit = unit_of(spec);
           const bool show_unit = !unit.empty() && !(spec.kind == Kind::StringList && !spec.choices.empty());
-          const float unit_room =
-              show_unit ? ImGui::CalcTextSize(unit.c_str()).x + ImGui::GetStyle().ItemInnerSpacing.x : 0.0f;
-          ImGui::SetNextItemWidth(show_unit ? -unit_room : -1.0f);
+          ImGui::SetNextItemWidth(unit_room > 0.0f ? -unit_room : -1.0f);
           switch (spec.kind) {
             case Kind::Boolean:
               if (ImGui::Checkbox("##v", &row.flag)) edits.emplace_back(it.key, row.flag ? "true" : "false");
