@@ -913,12 +913,11 @@ class GuiApp {
     dl->AddText(top, text_col, title.c_str());
     dl->AddText(ImVec2(top.x + width - value_w, top.y), text_col, value.c_str());
 
-    // y range
-    double lo = 0.0, hi = 0.0;
-    if (!ps.y.empty()) {
-      lo = *std::min_element(ps.y.begin(), ps.y.end());
-      hi = *std::max_element(ps.y.begin(), ps.y.end());
-    }
+    // y range, over the finite values (a diverged run's last values may not be)
+    double lo = DBL_MAX, hi = -DBL_MAX;
+    for (double y : ps.y)
+      if (std::isfinite(y)) lo = std::min(lo, y), hi = std::max(hi, y);
+    if (lo > hi) lo = hi = 0.0;
     const bool flat = !(hi > lo);
     const std::string hi_text = short_number(hi), lo_text = short_number(lo);
     const float gutter = std::max(ImGui::CalcTextSize(hi_text.c_str()).x, ImGui::CalcTextSize(lo_text.c_str()).x) + 6.0f;
@@ -943,14 +942,20 @@ class GuiApp {
       dl->AddLine(ImVec2(a.x, y0), ImVec2(b.x, y0), faint_col);
     }
     const ImU32 curve_col = ImGui::GetColorU32(ImGuiCol_PlotLines);
-    if (ps.t.size() == 1) {
-      dl->AddCircleFilled(to_screen(t0, ps.y[0]), 2.5f, curve_col);
-    } else if (ps.t.size() > 1) {
-      std::vector<ImVec2> pts;
-      pts.reserve(ps.t.size());
-      for (std::size_t i = 0; i < ps.t.size(); ++i) pts.push_back(to_screen(ps.t[i], ps.y[i]));
-      dl->AddPolyline(pts.data(), static_cast<int>(pts.size()), curve_col, ImDrawFlags_None, 1.2f);
+    // the curve, broken where a value is not finite; a lone point as a dot
+    std::vector<ImVec2> pts;
+    auto flush = [&] {
+      if (pts.size() == 1) dl->AddCircleFilled(pts[0], 2.5f, curve_col);
+      if (pts.size() > 1) dl->AddPolyline(pts.data(), static_cast<int>(pts.size()), curve_col, ImDrawFlags_None, 1.2f);
+      pts.clear();
+    };
+    for (std::size_t i = 0; i < ps.t.size(); ++i) {
+      if (std::isfinite(ps.y[i]))
+        pts.push_back(to_screen(ps.t[i], ps.y[i]));
+      else
+        flush();
     }
+    flush();
 
     // x span below: the start at the left, the end and unit at the right (the end alone when narrow)
     const std::string unit = x_unit.empty() ? "" : " " + x_unit;
@@ -969,12 +974,12 @@ class GuiApp {
       std::size_t k = 0;
       float best = FLT_MAX;
       for (std::size_t i = 0; i < ps.t.size(); ++i) {
-        const float d = std::fabs(to_screen(ps.t[i], ps.y[i]).x - mx);
+        const float d = std::fabs(to_screen(ps.t[i], 0.0).x - mx);
         if (d < best) best = d, k = i;
       }
-      const ImVec2 at = to_screen(ps.t[k], ps.y[k]);
+      const ImVec2 at = to_screen(ps.t[k], std::isfinite(ps.y[k]) ? ps.y[k] : lo);
       dl->AddLine(ImVec2(at.x, a.y), ImVec2(at.x, b.y), faint_col);
-      dl->AddCircleFilled(at, 3.0f, curve_col);
+      if (std::isfinite(ps.y[k])) dl->AddCircleFilled(at, 3.0f, curve_col);
       ImGui::SetTooltip("%s\n%s = %.6g%s: %.6g", ps.title.c_str(), x_name.c_str(), ps.t[k], unit.c_str(), ps.y[k]);
     }
   }
