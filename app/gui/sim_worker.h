@@ -11,6 +11,9 @@
 /// edit leaves the running one alone and says why), then stop the current run and start the
 /// new one at t = 0, paused unless it was running. A `set` of a key the scene schema declares
 /// live (scene::change_live: torque.amplitude, gravity.g) changes the running model instead.
+/// A pause between output frames publishes the state reached. A probe is answered at once with a
+/// Sample of the last published state for the new node (Sample::probe_answer), so the window has
+/// the node's values whether paused, stepping, running or finished; each Sample names its node.
 
 #include <array>
 #include <atomic>
