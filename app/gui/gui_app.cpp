@@ -142,6 +142,40 @@ std::string fmt(const char* format, double v) {
   return buf;
 }
 
+/// A number for a plot label: 3 significant digits, the exponent without padding ("2.32e-5").
+std::string short_number(double v) {
+  std::string t = fmt("%.3g", v);
+  const std::size_t e = t.find('e');
+  if (e == std::string::npos) return t == "-0" ? "0" : t;
+  std::string mantissa = t.substr(0, e), exponent = t.substr(e + 1);
+  const bool negative = !exponent.empty() && exponent[0] == '-';
+  exponent = exponent.substr(exponent[0] == '-' || exponent[0] == '+' ? 1 : 0);
+  exponent.erase(0, std::min(exponent.find_first_not_of('0'), exponent.size() - 1));
+  return mantissa + "e" + (negative ? "-" : "") + exponent;
+}
+
+/// `text` cut at the end (with "...") to fit `width` pixels of the current font.
+std::string fit_text(std::string text, float width) {
+  if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
+  while (!text.empty() && ImGui::CalcTextSize((text + "...").c_str()).x > width) {
+    // drop the last character, all of its UTF-8 bytes
+    std::size_t last = text.size() - 1;
+    while (last > 0 && (static_cast<unsigned char>(text[last]) & 0xC0) == 0x80) --last;
+    text.erase(last);
+  }
+  return text + "...";
+}
+
+/// The window's readout of a probed node (the actions' `probe NODE` prints the same).
+std::string node_readout(const Sample& s, const char* separator) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "node %d at (%.4g, %.4g, %.4g)%s|x - X| = %.4g", s.node, s.node_position[0],
+                s.node_position[1], s.node_position[2], separator, s.node_displacement);
+  std::string text = buf;
+  if (s.has_deflection) text += ", elastic |x - x_base| = " + fmt("%.4g", s.node_deflection);
+  return text;
+}
+
 /// Writes the current framebuffer (RGB) as PNG, top row first.
 bool write_window_png(const std::string& path, int w, int h, std::string* error) {
   std::vector<unsigned char> rgb(3 * static_cast<std::size_t>(w) * h), flipped(rgb.size());
@@ -515,6 +549,8 @@ class GuiApp {
       last_draw = Clock::now();
       settle = std::max(0, settle - 1);
       ++redraws_;
+      draws_.push_back(last_draw);
+      while (draws_.size() > 1 && seconds_since(draws_.front()) > 1.0) draws_.pop_front();
       viewport_.update(static_cast<int>(vp.x), static_cast<int>(vp.y),
                        !pending_screenshot_.empty() || !pending_export_.empty() || want_capture);
       if (!pending_export_.empty()) {
@@ -594,10 +630,16 @@ class GuiApp {
     if (u.status.probe_node >= 0 && u.status.probe_node != status_.probe_node) probe_input_ = u.status.probe_node;
     status_ = std::move(u.status);
     for (Sample& s : u.samples) {
-      rate_.push_back({Clock::now(), s.step});
+      // a probe's answer is the state already on show, now with the new node: it takes the place
+      // of that state's sample, so the plots get no duplicate point
+      if (s.probe_answer && !history_.empty() && history_.back().step == s.step) {
+        history_.back() = std::move(s);
+        continue;
+      }
+      rate_.push_back({Clock::now(), s.step, s.time});
       history_.push_back(std::move(s));
     }
-    while (rate_.size() > 2 && seconds_since(rate_.front().first) > 2.0) rate_.pop_front();
+    while (rate_.size() > 2 && seconds_since(rate_.front().at) > 2.0) rate_.pop_front();
     if (u.frame) {
       last_stats_ = u.frame->stats;
       viewport_.set_frame(*u.frame);
@@ -608,8 +650,41 @@ class GuiApp {
   double steps_per_second() const {
     // a rate only while the solver runs: after the end the window holds the last burst of steps
     if (rate_.size() < 2 || status_.state != WorkerState::running) return 0.0;
-    const double dt = std::chrono::duration<double>(rate_.back().first - rate_.front().first).count();
-    return dt > 0 ? (rate_.back().second - rate_.front().second) / dt : 0.0;
+    const double dt = std::chrono::duration<double>(rate_.back().at - rate_.front().at).count();
+    return dt > 0 ? (rate_.back().step - rate_.front().step) / dt : 0.0;
+  }
+  /// Simulated time (or load factor) per wall second over the last two seconds; nullopt unless running.
+  std::optional<double> solver_pace() const {
+    if (rate_.size() < 2 || status_.state != WorkerState::running) return std::nullopt;
+    const double dt = std::chrono::duration<double>(rate_.back().at - rate_.front().at).count();
+    if (dt <= 0) return std::nullopt;
+    return (rate_.back().time - rate_.front().time) / dt;
+  }
+  /// " | 0.25x real time" (simulated seconds per wall second) while a time-stepped run runs;
+  /// " | λ +0.03/s" (load factor per wall second) for a load-controlled one; "" otherwise.
+  std::string pace_text() const {
+    const std::optional<double> rate = solver_pace();
+    if (!rate || !status_.info) return "";
+    if (status_.info->time_unit.empty()) return std::string(" | ") + lambda_text() + " " + fmt("%+.3g", *rate) + "/s";
+    if (status_.info->time_unit != "s") return " | " + fmt("%.3g", *rate) + " " + status_.info->time_unit + "/s";
+    return " | " + fmt("%.3g", *rate) + "\u00d7 real time";
+  }
+  /// Window frames drawn in the last second (an idle window draws none, so it reads what it drew last).
+  int frames_per_second() const {
+    return static_cast<int>(std::count_if(draws_.begin(), draws_.end(),
+                                          [](Clock::time_point t) { return seconds_since(t) <= 1.0; }));
+  }
+
+  /// The newest sample of the probed node, or null (none probed, or its state not here yet).
+  const Sample* probed_sample() const {
+    if (status_.probe_node < 0 || history_.empty() || history_.back().node != status_.probe_node) return nullptr;
+    return &history_.back();
+  }
+  /// Where the probed node's history starts: the samples since it was placed (a new node, a new history).
+  std::size_t probe_history_start() const {
+    std::size_t i = history_.size();
+    while (i > 0 && status_.probe_node >= 0 && history_[i - 1].node == status_.probe_node) --i;
+    return i;
   }
 
   void notice(const std::string& text) {
@@ -635,6 +710,12 @@ class GuiApp {
       if (waiting_seq_ != 0) {
         if (status_.settled_seq < waiting_seq_) return;
         waiting_seq_ = 0;
+        if (current_action_ && current_action_->kind == Action::Kind::probe) {
+          // what the window's "Probe a node" readout shows now
+          const Sample* s = probed_sample();
+          std::printf("probe %s\n", s ? node_readout(*s, ", ").c_str() : "none");
+          std::fflush(stdout);
+        }
         if (current_action_ && edits_scene(*current_action_) && status_.message_is_error &&
             status_.message_seq != message_seq_at_issue_) {
           action_failed(describe(*current_action_) + " was refused:\n" + status_.message);
@@ -925,11 +1006,10 @@ class GuiApp {
       ImGui::InputInt("node", &probe_input_);
       ImGui::SameLine();
       if (ImGui::Button("Probe")) worker_->probe(probe_input_);
-      if (status_.probe_node >= 0 && !history_.empty()) {
-        const Sample& s = history_.back();
-        ImGui::Text("node %d at (%.4g, %.4g, %.4g)", status_.probe_node, s.node_position[0], s.node_position[1],
-                    s.node_position[2]);
-        ImGui::Text("|x - X| = %.4g, elastic |x - x_base| = %.4g", s.node_displacement, s.node_deflection);
+      if (const Sample* s = probed_sample()) {
+        ImGui::TextUnformatted(node_readout(*s, "\n").c_str());
+      } else if (status_.probe_node >= 0) {
+        ImGui::TextDisabled("node %d: waiting for the solver's state", status_.probe_node);
       } else {
         ImGui::TextDisabled("click the body or enter a node index");
       }
@@ -937,11 +1017,19 @@ class GuiApp {
     if (ImGui::CollapsingHeader("Set up", ImGuiTreeNodeFlags_DefaultOpen))
       for (SetupRequest& r : setup_.draw(status_, pick_)) request(std::move(r));
     if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
-      // the live keys are the schema's, so a model that declares more shows them here too
-      std::string hint = "edits rebuild the model and restart at t = 0";
+      // the live keys are the schema's, so a model that declares more shows them here too; the
+      // header wraps to the panel (it used to run off its edge)
       const std::vector<std::string> live = params_.live_keys();
-      for (std::size_t i = 0; i < live.size(); ++i) hint += (i == 0 ? "; live, the run goes on: " : ", ") + live[i];
-      ImGui::TextDisabled("%s", hint.c_str());
+      ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+      ImGui::TextWrapped("An edit rebuilds the model and restarts at t = 0.");
+      if (!live.empty()) {
+        std::string keys;
+        for (const std::string& k : live) keys += (keys.empty() ? "" : ", ") + k;
+        draw_live_tag();
+        ImGui::SameLine();
+        ImGui::TextWrapped("keys change the running model from its next step: %s", keys.c_str());
+      }
+      ImGui::PopStyleColor();
       ImGui::BeginChild("params", ImVec2(0, 0), false);
       for (const auto& [key, value] : params_.draw()) worker_->set(key, value);
       ImGui::EndChild();
@@ -989,59 +1077,161 @@ class GuiApp {
     }
   }
 
-  /// One PlotLines per probe (and the probed node), laid out in columns.
+  /// One plot per probe (and the probed node, and the Newton iterations), laid out in columns.
   void draw_plots(float width) {
     if (!status_.info) return;
     const RunInfo& info = *status_.info;
-    struct Series {
-      std::string title;
-      std::vector<float> y;
+    std::vector<PlotSeries> series;
+    // x is the time (or load factor) while it only goes forward; along a path that turns back
+    // (arc length through a limit point) it is the solver step, so no curve folds over itself
+    const bool by_time = std::is_sorted(history_.begin(), history_.end(),
+                                        [](const Sample& a, const Sample& b) { return a.time < b.time; });
+    auto x_of = [by_time](const Sample& s) { return by_time ? s.time : static_cast<double>(s.step); };
+    // the samples of [from, end), thinned to about kMaxPlotPoints, the last one always
+    auto collect = [&](std::size_t from, auto&& value) {
+      const std::size_t n = history_.size() - from;
+      const std::size_t stride = std::max<std::size_t>(1, (n + kMaxPlotPoints - 1) / kMaxPlotPoints);
+      std::vector<double> t, y;
+      for (std::size_t i = from; i < history_.size(); i += stride) {
+        t.push_back(x_of(history_[i]));
+        y.push_back(value(history_[i]));
+      }
+      if (n > 0 && (n - 1) % stride != 0) {
+        t.push_back(x_of(history_.back()));
+        y.push_back(value(history_.back()));
+      }
+      return std::pair{std::move(t), std::move(y)};
     };
-    std::vector<Series> series;
-    const std::size_t n = history_.size();
-    const std::size_t stride = std::max<std::size_t>(1, (n + kMaxPlotPoints - 1) / kMaxPlotPoints);
-    auto collect = [&](auto&& value) {
-      std::vector<float> y;
-      y.reserve(n / stride + 1);
-      for (std::size_t i = 0; i < n; i += stride) y.push_back(static_cast<float>(value(history_[i])));
-      if (n > 0 && (n - 1) % stride != 0) y.push_back(static_cast<float>(value(history_.back())));
-      return y;
+    auto add = [&](std::string title, std::size_t from, auto&& value) {
+      auto [t, y] = collect(from, value);
+      series.push_back({std::move(title), std::move(t), std::move(y)});
     };
-    auto label = [](const Quantity& q) { return q.label.empty() ? q.name : q.label; };
-    if (status_.probe_node >= 0)
-      series.push_back({"node " + std::to_string(status_.probe_node) + " elastic deflection",
-                        collect([](const Sample& s) { return s.node_deflection; })});
-    for (std::size_t p = 0; p < info.probes.size(); ++p) {
-      std::string t = label(info.probes[p]);
-      if (!info.probes[p].unit.empty()) t += " [" + info.probes[p].unit + "]";
-      series.push_back({t, collect([p](const Sample& s) { return p < s.probes.size() ? s.probes[p] : 0.0; })});
+    if (status_.probe_node >= 0) {
+      // the node's history starts where it was placed: nothing is drawn for the time before
+      const std::size_t from = probe_history_start();
+      const bool elastic = from < history_.size() && history_[from].has_deflection;
+      add("node " + std::to_string(status_.probe_node) + (elastic ? " elastic |x - x_base|" : " |x - X|"), from,
+          [elastic](const Sample& s) { return elastic ? s.node_deflection : s.node_displacement; });
     }
-    series.push_back({"Newton iterations per step", collect([](const Sample& s) { return s.stats.iterations; })});
+    for (std::size_t p = 0; p < info.probes.size(); ++p) {
+      const Quantity& q = info.probes[p];
+      std::string t = q.label.empty() ? q.name : q.label;
+      if (!q.unit.empty()) t += " [" + q.unit + "]";
+      add(t, 0, [p](const Sample& s) { return p < s.probes.size() ? s.probes[p] : 0.0; });
+    }
+    add("Newton iterations per step", 0, [](const Sample& s) { return s.stats.iterations; });
 
     const int columns = std::max(1, static_cast<int>(width / 290.0f));
+    constexpr float kCellPadY = 3.0f;
+    ImGui::PushStyleVar(ImGuiStyleVar_CellPadding, ImVec2(8.0f, kCellPadY));
+    // two rows of plots fill the panel exactly (more scroll): a row is its padding, the title
+    // line, the plot and the x labels (draw_plot's extent)
+    const float row_h = std::floor(ImGui::GetContentRegionAvail().y / 2.0f);
+    const float plot_h = std::max(24.0f, row_h - 2.0f * kCellPadY - 2.0f * ImGui::GetTextLineHeight() - 6.0f);
     if (ImGui::BeginTable("plots", columns, ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingStretchSame)) {
-      const float plot_h = (kPlotHeight - 24.0f) / 2.0f - ImGui::GetTextLineHeightWithSpacing() - 6.0f;
-      // the axes in words: the y range at the plot's corners, the time span below it
-      const std::string t_unit = info.time_unit.empty() ? "" : " " + info.time_unit;
-      const std::string x_axis = history_.empty() ? std::string()
-                                                  : std::string(info.time_unit.empty() ? lambda_text() : "t") + ": " +
-                                                        fmt("%.4g", history_.front().time) + " .. " +
-                                                        fmt("%.4g", history_.back().time) + t_unit;
-      for (const Series& s : series) {
+      const std::string x_name = !by_time ? "step" : info.time_unit.empty() ? lambda_text() : "t";
+      const std::string x_unit = by_time ? info.time_unit : "";
+      for (const PlotSeries& ps : series) {
         ImGui::TableNextColumn();
-        const float last = s.y.empty() ? 0.0f : s.y.back();
-        ImGui::Text("%s  %.5g", s.title.c_str(), last);
-        ImGui::PushID(s.title.c_str());
-        const auto [lo, hi] = s.y.empty() ? std::pair<float, float>{0.0f, 0.0f}
-                                          : std::pair<float, float>{*std::min_element(s.y.begin(), s.y.end()),
-                                                                    *std::max_element(s.y.begin(), s.y.end())};
-        const std::string overlay = fmt("max %.4g", hi);
-        ImGui::PlotLines("##p", s.y.data(), static_cast<int>(s.y.size()), 0, overlay.c_str(), FLT_MAX, FLT_MAX,
-                         ImVec2(ImGui::GetContentRegionAvail().x, std::max(30.0f, plot_h)));
-        ImGui::TextDisabled("min %.4g   %s", lo, x_axis.c_str());
+        ImGui::PushID(ps.title.c_str());
+        draw_plot(ps, plot_h, x_name, x_unit);
         ImGui::PopID();
       }
       ImGui::EndTable();
+    }
+    ImGui::PopStyleVar();
+  }
+
+  struct PlotSeries {
+    std::string title;
+    std::vector<double> t, y;  ///< x (time, load factor or step) and value
+  };
+
+  /// One plot in the current cell: the title cut to the cell with the latest value at its right;
+  /// the curve over its own time span; the y range at its left (max at the top, min at the bottom);
+  /// the time span below. Hovering shows the value under the mouse.
+  static void draw_plot(const PlotSeries& ps, float plot_h, const std::string& x_name, const std::string& x_unit) {
+    const float width = ImGui::GetContentRegionAvail().x;
+    const float line = ImGui::GetTextLineHeight();
+    const ImU32 text_col = ImGui::GetColorU32(ImGuiCol_Text), faint_col = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+    const std::string value = ps.y.empty() ? "-" : short_number(ps.y.back());
+    const float value_w = ImGui::CalcTextSize(value.c_str()).x;
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+
+    // title line
+    const ImVec2 top = ImGui::GetCursorScreenPos();
+    const std::string title = fit_text(ps.title, std::max(10.0f, width - value_w - 12.0f));
+    dl->AddText(top, text_col, title.c_str());
+    dl->AddText(ImVec2(top.x + width - value_w, top.y), text_col, value.c_str());
+
+    // y range, over the finite values (a diverged run's last values may not be)
+    double lo = DBL_MAX, hi = -DBL_MAX;
+    for (double y : ps.y)
+      if (std::isfinite(y)) lo = std::min(lo, y), hi = std::max(hi, y);
+    if (lo > hi) lo = hi = 0.0;
+    const bool flat = !(hi > lo);
+    const std::string hi_text = short_number(hi), lo_text = short_number(lo);
+    const float gutter = std::max(ImGui::CalcTextSize(hi_text.c_str()).x, ImGui::CalcTextSize(lo_text.c_str()).x) + 6.0f;
+    const ImVec2 a(top.x + gutter, top.y + line + 4.0f), b(top.x + width, a.y + plot_h);
+    dl->AddRectFilled(a, b, ImGui::GetColorU32(ImGuiCol_FrameBg));
+    if (flat) {
+      // one value: its line through the middle, labelled once
+      dl->AddText(ImVec2(a.x - 4.0f - ImGui::CalcTextSize(hi_text.c_str()).x, 0.5f * (a.y + b.y - line)), faint_col,
+                  hi_text.c_str());
+    } else {
+      dl->AddText(ImVec2(a.x - 4.0f - ImGui::CalcTextSize(hi_text.c_str()).x, a.y), faint_col, hi_text.c_str());
+      dl->AddText(ImVec2(a.x - 4.0f - ImGui::CalcTextSize(lo_text.c_str()).x, b.y - line), faint_col, lo_text.c_str());
+    }
+    const double t0 = ps.t.empty() ? 0.0 : ps.t.front(), t1 = ps.t.empty() ? 0.0 : ps.t.back();
+    auto to_screen = [&](double t, double y) {
+      const float fx = t1 > t0 ? static_cast<float>((t - t0) / (t1 - t0)) : 1.0f;
+      const float fy = flat ? 0.5f : static_cast<float>((y - lo) / (hi - lo));
+      return ImVec2(a.x + 1.0f + fx * (b.x - a.x - 2.0f), b.y - 1.0f - fy * (b.y - a.y - 2.0f));
+    };
+    if (!flat && lo < 0.0 && hi > 0.0) {
+      const float y0 = to_screen(t0, 0.0).y;
+      dl->AddLine(ImVec2(a.x, y0), ImVec2(b.x, y0), faint_col);
+    }
+    const ImU32 curve_col = ImGui::GetColorU32(ImGuiCol_PlotLines);
+    // the curve, broken where a value is not finite; a lone point as a dot
+    std::vector<ImVec2> pts;
+    auto flush = [&] {
+      if (pts.size() == 1) dl->AddCircleFilled(pts[0], 2.5f, curve_col);
+      if (pts.size() > 1) dl->AddPolyline(pts.data(), static_cast<int>(pts.size()), curve_col, ImDrawFlags_None, 1.2f);
+      pts.clear();
+    };
+    for (std::size_t i = 0; i < ps.t.size(); ++i) {
+      if (std::isfinite(ps.y[i]))
+        pts.push_back(to_screen(ps.t[i], ps.y[i]));
+      else
+        flush();
+    }
+    flush();
+
+    // x span below: the start at the left, the end and unit at the right (the end alone when narrow)
+    const std::string unit = x_unit.empty() ? "" : " " + x_unit;
+    const std::string left = x_name + " " + short_number(t0), right = short_number(t1) + unit;
+    const float right_w = ImGui::CalcTextSize(right.c_str()).x;
+    if (!ps.t.empty()) {
+      if (ImGui::CalcTextSize(left.c_str()).x + right_w + 12.0f < b.x - a.x)
+        dl->AddText(ImVec2(a.x, b.y + 2.0f), faint_col, left.c_str());
+      dl->AddText(ImVec2(b.x - right_w, b.y + 2.0f), faint_col, right.c_str());
+    }
+
+    // the cell's extent for the layout, and the hover read-out
+    ImGui::InvisibleButton("##plot", ImVec2(width, b.y + 2.0f + line - top.y));
+    if (ImGui::IsItemHovered() && !ps.t.empty()) {
+      const float mx = ImGui::GetIO().MousePos.x;
+      std::size_t k = 0;
+      float best = FLT_MAX;
+      for (std::size_t i = 0; i < ps.t.size(); ++i) {
+        const float d = std::fabs(to_screen(ps.t[i], 0.0).x - mx);
+        if (d < best) best = d, k = i;
+      }
+      const ImVec2 at = to_screen(ps.t[k], std::isfinite(ps.y[k]) ? ps.y[k] : lo);
+      dl->AddLine(ImVec2(at.x, a.y), ImVec2(at.x, b.y), faint_col);
+      if (std::isfinite(ps.y[k])) dl->AddCircleFilled(at, 3.0f, curve_col);
+      ImGui::SetTooltip("%s\n%s = %.6g%s: %.6g", ps.title.c_str(), x_name.c_str(), ps.t[k], unit.c_str(), ps.y[k]);
     }
   }
 
@@ -1052,8 +1242,9 @@ class GuiApp {
     // a load-controlled run (no time unit) counts the load factor
     const std::string t_name = status_.info && status_.info->time_unit.empty() ? lambda_text() : "t";
     std::string line = std::string(to_string(status_.state)) + " | " + t_name + " = " + fmt("%.4g", t) + " / " +
-                       fmt("%.4g", status_.end_time) + " " + unit + " | step " + std::to_string(step) + " | " +
-                       fmt("%.0f", steps_per_second()) + " steps/s | last frame: " +
+                       fmt("%.4g", status_.end_time) + (unit[0] ? " " : "") + unit + " | step " + std::to_string(step) + " | " +
+                       fmt("%.0f", steps_per_second()) + " steps/s" + pace_text() + " | " +
+                       std::to_string(frames_per_second()) + " fps | last frame: " +
                        std::to_string(last_stats_.iterations) + " Newton it., " +
                        std::to_string(last_stats_.jacobian_updates) + " matrix updates, |R| " +
                        fmt("%.2e", last_stats_.residual_norm) + (last_stats_.converged ? "" : " (not converged)");
@@ -1078,7 +1269,13 @@ class GuiApp {
   PickState pick_;
   WorkerStatus status_;
   std::vector<Sample> history_;
-  std::deque<std::pair<Clock::time_point, long long>> rate_;
+  struct RatePoint {
+    Clock::time_point at;
+    long long step = 0;
+    double time = 0.0;
+  };
+  std::deque<RatePoint> rate_;          // samples of the last two seconds: steps/s, real-time factor
+  std::deque<Clock::time_point> draws_;  // window frames of the last second: fps
   StepStats last_stats_;
   std::vector<std::string> bundled_;
   std::string scene_field_, save_path_, export_path_;

@@ -59,6 +59,17 @@ std::string allowed_text(const scene::Schema::KeySpec& k) {
   return "";
 }
 
+/// The unit shown beside a value: the schema's, else one the key's description ends with
+/// ("time step [s]"), else none (a dimensionless key, or one in the scene's own consistent units).
+std::string unit_of(const scene::Schema::KeySpec& k) {
+  if (!k.unit.empty()) return k.unit;
+  const std::size_t open = k.doc.rfind('[');
+  if (open == std::string::npos || k.doc.empty() || k.doc.back() != ']') return "";
+  const std::string inner = k.doc.substr(open + 1, k.doc.size() - open - 2);
+  const bool plain = !inner.empty() && inner.size() <= 12 && inner.find(' ') == std::string::npos;
+  return plain ? inner : "";
+}
+
 }  // namespace
 
 std::vector<ParamItem> scene_params(const std::string& text, const std::string& path, const std::string& opened_text) {
@@ -118,6 +129,17 @@ std::vector<ParamItem> scene_params(const std::string& text, const std::string& 
     return std::find(order.begin(), order.end(), a.group) < std::find(order.begin(), order.end(), b.group);
   });
   return items;
+}
+
+void draw_live_tag() {
+  // a small filled badge, the same in the list and in its header
+  const ImVec2 size = ImGui::CalcTextSize("live");
+  const ImVec2 pad(3.0f, 0.0f);
+  const ImVec2 at = ImGui::GetCursorScreenPos();
+  ImGui::GetWindowDrawList()->AddRectFilled(at, ImVec2(at.x + size.x + 2 * pad.x, at.y + size.y),
+                                            ImGui::GetColorU32(ImVec4(0.18f, 0.55f, 0.25f, 1.0f)), 3.0f);
+  ImGui::GetWindowDrawList()->AddText(ImVec2(at.x + pad.x, at.y), IM_COL32(255, 255, 255, 255), "live");
+  ImGui::Dummy(ImVec2(size.x + 2 * pad.x, size.y));
 }
 
 std::vector<std::string> ParamEditor::live_keys() const {
@@ -180,6 +202,14 @@ std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
     if (!f.empty()) ImGui::SetNextItemOpen(true);  // a filter shows every match
     const bool open = ImGui::TreeNodeEx(title.c_str(), stepping ? ImGuiTreeNodeFlags_DefaultOpen : 0);
     if (open) {
+      // units sit in a column of their own width at the right of the values, so the fields of a
+      // table line up
+      float unit_room = 0.0f;
+      for (std::size_t r = i; r < end; ++r) {
+        const std::string unit = unit_of(*rows_[r].item.spec);
+        if (!unit.empty())
+          unit_room = std::max(unit_room, ImGui::CalcTextSize(unit.c_str()).x + ImGui::GetStyle().ItemInnerSpacing.x);
+      }
       if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_SizingStretchProp)) {
         ImGui::TableSetupColumn("key", ImGuiTableColumnFlags_WidthStretch, 0.42f);
         ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 0.58f);
@@ -195,12 +225,18 @@ std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
             ImGui::TextColored(edited_color, "%s", it.name.c_str());
           else
             ImGui::TextUnformatted(it.name.c_str());
-          if (ImGui::IsItemHovered()) {
+          bool key_hovered = ImGui::IsItemHovered();
+          if (spec.live) {
+            ImGui::SameLine();
+            draw_live_tag();
+            key_hovered = key_hovered || ImGui::IsItemHovered();
+          }
+          if (key_hovered) {
             ImGui::BeginTooltip();
             ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30.0f);
             ImGui::Text("%s", it.key.c_str());
             ImGui::TextWrapped("%s", spec.doc.c_str());
-            if (!spec.unit.empty()) ImGui::Text("unit: %s", spec.unit.c_str());
+            if (!unit_of(spec).empty()) ImGui::Text("unit: %s", unit_of(spec).c_str());
             ImGui::Text("allowed: %s", allowed_text(spec).c_str());
             if (spec.live) ImGui::Text("live: an edit changes the running model from its next step");
             ImGui::Text("from: %s", it.where.c_str());
@@ -208,7 +244,10 @@ std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
             ImGui::EndTooltip();
           }
           ImGui::TableSetColumnIndex(1);
-          ImGui::SetNextItemWidth(-1);
+          // the unit beside the value
+          const std::string unit = unit_of(spec);
+          const bool show_unit = !unit.empty() && !(spec.kind == Kind::StringList && !spec.choices.empty());
+          ImGui::SetNextItemWidth(unit_room > 0.0f ? -unit_room : -1.0f);
           switch (spec.kind) {
             case Kind::Boolean:
               if (ImGui::Checkbox("##v", &row.flag)) edits.emplace_back(it.key, row.flag ? "true" : "false");
@@ -250,8 +289,11 @@ std::vector<std::pair<std::string, std::string>> ParamEditor::draw() {
                 const std::string v = spec.kind == Kind::String ? quoted(row.buffer) : row.buffer;
                 if (v != it.value) edits.emplace_back(it.key, v);
               }
-              if (!spec.unit.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", spec.unit.c_str());
             }
+          }
+          if (show_unit) {
+            ImGui::SameLine(0.0f, ImGui::GetStyle().ItemInnerSpacing.x);
+            ImGui::TextDisabled("%s", unit.c_str());
           }
           if (refusal_ && refusal_->key == it.key) {
             // the reason under the key it refused, in the panel, not only in a tooltip

@@ -40,6 +40,9 @@ struct Refusal {
 /// key 'KEY': why"), which names the CLI's --set syntax, for the window; nullopt for other messages.
 std::optional<Refusal> readable_refusal(const std::string& message);
 
+/// The marker of a live key (a green "live" badge), beside the key and in the list's header.
+void draw_live_tag();
+
 /// Draws the list (ImGui) and returns the edits made this frame: (key, TOML value text).
 class ParamEditor {
  public:

@@ -124,6 +124,8 @@ void SimWorker::start_generation() {
   status_.state = running_ ? WorkerState::running : WorkerState::paused;
   frame_.reset();
   samples_.clear();
+  last_published_.reset();
+  show_reached_state_ = false;
   steps_left_ = 0;
   finished_ = false;
   changed();
@@ -148,6 +150,7 @@ void SimWorker::main() {
   while (true) {
     stop_ = false;
     RunLoop loop(*scene_.simulation);
+    loop_ = &loop;
     // the loop steps only while running or stepping: pausing is not stepping (no wait inside a
     // solver callback); commands are applied between steps, on this thread
     auto guarded = [&](auto&& body) {
@@ -177,6 +180,7 @@ void SimWorker::main() {
       }
     }
     std::unique_lock lock(mutex_);
+    loop_ = nullptr;
     if (!quit_ && !pending_) {
       // the run ended by itself: completed, diverged or failed; wait for what comes next
       RunOutcome outcome = loop.outcome();
@@ -214,26 +218,43 @@ void SimWorker::main() {
   }
 }
 
-void SimWorker::on_frame(Frame&& f) {
+Sample SimWorker::sample_of(const Frame& f, int node) const {
   Sample s;
   s.step = f.step;
   s.time = f.time;
   s.load_factor = f.load_factor;
   s.probes = f.probes;
   s.stats = f.stats;
-  if (probe_node_ >= 0 && 3 * static_cast<std::size_t>(probe_node_) + 2 < f.points.size()) {
-    const std::size_t i = 3 * static_cast<std::size_t>(probe_node_);
+  if (node >= 0 && 3 * static_cast<std::size_t>(node) + 2 < f.points.size()) {
+    const std::size_t i = 3 * static_cast<std::size_t>(node);
     const auto& ref = scene_.simulation->info().mesh.reference_points;
+    s.node = node;
+    s.has_deflection = f.base_points.size() == f.points.size();
     double u2 = 0, d2 = 0;
     for (int k = 0; k < 3; ++k) {
       s.node_position[k] = f.points[i + k];
-      u2 += std::pow(f.points[i + k] - ref[i + k], 2);
-      if (f.base_points.size() == f.points.size()) d2 += std::pow(f.points[i + k] - f.base_points[i + k], 2);
+      if (i + k < ref.size()) u2 += std::pow(f.points[i + k] - ref[i + k], 2);
+      if (s.has_deflection) d2 += std::pow(f.points[i + k] - f.base_points[i + k], 2);
     }
     s.node_displacement = std::sqrt(u2);
     s.node_deflection = std::sqrt(d2);
   }
+  return s;
+}
+
+void SimWorker::on_frame(Frame&& f) {
+  Sample s = sample_of(f, probe_node_);
+  // kept for answering a probe: the state only, not the fields or the step log
+  Frame kept;
+  kept.step = f.step;
+  kept.time = f.time;
+  kept.load_factor = f.load_factor;
+  kept.points = f.points;
+  kept.base_points = f.base_points;
+  kept.probes = f.probes;
+  kept.stats = f.stats;
   std::lock_guard lock(mutex_);
+  last_published_ = std::move(kept);
   frame_ = std::move(f);
   samples_.push_back(std::move(s));
   changed();
@@ -248,6 +269,16 @@ void SimWorker::serve(std::unique_lock<std::mutex>& lock) {
       handle(c, lock);
     }
     if (quit_ || pending_) return;  // main() ends this run and swaps in the new scene
+    if (show_reached_state_) {
+      // paused between output frames: publish the state reached before saying the pause took effect
+      show_reached_state_ = false;
+      if (!running_ && steps_left_ == 0 && loop_) {
+        lock.unlock();
+        loop_->publish_pending([this](Frame&& f) { on_frame(std::move(f)); });
+        lock.lock();
+        continue;
+      }
+    }
     const WorkerState state = running_ ? WorkerState::running : steps_left_ > 0 ? WorkerState::stepping : WorkerState::paused;
     const std::uint64_t settled_seq = settled() ? handled_seq_ : status_.settled_seq;
     if (state != status_.state || settled_seq != status_.settled_seq) {
@@ -334,6 +365,7 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
       }
       break;
     case Command::Kind::pause:
+      if (running_ || steps_left_ > 0) show_reached_state_ = !finished_;
       running_ = false;
       steps_left_ = 0;
       break;
@@ -406,6 +438,13 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
       if (c.n >= 0 && c.n < n) {
         probe_node_ = static_cast<int>(c.n);
         status_.probe_node = probe_node_;
+        // answered at once from the state on show, so the window never shows the node without
+        // its values (paused, finished or between frames of a run)
+        if (last_published_) {
+          Sample s = sample_of(*last_published_, probe_node_);
+          s.probe_answer = true;
+          samples_.push_back(std::move(s));
+        }
       } else if (c.n < 0) {
         probe_node_ = -1;
         status_.probe_node = -1;

@@ -14,6 +14,9 @@
 /// the scene schema declares live (scene::change_live: torque.amplitude, gravity.g) made after t = 0
 /// changes the running model instead, and is written into the text as a [[timeline]] entry at the
 /// time it took effect, so the text always reproduces the run.
+/// A pause between output frames publishes the state reached. A probe is answered at once with a
+/// Sample of the last published state for the new node (Sample::probe_answer), so the window has
+/// the node's values whether paused, stepping, running or finished; each Sample names its node.
 
 #include <array>
 #include <atomic>
@@ -34,17 +37,26 @@
 #include "core/scene/scene.h"
 #include "core/scene/scene_selections.h"
 
+namespace ff {
+class RunLoop;
+}
+
 namespace ff::app::gui {
 
-/// One point of the live plots.
+/// One point of the live plots: the state of a published frame, and the probed node in it.
+/// A probe command is answered at once with a sample of the last published state for the new
+/// node (same step as the frame before it), so a window never shows a node without its values.
 struct Sample {
   std::int64_t step = 0;
   double time = 0.0;
   double load_factor = 0.0;
   std::vector<double> probes;   ///< in the order of RunInfo::probes
+  int node = -1;                ///< the node the node_* values describe; -1: none probed
   std::array<double, 3> node_position{0, 0, 0};  ///< probed node, world coordinates
-  double node_displacement = 0.0;  ///< |x - X| of the probed node (0 without one)
+  double node_displacement = 0.0;  ///< |x - X| of the probed node
   double node_deflection = 0.0;    ///< |x - x_base|: its elastic part (0 without base points)
+  bool has_deflection = false;     ///< the frame carried base points (a rigid motion to take off)
+  bool probe_answer = false;       ///< answers a probe command: the state of the sample before it
   StepStats stats;
 };
 
@@ -140,6 +152,8 @@ class SimWorker {
   void main();
   /// The run loop's publish callback (worker thread): hands a frame over to the mailbox.
   void on_frame(Frame&& f);
+  /// The sample of a published state for a node (-1: none).
+  Sample sample_of(const Frame& f, int node) const;
   void handle(const Command& c, std::unique_lock<std::mutex>& lock);
   /// Applies queued commands; waits while paused. Returns when the run should go on or stop.
   void serve(std::unique_lock<std::mutex>& lock);
@@ -172,6 +186,13 @@ class SimWorker {
   bool quit_ = false;
   bool finished_ = false;
   int probe_node_ = -1;
+  // the last published state of this generation (no fields, no step log): a probe is answered
+  // from it at once, whether paused, stepping, finished or running
+  std::optional<Frame> last_published_;
+  // a pause between output frames publishes the state reached (so the view, the status line and
+  // a probe agree with the solver); set by a pause, done by serve() before it waits
+  bool show_reached_state_ = false;
+  RunLoop* loop_ = nullptr;  // the run of this generation, while main() drives it
   double pace_ = 0.0;
   std::chrono::steady_clock::time_point last_release_;
 

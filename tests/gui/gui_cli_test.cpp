@@ -261,6 +261,38 @@ TEST(GuiCli, ShellSceneScreenshotAfterQuitAfter) {
   expect_body_in_viewport(read_png(dir + "/shot.png"), 1280, 800);
 }
 
+/// The "probe node N at (x, y, z), |x - X| = d..." lines of a GUI's stdout, in order: (N, rest of the line).
+std::vector<std::pair<int, std::string>> probe_readouts(const std::string& out) {
+  std::vector<std::pair<int, std::string>> found;
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("probe node ", 0) == 0) found.emplace_back(std::stoi(line.substr(11)), line.substr(line.find(" at ")));
+  return found;
+}
+
+// `probe NODE` prints the window's node readout once the probe took effect: the node's state at
+// once, while paused and after the run ended, under its own number (it used to show (0, 0, 0)
+// until the next step, and after the run the previous node's values under the new name).
+TEST(GuiCli, ProbeReadsTheNodesCurrentState) {
+  if (!have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup installs it)";
+  const std::string dir = fresh_test_dir();
+  const std::string actions = dir + "/probe.txt";
+  write_text(actions, "step 3\nprobe 5\nrun\nwait 3\nprobe 9\nprobe 5\nquit\n");
+  const ProcResult r = run_gui_under_xvfb({"hub_beam_fem_tau1", "--set", "solver.end=0.5", "--actions", actions,
+                                           "--width", "1280", "--height", "800", "--quit-after", "40"},
+                                          dir + "/gui");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const auto readouts = probe_readouts(r.out);
+  ASSERT_EQ(readouts.size(), 3u) << r.describe();
+  EXPECT_EQ(readouts[0].first, 5);
+  EXPECT_EQ(readouts[1].first, 9);
+  EXPECT_EQ(readouts[2].first, 5);
+  EXPECT_EQ(readouts[0].second.find("at (0, 0, 0)"), std::string::npos) << r.out;
+  EXPECT_EQ(readouts[0].second.find("|x - X| = 0,"), std::string::npos) << r.out;
+  EXPECT_NE(readouts[1].second, readouts[2].second) << "nodes 9 and 5 read the same after the run: " << r.out;
+  EXPECT_NE(readouts[0].second, readouts[2].second) << "node 5 did not move from step 3 to the end: " << r.out;
+}
+
 /// The N of every "redraws N" line of a GUI's stdout, in order.
 std::vector<long long> redraw_counts(const std::string& out) {
   std::vector<long long> counts;

@@ -3,7 +3,9 @@
 // refused edit leaves the model alone and says why; run goes to the end.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <functional>
 #include <thread>
@@ -234,6 +236,95 @@ TEST(GuiSimWorker, WakesTheWindowOnNews) {
   const int before = wakes.load();
   ASSERT_TRUE(watch.settled(w.step(2)));
   EXPECT_GE(wakes.load(), before + 2);  // two frames at least
+}
+
+// The probed node's position in a published frame.
+std::array<double, 3> position_in(const Frame& f, int node) {
+  const std::size_t i = 3 * static_cast<std::size_t>(node);
+  return {f.points.at(i), f.points.at(i + 1), f.points.at(i + 2)};
+}
+
+// A probe while paused is answered at once from the state on show: the next take() has the
+// node's current position (it used to show (0, 0, 0) until the next step).
+TEST(GuiSimWorker, ProbeWhilePausedShowsTheCurrentStateAtOnce) {
+  const auto worker = worker_on(kScene);
+  SimWorker& w = *worker;
+  Watcher watch{w, {}, {}, {}};
+  ASSERT_TRUE(watch.settled(w.step(4)));
+  ASSERT_TRUE(watch.frame.has_value());
+  ASSERT_EQ(watch.frame->step, 4);
+  const Frame shown = *watch.frame;
+  const std::size_t before = watch.samples.size();
+  ASSERT_TRUE(watch.settled(w.probe(7)));
+  ASSERT_EQ(watch.samples.size(), before + 1);  // the answer, no step taken
+  const Sample& s = watch.samples.back();
+  EXPECT_EQ(s.node, 7);
+  EXPECT_TRUE(s.probe_answer);
+  EXPECT_EQ(s.step, 4);
+  EXPECT_EQ(s.node_position, position_in(shown, 7));
+  const auto& ref = watch.status.info->mesh.reference_points;
+  EXPECT_NEAR(s.node_displacement,
+              std::hypot(shown.points[21] - ref[21], shown.points[22] - ref[22], shown.points[23] - ref[23]), 1e-12);
+  EXPECT_GT(s.node_displacement, 0.0);
+  EXPECT_EQ(watch.frame->step, 4);  // nothing moved
+}
+
+// After the run has ended, a probe gives the node's own final position, not the previously
+// probed node's values under the new node's name.
+TEST(GuiSimWorker, ProbeAfterTheRunEndedGivesThatNodesFinalState) {
+  const auto worker = worker_on(kScene, {"solver.end=0.5"});
+  SimWorker& w = *worker;
+  Watcher watch{w, {}, {}, {}};
+  ASSERT_TRUE(watch.settled(w.probe(3)));
+  w.run();
+  ASSERT_TRUE(watch.until([&] { return watch.status.state == WorkerState::finished; }));
+  ASSERT_TRUE(watch.frame.has_value());
+  const Frame last = *watch.frame;
+  EXPECT_EQ(watch.samples.back().node, 3);
+  ASSERT_TRUE(watch.settled(w.probe(9)));
+  const Sample& s = watch.samples.back();
+  EXPECT_EQ(s.node, 9);
+  EXPECT_EQ(s.step, last.step);
+  EXPECT_EQ(s.node_position, position_in(last, 9));
+  EXPECT_NE(position_in(last, 9), position_in(last, 3));
+}
+
+// A node's history starts where it was placed: samples before carry no node, and a new node
+// starts a new history at the step it was placed.
+TEST(GuiSimWorker, ProbeHistoryStartsWhereTheProbeWasPlaced) {
+  const auto worker = worker_on(kScene);
+  SimWorker& w = *worker;
+  Watcher watch{w, {}, {}, {}};
+  ASSERT_TRUE(watch.settled(w.step(3)));
+  ASSERT_TRUE(watch.settled(w.probe(5)));
+  ASSERT_TRUE(watch.settled(w.step(2)));
+  ASSERT_TRUE(watch.settled(w.probe(8)));
+  ASSERT_TRUE(watch.settled(w.step(1)));
+  std::vector<std::pair<std::int64_t, int>> seen;  // (step, node) of every sample
+  for (const Sample& s : watch.samples) seen.emplace_back(s.step, s.node);
+  const std::vector<std::pair<std::int64_t, int>> expected = {
+      {0, -1}, {1, -1}, {2, -1}, {3, -1}, {3, 5}, {4, 5}, {5, 5}, {5, 8}, {6, 8}};
+  EXPECT_EQ(seen, expected);
+}
+
+// A pause between output frames shows the state the solver reached (frames come every 5 steps
+// here), so the view, the status line and a probe agree with the solver: a step after the pause
+// is the next solver step.
+TEST(GuiSimWorker, PauseBetweenFramesShowsTheStateReached) {
+  const std::vector<std::string> coarse = {"part[0].n1=4", "part[0].n2=4", "part[1].n1=4", "part[1].n2=4",
+                                           "solver.output_every=5"};
+  const auto worker = worker_on(std::string(FF_SOURCE_DIR) + "/assets/scenes/double_pendulum_shells.toml", coarse);
+  SimWorker& w = *worker;
+  Watcher watch{w, {}, {}, {}};
+  ASSERT_TRUE(watch.settled(w.step(3)));
+  ASSERT_TRUE(watch.settled(w.pace(50)));  // a step every 20 ms
+  ASSERT_TRUE(watch.settled(w.run()));
+  ASSERT_TRUE(watch.until([&] { return watch.frame && watch.frame->step >= 10; }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // a few steps past the frame
+  ASSERT_TRUE(watch.settled(w.pause()));
+  const std::int64_t at = watch.frame->step;
+  ASSERT_TRUE(watch.settled(w.step(1)));
+  EXPECT_EQ(watch.frame->step, at + 1);
 }
 
 }  // namespace
