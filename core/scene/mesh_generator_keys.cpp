@@ -528,6 +528,8 @@ void declare_part_keys(Schema& s) {
               "generator = file: join vertices closer than this length (0: every vertex of the file is a node of its "
               "own, so a slit written with separate vertices stays open)",
               0.0, Range::non_negative(), "length");
+  for (const char* k : {"origin", "length", "length2", "width", "radius", "inner_radius"})
+    s.unit_of(std::string("part.") + k, "length");
   // each dimension belongs to the generators that read it (the window lists and keeps only those)
   std::vector<std::string> conditional = kDimensionKeys;
   conditional.push_back("file");

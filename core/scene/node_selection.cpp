@@ -156,6 +156,11 @@ void declare_selector_keys(Schema& s, const std::string& t) {
                    "nodes: the node numbers of the joined structure (what the window's picking writes; `flexframe "
                    "check --picture` shows the structure)",
                    std::vector<double>{}, Range::non_negative());
+  s.unit_of(t + ".point", "length")
+      .unit_of(t + ".box_min", "length")
+      .unit_of(t + ".box_max", "length")
+      .unit_of(t + ".radius", "length")
+      .unit_of(t + ".tolerance", "length");
   // each selector key serves the kinds of selection that read it
   s.applies_when(t + ".point", t + ".select", {"nearest", "plane", "sphere"})
       // a symmetry support on a named group takes the plane's normal from bc.normal

@@ -251,6 +251,15 @@ Schema& Schema::live(std::string_view path) {
   return *this;
 }
 
+Schema& Schema::unit_of(std::string_view path, std::string unit) {
+  const std::string p(path);
+  const auto it = std::find_if(keys_.begin(), keys_.end(), [&](const KeySpec& k) { return k.path == p; });
+  if (it == keys_.end()) bad_declaration(p, "given a unit but not declared as a key (declare it first)");
+  if (it->kind != Kind::Number && it->kind != Kind::NumberList) bad_declaration(p, "a unit is for numbers");
+  it->unit = std::move(unit);
+  return *this;
+}
+
 bool Schema::KeySpec::applies(const std::string& condition_value) const {
   return condition_key.empty() ||
          std::find(condition_values.begin(), condition_values.end(), condition_value) != condition_values.end();

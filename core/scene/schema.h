@@ -178,6 +178,10 @@ class Schema {
   /// The live keys, in declaration order.
   std::vector<std::string> live_keys() const;
 
+  /// Sets the unit of the declared number or number-list key `path` ("length", "force/length^2"
+  /// for a structure in consistent units), shown beside its value in the reference and the window.
+  Schema& unit_of(std::string_view path, std::string unit);
+
   /// Declares that the key `path` applies only while the choice key `condition_key` of the same
   /// table has one of `values` (a generator's dimensions, a selector's point): editors list it
   /// only then, and drop it when the choice changes to a value it does not serve.

@@ -69,6 +69,7 @@ void declare_bc_keys(Schema& s) {
                    "displacement: components at lambda = 1 along the frame's three translation axes (only those "
                    "listed in bc.fix are prescribed)",
                    std::vector<double>{0, 0, 0}, {}, 3, 3);
+  s.unit_of("bc.axis_point", "length").unit_of("bc.displacement", "length");
   declare_selector_keys(s, "bc");
 }
 
@@ -94,6 +95,10 @@ void declare_load_keys(Schema& s) {
       .boolean("load.follower",
                "force / moment: turn with the nodes (components then in the node frame); pressure: act on the "
                "current normal and area instead of the reference ones; line and surface loads are dead loads", false);
+  s.unit_of("load.total", "force (moment: force length)")
+      .unit_of("load.per_length", "force/length")
+      .unit_of("load.per_area", "force/length^2")
+      .unit_of("load.pressure", "force/length^2");
   declare_selector_keys(s, "load");
 }
 

@@ -92,6 +92,12 @@ void declare_structure_keys(Schema& s) {
               "nodes of different parts closer than this are one node; 0 = automatic (1e-6 x the shortest element "
               "edge of the joined parts)",
               0.0, Range::non_negative(), "length");
+  // a structure is written in any consistent units: these say which kind of quantity each is
+  for (const char* k : {"youngs_modulus", "e1", "e2", "g12", "g13", "g23", "strength_xt", "strength_xc", "strength_yt",
+                        "strength_yc", "strength_s12"})
+    s.unit_of(std::string("material.") + k, "force/length^2");
+  s.unit_of("material.thickness", "length").unit_of("material.density", "mass/length^3");
+  s.unit_of("layup.ply_thicknesses", "length").unit_of("layup.ply_angles", "deg");
 }
 
 int Structure::find(const std::string& name) const {
