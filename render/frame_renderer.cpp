@@ -6,6 +6,7 @@
 #include <vtkCellArray.h>
 #include <vtkColorTransferFunction.h>
 #include <vtkDoubleArray.h>
+#include <vtkLightKit.h>
 #include <vtkLookupTable.h>
 #include <vtkMath.h>
 #include <vtkNew.h>
@@ -66,10 +67,30 @@ void fill_cool_to_warm(vtkLookupTable* lut) {
 
 void style_body(vtkProperty* p) {
   p->SetColor(kBodyColor[0], kBodyColor[1], kBodyColor[2]);
-  p->SetAmbient(0.15);
-  p->SetDiffuse(0.85);
+  p->SetAmbient(0.2);
+  p->SetDiffuse(0.8);
   p->SetSpecular(0.25);
   p->SetSpecularPower(30.0);
+}
+
+// The body's lights move with the camera: a key light from above and slightly left of the eye,
+// a weaker fill from below, a headlight and two back lights (VTK's light kit, its lights made
+// white so they do not tint the field colours). A lone headlight lights only what faces the eye:
+// a plate in the isometric view got cos 55° of the light, and whatever a deformation turns
+// edge-on (a lifted lip, a crushed wall) fell to the ambient 15 % and was drawn near black.
+void light_body(vtkRenderer* r) {
+  vtkNew<vtkLightKit> kit;
+  kit->SetKeyLightIntensity(0.8);
+  kit->SetKeyToFillRatio(2.0);
+  kit->SetKeyToHeadRatio(2.5);
+  kit->SetKeyLightWarmth(0.5);
+  kit->SetFillLightWarmth(0.5);
+  kit->SetHeadLightWarmth(0.5);
+  kit->SetBackLightWarmth(0.5);
+  r->RemoveAllLights();
+  r->AutomaticLightCreationOff();
+  kit->AddLightsToRenderer(r);
+  r->TwoSidedLightingOn();
 }
 
 }  // namespace
@@ -257,6 +278,10 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
     surface_mapper->SetInputConnection(normals->GetOutputPort());
     surface_actor->SetMapper(surface_mapper);
     style_body(surface_actor->GetProperty());
+    // no highlights on surfaces: they wash out the field colours, and with more than a headlight
+    // VTK takes the view vector from the vertex even in a parallel view, so a flat plate would
+    // not be one colour
+    surface_actor->GetProperty()->SetSpecular(0.0);
     // element edges only when elements are large enough on screen to read them
     double edge_sum = 0;
     std::size_t edge_count = 0;
@@ -311,6 +336,7 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
     }
   }
 
+  light_body(renderer);
   apply_camera(camera);
 
   // two layers on one camera: the body's layer keeps the colour the underlay drew and clears only
