@@ -1,19 +1,24 @@
 #include "render/frame_renderer.h"
 
 #include <vtkActor.h>
+#include <vtkActor2D.h>
+#include <vtkArrowSource.h>
 #include <vtkCamera.h>
 #include <vtkCellPicker.h>
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkColorTransferFunction.h>
 #include <vtkDoubleArray.h>
 #include <vtkLightKit.h>
 #include <vtkLookupTable.h>
 #include <vtkMath.h>
+#include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkPolyDataMapper2D.h>
 #include <vtkPolyDataNormals.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
@@ -22,7 +27,10 @@
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkTextRenderer.h>
+#include <vtkTransform.h>
+#include <vtkTransformPolyDataFilter.h>
 #include <vtkTubeFilter.h>
+#include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
 #include <cmath>
@@ -45,6 +53,13 @@ constexpr double kGhostSurfaceOpacity = 0.20;
 constexpr double kGhostTubeFraction = 0.55;  // ghost tube radius / body tube radius
 constexpr int kTubeSides = 20;
 constexpr double kMinEdgePixels = 14.0;  // draw element edges when elements are this large
+// orientation triad: axis colours (x, y, z) and the half width of its square in axis lengths
+constexpr double kAxisColor[3][3] = {{0.84, 0.15, 0.15}, {0.13, 0.60, 0.18}, {0.16, 0.33, 0.85}};
+constexpr double kTriadHalfWidth = 1.5;
+constexpr double kTriadLabelAt = 1.22;  // label centres, in axis lengths from the origin
+// node markers: rim colour, rim width as a fraction of the diameter
+constexpr double kMarkerRimColor[3] = {0.08, 0.08, 0.10};
+constexpr double kMarkerRimFraction = 0.15;
 
 // 'cool to warm' (Moreland's end colours, blue 0.230 0.299 0.754 -> red 0.706 0.016 0.150)
 // with a mid grey of lightness ~0.8 instead of the usual near-white, so the middle of the range
@@ -124,10 +139,22 @@ struct FrameRenderer::Impl {
   vtkNew<vtkLookupTable> lut;
   vtkNew<vtkScalarBarActor> bar;
   vtkNew<vtkTextActor> bar_title, title, status;
+  // orientation triad: its own renderer in the bottom-left corner (layer 2), turned with the camera
+  vtkNew<vtkRenderer> triad;
+  std::array<vtkNew<vtkActor>, 3> triad_axes;
+  std::array<vtkNew<vtkTextActor>, 3> triad_labels;
+  // node markers: one 2D overlay of dots in pixel coordinates, rebuilt for every frame
+  std::vector<NodeMarkers> marker_sets;
+  vtkNew<vtkPolyData> marker_dots;
+  vtkNew<vtkPolyDataMapper2D> marker_mapper;
+  vtkNew<vtkActor2D> marker_actor;
 
   Impl(GraphicsContext& g, FrameStyle s) : gc(g), style(std::move(s)) {}
   bool build(const RunInfo& info);
   void build_overlay(const RunInfo& info);
+  void build_triad();
+  void turn_triad();     // the triad's camera looks along the body's camera
+  void place_markers();  // dots at the marked nodes' drawn positions, for the current camera
   bool update(const Frame& frame, std::string* why);
   void update_range(const std::vector<double>& values);
   void apply_camera(const Camera& c);
@@ -138,6 +165,9 @@ struct FrameRenderer::Impl {
   double title_px() const { return std::max(12.0, std::round(style.height / 28.0)); }
   double text_px() const { return std::max(10.0, std::round(style.height / 36.0)); }
   int bar_strip_px() const { return static_cast<int>(std::lround(0.15 * style.width)); }
+  int triad_side_px() const {
+    return std::max(56, static_cast<int>(std::lround(0.16 * std::min(style.width, style.height))));
+  }
   ~Impl() {
     // the window goes first: it frees the GL objects of everything drawn while its context
     // exists, then the VTK objects below are destroyed without touching GL
@@ -348,9 +378,20 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
   renderer->SetUseFXAA(style.antialias);
   underlay->SetUseFXAA(style.antialias);
   build_overlay(info);
-  surface->window()->SetNumberOfLayers(2);
+  // markers: 2D actors are drawn after the 3D scene, so the dots lie over the body
+  marker_mapper->SetInputData(marker_dots);
+  marker_mapper->SetScalarModeToUseCellData();
+  marker_mapper->SetColorModeToDirectScalars();
+  marker_actor->SetMapper(marker_mapper);
+  marker_actor->VisibilityOff();
+  renderer->AddActor2D(marker_actor);
+  surface->window()->SetNumberOfLayers(style.show_triad ? 3 : 2);
   surface->window()->AddRenderer(underlay);
   surface->window()->AddRenderer(renderer);
+  if (style.show_triad) {
+    build_triad();
+    surface->window()->AddRenderer(triad);
+  }
   reset_clipping_range();
   return true;
 }
@@ -445,6 +486,115 @@ void FrameRenderer::Impl::build_overlay(const RunInfo& info) {
   renderer->AddActor2D(bar);
 }
 
+void FrameRenderer::Impl::build_triad() {
+  const double w = style.width, h = style.height, m = margin_px(), side = triad_side_px();
+  triad->SetLayer(2);  // over the body's layer; clears only depth, inside its own viewport
+  triad->SetViewport(m / w, m / h, (m + side) / w, (m + side) / h);
+  triad->InteractiveOff();
+  const char* names[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    // vtkArrowSource points along +x from the origin, length 1
+    vtkNew<vtkArrowSource> arrow;
+    arrow->SetShaftRadius(0.045);
+    arrow->SetTipRadius(0.12);
+    arrow->SetTipLength(0.3);
+    arrow->SetShaftResolution(12);
+    arrow->SetTipResolution(16);
+    vtkNew<vtkTransform> turn;
+    if (k == 1) turn->RotateZ(90.0);
+    if (k == 2) turn->RotateY(-90.0);
+    vtkNew<vtkTransformPolyDataFilter> placed;
+    placed->SetInputConnection(arrow->GetOutputPort());
+    placed->SetTransform(turn);
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputConnection(placed->GetOutputPort());
+    triad_axes[k]->SetMapper(mapper);
+    vtkProperty* p = triad_axes[k]->GetProperty();
+    p->SetColor(kAxisColor[k][0], kAxisColor[k][1], kAxisColor[k][2]);
+    p->SetAmbient(0.45);  // readable whichever way an axis points
+    p->SetDiffuse(0.55);
+    p->SetSpecular(0.0);
+    triad->AddActor(triad_axes[k]);
+    triad_labels[k]->SetInput(names[k]);
+    const double ink[3] = {0.75 * kAxisColor[k][0], 0.75 * kAxisColor[k][1], 0.75 * kAxisColor[k][2]};
+    set_text_style(triad_labels[k]->GetTextProperty(), std::max(10.0, std::round(0.17 * side)), ink, true);
+    triad_labels[k]->GetTextProperty()->SetJustificationToCentered();
+    triad_labels[k]->GetTextProperty()->SetVerticalJustificationToCentered();
+    triad_labels[k]->GetPositionCoordinate()->SetCoordinateSystemToDisplay();
+    triad->AddActor2D(triad_labels[k]);
+  }
+  vtkCamera* c = triad->GetActiveCamera();
+  c->SetFocalPoint(0, 0, 0);
+  c->SetParallelProjection(1);
+  c->SetParallelScale(kTriadHalfWidth);
+}
+
+void FrameRenderer::Impl::turn_triad() {
+  if (!style.show_triad) return;
+  vtkCamera* body = renderer->GetActiveCamera();
+  double dir[3], up[3];
+  body->GetDirectionOfProjection(dir);
+  body->GetViewUp(up);
+  vtkCamera* c = triad->GetActiveCamera();
+  c->SetPosition(-10 * dir[0], -10 * dir[1], -10 * dir[2]);
+  c->SetViewUp(up);
+  c->SetClippingRange(10 - 2 * kTriadHalfWidth, 10 + 2 * kTriadHalfWidth);
+  for (int k = 0; k < 3; ++k) {
+    double tip[3] = {0, 0, 0}, d[3];
+    tip[k] = kTriadLabelAt;
+    triad->SetWorldPoint(tip[0], tip[1], tip[2], 1.0);
+    triad->WorldToDisplay();
+    triad->GetDisplayPoint(d);
+    triad_labels[k]->GetPositionCoordinate()->SetValue(d[0], d[1]);
+  }
+}
+
+void FrameRenderer::Impl::place_markers() {
+  std::size_t count = 0;
+  for (const NodeMarkers& set : marker_sets) count += set.nodes.size();
+  marker_actor->SetVisibility(count > 0);
+  if (count == 0) return;
+  const double w = style.width, h = style.height;
+  // world -> normalized device coordinates, as VTK projects the body (aspect = the window's)
+  vtkMatrix4x4* to_ndc = renderer->GetActiveCamera()->GetCompositeProjectionTransformMatrix(w / h, -1, 1);
+  vtkNew<vtkPoints> dot_points;
+  vtkNew<vtkCellArray> dots;
+  vtkNew<vtkUnsignedCharArray> colors;
+  colors->SetNumberOfComponents(3);
+  auto byte = [](double c) { return static_cast<unsigned char>(std::lround(255.0 * std::clamp(c, 0.0, 1.0))); };
+  auto add_disc = [&](double cx, double cy, double radius, int segments, const double* rgb) {
+    dots->InsertNextCell(segments);
+    for (int j = 0; j < segments; ++j) {
+      const double a = 2.0 * M_PI * (j + 0.5) / segments;
+      dots->InsertCellPoint(dot_points->InsertNextPoint(cx + radius * std::cos(a), cy + radius * std::sin(a), 0.0));
+    }
+    colors->InsertNextTypedTuple(std::array<unsigned char, 3>{byte(rgb[0]), byte(rgb[1]), byte(rgb[2])}.data());
+  };
+  // VTK draws 2D polygons depth-tested at one depth, so the first one drawn at a pixel stays:
+  // the dots go out topmost first (the last set first, each fill before its rim), so a later
+  // set lies over an earlier one and a rim shows only around its fill
+  for (auto it = marker_sets.rbegin(); it != marker_sets.rend(); ++it) {
+    const NodeMarkers& set = *it;
+    const double radius = 0.5 * set.size_px;
+    const double rim = std::max(1.0, std::round(kMarkerRimFraction * set.size_px));
+    const int segments = set.size_px >= 10 ? 20 : 10;
+    std::vector<std::array<double, 2>> at;
+    at.reserve(set.nodes.size());
+    for (std::int32_t node : set.nodes) {
+      double p[4] = {0, 0, 0, 1}, q[4];
+      points->GetPoint(node, p);
+      to_ndc->MultiplyPoint(p, q);
+      if (!(q[3] > 0)) continue;  // behind the eye (perspective)
+      at.push_back({(q[0] / q[3] + 1.0) * 0.5 * w, (q[1] / q[3] + 1.0) * 0.5 * h});
+    }
+    for (const auto& c : at) add_disc(c[0], c[1], std::max(0.5, radius - rim), segments, set.color.data());
+    for (const auto& c : at) add_disc(c[0], c[1], radius, segments, kMarkerRimColor);
+  }
+  marker_dots->SetPoints(dot_points);
+  marker_dots->SetPolys(dots);
+  marker_dots->GetCellData()->SetScalars(colors);
+}
+
 void FrameRenderer::Impl::update_range(const std::vector<double>& values) {
   double lo = 0, hi = 0;
   bool any = false;
@@ -527,6 +677,9 @@ bool FrameRenderer::Impl::update(const Frame& frame, std::string* why) {
 
   status->SetInput(status_line(status_info, frame, s).c_str());
   reset_clipping_range();
+  // what follows the camera: every render comes through here after the last orbit, zoom or pan
+  turn_triad();
+  place_markers();
   return true;
 }
 
@@ -684,6 +837,31 @@ int FrameRenderer::pick_point(double x_px, double y_px, double max_px) {
   });
   return d2 <= max_px * max_px ? best : -1;
 }
+
+bool FrameRenderer::set_markers(std::vector<NodeMarkers> sets, std::string* error) {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  const std::size_t n = impl_->n;
+  std::string why;
+  for (std::size_t k = 0; k < sets.size() && why.empty(); ++k) {
+    const NodeMarkers& set = sets[k];
+    const std::string which = "marker set " + std::to_string(k) + ": ";
+    if (!(set.size_px >= 1.0 && set.size_px <= 200.0))
+      why = which + "size_px " + std::to_string(set.size_px) + " is not in [1, 200]";
+    for (double c : set.color)
+      if (why.empty() && !(c >= 0.0 && c <= 1.0)) why = which + "colour channel " + std::to_string(c) + " is not in [0, 1]";
+    for (std::int32_t node : set.nodes)
+      if (why.empty() && (node < 0 || static_cast<std::size_t>(node) >= n))
+        why = which + "node " + std::to_string(node) + " is not a point of the mesh (" + std::to_string(n) + " points)";
+  }
+  if (!why.empty()) {
+    if (error) *error = why;
+    return false;
+  }
+  impl_->marker_sets = std::move(sets);
+  return true;
+}
+
+const std::vector<NodeMarkers>& FrameRenderer::markers() const { return impl_->marker_sets; }
 
 int FrameRenderer::width() const { return impl_->style.width; }
 int FrameRenderer::height() const { return impl_->style.height; }

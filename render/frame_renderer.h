@@ -22,9 +22,15 @@
 ///    automatic camera centres the body in the area left of it;
 ///  - top-left text: the title, then "t = 1.250 s", "λ = 0.500" (when the load factor is
 ///    non-zero) and "deformation ×5" (when deformation_scale != 1).
+///  - with FrameStyle::show_triad, an orientation triad in the bottom-left corner: the world
+///    axes x (red), y (green), z (blue) as labelled arrows, turned with the camera (off by
+///    default: `run` and `replay` frames keep that corner empty; the window turns it on);
+///  - node markers set with FrameRenderer::set_markers: dots drawn over everything else at the
+///    nodes' drawn positions.
 /// Positions are world coordinates p_W in the run's length unit; colours are RGB in [0, 1].
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,9 +77,23 @@ struct FrameStyle {
                              ///< (1.1 % of the framed half height: ~8 px wide at 720 px)
   bool show_base = true;     ///< faint ghost of base_points
   std::array<double, 3> background{1, 1, 1};
+  /// An orientation triad (x red, y green, z blue, labelled) in the bottom-left corner, turning
+  /// with the camera; a square of 16 % of the smaller image side (at least 56 px), clear of the
+  /// automatic view's framed circle and of the colour bar.
+  bool show_triad = false;
   /// Smooth edges with FXAA. Off by default: on Mesa's llvmpipe it roughly triples the
   /// frame time (measured ~50 -> ~220 ms at 960x720) for a small gain in looks.
   bool antialias = false;
+};
+
+/// A set of marked mesh nodes (FrameRenderer::set_markers), e.g. the probed node or the nodes a
+/// selection picks. Each node is drawn as a round dot of `color` with a thin dark rim, centred on
+/// the node's drawn position (deformed and scaled as the body) in every later frame, over
+/// everything else: over the body, also where the node lies on the far side of it.
+struct NodeMarkers {
+  std::vector<std::int32_t> nodes;              ///< point indices of RunInfo::mesh (0-based)
+  std::array<double, 3> color{1.0, 0.85, 0.0};  ///< fill colour, RGB in [0, 1]
+  double size_px = 8.0;                         ///< dot diameter in image pixels, rim included
 };
 
 /// Renders the frames of one run. Use it on the thread that owns its GraphicsContext.
@@ -120,6 +140,16 @@ class FrameRenderer {
   /// top left): the point closest to where the body is hit, or, where no body is hit, the point
   /// projected nearest within max_px; -1 when none.
   int pick_point(double x_px, double y_px, double max_px = 24.0);
+  /// Marks nodes in the following frames, replacing the sets given before; {} removes every
+  /// marker. Sets are drawn in order, a later one over an earlier one (put the probed node
+  /// last). Cheap for many nodes: the dots are one 2D overlay rebuilt per frame from the
+  /// drawn points (projection and a few triangles per node; tens of thousands are fine).
+  /// Returns false, keeps the previous sets and fills *error (if non-null) when a node index is
+  /// outside the mesh or a size is not a finite number in [1, 200] px, or a colour channel is
+  /// outside [0, 1].
+  bool set_markers(std::vector<NodeMarkers> sets, std::string* error = nullptr);
+  /// The marker sets in use.
+  const std::vector<NodeMarkers>& markers() const;
   /// Image size in pixels.
   int width() const;
   int height() const;
