@@ -21,9 +21,11 @@
 #include <vtkPolyDataMapper2D.h>
 #include <vtkPolyDataNormals.h>
 #include <vtkProperty.h>
+#include <vtkProperty2D.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
+#include <vtkSmartPointer.h>
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkTextRenderer.h>
@@ -57,9 +59,21 @@ constexpr double kMinEdgePixels = 14.0;  // draw element edges when elements are
 constexpr double kAxisColor[3][3] = {{0.84, 0.15, 0.15}, {0.13, 0.60, 0.18}, {0.16, 0.33, 0.85}};
 constexpr double kTriadHalfWidth = 1.5;
 constexpr double kTriadLabelAt = 1.22;  // label centres, in axis lengths from the origin
-// node markers: rim colour, rim width as a fraction of the diameter
+// node markers: rim colour, rim width as a fraction of the diameter; dots smaller than
+// kMarkerDiscMinPx are squares (GL points: one vertex each, cheap for tens of thousands), larger
+// ones discs (polygons, a dozen triangles each)
 constexpr double kMarkerRimColor[3] = {0.08, 0.08, 0.10};
 constexpr double kMarkerRimFraction = 0.15;
+constexpr double kMarkerDiscMinPx = 8.0;
+
+// One 2D actor of the marker overlay: a set's discs (fills and rims), or its squares' fills or rims.
+struct MarkerLayer {
+  enum class Kind { discs, square_fills, square_rims };
+  Kind kind = Kind::discs;
+  std::size_t set = 0;  // index into the marker sets
+  vtkSmartPointer<vtkPolyData> dots;
+  vtkSmartPointer<vtkActor2D> actor;
+};
 
 // 'cool to warm' (Moreland's end colours, blue 0.230 0.299 0.754 -> red 0.706 0.016 0.150)
 // with a mid grey of lightness ~0.8 instead of the usual near-white, so the middle of the range
@@ -143,11 +157,10 @@ struct FrameRenderer::Impl {
   vtkNew<vtkRenderer> triad;
   std::array<vtkNew<vtkActor>, 3> triad_axes;
   std::array<vtkNew<vtkTextActor>, 3> triad_labels;
-  // node markers: one 2D overlay of dots in pixel coordinates, rebuilt for every frame
+  // node markers: 2D actors of dots in pixel coordinates (drawn after the 3D scene, so over the
+  // body), their geometry rebuilt for every frame; layers in drawing order, the topmost first
   std::vector<NodeMarkers> marker_sets;
-  vtkNew<vtkPolyData> marker_dots;
-  vtkNew<vtkPolyDataMapper2D> marker_mapper;
-  vtkNew<vtkActor2D> marker_actor;
+  std::vector<MarkerLayer> marker_layers;
 
   Impl(GraphicsContext& g, FrameStyle s) : gc(g), style(std::move(s)) {}
   bool build(const RunInfo& info);
@@ -155,6 +168,7 @@ struct FrameRenderer::Impl {
   void build_triad();
   void turn_triad();     // the triad's camera looks along the body's camera
   void place_markers();  // dots at the marked nodes' drawn positions, for the current camera
+  void build_marker_layers();  // actors for marker_sets
   bool update(const Frame& frame, std::string* why);
   void update_range(const std::vector<double>& values);
   void apply_camera(const Camera& c);
@@ -378,13 +392,6 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
   renderer->SetUseFXAA(style.antialias);
   underlay->SetUseFXAA(style.antialias);
   build_overlay(info);
-  // markers: 2D actors are drawn after the 3D scene, so the dots lie over the body
-  marker_mapper->SetInputData(marker_dots);
-  marker_mapper->SetScalarModeToUseCellData();
-  marker_mapper->SetColorModeToDirectScalars();
-  marker_actor->SetMapper(marker_mapper);
-  marker_actor->VisibilityOff();
-  renderer->AddActor2D(marker_actor);
   surface->window()->SetNumberOfLayers(style.show_triad ? 3 : 2);
   surface->window()->AddRenderer(underlay);
   surface->window()->AddRenderer(renderer);
@@ -549,50 +556,89 @@ void FrameRenderer::Impl::turn_triad() {
   }
 }
 
+// VTK draws 2D primitives depth-tested at one depth, so the first one drawn at a pixel stays: the
+// layers go out topmost first (the last set first; a set's fills before its rims), so a later
+// set lies over an earlier one and a rim shows only around its fill.
+void FrameRenderer::Impl::build_marker_layers() {
+  for (const MarkerLayer& layer : marker_layers) renderer->RemoveActor2D(layer.actor);
+  marker_layers.clear();
+  for (std::size_t k = marker_sets.size(); k-- > 0;) {
+    const NodeMarkers& set = marker_sets[k];
+    if (set.nodes.empty()) continue;
+    using Kind = MarkerLayer::Kind;
+    const double rim = std::max(1.0, std::round(kMarkerRimFraction * set.size_px));
+    const bool discs = set.size_px >= kMarkerDiscMinPx;
+    for (Kind kind : discs ? std::vector<Kind>{Kind::discs} : std::vector<Kind>{Kind::square_fills, Kind::square_rims}) {
+      MarkerLayer layer{kind, k, vtkSmartPointer<vtkPolyData>::New(), vtkSmartPointer<vtkActor2D>::New()};
+      vtkNew<vtkPolyDataMapper2D> mapper;
+      mapper->SetInputData(layer.dots);
+      if (kind == Kind::discs) {
+        mapper->SetScalarModeToUseCellData();
+        mapper->SetColorModeToDirectScalars();
+      } else {
+        mapper->ScalarVisibilityOff();
+        const bool fill = kind == Kind::square_fills;
+        layer.actor->GetProperty()->SetColor(fill ? set.color.data() : kMarkerRimColor);
+        layer.actor->GetProperty()->SetPointSize(static_cast<float>(fill ? std::max(1.0, set.size_px - 2 * rim) : set.size_px));
+      }
+      layer.actor->SetMapper(mapper);
+      renderer->AddActor2D(layer.actor);
+      marker_layers.push_back(std::move(layer));
+    }
+  }
+}
+
 void FrameRenderer::Impl::place_markers() {
-  std::size_t count = 0;
-  for (const NodeMarkers& set : marker_sets) count += set.nodes.size();
-  marker_actor->SetVisibility(count > 0);
-  if (count == 0) return;
+  if (marker_layers.empty()) return;
   const double w = style.width, h = style.height;
   // world -> normalized device coordinates, as VTK projects the body (aspect = the window's)
   vtkMatrix4x4* to_ndc = renderer->GetActiveCamera()->GetCompositeProjectionTransformMatrix(w / h, -1, 1);
-  vtkNew<vtkPoints> dot_points;
-  vtkNew<vtkCellArray> dots;
-  vtkNew<vtkUnsignedCharArray> colors;
-  colors->SetNumberOfComponents(3);
   auto byte = [](double c) { return static_cast<unsigned char>(std::lround(255.0 * std::clamp(c, 0.0, 1.0))); };
-  auto add_disc = [&](double cx, double cy, double radius, int segments, const double* rgb) {
-    dots->InsertNextCell(segments);
-    for (int j = 0; j < segments; ++j) {
-      const double a = 2.0 * M_PI * (j + 0.5) / segments;
-      dots->InsertCellPoint(dot_points->InsertNextPoint(cx + radius * std::cos(a), cy + radius * std::sin(a), 0.0));
+  std::vector<std::array<double, 2>> at;
+  std::size_t projected = marker_sets.size();  // the set `at` holds
+  for (const MarkerLayer& layer : marker_layers) {
+    const NodeMarkers& set = marker_sets[layer.set];
+    if (projected != layer.set) {
+      at.clear();
+      for (std::int32_t node : set.nodes) {
+        double p[4] = {0, 0, 0, 1}, q[4];
+        points->GetPoint(node, p);
+        to_ndc->MultiplyPoint(p, q);
+        if (!(q[3] > 0)) continue;  // behind the eye (perspective)
+        at.push_back({(q[0] / q[3] + 1.0) * 0.5 * w, (q[1] / q[3] + 1.0) * 0.5 * h});
+      }
+      projected = layer.set;
     }
-    colors->InsertNextTypedTuple(std::array<unsigned char, 3>{byte(rgb[0]), byte(rgb[1]), byte(rgb[2])}.data());
-  };
-  // VTK draws 2D polygons depth-tested at one depth, so the first one drawn at a pixel stays:
-  // the dots go out topmost first (the last set first, each fill before its rim), so a later
-  // set lies over an earlier one and a rim shows only around its fill
-  for (auto it = marker_sets.rbegin(); it != marker_sets.rend(); ++it) {
-    const NodeMarkers& set = *it;
-    const double radius = 0.5 * set.size_px;
-    const double rim = std::max(1.0, std::round(kMarkerRimFraction * set.size_px));
-    const int segments = set.size_px >= 10 ? 20 : 10;
-    std::vector<std::array<double, 2>> at;
-    at.reserve(set.nodes.size());
-    for (std::int32_t node : set.nodes) {
-      double p[4] = {0, 0, 0, 1}, q[4];
-      points->GetPoint(node, p);
-      to_ndc->MultiplyPoint(p, q);
-      if (!(q[3] > 0)) continue;  // behind the eye (perspective)
-      at.push_back({(q[0] / q[3] + 1.0) * 0.5 * w, (q[1] / q[3] + 1.0) * 0.5 * h});
+    vtkNew<vtkPoints> dot_points;
+    vtkNew<vtkCellArray> cells;
+    if (layer.kind != MarkerLayer::Kind::discs) {
+      for (const auto& c : at) {
+        const vtkIdType id = dot_points->InsertNextPoint(c[0], c[1], 0.0);
+        cells->InsertNextCell(1, &id);
+      }
+      layer.dots->SetPoints(dot_points);
+      layer.dots->SetVerts(cells);
+      continue;
     }
-    for (const auto& c : at) add_disc(c[0], c[1], std::max(0.5, radius - rim), segments, set.color.data());
-    for (const auto& c : at) add_disc(c[0], c[1], radius, segments, kMarkerRimColor);
+    vtkNew<vtkUnsignedCharArray> colors;
+    colors->SetNumberOfComponents(3);
+    const int segments = set.size_px < 12 ? 8 : set.size_px < 24 ? 12 : 20;  // round enough, few triangles
+    auto add_disc = [&](double cx, double cy, double radius, const double* rgb) {
+      cells->InsertNextCell(segments);
+      for (int j = 0; j < segments; ++j) {
+        const double a = 2.0 * M_PI * (j + 0.5) / segments;
+        cells->InsertCellPoint(dot_points->InsertNextPoint(cx + radius * std::cos(a), cy + radius * std::sin(a), 0.0));
+      }
+      const unsigned char c[3] = {byte(rgb[0]), byte(rgb[1]), byte(rgb[2])};
+      colors->InsertNextTypedTuple(c);
+    };
+    const double radius = 0.5 * set.size_px, rim = std::max(1.0, std::round(kMarkerRimFraction * set.size_px));
+    for (const auto& c : at) add_disc(c[0], c[1], radius - rim, set.color.data());
+    for (const auto& c : at) add_disc(c[0], c[1], radius, kMarkerRimColor);
+    layer.dots->SetPoints(dot_points);
+    layer.dots->SetPolys(cells);
+    layer.dots->GetCellData()->SetScalars(colors);
   }
-  marker_dots->SetPoints(dot_points);
-  marker_dots->SetPolys(dots);
-  marker_dots->GetCellData()->SetScalars(colors);
 }
 
 void FrameRenderer::Impl::update_range(const std::vector<double>& values) {
@@ -858,6 +904,7 @@ bool FrameRenderer::set_markers(std::vector<NodeMarkers> sets, std::string* erro
     return false;
   }
   impl_->marker_sets = std::move(sets);
+  if (impl_->surface) impl_->build_marker_layers();
   return true;
 }
 
