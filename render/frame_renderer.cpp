@@ -66,14 +66,20 @@ constexpr double kMarkerRimColor[3] = {0.08, 0.08, 0.10};
 constexpr double kMarkerRimFraction = 0.15;
 constexpr double kMarkerDiscMinPx = 8.0;
 
-// One 2D actor of the marker overlay: a set's discs (fills and rims), or its squares' fills or rims.
+// One layer of the marker overlay: a set's rims or its fills, discs or squares, in one colour on
+// a renderer of its own. Every renderer above layer 0 starts with a cleared depth buffer, so a
+// higher layer lies over a lower one whatever depth test the GL backend leaves on (2D actors all
+// sit at one depth: with the EGL path's GL_LESS the first drawn would stay, with X11's GL_LEQUAL
+// the last).
 struct MarkerLayer {
-  enum class Kind { discs, square_fills, square_rims };
-  Kind kind = Kind::discs;
   std::size_t set = 0;  // index into the marker sets
+  bool rims = false;    // the dark rims (drawn first, the fills over them)
+  bool discs = false;   // discs (polygons) rather than squares (GL points)
   vtkSmartPointer<vtkPolyData> dots;
   vtkSmartPointer<vtkActor2D> actor;
+  vtkSmartPointer<vtkRenderer> renderer;
 };
+constexpr int kFirstMarkerLayer = 3;  // over the underlay (0), the body (1) and the triad (2)
 
 // 'cool to warm' (Moreland's end colours, blue 0.230 0.299 0.754 -> red 0.706 0.016 0.150)
 // with a mid grey of lightness ~0.8 instead of the usual near-white, so the middle of the range
@@ -157,8 +163,8 @@ struct FrameRenderer::Impl {
   vtkNew<vtkRenderer> triad;
   std::array<vtkNew<vtkActor>, 3> triad_axes;
   std::array<vtkNew<vtkTextActor>, 3> triad_labels;
-  // node markers: 2D actors of dots in pixel coordinates (drawn after the 3D scene, so over the
-  // body), their geometry rebuilt for every frame; layers in drawing order, the topmost first
+  // node markers: 2D actors of dots in pixel coordinates, their geometry rebuilt for every
+  // frame; layers bottom first
   std::vector<NodeMarkers> marker_sets;
   std::vector<MarkerLayer> marker_layers;
 
@@ -392,7 +398,7 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
   renderer->SetUseFXAA(style.antialias);
   underlay->SetUseFXAA(style.antialias);
   build_overlay(info);
-  surface->window()->SetNumberOfLayers(style.show_triad ? 3 : 2);
+  surface->window()->SetNumberOfLayers(kFirstMarkerLayer);
   surface->window()->AddRenderer(underlay);
   surface->window()->AddRenderer(renderer);
   if (style.show_triad) {
@@ -556,36 +562,31 @@ void FrameRenderer::Impl::turn_triad() {
   }
 }
 
-// VTK draws 2D primitives depth-tested at one depth, so the first one drawn at a pixel stays: the
-// layers go out topmost first (the last set first; a set's fills before its rims), so a later
-// set lies over an earlier one and a rim shows only around its fill.
 void FrameRenderer::Impl::build_marker_layers() {
-  for (const MarkerLayer& layer : marker_layers) renderer->RemoveActor2D(layer.actor);
+  vtkRenderWindow* window = surface->window();
+  for (const MarkerLayer& layer : marker_layers) window->RemoveRenderer(layer.renderer);
   marker_layers.clear();
-  for (std::size_t k = marker_sets.size(); k-- > 0;) {
+  for (std::size_t k = 0; k < marker_sets.size(); ++k) {
     const NodeMarkers& set = marker_sets[k];
     if (set.nodes.empty()) continue;
-    using Kind = MarkerLayer::Kind;
     const double rim = std::max(1.0, std::round(kMarkerRimFraction * set.size_px));
-    const bool discs = set.size_px >= kMarkerDiscMinPx;
-    for (Kind kind : discs ? std::vector<Kind>{Kind::discs} : std::vector<Kind>{Kind::square_fills, Kind::square_rims}) {
-      MarkerLayer layer{kind, k, vtkSmartPointer<vtkPolyData>::New(), vtkSmartPointer<vtkActor2D>::New()};
+    for (bool rims : {true, false}) {
+      MarkerLayer layer{k, rims, set.size_px >= kMarkerDiscMinPx, vtkSmartPointer<vtkPolyData>::New(),
+                        vtkSmartPointer<vtkActor2D>::New(), vtkSmartPointer<vtkRenderer>::New()};
       vtkNew<vtkPolyDataMapper2D> mapper;
       mapper->SetInputData(layer.dots);
-      if (kind == Kind::discs) {
-        mapper->SetScalarModeToUseCellData();
-        mapper->SetColorModeToDirectScalars();
-      } else {
-        mapper->ScalarVisibilityOff();
-        const bool fill = kind == Kind::square_fills;
-        layer.actor->GetProperty()->SetColor(fill ? set.color.data() : kMarkerRimColor);
-        layer.actor->GetProperty()->SetPointSize(static_cast<float>(fill ? std::max(1.0, set.size_px - 2 * rim) : set.size_px));
-      }
+      mapper->ScalarVisibilityOff();
       layer.actor->SetMapper(mapper);
-      renderer->AddActor2D(layer.actor);
+      layer.actor->GetProperty()->SetColor(rims ? kMarkerRimColor : set.color.data());
+      layer.actor->GetProperty()->SetPointSize(static_cast<float>(rims ? set.size_px : std::max(1.0, set.size_px - 2 * rim)));
+      layer.renderer->SetLayer(kFirstMarkerLayer + static_cast<int>(marker_layers.size()));
+      layer.renderer->InteractiveOff();
+      layer.renderer->AddActor2D(layer.actor);
       marker_layers.push_back(std::move(layer));
     }
   }
+  window->SetNumberOfLayers(kFirstMarkerLayer + static_cast<int>(marker_layers.size()));
+  for (const MarkerLayer& layer : marker_layers) window->AddRenderer(layer.renderer);
 }
 
 void FrameRenderer::Impl::place_markers() {
@@ -593,7 +594,6 @@ void FrameRenderer::Impl::place_markers() {
   const double w = style.width, h = style.height;
   // world -> normalized device coordinates, as VTK projects the body (aspect = the window's)
   vtkMatrix4x4* to_ndc = renderer->GetActiveCamera()->GetCompositeProjectionTransformMatrix(w / h, -1, 1);
-  auto byte = [](double c) { return static_cast<unsigned char>(std::lround(255.0 * std::clamp(c, 0.0, 1.0))); };
   std::vector<std::array<double, 2>> at;
   std::size_t projected = marker_sets.size();  // the set `at` holds
   for (const MarkerLayer& layer : marker_layers) {
@@ -611,7 +611,7 @@ void FrameRenderer::Impl::place_markers() {
     }
     vtkNew<vtkPoints> dot_points;
     vtkNew<vtkCellArray> cells;
-    if (layer.kind != MarkerLayer::Kind::discs) {
+    if (!layer.discs) {
       for (const auto& c : at) {
         const vtkIdType id = dot_points->InsertNextPoint(c[0], c[1], 0.0);
         cells->InsertNextCell(1, &id);
@@ -620,24 +620,18 @@ void FrameRenderer::Impl::place_markers() {
       layer.dots->SetVerts(cells);
       continue;
     }
-    vtkNew<vtkUnsignedCharArray> colors;
-    colors->SetNumberOfComponents(3);
     const int segments = set.size_px < 12 ? 8 : set.size_px < 24 ? 12 : 20;  // round enough, few triangles
-    auto add_disc = [&](double cx, double cy, double radius, const double* rgb) {
+    const double rim = std::max(1.0, std::round(kMarkerRimFraction * set.size_px));
+    const double radius = 0.5 * set.size_px - (layer.rims ? 0.0 : rim);
+    for (const auto& c : at) {
       cells->InsertNextCell(segments);
       for (int j = 0; j < segments; ++j) {
         const double a = 2.0 * M_PI * (j + 0.5) / segments;
-        cells->InsertCellPoint(dot_points->InsertNextPoint(cx + radius * std::cos(a), cy + radius * std::sin(a), 0.0));
+        cells->InsertCellPoint(dot_points->InsertNextPoint(c[0] + radius * std::cos(a), c[1] + radius * std::sin(a), 0.0));
       }
-      const unsigned char c[3] = {byte(rgb[0]), byte(rgb[1]), byte(rgb[2])};
-      colors->InsertNextTypedTuple(c);
-    };
-    const double radius = 0.5 * set.size_px, rim = std::max(1.0, std::round(kMarkerRimFraction * set.size_px));
-    for (const auto& c : at) add_disc(c[0], c[1], radius - rim, set.color.data());
-    for (const auto& c : at) add_disc(c[0], c[1], radius, kMarkerRimColor);
+    }
     layer.dots->SetPoints(dot_points);
     layer.dots->SetPolys(cells);
-    layer.dots->GetCellData()->SetScalars(colors);
   }
 }
 
