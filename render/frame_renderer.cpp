@@ -68,9 +68,8 @@ constexpr double kMarkerDiscMinPx = 8.0;
 
 // One layer of the marker overlay: a set's rims or its fills, discs or squares, in one colour on
 // a renderer of its own. Every renderer above layer 0 starts with a cleared depth buffer, so a
-// higher layer lies over a lower one whatever depth test the GL backend leaves on (2D actors all
-// sit at one depth: with the EGL path's GL_LESS the first drawn would stay, with X11's GL_LEQUAL
-// the last).
+// higher layer lies over a lower one however the backend settles depth ties (2D actors all sit at
+// one depth; observed: on the EGL path the first drawn stayed, on X11 the last).
 struct MarkerLayer {
   std::size_t set = 0;  // index into the marker sets
   bool rims = false;    // the dark rims (drawn first, the fills over them)
