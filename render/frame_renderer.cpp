@@ -322,7 +322,11 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
   if (have_surfaces) {
     normals->SetInputData(surfaces);
     normals->ComputePointNormalsOn();
-    normals->SplittingOff();
+    // a crease sharper than 45° (a fold, a crushed wall, a coarse mesh's edge) keeps a normal
+    // per side: averaged across it, the two nearly opposite normals of a fold cancel and the
+    // elements beside it were shaded as if seen edge-on, a dark band
+    normals->SplittingOn();
+    normals->SetFeatureAngle(45.0);
     normals->ConsistencyOn();
     surface_mapper->SetInputConnection(normals->GetOutputPort());
     surface_actor->SetMapper(surface_mapper);

@@ -8,7 +8,8 @@
 ///    into polylines so bends are smooth;
 ///  - triangles and quads as lit, shaded surfaces, with thin element edges when elements are
 ///    at least ~14 px across in the image. Normals are recomputed from each frame's drawn
-///    points, both faces of a shell are lit alike, and the lights (a key light above the eye,
+///    points (split at creases sharper than 45°, so a fold shows two flat faces), both faces of
+///    a shell are lit alike, and the lights (a key light above the eye,
 ///    fill, head and back lights, all moving with the camera) keep a face turned away from the
 ///    eye readable: a plate in the isometric view is about as bright as seen face-on, one turned
 ///    70° from the eye keeps over half of that; surfaces have no highlights (field colours stay

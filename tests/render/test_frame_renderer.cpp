@@ -456,6 +456,50 @@ TEST_F(FrameRendererTest, ShadingFollowsTheDrawnSurfaceAndObliqueFacesStayLit) {
         << name;
 }
 
+// A shell folded back on itself (a crease of 170°, as in a crushed wall) is shaded as two flat
+// faces: next to the crease as away from it. With normals averaged across the crease the nodes on
+// it got a normal lying in the faces (the two nearly opposite normals cancel), and the row of
+// elements beside the crease was shaded as if seen edge-on: a dark band.
+TEST_F(FrameRendererTest, ACreaseIsShadedAsTwoFacesWithoutADarkBand) {
+  const RunInfo plate = square_plate_run(16);
+  Frame f;
+  f.points = plate.mesh.reference_points;
+  const double fold = 0.25, a = 170.0 * std::numbers::pi / 180.0;
+  for (std::size_t i = 0; i < f.points.size(); i += 3)
+    if (f.points[i] > fold + 1e-9) {
+      const double r = f.points[i] - fold;
+      f.points[i] = fold + r * std::cos(a);
+      f.points[i + 2] = r * std::sin(a);  // above the unfolded half
+    }
+  FrameStyle style;
+  style.show_base = false;
+  style.camera.view_direction = {0, 0, 1};
+  style.camera.view_up = {0, 1, 0};
+  FrameRenderer renderer(*gc_, plate, style);
+  ASSERT_TRUE(renderer.ok()) << renderer.error();
+  const std::string path = test::out_dir() + "/crease.png";
+  std::string err;
+  ASSERT_TRUE(renderer.render_png(f, path, &err)) << err;
+  const test::Image img = test::read_png(path);
+  const Camera cam = renderer.camera();
+  // mean luminance over x in [x0, x1], |y| < 0.8, of the folded half seen from above
+  auto band = [&](double x0, double x1) {
+    double sum = 0;
+    int count = 0;
+    const auto lo = test::to_pixel(cam, img.width, img.height, x0, 0.8), hi = test::to_pixel(cam, img.width, img.height, x1, -0.8);
+    for (int r = lo[1]; r <= hi[1]; ++r)
+      for (int c = lo[0]; c <= hi[0]; ++c) {
+        const auto& q = img.at(c, r);
+        sum += 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
+        ++count;
+      }
+    return sum / std::max(1, count);
+  };
+  const double at_crease = band(fold - 0.11, fold - 0.01), away = band(fold - 0.6, fold - 0.3);
+  std::printf("luminance beside the crease %.1f, away from it %.1f\n", at_crease, away);
+  EXPECT_GT(at_crease, 0.95 * away);
+}
+
 // The orientation triad (FrameStyle::show_triad) sits in the bottom-left corner, changes no pixel
 // outside it, and turns with the camera: seen from above (+y up) the x arrow points right and
 // the y arrow up; seen from the front (-y, z up) the z arrow points up.
