@@ -285,14 +285,15 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
         style.color_max = sequence.color_range[1];
         color_range = sequence.color_range;
         style.title = scene.name;
-        if (camera)
-          style.camera = *camera;
-        else if (!out.camera_path.empty())  // the path's start sizes the tubes; each frame sets its own
-          style.camera = *camera_on_path(out.camera_path, f.time);
-        else if (out.view != "auto")
+        if (out.view != "auto" && !camera && out.camera_path.empty()) {
           style.camera = scene_camera(info.mesh, out.view, out.view_center, out.view_radius, sequence.fit_points);
-        else
+        } else {
+          // an automatic camera (--camera, the camera path, view = "auto") fitted to the whole
+          // motion, as replay fits it; the path's start sizes the tubes, each frame sets its own
+          if (camera) style.camera = *camera;
+          else if (!out.camera_path.empty()) style.camera = *camera_on_path(out.camera_path, f.time);
           style.fit_points = sequence.fit_points;
+        }
         renderer = std::make_unique<render::FrameRenderer>(*gc, info, style);
         if (!renderer->ok()) {
           render_error = renderer->error();

@@ -1,27 +1,38 @@
 #include "render/frame_renderer.h"
 
 #include <vtkActor.h>
+#include <vtkActor2D.h>
+#include <vtkArrowSource.h>
 #include <vtkCamera.h>
 #include <vtkCellPicker.h>
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkColorTransferFunction.h>
 #include <vtkDoubleArray.h>
+#include <vtkLightKit.h>
 #include <vtkLookupTable.h>
 #include <vtkMath.h>
+#include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkPolyDataMapper2D.h>
 #include <vtkPolyDataNormals.h>
 #include <vtkProperty.h>
+#include <vtkProperty2D.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
+#include <vtkSmartPointer.h>
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkTextRenderer.h>
+#include <vtkTransform.h>
+#include <vtkTransformPolyDataFilter.h>
 #include <vtkTubeFilter.h>
+#include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
 #include <cmath>
@@ -44,6 +55,30 @@ constexpr double kGhostSurfaceOpacity = 0.20;
 constexpr double kGhostTubeFraction = 0.55;  // ghost tube radius / body tube radius
 constexpr int kTubeSides = 20;
 constexpr double kMinEdgePixels = 14.0;  // draw element edges when elements are this large
+// orientation triad: axis colours (x, y, z) and the half width of its square in axis lengths
+constexpr double kAxisColor[3][3] = {{0.84, 0.15, 0.15}, {0.13, 0.60, 0.18}, {0.16, 0.33, 0.85}};
+constexpr double kTriadHalfWidth = 1.5;
+constexpr double kTriadLabelAt = 1.22;  // label centres, in axis lengths from the origin
+// node markers: rim colour, rim width as a fraction of the diameter; dots smaller than
+// kMarkerDiscMinPx are squares (GL points: one vertex each, cheap for tens of thousands), larger
+// ones discs (polygons, a dozen triangles each)
+constexpr double kMarkerRimColor[3] = {0.08, 0.08, 0.10};
+constexpr double kMarkerRimFraction = 0.15;
+constexpr double kMarkerDiscMinPx = 8.0;
+
+// One layer of the marker overlay: a set's rims or its fills, discs or squares, in one colour on
+// a renderer of its own. Every renderer above layer 0 starts with a cleared depth buffer, so a
+// higher layer lies over a lower one however the backend settles depth ties (2D actors all sit at
+// one depth; observed: on the EGL path the first drawn stayed, on X11 the last).
+struct MarkerLayer {
+  std::size_t set = 0;  // index into the marker sets
+  bool rims = false;    // the dark rims (drawn first, the fills over them)
+  bool discs = false;   // discs (polygons) rather than squares (GL points)
+  vtkSmartPointer<vtkPolyData> dots;
+  vtkSmartPointer<vtkActor2D> actor;
+  vtkSmartPointer<vtkRenderer> renderer;
+};
+constexpr int kFirstMarkerLayer = 3;  // over the underlay (0), the body (1) and the triad (2)
 
 // 'cool to warm' (Moreland's end colours, blue 0.230 0.299 0.754 -> red 0.706 0.016 0.150)
 // with a mid grey of lightness ~0.8 instead of the usual near-white, so the middle of the range
@@ -66,10 +101,34 @@ void fill_cool_to_warm(vtkLookupTable* lut) {
 
 void style_body(vtkProperty* p) {
   p->SetColor(kBodyColor[0], kBodyColor[1], kBodyColor[2]);
-  p->SetAmbient(0.15);
-  p->SetDiffuse(0.85);
+  p->SetAmbient(0.2);
+  p->SetDiffuse(0.8);
   p->SetSpecular(0.25);
   p->SetSpecularPower(30.0);
+}
+
+// The body's lights move with the camera: a key light from above and slightly left of the eye,
+// a weaker fill from below, a headlight and two back lights (VTK's light kit, its lights made
+// white so they do not tint the field colours). A lone headlight lights only what faces the eye:
+// a plate in the isometric view got cos 55° of the light, and whatever a deformation turns
+// edge-on (a lifted lip, a crushed wall) fell to the ambient 15 % and was drawn near black.
+void light_body(vtkRenderer* r) {
+  vtkNew<vtkLightKit> kit;
+  // balanced so that a face-on surface shows its true colour (0.2 ambient + 0.8 of ~1.0) and no
+  // orientation gets darker than under the former headlight by more than ~6 % (a wall facing
+  // 35° below the eye) while oblique ones gain up to 50 % (55° above: 0.64 -> 0.96)
+  kit->SetKeyLightIntensity(0.7);
+  kit->SetKeyToFillRatio(1.6);
+  kit->SetKeyToHeadRatio(1.6);
+  kit->SetKeyToBackRatio(3.5);
+  kit->SetKeyLightWarmth(0.5);
+  kit->SetFillLightWarmth(0.5);
+  kit->SetHeadLightWarmth(0.5);
+  kit->SetBackLightWarmth(0.5);
+  r->RemoveAllLights();
+  r->AutomaticLightCreationOff();
+  kit->AddLightsToRenderer(r);
+  r->TwoSidedLightingOn();
 }
 
 }  // namespace
@@ -103,10 +162,22 @@ struct FrameRenderer::Impl {
   vtkNew<vtkLookupTable> lut;
   vtkNew<vtkScalarBarActor> bar;
   vtkNew<vtkTextActor> bar_title, title, status;
+  // orientation triad: its own renderer in the bottom-left corner (layer 2), turned with the camera
+  vtkNew<vtkRenderer> triad;
+  std::array<vtkNew<vtkActor>, 3> triad_axes;
+  std::array<vtkNew<vtkTextActor>, 3> triad_labels;
+  // node markers: 2D actors of dots in pixel coordinates, their geometry rebuilt for every
+  // frame; layers bottom first
+  std::vector<NodeMarkers> marker_sets;
+  std::vector<MarkerLayer> marker_layers;
 
   Impl(GraphicsContext& g, FrameStyle s) : gc(g), style(std::move(s)) {}
   bool build(const RunInfo& info);
   void build_overlay(const RunInfo& info);
+  void build_triad();
+  void turn_triad();     // the triad's camera looks along the body's camera
+  void place_markers();  // dots at the marked nodes' drawn positions, for the current camera
+  void build_marker_layers();  // actors for marker_sets
   bool update(const Frame& frame, std::string* why);
   void update_range(const std::vector<double>& values);
   void apply_camera(const Camera& c);
@@ -117,6 +188,9 @@ struct FrameRenderer::Impl {
   double title_px() const { return std::max(12.0, std::round(style.height / 28.0)); }
   double text_px() const { return std::max(10.0, std::round(style.height / 36.0)); }
   int bar_strip_px() const { return static_cast<int>(std::lround(0.15 * style.width)); }
+  int triad_side_px() const {
+    return std::max(56, static_cast<int>(std::lround(0.16 * std::min(style.width, style.height))));
+  }
   ~Impl() {
     // the window goes first: it frees the GL objects of everything drawn while its context
     // exists, then the VTK objects below are destroyed without touching GL
@@ -252,11 +326,19 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
   if (have_surfaces) {
     normals->SetInputData(surfaces);
     normals->ComputePointNormalsOn();
-    normals->SplittingOff();
+    // a crease sharper than 45° (a fold, a crushed wall, a coarse mesh's edge) keeps a normal
+    // per side: averaged across it, the two nearly opposite normals of a fold cancel and the
+    // elements beside it were shaded as if seen edge-on, a dark band
+    normals->SplittingOn();
+    normals->SetFeatureAngle(45.0);
     normals->ConsistencyOn();
     surface_mapper->SetInputConnection(normals->GetOutputPort());
     surface_actor->SetMapper(surface_mapper);
     style_body(surface_actor->GetProperty());
+    // no highlights on surfaces: they wash out the field colours, and with more than a headlight
+    // VTK takes the view vector from the vertex even in a parallel view, so a flat plate would
+    // not be one colour
+    surface_actor->GetProperty()->SetSpecular(0.0);
     // element edges only when elements are large enough on screen to read them
     double edge_sum = 0;
     std::size_t edge_count = 0;
@@ -311,6 +393,7 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
     }
   }
 
+  light_body(renderer);
   apply_camera(camera);
 
   // two layers on one camera: the body's layer keeps the colour the underlay drew and clears only
@@ -322,9 +405,13 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
   renderer->SetUseFXAA(style.antialias);
   underlay->SetUseFXAA(style.antialias);
   build_overlay(info);
-  surface->window()->SetNumberOfLayers(2);
+  surface->window()->SetNumberOfLayers(kFirstMarkerLayer);
   surface->window()->AddRenderer(underlay);
   surface->window()->AddRenderer(renderer);
+  if (style.show_triad) {
+    build_triad();
+    surface->window()->AddRenderer(triad);
+  }
   reset_clipping_range();
   return true;
 }
@@ -419,6 +506,142 @@ void FrameRenderer::Impl::build_overlay(const RunInfo& info) {
   renderer->AddActor2D(bar);
 }
 
+void FrameRenderer::Impl::build_triad() {
+  const double w = style.width, h = style.height, m = margin_px(), side = triad_side_px();
+  triad->SetLayer(2);  // over the body's layer; clears only depth, inside its own viewport
+  triad->SetViewport(m / w, m / h, (m + side) / w, (m + side) / h);
+  triad->InteractiveOff();
+  const char* names[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    // vtkArrowSource points along +x from the origin, length 1
+    vtkNew<vtkArrowSource> arrow;
+    arrow->SetShaftRadius(0.045);
+    arrow->SetTipRadius(0.12);
+    arrow->SetTipLength(0.3);
+    arrow->SetShaftResolution(12);
+    arrow->SetTipResolution(16);
+    vtkNew<vtkTransform> turn;
+    if (k == 1) turn->RotateZ(90.0);
+    if (k == 2) turn->RotateY(-90.0);
+    vtkNew<vtkTransformPolyDataFilter> placed;
+    placed->SetInputConnection(arrow->GetOutputPort());
+    placed->SetTransform(turn);
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputConnection(placed->GetOutputPort());
+    triad_axes[k]->SetMapper(mapper);
+    vtkProperty* p = triad_axes[k]->GetProperty();
+    p->SetColor(kAxisColor[k][0], kAxisColor[k][1], kAxisColor[k][2]);
+    p->SetAmbient(0.45);  // readable whichever way an axis points
+    p->SetDiffuse(0.55);
+    p->SetSpecular(0.0);
+    triad->AddActor(triad_axes[k]);
+    triad_labels[k]->SetInput(names[k]);
+    const double ink[3] = {0.75 * kAxisColor[k][0], 0.75 * kAxisColor[k][1], 0.75 * kAxisColor[k][2]};
+    set_text_style(triad_labels[k]->GetTextProperty(), std::max(10.0, std::round(0.17 * side)), ink, true);
+    triad_labels[k]->GetTextProperty()->SetJustificationToCentered();
+    triad_labels[k]->GetTextProperty()->SetVerticalJustificationToCentered();
+    triad_labels[k]->GetPositionCoordinate()->SetCoordinateSystemToDisplay();
+    triad->AddActor2D(triad_labels[k]);
+  }
+  vtkCamera* c = triad->GetActiveCamera();
+  c->SetFocalPoint(0, 0, 0);
+  c->SetParallelProjection(1);
+  c->SetParallelScale(kTriadHalfWidth);
+}
+
+void FrameRenderer::Impl::turn_triad() {
+  if (!style.show_triad) return;
+  vtkCamera* body = renderer->GetActiveCamera();
+  double dir[3], up[3];
+  body->GetDirectionOfProjection(dir);
+  body->GetViewUp(up);
+  vtkCamera* c = triad->GetActiveCamera();
+  c->SetPosition(-10 * dir[0], -10 * dir[1], -10 * dir[2]);
+  c->SetViewUp(up);
+  c->SetClippingRange(10 - 2 * kTriadHalfWidth, 10 + 2 * kTriadHalfWidth);
+  for (int k = 0; k < 3; ++k) {
+    double tip[3] = {0, 0, 0}, d[3];
+    tip[k] = kTriadLabelAt;
+    triad->SetWorldPoint(tip[0], tip[1], tip[2], 1.0);
+    triad->WorldToDisplay();
+    triad->GetDisplayPoint(d);
+    triad_labels[k]->GetPositionCoordinate()->SetValue(d[0], d[1]);
+  }
+}
+
+void FrameRenderer::Impl::build_marker_layers() {
+  vtkRenderWindow* window = surface->window();
+  for (const MarkerLayer& layer : marker_layers) window->RemoveRenderer(layer.renderer);
+  marker_layers.clear();
+  for (std::size_t k = 0; k < marker_sets.size(); ++k) {
+    const NodeMarkers& set = marker_sets[k];
+    if (set.nodes.empty()) continue;
+    const double rim = std::max(1.0, std::round(kMarkerRimFraction * set.size_px));
+    for (bool rims : {true, false}) {
+      MarkerLayer layer{k, rims, set.size_px >= kMarkerDiscMinPx, vtkSmartPointer<vtkPolyData>::New(),
+                        vtkSmartPointer<vtkActor2D>::New(), vtkSmartPointer<vtkRenderer>::New()};
+      vtkNew<vtkPolyDataMapper2D> mapper;
+      mapper->SetInputData(layer.dots);
+      mapper->ScalarVisibilityOff();
+      layer.actor->SetMapper(mapper);
+      layer.actor->GetProperty()->SetColor(rims ? kMarkerRimColor : set.color.data());
+      layer.actor->GetProperty()->SetPointSize(static_cast<float>(rims ? set.size_px : std::max(1.0, set.size_px - 2 * rim)));
+      layer.renderer->SetLayer(kFirstMarkerLayer + static_cast<int>(marker_layers.size()));
+      layer.renderer->InteractiveOff();
+      layer.renderer->AddActor2D(layer.actor);
+      marker_layers.push_back(std::move(layer));
+    }
+  }
+  window->SetNumberOfLayers(kFirstMarkerLayer + static_cast<int>(marker_layers.size()));
+  for (const MarkerLayer& layer : marker_layers) window->AddRenderer(layer.renderer);
+}
+
+void FrameRenderer::Impl::place_markers() {
+  if (marker_layers.empty()) return;
+  const double w = style.width, h = style.height;
+  // world -> normalized device coordinates, as VTK projects the body (aspect = the window's)
+  vtkMatrix4x4* to_ndc = renderer->GetActiveCamera()->GetCompositeProjectionTransformMatrix(w / h, -1, 1);
+  std::vector<std::array<double, 2>> at;
+  std::size_t projected = marker_sets.size();  // the set `at` holds
+  for (const MarkerLayer& layer : marker_layers) {
+    const NodeMarkers& set = marker_sets[layer.set];
+    if (projected != layer.set) {
+      at.clear();
+      for (std::int32_t node : set.nodes) {
+        double p[4] = {0, 0, 0, 1}, q[4];
+        points->GetPoint(node, p);
+        to_ndc->MultiplyPoint(p, q);
+        if (!(q[3] > 0)) continue;  // behind the eye (perspective)
+        at.push_back({(q[0] / q[3] + 1.0) * 0.5 * w, (q[1] / q[3] + 1.0) * 0.5 * h});
+      }
+      projected = layer.set;
+    }
+    vtkNew<vtkPoints> dot_points;
+    vtkNew<vtkCellArray> cells;
+    if (!layer.discs) {
+      for (const auto& c : at) {
+        const vtkIdType id = dot_points->InsertNextPoint(c[0], c[1], 0.0);
+        cells->InsertNextCell(1, &id);
+      }
+      layer.dots->SetPoints(dot_points);
+      layer.dots->SetVerts(cells);
+      continue;
+    }
+    const int segments = set.size_px < 12 ? 8 : set.size_px < 24 ? 12 : 20;  // round enough, few triangles
+    const double rim = std::max(1.0, std::round(kMarkerRimFraction * set.size_px));
+    const double radius = 0.5 * set.size_px - (layer.rims ? 0.0 : rim);
+    for (const auto& c : at) {
+      cells->InsertNextCell(segments);
+      for (int j = 0; j < segments; ++j) {
+        const double a = 2.0 * M_PI * (j + 0.5) / segments;
+        cells->InsertCellPoint(dot_points->InsertNextPoint(c[0] + radius * std::cos(a), c[1] + radius * std::sin(a), 0.0));
+      }
+    }
+    layer.dots->SetPoints(dot_points);
+    layer.dots->SetPolys(cells);
+  }
+}
+
 void FrameRenderer::Impl::update_range(const std::vector<double>& values) {
   double lo = 0, hi = 0;
   bool any = false;
@@ -501,6 +724,9 @@ bool FrameRenderer::Impl::update(const Frame& frame, std::string* why) {
 
   status->SetInput(status_line(status_info, frame, s).c_str());
   reset_clipping_range();
+  // what follows the camera: every render comes through here after the last orbit, zoom or pan
+  turn_triad();
+  place_markers();
   return true;
 }
 
@@ -658,6 +884,32 @@ int FrameRenderer::pick_point(double x_px, double y_px, double max_px) {
   });
   return d2 <= max_px * max_px ? best : -1;
 }
+
+bool FrameRenderer::set_markers(std::vector<NodeMarkers> sets, std::string* error) {
+  std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
+  const std::size_t n = impl_->n;
+  std::string why;
+  for (std::size_t k = 0; k < sets.size() && why.empty(); ++k) {
+    const NodeMarkers& set = sets[k];
+    const std::string which = "marker set " + std::to_string(k) + ": ";
+    if (!(set.size_px >= 1.0 && set.size_px <= 200.0))
+      why = which + "size_px " + std::to_string(set.size_px) + " is not in [1, 200]";
+    for (double c : set.color)
+      if (why.empty() && !(c >= 0.0 && c <= 1.0)) why = which + "colour channel " + std::to_string(c) + " is not in [0, 1]";
+    for (std::int32_t node : set.nodes)
+      if (why.empty() && (node < 0 || static_cast<std::size_t>(node) >= n))
+        why = which + "node " + std::to_string(node) + " is not a point of the mesh (" + std::to_string(n) + " points)";
+  }
+  if (!why.empty()) {
+    if (error) *error = why;
+    return false;
+  }
+  impl_->marker_sets = std::move(sets);
+  if (impl_->surface) impl_->build_marker_layers();
+  return true;
+}
+
+const std::vector<NodeMarkers>& FrameRenderer::markers() const { return impl_->marker_sets; }
 
 int FrameRenderer::width() const { return impl_->style.width; }
 int FrameRenderer::height() const { return impl_->style.height; }

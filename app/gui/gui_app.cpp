@@ -21,6 +21,8 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <set>
+#include <tuple>
 
 #include "app/io/mesh_import.h"
 #include "app/gui/actions.h"
@@ -58,6 +60,9 @@ constexpr double kIdleWake = 0.5;
 // ImGui settles hover and layout changes over a frame or two after an input or a change
 constexpr int kSettleFrames = 3;
 constexpr std::size_t kMaxPlotPoints = 800;
+// the probed node's marker in the viewport: a green none of the field colours comes near
+constexpr std::array<double, 3> kProbeMarkerColor = {0.10, 0.90, 0.30};
+constexpr double kProbeMarkerPx = 14.0;
 
 std::string g_glfw_error;
 void on_glfw_error(int, const char* text) { g_glfw_error = text ? text : "unknown GLFW error"; }
@@ -261,7 +266,7 @@ class Viewport {
     if (!renderer_ || !dirty_) return;
     if (!force && seconds_since(last_render_) < kViewportMinInterval) return;
     // the scene's camera path, as `run` and `replay` follow it, until the user takes the camera
-    if (!user_camera_ && !output_.camera_path.empty()) {
+    if (!user_camera_ && !view_ && !output_.camera_path.empty()) {
       if (const std::optional<render::Camera> c = camera_on_path(output_.camera_path, frame_->time)) renderer_->set_camera(*c);
     }
     std::string err;
@@ -353,10 +358,33 @@ class Viewport {
     return picked;
   }
 
+  /// Back to the automatic view: fitted to the body, in its own direction (plane normal or iso).
   void reset_camera() {
-    if (renderer_) renderer_->reset_camera(), dirty_ = true;
+    view_.reset();
     camera_.reset();
     user_camera_ = false;
+    if (renderer_) renderer_->set_camera(render::Camera{}), dirty_ = true;
+  }
+  /// The automatic view along a named direction, as output.view and --camera name it: "iso",
+  /// "top", "front", "side" (app/view_options.h, parse_camera). It stays through window resizes
+  /// and refits until reset_camera().
+  void set_view(const std::string& name) {
+    view_ = parse_camera(name);
+    camera_.reset();
+    user_camera_ = false;
+    if (renderer_) renderer_->set_camera(*view_), dirty_ = true;
+  }
+  /// Marks the probed node (-1: none), drawn over every highlighted selection.
+  void set_probe_node(int node) {
+    if (node == probe_node_) return;
+    probe_node_ = node;
+    apply_markers();
+  }
+  /// Highlighted node sets (e.g. a scene's selections), drawn beneath the probe marker; indices
+  /// outside the current mesh are dropped. See render::FrameRenderer::set_markers.
+  void set_highlights(std::vector<render::NodeMarkers> sets) {
+    highlights_ = std::move(sets);
+    apply_markers();
   }
 
   /// The latest frame as a PNG at the viewport's size and view.
@@ -395,15 +423,34 @@ class Viewport {
     style.color_field = output_.color_field == "none" ? "" : output_.color_field;
     style.title = title_;
     style.background = {0.97, 0.97, 0.98};
+    style.show_triad = true;
     if (camera_) style.camera = *camera_;
+    else if (view_) style.camera = *view_;
+    // the scene's own view (output.view), as `run` draws it, until the user picks another
+    else if (output_.view != "auto" && output_.camera_path.empty())
+      style.camera = scene_camera(info_->mesh, output_.view, output_.view_center, output_.view_radius, fit_points_);
     style.fit_points = fit_points_;
     renderer_ = std::make_unique<render::FrameRenderer>(*gc_, *info_, style);
     if (!renderer_->ok()) {
       error_ = renderer_->error();
       renderer_.reset();
     }
+    apply_markers();
     glfwMakeContextCurrent(window_);
     dirty_ = true;
+  }
+  void apply_markers() {
+    dirty_ = true;
+    if (!renderer_ || !info_) return;
+    const auto n = static_cast<std::int32_t>(info_->mesh.point_count());
+    std::vector<render::NodeMarkers> sets;
+    for (render::NodeMarkers set : highlights_) {
+      std::erase_if(set.nodes, [n](std::int32_t i) { return i < 0 || i >= n; });
+      sets.push_back(std::move(set));
+    }
+    if (probe_node_ >= 0 && probe_node_ < n) sets.push_back({{probe_node_}, kProbeMarkerColor, kProbeMarkerPx});
+    std::string err;
+    if (!renderer_->set_markers(std::move(sets), &err)) std::fprintf(stderr, "viewport markers: %s\n", err.c_str());
   }
   void upload(int w, int h) {
     glfwMakeContextCurrent(window_);
@@ -427,7 +474,10 @@ class Viewport {
   scene::OutputSettings output_;
   std::string title_;
   std::optional<render::Camera> camera_;
+  std::optional<render::Camera> view_;  // a named view chosen with the view buttons (automatic)
   bool user_camera_ = false;        // orbited, panned or zoomed since the last reset
+  int probe_node_ = -1;
+  std::vector<render::NodeMarkers> highlights_;
   std::vector<double> fit_points_;  // corners of the deformed frames the automatic view must hold
   Eigen::AlignedBox3d fitted_;      // what the automatic view was fitted to
   std::optional<Frame> frame_;
@@ -629,6 +679,7 @@ class GuiApp {
     }
     if (u.status.probe_node >= 0 && u.status.probe_node != status_.probe_node) probe_input_ = u.status.probe_node;
     status_ = std::move(u.status);
+    viewport_.set_probe_node(status_.probe_node);
     for (Sample& s : u.samples) {
       // a probe's answer is the state already on show, now with the new node: it takes the place
       // of that state's sample, so the plots get no duplicate point
@@ -899,7 +950,28 @@ class GuiApp {
       ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
       ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus;
 
+  /// Marks on the body the nodes the shown selections act on (yellow) and the picked nodes
+  /// (magenta, over them); redone only when one of them changed.
+  void update_highlights() {
+    auto key = std::make_tuple(static_cast<const void*>(status_.selections.get()), pick_.shown, pick_.nodes);
+    if (key == highlighted_) return;
+    highlighted_ = key;
+    std::vector<render::NodeMarkers> sets;
+    render::NodeMarkers shown;
+    for (int n : shown_nodes(status_, pick_.shown)) shown.nodes.push_back(n);
+    shown.color = {1.0, 0.80, 0.0};
+    shown.size_px = 6.0;
+    if (!shown.nodes.empty()) sets.push_back(std::move(shown));
+    render::NodeMarkers picked;
+    picked.nodes.assign(pick_.nodes.begin(), pick_.nodes.end());
+    picked.color = {0.85, 0.10, 0.75};
+    picked.size_px = 9.0;
+    if (!picked.nodes.empty()) sets.push_back(std::move(picked));
+    viewport_.set_highlights(std::move(sets));
+  }
+
   void draw(float w, float h, ImVec2 vp) {
+    update_highlights();
     // viewport: top left, no padding, the image fills it
     ImGui::SetNextWindowPos(ImVec2(0, 0));
     ImGui::SetNextWindowSize(vp);
@@ -973,9 +1045,20 @@ class GuiApp {
     if (ImGui::InputDouble("max steps/s", &pace_, 0, 0, "%.0f", ImGuiInputTextFlags_EnterReturnsTrue))
       worker_->pace(pace_);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("slow the solver down to watch it; 0 = as fast as it goes");
-    ImGui::SameLine();
+    // the camera: reset, then the named views of output.view and --camera
     if (ImGui::Button("View")) viewport_.reset_camera();
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("reset the camera (drag: orbit, right drag: pan, wheel: zoom, click: probe a node)");
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("reset the camera to the automatic view (drag: orbit, right drag: pan, wheel: zoom, click: "
+                        "probe a node)");
+    static constexpr std::array<std::array<const char*, 3>, 4> kViews = {{{"Iso", "iso", "isometric: from (1, -1, 1), z up"},
+                                                                         {"Top", "top", "from +z, looking down, y up"},
+                                                                         {"Front", "front", "from -y, z up"},
+                                                                         {"Side", "side", "from +x, z up"}}};
+    for (const auto& [label, name, tip] : kViews) {
+      ImGui::SameLine();
+      if (ImGui::Button(label)) viewport_.set_view(name);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s (output.view / --camera = %s)", tip, name);
+    }
     ImGui::Separator();
 
     if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -1267,6 +1350,7 @@ class GuiApp {
   ParamEditor params_;
   SetupPanel setup_;
   PickState pick_;
+  std::tuple<const void*, std::string, std::set<int>> highlighted_{nullptr, "", {}};  // what update_highlights drew
   WorkerStatus status_;
   std::vector<Sample> history_;
   struct RatePoint {

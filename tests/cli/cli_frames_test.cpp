@@ -185,5 +185,44 @@ TEST(CliFrames, FramesBeyondTheirMemoryBudgetAreDrawnAsTheyComeAndSaySo) {
   EXPECT_EQ(tight_range.array[0].number, 0.0);
   EXPECT_LE(tight_range.array[1].number, whole_range.array[1].number);
 }
+// The same with the view chosen on the command line (--camera iso): run's automatic camera is
+// fitted to the whole motion as replay's is (it used to be fitted to the initial body only, and
+// the swinging shells left the picture), and replay with the same --camera draws the same frames.
+TEST(CliFrames, RunWithACameraOptionHoldsTheMotionAsReplayDraws) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  const ProcResult r = run_flexframe(
+      {"run", "double_pendulum_shells", "--out", out, "--quiet", "--no-plots", "--camera", "iso", "--set",
+       "solver.end=1.5", "--set", "part[0].n1=8", "--set", "part[0].n2=8", "--set", "part[1].n1=8", "--set",
+       "part[1].n2=8", "--frame-every", "30", "--width", std::to_string(kWidth), "--height", std::to_string(kHeight)},
+      dir + "/run");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const std::vector<std::string> frames = pngs_in(out + "/frames");
+  ASSERT_EQ(frames.size(), 6u);  // 151 stored frames, every 30th
+  const int view_right = kWidth - static_cast<int>(std::lround(0.15 * kWidth));
+  for (const std::string& path : frames) {
+    const std::string name = fs::path(path).filename().string();
+    const Image img = read_png(path);
+    ASSERT_EQ(img.width, kWidth) << name;
+    EXPECT_EQ(drawn_pixels(img, 0, 2, kHeight / 6, kHeight), 0) << name << ": the body leaves the view on the left";
+    EXPECT_EQ(drawn_pixels(img, 0, view_right, kHeight - 2, kHeight), 0) << name << ": the body leaves the view below";
+    EXPECT_EQ(drawn_pixels(img, view_right - 2, view_right, kHeight / 6, kHeight), 0)
+        << name << ": the body leaves the view on the right";
+    EXPECT_EQ(drawn_pixels(img, kWidth / 3, view_right, 0, 2), 0) << name << ": the body leaves the view above";
+  }
+  const ProcResult rp = run_flexframe({"replay", out, "--out", dir + "/replay", "--no-plots", "--camera", "iso",
+                                       "--frame-every", "30", "--size",
+                                       std::to_string(kWidth) + "x" + std::to_string(kHeight)},
+                                      dir + "/replay");
+  ASSERT_EQ(rp.exit_code, 0) << rp.describe();
+  ASSERT_EQ(pngs_in(dir + "/replay/frames").size(), frames.size());
+  for (const std::string& path : frames) {
+    const std::string name = fs::path(path).filename().string();
+    const Image a = read_png(out + "/frames/" + name), b = read_png(dir + "/replay/frames/" + name);
+    ASSERT_EQ(a.rgb.size(), b.rgb.size()) << name;
+    EXPECT_TRUE(a.rgb == b.rgb) << name << " differs between run and replay";
+  }
+}
+
 }  // namespace
 }  // namespace ff::cli::test

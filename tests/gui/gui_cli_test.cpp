@@ -321,6 +321,49 @@ TEST(GuiCli, IdleFinishedWindowDoesNotRedraw) {
   expect_body_in_viewport(read_png(dir + "/shot.png"), 1280, 800);
 }
 
+// Issue 34: the probed node is marked in the viewport (a green dot none of the field colours
+// comes near, gui_app.cpp kProbeMarkerColor), and the viewport carries the orientation triad in
+// its bottom-left corner (x red, y green, z blue). Before any probe there is no marker.
+TEST(GuiCli, ProbedNodeIsMarkedAndTheViewportHasATriad) {
+  if (!have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup installs it)";
+  const std::string dir = fresh_test_dir();
+  const std::string actions = dir + "/probe.txt";
+  write_text(actions, "step 1\nexport " + dir + "/before.png\nprobe 40\nstep 1\nexport " + dir +
+                          "/after.png\nquit\n");
+  const ProcResult r = run_gui_under_xvfb({"clamped_plate_pressure", "--actions", actions, "--width", "1280",
+                                           "--height", "800", "--quit-after", "40"},
+                                          dir + "/gui");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const Image before = read_png(dir + "/before.png"), after = read_png(dir + "/after.png");
+  ASSERT_EQ(after.width, 1280 - 390);
+  auto marker_green = [](const std::array<std::uint8_t, 3>& p) {
+    return std::abs(p[0] - 26) <= 1 && std::abs(p[1] - 230) <= 1 && std::abs(p[2] - 77) <= 1;
+  };
+  long long green_before = 0, green_after = 0;
+  for (const auto& p : before.rgb) green_before += marker_green(p);
+  for (const auto& p : after.rgb) green_after += marker_green(p);
+  EXPECT_EQ(green_before, 0) << "a probe marker before any probe";
+  EXPECT_GT(green_after, 50) << "the probed node is not marked";
+  EXPECT_LT(green_after, 400) << "the probe marker is one dot of 14 px";
+  // the triad: its three colours in the bottom-left square (16 % of the height), none above it
+  const int side = static_cast<int>(std::lround(0.16 * after.height)) + 12;
+  int red = 0, green = 0, blue = 0, coloured_above = 0;
+  for (int y = 0; y < after.height; ++y)
+    for (int x = 0; x < side; ++x) {
+      const auto& p = after.at(x, y);
+      const bool r_ = p[0] > p[1] + 60 && p[0] > p[2] + 60, g_ = p[1] > p[0] + 40 && p[1] > p[2] + 40,
+                 b_ = p[2] > p[0] + 60 && p[2] > p[1] + 40;
+      if (y >= after.height - side)
+        red += r_, green += g_, blue += b_;
+      else if (y > after.height / 4)  // below the title and status text
+        coloured_above += r_ || g_ || b_;
+    }
+  EXPECT_GT(red, 20);
+  EXPECT_GT(green, 20);
+  EXPECT_GT(blue, 5);  // z points at the eye in this top view: the arrow tip only
+  EXPECT_EQ(coloured_above, 0);
+}
+
 TEST(GuiCli, NoDisplayExitsWithTheHeadlessVerbs) {
   const std::string dir = fresh_test_dir();
   const char* saved = std::getenv("DISPLAY");

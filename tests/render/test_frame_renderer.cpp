@@ -7,10 +7,12 @@
 #include <vtkPNGReader.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <numbers>
 #include <thread>
+#include <tuple>
 
 #include "render/frame_renderer.h"
 #include "render/graphics_context.h"
@@ -369,6 +371,293 @@ TEST_F(FrameRendererTest, ShellGhostLiesBeneathTheBodyAsAFaintGrey) {
   const double expected[3] = {255 * (0.8 + 0.2 * 0.74), 255 * (0.8 + 0.2 * 0.74), 255 * (0.8 + 0.2 * 0.76)};
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(ghost[c], expected[c], 6.0) << "channel " << c;
   EXPECT_TRUE(is_background(at(1.4, 1.3)));  // above both
+}
+
+// a flat square plate [-1, 1]^2 in z = 0, fine enough that no element edges are drawn
+RunInfo square_plate_run(int cells) {
+  RunInfo info;
+  info.scene_name = "square plate";
+  auto& p = info.mesh.reference_points;
+  for (int j = 0; j <= cells; ++j)
+    for (int i = 0; i <= cells; ++i) p.insert(p.end(), {2.0 * i / cells - 1, 2.0 * j / cells - 1, 0.0});
+  for (int j = 0; j < cells; ++j)
+    for (int i = 0; i < cells; ++i) {
+      const int a = j * (cells + 1) + i;
+      info.mesh.quads.insert(info.mesh.quads.end(), {a, a + 1, a + cells + 2, a + cells + 1});
+    }
+  return info;
+}
+
+// points turned by angle_deg about the x axis (axis 0) or the y axis (axis 1)
+std::vector<double> turned(std::vector<double> p, int axis, double angle_deg) {
+  const double a = angle_deg * std::numbers::pi / 180.0, c = std::cos(a), s = std::sin(a);
+  const int u = axis == 0 ? 1 : 2, v = axis == 0 ? 2 : 0;  // the plane of the rotation
+  for (std::size_t i = 0; i < p.size(); i += 3) {
+    const double pu = p[i + u], pv = p[i + v];
+    p[i + u] = c * pu - s * pv;
+    p[i + v] = s * pu + c * pv;
+  }
+  return p;
+}
+
+// mean luminance (Rec. 709 weights, 0..255) of the pixels that are not background
+double mean_body_luminance(const test::Image& img, int* count) {
+  double sum = 0;
+  *count = 0;
+  for (const auto& q : img.rgb) {
+    if (is_background(q)) continue;
+    sum += 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
+    ++*count;
+  }
+  return *count > 0 ? sum / *count : 0.0;
+}
+
+// Issue 34: strongly deformed regions were drawn very dark. The shading follows the drawn surface
+// (its normals are recomputed from each frame's points, both faces lit), and a surface seen
+// obliquely is not left to the ambient light: under a lone headlight a plate in the isometric
+// view had half the brightness of the same plate seen face-on (measured 65 vs 125), and one
+// turned 70° from the eye a third.
+TEST_F(FrameRendererTest, ShadingFollowsTheDrawnSurfaceAndObliqueFacesStayLit) {
+  const RunInfo flat = square_plate_run(48);
+  std::string err;
+  auto render = [&](const RunInfo& info, const std::vector<double>& points, std::array<double, 3> direction,
+                    std::array<double, 3> up, const std::string& name) {
+    FrameStyle style;
+    style.show_base = false;
+    style.camera.view_direction = direction;
+    style.camera.view_up = up;
+    style.fit_points = points;
+    FrameRenderer renderer(*gc_, info, style);
+    EXPECT_TRUE(renderer.ok()) << renderer.error();
+    Frame f;
+    f.points = points;
+    const std::string path = test::out_dir() + "/shading_" + name + ".png";
+    EXPECT_TRUE(renderer.render_png(f, path, &err)) << err;
+    int count = 0;
+    const double lum = mean_body_luminance(test::read_png(path), &count);
+    EXPECT_GT(count, 20000) << name << ": the plate is not drawn";
+    std::printf("%-22s mean luminance %.1f over %d px\n", name.c_str(), lum, count);
+    return lum;
+  };
+  const std::array<double, 3> down_z{0, 0, 1}, y_up{0, 1, 0};
+  const double face_on = render(flat, flat.mesh.reference_points, down_z, y_up, "face_on");
+  // the same plate meshed standing (x-z plane) and drawn lying flat: its normals are the drawn ones
+  RunInfo standing = flat;
+  standing.mesh.reference_points = turned(flat.mesh.reference_points, 0, 90.0);
+  EXPECT_NEAR(render(standing, flat.mesh.reference_points, down_z, y_up, "standing_drawn_flat"), face_on, 1.0);
+  // both faces are lit alike
+  EXPECT_NEAR(render(flat, flat.mesh.reference_points, {0, 0, -1}, y_up, "back_face"), face_on, 1.0);
+  // the isometric view of the plate (55° from its normal)
+  EXPECT_GT(render(flat, flat.mesh.reference_points, {1, -1, 1}, {0, 0, 1}, "isometric"), 0.85 * face_on);
+  // turned 70° away from the eye, whichever way (the normal towards the image's bottom, top, ...)
+  for (const auto& [axis, angle, name] : {std::tuple{0, 70.0, "facing_down"}, std::tuple{0, -70.0, "facing_up"},
+                                          std::tuple{1, 70.0, "facing_right"}, std::tuple{1, -70.0, "facing_left"}})
+    EXPECT_GT(render(flat, turned(flat.mesh.reference_points, axis, angle), down_z, y_up, name), 0.5 * face_on)
+        << name;
+}
+
+// A shell folded back on itself (a crease of 170°, as in a crushed wall) is shaded as two flat
+// faces: next to the crease as away from it. With normals averaged across the crease the nodes on
+// it got a normal lying in the faces (the two nearly opposite normals cancel), and the row of
+// elements beside the crease was shaded as if seen edge-on: a dark band.
+TEST_F(FrameRendererTest, ACreaseIsShadedAsTwoFacesWithoutADarkBand) {
+  const RunInfo plate = square_plate_run(16);
+  Frame f;
+  f.points = plate.mesh.reference_points;
+  const double fold = 0.25, a = 170.0 * std::numbers::pi / 180.0;
+  for (std::size_t i = 0; i < f.points.size(); i += 3)
+    if (f.points[i] > fold + 1e-9) {
+      const double r = f.points[i] - fold;
+      f.points[i] = fold + r * std::cos(a);
+      f.points[i + 2] = r * std::sin(a);  // above the unfolded half
+    }
+  FrameStyle style;
+  style.show_base = false;
+  style.camera.view_direction = {0, 0, 1};
+  style.camera.view_up = {0, 1, 0};
+  FrameRenderer renderer(*gc_, plate, style);
+  ASSERT_TRUE(renderer.ok()) << renderer.error();
+  const std::string path = test::out_dir() + "/crease.png";
+  std::string err;
+  ASSERT_TRUE(renderer.render_png(f, path, &err)) << err;
+  const test::Image img = test::read_png(path);
+  const Camera cam = renderer.camera();
+  // mean luminance over x in [x0, x1], |y| < 0.8, of the folded half seen from above
+  auto band = [&](double x0, double x1) {
+    double sum = 0;
+    int count = 0;
+    const auto lo = test::to_pixel(cam, img.width, img.height, x0, 0.8), hi = test::to_pixel(cam, img.width, img.height, x1, -0.8);
+    for (int r = lo[1]; r <= hi[1]; ++r)
+      for (int c = lo[0]; c <= hi[0]; ++c) {
+        const auto& q = img.at(c, r);
+        sum += 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
+        ++count;
+      }
+    return sum / std::max(1, count);
+  };
+  const double at_crease = band(fold - 0.11, fold - 0.01), away = band(fold - 0.6, fold - 0.3);
+  std::printf("luminance beside the crease %.1f, away from it %.1f\n", at_crease, away);
+  EXPECT_GT(at_crease, 0.95 * away);
+}
+
+// The orientation triad (FrameStyle::show_triad) sits in the bottom-left corner, changes no pixel
+// outside it, and turns with the camera: seen from above (+y up) the x arrow points right and
+// the y arrow up; seen from the front (-y, z up) the z arrow points up.
+TEST_F(FrameRendererTest, OrientationTriadSitsInTheBottomLeftCornerAndTurnsWithTheCamera) {
+  auto render = [&](bool triad, std::array<double, 3> direction, std::array<double, 3> up, const std::string& name) {
+    FrameStyle style = field_style();
+    style.show_triad = triad;
+    style.camera.view_direction = direction;
+    style.camera.view_up = up;
+    FrameRenderer renderer(*gc_, info_, style);
+    EXPECT_TRUE(renderer.ok()) << renderer.error();
+    std::string err;
+    const std::string path = test::out_dir() + "/triad_" + name + ".png";
+    EXPECT_TRUE(renderer.render_png(test::hub_beam_frame(info_, 0.3, 0.05, 1.25), path, &err)) << err;
+    return test::read_png(path);
+  };
+  const test::Image plain = render(false, {0, 0, 1}, {0, 1, 0}, "off");
+  const test::Image top = render(true, {0, 0, 1}, {0, 1, 0}, "top");
+  const test::Image front = render(true, {0, -1, 0}, {0, 0, 1}, "front");
+  ASSERT_EQ(plain.rgb.size(), top.rgb.size());
+  // the corner square (rows from the top): margin 0.018 h, side 16 % of the smaller side
+  const int w = plain.width, h = plain.height;
+  const int margin = static_cast<int>(std::lround(0.018 * h)), side = static_cast<int>(std::lround(0.16 * h));
+  const int left = margin, right = margin + side, bottom = h - margin, upper = h - margin - side;
+  int outside_changed = 0, inside_changed = 0;
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) {
+      const bool inside = c >= left - 1 && c <= right && r >= upper - 1 && r <= bottom;
+      (inside ? inside_changed : outside_changed) += plain.at(c, r) != top.at(c, r);
+    }
+  EXPECT_EQ(outside_changed, 0) << "the triad drew outside its corner";
+  EXPECT_GT(inside_changed, 500) << "no triad drawn";
+  // which way the coloured arrows point from the square's centre
+  const int cc = (left + right) / 2, cr = (upper + bottom) / 2;
+  auto reddish = [](const std::array<std::uint8_t, 3>& q) { return q[0] > q[1] + 60 && q[0] > q[2] + 60; };
+  auto greenish = [](const std::array<std::uint8_t, 3>& q) { return q[1] > q[0] + 40 && q[1] > q[2] + 40; };
+  auto bluish = [](const std::array<std::uint8_t, 3>& q) { return q[2] > q[0] + 60 && q[2] > q[1] + 40; };
+  auto count = [&](const test::Image& img, auto pred, int c0, int c1, int r0, int r1) {
+    int n = 0;
+    for (int r = r0; r < r1; ++r)
+      for (int c = c0; c < c1; ++c) n += pred(img.at(c, r));
+    return n;
+  };
+  const int q = side / 8;  // stay clear of the shafts' overlap at the centre
+  EXPECT_GT(count(top, reddish, cc + q, right, cr - q, cr + q), 30) << "x does not point right from above";
+  EXPECT_EQ(count(top, reddish, left, cc - q, upper, bottom), 0);
+  EXPECT_GT(count(top, greenish, cc - q, cc + q, upper, cr - q), 30) << "y does not point up from above";
+  EXPECT_EQ(count(top, greenish, left, right, cr + q, bottom), 0);
+  EXPECT_GT(count(front, bluish, cc - q, cc + q, upper, cr - q), 30) << "z does not point up from the front";
+  EXPECT_GT(count(front, reddish, cc + q, right, cr - q, cr + q), 30) << "x does not point right from the front";
+  EXPECT_EQ(count(front, bluish, left, right, cr + q, bottom), 0);
+}
+
+// Node markers (FrameRenderer::set_markers) are drawn in their colour at the nodes' drawn
+// positions (deformed and scaled as the body), over the body; later sets over earlier ones; an
+// empty list draws nothing; a node outside the mesh is refused and the markers stay.
+TEST_F(FrameRendererTest, NodeMarkersAreDrawnAtTheNodesDrawnPositions) {
+  FrameStyle style = field_style();
+  style.deformation_scale = 4.0;
+  const Frame f = test::hub_beam_frame(info_, 0.3, 0.05, 1.25);
+  std::string err;
+  const std::string plain_png = test::out_dir() + "/markers_none.png";
+  {
+    FrameRenderer plain(*gc_, info_, style);
+    ASSERT_TRUE(plain.render_png(f, plain_png, &err)) << err;
+  }
+  FrameRenderer renderer(*gc_, info_, style);
+  ASSERT_TRUE(renderer.set_markers({}, &err)) << err;
+  const std::string empty_png = test::out_dir() + "/markers_empty.png";
+  ASSERT_TRUE(renderer.render_png(f, empty_png, &err)) << err;
+  EXPECT_TRUE(test::file_bytes(plain_png) == test::file_bytes(empty_png)) << "an empty marker list drew something";
+
+  const int tip = 1 + test::kHubRim + test::kBeamPoints - 1, mid = 1 + test::kHubRim + test::kBeamPoints / 2;
+  std::vector<std::int32_t> rim;
+  for (int k = 1; k <= test::kHubRim; ++k) rim.push_back(k);
+  rim.push_back(mid);
+  const std::array<double, 3> yellow{1.0, 0.85, 0.0}, green{0.1, 0.9, 0.3};
+  ASSERT_TRUE(renderer.set_markers({{rim, yellow, 6.0}, {{tip, mid}, green, 14.0}}, &err)) << err;
+  ASSERT_EQ(renderer.markers().size(), 2u);
+  const std::string path = test::out_dir() + "/markers.png";
+  ASSERT_TRUE(renderer.render_png(f, path, &err)) << err;
+  const test::Image img = test::read_png(path);
+  const Camera cam = renderer.camera();
+  auto drawn_at = [&](int node) {  // base + scale * (points - base), as the body is drawn
+    double p[2];
+    for (int k = 0; k < 2; ++k)
+      p[k] = f.base_points[3 * node + k] + 4.0 * (f.points[3 * node + k] - f.base_points[3 * node + k]);
+    return test::to_pixel(cam, img.width, img.height, p[0], p[1]);
+  };
+  auto near_colour = [](const std::array<std::uint8_t, 3>& q, const std::array<double, 3>& c) {
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(int(q[k]) - int(std::lround(255 * c[k]))) > 1) return false;
+    return true;
+  };
+  // the tip's drawn position (4x its deflection) carries the large green dot
+  const auto t = drawn_at(tip);
+  EXPECT_TRUE(near_colour(img.at(t[0], t[1]), green)) << "tip marker missing";
+  // the undeformed tip position, away from the drawn one, does not
+  const double undeformed_x = f.base_points[3 * tip], undeformed_y = f.base_points[3 * tip + 1];
+  const auto u = test::to_pixel(cam, img.width, img.height, undeformed_x, undeformed_y);
+  ASSERT_GT(std::hypot(u[0] - t[0], u[1] - t[1]), 20.0);
+  EXPECT_FALSE(any_near(img, u[0], u[1], 2, [&](const auto& q) { return near_colour(q, green); }));
+  // the beam's middle node is in both sets: the later (green) lies over the earlier (yellow)
+  const auto m = drawn_at(mid);
+  EXPECT_TRUE(near_colour(img.at(m[0], m[1]), green));
+  // a hub rim node carries a small yellow dot, with a dark rim around it
+  const auto r = drawn_at(1 + test::kHubRim / 4);
+  EXPECT_TRUE(any_near(img, r[0], r[1], 1, [&](const auto& q) { return near_colour(q, yellow); }));
+  int yellow_px = 0, green_px = 0;
+  for (const auto& q : img.rgb) yellow_px += near_colour(q, yellow), green_px += near_colour(q, green);
+  EXPECT_GT(green_px, 2 * 50);          // two dots of ~10 px fill diameter
+  EXPECT_LT(green_px, 2 * 150);
+  EXPECT_GT(yellow_px, test::kHubRim);  // the rim dots overlap each other on the small hub
+
+  // bad input: refused with the reason, the markers kept
+  EXPECT_FALSE(renderer.set_markers({{{0, 99999}, green, 8.0}}, &err));
+  EXPECT_NE(err.find("99999"), std::string::npos) << err;
+  EXPECT_FALSE(renderer.set_markers({{{0}, green, 0.0}}, &err));
+  EXPECT_NE(err.find("size_px"), std::string::npos) << err;
+  EXPECT_EQ(renderer.markers().size(), 2u);
+  // removed again: the picture without markers
+  ASSERT_TRUE(renderer.set_markers({}, &err));
+  ASSERT_TRUE(renderer.render_png(f, empty_png, &err)) << err;
+  EXPECT_TRUE(test::file_bytes(plain_png) == test::file_bytes(empty_png));
+}
+
+// A marked node of a shell shows over the surface it lies on, and over the body where the node is
+// hidden behind it (a plate folded over the node).
+TEST_F(FrameRendererTest, NodeMarkersShowOverTheSurface) {
+  const RunInfo plate = square_plate_run(16);
+  // fold the half x > 0.25 over the rest (turned 180° about the line x = 0.25, 0.2 above it)
+  Frame f;
+  f.points = plate.mesh.reference_points;
+  for (std::size_t i = 0; i < f.points.size(); i += 3)
+    if (f.points[i] > 0.25 + 1e-9) f.points[i] = 0.5 - f.points[i], f.points[i + 2] = 0.2;
+  FrameStyle style;
+  style.show_base = false;
+  style.camera.view_direction = {0, 0, 1};
+  style.camera.view_up = {0, 1, 0};
+  FrameRenderer renderer(*gc_, plate, style);
+  ASSERT_TRUE(renderer.ok()) << renderer.error();
+  const int open_node = 2 * 17 + 2;          // (-0.75, -0.75): on the open part
+  const int hidden_node = 8 * 17 + 6;        // (-0.25, 0): under the folded half (x < 0.25 beneath)
+  ASSERT_NEAR(f.points[3 * hidden_node], -0.25, 1e-12);
+  const std::array<double, 3> magenta{0.9, 0.1, 0.8};
+  std::string err;
+  ASSERT_TRUE(renderer.set_markers({{{open_node, hidden_node}, magenta, 12.0}}, &err)) << err;
+  const std::string path = test::out_dir() + "/markers_over_shell.png";
+  ASSERT_TRUE(renderer.render_png(f, path, &err)) << err;
+  const test::Image img = test::read_png(path);
+  const Camera cam = renderer.camera();
+  for (int node : {open_node, hidden_node}) {
+    const auto px = test::to_pixel(cam, img.width, img.height, f.points[3 * node], f.points[3 * node + 1]);
+    const auto& q = img.at(px[0], px[1]);
+    EXPECT_NEAR(q[0], 230, 1) << "node " << node;
+    EXPECT_NEAR(q[1], 26, 1) << "node " << node;
+    EXPECT_NEAR(q[2], 204, 1) << "node " << node;
+  }
 }
 
 TEST_F(FrameRendererTest, AutomaticColourRangeIsKeptAndOnlyWidened) {

@@ -132,12 +132,18 @@ TEST(GraphicsContext, DisplayMeansX11AndSamePicture) {
   style.color_field = "axial_strain";
   const Frame f = test::hub_beam_frame(info, 0.9, 0.05, 1.0);
   const std::string px = test::out_dir() + "/backend_x11.png", pe = test::out_dir() + "/backend_egl.png";
+  // overlapping node markers too: their stacking must not depend on the backend's depth test
+  const int beam = 1 + test::kHubRim;
+  const std::vector<NodeMarkers> markers = {{{beam, beam + 1, beam + 2, beam + 3}, {1.0, 0.85, 0.0}, 6.0},
+                                            {{beam + 2}, {0.1, 0.9, 0.3}, 14.0}};
   {
     FrameRenderer rx(*x, info, style);
+    ASSERT_TRUE(rx.set_markers(markers, &err)) << err;
     ASSERT_TRUE(rx.render_png(f, px, &err)) << err;
   }
   {
     FrameRenderer re(*e, info, style);
+    ASSERT_TRUE(re.set_markers(markers, &err)) << err;
     ASSERT_TRUE(re.render_png(f, pe, &err)) << err;
   }
   unsetenv("DISPLAY");
