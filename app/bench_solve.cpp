@@ -184,6 +184,14 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   // under mpirun (core/solve/distributed.md) only MUMPS spans the ranks: the others are not timed
   const int ranks = linear_solver_ranks();
   if (ranks > 1) backends = {LinearBackend::mumps};
+  if (!opt.solve_backend.empty()) {
+    const std::optional<LinearBackend> only = parse_linear_backend(opt.solve_backend);
+    if (!only || !linear_backend_available(*only)) {
+      std::fprintf(stderr, "error: --backend %s is not compiled in\n", opt.solve_backend.c_str());
+      return 2;
+    }
+    backends = {*only};
+  }
   const LinearBackend chosen = default_linear_backend();
   const int eigen_threads = Eigen::nbThreads();
   Eigen::setNbThreads(1);  // the element figures are for one core

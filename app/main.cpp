@@ -142,6 +142,8 @@ int main(int argc, char** argv) {
                   "backend");
   bench->add_option("--max-n", bench_opt.solve_max_n, "--solve: largest plate (16, 32, 64, 128, 256)")
       ->check(CLI::Range(16, 256));
+  bench->add_option("--backend", bench_opt.solve_backend, "--solve: only this linear backend (e.g. mumps)")
+      ->check(CLI::IsMember({"umfpack", "sparse_lu", "mumps"}));
   bench->add_option("--json", bench_opt.out_file, "same as --out: write the results as JSON to this file");
   bench->add_option("--scene", bench_opt.scenes,
                     "only whole runs of this scene (bundled name or file; repeatable): wall time, steps, "
