@@ -1,6 +1,6 @@
 // One model over MPI ranks (core/solve/distributed.md): `mpirun -n 2 flexframe run` against the
-// same run in one process, and a rank killed mid-run. Built only with -DFLEXFRAME_MUMPS=mpi
-// (tests/cli/CMakeLists.txt); FF_MPIEXEC is the launcher CMake found.
+// same run in one process, and a rank killed mid-run (MUMPS's MPI build, -DFLEXFRAME_MUMPS=mpi);
+// with the sequential MUMPS, the refusal. FF_MPIEXEC is the launcher CMake found.
 
 #include <gtest/gtest.h>
 
@@ -11,6 +11,7 @@
 
 #include "app/io/results.h"
 #include "cli_support.h"
+#include "core/solve/solver_ranks.h"
 
 namespace ff::cli::test {
 namespace {
@@ -74,6 +75,7 @@ double largest(const std::vector<double>& v) {
 // A static shell path (arc-length, LDLᵀ and LU factorizations) run on one process and on two ranks:
 // the same steps and every frame's displacements equal to 1e-10 relative to the largest one.
 TEST(CliRanks, TwoRanksRunTheModelOfOne) {
+  if (!distributed_linear_solver_built()) GTEST_SKIP() << "sequential MUMPS: see CliRanks.SequentialBuildRefusesRanks";
   const std::string dir = fresh_test_dir();
   const std::vector<std::string> args = {"run", "hinged_roof_h127", "--no-frames", "--no-plots", "--quiet",
                                          "--set", "solver.max_steps=12"};
@@ -111,6 +113,7 @@ TEST(CliRanks, TwoRanksRunTheModelOfOne) {
 // One of two ranks killed mid-run: the run ends (no rank waits forever), not as completed, and
 // rank 0's results.h5 holds the frames it had stored, readable by replay.
 TEST(CliRanks, KilledRankLeavesReadableResults) {
+  if (!distributed_linear_solver_built()) GTEST_SKIP() << "sequential MUMPS: see CliRanks.SequentialBuildRefusesRanks";
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
   // the main job's dynamics (double pendulum of shells), tens of seconds on two ranks
@@ -139,6 +142,19 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   EXPECT_NE(h->outcome().status, RunStatus::completed);
   const ProcResult replay = run_flexframe({"replay", out, "--no-frames", "--out", dir + "/replay"}, dir + "/replay");
   EXPECT_EQ(replay.exit_code, 0) << replay.describe();
+}
+
+// The sequential MUMPS cannot share a model: `run` under a two-rank mpirun says so and how to build
+// the MPI one (exit 2), instead of running two copies that write the same folder.
+TEST(CliRanks, SequentialBuildRefusesRanks) {
+  if (distributed_linear_solver_built()) GTEST_SKIP() << "MPI build: see CliRanks.TwoRanksRunTheModelOfOne";
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_on(two_ranks(), {"run", "clamped_plate_pressure", "--no-frames", "--no-plots", "--quiet",
+                                            "--out", dir + "/out"},
+                              dir + "/run");
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find("-DFLEXFRAME_MUMPS=mpi"), std::string::npos) << r.describe();
+  EXPECT_FALSE(fs::exists(dir + "/out/results.h5"));
 }
 
 }  // namespace
