@@ -144,6 +144,21 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   EXPECT_EQ(replay.exit_code, 0) << replay.describe();
 }
 
+// A study under mpirun still spreads its variants over the ranks, each variant a process of its
+// own: with MUMPS's MPI build that child starts MPI alone, which the launcher's inherited
+// variables made fail before (every variant "exited with code 1 without a result").
+TEST(CliRanks, StudyVariantsRunUnderTwoRanks) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_on(two_ranks(), {"study", "hinged_roof_h127", "--vary", "solver.max_steps=2,3", "--metric",
+                                            "w_final", "--out", dir + "/out"},
+                              dir + "/study");
+  EXPECT_EQ(r.exit_code, 0) << r.describe();
+  const std::string table = read_text(dir + "/out/study.md");
+  EXPECT_EQ(count_of(table, "| solver.max_steps="), 2u) << table;
+  EXPECT_EQ(count_of(table, "without a result"), 0u) << table;
+  EXPECT_EQ(count_of(table, "incomplete: step budget"), 2u) << table;
+}
+
 // The sequential MUMPS cannot share a model: `run` under a two-rank mpirun says so and how to build
 // the MPI one (exit 2), instead of running two copies that write the same folder.
 TEST(CliRanks, SequentialBuildRefusesRanks) {
