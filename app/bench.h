@@ -10,6 +10,7 @@ struct BenchOptions {
   int effects_plate = 16;  ///< --plate: elements per side of the effects benchmark's plate
   bool solve = false;      ///< --solve: only the Newton-iteration table (run_solve_bench)
   int solve_max_n = 256;   ///< --max-n: largest plate of --solve
+  std::string solve_backend;  ///< --backend: only this linear backend in --solve ("" = every unsymmetric one)
   std::vector<std::string> scenes;     ///< --scene: time these scenes' whole runs (run_scene_bench)
   std::vector<std::string> overrides;  ///< --set: scene keys changed in every --scene run
 };

@@ -22,6 +22,7 @@
 #include "core/shell/cb_shell.h"
 #include "core/shell/sample_elements.h"
 #include "core/shell/shell_model.h"
+#include "core/solve/solver_ranks.h"
 #include "core/solve/sparse_solver.h"
 
 namespace ff::app {
@@ -180,6 +181,17 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   for (LinearBackend b : all_linear_backends())
     // the Cholesky-type backends take symmetric positive definite tangents only: not candidates
     if (linear_backend_available(b) && !linear_backend_is_symmetric(b)) backends.push_back(b);
+  // under mpirun (core/solve/distributed.md) only MUMPS spans the ranks: the others are not timed
+  const int ranks = linear_solver_ranks();
+  if (ranks > 1) backends = {LinearBackend::mumps};
+  if (!opt.solve_backend.empty()) {
+    const std::optional<LinearBackend> only = parse_linear_backend(opt.solve_backend);
+    if (!only || !linear_backend_available(*only)) {
+      std::fprintf(stderr, "error: --backend %s is not compiled in\n", opt.solve_backend.c_str());
+      return 2;
+    }
+    backends = {*only};
+  }
   const LinearBackend chosen = default_linear_backend();
   const int eigen_threads = Eigen::nbThreads();
   Eigen::setNbThreads(1);  // the element figures are for one core
@@ -188,12 +200,14 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
 
   const std::string blas = blas_kernels();
   std::printf("Static Newton iteration on an n x n plate (CB shell, hr + ans, 5 DoF), wall time, best of %d "
-              "(1 from n = 128); default backend: %s; BLAS: %s; MUMPS per-call statistics: %s\n\n",
-              opt.repeat, std::string(to_string(chosen)).c_str(), blas.c_str(), mumps_statistics().c_str());
+              "(1 from n = 128); default backend: %s; BLAS: %s; MUMPS per-call statistics: %s; MUMPS over %d MPI "
+              "rank(s)%s\n\n",
+              opt.repeat, std::string(to_string(chosen)).c_str(), blas.c_str(), mumps_statistics().c_str(), ranks,
+              distributed_linear_solver_built() ? " (MPI build)" : " (sequential build)");
   std::printf("| n | DoFs | assembly [ms] |");
   for (LinearBackend b : backends) std::printf(" %s factorize + solve [ms] |", std::string(to_string(b)).c_str());
-  std::printf(" default / assembly | umfpack / default |\n|---|---|---|");
-  for (std::size_t k = 0; k < backends.size() + 2; ++k) std::printf("---|");
+  std::printf(" default / assembly | umfpack / default | Newton iteration [ms] | MUMPS Gflop | MUMPS MB per rank (largest) | MUMPS MB, all ranks |\n|---|---|---|");
+  for (std::size_t k = 0; k < backends.size() + 6; ++k) std::printf("---|");
   std::printf("\n");
 
   nlohmann::ordered_json plates = nlohmann::ordered_json::array();
@@ -205,6 +219,7 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
     nlohmann::ordered_json row = {{"n", n}, {"dofs", it.model->size()}, {"assembly_ms", 1e3 * assembly}};
     std::printf("| %d | %d | %.4g |", n, it.model->size(), 1e3 * assembly);
     double t_default = 0.0, t_umfpack = 0.0;
+    LinearFigures mumps;
     for (LinearBackend b : backends) {
       // SparseLU's column ordering fills in badly on 2-D meshes: 14 s at 128 x 128, 195 s at 256
       if (b == LinearBackend::sparse_lu && n > 64) {
@@ -222,18 +237,27 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
       row[std::string(to_string(b)) + "_factorize_solve_ms"] = ok ? 1e3 * t : -1.0;
       if (ldlt) row[std::string(to_string(b)) + "_factorization"] = "ldlt";
       if (b == chosen) t_default = t;
+      if (b == LinearBackend::mumps && ok) mumps = solver.factorization_figures();
       if (b == LinearBackend::umfpack) t_umfpack = t;
     }
     row["backend"] = std::string(to_string(chosen));
     row["factorize_solve_ms"] = 1e3 * t_default;
     if (t_umfpack > 0) row["umfpack_factorize_solve_ms"] = 1e3 * t_umfpack;
-    std::printf(" %.2f | %.2f |\n", t_default / assembly, t_umfpack > 0 ? t_umfpack / t_default : 0.0);
+    row["newton_iteration_ms"] = 1e3 * (assembly + t_default);
+    row["ranks"] = mumps.ranks;
+    row["mumps_flops"] = mumps.flops;
+    row["mumps_memory_mb_largest_rank"] = mumps.memory_mb_max_rank;
+    row["mumps_memory_mb_all_ranks"] = mumps.memory_mb_total;
+    row["mumps_factor_entries"] = mumps.factor_entries;
+    std::printf(" %.2f | %.2f | %.4g | %.3g | %.0f | %.0f |\n", t_default / assembly, t_umfpack > 0 ? t_umfpack / t_default : 0.0,
+                1e3 * (assembly + t_default), 1e-9 * mumps.flops, mumps.memory_mb_max_rank, mumps.memory_mb_total);
     std::fflush(stdout);
     plates.push_back(row);
   }
   if (!opt.out_file.empty()) {
     const nlohmann::ordered_json root{
-        {"element", element}, {"plate", plates}, {"blas", blas}, {"mumps_statistics", mumps_statistics()}};
+        {"element", element}, {"plate", plates}, {"blas", blas}, {"mumps_statistics", mumps_statistics()},
+        {"ranks", ranks}, {"mumps_build", distributed_linear_solver_built() ? "mpi" : "sequential"}};
     if (!write_bench_json(opt.out_file, root.dump(2) + "\n")) return 1;
   }
   return stop ? 130 : 0;

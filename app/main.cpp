@@ -21,6 +21,7 @@
 #include "app/view_options.h"
 #include "app/io/mesh_import.h"
 #include "core/scene/scene.h"
+#include "core/solve/solver_ranks.h"
 
 namespace {
 std::atomic<bool> g_stop{false};
@@ -141,6 +142,8 @@ int main(int argc, char** argv) {
                   "backend");
   bench->add_option("--max-n", bench_opt.solve_max_n, "--solve: largest plate (16, 32, 64, 128, 256)")
       ->check(CLI::Range(16, 256));
+  bench->add_option("--backend", bench_opt.solve_backend, "--solve: only this linear backend (e.g. mumps)")
+      ->check(CLI::IsMember({"umfpack", "sparse_lu", "mumps"}));
   bench->add_option("--json", bench_opt.out_file, "same as --out: write the results as JSON to this file");
   bench->add_option("--scene", bench_opt.scenes,
                     "only whole runs of this scene (bundled name or file; repeatable): wall time, steps, "
@@ -237,15 +240,50 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  // One model over MPI ranks (core/solve/distributed.md): `mpirun -n K flexframe run|bench`
+  // factorizes over all K ranks; every rank runs the same model, rank 0 alone writes and prints
+  const bool one_model_over_ranks = ff::launched_ranks() > 1 && (*run || *bench);
+  if (one_model_over_ranks) {
+    if (!ff::share_linear_solvers_over_world()) {
+      std::fprintf(stderr,
+                   "error: this flexframe was built with the sequential MUMPS: run and bench take one process "
+                   "(configure with -DFLEXFRAME_MUMPS=mpi to run one model over MPI ranks)\n");
+      return 2;
+    }
+    if (ff::linear_solver_rank() != 0 && !std::freopen("/dev/null", "w", stdout)) return 1;
+  }
+  const bool follower = one_model_over_ranks && ff::linear_solver_rank() != 0;
+  // an error on one rank (its output folder, say) ends every rank: the others would wait for it
+  const auto leave = [&](int code) {
+    if (one_model_over_ranks) {
+      std::fflush(stderr);
+      ff::end_all_ranks(code);
+    }
+    return code;
+  };
+
   try {
     if (*run) {
       run_opt.scene_path = ff::app::resolve_scene(run_scene.empty() ? ff::app::default_scene() : run_scene);
       run_opt.frames = !no_frames;
       run_opt.plots = !no_plots;
       run_opt.progress = !quiet;
+      if (follower) {
+        const int code = ff::app::follow_run(run_opt);
+        ff::finish_solver_mpi();  // reached only when rank 0 completed too (else it ended every rank)
+        return code;
+      }
       const ff::app::RunResult r = ff::app::run_scene(run_opt, g_stop);
       print_result(r);
-      return ff::app::exit_code(r.outcome);
+      const int code = ff::app::exit_code(r.outcome);
+      // a run that did not complete may have left the other ranks waiting in a collective call for
+      // this one: end them all, with this run's exit code (its results are written and closed)
+      if (one_model_over_ranks && r.outcome.status != ff::RunStatus::completed) {
+        std::fflush(stdout);
+        ff::end_all_ranks(code);
+      }
+      ff::finish_solver_mpi();
+      return code;
     }
     if (*replay) {
       if (!replay_field.empty()) replay_opt.field = replay_field;
@@ -277,11 +315,16 @@ int main(int argc, char** argv) {
       return ff::app::gui::run_gui(gui_opt, g_stop);
     }
     if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
-    if (*bench)
-      return !bench_opt.scenes.empty() ? ff::app::run_scene_bench(bench_opt, g_stop)
-             : bench_opt.solve           ? ff::app::run_solve_bench(bench_opt, g_stop)
-             : bench_opt.effects         ? ff::app::run_effects_bench(bench_opt, g_stop)
-                                         : ff::app::run_bench(bench_opt, g_stop);
+    if (*bench) {
+      if (follower) bench_opt.out_file.clear();  // rank 0 writes the JSON
+      const int code = !bench_opt.scenes.empty() ? ff::app::run_scene_bench(bench_opt, g_stop)
+                       : bench_opt.solve         ? ff::app::run_solve_bench(bench_opt, g_stop)
+                       : bench_opt.effects       ? ff::app::run_effects_bench(bench_opt, g_stop)
+                                                 : ff::app::run_bench(bench_opt, g_stop);
+      if (one_model_over_ranks && code != 0) ff::end_all_ranks(code);
+      ff::finish_solver_mpi();
+      return code;
+    }
     if (*policies) {
       auto split = [](const std::string& s) {
         std::vector<std::string> out;
@@ -321,16 +364,16 @@ int main(int argc, char** argv) {
     if (*study_variant) return ff::app::run_study_variant(variant_opt, g_stop);
   } catch (const ff::scene::SceneError& e) {
     std::fprintf(stderr, "error: invalid scene or study file\n%s\n", e.what());
-    return 2;
+    return leave(2);
   } catch (const ff::SetupInterrupted& e) {  // a signal while the model was being built: nothing was written
     std::fprintf(stderr, "\n%s; nothing was written\n", e.what());
-    return 130;
+    return leave(130);
   } catch (const ff::app::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
+    return leave(2);
   } catch (const std::exception& e) {  // output folder, HDF5 file, ...: the run failed
     std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+    return leave(1);
   }
   return 0;
 }

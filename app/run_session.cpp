@@ -130,6 +130,13 @@ int exit_code(const RunOutcome& o) {
   return 1;
 }
 
+int follow_run(const RunOptions& opt) {
+  const std::atomic<bool> never{false};
+  scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&never));
+  const RunOutcome outcome = scene.simulation->run([](Frame&&) {}, never);
+  return exit_code(outcome);
+}
+
 RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&stop));
   if (scene.mesh_quality)  // poor quads run, but the user hears of them before a long run

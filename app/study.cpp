@@ -344,12 +344,16 @@ struct Task {
 };
 
 /// The environment of a child: this one with the element loops on one thread, since the cores
-/// go to the variants running side by side.
+/// go to the variants running side by side, and without the MPI launcher's variables: a child is a
+/// process of its own, and with MUMPS's MPI build it starts MPI alone (core/solve/solver_ranks.h),
+/// which a rank's inherited OMPI_/PMIX_ variables would turn into a failed attempt to join the job.
 std::vector<std::string> child_environment() {
   std::vector<std::string> env;
   for (char** e = environ; *e; ++e) {
     const std::string s = *e;
     if (s.rfind("OMP_NUM_THREADS=", 0) == 0 || s.rfind("OPENBLAS_NUM_THREADS=", 0) == 0) continue;
+    if (s.rfind("OMPI_", 0) == 0 || s.rfind("PMIX_", 0) == 0 || s.rfind("PMI_", 0) == 0 || s.rfind("ORTE_", 0) == 0)
+      continue;
     env.push_back(s);
   }
   env.push_back("OMP_NUM_THREADS=1");

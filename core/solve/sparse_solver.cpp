@@ -16,6 +16,9 @@
 #endif
 #ifdef FF_HAVE_MUMPS
 #include <dmumps_c.h>
+
+#include "core/solve/solver_ranks.h"
+#include "core/solve/solver_ranks_mpi.h"
 #endif
 
 namespace ff {
@@ -79,6 +82,8 @@ class SparseLinearSolver::Impl {
   virtual int determinant_sign() = 0;
   /// true when the last factorization used the matrix's symmetry (LDLᵀ or LLᵀ)
   virtual bool symmetric_factorization() const { return false; }
+  /// the library's own flop and memory figures, when it gives them
+  virtual LinearFigures figures() const { return {}; }
 };
 
 namespace {
@@ -249,13 +254,19 @@ class CholmodImpl final : public SparseLinearSolver::Impl {
 
 
 #ifdef FF_HAVE_MUMPS
-// One MUMPS instance (sequential build) of one symmetry type: SYM = 0, multifrontal LU, or
-// SYM = 2, LDLᵀ with pivoting for symmetric indefinite matrices (a tangent past a limit point
-// is indefinite), on the lower triangle only: about half the flops and memory of LU.
+// One MUMPS instance of one symmetry type: SYM = 0, multifrontal LU, or SYM = 2, LDLᵀ with
+// pivoting for symmetric indefinite matrices (a tangent past a limit point is indefinite), on the
+// lower triangle only: about half the flops and memory of LU. With MUMPS's MPI build and the
+// solvers shared over the world (solver_ranks.h), the instance spans every rank: each holds the
+// whole matrix (the model is replicated) and hands MUMPS only its slice of the entries
+// (ICNTL(18) = 3); the right-hand side is read on rank 0 and the solution broadcast from it.
 class MumpsInstance {
  public:
   explicit MumpsInstance(int sym) {
-    id_.comm_fortran = -987654;  // MPI_COMM_WORLD's Fortran handle as MUMPS documents it (a stub here)
+    // MPI_COMM_SELF, or the world once shared; the sequential build's stand-in value otherwise
+    id_.comm_fortran = solver_communicator_fortran();
+    ranks_ = linear_solver_ranks();
+    rank_ = linear_solver_rank();
     id_.par = 1;                 // the host works
     id_.sym = sym;
     id_.job = -1;
@@ -271,6 +282,9 @@ class MumpsInstance {
     icntl(24) = 1;   // null pivot detection, so a singular K is reported, not factorized
     icntl(33) = 1;   // the determinant (its sign marks limit and bifurcation points)
     icntl(8) = -1;   // the row and column scaling is ours, kept across factorizations (static_solvers.md §7.2)
+    // ... with a centralized matrix only: with distributed input MUMPS computes its own scaling
+    // (given ours, it freed memory twice at the end, core/solve/distributed.md)
+    if (ranks_ > 1) icntl(8) = 77;
   }
   ~MumpsInstance() {
     if (!initialised_) return;
@@ -299,10 +313,22 @@ class MumpsInstance {
           ++q;
         }
     id_.n = n;
-    id_.nnz = static_cast<int>(positions.size());
-    id_.irn = irn_.data();
-    id_.jcn = jcn_.data();
-    id_.a = values_.data();
+    if (ranks_ == 1) {  // centralized input, as with the sequential build (same arithmetic)
+      id_.nnz = static_cast<int>(positions.size());
+      id_.irn = irn_.data();
+      id_.jcn = jcn_.data();
+      id_.a = values_.data();
+    } else {
+      // distributed input: this rank's share of the entries, an equal count per rank (the
+      // analysis gathers their coordinates only, the factorization reads the values where they are)
+      icntl(18) = 3;
+      const std::size_t total = positions.size();
+      const std::size_t begin = total * rank_ / ranks_, end = total * (rank_ + 1) / ranks_;
+      id_.nnz_loc = static_cast<int>(end - begin);
+      id_.irn_loc = irn_.data() + begin;
+      id_.jcn_loc = jcn_.data() + begin;
+      id_.a_loc = values_.data() + begin;
+    }
     id_.job = 1;
     dmumps_c(&id_);
     if (id_.infog[0] < 0) return fail(Code::backend_error, -1, "MUMPS analysis failed (INFOG(1) = " + std::to_string(id_.infog[0]) + ")");
@@ -312,6 +338,7 @@ class MumpsInstance {
   }
   LinearStatus factorize(const SparseMatrixD& a, const std::vector<int>& positions) {
     for (std::size_t q = 0; q < positions.size(); ++q) values_[q] = a.valuePtr()[positions[q]];
+    if (ranks_ > 1) return factorize_scaled();  // MUMPS's own scaling (constructor)
     // §7.2: the scaling of an earlier matrix of the pattern is kept while it still balances this
     // one's rows and columns to within a factor scaling_spread; a factorization that fails on a kept
     // scaling is tried once more on a current one
@@ -333,6 +360,8 @@ class MumpsInstance {
     id_.lrhs = static_cast<int>(x.size());
     id_.job = 3;
     dmumps_c(&id_);
+    // the solution is on rank 0 only: every rank takes the same Newton update
+    if (ranks_ > 1) broadcast_from_first_rank(x.data(), static_cast<int>(x.size()));
     return id_.infog[0] >= 0;
   }
   int determinant_sign() const {
@@ -367,7 +396,8 @@ class MumpsInstance {
     }
     if (id_.infog[0] == -10 || (id_.infog[0] >= 0 && id_.infog[27] > 0)) {
       // INFOG(28) null pivots; PIVNUL_LIST is only kept with ICNTL(24): the first one is the DoF
-      const int dof = id_.infog[27] > 0 && id_.pivnul_list ? id_.pivnul_list[0] - 1 : -1;
+      int dof = id_.infog[27] > 0 && id_.pivnul_list ? id_.pivnul_list[0] - 1 : -1;
+      if (ranks_ > 1) broadcast_from_first_rank(&dof, 1);  // PIVNUL_LIST is on the host only
       return fail(Code::singular, dof, singular_message(dof));
     }
     if (id_.infog[0] < 0)
@@ -375,7 +405,21 @@ class MumpsInstance {
     return {};
   }
 
+ public:
+  // MUMPS's own figures of the last factorization (INFOG/RINFOG are the same on every rank)
+  LinearFigures figures() const {
+    LinearFigures f;
+    f.ranks = ranks_;
+    f.flops = id_.rinfog[2];            // RINFOG(3): flops of the elimination, estimated in the analysis
+    f.memory_mb_max_rank = id_.infog[20];  // INFOG(21): MB used by the factorization on the largest rank
+    f.memory_mb_total = id_.infog[21];     // INFOG(22): MB over all ranks
+    f.factor_entries = id_.infog[28] >= 0 ? static_cast<double>(id_.infog[28]) : 1e6 * -id_.infog[28];  // INFOG(29)
+    return f;
+  }
+
+ private:
   int& icntl(int k) { return id_.icntl[k - 1]; }  // MUMPS documents ICNTL 1-based
+  int ranks_ = 1, rank_ = 0;
   DMUMPS_STRUC_C id_{};
   bool initialised_ = false, analyzed_ = false;
   std::vector<int> irn_, jcn_;
@@ -415,6 +459,7 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override { return last_ && last_->solve(b, x); }
   int determinant_sign() override { return last_ ? last_->determinant_sign() : 0; }
   bool symmetric_factorization() const override { return last_ == &ldlt_; }
+  LinearFigures figures() const override { return last_ ? last_->figures() : LinearFigures{}; }
 
  private:
   MumpsInstance lu_, ldlt_;
@@ -587,6 +632,10 @@ int SparseLinearSolver::first_asymmetric_column(const SparseMatrixD& k, double r
       }
     }
   return first;
+}
+
+LinearFigures SparseLinearSolver::factorization_figures() const {
+  return factorized_ ? impl_->figures() : LinearFigures{};
 }
 
 int SparseLinearSolver::determinant_sign() const { return factorized_ ? impl_->determinant_sign() : 0; }

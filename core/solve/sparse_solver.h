@@ -23,7 +23,7 @@ enum class LinearBackend {
   sparse_lu,       ///< Eigen::SparseLU with COLAMD ordering (supernodal LU, no external library)
   cholmod_llt,     ///< CHOLMOD supernodal LLᵀ: symmetric positive definite only (fails past a limit point)
   simplicial_ldlt,  ///< Eigen::SimplicialLDLT (AMD): symmetric, no pivoting; for symmetric indefinite use LU
-  mumps             ///< MUMPS (sequential), nested dissection: LDLᵀ when K = Kᵀ, else LU (per factorization)
+  mumps             ///< MUMPS (sequential or MPI build), nested dissection: LDLᵀ when K = Kᵀ, else LU (per factorization)
 };
 
 /// The backend every solver uses unless a scene says otherwise: MUMPS when compiled in (LDLᵀ for
@@ -58,6 +58,16 @@ struct LinearStatus {
   explicit operator bool() const { return ok(); }
 };
 
+/// A backend's own figures of its last factorization (MUMPS only; zero otherwise): what
+/// docs/performance.md scales to larger models from.
+struct LinearFigures {
+  int ranks = 1;                    ///< processes the factorization ran on (solver_ranks.h)
+  double flops = 0.0;               ///< floating-point operations of the elimination
+  double memory_mb_max_rank = 0.0;  ///< MB the factorization used on its largest rank
+  double memory_mb_total = 0.0;     ///< MB over all ranks
+  double factor_entries = 0.0;      ///< entries of the factors
+};
+
 class SparseLinearSolver {
  public:
   explicit SparseLinearSolver(LinearBackend backend = default_linear_backend());
@@ -86,6 +96,9 @@ class SparseLinearSolver {
   /// True when the last factorization used K's symmetry: the Cholesky-type backends always, MUMPS
   /// when K = Kᵀ to round-off (LDLᵀ instead of LU, static_solvers.md §7).
   bool symmetric_factorization() const;
+
+  /// The library's figures of the last successful factorization (zeros when it gives none).
+  LinearFigures factorization_figures() const;
 
   bool factorized() const { return factorized_; }
   int rows() const { return n_; }

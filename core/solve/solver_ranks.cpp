@@ -1,0 +1,112 @@
+#include "core/solve/solver_ranks.h"
+
+#include <cstdlib>
+#include <mutex>
+
+#ifdef FF_MUMPS_MPI
+// the C API only: Open MPI's deprecated C++ bindings would need libmpi_cxx
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+#endif
+
+#include "core/solve/solver_ranks_mpi.h"
+
+namespace ff {
+
+int launched_ranks() {
+  for (const char* key : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* v = std::getenv(key)) {
+      const int n = std::atoi(v);
+      if (n > 0) return n;
+    }
+  return 1;
+}
+
+#ifdef FF_MUMPS_MPI
+
+namespace {
+std::mutex g_mutex;
+bool g_world = false;   // solvers made from now on share MPI_COMM_WORLD
+bool g_started = false;  // MPI was started here
+
+void finish_at_exit() { finish_solver_mpi(); }
+}  // namespace
+
+bool distributed_linear_solver_built() { return true; }
+
+bool ensure_solver_mpi() {
+  std::lock_guard lock(g_mutex);
+  int initialised = 0, finalised = 0;
+  MPI_Initialized(&initialised);
+  MPI_Finalized(&finalised);
+  if (initialised || finalised) return initialised && !finalised;
+  int provided = 0;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_MULTIPLE, &provided);
+  g_started = true;
+  std::atexit(finish_at_exit);
+  return true;
+}
+
+bool share_linear_solvers_over_world() {
+  if (!ensure_solver_mpi()) return false;
+  std::lock_guard lock(g_mutex);
+  g_world = true;
+  return true;
+}
+
+int linear_solver_rank() {
+  if (!g_world) return 0;
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+int linear_solver_ranks() {
+  if (!g_world) return 1;
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+
+int solver_communicator_fortran() {
+  ensure_solver_mpi();
+  return static_cast<int>(MPI_Comm_c2f(g_world ? MPI_COMM_WORLD : MPI_COMM_SELF));
+}
+
+void broadcast_from_first_rank(double* values, int n) {
+  if (g_world && n > 0) MPI_Bcast(values, n, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+}
+
+void broadcast_from_first_rank(int* values, int n) {
+  if (g_world && n > 0) MPI_Bcast(values, n, MPI_INT, 0, MPI_COMM_WORLD);
+}
+
+void end_all_ranks(int code) {
+  if (g_world && linear_solver_ranks() > 1) MPI_Abort(MPI_COMM_WORLD, code);
+}
+
+void finish_solver_mpi() {
+  std::lock_guard lock(g_mutex);
+  int initialised = 0, finalised = 0;
+  MPI_Initialized(&initialised);
+  MPI_Finalized(&finalised);
+  if (initialised && !finalised && (g_started || g_world)) MPI_Finalize();
+}
+
+#else  // sequential MUMPS or none: one process
+
+bool distributed_linear_solver_built() { return false; }
+bool ensure_solver_mpi() { return false; }
+bool share_linear_solvers_over_world() { return false; }
+int linear_solver_rank() { return 0; }
+int linear_solver_ranks() { return 1; }
+int solver_communicator_fortran() { return -987654; }  // MUMPS's USE_COMM_WORLD for its sequential stand-in
+void broadcast_from_first_rank(double*, int) {}
+void broadcast_from_first_rank(int*, int) {}
+void end_all_ranks(int) {}
+void finish_solver_mpi() {}
+
+#endif
+
+}  // namespace ff

@@ -1,0 +1,48 @@
+#pragma once
+/// \file solver_ranks.h
+/// The processes (MPI ranks) that share one linear system. Without MPI, or in a process not
+/// started by mpirun, that is the process alone and nothing here does anything.
+///
+/// With MUMPS's MPI build (configure FLEXFRAME_MUMPS=mpi) a program started on K ranks may call
+/// share_linear_solvers_over_world(): from then on every SparseLinearSolver with the mumps backend
+/// factorizes over all K ranks. The design is SPMD with a replicated model (core/solve/distributed.md):
+/// every rank builds the same model and makes the same sequence of solver calls; each hands MUMPS
+/// its own slice of the matrix's entries (distributed input, no gather on one rank); the solution
+/// is computed on rank 0 and broadcast, so every rank takes the same Newton update and stays in step.
+/// Only the MPI C API is used, and only in solver_ranks.cpp and sparse_solver.cpp.
+
+namespace ff {
+
+/// True when this build's MUMPS is the MPI one (FLEXFRAME_MUMPS=mpi).
+bool distributed_linear_solver_built();
+
+/// Ranks of the world when started by mpirun (Open MPI) or a PMI launcher such as srun, read from
+/// the environment before any MPI call; 1 otherwise.
+int launched_ranks();
+
+/// Starts MPI (thread level "multiple": the solver runs on a worker thread) unless it runs already,
+/// and ends it at exit. Called by the MUMPS backend before its first instance, so a one-process
+/// program (the tests) needs no call of its own. Returns false without MPI in this build.
+bool ensure_solver_mpi();
+
+/// Makes every linear solver created from now on share MPI_COMM_WORLD (all ranks must then make
+/// the same solver calls in the same order). False, and nothing changed, when this build's MUMPS is
+/// sequential. The solvers created before keep the communicator they were made with.
+bool share_linear_solvers_over_world();
+
+/// This process's rank among those sharing the solvers (0 when alone) and their number (1 when alone).
+int linear_solver_rank();
+int linear_solver_ranks();
+
+/// Broadcasts n doubles / ints from rank 0 of the solvers' communicator (no-op when alone).
+void broadcast_from_first_rank(double* values, int n);
+void broadcast_from_first_rank(int* values, int n);
+
+/// Ends every rank at once with exit code `code` (MPI_Abort): rank 0 calls it when it stops early,
+/// since the other ranks may wait in a collective call for it. Returns when alone.
+void end_all_ranks(int code);
+
+/// Ends MPI normally, when this module started it or the world shares the solvers (no-op otherwise).
+void finish_solver_mpi();
+
+}  // namespace ff

@@ -1,0 +1,176 @@
+// One model over MPI ranks (core/solve/distributed.md): `mpirun -n 2 flexframe run` against the
+// same run in one process, and a rank killed mid-run (MUMPS's MPI build, -DFLEXFRAME_MUMPS=mpi);
+// with the sequential MUMPS, the refusal. FF_MPIEXEC is the launcher CMake found.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <thread>
+
+#include "app/io/results.h"
+#include "cli_support.h"
+#include "core/solve/solver_ranks.h"
+
+namespace ff::cli::test {
+namespace {
+
+// two ranks on a machine of any size, also as root (the suite runs as root in CI)
+std::vector<std::string> two_ranks() {
+  setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 0);
+  setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);
+  return {FF_MPIEXEC, "-n", "2", "--oversubscribe"};
+}
+
+// the flexframe processes mpirun `launcher_pid` started, by process id (rank 0 first, in practice)
+std::vector<int> flexframe_children(int launcher_pid) {
+  std::vector<int> pids;
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    const std::string name = e.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    const std::string stat = read_text(e.path().string() + "/stat");
+    const auto open = stat.find('('), close = stat.rfind(')');
+    if (open == std::string::npos || close == std::string::npos) continue;
+    int parent = 0;
+    char state = 0;
+    if (stat.substr(open + 1, close - open - 1) == "flexframe" &&
+        std::sscanf(stat.c_str() + close + 1, " %c %d", &state, &parent) == 2 && parent == launcher_pid)
+      pids.push_back(std::stoi(name));
+  }
+  std::sort(pids.begin(), pids.end());
+  return pids;
+}
+
+// the MPI rank of a process mpirun started (its OMPI_COMM_WORLD_RANK), -1 when unknown
+int rank_of(int pid) {
+  const std::string env = read_text("/proc/" + std::to_string(pid) + "/environ");
+  const std::string key = std::string("OMPI_COMM_WORLD_RANK=");
+  for (std::size_t p = 0; p < env.size(); p = env.find('\0', p) + 1) {
+    if (env.compare(p, key.size(), key) == 0) return std::atoi(env.c_str() + p + key.size());
+    if (env.find('\0', p) == std::string::npos) break;
+  }
+  return -1;
+}
+
+std::size_t count_of(const std::string& text, const std::string& word) {
+  std::size_t n = 0;
+  for (auto p = text.find(word); p != std::string::npos; p = text.find(word, p + 1)) ++n;
+  return n;
+}
+
+ProcResult run_on(const std::vector<std::string>& launcher, const std::vector<std::string>& args,
+                  const std::string& log_prefix) {
+  Child c(args, log_prefix, "", launcher);
+  return c.wait(240.0);
+}
+
+// the largest displacement |x - X| of a frame, and the largest difference of two frames' displacements
+double largest(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+// A static shell path (arc-length, LDLᵀ and LU factorizations) run on one process and on two ranks:
+// the same steps and every frame's displacements equal to 1e-10 relative to the largest one.
+TEST(CliRanks, TwoRanksRunTheModelOfOne) {
+  if (!distributed_linear_solver_built()) GTEST_SKIP() << "sequential MUMPS: see CliRanks.SequentialBuildRefusesRanks";
+  const std::string dir = fresh_test_dir();
+  const std::vector<std::string> args = {"run", "hinged_roof_h127", "--no-frames", "--no-plots", "--quiet",
+                                         "--set", "solver.max_steps=12"};
+  std::vector<std::string> one = args, two = args;
+  one.insert(one.end(), {"--out", dir + "/one"});
+  two.insert(two.end(), {"--out", dir + "/two"});
+  const ProcResult r1 = run_flexframe(one, dir + "/one", "", 240.0);
+  ASSERT_EQ(r1.exit_code, 0) << r1.describe();
+  const ProcResult r2 = run_on(two_ranks(), two, dir + "/two");
+  ASSERT_EQ(r2.exit_code, 0) << r2.describe();
+  // rank 0 alone reports (the other rank's stdout goes nowhere)
+  EXPECT_EQ(count_of(r2.out, "outputs:"), 1u) << r2.out;
+
+  std::string err;
+  const auto h1 = io::ResultReader::open(dir + "/one/results.h5", &err);
+  ASSERT_TRUE(h1) << err;
+  const auto h2 = io::ResultReader::open(dir + "/two/results.h5", &err);
+  ASSERT_TRUE(h2) << err;
+  EXPECT_EQ(h2->outcome().status, RunStatus::completed) << h2->outcome().reason;
+  ASSERT_EQ(h1->frame_count(), h2->frame_count());
+  ASSERT_GT(h1->frame_count(), 2u);
+  for (std::size_t i = 0; i < h1->frame_count(); ++i) {
+    const Frame a = h1->frame(i), b = h2->frame(i);
+    ASSERT_EQ(a.points.size(), b.points.size());
+    std::vector<double> ua(a.points.size()), diff(a.points.size());
+    for (std::size_t k = 0; k < a.points.size(); ++k) {
+      ua[k] = a.points[k] - a.base_points[k];
+      diff[k] = (b.points[k] - b.base_points[k]) - ua[k];
+    }
+    EXPECT_LE(largest(diff), 1e-10 * largest(ua)) << "frame " << i << " (load factor " << a.load_factor << ")";
+    EXPECT_NEAR(a.load_factor, b.load_factor, 1e-10 * std::max(1.0, std::abs(a.load_factor))) << "frame " << i;
+  }
+}
+
+// One of two ranks killed mid-run: the run ends (no rank waits forever), not as completed, and
+// rank 0's results.h5 holds the frames it had stored, readable by replay.
+TEST(CliRanks, KilledRankLeavesReadableResults) {
+  if (!distributed_linear_solver_built()) GTEST_SKIP() << "sequential MUMPS: see CliRanks.SequentialBuildRefusesRanks";
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  // the main job's dynamics (double pendulum of shells), tens of seconds on two ranks
+  Child c({"run", "double_pendulum_shells", "--no-frames", "--no-plots", "--out", out}, dir + "/run", "", two_ranks());
+  ASSERT_TRUE(c.started());
+  // rank 0's progress line says the solver is stepping (every 2 s when not on a terminal); a few
+  // seconds more and results.h5 has been flushed (at least once a second) with frames in it
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (c.running() && std::chrono::steady_clock::now() < deadline && read_text(dir + "/run.stderr.txt").find("steps") == std::string::npos)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  ASSERT_TRUE(c.running()) << "the run ended before a rank could be killed";
+  const std::vector<int> ranks = flexframe_children(c.pid());
+  ASSERT_EQ(ranks.size(), 2u);
+  const int rank_one = rank_of(ranks[0]) == 1 ? ranks[0] : ranks[1];
+  ASSERT_EQ(rank_of(rank_one), 1);
+  ASSERT_EQ(kill(rank_one, SIGKILL), 0);
+  const ProcResult r = c.wait(120.0);
+  std::string err;
+  EXPECT_FALSE(r.timed_out) << "a rank kept waiting after the other was killed\n" << r.describe();
+  EXPECT_NE(r.exit_code, 0) << r.describe();
+
+  const auto h = io::ResultReader::open(out + "/results.h5", &err);
+  ASSERT_TRUE(h) << err;
+  EXPECT_GE(h->frame_count(), 2u);
+  EXPECT_NE(h->outcome().status, RunStatus::completed);
+  const ProcResult replay = run_flexframe({"replay", out, "--no-frames", "--out", dir + "/replay"}, dir + "/replay");
+  EXPECT_EQ(replay.exit_code, 0) << replay.describe();
+}
+
+// A study under mpirun still spreads its variants over the ranks, each variant a process of its
+// own: with MUMPS's MPI build that child starts MPI alone, which the launcher's inherited
+// variables made fail before (every variant "exited with code 1 without a result").
+TEST(CliRanks, StudyVariantsRunUnderTwoRanks) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_on(two_ranks(), {"study", "hinged_roof_h127", "--vary", "solver.max_steps=2,3", "--metric",
+                                            "w_final", "--out", dir + "/out"},
+                              dir + "/study");
+  EXPECT_EQ(r.exit_code, 0) << r.describe();
+  const std::string table = read_text(dir + "/out/study.md");
+  EXPECT_EQ(count_of(table, "| solver.max_steps="), 2u) << table;
+  EXPECT_EQ(count_of(table, "without a result"), 0u) << table;
+  EXPECT_EQ(count_of(table, "incomplete: step budget"), 2u) << table;
+}
+
+// The sequential MUMPS cannot share a model: `run` under a two-rank mpirun says so and how to build
+// the MPI one (exit 2), instead of running two copies that write the same folder.
+TEST(CliRanks, SequentialBuildRefusesRanks) {
+  if (distributed_linear_solver_built()) GTEST_SKIP() << "MPI build: see CliRanks.TwoRanksRunTheModelOfOne";
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_on(two_ranks(), {"run", "clamped_plate_pressure", "--no-frames", "--no-plots", "--quiet",
+                                            "--out", dir + "/out"},
+                              dir + "/run");
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find("-DFLEXFRAME_MUMPS=mpi"), std::string::npos) << r.describe();
+  EXPECT_FALSE(fs::exists(dir + "/out/results.h5"));
+}
+
+}  // namespace
+}  // namespace ff::cli::test
