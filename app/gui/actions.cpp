@@ -39,7 +39,7 @@ bool parse_number(const std::string& s, double* out) {
 constexpr const char* kVerbs = "run, pause, step [N], reset, set KEY VALUE, wait SECONDS, screenshot FILE, "
                                "probe NODE, save FILE, export FILE, redraws, quit, new static|dynamic, open FILE, "
                                "add TABLE [KEY=VALUE ...], remove TABLE[I], preset material[I] NAME, pick NODE..., "
-                               "pick-box X0 Y0 X1 Y1, pick-clear, use-pick TABLE[I], use-edge TABLE[I] PATCH EDGE, click X Y, show all|none|TABLE[I], wait-end, metrics";
+                               "pick-box X0 Y0 X1 Y1, pick-clear, use-pick TABLE[I], use-edge TABLE[I] PATCH EDGE, click X Y, show all|none|TABLE[I], wait-end, metrics, view scene|iso|top|front|side";
 
 /// "bc[2]" -> ("bc", 2); false when it is not NAME[INDEX].
 bool parse_entry(const std::string& s, std::string* table, long long* index) {
@@ -167,6 +167,11 @@ std::vector<Action> parse_actions(const std::string& text, const std::string& fi
         a.nodes.push_back(n);
       }
       if (a.nodes.empty()) fail("'pick' needs node numbers: pick NODE...");
+    } else if (verb == "view") {
+      a.kind = Action::Kind::view;
+      if (rest != "scene" && rest != "iso" && rest != "top" && rest != "front" && rest != "side")
+        fail("'view' takes scene, iso, top, front or side (as the view buttons)");
+      a.text = rest;
     } else if (verb == "wait-end") {
       a.kind = Action::Kind::wait_end, no_args();
     } else if (verb == "metrics") {

@@ -7,7 +7,7 @@
 ///   new static|dynamic | open FILE | add TABLE [KEY=VALUE ...] | remove TABLE[I] |
 ///   preset material[I] NAME | pick NODE... | pick-box X0 Y0 X1 Y1 | pick-clear | use-pick TABLE[I] |
 ///   use-edge TABLE[I] PATCH EDGE |
-///   click X Y | show all|none|TABLE[I] | wait-end | metrics
+///   click X Y | show all|none|TABLE[I] | wait-end | metrics | view scene|iso|top|front|side
 /// (`wait-end` waits until the run has ended; `metrics` prints "metric NAME = VALUE" for each metric of the run, which must have ended.)
 /// (click and pick-box take pixels of the 3D view, origin top left, as a mouse would.)
 /// (`redraws` prints "redraws N", the window frames drawn so far: an idle window draws none.)
@@ -23,7 +23,7 @@ namespace ff::app::gui {
 struct Action {
   enum class Kind {
     run, pause, step, reset, set, wait, screenshot, probe, save, export_png, redraws, quit,
-    new_problem, open, add, remove, preset, pick, pick_box, pick_clear, use_pick, use_edge, click, show, wait_end, metrics
+    new_problem, open, add, remove, preset, pick, pick_box, pick_clear, use_pick, use_edge, click, show, wait_end, metrics, view
   };
   Kind kind = Kind::run;
   long long count = 1;   ///< step: solver steps; probe: node index; remove/preset/use-pick/show: entry index

@@ -358,12 +358,18 @@ class Viewport {
     return picked;
   }
 
-  /// Back to the automatic view: fitted to the body, in its own direction (plane normal or iso).
+  /// Back to the scene's view (output.view), or with `auto` to the automatic one: fitted to the
+  /// body, in its own direction (plane normal or iso).
   void reset_camera() {
     view_.reset();
     camera_.reset();
     user_camera_ = false;
-    if (renderer_) renderer_->set_camera(render::Camera{}), dirty_ = true;
+    if (!renderer_) return;
+    const bool scene_view = info_ && output_.view != "auto" && output_.camera_path.empty();
+    renderer_->set_camera(scene_view ? scene_camera(info_->mesh, output_.view, output_.view_center, output_.view_radius,
+                                                    fit_points_)
+                                     : render::Camera{});
+    dirty_ = true;
   }
   /// The automatic view along a named direction, as output.view and --camera name it: "iso",
   /// "top", "front", "side" (app/view_options.h, parse_camera). It stays through window resizes
@@ -527,6 +533,7 @@ std::string describe(const Action& a) {
              fmt("%g", a.pixels[3]);
     case Action::Kind::show: return "show " + (a.key.empty() ? a.text : a.key + "[" + std::to_string(a.count) + "]");
     case Action::Kind::metrics: return "metrics";
+    case Action::Kind::view: return "view " + a.text;
     case Action::Kind::wait_end: return "wait-end";
   }
   return "";
@@ -895,6 +902,12 @@ class GuiApp {
           std::fflush(stdout);
           break;
         case Action::Kind::wait_end: waiting_end_ = true; break;
+        case Action::Kind::view:
+          if (a.text == "scene")
+            viewport_.reset_camera();
+          else
+            viewport_.set_view(a.text);
+          break;
         case Action::Kind::metrics:
           if (!status_.outcome) {
             action_failed("metrics: the run has not ended (run, then wait until it has)");
@@ -1048,7 +1061,7 @@ class GuiApp {
     // the camera: reset, then the named views of output.view and --camera
     if (ImGui::Button("View")) viewport_.reset_camera();
     if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("reset the camera to the automatic view (drag: orbit, right drag: pan, wheel: zoom, click: "
+      ImGui::SetTooltip("back to the scene's view, output.view (drag: orbit, right drag: pan, wheel: zoom, click: "
                         "probe a node)");
     static constexpr std::array<std::array<const char*, 3>, 4> kViews = {{{"Iso", "iso", "isometric: from (1, -1, 1), z up"},
                                                                          {"Top", "top", "from +z, looking down, y up"},

@@ -5,6 +5,7 @@
 // actions line is reported as FILE:LINE with exit code 2.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -246,6 +247,37 @@ TEST(GuiCli, PicturesOfTheSetUpCantileverMatchTheStoredOnes) {
   const std::string stored = std::string(FF_SOURCE_DIR) + "/tests/gui/reference/";
   expect_like_reference(dir + "/view.png", stored + "cantilever_view.png", Region{0, 0, 1280 - 390, 800 - 250 - 30});
   expect_like_reference(dir + "/window.png", stored + "cantilever_window.png", Region{1280 - 390, 0, 1280, 600});
+}
+
+/// Height over width of the box holding the pixels that are not the view's background.
+double body_aspect(const Image& img) {
+  int x0 = img.width, x1 = -1, y0 = img.height, y1 = -1;
+  for (int y = 75; y < img.height - 80; ++y)      // below the title and its lines, above the triad
+    for (int x = 120; x < img.width - 150; ++x)   // right of the triad, left of the colour bar
+      if (differs(img.at(x, y), kViewportBackground) > 60)
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  return x1 < x0 ? 0.0 : static_cast<double>(y1 - y0 + 1) / (x1 - x0 + 1);
+}
+
+// The view buttons, scripted: a flat square plate is a square from the top and a thin line from
+// the front; `view scene` returns to the scene's own view (clamped_plate_pressure: iso).
+TEST(GuiCli, ViewActionsTurnTheCameraAsTheButtons) {
+  if (!have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup installs it)";
+  const std::string dir = fresh_test_dir();
+  const std::string actions = dir + "/views.txt";
+  write_text(actions, "set output.color_field none\nexport " + dir + "/scene.png\nview top\nexport " + dir +
+                          "/top.png\nview front\nexport " + dir + "/front.png\nview scene\nexport " + dir +
+                          "/back.png\nquit\n");
+  const ProcResult r = run_gui_under_xvfb({"clamped_plate_pressure", "--actions", actions, "--width", "1280", "--height",
+                                           "800", "--quit-after", "40"}, dir + "/gui");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const double top = body_aspect(read_png(dir + "/top.png")), front = body_aspect(read_png(dir + "/front.png"));
+  EXPECT_NEAR(top, 1.0, 0.1) << "a square plate seen from the top";
+  EXPECT_LT(front, 0.1) << "the plate seen edge-on from the front";
+  const double scene = body_aspect(read_png(dir + "/scene.png")), back = body_aspect(read_png(dir + "/back.png"));
+  EXPECT_GT(scene, 0.2) << "iso: neither a square nor a line";
+  EXPECT_LT(scene, 0.8);
+  EXPECT_NEAR(back, scene, 1e-9) << "view scene returns to the scene's view";
 }
 
 TEST(GuiCli, ShellSceneScreenshotAfterQuitAfter) {

@@ -116,6 +116,7 @@ TEST(GuiActions, BadLinesNameFileAndLine) {
       {"pick-box 1 2 3\n", "s.txt:1: 'pick-box' needs X0 Y0 X1 Y1"},
       {"use-edge bc[0] plate\n", "s.txt:1: 'use-edge' needs an entry, a patch and an edge"},
       {"show some\n", "s.txt:1: 'show' takes all, none or an entry"},
+      {"view sideways\n", "s.txt:1: 'view' takes scene, iso, top, front or side"},
   };
   for (const auto& [text, expected] : cases) {
     try {
