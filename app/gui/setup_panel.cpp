@@ -58,8 +58,14 @@ SetupRequest use_patch_edge(const std::string& entry, const std::string& patch, 
 std::vector<int> shown_nodes(const WorkerStatus& status, const std::string& shown) {
   std::vector<int> nodes;
   if (!status.selections || shown == "none") return nodes;
-  for (const scene::EntrySelection& e : *status.selections)
-    if (shown == "all" || shown == entry_name(e.table, e.index)) nodes.insert(nodes.end(), e.nodes.begin(), e.nodes.end());
+  // "all" leaves out entries that act on every node (a pressure on the whole body): marking
+  // every node would hide what the others select; shown alone, such an entry marks them all
+  const std::size_t every = status.info ? status.info->mesh.point_count() : 0;
+  for (const scene::EntrySelection& e : *status.selections) {
+    const bool whole = every > 0 && e.nodes.size() >= every;
+    if ((shown == "all" && !whole) || shown == entry_name(e.table, e.index))
+      nodes.insert(nodes.end(), e.nodes.begin(), e.nodes.end());
+  }
   std::sort(nodes.begin(), nodes.end());
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   return nodes;

@@ -35,7 +35,8 @@ SetupRequest use_picked_nodes(const std::string& entry, const std::set<int>& nod
 /// The edit that makes entry `entry` select the edge `edge` of patch `patch` (select = "patch_edge").
 SetupRequest use_patch_edge(const std::string& entry, const std::string& patch, const std::string& edge);
 
-/// The nodes to highlight for `shown` ("all", "none", "bc[0]") from the entries' selections.
+/// The nodes to highlight for `shown` ("all", "none", "bc[0]") from the entries' selections;
+/// "all" leaves out entries that act on every node of the structure.
 std::vector<int> shown_nodes(const WorkerStatus& status, const std::string& shown);
 
 class SetupPanel {

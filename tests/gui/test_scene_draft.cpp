@@ -185,6 +185,25 @@ TEST(SceneDraft, AnEdgeFromTheListBecomesTheSelection) {
   for (int n : sel->entries[0].nodes) EXPECT_DOUBLE_EQ(sel->mesh.points[n].x(), 1.0);
 }
 
+// What "show" marks: every entry's nodes but those of an entry acting on every node (a pressure
+// on the whole plate would cover the supports' marks), one entry alone, or none.
+TEST(SceneDraft, ShownNodesLeaveOutEntriesActingOnEveryNode) {
+  const std::string path = kScenes + "clamped_plate_pressure.toml";  // 4 clamped edges, pressure on all
+  const std::string text = scene::read_scene_text(path);
+  WorkerStatus status;
+  const auto sel = scene::scene_selections_of_text(text, path, {}, {});
+  ASSERT_TRUE(sel.has_value());
+  status.selections = std::make_shared<const std::vector<scene::EntrySelection>>(sel->entries);
+  RunInfo info;
+  info.mesh.reference_points.assign(3 * static_cast<std::size_t>(sel->mesh.node_count()), 0.0);
+  status.info = std::make_shared<const RunInfo>(info);
+  const std::vector<int> all = shown_nodes(status, "all");
+  EXPECT_EQ(all.size(), 33u);  // the 32 boundary nodes of a 9 x 9 grid and the probed centre
+  EXPECT_EQ(shown_nodes(status, "load[0]").size(), 81u);  // alone, the pressure marks every node
+  EXPECT_EQ(shown_nodes(status, "bc[1]").size(), 9u);
+  EXPECT_TRUE(shown_nodes(status, "none").empty());
+}
+
 TEST(SceneDraft, MaterialPresetsReplaceTheElasticKeys) {
   const std::string text = new_scene_text("dynamic", "fresh");
   const DraftEdit al = with_material_preset(text, kPath, 0, "aluminium");
