@@ -171,7 +171,8 @@ TEST(GuiCli, CantileverSetUpFromNothingRerunsHeadlessToTheSameMetric) {
              "run\n"
              "wait-end\n"
              "metrics\n"
-             "click 445 280\n"  // the middle of the 3D view: the strip
+             "view top\n"        // from the top the strip lies right of the view's centre (its clamped
+             "click 420 250\n"   // corner is the origin, the fit's centre), whatever its deflection
              "save " + dir + "/my_cantilever.toml\n"
              "screenshot " + dir + "/shot.png\n"
              "quit\n");
