@@ -98,18 +98,49 @@ void install_input_callbacks(GLFWwindow* window) {
   glfwSetDropCallback(window, on_drop);
 }
 
-/// Mesh and CAD files a part reads (part.generator = "file"); other dropped files open as scenes.
-bool is_mesh_file(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (const char* e : {".msh", ".inp", ".obj", ".ply", ".stl", ".step", ".stp", ".iges", ".igs", ".brep", ".geo"})
-    if (ext == e) return true;
-  return false;
-}
-
 /// Where a new problem's text lives until it is saved: the working folder (relative files of a
 /// later Save are read from there); nothing is written there until Save.
 std::string new_problem_path(const std::string& name) { return (fs::current_path() / (name + ".toml")).string(); }
+
+/// A scene for the window to open: its text, the path naming it (relative files are read from its
+/// folder) and the file it came from ("" for a new problem).
+struct SceneToOpen {
+  std::string text, path, from;
+};
+
+/// A new static or dynamic problem (scene_draft.h).
+SceneToOpen new_problem(const std::string& analysis) {
+  const std::string name = "new_" + analysis;
+  return {new_scene_text(analysis, name), new_problem_path(name), ""};
+}
+
+/// A scene file or a bundled scene's name; any other file (an extension other than .toml: a mesh
+/// or CAD part, which the mesh reader then reads or refuses) as the one part of a new static
+/// problem. Throws as resolve_scene and read_scene_text do.
+SceneToOpen scene_to_open(const std::string& name) {
+  const fs::path p(name);
+  std::string ext = p.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (!ext.empty() && ext != ".toml") {
+    const std::string stem = p.stem().string();
+    return {mesh_scene_text(fs::absolute(p).string(), stem), new_problem_path(stem), name};
+  }
+  const std::string path = resolve_scene(name);
+  return {scene::read_scene_text(path), path, path};
+}
+
+/// The scene edit an add, remove, preset or use-edge action asks for (setup_panel.h); nullopt for
+/// other actions.
+std::optional<SetupRequest> scene_edit_of(const Action& a) {
+  const std::string entry = a.key + "[" + std::to_string(a.count) + "]";
+  switch (a.kind) {
+    case Action::Kind::add: return add_entry(a.key, a.fields);
+    case Action::Kind::remove: return remove_entry(a.key, static_cast<std::size_t>(a.count));
+    case Action::Kind::preset: return material_preset(static_cast<std::size_t>(a.count), a.text);
+    case Action::Kind::use_edge: return use_patch_edge(entry, a.patch, a.edge);
+    default: return std::nullopt;
+  }
+}
 
 
 // λ and other Greek letters: the default ImGui font (ProggyClean) has Latin-1 only, so Greek
@@ -832,30 +863,10 @@ class GuiApp {
             action_failed(e.what());
           }
           break;
-        case Action::Kind::add: {
-          const std::string table = a.key;
-          const auto fields = a.fields;
-          waiting_seq_ = request({describe(a), [table, fields](const std::string& t, const std::string& p) {
-                                    return with_entry_added(t, p, table, fields);
-                                  }, std::nullopt});
-          break;
-        }
-        case Action::Kind::remove: {
-          const std::string table = a.key;
-          const auto index = static_cast<std::size_t>(a.count);
-          waiting_seq_ = request({describe(a), [table, index](const std::string& t, const std::string& p) {
-                                    return with_entry_removed(t, p, table, index);
-                                  }, std::nullopt});
-          break;
-        }
-        case Action::Kind::preset: {
-          const auto index = static_cast<std::size_t>(a.count);
-          const std::string preset = a.text;
-          waiting_seq_ = request({describe(a), [index, preset](const std::string& t, const std::string& p) {
-                                    return with_material_preset(t, p, index, preset);
-                                  }, std::nullopt});
-          break;
-        }
+        case Action::Kind::add:
+        case Action::Kind::remove:
+        case Action::Kind::preset:
+        case Action::Kind::use_edge: waiting_seq_ = request(*scene_edit_of(a)); break;
         case Action::Kind::pick: {
           const long long n = status_.info ? static_cast<long long>(status_.info->mesh.point_count()) : 0;
           for (long long node : a.nodes) {
@@ -874,9 +885,6 @@ class GuiApp {
             break;
           }
           waiting_seq_ = request(use_picked_nodes(a.key + "[" + std::to_string(a.count) + "]", pick_.nodes));
-          break;
-        case Action::Kind::use_edge:
-          waiting_seq_ = request(use_patch_edge(a.key + "[" + std::to_string(a.count) + "]", a.patch, a.edge));
           break;
         case Action::Kind::click:
         case Action::Kind::pick_box:
@@ -1148,21 +1156,13 @@ class GuiApp {
 
   /// Sends a set-up edit to the solver thread; returns its sequence number.
   std::uint64_t request(SetupRequest r) {
-    if (r.new_problem) {
-      const std::string name = "new_" + *r.new_problem;
-      return worker_->load_text(new_scene_text(*r.new_problem, name), new_problem_path(name), "");
-    }
+    if (r.new_problem) return open(new_problem(*r.new_problem));
     return worker_->edit(r.what, std::move(r.op));
   }
 
-  /// Opens a scene file, or a mesh file as a new problem's part.
-  std::uint64_t open_file(const std::string& path) {
-    if (is_mesh_file(path)) {
-      const std::string text = mesh_scene_text(fs::absolute(path).string(), fs::path(path).stem().string());
-      return worker_->load_text(text, new_problem_path(fs::path(path).stem().string()), path);
-    }
-    return worker_->load(resolve_scene(path));
-  }
+  std::uint64_t open(const SceneToOpen& s) { return worker_->load_text(s.text, s.path, s.from); }
+  /// Opens a scene file, or a mesh file as a new problem's part (scene_to_open).
+  std::uint64_t open_file(const std::string& name) { return open(scene_to_open(name)); }
 
   void open_scene(const std::string& name) {
     try {
@@ -1405,21 +1405,13 @@ void check_actions(const std::vector<Action>& actions, std::string text, std::st
       switch (a.kind) {
         case Action::Kind::set: text = with_key_set(text, path, a.key, a.text).text; break;
         case Action::Kind::new_problem:
-          text = new_scene_text(a.text, "new_" + a.text), path = new_problem_path("new_" + a.text);
+        case Action::Kind::open: {
+          const SceneToOpen s = a.kind == Action::Kind::open ? scene_to_open(a.text) : new_problem(a.text);
+          text = s.text, path = s.path;
           break;
-        case Action::Kind::open:
-          if (is_mesh_file(a.text))
-            text = mesh_scene_text(fs::absolute(a.text).string(), fs::path(a.text).stem().string()), path = new_problem_path(fs::path(a.text).stem().string());
-          else
-            path = resolve_scene(a.text), text = scene::read_scene_text(path);
-          break;
-        case Action::Kind::add: text = with_entry_added(text, path, a.key, a.fields).text; break;
-        case Action::Kind::remove: text = with_entry_removed(text, path, a.key, static_cast<std::size_t>(a.count)).text; break;
-        case Action::Kind::use_edge:
-          text = use_patch_edge(a.key + "[" + std::to_string(a.count) + "]", a.patch, a.edge).op(text, path).text;
-          break;
-        case Action::Kind::preset: text = with_material_preset(text, path, static_cast<std::size_t>(a.count), a.text).text; break;
-        default: break;
+        }
+        default:
+          if (const std::optional<SetupRequest> r = scene_edit_of(a)) text = r->op(text, path).text;
       }
     } catch (const std::exception& e) {
       throw ActionError(a.where() + ": " + describe(a) + ": " + e.what());
@@ -1440,16 +1432,9 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
     return 2;
   }
   // the scene as a text: a file with its --set edits folded in, or a new problem
-  std::string path, text, opened_text, opened_from;
-  if (!opt.new_problem.empty()) {
-    const std::string name = "new_" + opt.new_problem;
-    path = new_problem_path(name);
-    text = opened_text = new_scene_text(opt.new_problem, name);
-  } else {
-    path = opened_from = opt.scene_path;
-    opened_text = scene::read_scene_text(path);
-    text = scene::edited_scene_text(opened_text, path, opt.overrides);
-  }
+  const SceneToOpen opened = opt.new_problem.empty() ? scene_to_open(opt.scene_path) : new_problem(opt.new_problem);
+  const std::string& path = opened.path;
+  const std::string text = scene::edited_scene_text(opened.text, path, opt.overrides);
   try {
     check_actions(actions, text, path);
   } catch (const ActionError& e) {
@@ -1509,7 +1494,7 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
   int code = 0;
   {
     // the solver thread wakes the sleeping window when it has news
-    auto worker = std::make_unique<SimWorker>(std::move(scene), text, opened_text, opened_from,
+    auto worker = std::make_unique<SimWorker>(std::move(scene), text, opened.text, opened.from,
                                               [] { glfwPostEmptyEvent(); });
     GuiApp app(window, opt, std::move(worker), std::move(actions), stop);
     code = app.loop();

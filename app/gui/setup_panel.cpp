@@ -29,6 +29,28 @@ std::string describe(const scene::Document& d, const std::string& table, std::si
 
 }  // namespace
 
+SetupRequest add_entry(const std::string& table, std::vector<std::pair<std::string, std::string>> fields) {
+  std::string what = "add " + table;
+  for (const auto& [k, v] : fields) what += " " + k + "=" + v;
+  return {what,
+          [table, fields = std::move(fields)](const std::string& t, const std::string& p) {
+            return with_entry_added(t, p, table, fields);
+          },
+          std::nullopt};
+}
+
+SetupRequest remove_entry(const std::string& table, std::size_t index) {
+  return {"remove " + entry_name(table, index),
+          [table, index](const std::string& t, const std::string& p) { return with_entry_removed(t, p, table, index); },
+          std::nullopt};
+}
+
+SetupRequest material_preset(std::size_t index, const std::string& preset) {
+  return {"preset " + entry_name("material", index) + " " + preset,
+          [index, preset](const std::string& t, const std::string& p) { return with_material_preset(t, p, index, preset); },
+          std::nullopt};
+}
+
 SetupRequest use_picked_nodes(const std::string& entry, const std::set<int>& nodes) {
   std::string list = "[";
   for (int n : nodes) list += (list.size() > 1 ? ", " : "") + std::to_string(n);
@@ -122,12 +144,7 @@ std::vector<SetupRequest> SetupPanel::draw(const WorkerStatus& status, PickState
     ImGui::EndCombo();
   }
   ImGui::SameLine();
-  if (ImGui::Button("Add")) {
-    const std::string table = addable_[static_cast<std::size_t>(add_choice_)];
-    out.push_back({"add " + table,
-                   [table](const std::string& t, const std::string& p) { return with_entry_added(t, p, table); },
-                   std::nullopt});
-  }
+  if (ImGui::Button("Add")) out.push_back(add_entry(addable_[static_cast<std::size_t>(add_choice_)]));
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("add an entry from a template; edit its keys under Parameters");
 
   // picking
@@ -151,13 +168,7 @@ std::vector<SetupRequest> SetupPanel::draw(const WorkerStatus& status, PickState
   for (const Entry& e : entries_) {
     const std::string name = entry_name(e.table, e.index);
     ImGui::PushID(name.c_str());
-    if (ImGui::SmallButton("x")) {
-      const std::string table = e.table;
-      const std::size_t index = e.index;
-      out.push_back({"remove " + name,
-                     [table, index](const std::string& t, const std::string& p) { return with_entry_removed(t, p, table, index); },
-                     std::nullopt});
-    }
+    if (ImGui::SmallButton("x")) out.push_back(remove_entry(e.table, e.index));
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("remove %s", name.c_str());
     ImGui::SameLine();
     ImGui::TextUnformatted(e.label.c_str());
@@ -186,15 +197,7 @@ std::vector<SetupRequest> SetupPanel::draw(const WorkerStatus& status, PickState
       ImGui::SetNextItemWidth(200);
       if (ImGui::BeginCombo("##preset", "preset...")) {
         for (const MaterialPreset& m : material_presets()) {
-          if (ImGui::Selectable(m.name.c_str())) {
-            const std::size_t index = e.index;
-            const std::string preset = m.name;
-            out.push_back({"preset " + name + " " + preset,
-                           [index, preset](const std::string& t, const std::string& p) {
-                             return with_material_preset(t, p, index, preset);
-                           },
-                           std::nullopt});
-          }
+          if (ImGui::Selectable(m.name.c_str())) out.push_back(material_preset(e.index, m.name));
           if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", m.about.c_str());
         }
         ImGui::EndCombo();

@@ -8,6 +8,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/gui/sim_worker.h"
@@ -28,6 +29,13 @@ struct SetupRequest {
   SimWorker::DraftOp op;                   ///< set when it edits the scene text
   std::optional<std::string> new_problem;  ///< "static" or "dynamic": a new problem instead
 };
+
+/// An entry of [[table]] from its template, with `fields` (key, value as --set takes it).
+SetupRequest add_entry(const std::string& table, std::vector<std::pair<std::string, std::string>> fields = {});
+/// Entry `index` of [[table]] removed.
+SetupRequest remove_entry(const std::string& table, std::size_t index);
+/// material[index] set to the preset `preset` (material_presets()).
+SetupRequest material_preset(std::size_t index, const std::string& preset);
 
 /// The edit that makes entry `entry` ("bc[0]") select exactly `nodes` (select = "nodes").
 SetupRequest use_picked_nodes(const std::string& entry, const std::set<int>& nodes);

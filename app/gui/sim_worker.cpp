@@ -66,7 +66,6 @@ std::uint64_t SimWorker::edit(const std::string& what, DraftOp op) {
   c.op = std::move(op);
   return push(std::move(c));
 }
-std::uint64_t SimWorker::load(const std::string& path) { return push(Command::make(Command::Kind::load, path)); }
 std::uint64_t SimWorker::load_text(const std::string& text, const std::string& path, const std::string& opened_from) {
   Command c = Command::make(Command::Kind::load_text, path, text);
   c.c = opened_from;
@@ -411,23 +410,8 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
       if (e && rebuild_edit(e->text, c.a)) restarted(c.a, e->note);
       break;
     }
-    case Command::Kind::load: {
-      std::string file_text;
-      try {
-        file_text = scene::read_scene_text(c.a);
-      } catch (const std::exception& e) {
-        set_message("load " + c.a + " refused:\n" + e.what(), true);
-        break;
-      }
-      if (rebuild(c.a, file_text, "load " + c.a, file_text, c.a)) {
-        running_ = false;
-        probe_node_ = -1;
-        set_message("loaded " + c.a, false);
-      }
-      break;
-    }
     case Command::Kind::load_text:
-      if (rebuild(c.a, c.b, "open", c.b, c.c)) {
+      if (rebuild(c.a, c.b, "open " + (c.c.empty() ? std::string("a new problem") : c.c), c.b, c.c)) {
         running_ = false;
         probe_node_ = -1;
         set_message("opened " + (c.c.empty() ? std::string("a new problem") : c.c), false);

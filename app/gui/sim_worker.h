@@ -1,14 +1,14 @@
 #pragma once
 /// \file sim_worker.h
 /// The GUI's solver thread. It owns the scene's Simulation; the UI talks to it only through a
-/// command queue (run, pause, step, reset, set, load, probe, pace, quit) and reads back plain
+/// command queue (run, pause, step, reset, set, edit, load_text, probe, pace, quit) and reads back plain
 /// copies (the latest Frame, probe samples, a status) with take(). No GL or ImGui here.
 ///
 /// How it works: the worker drives the scene's Simulation with a RunLoop (core/model/run_loop.h),
 /// one advance() at a time, and applies the queued commands between steps; pausing is simply not
 /// stepping (it waits for a command), so the solver's state never leaves its thread.
 /// The scene is a TOML text (scene_draft.h): the worker holds the text in effect, and every
-/// command that changes the model (reset, set, edit, load) builds a new Simulation from a new
+/// command that changes the model (reset, set, edit, load_text) builds a new Simulation from a new
 /// text first (a refused one leaves the running model and its text alone and says why), then stops
 /// the current run and starts the new one at t = 0, paused unless it was running. A `set` of a key
 /// the scene schema declares live (scene::change_live: torque.amplitude, gravity.g) made after t = 0
@@ -123,10 +123,8 @@ class SimWorker {
   /// queued before it); `what` names it in messages ("add bc").
   using DraftOp = std::function<DraftEdit(const std::string& text, const std::string& path)>;
   std::uint64_t edit(const std::string& what, DraftOp op);
-  /// Opens a scene file.
-  std::uint64_t load(const std::string& scene_path);
-  /// Opens a scene text (a new problem); `path` names it (and is where relative files are read
-  /// from); `opened_from` as in WorkerStatus.
+  /// Opens a scene text (a file's, or a new problem's); `path` names it (and is where relative
+  /// files are read from); `opened_from` as in WorkerStatus.
   std::uint64_t load_text(const std::string& text, const std::string& path, const std::string& opened_from);
   std::uint64_t probe(int node);
   std::uint64_t pace(double steps_per_second);
@@ -135,7 +133,7 @@ class SimWorker {
 
  private:
   struct Command {
-    enum class Kind { run, pause, step, reset, set, edit, load, load_text, probe, pace, quit };
+    enum class Kind { run, pause, step, reset, set, edit, load_text, probe, pace, quit };
     Kind kind = Kind::run;
     std::string a, b, c;
     DraftOp op;
