@@ -302,7 +302,8 @@ std::string toml_value_as_set_reads_it(const std::string& value) {
 std::string text_with_element(const std::string& text, const std::string& path, const std::string& array,
                               const std::vector<std::pair<std::string, std::string>>& keys,
                               std::optional<std::size_t> before) {
-  toml::table expected = parsed(text, path);
+  const toml::table original = parsed(text, path);
+  toml::table expected = original;
   toml::table element;
   std::string block = "[[" + array + "]]\n";
   for (const auto& [key, value] : keys) {
@@ -319,7 +320,7 @@ std::string text_with_element(const std::string& text, const std::string& path, 
   arr->insert(arr->begin() + static_cast<std::ptrdiff_t>(at), element);
 
   std::vector<std::string> lines = lines_of(text);
-  const std::size_t header = at < arr->size() - 1 ? header_line(parsed(text, path), array, at) : std::string::npos;
+  const std::size_t header = at < arr->size() - 1 ? header_line(original, array, at) : std::string::npos;
   if (header != std::string::npos) {
     lines.insert(lines.begin() + static_cast<std::ptrdiff_t>(header), block + "\n");
   } else {
