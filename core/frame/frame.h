@@ -83,6 +83,27 @@ struct Frame {
   std::vector<StepRecord> step_log;
 };
 
+/// One eigen-pair of a modal or a linear buckling analysis, as consumers see it (issue 36).
+struct Mode {
+  std::int32_t number = 0;   ///< 1-based, in increasing order of `value`
+  double value = 0.0;        ///< natural frequency in Hz (modal) or load multiplier (buckling)
+  double eigenvalue = 0.0;   ///< what the eigen-solver returned: omega^2 in rad^2/s^2, or the multiplier
+  bool rigid_body = false;   ///< a zero frequency: a rigid-body mode of a free part or a mechanism
+  /// 3*n displacements of RunInfo::mesh's drawn points for the mode at unit amplitude (its
+  /// largest nodal translation is 1 in the scene's length unit), about ModeSet's base state
+  std::vector<double> displacement;
+};
+/// The result of an eigen-analysis: its modes about one state of the structure. The state itself
+/// is the run's last published Frame (the reference, or the preloaded state the modes are about).
+struct ModeSet {
+  std::string analysis;      ///< "modal" or "buckling"
+  std::string value_name;    ///< "frequency" or "load_multiplier" (HDF5 / JSON name)
+  std::string value_unit;    ///< "Hz" or "" (a multiplier of the scene's loads)
+  std::string value_label;   ///< for tables and plots, e.g. "natural frequency"
+  std::string about;         ///< the state, in words, e.g. "reference state" or "preloaded to lambda = 1"
+  std::vector<Mode> modes;
+};
+
 /// How a run ended. `incomplete`: it stopped early by design (a step budget ran out) before its end.
 enum class RunStatus { completed, incomplete, diverged, interrupted, failed };
 

@@ -119,6 +119,9 @@ class Simulation {
   /// never reached): summary.json keeps them as null under "metrics" and says why under
   /// "metrics_unreached", and run warns, instead of leaving them out.
   virtual std::vector<std::pair<std::string, std::string>> metrics_unreached() const { return {}; }
+  /// The modes an eigen-analysis (scene.analysis = "modal" or "buckling") found, after the run;
+  /// null for analyses that compute none.
+  virtual const ModeSet* modes() const { return nullptr; }
   virtual SolverTotals totals() const = 0;
   /// Effects that were evaluated, with their counts and times (summary.json "effect_stats");
   /// empty where a model does not count them.
