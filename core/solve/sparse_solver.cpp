@@ -1,12 +1,14 @@
 #include "core/solve/sparse_solver.h"
 
 #include "core/solve/equilibrate.h"
+#include "core/solve/nested_dissection.h"
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
 
@@ -254,6 +256,16 @@ class CholmodImpl final : public SparseLinearSolver::Impl {
 
 
 #ifdef FF_HAVE_MUMPS
+// FLEXFRAME_MUMPS_ORDERING=mumps leaves the ordering to MUMPS (SCOTCH in Debian's sequential
+// build), for before/after measurements of our METIS ordering
+bool own_ordering_wanted() {
+  static const bool wanted = [] {
+    const char* e = std::getenv("FLEXFRAME_MUMPS_ORDERING");
+    return !(e && std::string(e) == "mumps");
+  }();
+  return wanted;
+}
+
 // One MUMPS instance of one symmetry type: SYM = 0, multifrontal LU, or SYM = 2, LDLᵀ with
 // pivoting for symmetric indefinite matrices (a tangent past a limit point is indefinite), on the
 // lower triangle only: about half the flops and memory of LU. With MUMPS's MPI build and the
@@ -277,7 +289,8 @@ class MumpsInstance {
     icntl(28) = 1;   // sequential analysis, so ICNTL(7) picks the ordering
     // automatic: METIS when the build has it, else SCOTCH (Debian's sequential build: SCOTCH).
     // Not PORD, although it was 9-30 % faster for LDLᵀ on the larger plates: it ends the process
-    // (exit, no status) on matrices of a few unknowns (static_solvers.md §7.1)
+    // (exit, no status) on matrices of a few unknowns (static_solvers.md §7.1). On one rank
+    // analyze() hands MUMPS our own METIS ordering instead (nested_dissection.h)
     icntl(7) = 7;
     icntl(24) = 1;   // null pivot detection, so a singular K is reported, not factorized
     icntl(33) = 1;   // the determinant (its sign marks limit and bifurcation points)
@@ -318,6 +331,10 @@ class MumpsInstance {
       id_.irn = irn_.data();
       id_.jcn = jcn_.data();
       id_.a = values_.data();
+      given_order_ = own_ordering_wanted() ? nested_dissection_positions(a) : std::vector<int>{};
+      for (int& p : given_order_) ++p;  // MUMPS counts from 1
+      icntl(7) = given_order_.empty() ? 7 : 1;
+      id_.perm_in = given_order_.empty() ? nullptr : given_order_.data();
     } else {
       // distributed input: this rank's share of the entries, an equal count per rank (the
       // analysis gathers their coordinates only, the factorization reads the values where they are)
@@ -423,6 +440,7 @@ class MumpsInstance {
   DMUMPS_STRUC_C id_{};
   bool initialised_ = false, analyzed_ = false;
   std::vector<int> irn_, jcn_;
+  std::vector<int> given_order_;  // PERM_IN: our METIS ordering, 1-based (empty: MUMPS orders)
   std::vector<double> values_;
   std::vector<double> row_scale_, col_scale_;
   bool scaled_ = false;  // row_scale_, col_scale_ hold a scaling of this analysis's pattern

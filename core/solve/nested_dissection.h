@@ -1,0 +1,27 @@
+#pragma once
+/// \file nested_dissection.h
+/// A fill-reducing ordering by METIS's nested dissection (METIS_NodeND), computed by FlexFrame
+/// and handed to MUMPS as a given ordering (ICNTL(7) = 1, PERM_IN): Debian's sequential MUMPS is
+/// built without METIS and orders with SCOTCH otherwise, which costs 18-44 % more factorization
+/// flops on the shell plates (docs/performance.md, "METIS for the sequential build").
+///
+/// Shell matrices come in node blocks (5 or 6 unknowns with identical columns): the graph METIS
+/// orders is the quotient graph of those blocks ("supervariables", columns with identical
+/// patterns), so it is 5-6× smaller and the unknowns of one node stay together in the order.
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+namespace ff {
+
+/// The elimination position of each unknown (0-based: position[i] = k when unknown i is the k-th
+/// pivot) for the symmetric pattern of `a` (CSC; all entries or one triangle: only the pattern
+/// of a + aᵀ is read, values and the diagonal are ignored). Empty when METIS fails (the caller
+/// then lets MUMPS order).
+std::vector<int> nested_dissection_positions(const Eigen::SparseMatrix<double>& a);
+
+/// Columns of `a + aᵀ` (with the diagonal) grouped by identical pattern: group[i] is unknown i's
+/// supervariable, numbered 0.. in order of first appearance; returns the number of groups.
+int supervariables(const Eigen::SparseMatrix<double>& a, std::vector<int>& group);
+
+}  // namespace ff
