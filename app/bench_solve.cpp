@@ -166,14 +166,6 @@ std::string blas_kernels() {
   return "not OpenBLAS";
 }
 
-// whether MUMPS's per-call save/restore statistics are skipped (app/mumps_interpose.cpp, found
-// when this is the flexframe executable)
-std::string mumps_statistics() {
-  using Skipped = long long (*)();
-  const auto f = reinterpret_cast<Skipped>(dlsym(RTLD_DEFAULT, "flexframe_mumps_statistics_skipped"));
-  return f && f() >= 0 ? "skipped" : "computed";
-}
-
 }  // namespace
 
 int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
@@ -200,9 +192,9 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
 
   const std::string blas = blas_kernels();
   std::printf("Static Newton iteration on an n x n plate (CB shell, hr + ans, 5 DoF), wall time, best of %d "
-              "(1 from n = 128); default backend: %s; BLAS: %s; MUMPS per-call statistics: %s; MUMPS over %d MPI "
+              "(1 from n = 128); default backend: %s; BLAS: %s; MUMPS ordering: %s; MUMPS over %d MPI "
               "rank(s)%s\n\n",
-              opt.repeat, std::string(to_string(chosen)).c_str(), blas.c_str(), mumps_statistics().c_str(), ranks,
+              opt.repeat, std::string(to_string(chosen)).c_str(), blas.c_str(), mumps_ordering_description(), ranks,
               distributed_linear_solver_built() ? " (MPI build)" : " (sequential build)");
   std::printf("| n | DoFs | assembly [ms] |");
   for (LinearBackend b : backends) std::printf(" %s factorize + solve [ms] |", std::string(to_string(b)).c_str());
@@ -256,7 +248,7 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   }
   if (!opt.out_file.empty()) {
     const nlohmann::ordered_json root{
-        {"element", element}, {"plate", plates}, {"blas", blas}, {"mumps_statistics", mumps_statistics()},
+        {"element", element}, {"plate", plates}, {"blas", blas}, {"mumps_ordering", mumps_ordering_description()},
         {"ranks", ranks}, {"mumps_build", distributed_linear_solver_built() ? "mpi" : "sequential"}};
     if (!write_bench_json(opt.out_file, root.dump(2) + "\n")) return 1;
   }

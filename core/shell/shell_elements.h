@@ -10,6 +10,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/assembly/element_threads.h"
@@ -77,9 +78,15 @@ class ShellElements {
   /// writes only element k's own buffers; the caller sums them afterwards in element order.
   template <class Kernel>
   void for_each(const assembly::ElementThreads& threads, const std::vector<NodePose>& X_WN, Kernel&& kernel) const {
-    assembly::for_each_chunk(threads, size(), [&](int begin, int end) {
+    for_each_in(threads, 0, size(), X_WN, std::forward<Kernel>(kernel));
+  }
+  /// The same for the elements [first, last) only (a rank's share, core/solve/solver_ranks.h).
+  template <class Kernel>
+  void for_each_in(const assembly::ElementThreads& threads, int first, int last, const std::vector<NodePose>& X_WN,
+                   Kernel&& kernel) const {
+    assembly::for_each_chunk(threads, last - first, [&](int begin, int end) {
       ElementPoses cur;
-      for (int k = begin; k < end; ++k) {
+      for (int k = first + begin; k < first + end; ++k) {
         corner_poses(elements_[k], X_WN, cur);
         kernel(k, elements_[k], cur);
       }

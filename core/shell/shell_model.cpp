@@ -12,6 +12,7 @@
 #include "core/assembly/node_frames.h"
 #include "core/lie/so3.h"
 #include "core/shell/surface_strain.h"
+#include "core/solve/solver_ranks.h"
 
 namespace ff::shell {
 
@@ -447,8 +448,10 @@ void ShellModel::elastic_term(Assembly& a) {
   const bool prescribed_load = a.prescribed_load;
   std::vector<Vec6>& node_force = work_.node_force;  // node-local internal force
   std::fill(node_force.begin(), node_force.end(), Vec6::Zero());
-  const int ne = elements_.size();
-  elements_.for_each(threads_, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
+  // over MPI ranks each evaluates its share of the elements and the sums are added up below
+  // (core/solve/distributed.md §2); alone, the share is every element
+  const RankShare share = rank_share(elements_.size());
+  elements_.for_each_in(threads_, share.begin, share.end, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       const bool tangent = K || (prescribed_load && element_prescribed_[k]);
       e.elastic->evaluate(cur, work_.element_force[k], tangent ? &work_.element_tangent[k] : nullptr);
@@ -472,7 +475,7 @@ void ShellModel::elastic_term(Assembly& a) {
         }
     }
   });
-  for (int k = 0; k < ne; ++k) {
+  for (int k = share.begin; k < share.end; ++k) {
     const ShellElement& e = elements_[k];
     const Vec24& F = work_.element_force[k];
     for (int c = 0; c < 4; ++c) {  // node-local from corner-local: blockdiag(C, C)
@@ -492,6 +495,11 @@ void ShellModel::elastic_term(Assembly& a) {
         const int v = idx[r * 24 + s];
         if (v >= 0) values[v] += Ke(r, s);
       }
+  }
+  if (share.end - share.begin < elements_.size()) {  // the other ranks' elements: every rank gets the sums
+    sum_over_ranks(node_force.data()->data(), 6 * node_force.size());
+    if (K) sum_over_ranks(values, static_cast<std::size_t>(K->nonZeros()));
+    if (a.load) sum_over_ranks(a.load->data(), static_cast<std::size_t>(a.load->size()));
   }
   for (int I = 0; I < nn; ++I) {
     const Mat3& R_WN = state_.poses[I].R;
@@ -519,7 +527,7 @@ void ShellModel::elastic_term(Assembly& a) {
         for (int j = 0; j < 2; ++j) add_to_node(a, I, i, 3 + j, tu(i, j));
     }
   }
-  elastic_.evaluations += ne;
+  elastic_.evaluations += elements_.size();  // the model's, over all ranks
   ++assemblies_;
   elastic_.seconds += seconds_since(t_elastic);
 }

@@ -1,5 +1,6 @@
 #include "core/solve/solver_ranks.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <mutex>
 
@@ -82,6 +83,15 @@ void broadcast_from_first_rank(int* values, int n) {
   if (g_world && n > 0) MPI_Bcast(values, n, MPI_INT, 0, MPI_COMM_WORLD);
 }
 
+void sum_over_ranks(double* values, std::size_t n) {
+  // in slices of at most 2^30 values: MPI counts are int
+  constexpr std::size_t slice = std::size_t{1} << 30;
+  if (g_world && linear_solver_ranks() > 1)
+    for (std::size_t at = 0; at < n; at += slice)
+      MPI_Allreduce(MPI_IN_PLACE, values + at, static_cast<int>(std::min(slice, n - at)), MPI_DOUBLE, MPI_SUM,
+                    MPI_COMM_WORLD);
+}
+
 void end_all_ranks(int code) {
   if (g_world && linear_solver_ranks() > 1) MPI_Abort(MPI_COMM_WORLD, code);
 }
@@ -104,9 +114,15 @@ int linear_solver_ranks() { return 1; }
 int solver_communicator_fortran() { return -987654; }  // MUMPS's USE_COMM_WORLD for its sequential stand-in
 void broadcast_from_first_rank(double*, int) {}
 void broadcast_from_first_rank(int*, int) {}
+void sum_over_ranks(double*, std::size_t) {}
 void end_all_ranks(int) {}
 void finish_solver_mpi() {}
 
 #endif
+
+RankShare rank_share(int count) {
+  const long long ranks = linear_solver_ranks(), rank = linear_solver_rank();
+  return {static_cast<int>(count * rank / ranks), static_cast<int>(count * (rank + 1) / ranks)};
+}
 
 }  // namespace ff

@@ -11,6 +11,8 @@
 /// is computed on rank 0 and broadcast, so every rank takes the same Newton update and stays in step.
 /// Only the MPI C API is used, and only in solver_ranks.cpp and sparse_solver.cpp.
 
+#include <cstddef>
+
 namespace ff {
 
 /// True when this build's MUMPS is the MPI one (FLEXFRAME_MUMPS=mpi).
@@ -37,6 +39,18 @@ int linear_solver_ranks();
 /// Broadcasts n doubles / ints from rank 0 of the solvers' communicator (no-op when alone).
 void broadcast_from_first_rank(double* values, int n);
 void broadcast_from_first_rank(int* values, int n);
+
+/// Sums `n` doubles over the ranks sharing the solvers, in place, the same result on every rank
+/// (MPI_Allreduce; no-op when alone). The element loops of a model shared over ranks evaluate
+/// each rank's share of the elements and sum their contributions with it (distributed.md §2).
+void sum_over_ranks(double* values, std::size_t n);
+
+/// The contiguous share [begin, end) of `count` items that this rank evaluates: all of them when
+/// alone, otherwise an equal share per rank in rank order.
+struct RankShare {
+  int begin = 0, end = 0;
+};
+RankShare rank_share(int count);
 
 /// Ends every rank at once with exit code `code` (MPI_Abort): rank 0 calls it when it stops early,
 /// since the other ranks may wait in a collective call for it. Returns when alone.

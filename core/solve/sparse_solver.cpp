@@ -25,6 +25,19 @@
 
 namespace ff {
 
+// FLEXFRAME_MUMPS_ORDERING=mumps leaves the ordering to MUMPS (SCOTCH in Debian's sequential
+// build), for before/after measurements of our METIS ordering
+static bool own_ordering_wanted() {
+  static const bool wanted = [] {
+    const char* e = std::getenv("FLEXFRAME_MUMPS_ORDERING");
+    return !(e && std::string(e) == "mumps");
+  }();
+  return wanted;
+}
+const char* mumps_ordering_description() {
+  return own_ordering_wanted() ? "METIS (FlexFrame's, nested_dissection.h)" : "MUMPS's automatic choice";
+}
+
 namespace {
 
 using Code = LinearStatus::Code;
@@ -256,16 +269,6 @@ class CholmodImpl final : public SparseLinearSolver::Impl {
 
 
 #ifdef FF_HAVE_MUMPS
-// FLEXFRAME_MUMPS_ORDERING=mumps leaves the ordering to MUMPS (SCOTCH in Debian's sequential
-// build), for before/after measurements of our METIS ordering
-bool own_ordering_wanted() {
-  static const bool wanted = [] {
-    const char* e = std::getenv("FLEXFRAME_MUMPS_ORDERING");
-    return !(e && std::string(e) == "mumps");
-  }();
-  return wanted;
-}
-
 // One MUMPS instance of one symmetry type: SYM = 0, multifrontal LU, or SYM = 2, LDLᵀ with
 // pivoting for symmetric indefinite matrices (a tangent past a limit point is indefinite), on the
 // lower triangle only: about half the flops and memory of LU. With MUMPS's MPI build and the

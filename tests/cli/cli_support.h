@@ -95,13 +95,14 @@ class Child {
   /// Starts FF_BINARY_DIR/flexframe with `args`; logs to <log_prefix>.stdout.txt/.stderr.txt;
   /// the child runs in `cwd` when given. A non-empty `launcher` (e.g. {mpirun, -n, 2}) is
   /// executed instead, with flexframe and `args` after it.
+  /// `exe` replaces FF_BINARY_DIR/flexframe (e.g. the MPI build's).
   Child(const std::vector<std::string>& args, const std::string& log_prefix, const std::string& cwd = "",
-        const std::vector<std::string>& launcher = {})
+        const std::vector<std::string>& launcher = {}, const std::string& exe = flexframe_exe())
       : out_file_(log_prefix + ".stdout.txt"), err_file_(log_prefix + ".stderr.txt") {
     std::vector<std::string> all = launcher;
-    all.push_back(flexframe_exe());
+    all.push_back(exe);
     all.insert(all.end(), args.begin(), args.end());
-    const std::string exe = all.front();
+    const std::string program = all.front();
     std::vector<char*> argv;
     for (std::string& a : all) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -117,7 +118,7 @@ class Child {
       close(e);
       if (!cwd.empty() && chdir(cwd.c_str()) != 0) _exit(125);
       signal(SIGINT, SIG_DFL);
-      execv(exe.c_str(), argv.data());
+      execv(program.c_str(), argv.data());
       _exit(127);
     }
   }
