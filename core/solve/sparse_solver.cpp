@@ -8,6 +8,7 @@
 #include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <sstream>
@@ -301,6 +302,7 @@ class MumpsInstance {
     // ... with a centralized matrix only: with distributed input MUMPS computes its own scaling
     // (given ours, it freed memory twice at the end, core/solve/distributed.md)
     if (ranks_ > 1) icntl(8) = 77;
+    apply_user_controls();
   }
   ~MumpsInstance() {
     if (!initialised_) return;
@@ -439,6 +441,23 @@ class MumpsInstance {
 
  private:
   int& icntl(int k) { return id_.icntl[k - 1]; }  // MUMPS documents ICNTL 1-based
+  // FLEXFRAME_MUMPS_ICNTL="13=1,14=40": MUMPS controls set over ours, for tuning runs (MUMPS's
+  // users' guide, section 6); a malformed entry or an index outside 1..60 is ignored with a warning
+  void apply_user_controls() {
+    const char* e = std::getenv("FLEXFRAME_MUMPS_ICNTL");
+    if (!e) return;
+    std::istringstream in(e);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+      int k = 0, v = 0;
+      char eq = 0;
+      std::istringstream one(item);
+      if (one >> k >> eq >> v && eq == '=' && k >= 1 && k <= 60)
+        icntl(k) = v;
+      else
+        std::fprintf(stderr, "warning: FLEXFRAME_MUMPS_ICNTL: '%s' is not index=value (1..60), ignored\n", item.c_str());
+    }
+  }
   int ranks_ = 1, rank_ = 0;
   DMUMPS_STRUC_C id_{};
   bool initialised_ = false, analyzed_ = false;
