@@ -15,6 +15,7 @@
 #include "core/lie/se3.h"
 #include "core/shell/shell_model.h"  // dead_pressure_forces
 #include "core/shell/surface_strain.h"
+#include "core/solve/solver_ranks.h"
 
 namespace ff::shell {
 
@@ -343,7 +344,10 @@ void MultibodyModel::shell_element_term(Assembly& as) {
   constexpr int timing_stride = 8;
   double t_el = 0, t_in = 0;
   const bool gravity = spec_.gravity;
-  elements_.for_each(threads_, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
+  // over MPI ranks each evaluates its share of the elements and the sums are added up below
+  // (core/solve/distributed.md §2); alone, the share is every element
+  const RankShare share = rank_share(ne);
+  elements_.for_each_in(threads_, share.begin, share.end, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       ElementRates vel, acc;
       for (int c = 0; c < 4; ++c) {
@@ -390,13 +394,16 @@ void MultibodyModel::shell_element_term(Assembly& as) {
       out.S = w->stiffness * K + w->mass * M + w->damping * C;
     }
   });
-  for (int k = 0; k < ne; k += timing_stride) t_el += timed_seconds_[k / timing_stride][0], t_in += timed_seconds_[k / timing_stride][1];
-  const double scale = ne > 0 ? static_cast<double>(ne) / ((ne + timing_stride - 1) / timing_stride) : 0.0;
+  // this rank's timed elements, scaled to all elements (its own share's time, on more than one rank)
+  int timed_count = 0;
+  for (int k = (share.begin + timing_stride - 1) / timing_stride * timing_stride; k < share.end; k += timing_stride)
+    t_el += timed_seconds_[k / timing_stride][0], t_in += timed_seconds_[k / timing_stride][1], ++timed_count;
+  const double scale = timed_count > 0 ? static_cast<double>(share.end - share.begin) / timed_count : 0.0;
   elastic_.evaluations += ne, elastic_.seconds += scale * t_el;
   ++assemblies_;
   inertia_.evaluations += ne, inertia_.seconds += scale * t_in;
   if (gravity) gravity_.evaluations += ne;
-  for (int k = 0; k < ne; ++k) {
+  for (int k = share.begin; k < share.end; ++k) {
     const ShellElement& e = elements_[k];
     Vec24 F = results_[k].r;
     if (!e.plain)
@@ -426,7 +433,10 @@ void MultibodyModel::shell_element_term(Assembly& as) {
         if (p >= 0) values[p] += Ke(i, j);
       }
   }
-
+  if (share.end - share.begin < ne) {  // the other ranks' elements: every rank gets the sums
+    sum_over_ranks(r.data(), static_cast<std::size_t>(r.size()));
+    if (tangent) sum_over_ranks(values, static_cast<std::size_t>(as.S->nonZeros()));
+  }
 }
 
 // Rigid bodies (D9), (D10).
