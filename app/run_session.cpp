@@ -547,6 +547,14 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       if (camera) mo.camera = *camera, mo.camera_given = true;
       mode_report = write_mode_outputs(folder, info, reader->frame(reader->frame_count() - 1), *modes, mo, nullptr, stop);
       e = mode_report.error;
+      // pictures a Ctrl-C cut short: the run does not call itself completed (results.h5 keeps the modes)
+      if (stop && outcome.status == RunStatus::completed && mode_report.no_graphics.empty() &&
+          (mode_report.modes_animated < static_cast<int>(mo.modes.size()) || (mo.plot && !modes->modes.empty() && mode_report.plot.empty()))) {
+        outcome.status = RunStatus::interrupted;
+        outcome.reason = "interrupted by the user while the mode pictures were drawn (" +
+                         std::to_string(mode_report.modes_animated) + " of " + std::to_string(mo.modes.size()) +
+                         " modes animated); results.h5 holds every mode: `flexframe replay` draws them";
+      }
     } else if (reader) {
       e = "no stored frame holds the state the modes are about";
     }
