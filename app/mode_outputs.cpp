@@ -255,6 +255,12 @@ ModeOutputReport write_mode_outputs(OutputFolder& folder, const RunInfo& info, c
                    std::string(info.scene_name.empty() ? "" : " — " + info.scene_name) +
                    (set.about.empty() ? "" : " — about the " + set.about);
       spec.x_label = "mode number";
+      // room beside the first and last mode, whole numbers as ticks (a few dozen at most)
+      const double first = set.modes.front().number, last = set.modes.back().number;
+      spec.x_min = first - 0.5;
+      spec.x_max = last + 0.5;
+      if (last - first <= 30)
+        for (const Mode& m : set.modes) spec.x_ticks.push_back(m.number);
       spec.y_label = render::axis_title({set.value_name, set.value_unit, set.value_label});
       render::PlotSeries elastic{set.analysis == "buckling" ? "buckling modes" : "elastic modes", {}, {}, true};
       elastic.marker = render::MarkerShape::circle;
