@@ -50,8 +50,7 @@ void print_result(const ff::app::RunResult& r) {
   if (r.frames_exported > 0) std::printf(", export/ (%d frames)", r.frames_exported);
   std::printf("}\n");
   if (r.modes >= 0)  // an eigen-analysis: its table, animations and spectrum (docs/guide/mode_outputs.md)
-    std::printf("  modes: %d (summary.json \"modes\"), %d animated in frames/mode_NN/, plots/spectrum.png\n", r.modes,
-                r.modes_animated);
+    std::printf("  modes: %d (summary.json \"modes\"), %d animated in frames/mode_NN/\n", r.modes, r.modes_animated);
 }
 }  // namespace
 

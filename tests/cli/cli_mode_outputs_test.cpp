@@ -212,6 +212,29 @@ TEST(ModeOutputs, AnimationIsTheBaseStatePlusAScaledSineOfTheMode) {
   EXPECT_NE(a.caption.find("10 % of the model's size"), std::string::npos) << a.caption;
 }
 
+// a buckling analysis' modes are named by their load multipliers, not as frequencies
+TEST(ModeOutputs, BucklingModesAreNamedByTheirLoadMultipliers) {
+  const RunInfo info = plate_info();
+  ModeSet set = plate_modes(info);
+  set.analysis = "buckling";
+  set.value_name = "load_multiplier";
+  set.value_unit = "";
+  set.value_label = "load multiplier";
+  set.about = "state preloaded to lambda = 1";
+  set.modes[0].value = 3.52;
+  EXPECT_EQ(app::mode_value_text(set, set.modes[0]), "load multiplier 3.52");
+  Frame base;
+  base.points = info.mesh.reference_points;
+  const app::ModeAnimation a = app::mode_animation(info, base, set, set.modes[0]);
+  EXPECT_NE(a.title.find("mode 1 of 6, load multiplier 3.52"), std::string::npos) << a.title;
+  EXPECT_EQ(a.title.find("Hz"), std::string::npos) << a.title;
+  EXPECT_NE(a.caption.find("about the state preloaded to lambda = 1"), std::string::npos) << a.caption;
+  const auto json = app::modes_json(set);
+  EXPECT_EQ(json["analysis"], "buckling");
+  EXPECT_EQ(json["value_name"], "load_multiplier");
+  EXPECT_EQ(json["modes"][0]["value"], 3.52);
+}
+
 TEST(ModeOutputs, RunWritesTheTableTheAnimationsAndTheSpectrum) {
   const std::string out = fresh_test_dir() + "/run";
   const app::RunResult r = run_plate(out);
