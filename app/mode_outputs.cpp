@@ -99,6 +99,10 @@ ModeAnimation mode_animation(const RunInfo& info, const Frame& base, const ModeS
   if (base.points.size() != 3 * n)
     throw std::invalid_argument("the state the modes are about has " + std::to_string(base.points.size()) +
                                 " coordinates, the mesh needs " + std::to_string(3 * n));
+  for (std::size_t i = 0; i < 3 * n; ++i)
+    if (!std::isfinite(mode.displacement[i]))
+      throw std::invalid_argument("mode " + std::to_string(mode.number) + " has a non-finite displacement at point " +
+                                  std::to_string(i / 3));
   ModeAnimation a;
   a.info = info;
   a.info.probes.clear();
@@ -108,7 +112,7 @@ ModeAnimation mode_animation(const RunInfo& info, const Frame& base, const ModeS
   std::vector<double> magnitude(n);
   for (std::size_t i = 0; i < n; ++i) {
     magnitude[i] = std::hypot(mode.displacement[3 * i], mode.displacement[3 * i + 1], mode.displacement[3 * i + 2]);
-    if (std::isfinite(magnitude[i])) largest = std::max(largest, magnitude[i]);
+    largest = std::max(largest, magnitude[i]);
   }
   for (double& m : magnitude) m = largest > 0 ? m / largest : 0.0;
   const double size = model_size(base.points);

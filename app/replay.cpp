@@ -91,6 +91,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   const ModeSet* modes = reader->modes();
   if (!opt.modes.empty() && !modes)
     throw InputError("--mode: " + path + " stores no modes (it holds no modal or buckling analysis)");
+  if (!opt.modes.empty() && !opt.frames) throw InputError("--mode animates modes as PNG frames: drop --no-frames");
   const std::vector<int> mode_selection = modes ? select_modes(*modes, opt.modes, 0) : std::vector<int>{};
 
   // ---- what the stored run is

@@ -8,6 +8,7 @@
 // with its bad input.
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkPointData.h>
@@ -210,6 +211,17 @@ TEST(ModeOutputs, AnimationIsTheBaseStatePlusAScaledSineOfTheMode) {
   EXPECT_NE(a.title.find("Hz"), std::string::npos) << a.title;
   EXPECT_NE(a.caption.find("arbitrary"), std::string::npos) << a.caption;
   EXPECT_NE(a.caption.find("10 % of the model's size"), std::string::npos) << a.caption;
+
+  ModeSet bad = set;
+  bad.modes[0].displacement[3 * centre + 2] = std::nan("");
+  try {
+    app::mode_animation(info, base, bad, bad.modes[0]);
+    ADD_FAILURE() << "a NaN displacement was animated";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("mode 1 has a non-finite displacement at point " + std::to_string(centre)),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // a buckling analysis' modes are named by their load multipliers, not as frequencies
@@ -271,6 +283,28 @@ TEST(ModeOutputs, RunWritesTheTableTheAnimationsAndTheSpectrum) {
   ASSERT_NE(reader->modes(), nullptr);
   EXPECT_EQ(reader->modes()->modes.size(), expected.modes.size());
   EXPECT_EQ(reader->modes()->modes[3].displacement, expected.modes[3].displacement);
+  {  // the layout results_layout.md documents, as any HDF5 reader sees it
+    const hid_t file = H5Fopen((out + "/results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    const auto dims_of = [&](const char* path) {
+      const hid_t d = H5Dopen2(file, path, H5P_DEFAULT);
+      const hid_t space = H5Dget_space(d);
+      std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(0, H5Sget_simple_extent_ndims(space))));
+      H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+      H5Sclose(space);
+      H5Dclose(d);
+      return dims;
+    };
+    const hsize_t n = plate_info().mesh.point_count();
+    EXPECT_EQ(dims_of("/modes/displacement"), (std::vector<hsize_t>{kModeCount, n, 3}));
+    EXPECT_EQ(dims_of("/modes/value"), (std::vector<hsize_t>{kModeCount}));
+    const hid_t rigid = H5Dopen2(file, "/modes/rigid_body", H5P_DEFAULT);
+    const hid_t type = H5Dget_type(rigid);
+    EXPECT_EQ(H5Tget_class(type), H5T_ENUM) << "a bool as the frames' converged flag";
+    H5Tclose(type);
+    H5Dclose(rigid);
+    H5Fclose(file);
+  }
 
   // one looping animation per mode, 24 frames, whose phases differ
   for (int m = 1; m <= kModeCount; ++m) {
@@ -377,6 +411,10 @@ TEST(ModeOutputs, ReplayAnimatesTheChosenModesOfAStoredRun) {
   EXPECT_NE(missing.err.find("--mode 9: no such mode; the modal analysis stored modes 1, 2, 3, 4, 5, 6"), std::string::npos)
       << missing.err;
   EXPECT_FALSE(fs::exists(dir + "/bad"));
+  const ProcResult no_frames =
+      run_flexframe({"replay", dir + "/run", "--out", dir + "/bad3", "--mode", "2", "--no-frames"}, dir + "/bad3");
+  EXPECT_EQ(no_frames.exit_code, 2) << no_frames.describe();
+  EXPECT_NE(no_frames.err.find("--mode animates modes as PNG frames"), std::string::npos) << no_frames.err;
   ASSERT_EQ(run_plate(dir + "/plain", false).modes, -1);
   const ProcResult none = run_flexframe({"replay", dir + "/plain", "--out", dir + "/bad2", "--mode", "1"}, dir + "/bad2");
   EXPECT_EQ(none.exit_code, 2) << none.describe();
