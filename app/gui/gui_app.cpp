@@ -345,9 +345,9 @@ class Viewport {
     glfwMakeContextCurrent(window_);
     return nodes;
   }
-  bool ready() const { return renderer_ != nullptr; }
+  bool ready() const { return mode_ ? mode_renderer_ != nullptr : renderer_ != nullptr; }
   /// A frame has arrived that the view has not drawn yet.
-  bool needs_render_any() const { return info_ && frame_ && dirty_; }
+  bool needs_render_any() const { return mode_ ? mode_shown_ < 0 : info_ && frame_ && dirty_; }
 
   /// Draws the image into the current ImGui window and handles the mouse (orbit, pan, zoom,
   /// click to pick, shift-drag a box when `box_picking`). Returns the node clicked this frame, or
@@ -1590,6 +1590,7 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
   scene::LoadedScene scene;
   try {
     scene = scene::load_scene_text(text, path, {}, io::scene_context());
+    if (opt.simulation_for_test) scene.simulation = opt.simulation_for_test();
   } catch (...) {
     glfwTerminate();
     throw;

@@ -34,6 +34,7 @@ inline RunInfo plate_info() {
   info.scene_name = "ss_plate_modes";
   info.scene_path = "(test model)";
   info.time_unit = "s";
+  info.fields = {{"displacement", "m", "displacement magnitude"}};  // as a shell model stores it
   for (int j = 0; j <= kNy; ++j)
     for (int i = 0; i <= kNx; ++i)
       info.mesh.reference_points.insert(info.mesh.reference_points.end(), {kA * i / kNx, kB * j / kNy, 0.0});
@@ -94,6 +95,7 @@ class PlateModesSimulation : public Simulation {
     f.time = time_;
     f.points = info_.mesh.reference_points;
     f.base_points = f.points;
+    f.fields = {std::vector<double>(info_.mesh.point_count(), 0.0)};
     return f;
   }
   Metrics metrics() const override { return {}; }
