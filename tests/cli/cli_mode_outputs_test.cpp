@@ -30,7 +30,7 @@ namespace {
 using namespace ff::test;
 
 app::RunResult run_plate(const std::string& out, bool with_modes = true, bool movie = false,
-                         const std::string& export_formats = "") {
+                         const std::string& export_formats = "", int animate_modes = -1) {
   scene::LoadedScene scene;
   scene.name = "ss_plate_modes";
   scene.path = "(test model)";
@@ -42,6 +42,7 @@ app::RunResult run_plate(const std::string& out, bool with_modes = true, bool mo
   opt.progress = false;
   opt.movie = movie;
   opt.export_formats = export_formats;
+  opt.animate_modes = animate_modes;
   const std::atomic<bool> stop{false};
   return app::run_loaded_scene(opt, std::move(scene), stop);
 }
@@ -245,6 +246,25 @@ TEST(ModeOutputs, RunWritesTheTableTheAnimationsAndTheSpectrum) {
   const std::string manifest = read_text(out + "/.flexframe-files");
   EXPECT_NE(manifest.find("frames/mode_03/frame_00023.png"), std::string::npos);
   EXPECT_NE(manifest.find("plots/spectrum.png"), std::string::npos);
+}
+
+// --animate-modes N animates the first N modes; the table and the spectrum keep every mode
+TEST(ModeOutputs, AnimateModesCapsTheAnimations) {
+  const std::string dir = fresh_test_dir();
+  const app::RunResult two = run_plate(dir + "/two", true, false, "", 2);
+  EXPECT_EQ(two.modes, kModeCount);
+  EXPECT_EQ(two.modes_animated, 2);
+  EXPECT_EQ(pngs_in(dir + "/two/frames/mode_02").size(), 24u);
+  EXPECT_FALSE(fs::exists(dir + "/two/frames/mode_03"));
+  EXPECT_TRUE(fs::is_regular_file(dir + "/two/plots/spectrum.png"));
+  std::string err;
+  const auto summary = read_summary(dir + "/two", &err);
+  ASSERT_TRUE(summary) << err;
+  EXPECT_EQ(summary->get("modes")->get("modes")->array.size(), static_cast<std::size_t>(kModeCount));
+  const app::RunResult none = run_plate(dir + "/none", true, false, "", 0);
+  EXPECT_EQ(none.modes_animated, 0);
+  EXPECT_FALSE(fs::exists(dir + "/none/frames/mode_01"));
+  EXPECT_TRUE(fs::is_regular_file(dir + "/none/plots/spectrum.png"));
 }
 
 // a run of the same folder without modes leaves none of the earlier run's mode pictures behind
