@@ -234,7 +234,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     mo.height = height;
     if (opt.camera != "auto") mo.camera = camera, mo.camera_given = true;
     const ModeOutputReport m = write_mode_outputs(folder, info, reader->frame(count - 1), *modes, mo, nullptr, stop);
-    std::printf("  modes: %zu stored (%s about the %s); %d animated, %d PNG in %s/mode_NN/", modes->modes.size(),
+    std::printf("  modes: %zu stored (%s analysis, about the %s); %d animated, %d PNG in %s/mode_NN/", modes->modes.size(),
                 modes->analysis.c_str(), modes->about.c_str(), m.modes_animated, m.frames, frames_dir.string().c_str());
     if (!m.plot.empty()) std::printf(", %s", m.plot.c_str());
     for (const std::string& f : m.movies) std::printf(", %s", f.c_str());
