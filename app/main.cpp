@@ -49,6 +49,8 @@ void print_result(const ff::app::RunResult& r) {
   if (!r.movie.empty()) std::printf(", movie.mp4");
   if (r.frames_exported > 0) std::printf(", export/ (%d frames)", r.frames_exported);
   std::printf("}\n");
+  if (r.modes >= 0)  // an eigen-analysis: its table, animations and spectrum (docs/guide/mode_outputs.md)
+    std::printf("  modes: %d (summary.json \"modes\"), %d animated in frames/mode_NN/\n", r.modes, r.modes_animated);
 }
 }  // namespace
 
@@ -78,6 +80,9 @@ int main(int argc, char** argv) {
                   "it the rest is drawn as it comes in the first frames' range (default: a quarter of the "
                   "machine's memory, at most 2048)")
       ->check(CLI::Range(0.001, 1e7));
+  run->add_option("--animate-modes", run_opt.animate_modes,
+                  "after a modal or buckling analysis, animate at most N modes (default: all; 0: none)")
+      ->check(CLI::Range(0, 1000000));
   run->add_option("--export", run_opt.export_formats,
                   "write the rendered frames' deformed mesh to DIR/export: vtu (+ .pvd), gltf (.glb), obj");
 
@@ -98,6 +103,11 @@ int main(int argc, char** argv) {
   replay->add_option("--fps", replay_opt.fps, "movie frames per second")->check(CLI::Range(1, 240));
   replay->add_option("--export", replay_opt.export_formats,
                      "write the replayed frames' deformed mesh to DIR/export: vtu (+ .pvd), gltf (.glb), obj");
+  replay->add_option("--mode", replay_opt.modes,
+                     "of a stored modal or buckling analysis, animate only these modes, e.g. --mode 2 or --mode 1,3 "
+                     "(default: every stored mode)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   replay->add_flag("--no-frames", replay_no_frames, "skip PNG frames");
   replay->add_flag("--no-plots", replay_no_plots, "skip plots");
 

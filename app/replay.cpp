@@ -12,6 +12,7 @@
 
 #include "app/frame_outputs.h"
 #include "app/io/results.h"
+#include "app/mode_outputs.h"
 #include "app/plots.h"
 #include "app/run_session.h"
 #include "app/view_options.h"
@@ -86,6 +87,12 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   if (opt.frame_every < 1) throw InputError("--frame-every must be at least 1");
   if (opt.movie && !opt.frames) throw InputError("--movie needs the frames: drop --no-frames");
   if (opt.fps < 1 || opt.fps > 240) throw InputError("--fps must be 1..240");
+  // the modes of a stored eigen-analysis: --mode picks among them
+  const ModeSet* modes = reader->modes();
+  if (!opt.modes.empty() && !modes)
+    throw InputError("--mode: " + path + " stores no modes (it holds no modal or buckling analysis)");
+  if (!opt.modes.empty() && !opt.frames) throw InputError("--mode animates modes as PNG frames: drop --no-frames");
+  const std::vector<int> mode_selection = modes ? select_modes(*modes, opt.modes, 0) : std::vector<int>{};
 
   // ---- what the stored run is
   const RunOutcome outcome = reader->outcome();
@@ -106,7 +113,7 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   const fs::path frames_dir = dir / "frames", plots_dir = dir / "plots";
   // the folder's lock before any file in it is touched; an earlier replay's recorded outputs go
   OutputFolder folder(dir, "replay");
-  for (const char* earlier : {"frames/", "plots/", "export/", "movie.mp4"}) folder.remove_earlier(earlier);
+  for (const char* earlier : {"frames/", "plots/", "export/", "modes/", "movie.mp4"}) folder.remove_earlier(earlier);
   const std::vector<std::size_t> selection = frame_selection(count, opt.frame_every, true);
   int status = 0;
 
@@ -211,6 +218,36 @@ int replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     std::printf("%s\n", x.files.empty() ? "" : " ...");
     if (!x.error.empty()) {
       std::fprintf(stderr, "error: export: %s\n", x.error.c_str());
+      status = 1;
+    }
+  }
+  // ---- the modes: animations, spectrum, export/modes.vtu, about the last stored frame
+  if (modes && !stop) {
+    ModeOutputOptions mo;
+    mo.modes = mode_selection;
+    mo.frames = opt.frames;
+    mo.plot = opt.plots;
+    mo.movie = opt.movie;
+    mo.vtu = formats.vtu;
+    mo.fps = opt.fps;
+    mo.width = width;
+    mo.height = height;
+    if (opt.camera != "auto") mo.camera = camera, mo.camera_given = true;
+    const ModeOutputReport m = write_mode_outputs(folder, info, reader->frame(count - 1), *modes, mo, nullptr, stop);
+    std::printf("  modes: %zu stored (%s analysis, about the %s); %d animated, %d PNG in %s/mode_NN/", modes->modes.size(),
+                modes->analysis.c_str(), modes->about.c_str(), m.modes_animated, m.frames, frames_dir.string().c_str());
+    if (!m.plot.empty()) std::printf(", %s", m.plot.c_str());
+    for (const std::string& f : m.movies) std::printf(", %s", f.c_str());
+    if (!m.vtu.empty()) std::printf(", %s", m.vtu.c_str());
+    std::printf("\n");
+    for (const Mode& mode : modes->modes)
+      std::printf("    mode %2d  %s\n", mode.number, mode_value_text(*modes, mode).c_str());
+    if (!m.no_graphics.empty()) {
+      std::fprintf(stderr, "error: mode pictures not drawn: %s\n", m.no_graphics.c_str());
+      status = 1;
+    }
+    if (!m.error.empty()) {
+      std::fprintf(stderr, "error: modes: %s\n", m.error.c_str());
       status = 1;
     }
   }

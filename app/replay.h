@@ -7,6 +7,7 @@
 #include <atomic>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace ff::app {
 
@@ -21,6 +22,8 @@ struct ReplayOptions {
   bool movie = false;
   int fps = 25;
   std::string export_formats;          ///< "" = none; else see parse_export_formats()
+  /// of a stored eigen-analysis (results.h5 /modes), the modes to animate; empty = every one
+  std::vector<int> modes;
 };
 
 /// Runs the replay and prints what it did. Throws InputError for bad input (missing or

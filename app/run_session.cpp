@@ -24,6 +24,7 @@
 #include "app/channel.h"
 #include "app/frame_outputs.h"
 #include "app/io/results.h"
+#include "app/mode_outputs.h"
 #include "app/output_folder.h"
 #include "app/plots.h"
 #include "app/view_options.h"
@@ -138,7 +139,10 @@ int follow_run(const RunOptions& opt) {
 }
 
 RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
-  scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&stop));
+  return run_loaded_scene(opt, scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&stop)), stop);
+}
+
+RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, const std::atomic<bool>& stop) {
   if (scene.mesh_quality)  // poor quads run, but the user hears of them before a long run
     for (const std::string& w : scene.mesh_quality->warnings()) std::fprintf(stderr, "warning: mesh quality: %s\n", w.c_str());
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -155,6 +159,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   const ExportFormats formats = opt.export_formats.empty() ? ExportFormats{} : parse_export_formats(opt.export_formats);
   if (opt.movie && !want_frames) throw InputError("--movie needs the frames (no --no-frames, output.frames = true)");
   if (opt.fps < 1 || opt.fps > 240) throw InputError("--fps must be 1..240");
+  if (opt.animate_modes < -1) throw InputError("--animate-modes must be 0 or more");
 
   RunResult result;
   result.scene_name = scene.name;
@@ -164,7 +169,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   OutputFolder folder(result.out_dir, "run");
   // what an earlier run wrote here would be mistaken for this run's: its recorded files go,
   // results.h5 is truncated by the writer (which refuses a file another process has open)
-  for (const char* earlier : {"frames/", "plots/", "export/", "movie.mp4", "summary.json"}) folder.remove_earlier(earlier);
+  for (const char* earlier : {"frames/", "plots/", "export/", "modes/", "movie.mp4", "summary.json"}) folder.remove_earlier(earlier);
   const fs::path frames_dir = folder.sub_folder("frames"), plots_dir = folder.sub_folder("plots");
   if (const std::size_t foreign = folder.unrecorded_files("frames", ".png"); foreign > 0)
     std::fprintf(stderr, "note: %zu PNG file(s) in %s were not written by a flexframe run and are left in place\n",
@@ -472,6 +477,12 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     else if (result.frames_rendered > 0 && !stop) fail_write("movie.mp4: " + m.message);
     else std::fprintf(stderr, "warning: no movie: %s\n", m.message.c_str());
   }
+  // the modes of an eigen-analysis, with the table, before the outcome (results_layout.md /modes)
+  const ModeSet* modes = sim.modes();
+  if (modes && failed_write().empty()) {
+    result.modes = static_cast<int>(modes->modes.size());
+    if (!writer->write_modes(*modes, &err)) fail_write("results.h5: " + err);
+  }
   record_write_failure();
   if (!render_backend.empty()) {
     writer->set_attribute("render_backend", render_backend);
@@ -518,6 +529,43 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       record_write_failure();
     }
   }
+  // the modes' pictures, plot and export, about the last stored frame (as `replay` makes them)
+  ModeOutputReport mode_report;
+  if (modes && failed_write().empty()) {
+    std::string e;
+    const auto reader = io::ResultReader::open(h5_path, &e);
+    if (reader && reader->frame_count() > 0) {
+      ModeOutputOptions mo;
+      mo.modes = opt.animate_modes == 0 ? std::vector<int>{} : select_modes(*modes, {}, opt.animate_modes);
+      mo.frames = want_frames;
+      mo.plot = opt.plots && out.plots;
+      mo.movie = opt.movie;
+      mo.vtu = formats.vtu;
+      mo.fps = opt.fps;
+      mo.width = out.width;
+      mo.height = out.height;
+      if (camera) mo.camera = *camera, mo.camera_given = true;
+      mode_report = write_mode_outputs(folder, info, reader->frame(reader->frame_count() - 1), *modes, mo, nullptr, stop);
+      e = mode_report.error;
+      // pictures a Ctrl-C cut short: the run does not call itself completed (results.h5 keeps the modes)
+      if (stop && outcome.status == RunStatus::completed && mode_report.no_graphics.empty() &&
+          (mode_report.modes_animated < static_cast<int>(mo.modes.size()) || (mo.plot && !modes->modes.empty() && mode_report.plot.empty()))) {
+        outcome.status = RunStatus::interrupted;
+        outcome.reason = "interrupted by the user while the mode pictures were drawn (" +
+                         std::to_string(mode_report.modes_animated) + " of " + std::to_string(mo.modes.size()) +
+                         " modes animated); results.h5 holds every mode: `flexframe replay` draws them";
+      }
+    } else if (reader) {
+      e = "no stored frame holds the state the modes are about";
+    }
+    result.modes_animated = mode_report.modes_animated;
+    if (!mode_report.plot.empty()) plot_files.push_back(mode_report.plot);
+    if (!mode_report.no_graphics.empty()) std::fprintf(stderr, "warning: mode pictures not drawn: %s\n", mode_report.no_graphics.c_str());
+    if (!e.empty()) {
+      fail_write("modes: " + e);
+      record_write_failure();
+    }
+  }
   result.outcome = outcome;
   if (!failed_write().empty()) std::fprintf(stderr, "error: %s\n", outcome.reason.c_str());
 
@@ -536,7 +584,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
     if (!e.included_in.empty()) one["included_in"] = e.included_in;
     effect_stats[e.effect] = one;
   }
-  const Json outputs = {{"results", "results.h5"},
+  Json outputs = {{"results", "results.h5"},
                         {"frames_dir", "frames"},
                         {"frames", result.frames_rendered},
                         {"plots", plot_files},
@@ -557,6 +605,14 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
   Json mesh_import = Json::object();
   for (const auto& [key, value] : info.settings)
     if (key.rfind("mesh_import", 0) == 0) mesh_import[key] = value;
+  if (modes)
+    outputs["modes"] = {{"animated", mode_report.modes_animated},
+                        {"frames", mode_report.frames},
+                        {"frames_per_cycle", kModeFramesPerCycle},
+                        {"amplitude_fraction_of_model_size", kModeAmplitudeFraction},
+                        {"movies", mode_report.movies},
+                        {"spectrum_plot", mode_report.plot},
+                        {"vtu", mode_report.vtu}};
   Json summary = {
       {"scene", scene.name},
       {"scene_path", scene.path},
@@ -578,6 +634,7 @@ RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
       {"mesh_import", mesh_import},
       {"outputs", outputs},
       {"render", render_info}};
+  if (modes) summary["modes"] = modes_json(*modes);
   if (scene.mesh_quality) summary["mesh_quality"] = mesh_quality_json(*scene.mesh_quality);
   if (von_mises >= 0)  // null node and frame: no stored frame had a finite value
     summary["stresses"] = {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/model/simulation.h"
+#include "core/scene/scene.h"
 
 namespace ff::app {
 
@@ -35,6 +36,9 @@ struct RunOptions {
   /// it, in one colour range and view); beyond it the rest is drawn as it comes, in the range and
   /// view of the frames kept. 0 = a quarter of the machine's memory, at most 2048 MB.
   double frame_memory_mb = 0.0;
+  /// --animate-modes: after an eigen-analysis, at most this many modes are animated (frames,
+  /// movies); -1 = every mode the analysis found, 0 = none (the table, plot and exports stay)
+  int animate_modes = -1;
 };
 
 struct RunResult {
@@ -47,11 +51,16 @@ struct RunResult {
   std::string movie;             ///< path of the movie written, "" if none
   int frames_exported = 0;
   double render_seconds = 0.0;   ///< wall time spent rendering frames (render thread)
+  int modes = -1;                ///< modes the eigen-analysis found; -1: the run computes none
+  int modes_animated = 0;        ///< of them, animated (frames/mode_NN/)
 };
 
 /// Runs a scene. Throws ff::scene::SceneError for bad input (before anything is written) and
 /// std::runtime_error for output problems (unwritable directory, HDF5 failure).
 RunResult run_scene(const RunOptions& options, const std::atomic<bool>& stop);
+/// run_scene for a scene already loaded (options.scene_path and overrides are not read again):
+/// the same run, also for a test that hands in a model of its own.
+RunResult run_loaded_scene(const RunOptions& options, scene::LoadedScene scene, const std::atomic<bool>& stop);
 
 /// One of the other ranks of `mpirun -n K flexframe run` (core/solve/distributed.md): builds the
 /// same model and makes the same solver calls as rank 0, so that MUMPS factorizes over every rank,

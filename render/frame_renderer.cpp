@@ -722,7 +722,7 @@ bool FrameRenderer::Impl::update(const Frame& frame, std::string* why) {
   ghost_line_actor->SetVisibility(have_base);
   ghost_surface_actor->SetVisibility(have_base);
 
-  status->SetInput(status_line(status_info, frame, s).c_str());
+  status->SetInput(style.caption.empty() ? status_line(status_info, frame, s).c_str() : style.caption.c_str());
   reset_clipping_range();
   // what follows the camera: every render comes through here after the last orbit, zoom or pan
   turn_triad();

@@ -74,6 +74,10 @@ struct FrameStyle {
   /// reference mesh, e.g. positions from every frame of a stored run on replay.
   std::vector<double> fit_points;
   std::string title;         ///< first overlay line, e.g. the scene name; "" = none
+  /// Fixed lines shown under the title instead of the time / λ / deformation / step lines,
+  /// for pictures where those would mislead (a mode animation states its arbitrary amplitude
+  /// here); "" = the status lines.
+  std::string caption;
   double line_radius = 0;    ///< tube radius of line cells in world units; 0 = automatic
                              ///< (1.1 % of the framed half height: ~8 px wide at 720 px)
   bool show_base = true;     ///< faint ghost of base_points

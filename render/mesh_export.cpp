@@ -51,7 +51,8 @@ std::string xml_attr(const std::string& s) {
 
 }  // namespace
 
-bool write_vtu(const std::string& path, const RunInfo& info, const Frame& frame, std::string* error) {
+bool write_vtu(const std::string& path, const RunInfo& info, const Frame& frame, std::string* error,
+               const VtuExtras& extras) {
   auto fail = [&](const std::string& why) {
     if (error) *error = "'" + path + "': " + why;
     return false;
@@ -66,6 +67,8 @@ bool write_vtu(const std::string& path, const RunInfo& info, const Frame& frame,
   if (frame.fields.size() != info.fields.size()) return fail("frame fields do not match the run's field list");
   for (const auto& f : frame.fields)
     if (f.size() != n) return fail("a frame field does not have one value per point");
+  for (const auto& [name, values] : extras.point_vectors)
+    if (values.size() != 3 * n) return fail("point vectors '" + name + "' do not have 3 values per point");
   for (const auto* cells : {&mesh.lines, &mesh.triangles, &mesh.quads})
     for (std::int32_t v : *cells)
       if (v < 0 || static_cast<std::size_t>(v) >= n) return fail("a mesh cell refers to a point that does not exist");
@@ -110,6 +113,14 @@ bool write_vtu(const std::string& path, const RunInfo& info, const Frame& frame,
   };
   add_vector("displacement_xyz", mesh.reference_points);
   if (have_base) add_vector("elastic_displacement_xyz", frame.base_points);
+  for (const auto& [name, values] : extras.point_vectors) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name.c_str());
+    a->SetNumberOfComponents(3);
+    a->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    for (std::size_t i = 0; i < 3 * n; ++i) a->SetValue(static_cast<vtkIdType>(i), values[i]);
+    pd->AddArray(a);
+  }
   if (!info.fields.empty()) pd->SetActiveScalars(info.fields.front().name.c_str());
 
   vtkFieldData* fd = grid->GetFieldData();
@@ -124,6 +135,13 @@ bool write_vtu(const std::string& path, const RunInfo& info, const Frame& frame,
     units->InsertNextValue(s);
   }
   fd->AddArray(units);
+  for (const auto& [name, values] : extras.field_arrays) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name.c_str());
+    a->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+    for (std::size_t i = 0; i < values.size(); ++i) a->SetValue(static_cast<vtkIdType>(i), values[i]);
+    fd->AddArray(a);
+  }
 
   MessageCapture vtk_errors;
   vtkNew<vtkXMLUnstructuredGridWriter> writer;

@@ -23,10 +23,18 @@
 
 namespace ff::render {
 
+/// What a .vtu may carry besides the frame: 3-component point-data vectors (e.g. a mode's
+/// displacement "mode_2") and numeric field-data arrays (e.g. the modes' frequencies).
+struct VtuExtras {
+  std::vector<std::pair<std::string, std::vector<double>>> point_vectors;  ///< name, 3 values per point
+  std::vector<std::pair<std::string, std::vector<double>>> field_arrays;   ///< name, values
+};
+
 /// Writes `frame` of the run `info` as a VTK XML unstructured grid (binary, appended,
-/// zlib-compressed). Returns false and fills *error on size mismatches (points, base_points,
-/// fields against the mesh) or when the file cannot be written.
-bool write_vtu(const std::string& path, const RunInfo& info, const Frame& frame, std::string* error);
+/// zlib-compressed), with `extras`. Returns false and fills *error on size mismatches (points,
+/// base_points, fields, extra vectors against the mesh) or when the file cannot be written.
+bool write_vtu(const std::string& path, const RunInfo& info, const Frame& frame, std::string* error,
+               const VtuExtras& extras = {});
 
 /// One entry of a .pvd collection: a time and a file name relative to the .pvd.
 struct PvdEntry {

@@ -12,6 +12,7 @@
 #include <vtkPlotPoints.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkStringArray.h>
 #include <vtkTable.h>
 #include <vtkSmartPointer.h>
 #include <vtkTextActor.h>
@@ -19,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "render/render_surface.h"
@@ -187,6 +189,22 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
       }
     }
   }
+  if (std::isfinite(spec.x_min) && std::isfinite(spec.x_max) && spec.x_max > spec.x_min && !spec.log_x) {
+    vtkAxis* x = chart->GetAxis(vtkAxis::BOTTOM);
+    x->SetRange(spec.x_min, spec.x_max);
+    x->SetBehavior(vtkAxis::FIXED);
+  }
+  if (!spec.x_ticks.empty()) {
+    vtkNew<vtkDoubleArray> positions;
+    vtkNew<vtkStringArray> labels;
+    for (double t : spec.x_ticks) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%g", t);
+      positions->InsertNextValue(t);
+      labels->InsertNextValue(text);
+    }
+    chart->GetAxis(vtkAxis::BOTTOM)->SetCustomTickPositions(positions, labels);
+  }
   chart->SetShowLegend(spec.series.size() > 1);
   bool legend_inside = false;
   if (spec.series.size() > 1) {
@@ -262,6 +280,8 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
   if (drawn) {
     drawn->y_min = ya->GetUnscaledMinimum();
     drawn->y_max = ya->GetUnscaledMaximum();
+    drawn->x_min = xa->GetUnscaledMinimum();
+    drawn->x_max = xa->GetUnscaledMaximum();
     drawn->legend_inside = legend_inside;
     drawn->curves = curves;
     drawn->point_labels = labels;

@@ -3,6 +3,7 @@
 /// XY line/marker charts to PNG, headless, through the same GraphicsContext as frames
 /// (VTK's vtkChartXY in a vtkContextActor; no VTK types here).
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -38,11 +39,17 @@ struct PlotSpec {
   std::vector<PlotSeries> series;
   int width = 900, height = 600;  ///< image size in pixels
   bool log_x = false, log_y = false;
+  /// A fixed x axis range when both are finite (linear axis; e.g. room beside the first and last
+  /// mode number); else the axis fits the data.
+  double x_min = NAN, x_max = NAN;
+  /// Tick positions on the x axis (e.g. whole mode numbers), labelled with %g; empty = automatic.
+  std::vector<double> x_ticks{};
 };
 
 /// What write_plot_png drew, read back from the chart (for tests and callers that report it).
 struct PlotDrawn {
   double y_min = 0, y_max = 0;     ///< the y axis range as drawn (data values, also on a log axis)
+  double x_min = 0, x_max = 0;     ///< the x axis range as drawn
   bool legend_inside = false;      ///< legend over the plot area (with headroom) rather than beside it
   std::size_t curves = 0;          ///< series drawn (a series without a drawable point is not)
   std::size_t point_labels = 0;    ///< point labels drawn

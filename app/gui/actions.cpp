@@ -39,7 +39,7 @@ bool parse_number(const std::string& s, double* out) {
 constexpr const char* kVerbs = "run, pause, step [N], reset, set KEY VALUE, wait SECONDS, screenshot FILE, "
                                "probe NODE, save FILE, export FILE, redraws, quit, new static|dynamic, open FILE, "
                                "add TABLE [KEY=VALUE ...], remove TABLE[I], preset material[I] NAME, pick NODE..., "
-                               "pick-box X0 Y0 X1 Y1, pick-clear, use-pick TABLE[I], use-edge TABLE[I] PATCH EDGE, click X Y, show all|none|TABLE[I], wait-end, metrics, view scene|iso|top|front|side";
+                               "pick-box X0 Y0 X1 Y1, pick-clear, use-pick TABLE[I], use-edge TABLE[I] PATCH EDGE, click X Y, show all|none|TABLE[I], wait-end, metrics, view scene|iso|top|front|side, mode N|off";
 
 /// "bc[2]" -> ("bc", 2); false when it is not NAME[INDEX].
 bool parse_entry(const std::string& s, std::string* table, long long* index) {
@@ -176,6 +176,12 @@ std::vector<Action> parse_actions(const std::string& text, const std::string& fi
       a.kind = Action::Kind::wait_end, no_args();
     } else if (verb == "metrics") {
       a.kind = Action::Kind::metrics, no_args();
+    } else if (verb == "mode") {
+      a.kind = Action::Kind::mode;
+      if (rest == "off")
+        a.count = 0;
+      else if (!parse_int(rest, &a.count) || a.count < 1)
+        fail("'mode' takes a mode number >= 1 (animate it) or off: mode 2");
     } else if (verb == "pick-clear") {
       a.kind = Action::Kind::pick_clear, no_args();
     } else if (verb == "click" || verb == "pick-box") {

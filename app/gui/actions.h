@@ -7,9 +7,12 @@
 ///   new static|dynamic | open FILE | add TABLE [KEY=VALUE ...] | remove TABLE[I] |
 ///   preset material[I] NAME | pick NODE... | pick-box X0 Y0 X1 Y1 | pick-clear | use-pick TABLE[I] |
 ///   use-edge TABLE[I] PATCH EDGE |
-///   click X Y | show all|none|TABLE[I] | wait-end | metrics | view scene|iso|top|front|side
+///   click X Y | show all|none|TABLE[I] | wait-end | metrics | view scene|iso|top|front|side |
+///   mode N|off
 /// (`wait-end` waits until the run has ended; `metrics` prints "metric NAME = VALUE" for each metric of the run, which must have ended.)
 /// (click and pick-box take pixels of the 3D view, origin top left, as a mouse would.)
+/// (`mode N` animates mode N of an eigen-analysis whose run has ended, as the Modes list does, and
+/// prints "mode N: VALUE"; `mode off` shows the run's frames again.)
 /// (`redraws` prints "redraws N", the window frames drawn so far: an idle window draws none.)
 /// Blank lines and lines starting with '#' are skipped. No GL or ImGui here (unit tested).
 
@@ -23,10 +26,11 @@ namespace ff::app::gui {
 struct Action {
   enum class Kind {
     run, pause, step, reset, set, wait, screenshot, probe, save, export_png, redraws, quit,
-    new_problem, open, add, remove, preset, pick, pick_box, pick_clear, use_pick, use_edge, click, show, wait_end, metrics, view
+    new_problem, open, add, remove, preset, pick, pick_box, pick_clear, use_pick, use_edge, click, show, wait_end, metrics, view, mode
   };
   Kind kind = Kind::run;
-  long long count = 1;   ///< step: solver steps; probe: node index; remove/preset/use-pick/show: entry index
+  long long count = 1;   ///< step: solver steps; probe: node index; remove/preset/use-pick/show: entry index;
+                         ///< mode: its number (0 = off)
   double seconds = 0.0;  ///< wait
   std::string key;       ///< set: the key; add/remove/use-pick/show: the table ("" for show all|none)
   std::vector<std::pair<std::string, std::string>> fields;  ///< add: KEY=VALUE (value as --set takes it)

@@ -30,6 +30,7 @@
 #include "app/gui/scene_draft.h"
 #include "app/gui/setup_panel.h"
 #include "app/gui/sim_worker.h"
+#include "app/mode_outputs.h"
 #include "app/run_session.h"
 #include "app/view_options.h"
 #include "core/scene/scene.h"
@@ -54,6 +55,7 @@ constexpr float kPlotHeight = 250.0f;
 constexpr float kStatusHeight = 30.0f;
 constexpr double kViewportMinInterval = 1.0 / 20.0;  // viewport renders at most 20 times per second
 constexpr double kMinFrameInterval = 1.0 / 60.0;     // the window draws at most 60 times per second
+constexpr double kModePeriodSeconds = 1.2;  // a mode animation's period in the view (24 pictures at 20/s)
 // Idle, the window sleeps in glfwWaitEventsTimeout until input, the solver thread's wake-up
 // (glfwPostEmptyEvent) or a scripted wait's end; this timeout only bounds how late a Ctrl-C is seen.
 constexpr double kIdleWake = 0.5;
@@ -237,6 +239,7 @@ class Viewport {
  public:
   explicit Viewport(GLFWwindow* window) : window_(window) {}
   ~Viewport() {
+    mode_renderer_.reset();
     renderer_.reset();
     gc_.reset();
     glfwMakeContextCurrent(window_);
@@ -252,8 +255,22 @@ class Viewport {
     output_ = out;
     title_ = title;
     if (!same_mesh) fit_points_.clear(), user_camera_ = false;
+    show_mode(std::nullopt);
     release();
   }
+  /// Animates a mode (mode_outputs.h: the pictures `run` writes, looping) instead of the run's
+  /// frames, until nullopt.
+  void show_mode(std::optional<ModeAnimation> animation, int number = 0) {
+    mode_ = std::move(animation);
+    mode_number_ = number;
+    mode_renderer_.reset();
+    glfwMakeContextCurrent(window_);
+    mode_shown_ = -1;
+    mode_start_ = Clock::now();
+    dirty_ = true;
+  }
+  /// The mode animated, 0 for none.
+  int mode_number() const { return mode_ ? mode_number_ : 0; }
   void set_frame(const Frame& f) {
     frame_ = f;
     dirty_ = true;
@@ -283,11 +300,13 @@ class Viewport {
   const std::optional<Frame>& frame() const { return frame_; }
   /// A frame or view waits to be rendered by update() (so the window must draw again).
   bool needs_render(int w, int h) const {
+    if (mode_) return w >= 32 && h >= 32;  // an animation: the window keeps drawing (update() paces it)
     return info_ && frame_ && dirty_ && w >= 32 && h >= 32 && (renderer_ || error_.empty());
   }
 
   /// Re-renders if the frame or view changed (at most 20 per second unless forced).
   void update(int w, int h, bool force) {
+    if (mode_) return update_mode(w, h, force);
     if (!info_ || !frame_ || w < 32 || h < 32) return;
     if (renderer_ && (renderer_->width() != w || renderer_->height() != h)) {
       camera_ = renderer_->current_camera();
@@ -326,9 +345,9 @@ class Viewport {
     glfwMakeContextCurrent(window_);
     return nodes;
   }
-  bool ready() const { return renderer_ != nullptr; }
+  bool ready() const { return mode_ ? mode_renderer_ != nullptr : renderer_ != nullptr; }
   /// A frame has arrived that the view has not drawn yet.
-  bool needs_render_any() const { return info_ && frame_ && dirty_; }
+  bool needs_render_any() const { return mode_ ? mode_shown_ < 0 : info_ && frame_ && dirty_; }
 
   /// Draws the image into the current ImGui window and handles the mouse (orbit, pan, zoom,
   /// click to pick, shift-drag a box when `box_picking`). Returns the node clicked this frame, or
@@ -343,14 +362,16 @@ class Viewport {
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture_)), ImVec2(w, h), ImVec2(0, 1),
                  ImVec2(1, 0));
-    if (!renderer_) return picked;
+    // a mode animation turns and zooms like the run's view; picking waits for the run's frames
+    render::FrameRenderer* const view = mode_ ? mode_renderer_.get() : renderer_.get();
+    if (!view) return picked;
     const ImGuiIO& io = ImGui::GetIO();
     if (ImGui::IsItemHovered()) {
       if (io.MouseWheel != 0.0f) {
-        renderer_->zoom(std::pow(1.15, io.MouseWheel));
+        view->zoom(std::pow(1.15, io.MouseWheel));
         dirty_ = user_camera_ = true;
       }
-      if (ImGui::IsMouseReleased(ImGuiMouseButton_Left) && !dragged_) {
+      if (ImGui::IsMouseReleased(ImGuiMouseButton_Left) && !dragged_ && !mode_) {
         picked = renderer_->pick_point(io.MousePos.x - origin.x, io.MousePos.y - origin.y);
         glfwMakeContextCurrent(window_);
       }
@@ -374,11 +395,11 @@ class Viewport {
       const ImVec2 d = io.MouseDelta;
       if (d.x != 0.0f || d.y != 0.0f) {
         if (ImGui::IsMouseDragging(ImGuiMouseButton_Left, 3.0f)) {
-          renderer_->orbit(-0.4 * d.x, 0.4 * d.y);
+          view->orbit(-0.4 * d.x, 0.4 * d.y);
           dragged_ = dirty_ = user_camera_ = true;
         } else if (ImGui::IsMouseDragging(ImGuiMouseButton_Right, 1.0f) ||
                    ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 1.0f)) {
-          renderer_->pan(d.x, d.y);
+          view->pan(d.x, d.y);
           dragged_ = dirty_ = user_camera_ = true;
         }
       }
@@ -426,6 +447,14 @@ class Viewport {
 
   /// The latest frame as a PNG at the viewport's size and view.
   bool export_png(const std::string& path, std::string* error) {
+    if (mode_ && mode_renderer_) {  // the picture of the mode on show
+      std::error_code ec;
+      const fs::path parent = fs::path(path).parent_path();
+      if (!parent.empty()) fs::create_directories(parent, ec);
+      const bool ok = mode_renderer_->render_png(mode_->frames[static_cast<std::size_t>(std::max(mode_shown_, 0))], path, error);
+      glfwMakeContextCurrent(window_);
+      return ok;
+    }
     if (!renderer_ || !frame_) {
       *error = "nothing to export yet";
       return false;
@@ -441,7 +470,59 @@ class Viewport {
   std::string backend() const { return gc_ ? gc_->backend() + ", " + gc_->gl_renderer() : ""; }
 
  private:
+  int mode_phase() const {
+    const double periods = seconds_since(mode_start_) / kModePeriodSeconds;
+    const int k = static_cast<int>(mode_->frames.size());
+    return static_cast<int>((periods - std::floor(periods)) * k) % k;
+  }
+  void update_mode(int w, int h, bool force) {
+    if (w < 32 || h < 32 || mode_->frames.empty()) return;
+    if (mode_renderer_ && (mode_renderer_->width() != w || mode_renderer_->height() != h)) mode_renderer_.reset();
+    if (!mode_renderer_) {
+      if (!gc_) {
+        gc_ = render::GraphicsContext::create(&error_);
+        glfwMakeContextCurrent(window_);
+        if (!gc_) return;
+      }
+      render::FrameStyle style;
+      style.width = w;
+      style.height = h;
+      style.color_field = kModeShapeField;
+      style.color_min = 0.0;
+      style.color_max = 1.0;
+      style.title = mode_->title;
+      style.caption = mode_->caption;
+      style.background = {0.97, 0.97, 0.98};
+      style.show_triad = true;
+      style.camera.view_direction = {1, -1, 1};  // as `run` draws the modes: oblique, fitted to the period
+      style.camera.view_up = {0, 0, 1};
+      for (const Frame& f : mode_->frames) style.fit_points.insert(style.fit_points.end(), f.points.begin(), f.points.end());
+      mode_renderer_ = std::make_unique<render::FrameRenderer>(*gc_, mode_->info, style);
+      glfwMakeContextCurrent(window_);
+      if (!mode_renderer_->ok()) {
+        error_ = mode_renderer_->error();
+        mode_.reset();
+        mode_renderer_.reset();
+        return;
+      }
+    }
+    const int k = mode_phase();
+    if (!force && !dirty_ && k == mode_shown_) return;
+    if (!force && seconds_since(last_render_) < kViewportMinInterval) return;
+    std::string err;
+    if (mode_renderer_->render_rgb(mode_->frames[static_cast<std::size_t>(k)], &rgb_, &err)) {
+      upload(mode_renderer_->width(), mode_renderer_->height());
+      error_.clear();
+    } else {
+      error_ = err;
+    }
+    glfwMakeContextCurrent(window_);
+    mode_shown_ = k;
+    dirty_ = false;
+    last_render_ = Clock::now();
+  }
   void release() {
+    mode_renderer_.reset();
     renderer_.reset();
     glfwMakeContextCurrent(window_);
     error_.clear();
@@ -507,6 +588,10 @@ class Viewport {
   GLFWwindow* window_;
   std::unique_ptr<render::GraphicsContext> gc_;
   std::unique_ptr<render::FrameRenderer> renderer_;
+  std::optional<ModeAnimation> mode_;                   // a mode animated instead of the run's frames
+  std::unique_ptr<render::FrameRenderer> mode_renderer_;
+  int mode_number_ = 0, mode_shown_ = -1;               // the picture of the period last drawn
+  Clock::time_point mode_start_{};
   std::shared_ptr<const RunInfo> info_;
   scene::OutputSettings output_;
   std::string title_;
@@ -566,6 +651,7 @@ std::string describe(const Action& a) {
     case Action::Kind::metrics: return "metrics";
     case Action::Kind::view: return "view " + a.text;
     case Action::Kind::wait_end: return "wait-end";
+    case Action::Kind::mode: return a.count == 0 ? std::string("mode off") : "mode " + std::to_string(a.count);
   }
   return "";
 }
@@ -927,6 +1013,18 @@ class GuiApp {
         case Action::Kind::show:
           pick_.shown = a.key.empty() ? a.text : a.key + "[" + std::to_string(a.count) + "]";
           break;
+        case Action::Kind::mode:
+          if (a.count == 0) {
+            viewport_.show_mode(std::nullopt);
+            break;
+          }
+          if (const std::string why = animate_mode(static_cast<int>(a.count)); !why.empty()) {
+            action_failed("mode " + std::to_string(a.count) + ": " + why);
+            break;
+          }
+          std::printf("mode %lld: %s\n", a.count, mode_value_text(*status_.modes, *find_mode(static_cast<int>(a.count))).c_str());
+          std::fflush(stdout);
+          break;
       }
     }
   }
@@ -947,6 +1045,27 @@ class GuiApp {
   }
 
 
+
+  const Mode* find_mode(int number) const {
+    if (!status_.modes) return nullptr;
+    for (const Mode& m : status_.modes->modes)
+      if (m.number == number) return &m;
+    return nullptr;
+  }
+  /// Animates mode `number` about the state on show (the run's last frame); "" or why not.
+  std::string animate_mode(int number) {
+    if (!status_.modes) return status_.outcome ? "the run computed no modes (scene.analysis = modal or buckling does)"
+                                               : "no modes yet: the run has not ended";
+    const Mode* mode = find_mode(number);
+    if (!mode) return "no such mode; the analysis found " + std::to_string(status_.modes->modes.size());
+    if (!viewport_.frame() || !status_.info) return "no state to animate about";
+    try {
+      viewport_.show_mode(mode_animation(*status_.info, *viewport_.frame(), *status_.modes, *mode), number);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "";
+  }
 
   void save_scene(const std::string& path) {
     try {
@@ -1116,6 +1235,18 @@ class GuiApp {
         ImGui::TextDisabled("node %d: waiting for the solver's state", status_.probe_node);
       } else {
         ImGui::TextDisabled("click the body or enter a node index");
+      }
+    }
+    if (status_.modes && ImGui::CollapsingHeader("Modes", ImGuiTreeNodeFlags_DefaultOpen)) {
+      const ModeSet& set = *status_.modes;
+      ImGui::TextDisabled("%s, about the %s: click one to animate it", set.analysis.c_str(), set.about.c_str());
+      const int shown = viewport_.mode_number();
+      if (ImGui::Selectable("the run's frames", shown == 0)) viewport_.show_mode(std::nullopt);
+      for (const Mode& m : set.modes) {
+        const std::string label = "mode " + std::to_string(m.number) + "   " + mode_value_text(set, m);
+        if (ImGui::Selectable(label.c_str(), shown == m.number)) {
+          if (const std::string why = animate_mode(m.number); !why.empty()) message_ = why, message_is_error_ = true;
+        }
       }
     }
     if (ImGui::CollapsingHeader("Set up", ImGuiTreeNodeFlags_DefaultOpen))
@@ -1459,6 +1590,7 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
   scene::LoadedScene scene;
   try {
     scene = scene::load_scene_text(text, path, {}, io::scene_context());
+    if (opt.simulation_for_test) scene.simulation = opt.simulation_for_test();
   } catch (...) {
     glfwTerminate();
     throw;

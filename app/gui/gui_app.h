@@ -4,8 +4,12 @@
 /// solver runs on a SimWorker thread; the window only sends commands and shows copies.
 
 #include <atomic>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "core/model/simulation.h"
 
 namespace ff::app::gui {
 
@@ -18,6 +22,9 @@ struct GuiOptions {
   double quit_after = 0.0;              ///< --quit-after SECONDS (0 = stay open)
   bool run = false;                     ///< --run: start the solver at once
   int width = 1360, height = 860;       ///< window size
+  /// Tests only: a model of the caller's in place of the one the scene builds (a model with
+  /// known modes, before any scene builds one); the scene still names it. Null: the scene's.
+  std::function<std::unique_ptr<Simulation>()> simulation_for_test;
 };
 
 /// Exit code of `flexframe gui` when no display can be opened.

@@ -118,6 +118,7 @@ void SimWorker::start_generation() {
   status_.steps_per_frame = std::max<long long>(1, sim.output_every());
   status_.outcome.reset();
   status_.metrics.clear();
+  status_.modes.reset();
   if (probe_node_ >= static_cast<int>(status_.info->mesh.point_count())) probe_node_ = -1;
   status_.probe_node = probe_node_;
   status_.state = running_ ? WorkerState::running : WorkerState::paused;
@@ -193,6 +194,7 @@ void SimWorker::main() {
       } catch (const std::exception&) {
         status_.metrics.clear();  // a run that failed early may have nothing to measure
       }
+      if (const ModeSet* modes = scene_.simulation->modes()) status_.modes = std::make_shared<const ModeSet>(*modes);
       status_.state = outcome.status == RunStatus::failed ? WorkerState::failed : WorkerState::finished;
       changed();
       while (!quit_ && !pending_) {

@@ -86,6 +86,9 @@ struct WorkerStatus {
   double pace = 0.0;                    ///< max steps per second, 0 = as fast as it goes
   std::optional<RunOutcome> outcome;    ///< once the run has ended
   Metrics metrics;                      ///< the scene's metrics, once the run has ended
+  /// the modes of an eigen-analysis (scene.analysis = modal / buckling), once its run has ended;
+  /// about the last published frame
+  std::shared_ptr<const ModeSet> modes;
   std::string message;                  ///< the last refusal or notice ("" = none)
   std::uint64_t message_seq = 0;        ///< +1 per message
   bool message_is_error = false;

@@ -6,6 +6,7 @@
 #include <bit>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -111,6 +112,7 @@ struct ResultReader::Impl {
   RunOutcome outcome;
   std::vector<std::pair<std::string, double>> metrics;
   std::vector<std::pair<std::string, std::string>> attributes;
+  std::optional<ModeSet> modes;
 
   h5::Handle time, step, load, dt, iterations, jacobian_updates, residual, increment, converged;
   h5::Handle converged_mem_type;  // the file's enum as a native type, or invalid (plain int)
@@ -142,6 +144,7 @@ struct ResultReader::Impl {
   std::string steps_damage() const;
   std::string frame_label(std::size_t i) const;
   void load_all();
+  void load_modes();
   std::string what(const std::string& s) const { return "results file '" + path + "': " + s; }
 
   template <class T>
@@ -311,6 +314,66 @@ void ResultReader::Impl::load_all() {
   } catch (const h5::Failure&) {
     if (finished) throw;
   }
+  // the modes of an eigen-analysis: written whole and flushed before the outcome, so a file
+  // that has the group has all of it, unless a kill hit that one flush
+  try {
+    load_modes();
+  } catch (const h5::Failure&) {
+    if (finished) throw;
+    modes.reset();
+  }
+}
+
+void ResultReader::Impl::load_modes() {
+  hid_t f = file.get();
+  if (!h5::has_link(f, names::kModes)) return;
+  h5::Handle g = h5::open_group(f, names::kModes);
+  ModeSet set;
+  set.analysis = h5::read_attr_string(g.get(), "analysis");
+  set.about = h5::read_attr_string(g.get(), "about");
+  set.value_name = h5::read_attr_string(g.get(), "value_name");
+  set.value_unit = h5::read_attr_string(g.get(), "value_unit");
+  set.value_label = h5::read_attr_string(g.get(), "value_label");
+  const std::int64_t count = h5::read_attr_int64(g.get(), "count");
+  const std::size_t n = info.mesh.point_count();
+  const auto read_all = [&](const char* name, hid_t mem_type, std::size_t per_mode, void* out) {
+    h5::Handle d = h5::open_dataset(g.get(), name);
+    const std::vector<hsize_t> dims = h5::dataset_dims(d.get());
+    hsize_t elements = 1;
+    for (hsize_t e : dims) elements *= e;
+    if (dims.empty() || dims[0] != static_cast<hsize_t>(count) || elements != static_cast<hsize_t>(count) * per_mode)
+      throw h5::Failure(std::string(names::kModes) + "/" + name + " does not hold " + std::to_string(count) + " x " +
+                        std::to_string(per_mode) + " values");
+    if (elements > 0)
+      h5::check(H5Dread(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out),
+                "read data set '" + std::string(names::kModes) + "/" + name + "'");
+  };
+  const std::size_t m = static_cast<std::size_t>(std::max<std::int64_t>(count, 0));
+  std::vector<std::int64_t> numbers(m);
+  std::vector<double> values(m), eigenvalues(m), displacement(3 * n * m);
+  std::vector<std::int8_t> rigid(m);
+  read_all("number", H5T_NATIVE_INT64, 1, numbers.data());
+  read_all("value", H5T_NATIVE_DOUBLE, 1, values.data());
+  read_all("eigenvalue", H5T_NATIVE_DOUBLE, 1, eigenvalues.data());
+  {
+    h5::Handle d = h5::open_dataset(g.get(), "rigid_body");
+    h5::Handle t(h5::check_id(H5Dget_type(d.get()), "type of modes/rigid_body"));
+    h5::Handle native(h5::check_id(H5Tget_native_type(t.get(), H5T_DIR_DEFAULT), "modes/rigid_body"));
+    if (H5Tget_size(native.get()) != 1) throw h5::Failure("modes/rigid_body is not a one-byte flag");
+    read_all("rigid_body", native.get(), 1, rigid.data());
+  }
+  read_all("displacement", H5T_NATIVE_DOUBLE, 3 * n, displacement.data());
+  for (std::size_t k = 0; k < m; ++k) {
+    Mode mode;
+    mode.number = static_cast<std::int32_t>(numbers[k]);
+    mode.value = values[k];
+    mode.eigenvalue = eigenvalues[k];
+    mode.rigid_body = rigid[k] != 0;
+    mode.displacement.assign(displacement.begin() + static_cast<std::ptrdiff_t>(3 * n * k),
+                             displacement.begin() + static_cast<std::ptrdiff_t>(3 * n * (k + 1)));
+    set.modes.push_back(std::move(mode));
+  }
+  modes = std::move(set);
 }
 
 std::vector<ResultReader::Impl::ColumnRef> ResultReader::Impl::checksum_order() const {
@@ -579,6 +642,7 @@ std::vector<std::pair<std::string, double>> ResultReader::metrics() const { retu
 std::vector<std::pair<std::string, std::string>> ResultReader::attributes() const {
   return impl_->attributes;
 }
+const ModeSet* ResultReader::modes() const { return impl_->modes ? &*impl_->modes : nullptr; }
 const std::string& ResultReader::path() const { return impl_->path; }
 
 Frame ResultReader::frame(std::size_t i) const {

@@ -218,6 +218,7 @@ struct ResultWriter::Impl {
 
   std::size_t frames_written = 0, frames_staged = 0;
   std::vector<std::pair<std::string, std::string>> staged_attributes;
+  bool modes_written = false;
   double last_staged_time = 0.0, last_written_time = 0.0;
   std::int64_t last_staged_step = 0, last_written_step = 0;
   Clock::time_point created = Clock::now(), last_flush = Clock::now();
@@ -579,6 +580,55 @@ void ResultWriter::set_attribute(const std::string& key, const std::string& valu
     }
   }
   impl_->staged_attributes.emplace_back(key, value);
+}
+
+bool ResultWriter::write_modes(const ModeSet& modes, std::string* error) {
+  h5::Quiet quiet;
+  Impl& m = *impl_;
+  auto bad = [&](const std::string& why) {
+    if (error) *error = m.prefix() + why;
+    return false;
+  };
+  if (m.closed) return bad("modes written after finish()");
+  if (m.modes_written) return bad("the modes were already written");
+  const std::size_t n = m.point_count, count = modes.modes.size();
+  for (const Mode& mode : modes.modes)
+    if (mode.displacement.size() != 3 * n)
+      return bad("mode " + std::to_string(mode.number) + " has " + std::to_string(mode.displacement.size()) +
+                 " displacement values, expected 3 x " + std::to_string(n));
+  std::vector<std::int64_t> numbers;
+  std::vector<double> values, eigenvalues, displacement;
+  std::vector<std::int8_t> rigid;
+  displacement.reserve(3 * n * count);
+  for (const Mode& mode : modes.modes) {
+    numbers.push_back(mode.number);
+    values.push_back(mode.value);
+    eigenvalues.push_back(mode.eigenvalue);
+    rigid.push_back(mode.rigid_body ? 1 : 0);
+    displacement.insert(displacement.end(), mode.displacement.begin(), mode.displacement.end());
+  }
+  try {
+    hid_t f = m.file.get();
+    h5::Handle g = h5::create_group(f, names::kModes, false);
+    h5::write_attr_string(g.get(), "analysis", modes.analysis);
+    h5::write_attr_string(g.get(), "about", modes.about);
+    h5::write_attr_string(g.get(), "value_name", modes.value_name);
+    h5::write_attr_string(g.get(), "value_unit", modes.value_unit);
+    h5::write_attr_string(g.get(), "value_label", modes.value_label);
+    h5::write_attr_int64(g.get(), "count", static_cast<std::int64_t>(count));
+    const hsize_t rows = count;
+    h5::write_fixed_dataset(g.get(), "number", H5T_STD_I64LE, H5T_NATIVE_INT64, {rows}, numbers.data());
+    h5::write_fixed_dataset(g.get(), "value", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {rows}, values.data());
+    h5::write_fixed_dataset(g.get(), "eigenvalue", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {rows}, eigenvalues.data());
+    h5::write_fixed_dataset(g.get(), "rigid_body", m.bool_type.get(), m.bool_type.get(), {rows}, rigid.data());
+    h5::write_fixed_dataset(g.get(), "displacement", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {rows, n, 3},
+                            displacement.data());
+    h5::check(H5Fflush(f, H5F_SCOPE_LOCAL), "flush the modes");
+  } catch (const h5::Failure& e) {
+    return bad(e.what());
+  }
+  m.modes_written = true;
+  return true;
 }
 
 bool ResultWriter::flush(std::string* error) {

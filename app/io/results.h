@@ -48,6 +48,12 @@ class ResultWriter {
   /// is ignored.
   void set_attribute(const std::string& key, const std::string& value);
 
+  /// Stores the modes of an eigen-analysis under /modes (results_layout.md): the table (number,
+  /// value, eigenvalue, rigid_body) and each mode's displacement of the mesh points (n x 3),
+  /// written and flushed at once. Once per file, before finish(). Returns false (nothing
+  /// stored) when a displacement does not have 3 values per mesh point or it was called before.
+  bool write_modes(const ModeSet& modes, std::string* error);
+
   /// Writes the staged frames and attributes, updates `frames_written` and the provisional
   /// outcome, and calls H5Fflush. After it returns true, a killed process loses nothing.
   bool flush(std::string* error);
@@ -112,6 +118,8 @@ class ResultReader {
   RunOutcome outcome() const;
   std::vector<std::pair<std::string, double>> metrics() const;
   std::vector<std::pair<std::string, std::string>> attributes() const;
+  /// The modes stored by ResultWriter::write_modes, null when the file has none.
+  const ModeSet* modes() const;
   const std::string& path() const;
 
   ~ResultReader();

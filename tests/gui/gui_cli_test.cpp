@@ -412,6 +412,19 @@ TEST(GuiCli, NoDisplayExitsWithTheHeadlessVerbs) {
   EXPECT_NE(r.err.find("flexframe replay"), std::string::npos) << r.describe();
 }
 
+// `mode N` on a run that computed no modes (a static analysis) fails the script with why, at its line
+TEST(GuiCli, ModeOfARunWithoutModesIsRefused) {
+  if (!have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup installs it)";
+  const std::string dir = fresh_test_dir();
+  const std::string actions = dir + "/modes.txt";
+  write_text(actions, "run\nwait-end\nmode 1\nquit\n");
+  const ProcResult r = run_gui_under_xvfb({"clamped_plate_pressure", "--actions", actions, "--width", "800",
+                                           "--height", "600", "--quit-after", "40"},
+                                          dir + "/gui");
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find(actions + ":3: mode 1: the run computed no modes"), std::string::npos) << r.describe();
+}
+
 TEST(GuiCli, BadActionsLineNamesFileAndLine) {
   const std::string dir = fresh_test_dir();
   const std::string actions = dir + "/bad.txt";

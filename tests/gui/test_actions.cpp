@@ -93,6 +93,16 @@ TEST(GuiActions, ParsesTheSetUpVerbs) {
   EXPECT_EQ(a[14].kind, Action::Kind::metrics);
 }
 
+// `mode N` animates a mode of an eigen-analysis in the view, `mode off` returns to the run's frames
+TEST(GuiActions, ParsesTheModeVerb) {
+  const std::vector<Action> a = parse_actions("mode 2\nmode off\n", "s.txt");
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a[0].kind, Action::Kind::mode);
+  EXPECT_EQ(a[0].count, 2);
+  EXPECT_EQ(a[1].kind, Action::Kind::mode);
+  EXPECT_EQ(a[1].count, 0);
+}
+
 TEST(GuiActions, BadLinesNameFileAndLine) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"run\njump\n", "s.txt:2: unknown action 'jump'"},
@@ -117,6 +127,8 @@ TEST(GuiActions, BadLinesNameFileAndLine) {
       {"use-edge bc[0] plate\n", "s.txt:1: 'use-edge' needs an entry, a patch and an edge"},
       {"show some\n", "s.txt:1: 'show' takes all, none or an entry"},
       {"view sideways\n", "s.txt:1: 'view' takes scene, iso, top, front or side"},
+      {"mode 0\n", "s.txt:1: 'mode' takes a mode number >= 1 (animate it) or off"},
+      {"mode second\n", "s.txt:1: 'mode' takes a mode number >= 1"},
   };
   for (const auto& [text, expected] : cases) {
     try {

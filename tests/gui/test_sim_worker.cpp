@@ -12,6 +12,7 @@
 
 #include "app/gui/sim_worker.h"
 #include "core/scene/scene_edit.h"
+#include "tests/support/plate_modes.h"
 
 namespace ff::app::gui {
 namespace {
@@ -53,6 +54,27 @@ struct Watcher {
     return until([&] { return status.settled_seq >= seq; });
   }
 };
+
+// The modes of an eigen-analysis reach the window once its run has ended (the Modes list and the
+// `mode N` action read WorkerStatus::modes), and not before
+TEST(GuiSimWorker, ModesArriveWhenTheRunHasEnded) {
+  scene::LoadedScene scene;
+  scene.name = "ss_plate_modes";
+  scene.path = "(test model)";
+  scene.simulation = std::make_unique<ff::test::PlateModesSimulation>(true);
+  SimWorker w(std::move(scene), "", "", "");
+  Watcher watch{w, {}, {}, {}};
+  ASSERT_TRUE(watch.until([&] { return watch.frame.has_value(); }));
+  EXPECT_EQ(watch.status.modes, nullptr) << "no modes before the run";
+  w.run();
+  ASSERT_TRUE(watch.until([&] { return watch.status.state == WorkerState::finished; }));
+  ASSERT_NE(watch.status.modes, nullptr);
+  const ModeSet expected = ff::test::plate_modes(ff::test::plate_info());
+  ASSERT_EQ(watch.status.modes->modes.size(), expected.modes.size());
+  EXPECT_EQ(watch.status.modes->modes[2].value, expected.modes[2].value);
+  EXPECT_EQ(watch.status.modes->modes[2].displacement, expected.modes[2].displacement);
+  EXPECT_EQ(watch.status.modes->analysis, "modal");
+}
 
 TEST(GuiSimWorker, StepsSetsAndRuns) {
   const auto worker = worker_on(kScene);

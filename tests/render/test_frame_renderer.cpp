@@ -233,6 +233,37 @@ TEST_F(FrameRendererTest, SameFrameGivesSameBytes) {
   EXPECT_TRUE(ba == bb);
 }
 
+// A caption takes the place of the status lines (time, λ, step): the pictures of a mode animation
+// state their arbitrary amplitude there, and show no time they do not have (app/mode_outputs.h)
+TEST_F(FrameRendererTest, CaptionReplacesTheStatusLines) {
+  FrameStyle plain = field_style();
+  plain.color_min = 0.0;  // a fixed range: only the text may differ between the pictures
+  plain.color_max = 1e-3;
+  FrameStyle captioned = plain;
+  captioned.caption = "displacement \u00d70.1, an arbitrary scale";
+  FrameRenderer with_status(*gc_, info_, plain), with_caption(*gc_, info_, captioned);
+  const Frame early = test::hub_beam_frame(info_, 0.3, 0.05, 1.25), late = test::hub_beam_frame(info_, 0.3, 0.05, 2.5);
+  const std::string dir = test::out_dir();
+  std::string err;
+  ASSERT_TRUE(with_status.render_png(early, dir + "/status_early.png", &err)) << err;
+  ASSERT_TRUE(with_status.render_png(late, dir + "/status_late.png", &err)) << err;
+  ASSERT_TRUE(with_caption.render_png(early, dir + "/caption_early.png", &err)) << err;
+  ASSERT_TRUE(with_caption.render_png(late, dir + "/caption_late.png", &err)) << err;
+  EXPECT_NE(test::file_bytes(dir + "/status_early.png"), test::file_bytes(dir + "/status_late.png")) << "the time line";
+  EXPECT_EQ(test::file_bytes(dir + "/caption_early.png"), test::file_bytes(dir + "/caption_late.png"))
+      << "a caption shows no time";
+  const test::Image s = test::read_png(dir + "/status_early.png"), c = test::read_png(dir + "/caption_early.png");
+  ASSERT_EQ(s.width, c.width);
+  int differ_top_left = 0, differ_elsewhere = 0;
+  for (int r = 0; r < s.height; ++r)
+    for (int col = 0; col < s.width; ++col) {
+      if (s.at(col, r) == c.at(col, r)) continue;
+      (r < s.height / 4 && col < s.width / 2 ? differ_top_left : differ_elsewhere) += 1;
+    }
+  EXPECT_GT(differ_top_left, 100) << "the caption is drawn under the title";
+  EXPECT_EQ(differ_elsewhere, 0);
+}
+
 TEST_F(FrameRendererTest, WorkerThreadGivesSameBytesAsMainThread) {
   const Frame f = test::hub_beam_frame(info_, -2.5, 0.04, 3.0);
   const std::string main_png = test::out_dir() + "/thread_main.png";

@@ -128,6 +128,28 @@ TEST_F(PlotTest, CoincidingCurvesStayVisibleThroughDashes) {
   EXPECT_GT(count_near(img, 0.890, 0.420, 0.055, 40), 300) << "second run missing";
 }
 
+// a fixed x range with ticks of our own (a spectrum: room beside the first and last mode number,
+// whole numbers as ticks) is the range drawn
+TEST_F(PlotTest, FixedXRangeIsTheRangeDrawn) {
+  PlotSpec spec;
+  spec.title = "spectrum";
+  spec.x_label = "mode number";
+  spec.y_label = "frequency [Hz]";
+  spec.series.push_back({"modes", {1, 2, 3, 4}, {10, 25, 40, 90}, true});
+  spec.x_min = 0.5;
+  spec.x_max = 4.5;
+  spec.x_ticks = {1, 2, 3, 4};
+  std::string err;
+  PlotDrawn drawn;
+  ASSERT_TRUE(write_plot_png(*gc_, spec, test::out_dir() + "/plot_fixed_x.png", &err, &drawn)) << err;
+  EXPECT_DOUBLE_EQ(drawn.x_min, 0.5);
+  EXPECT_DOUBLE_EQ(drawn.x_max, 4.5);
+  spec.x_min = spec.x_max = NAN;  // unset: fitted to the data
+  ASSERT_TRUE(write_plot_png(*gc_, spec, test::out_dir() + "/plot_fitted_x.png", &err, &drawn)) << err;
+  EXPECT_LE(drawn.x_min, 1.0);
+  EXPECT_GT(drawn.x_min, 0.5);
+}
+
 // a Pareto-like chart: errors from 1e-3 % to 159 % on a log axis with six legend rows. The
 // legend's headroom once ran the axis to 1e6 %; the axis now ends within a decade of the data.
 TEST_F(PlotTest, LogAxisWithManySeriesIsSizedToTheData) {
