@@ -1,4 +1,5 @@
 #include "core/scene/shell_dynamic_scene.h"
+#include "core/scene/shell_scene.h"
 
 #include <algorithm>
 #include <sstream>
@@ -29,10 +30,7 @@ const Schema& shell_dynamic_schema() {
                         "effects to simulate: elastic and inertia (required), gravity, hr, ans, drilling (6 DoF "
                         "per shell node), joints (the [[joint]] constraints)",
                         {"elastic", "inertia", "gravity", "hr", "ans", "drilling", "joints"});
-    s.choice("scene.analysis",
-             "what is computed over the structure: static (equilibrium: linear, load control or arc length) or "
-             "dynamic (motion in time); the scene's other keys are that analysis's",
-             {"static", "dynamic"}, std::nullopt);
+    s.choice("scene.analysis", kShellAnalysisDoc, shell_analyses(), std::nullopt);
     s.table("solver", "time stepping: Lie-group generalized-alpha (core/solve/generalized_alpha.md)", true)
         .number("solver.dt", "time step [s]", std::nullopt, Range::positive())
         .number("solver.end", "end time [s]", std::nullopt, Range::positive())

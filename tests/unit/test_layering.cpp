@@ -75,6 +75,7 @@ const std::map<std::string, SceneLevel> kSceneLevels = {
     {"hub_beam_scene", kModels},
     {"shell_scene", kModels},
     {"shell_dynamic_scene", kModels},
+    {"shell_eigen_scene", kModels},
     // model_kinds() and load_scene
     {"scene", kRegistry},
     // what a scene's names select, for check --picture (reads a scene as the registry does)
