@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 
 namespace ff {
 
@@ -155,8 +156,14 @@ EigenSolveResult lowest_vibration_modes(const SparseMatrixD& K, const SparseMatr
     return out;
   }
   const Clock::time_point t0 = Clock::now();
-  solver.init();
-  solver.compute(Spectra::SortRule::LargestMagn, settings.max_restarts, settings.tolerance);
+  try {  // Spectra reports a failed inner decomposition by throwing
+    solver.init();
+    solver.compute(Spectra::SortRule::LargestMagn, settings.max_restarts, settings.tolerance);
+  } catch (const std::exception& e) {
+    out.error = std::string("the Lanczos iteration failed: ") + e.what() +
+                " (a solve with K - shift M gave no finite answer, or the problem is not symmetric definite)";
+    return out;
+  }
   out.iteration_seconds = seconds_since(t0);
   out.operator_applications = static_cast<int>(solver.num_operations());
   out.restarts = static_cast<int>(solver.num_iterations());
@@ -197,8 +204,14 @@ EigenSolveResult lowest_buckling_multipliers(const SparseMatrixD& K0, const Spar
   using Solver = Spectra::SymGEigsSolver<ProductOp, FactorizedOp, Spectra::GEigsMode::RegularInverse>;
   Solver solver(minus_kg, k0, settings.count, basis_size(settings, n));
   const Clock::time_point t0 = Clock::now();
-  solver.init();
-  solver.compute(Spectra::SortRule::LargestAlge, settings.max_restarts, settings.tolerance);
+  try {
+    solver.init();
+    solver.compute(Spectra::SortRule::LargestAlge, settings.max_restarts, settings.tolerance);
+  } catch (const std::exception& e) {
+    out.error = std::string("the Lanczos iteration failed: ") + e.what() +
+                " (a solve with the stiffness gave no finite answer: a mechanism?)";
+    return out;
+  }
   out.iteration_seconds = seconds_since(t0);
   out.operator_applications = static_cast<int>(solver.num_operations());
   out.restarts = static_cast<int>(solver.num_iterations());
