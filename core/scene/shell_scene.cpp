@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <limits>
+#include <toml++/toml.h>
 
 #include "core/mesh/generators.h"
 #include "core/mesh/node_sets.h"
@@ -15,6 +16,8 @@
 #include "core/scene/structure_parts.h"
 #include "core/scene/scene_common.h"
 #include "core/scene/timeline.h"
+#include "core/scene/shell_eigen_scene.h"
+#include "core/shell/shell_eigen_simulation.h"
 #include "core/shell/shell_static_simulation.h"
 
 namespace ff::scene {
@@ -61,6 +64,19 @@ const Schema& shell_static_schema() {
                 "at_load: the load where the probe is read, in reported units (load = lambda x solver.load_scale, "
                 "not lambda); load control lands a step on it, arc length interpolates between steps",
                 0.0);
+    s.table_array("imperfection",
+                  "geometric imperfections from modes: the structure starts from its mesh moved by amplitude x a mode "
+                  "of a modal or buckling scene of the same structure (core/shell/shell_eigen.md §4), computed at "
+                  "set-up; several add up",
+                  0, 8)
+        .string("imperfection.from",
+                "the eigen-analysis scene (analysis = \"modal\" or \"buckling\"), relative to this scene file; its "
+                "mesh must be this structure's, node for node",
+                std::nullopt)
+        .integer("imperfection.mode", "which of its modes (1 = the lowest)", 1, IntRange::closed(1, 500))
+        .number("imperfection.amplitude",
+                "largest nodal translation of the imperfection, in the scene's length unit (the sign flips the mode)",
+                std::nullopt);
     s.table_array("reference", "reference curves drawn on the load-path plots", 0, 16)
         .string("reference.file", "CSV file relative to the scene file", std::nullopt)
         .string("reference.x_column", "column giving the load (or load ratio)", std::nullopt)
@@ -156,6 +172,74 @@ void check_method_keys(const Document& d) {
 }
 }  // namespace
 
+namespace {
+// [[imperfection]]: the mesh moved by amplitude x a mode of an eigen-analysis scene of the same
+// structure, computed here (shell_eigen.md §4); refused at the entry's keys when the file is no
+// such scene, its mesh is another one, it has fewer modes or its analysis fails
+void apply_imperfections(const Document& d, const std::string& path, const SceneContext& ctx, mesh::ShellMesh& mesh) {
+  for (std::size_t i = 0; i < d.count("imperfection"); ++i) {
+    const fs::path file = fs::path(path).parent_path() / d.string("imperfection.from", i);
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec))
+      throw SceneError({d.issue("imperfection.from", i, "no file '" + file.string() + "' (the path is relative to this scene's folder)")});
+    if (fs::equivalent(file, fs::path(path), ec))
+      throw SceneError({d.issue("imperfection.from", i, "names this scene itself; give the modal or buckling scene of the same structure")});
+    // its scene.analysis picks its schema, as load_scene does
+    std::string analysis;
+    try {
+      analysis = toml::parse_file(file.string())["scene"]["analysis"].value_or(std::string());
+    } catch (const toml::parse_error& e) {
+      throw SceneError({d.issue("imperfection.from", i, "'" + file.string() + "' is not a TOML file: " +
+                                                            std::string(e.description()))});
+    }
+    if (analysis != "modal" && analysis != "buckling")
+      throw SceneError({d.issue("imperfection.from", i, "'" + file.string() + "' has analysis = \"" + analysis +
+                                                            "\"; an imperfection takes its shape from a modal or "
+                                                            "buckling analysis of the same structure")});
+    std::unique_ptr<Simulation> eigen;
+    try {
+      const bool modal = analysis == "modal";
+      const Document e = validate_file(modal ? shell_modal_schema() : shell_buckling_schema(), file.string());
+      eigen = modal ? build_shell_modal(e, file.string(), ctx) : build_shell_buckling(e, file.string(), ctx);
+    } catch (const SceneError& e) {
+      throw SceneError({d.issue("imperfection.from", i, "'" + file.string() + "' is not a valid " + analysis +
+                                                            " scene: " + e.what())});
+    }
+    auto* sim = dynamic_cast<shell::ShellEigenSimulation*>(eigen.get());
+    if (!sim) throw std::logic_error("an eigen scene built no eigen simulation");
+    const mesh::ShellMesh& theirs = sim->model().spec().mesh;
+    bool same = theirs.node_count() == mesh.node_count() && theirs.quad_count() == mesh.quad_count();
+    for (int n = 0; same && n < mesh.node_count(); ++n)
+      same = (theirs.points[n] - mesh.points[n]).norm() <= 1e-9 * (1.0 + mesh.points[n].norm());
+    if (!same)
+      throw SceneError({d.issue("imperfection.from", i, "'" + file.string() + "' has another mesh (" +
+                                                            std::to_string(theirs.node_count()) + " nodes, this structure " +
+                                                            std::to_string(mesh.node_count()) +
+                                                            "): an imperfection needs the same structure, node for node")});
+    const int wanted = static_cast<int>(d.integer("imperfection.mode", i));
+    if (const std::string why = sim->compute(); !why.empty())
+      throw SceneError({d.issue("imperfection.from", i, "its " + analysis + " analysis failed: " + why)});
+    if (wanted > sim->mode_vectors().cols())
+      throw SceneError({d.issue("imperfection.mode", i, "mode " + std::to_string(wanted) + " asked, but '" + file.string() +
+                                                            "' computes " + std::to_string(sim->mode_vectors().cols()) +
+                                                            " (its " + analysis + ".modes)")});
+    const mesh::ShellMesh moved =
+        shell::perturbed_mesh(sim->model(), sim->mode_vectors().col(wanted - 1), d.number("imperfection.amplitude", i));
+    // the move is relative to the eigen scene's reference: apply it to this mesh (equal up to round-off)
+    for (int n = 0; n < mesh.node_count(); ++n) {
+      mesh.points[n] += moved.points[n] - theirs.points[n];
+      mesh.frames[n] = moved.frames[n] * theirs.frames[n].transpose() * mesh.frames[n];
+      mesh.normals[n] = mesh.frames[n].col(2);
+    }
+    for (std::size_t q = 0; q < mesh.corner_normals.size() && q < moved.corner_normals.size(); ++q)
+      for (int c = 0; c < 4; ++c) {
+        const int n = mesh.quads[q][c];
+        mesh.corner_normals[q][c] = moved.frames[n] * theirs.frames[n].transpose() * mesh.corner_normals[q][c];
+      }
+  }
+}
+}  // namespace
+
 std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path, const SceneContext& ctx) {
   using namespace ff::shell;
   const std::vector<std::string> fx = d.strings("scene.effects");
@@ -168,6 +252,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   ShellStructureInput in = read_shell_structure_input(d, path, ctx, true);
   ShellModelSpec& spec = in.spec;
   Structure& structure = in.structure;
+  apply_imperfections(d, path, ctx, spec.mesh);
   const mesh::ShellMesh& m = spec.mesh;
   ShellStaticSettings st;
   st.load_scale = d.number("solver.load_scale");
