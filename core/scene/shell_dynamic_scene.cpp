@@ -1,5 +1,5 @@
 #include "core/scene/shell_dynamic_scene.h"
-#include "core/scene/shell_scene.h"
+#include "core/scene/shell_structure_scene.h"
 
 #include <algorithm>
 #include <sstream>

@@ -5,7 +5,7 @@
 
 #include "core/scene/scene_common.h"
 #include "core/scene/shell_boundary.h"
-#include "core/scene/shell_scene.h"
+#include "core/scene/shell_structure_scene.h"
 #include "core/scene/structure_parts.h"
 #include "core/scene/timeline.h"
 #include "core/shell/shell_eigen_simulation.h"

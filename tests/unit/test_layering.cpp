@@ -70,6 +70,7 @@ const std::map<std::string, SceneLevel> kSceneLevels = {
     {"shell_boundary", kSharedKeys},
     {"structure_parts", kSharedKeys},
     {"mesh_quality_report", kSharedKeys},
+    {"shell_structure_scene", kSharedKeys},
     {"reference_csv", kSharedKeys},
     // one file per model: its schema and builder
     {"hub_beam_scene", kModels},
