@@ -38,7 +38,7 @@ bool is_shell_dynamic(const std::string& name) {
 }
 
 bool is_eigen(const std::string& name) {
-  static const std::regex re(R"((^|\n)\s*analysis\s*=\s*"(modal|buckling)")");
+  static const std::regex re(R"re((^|\n)\s*analysis\s*=\s*"(modal|buckling)")re");
   return std::regex_search(read_text(scene_path(name)), re);
 }
 
