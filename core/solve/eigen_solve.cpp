@@ -70,6 +70,59 @@ class ShiftSolveOp {
   EigenSolveResult& out_;
 };
 
+// y = top of [K − σM, Bᵀ; B, 0]⁻¹ [x; 0]: the shift-invert operator restricted to the constraints
+class BorderedShiftSolveOp {
+ public:
+  using Scalar = double;
+  BorderedShiftSolveOp(const SparseMatrixD& k, const SparseMatrixD& m, const SparseMatrixD& b, LinearBackend backend,
+                       EigenSolveResult& out)
+      : k_(k), m_(m), b_(b), solver_(backend), out_(out) {}
+  Eigen::Index rows() const { return k_.rows(); }
+  Eigen::Index cols() const { return k_.cols(); }
+  void set_shift(double sigma) {
+    const Clock::time_point t0 = Clock::now();
+    const Eigen::Index n = k_.rows(), c = b_.rows();
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(k_.nonZeros() + m_.nonZeros() + 2 * b_.nonZeros());
+    for (const SparseMatrixD* a : {&k_, &m_}) {
+      const double f = a == &k_ ? 1.0 : -sigma;
+      for (int j = 0; j < a->outerSize(); ++j)
+        for (SparseMatrixD::InnerIterator it(*a, j); it; ++it) t.emplace_back(it.row(), it.col(), f * it.value());
+    }
+    for (int j = 0; j < b_.outerSize(); ++j)
+      for (SparseMatrixD::InnerIterator it(b_, j); it; ++it) {
+        t.emplace_back(n + it.row(), it.col(), it.value());
+        t.emplace_back(it.col(), n + it.row(), it.value());
+      }
+    SparseMatrixD bordered(n + c, n + c);
+    bordered.setFromTriplets(t.begin(), t.end());
+    bordered.makeCompressed();
+    status_ = solver_.factorize(bordered);
+    ++out_.factorizations;
+    out_.factorization_seconds += seconds_since(t0);
+  }
+  const LinearStatus& status() const { return status_; }
+  void perform_op(const double* x, double* y) const {
+    const Eigen::Index n = k_.rows();
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + b_.rows()), sol;
+    rhs.head(n) = Eigen::Map<const Eigen::VectorXd>(x, n);
+    const LinearStatus s = solver_.solve(rhs, sol);
+    Eigen::Map<Eigen::VectorXd> yv(y, n);
+    if (s)
+      yv = sol.head(n);
+    else
+      yv.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
+
+ private:
+  const SparseMatrixD& k_;
+  const SparseMatrixD& m_;
+  const SparseMatrixD& b_;
+  SparseLinearSolver solver_;
+  LinearStatus status_;
+  EigenSolveResult& out_;
+};
+
 // Spectra's regular-inverse B operator: y = K₀ x and y = K₀⁻¹ x with one factorization
 class FactorizedOp {
  public:
@@ -176,6 +229,54 @@ EigenSolveResult lowest_vibration_modes(const SparseMatrixD& K, const SparseMatr
   out.vectors = solver.eigenvectors();
   if (!out.vectors.allFinite()) {
     out.error = "the eigenvectors are not finite (a failed solve with K - shift M)";
+    return out;
+  }
+  sort_ascending(out.values, out.vectors);
+  return out;
+}
+
+EigenSolveResult lowest_constrained_vibration_modes(const SparseMatrixD& K, const SparseMatrixD& M,
+                                                    const SparseMatrixD& B, double shift,
+                                                    const EigenSolveSettings& settings) {
+  if (B.rows() == 0) return lowest_vibration_modes(K, M, shift, settings);
+  EigenSolveResult out;
+  const int n = static_cast<int>(K.rows());
+  if (settings.count < 1 || settings.count >= n - static_cast<int>(B.rows())) {
+    out.error = "asked for " + std::to_string(settings.count) + " modes of a structure with " + std::to_string(n) +
+                " unknowns and " + std::to_string(B.rows()) + " constraints";
+    return out;
+  }
+  BorderedShiftSolveOp op(K, M, B, settings.backend, out);
+  ProductOp mass(M);
+  using Solver = Spectra::SymGEigsShiftSolver<BorderedShiftSolveOp, ProductOp, Spectra::GEigsMode::ShiftInvert>;
+  Solver solver(op, mass, settings.count, basis_size(settings, n), shift);
+  if (!op.status()) {
+    out.error = "the bordered matrix [K - shift M, B'; B, 0] could not be factorized: " + op.status().message +
+                (op.status().code == LinearStatus::Code::singular
+                     ? " (redundant joint constraints, or the shift is an eigenvalue)"
+                     : "");
+    return out;
+  }
+  const Clock::time_point t0 = Clock::now();
+  try {
+    solver.init();
+    solver.compute(Spectra::SortRule::LargestMagn, settings.max_restarts, settings.tolerance);
+  } catch (const std::exception& e) {
+    out.error = std::string("the Lanczos iteration failed: ") + e.what();
+    return out;
+  }
+  out.iteration_seconds = seconds_since(t0);
+  out.operator_applications = static_cast<int>(solver.num_operations());
+  out.restarts = static_cast<int>(solver.num_iterations());
+  if (solver.info() != Spectra::CompInfo::Successful) {
+    out.error = info_text(solver.info());
+    return out;
+  }
+  const Eigen::VectorXd values = solver.eigenvalues();
+  out.values.assign(values.data(), values.data() + values.size());
+  out.vectors = solver.eigenvectors();
+  if (!out.vectors.allFinite()) {
+    out.error = "the eigenvectors are not finite (a failed bordered solve)";
     return out;
   }
   sort_ascending(out.values, out.vectors);

@@ -43,6 +43,15 @@ struct EigenSolveResult {
 EigenSolveResult lowest_vibration_modes(const SparseMatrixD& K, const SparseMatrixD& M, double shift,
                                         const EigenSolveSettings& settings);
 
+/// As lowest_vibration_modes, for a structure whose unknowns are tied by linear constraints B φ = 0
+/// (joints, m rows): the multipliers are massless, and each Lanczos step solves the bordered
+/// system [K − σM, Bᵀ; B, 0] [y; μ] = [M x; 0] with one factorization of that symmetric indefinite
+/// matrix (shell_eigen.md (E2')). The constraints must be independent (a redundant joint makes the
+/// bordered matrix singular: the failure says so).
+EigenSolveResult lowest_constrained_vibration_modes(const SparseMatrixD& K, const SparseMatrixD& M,
+                                                    const SparseMatrixD& B, double shift,
+                                                    const EigenSolveSettings& settings);
+
 /// The `count` smallest positive multipliers λ of (K₀ + λ K_G) φ = 0 (K₀ symmetric positive
 /// definite, K_G symmetric), by the regular-inverse Lanczos on K₀⁻¹(−K_G) in the K₀ inner product:
 /// its largest eigenvalues θ = 1/λ (shell_eigen.md (E5)). Fewer than `count` come back when the

@@ -3,10 +3,12 @@
 // matrices K and M turned by the node frames), and the imperfection's move of the mesh.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
 #include "core/mesh/generators.h"
+#include "core/shell/multibody_modes.h"
 #include "core/shell/shell_eigen_simulation.h"
 
 namespace {
@@ -106,4 +108,50 @@ TEST(ShellEigenUnit, ImperfectionMovesNodesAsTheStateUpdateDoes) {
   const Mat3 expected = R0 * Eigen::AngleAxisd(0.005, Vec3::UnitX()).toRotationMatrix();
   EXPECT_LT((moved.frames[node] - expected).norm(), 1e-14);
   EXPECT_LT((moved.normals[node] - expected.col(2)).norm(), 1e-14);
+}
+
+// Joints are honoured (shell_eigen.md (E2')): two free plates side by side have 12 zero
+// frequencies; joined node by node along their common edge (a hinge line: translations tied,
+// rotations free) they keep 6 rigid-body modes plus the hinge's mechanism, 7, and the first
+// elastic frequency is finite. The bordered shift-invert solves with the constraint rows.
+TEST(ShellEigenUnit, HingedPlatesHaveSevenZeroFrequencies) {
+  auto two_plates = [](bool hinge) {
+    MultibodySpec spec;
+    for (int p = 0; p < 2; ++p) {
+      ShellBodySpec b;
+      b.name = p == 0 ? "left" : "right";
+      b.mesh = ff::mesh::rectangular_plate(1.0, 1.0, 4, 4);
+      for (Vec3& x : b.mesh.points) x.x() += p;  // right plate on x in [1, 2]
+      b.section.youngs_modulus = 2.1e11;
+      b.section.poisson_ratio = 0.3;
+      b.section.thickness = 0.01;
+      b.options.hr = b.options.ans = true;
+      b.options.drilling = false;
+      b.density = 7800.0;
+      spec.shells.push_back(std::move(b));
+    }
+    if (hinge) {
+      const int offset = spec.shells[0].mesh.node_count();
+      for (int i = 0; i < spec.shells[0].mesh.node_count(); ++i) {
+        if (std::abs(spec.shells[0].mesh.points[i].x() - 1.0) > 1e-12) continue;
+        for (int j = 0; j < spec.shells[1].mesh.node_count(); ++j)
+          if ((spec.shells[1].mesh.points[j] - spec.shells[0].mesh.points[i]).norm() < 1e-12)
+            spec.positions.push_back({i, offset + j});
+      }
+      EXPECT_EQ(spec.positions.size(), 5u);
+    }
+    MultibodyModel model(std::move(spec));
+    ff::EigenSolveSettings st;
+    st.count = 14;
+    return multibody_modes(model, st);
+  };
+  for (const bool hinge : {false, true}) {
+    const MultibodyModes modes = two_plates(hinge);
+    ASSERT_TRUE(modes.result.ok()) << modes.result.error;
+    const int zeros = static_cast<int>(std::count(modes.rigid_body.begin(), modes.rigid_body.end(), true));
+    EXPECT_EQ(zeros, hinge ? 7 : 12) << (hinge ? "hinged" : "apart");
+    const int first_elastic = zeros;
+    ASSERT_LT(first_elastic, static_cast<int>(modes.result.values.size()));
+    EXPECT_GT(modes.result.values[first_elastic], 1e-6 * modes.reference_omega2 * 1e-6);
+  }
 }
