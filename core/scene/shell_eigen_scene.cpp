@@ -4,10 +4,13 @@
 #include <cmath>
 
 #include "core/scene/scene_common.h"
+#include "core/scene/node_selection.h"
 #include "core/scene/shell_boundary.h"
+#include "core/scene/shell_dynamic_scene.h"
 #include "core/scene/shell_structure_scene.h"
 #include "core/scene/structure_parts.h"
 #include "core/scene/timeline.h"
+#include "core/shell/multibody_modes.h"
 #include "core/shell/shell_eigen_simulation.h"
 
 namespace ff::scene {
@@ -44,6 +47,7 @@ Schema eigen_schema(const std::string& analysis) {
                "size of the Lanczos basis; 0: max(2 modes + 1, modes + 20). More converge a clustered spectrum "
                "(a cylinder's buckling loads) in fewer restarts",
                0, IntRange::closed(0, 5000));
+  if (modal) declare_multibody_keys(s);  // a jointed structure: modes with its joints as constraints
   if (modal)
     s.number("modal.shift",
              "frequency [Hz] the modes are found nearest to (shift-invert about sigma = (2 pi shift)^2); 0: a small "
@@ -72,6 +76,51 @@ Schema eigen_schema(const std::string& analysis) {
   return s;
 }
 
+// A modal analysis of a structure with rigid bodies or joints: the dynamic model's stiffness and
+// mass at rest, the joints as constraints (core/shell/multibody_modes.h), about the reference state
+std::unique_ptr<Simulation> build_jointed_modal(const Document& d, const std::string& path, const SceneContext& ctx,
+                                                bool preload) {
+  using namespace ff::shell;
+  if (preload)
+    throw SceneError({d.issue("modal.about", "a structure with rigid bodies or joints ([[" +
+                                                 std::string(d.count("joint") > 0 ? "joint" : "rigid") +
+                                                 "]]) has its modes about the reference state only in this version; "
+                                                 "about = \"preload\" needs a static solve of the multibody model")});
+  MultibodyInput in = read_multibody_input(d, path, ctx, false, false);
+  in.spec.gravity = false;  // the unloaded reference state: loads and gravity are not applied
+  std::vector<MultibodyEigenSimulation::Probe> probes;
+  for (std::size_t i = 0; i < d.count("probe"); ++i) {
+    if (d.string("probe.quantity", i) != "displacement")
+      throw SceneError({d.issue("probe.quantity", i, "a modal analysis of a jointed structure records displacement "
+                                                     "probes only (its state is the unloaded reference)")});
+    const std::vector<int> ids = select_nodes(d, in.structure.joined, "probe", i);
+    const std::string name = d.string("probe.name", i), label = d.string("probe.label", i);
+    probes.push_back({name, label.empty() ? name : label, ids.front(), [&] {
+      const std::vector<double> v = d.numbers("probe.direction", i);
+      return Eigen::Vector3d(v[0], v[1], v[2]);
+    }()});
+  }
+  std::optional<double> shift;
+  if (d.number("modal.shift") > 0.0) {
+    const double w = 2.0 * std::acos(-1.0) * d.number("modal.shift");
+    shift = w * w;
+  }
+  RunInfo info;
+  describe_run(d, path, info);
+  // what the analysis evaluates besides the scene's effects: the inertia (the mass) and the joints
+  info.effects = d.strings("scene.effects");
+  info.effects.push_back("inertia");
+  if (d.count("joint") > 0) info.effects.push_back("joints");
+  std::unique_ptr<MultibodyEigenSimulation> sim;
+  try {
+    sim = std::make_unique<MultibodyEigenSimulation>(std::move(in.spec), static_cast<int>(d.integer("modal.modes")),
+                                                     shift, read_linear_solver(d), std::move(probes), std::move(info));
+  } catch (const std::invalid_argument& e) {
+    throw SceneError({d.issue(d.count("joint") > 0 ? "joint.type" : "rigid.name", 0, e.what())});
+  }
+  return sim;
+}
+
 std::unique_ptr<Simulation> build_eigen(const Document& d, const std::string& path, const SceneContext& ctx,
                                         const std::string& analysis) {
   using namespace ff::shell;
@@ -90,6 +139,7 @@ std::unique_ptr<Simulation> build_eigen(const Document& d, const std::string& pa
         throw SceneError({d.issue("solver." + k, "solver." + k + " sets the path to a preloaded state, but " + analysis +
                                                      ".about = \"reference\": the modes are about the unloaded "
                                                      "structure and no path is followed")});
+  if (modal && (d.count("rigid") > 0 || d.count("joint") > 0)) return build_jointed_modal(d, path, ctx, preload);
   // buckling needs loads (their prestress); a modal analysis about the reference state does not
   ShellStructureInput in = read_shell_structure_input(d, path, ctx, !modal || preload);
   ShellEigenSettings st;
@@ -129,6 +179,7 @@ std::unique_ptr<Simulation> build_eigen(const Document& d, const std::string& pa
     for (int q = 0; q < static_cast<int>(in.structure.quad_part.size()); ++q)
       st.densities.push_back(in.structure.materials[in.structure.parts[in.structure.quad_part[q]].material].density);
   }
+  if (modal) in.info.effects.push_back("inertia");  // the mass: evaluated whether or not the scene lists it
   std::unique_ptr<ShellEigenSimulation> sim;
   try {
     sim = std::make_unique<ShellEigenSimulation>(std::move(in.spec), std::move(st), std::move(in.info));
