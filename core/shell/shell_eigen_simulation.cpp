@@ -273,6 +273,12 @@ std::string ShellEigenSimulation::buckling() {
   Eigen::VectorXd rr;
   model_->update(eps * path);
   model_->evaluate(lambda_ + eps, rr, &k_plus, nullptr);
+  {  // the largest surface strain of the prebuckling path per unit multiplier (linear along it)
+    const std::vector<double> strain = model_->nodal_surface_strain();
+    double largest = 0.0;
+    for (double e : strain) largest = std::max(largest, std::abs(e));
+    strain_per_multiplier_ = largest / eps;
+  }
   model_->restore_state();
   model_->update(-eps * path);
   model_->evaluate(lambda_ - eps, rr, &k_minus, nullptr);
@@ -305,8 +311,21 @@ Metrics ShellEigenSimulation::metrics() const {
     m.emplace_back("rigid_body_modes", rigid);
   } else if (!modes_.modes.empty()) {
     m.emplace_back("critical_load", modes_.modes.front().value * settings_.load_scale);
+    // shell_eigen.md §2: beyond ~1e-2 the linear prediction is outside its validity
+    m.emplace_back("prebuckling_strain", strain_per_multiplier_ * modes_.modes.front().eigenvalue);
   }
   return m;
+}
+
+std::vector<std::pair<std::string, std::string>> ShellEigenSimulation::metrics_unreached() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  if (!done_ || settings_.analysis != ShellEigenSettings::Analysis::buckling) return out;
+  const int found = static_cast<int>(modes_.modes.size());
+  const std::string why = std::to_string(negative_multipliers_) + " of the " + std::to_string(settings_.modes) +
+                          " lowest multipliers are negative: those modes buckle under the reversed loads";
+  for (int k = found + 1; k <= settings_.modes; ++k) out.emplace_back("load_multiplier_" + std::to_string(k), why);
+  if (found == 0) out.emplace_back("critical_load", why);
+  return out;
 }
 
 std::vector<EffectStat> ShellEigenSimulation::effect_stats() const {

@@ -66,6 +66,8 @@ class ShellEigenSimulation final : public Simulation {
   StepDone step(double h) override;
   Frame frame() const override;
   Metrics metrics() const override;
+  /// buckling: the multipliers asked for that are not positive (they buckle the reversed loads)
+  std::vector<std::pair<std::string, std::string>> metrics_unreached() const override;
   const ModeSet* modes() const override { return done_ ? &modes_ : nullptr; }
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override;
@@ -94,6 +96,7 @@ class ShellEigenSimulation final : public Simulation {
   Eigen::MatrixXd vectors_;
   EigenSolveResult result_;
   int negative_multipliers_ = 0;
+  double strain_per_multiplier_ = 0.0;  // buckling: largest surface strain of the path per unit multiplier
   double reference_omega2_ = 0.0, shift_ = 0.0;
   double inertia_seconds_ = 0.0;
   long long inertia_evaluations_ = 0;

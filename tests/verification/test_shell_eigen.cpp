@@ -168,6 +168,11 @@ TEST(ShellEigen, SimplySupportedPlateBucklesAtKFour) {
   EXPECT_DOUBLE_EQ(r.modes->modes[0].value * 1e5, n);
   // the second mode has two half-waves along the load: k = (2 + 1/2)^2 = 6.25
   EXPECT_LT(std::abs(r.modes->modes[1].value * 1e5 / (6.25 * pi * pi * D) - 1), 0.02);
+  // the prebuckling strain at N_cr: sigma_cr / E = 3.6e-4 (measured 3.61e-4); the load reversed
+  // (tension) gives a multiplier whose prebuckling strain (measured 0.58) says it is no buckling load
+  EXPECT_NEAR(metric(r.metrics, "prebuckling_strain"), n_cr / (h * kE), 0.05 * n_cr / (h * kE));
+  const EigenRun reversed = run("buckling_ss_plate", {"load[0].per_length=[1.0e5, 0.0, 0.0]"});
+  EXPECT_GT(metric(reversed.metrics, "prebuckling_strain"), 0.1);
 }
 
 // 96 x 20 elements over L = 0.5 (7 per classical axisymmetric half-wave): measured +0.43 %, the
