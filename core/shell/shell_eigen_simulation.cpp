@@ -284,8 +284,8 @@ std::string ShellEigenSimulation::buckling() {
   model_->evaluate(lambda_ - eps, rr, &k_minus, nullptr);
   model_->restore_state();
   model_->evaluate(lambda_, rr, nullptr, nullptr);  // the reactions of the state again
-  SparseMatrixD KG = symmetric_part((k_plus - k_minus) / (2.0 * eps));
-  result_ = lowest_buckling_multipliers(K, KG, settings_.solver, &negative_multipliers_);
+  geometric_ = symmetric_part((k_plus - k_minus) / (2.0 * eps));
+  result_ = lowest_buckling_multipliers(K, geometric_, settings_.solver, &negative_multipliers_);
   if (!result_.ok()) return "the buckling analysis failed: " + result_.error;
   const int count = static_cast<int>(result_.values.size());
   vectors_.resize(K.rows(), count);

@@ -76,6 +76,8 @@ class ShellEigenSimulation final : public Simulation {
   const ShellModel& model() const { return *model_; }
   /// The modes in the model's unknowns (columns, in the order of modes()), after the run.
   const Eigen::MatrixXd& mode_vectors() const { return vectors_; }
+  /// buckling: K_G of (E7), per unit multiplier, in the model's unknowns (after the run).
+  const SparseMatrixD& geometric_stiffness() const { return geometric_; }
   /// What the eigen-solver did (factorizations, Lanczos products, seconds).
   const EigenSolveResult& solve_result() const { return result_; }
   /// Runs the whole analysis at once (start and step): "" or why it failed.
@@ -94,6 +96,7 @@ class ShellEigenSimulation final : public Simulation {
   bool done_ = false;
   ModeSet modes_;
   Eigen::MatrixXd vectors_;
+  SparseMatrixD geometric_;
   EigenSolveResult result_;
   int negative_multipliers_ = 0;
   double strain_per_multiplier_ = 0.0;  // buckling: largest surface strain of the path per unit multiplier
