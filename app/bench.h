@@ -13,6 +13,7 @@ struct BenchOptions {
   std::string solve_backend;  ///< --backend: only this linear backend in --solve ("" = every unsymmetric one)
   std::vector<std::string> scenes;     ///< --scene: time these scenes' whole runs (run_scene_bench)
   std::vector<std::string> overrides;  ///< --set: scene keys changed in every --scene run
+  int modes = 0;                       ///< --modes N: only the eigen-solve table (run_modes_bench)
 };
 /// `flexframe bench`: steps/s of every bundled hub-beam scene, EFG/FEM cost ratios and headless
 /// frames/s, as a markdown table. Ratios come from one run of this command.
@@ -30,6 +31,9 @@ int run_solve_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// matrix updates (factorizations), so a user times a scene of their own or two builds on it.
 /// Exit 0 when every run completed, otherwise the exit code of the first that did not.
 int run_scene_bench(const BenchOptions& options, const std::atomic<bool>& stop);
+/// `flexframe bench --modes N`: N natural modes of clamped n x n plates (n = 16 .. --max-n): one
+/// factorization of K - sigma M and the Lanczos solves with it, in seconds (app/bench_modes.cpp).
+int run_modes_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// Writes a bench's --json file and checks every step (open, write, close): on failure prints
 /// "error: cannot write PATH: <why>" and returns false, and the command exits 1; a benchmark whose
 /// numbers were not stored has failed.

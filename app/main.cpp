@@ -158,6 +158,9 @@ int main(int argc, char** argv) {
   bench->add_option("--scene", bench_opt.scenes,
                     "only whole runs of this scene (bundled name or file; repeatable): wall time, steps, "
                     "corrections, matrix updates, median of --repeat");
+  bench->add_option("--modes", bench_opt.modes,
+                    "time N natural modes of clamped plates against one factorization (16 .. --max-n elements a side)")
+      ->check(CLI::Range(1, 500));
   bench->add_option("--set", bench_opt.overrides, "--scene: override a scene key in every run, e.g. --set solver.tolerance=1e-6")
       ->take_all();
 
@@ -327,7 +330,8 @@ int main(int argc, char** argv) {
     if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
     if (*bench) {
       if (follower) bench_opt.out_file.clear();  // rank 0 writes the JSON
-      const int code = !bench_opt.scenes.empty() ? ff::app::run_scene_bench(bench_opt, g_stop)
+      const int code = bench_opt.modes > 0          ? ff::app::run_modes_bench(bench_opt, g_stop)
+                       : !bench_opt.scenes.empty() ? ff::app::run_scene_bench(bench_opt, g_stop)
                        : bench_opt.solve         ? ff::app::run_solve_bench(bench_opt, g_stop)
                        : bench_opt.effects       ? ff::app::run_effects_bench(bench_opt, g_stop)
                                                  : ff::app::run_bench(bench_opt, g_stop);

@@ -15,6 +15,7 @@
 #include "core/scene/mesh_generator_keys.h"
 #include "core/scene/scene_common.h"
 #include "core/scene/shell_dynamic_scene.h"
+#include "core/scene/shell_eigen_scene.h"
 #include "core/scene/shell_scene.h"
 #include "core/scene/structure_parts.h"
 #include "core/scene/timeline.h"
@@ -42,6 +43,10 @@ const std::vector<ModelKind>& model_kinds() {
          shell_static_schema, "solver.end", true, build_shell_static, estimated_structure_bytes},
         {"shell", "dynamic", "a CB shell structure, rigid bodies and joints in motion", shell_dynamic_schema,
          "solver.end", true, build_shell_dynamic, estimated_structure_bytes},
+        {"shell", "modal", "natural frequencies and mode shapes of a CB shell structure, unloaded or preloaded",
+         shell_modal_schema, "solver.end", true, build_shell_modal, estimated_structure_bytes},
+        {"shell", "buckling", "linear buckling loads and modes of a CB shell structure under its loads",
+         shell_buckling_schema, "solver.end", true, build_shell_buckling, estimated_structure_bytes},
     };
     // every schema's scene.model offers model_names() (scene_common.cpp, below this file)
     std::vector<std::string> names;

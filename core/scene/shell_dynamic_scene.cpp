@@ -1,4 +1,5 @@
 #include "core/scene/shell_dynamic_scene.h"
+#include "core/scene/shell_structure_scene.h"
 
 #include <algorithm>
 #include <sstream>
@@ -29,10 +30,7 @@ const Schema& shell_dynamic_schema() {
                         "effects to simulate: elastic and inertia (required), gravity, hr, ans, drilling (6 DoF "
                         "per shell node), joints (the [[joint]] constraints)",
                         {"elastic", "inertia", "gravity", "hr", "ans", "drilling", "joints"});
-    s.choice("scene.analysis",
-             "what is computed over the structure: static (equilibrium: linear, load control or arc length) or "
-             "dynamic (motion in time); the scene's other keys are that analysis's",
-             {"static", "dynamic"}, std::nullopt);
+    s.choice("scene.analysis", kShellAnalysisDoc, shell_analyses(), std::nullopt);
     s.table("solver", "time stepping: Lie-group generalized-alpha (core/solve/generalized_alpha.md)", true)
         .number("solver.dt", "time step [s]", std::nullopt, Range::positive())
         .number("solver.end", "end time [s]", std::nullopt, Range::positive())
@@ -76,23 +74,7 @@ const Schema& shell_dynamic_schema() {
         .live("gravity.g");
     declare_structure_keys(s);
     declare_mesh_quality_keys(s);
-    s.table_array("rigid", "rigid bodies (SE(3) pose, mass, inertia about the centre of mass)", 0, 64)
-        .string("rigid.name", "body name", std::nullopt)
-        .number_list("rigid.position", "centre of mass [m]", std::nullopt, {}, 3, 3)
-        .number("rigid.mass", "mass [kg]", std::nullopt, Range::positive())
-        .number_list("rigid.inertia", "principal moments about the body axes (= global axes at t = 0) [kg m^2]",
-                     std::nullopt, {}, 3, 3);
-    s.table_array("joint", "joints and supports as constraints (effect joints)", 0, 64)
-        .choice("joint.type", "simple_support (nodes fixed in space, free to rotate), spherical (coincident "
-                "points), revolute (coincident points + common axis), fixed (coincident points and frames)",
-                {"simple_support", "spherical", "revolute", "fixed"}, std::nullopt)
-        .string("joint.other",
-                "the part or rigid body the selected nodes are joined to (for a part: its node coincident with each "
-                "selected node); \"\" = ground",
-                std::string{})
-        .number_list("joint.axis", "revolute: axis direction (global, reference configuration)",
-                     std::vector<double>{0, 1, 0}, {}, 3, 3);
-    declare_selector_keys(s, "joint");
+    declare_multibody_keys(s);
     // supports and loads as in statics; each load on a time history instead of the load factor
     // (cb_shell_dynamics.md (D16)); supports that hold whole translations or rotations
     declare_bc_keys(s);
@@ -158,25 +140,43 @@ std::vector<int> ordered(const mesh::ShellMesh& m, std::vector<int> ids) {
 }
 }  // namespace
 
-std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::string& path, const SceneContext& ctx) {
+void declare_multibody_keys(Schema& s) {
+  s.table_array("rigid", "rigid bodies (SE(3) pose, mass, inertia about the centre of mass)", 0, 64)
+      .string("rigid.name", "body name", std::nullopt)
+      .number_list("rigid.position", "centre of mass [m]", std::nullopt, {}, 3, 3)
+      .number("rigid.mass", "mass [kg]", std::nullopt, Range::positive())
+      .number_list("rigid.inertia", "principal moments about the body axes (= global axes at t = 0) [kg m^2]",
+                   std::nullopt, {}, 3, 3);
+  s.table_array("joint", "joints and supports as constraints (effect joints)", 0, 64)
+      .choice("joint.type", "simple_support (nodes fixed in space, free to rotate), spherical (coincident "
+              "points), revolute (coincident points + common axis), fixed (coincident points and frames)",
+              {"simple_support", "spherical", "revolute", "fixed"}, std::nullopt)
+      .string("joint.other",
+              "the part or rigid body the selected nodes are joined to (for a part: its node coincident with each "
+              "selected node); \"\" = ground",
+              std::string{})
+      .number_list("joint.axis", "revolute: axis direction (global, reference configuration)",
+                   std::vector<double>{0, 1, 0}, {}, 3, 3);
+  declare_selector_keys(s, "joint");
+}
+
+MultibodyInput read_multibody_input(const Document& d, const std::string& path, const SceneContext& ctx, bool with_loads,
+                                    bool joints_need_effect) {
   using namespace ff::shell;
   const std::vector<std::string> fx = d.strings("scene.effects");
-  auto has = [&](const char* e) { return std::find(fx.begin(), fx.end(), e) != fx.end(); };
-  for (const char* needed : {"elastic", "inertia"})
-    if (!has(needed))
-      throw SceneError({d.issue("scene.effects", std::string("a dynamic analysis needs the effect '") + needed + "'")});
-  if (d.string("scene.analysis") != "dynamic")  // the file's analysis chose this schema; --set cannot change it
-    throw SceneError({d.issue("scene.analysis", "the analysis is chosen by the scene file (it picks the keys the "
-                                                "scene may have); write analysis = \"" + d.string("scene.analysis") +
-                                                "\" in the file instead of setting it")});
-
-  MultibodySpec spec;
+  auto has = [&](const char* e) {
+    if (!joints_need_effect && std::string(e) == "joints") return true;
+    return std::find(fx.begin(), fx.end(), e) != fx.end();
+  };
+  MultibodyInput in;
+  MultibodySpec& spec = in.spec;
   // every part's nodes from its counts, so that parts that cannot fit are refused at the largest
   // one's count before any mesh is built
   const StructureSize size = structure_size(d, path, ctx);
   refuse_oversized(d, ctx, static_cast<int>(std::min<long long>(size.nodes, std::numeric_limits<int>::max())),
                    has("drilling") ? 1.0 : 0.0, size.key, size.part);
-  Structure structure = read_structure(d, path, ctx);
+  in.structure = read_structure(d, path, ctx);
+  Structure& structure = in.structure;
   report_mesh_quality(d, structure, ctx);  // refuses inverted or degenerate quads; warnings for poor ones
   // the shell bodies: one per part, or, where [[junction]]s make parts share nodes, one body of
   // the joined structure whose quads keep their parts' materials. Either way the model's shell
@@ -372,10 +372,11 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
       spec.supports.push_back(held);
     }
   }
-  std::vector<std::size_t> load_entry, pressure_entry;  // the [[load]] entry of each spec load (errors)
+  std::vector<std::size_t>& load_entry = in.load_entry;
+  std::vector<std::size_t>& pressure_entry = in.pressure_entry;
   // [[load]]: the static reading (the same selections, consistent line, surface and pressure
   // forces) on the whole structure, then each entry's time history
-  {
+  if (with_loads) {
     ShellModelSpec loaded;
     loaded.mesh = structure.joined;
     for (std::size_t i = 0; i < d.count("load"); ++i) {
@@ -404,6 +405,26 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
       }
     }
   }
+  return in;
+}
+
+std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::string& path, const SceneContext& ctx) {
+  using namespace ff::shell;
+  const std::vector<std::string> fx = d.strings("scene.effects");
+  auto has = [&](const char* e) { return std::find(fx.begin(), fx.end(), e) != fx.end(); };
+  for (const char* needed : {"elastic", "inertia"})
+    if (!has(needed))
+      throw SceneError({d.issue("scene.effects", std::string("a dynamic analysis needs the effect '") + needed + "'")});
+  if (d.string("scene.analysis") != "dynamic")  // the file's analysis chose this schema; --set cannot change it
+    throw SceneError({d.issue("scene.analysis", "the analysis is chosen by the scene file (it picks the keys the "
+                                                "scene may have); write analysis = \"" + d.string("scene.analysis") +
+                                                "\" in the file instead of setting it")});
+
+  MultibodyInput in = read_multibody_input(d, path, ctx, true, true);
+  MultibodySpec& spec = in.spec;
+  Structure& structure = in.structure;
+  std::vector<std::size_t>& load_entry = in.load_entry;
+  std::vector<std::size_t>& pressure_entry = in.pressure_entry;
   refuse_impossible_step_count(d, "solver.dt", "solver.end");
   ShellDynamicSettings st;
   st.dt = d.number("solver.dt");

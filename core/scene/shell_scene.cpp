@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <limits>
+#include <toml++/toml.h>
 
 #include "core/mesh/generators.h"
 #include "core/mesh/node_sets.h"
@@ -15,6 +16,8 @@
 #include "core/scene/structure_parts.h"
 #include "core/scene/scene_common.h"
 #include "core/scene/timeline.h"
+#include "core/scene/shell_eigen_scene.h"
+#include "core/shell/shell_eigen_simulation.h"
 #include "core/shell/shell_static_simulation.h"
 
 namespace ff::scene {
@@ -24,23 +27,7 @@ namespace fs = std::filesystem;
 const Schema& shell_static_schema() {
   static const Schema schema = [] {
     Schema s;
-    declare_scene_table(s,
-                        "effects to simulate: elastic (required), hr (assumed membrane stress), ans (assumed "
-                        "transverse shear), drilling (6 DoF per node, Fox-Simo penalty), gravity (the self-weight "
-                        "of every part, density x thickness x g per unit area, times the load factor)",
-                        {"elastic", "hr", "ans", "drilling", "gravity"});
-    s.choice("scene.analysis",
-             "what is computed over the structure: static (equilibrium: linear, load control or arc length) or "
-             "dynamic (motion in time); the scene's other keys are that analysis's",
-             {"static", "dynamic"}, std::nullopt);
-    declare_structure_keys(s);
-    declare_mesh_quality_keys(s);
-    s.table("gravity", "uniform gravity (effect gravity): in a static analysis the parts' self-weight, a dead load "
-                       "times the load factor")
-        .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3);
-    declare_bc_keys(s);
-    declare_load_keys(s);
-    declare_probe_keys(s);
+    declare_shell_structure_scene_keys(s);
     s.table_array("metric", "numbers written to summary.json", 0, 32)
         .string("metric.name", "metric name", std::nullopt)
         .choice("metric.kind", "how it is read from the path",
@@ -51,6 +38,19 @@ const Schema& shell_static_schema() {
                 "at_load: the load where the probe is read, in reported units (load = lambda x solver.load_scale, "
                 "not lambda); load control lands a step on it, arc length interpolates between steps",
                 0.0);
+    s.table_array("imperfection",
+                  "geometric imperfections from modes: the structure starts from its mesh moved by amplitude x a mode "
+                  "of a modal or buckling scene of the same structure (core/shell/shell_eigen.md §4), computed at "
+                  "set-up; several add up",
+                  0, 8)
+        .string("imperfection.from",
+                "the eigen-analysis scene (analysis = \"modal\" or \"buckling\"), relative to this scene file; its "
+                "mesh must be this structure's, node for node",
+                std::nullopt)
+        .integer("imperfection.mode", "which of its modes (1 = the lowest)", 1, IntRange::closed(1, 500))
+        .number("imperfection.amplitude",
+                "largest nodal translation of the imperfection, in the scene's length unit (the sign flips the mode)",
+                std::nullopt);
     s.table_array("reference", "reference curves drawn on the load-path plots", 0, 16)
         .string("reference.file", "CSV file relative to the scene file", std::nullopt)
         .string("reference.x_column", "column giving the load (or load ratio)", std::nullopt)
@@ -146,6 +146,74 @@ void check_method_keys(const Document& d) {
 }
 }  // namespace
 
+namespace {
+// [[imperfection]]: the mesh moved by amplitude x a mode of an eigen-analysis scene of the same
+// structure, computed here (shell_eigen.md §4); refused at the entry's keys when the file is no
+// such scene, its mesh is another one, it has fewer modes or its analysis fails
+void apply_imperfections(const Document& d, const std::string& path, const SceneContext& ctx, mesh::ShellMesh& mesh) {
+  for (std::size_t i = 0; i < d.count("imperfection"); ++i) {
+    const fs::path file = fs::path(path).parent_path() / d.string("imperfection.from", i);
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec))
+      throw SceneError({d.issue("imperfection.from", i, "no file '" + file.string() + "' (the path is relative to this scene's folder)")});
+    if (fs::equivalent(file, fs::path(path), ec))
+      throw SceneError({d.issue("imperfection.from", i, "names this scene itself; give the modal or buckling scene of the same structure")});
+    // its scene.analysis picks its schema, as load_scene does
+    std::string analysis;
+    try {
+      analysis = toml::parse_file(file.string())["scene"]["analysis"].value_or(std::string());
+    } catch (const toml::parse_error& e) {
+      throw SceneError({d.issue("imperfection.from", i, "'" + file.string() + "' is not a TOML file: " +
+                                                            std::string(e.description()))});
+    }
+    if (analysis != "modal" && analysis != "buckling")
+      throw SceneError({d.issue("imperfection.from", i, "'" + file.string() + "' has analysis = \"" + analysis +
+                                                            "\"; an imperfection takes its shape from a modal or "
+                                                            "buckling analysis of the same structure")});
+    std::unique_ptr<Simulation> eigen;
+    try {
+      const bool modal = analysis == "modal";
+      const Document e = validate_file(modal ? shell_modal_schema() : shell_buckling_schema(), file.string());
+      eigen = modal ? build_shell_modal(e, file.string(), ctx) : build_shell_buckling(e, file.string(), ctx);
+    } catch (const SceneError& e) {
+      throw SceneError({d.issue("imperfection.from", i, "'" + file.string() + "' is not a valid " + analysis +
+                                                            " scene: " + e.what())});
+    }
+    auto* sim = dynamic_cast<shell::ShellEigenSimulation*>(eigen.get());
+    if (!sim) throw std::logic_error("an eigen scene built no eigen simulation");
+    const mesh::ShellMesh& theirs = sim->model().spec().mesh;
+    bool same = theirs.node_count() == mesh.node_count() && theirs.quad_count() == mesh.quad_count();
+    for (int n = 0; same && n < mesh.node_count(); ++n)
+      same = (theirs.points[n] - mesh.points[n]).norm() <= 1e-9 * (1.0 + mesh.points[n].norm());
+    if (!same)
+      throw SceneError({d.issue("imperfection.from", i, "'" + file.string() + "' has another mesh (" +
+                                                            std::to_string(theirs.node_count()) + " nodes, this structure " +
+                                                            std::to_string(mesh.node_count()) +
+                                                            "): an imperfection needs the same structure, node for node")});
+    const int wanted = static_cast<int>(d.integer("imperfection.mode", i));
+    if (const std::string why = sim->compute(); !why.empty())
+      throw SceneError({d.issue("imperfection.from", i, "its " + analysis + " analysis failed: " + why)});
+    if (wanted > sim->mode_vectors().cols())
+      throw SceneError({d.issue("imperfection.mode", i, "mode " + std::to_string(wanted) + " asked, but '" + file.string() +
+                                                            "' computes " + std::to_string(sim->mode_vectors().cols()) +
+                                                            " (its " + analysis + ".modes)")});
+    const mesh::ShellMesh moved =
+        shell::perturbed_mesh(sim->model(), sim->mode_vectors().col(wanted - 1), d.number("imperfection.amplitude", i));
+    // the move is relative to the eigen scene's reference: apply it to this mesh (equal up to round-off)
+    for (int n = 0; n < mesh.node_count(); ++n) {
+      mesh.points[n] += moved.points[n] - theirs.points[n];
+      mesh.frames[n] = moved.frames[n] * theirs.frames[n].transpose() * mesh.frames[n];
+      mesh.normals[n] = mesh.frames[n].col(2);
+    }
+    for (std::size_t q = 0; q < mesh.corner_normals.size() && q < moved.corner_normals.size(); ++q)
+      for (int c = 0; c < 4; ++c) {
+        const int n = mesh.quads[q][c];
+        mesh.corner_normals[q][c] = moved.frames[n] * theirs.frames[n].transpose() * mesh.corner_normals[q][c];
+      }
+  }
+}
+}  // namespace
+
 std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path, const SceneContext& ctx) {
   using namespace ff::shell;
   const std::vector<std::string> fx = d.strings("scene.effects");
@@ -155,79 +223,20 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
                                                 "scene may have); write analysis = \"" + d.string("scene.analysis") +
                                                 "\" in the file instead of setting it")});
   if (!has("elastic")) throw SceneError({d.issue("scene.effects", "a static analysis needs the effect 'elastic'")});
-
-  ShellModelSpec spec;
-  // the parts' node counts from their keys (exact, nothing built): a structure that cannot fit is
-  // refused at the count key that makes it large before seconds go into generating it
-  const StructureSize size = structure_size(d, path, ctx);
-  refuse_oversized(d, ctx, static_cast<int>(std::min<long long>(size.nodes, std::numeric_limits<int>::max())),
-                   has("drilling") ? 1.0 : 0.0, size.key, size.part);
-  ctx.setup.poll("generating the mesh", 0.0);
-  Structure structure = read_structure(d, path, ctx);
-  report_mesh_quality(d, structure, ctx);  // refuses inverted or degenerate quads; warnings for poor ones
-  spec.mesh = std::move(structure.joined);
-  {
-    int six = 0;
-    for (std::uint8_t f : spec.mesh.fold) six += f != 0;
-    const double six_fraction = has("drilling") ? 1.0 : spec.mesh.node_count() > 0 ? double(six) / spec.mesh.node_count() : 0.0;
-    refuse_oversized(d, ctx, spec.mesh.node_count(), six_fraction, size.key, size.part);
-  }
-  // the first part's section (the first [[material]] may be only a ply of a layup)
-  const StructureMaterial& first = structure.materials[structure.parts.front().material];
-  spec.section = first.section;
-  structure_sections(structure, spec.sections, spec.drilling_factors, spec.quad_section);
-  spec.quad_reference_direction = structure.quad_reference_direction;
-  spec.options.hr = has("hr");
-  spec.options.ans = has("ans");
-  spec.options.drilling = has("drilling");
-  spec.options.drilling_factor = first.drilling_factor;
+  ShellStructureInput in = read_shell_structure_input(d, path, ctx, true);
+  ShellModelSpec& spec = in.spec;
+  Structure& structure = in.structure;
+  apply_imperfections(d, path, ctx, spec.mesh);
   const mesh::ShellMesh& m = spec.mesh;
-
-  read_bcs(d, spec);
-  read_loads(d, spec);
-  // gravity: each part's self-weight rho h g per unit area of its reference mid-surface, as
-  // consistent nodal forces of a dead surface load (shell_model.md (P5)), times the load factor
-  if (d.table_present("gravity") && !has("gravity"))
-    throw SceneError({d.issue("gravity.g", "the scene gives [gravity] but scene.effects lacks gravity")});
-  if (has("gravity")) {
-    const Eigen::Vector3d g(d.numbers("gravity.g")[0], d.numbers("gravity.g")[1], d.numbers("gravity.g")[2]);
-    for (std::size_t p = 0; p < structure.parts.size(); ++p) {
-      const StructureMaterial& material = structure.materials[structure.parts[p].material];
-      require_density(d, structure, p,
-                      "the effect gravity weighs every part: give material.density for part '" + structure.parts[p].name + "'");
-      std::vector<int> quads;
-      for (int q = 0; q < static_cast<int>(structure.quad_part.size()); ++q)
-        if (structure.quad_part[q] == static_cast<int>(p)) quads.push_back(q);
-      for (const auto& [node, f] : surface_load_forces(spec.mesh, quads, material.density * material.section.thickness * g))
-        spec.loads.push_back({node, f, Vec3::Zero(), false});
-    }
-  }
-  // A zero [[load]] or a zero prescribed displacement is accepted (a load switched off with
-  // --set, a displacement that holds its DoFs), alike; but a path needs something non-zero to follow.
-  const bool loaded =
-      std::any_of(spec.loads.begin(), spec.loads.end(),
-                  [](const NodalLoad& l) { return !l.force.isZero(0.0) || !l.moment.isZero(0.0); }) ||
-      std::any_of(spec.pressures.begin(), spec.pressures.end(), [](const PressureLoad& p) { return p.pressure != 0.0; }) ||
-      std::any_of(spec.directions.begin(), spec.directions.end(), [](const DirectionRestraint& r) { return r.value != 0.0; });
-  if (!loaded) {
-    if (d.count("load") == 0)
-      throw SceneError({d.issue("scene.model", "nothing loads the shell: give a [[load]] or a [[bc]] of type = "
-                                               "\"displacement\"")});
-    const std::string type = d.string("load.type", 0);
-    const std::string amount = type == "force" || type == "moment" ? "load.total"
-                               : type == "line"                    ? "load.per_length"
-                               : type == "pressure"                ? "load.pressure"
-                                                                   : "load.per_area";
-    throw SceneError({d.issue(amount, 0, "every [[load]] is zero and no [[bc]] prescribes a non-zero displacement, so "
-                                         "nothing loads the shell and the path has nothing to follow")});
-  }
   ShellStaticSettings st;
   st.load_scale = d.number("solver.load_scale");
   st.load_label = d.string("solver.load_label");
-  st.probes = read_probes(d, m);
+  st.probes = std::move(in.probes);
   auto has_probe = [&](const std::string& n) {
     return std::any_of(st.probes.begin(), st.probes.end(), [&](const ShellProbe& p) { return p.name == n; });
   };
+  (void)m;
+  RunInfo info = std::move(in.info);
   for (std::size_t i = 0; i < d.count("metric"); ++i) {
     static const std::pair<const char*, ShellMetric::Kind> kinds[] = {
         {"at_load", ShellMetric::Kind::at_load}, {"final", ShellMetric::Kind::final_value},
@@ -249,11 +258,6 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     if (mt.kind == ShellMetric::Kind::at_load && st.load_scale != 0.0)
       st.load_control.stations.push_back(mt.load / st.load_scale);
   }
-  RunInfo info;
-  describe_run(d, path, info);
-  // how an imported mesh was read (vertices welded or not, where the directors came from)
-  for (auto& setting : mesh_import_settings(structure)) info.settings.push_back(std::move(setting));
-  info.effects = fx;
   for (std::size_t i = 0; i < d.count("reference"); ++i) {
     const std::string probe = d.string("reference.probe", i);
     if (!has_probe(probe)) throw SceneError({d.issue("reference.probe", i, "no probe named '" + probe + "'")});

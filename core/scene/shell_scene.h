@@ -2,10 +2,12 @@
 /// Scene keys and model building for model = "shell", analysis = "static" (CB shell statics).
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/model/simulation.h"
 #include "core/scene/scene_context.h"
 #include "core/scene/schema.h"
+#include "core/scene/shell_structure_scene.h"
 
 namespace ff::scene {
 

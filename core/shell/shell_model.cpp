@@ -532,6 +532,39 @@ void ShellModel::elastic_term(Assembly& a) {
   elastic_.seconds += seconds_since(t_elastic);
 }
 
+void ShellModel::assemble_element_matrices(const std::function<void(int, const ElementPoses&, Mat24&)>& element_matrix,
+                                           Eigen::SparseMatrix<double>& out) const {
+  pattern_.zeroed(out);
+  double* values = out.valuePtr();
+  ElementPoses cur;
+  Mat24 m;
+  for (int k = 0; k < elements_.size(); ++k) {
+    const ShellElement& e = elements_[k];
+    ShellElements::corner_poses(e, state_.poses, cur);
+    element_matrix(k, cur, m);
+    // the turns of elastic_term: solver rows = L (corner-local) per 3 x 3 block
+    std::array<Mat3, 8> L;
+    for (int c = 0; c < 4; ++c) {
+      const int I = e.nodes[c];
+      L[2 * c] = state_.poses[I].R * e.corner[c];
+      L[2 * c + 1] = six_dof_[I] ? L[2 * c] : e.corner[c];
+      if (has_basis_[I]) {
+        L[2 * c + 1] = six_dof_[I] ? Mat3(basis_r_[I].transpose() * L[2 * c + 1]) : L[2 * c + 1];
+        L[2 * c] = basis_u_[I].transpose() * L[2 * c];
+      }
+    }
+    for (int row = 0; row < 8; ++row)
+      for (int col = 0; col < 8; ++col) {
+        const Mat3 blk = L[row] * m.block<3, 3>(3 * row, 3 * col) * L[col].transpose();
+        m.block<3, 3>(3 * row, 3 * col) = blk;
+      }
+    const std::array<int, 576>& idx = scatter_[k];
+    for (int r = 0; r < 24; ++r)
+      for (int s = 0; s < 24; ++s)
+        if (idx[r * 24 + s] >= 0) values[idx[r * 24 + s]] += m(r, s);
+  }
+}
+
 // Point loads: r -= lambda f (world or, follower, node-frame components) and their load stiffness.
 void ShellModel::point_load_term(Assembly& a) {
   if (spec_.loads.empty()) return;

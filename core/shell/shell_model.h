@@ -12,6 +12,7 @@
 
 #include <Eigen/Sparse>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -191,6 +192,14 @@ class ShellModel final : public ff::StaticProblem {
   std::vector<EffectStat> effect_stats() const;
   /// Threads of the element loop from now on (the Simulation passes what the program was given).
   void set_threads(const assembly::ElementThreads& threads) { threads_ = threads; }
+  /// A matrix of the structure from one 24 x 24 matrix per element in the element's own local
+  /// increments (cb_shell.h: per corner [δu; δθ] in the corner frame), written by
+  /// `element_matrix(k, corner poses)` at the current state and turned into the solver's rows
+  /// exactly as the elastic tangent is (its corner-to-node and node-basis turns; restrained slots
+  /// dropped): `out` gets the tangent's sparsity pattern. The mass matrix of a modal analysis
+  /// (shell_eigen.md (E1)).
+  void assemble_element_matrices(const std::function<void(int, const ElementPoses&, Mat24&)>& element_matrix,
+                                 Eigen::SparseMatrix<double>& out) const;
 
  private:
   ShellModelSpec spec_;

@@ -628,6 +628,9 @@ std::string judge(const ProcResult& r, const std::string& scene, const std::vect
 std::vector<std::string> short_run_ends(const std::string& scene_text) {
   if (scene_text.find("analysis = \"static\"") != std::string::npos) return {"solver.end=0.05", "solver.lambda_end=0.05"};
   if (scene_text.find("analysis = \"dynamic\"") != std::string::npos) return {"solver.end=2e-3", "time.end=2e-3"};
+  // an eigen-analysis is one step: fewer modes is its short run
+  if (scene_text.find("analysis = \"modal\"") != std::string::npos) return {"modal.modes=2"};
+  if (scene_text.find("analysis = \"buckling\"") != std::string::npos) return {"buckling.modes=2"};
   return {"solver.end=0.2", "solver.t_end=0.2"};
 }
 

@@ -70,11 +70,13 @@ const std::map<std::string, SceneLevel> kSceneLevels = {
     {"shell_boundary", kSharedKeys},
     {"structure_parts", kSharedKeys},
     {"mesh_quality_report", kSharedKeys},
+    {"shell_structure_scene", kSharedKeys},
     {"reference_csv", kSharedKeys},
     // one file per model: its schema and builder
     {"hub_beam_scene", kModels},
     {"shell_scene", kModels},
     {"shell_dynamic_scene", kModels},
+    {"shell_eigen_scene", kModels},
     // model_kinds() and load_scene
     {"scene", kRegistry},
     // what a scene's names select, for check --picture (reads a scene as the registry does)

@@ -1,0 +1,212 @@
+#include "core/scene/shell_eigen_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/scene/scene_common.h"
+#include "core/scene/node_selection.h"
+#include "core/scene/shell_boundary.h"
+#include "core/scene/shell_dynamic_scene.h"
+#include "core/scene/shell_structure_scene.h"
+#include "core/scene/structure_parts.h"
+#include "core/scene/timeline.h"
+#include "core/shell/multibody_modes.h"
+#include "core/shell/shell_eigen_simulation.h"
+
+namespace ff::scene {
+
+namespace {
+
+// the keys of the load-control path to the preloaded state: refused when the modes are about the
+// reference state, which no path reaches
+const std::vector<std::string>& preload_keys() {
+  static const std::vector<std::string> k = {"end", "initial_step", "max_step", "min_step", "tolerance", "max_iterations"};
+  return k;
+}
+
+Schema eigen_schema(const std::string& analysis) {
+  Schema s;
+  declare_shell_structure_scene_keys(s);
+  const bool modal = analysis == "modal";
+  const std::string t = analysis;
+  s.table(t, modal ? "natural vibration K phi = omega^2 M phi (core/shell/shell_eigen.md): the lowest modes"
+                   : "linear buckling (K0 + lambda K_G) phi = 0 (core/shell/shell_eigen.md): the lowest load "
+                     "multipliers of the scene's loads",
+          true)
+      .integer(t + ".modes", modal ? "modes wanted, the lowest (rigid-body modes of a free structure included)"
+                                   : "load multipliers wanted, the lowest positive ones",
+               6, IntRange::closed(1, 500))
+      .choice(t + ".about",
+              "the state the modes are about: reference (unloaded; "
+                  + std::string(modal ? "the loads are not applied" : "K_G from the linear prestress of the loads") +
+                  ") or preload (the loads applied first by a nonlinear static solve to solver.end, then the "
+                  "tangent stiffness there" +
+                  (modal ? ": a tensioned part stiffens" : "; the multipliers are then total load factors") + ")",
+              {"reference", "preload"}, "reference")
+      .integer(t + ".lanczos_vectors",
+               "size of the Lanczos basis; 0: max(2 modes + 1, modes + 20). More converge a clustered spectrum "
+               "(a cylinder's buckling loads) in fewer restarts",
+               0, IntRange::closed(0, 5000));
+  if (modal) declare_multibody_keys(s);  // a jointed structure: modes with its joints as constraints
+  if (modal)
+    s.number("modal.shift",
+             "frequency [Hz] the modes are found nearest to (shift-invert about sigma = (2 pi shift)^2); 0: a small "
+             "negative shift below every frequency, sigma = -1e-8 max_i K_ii / M_ii, so the lowest modes (rigid-body "
+             "modes first) come out",
+             0.0, Range::non_negative());
+  s.table("solver", "the load-control path to a preloaded state (about = \"preload\") and the linear solver", false)
+      .number("solver.load_scale",
+              "load reported per unit lambda: critical_load = load_scale x the first multiplier (buckling), the load "
+              "probe",
+              1.0)
+      .string("solver.load_label", "name of the load on plots", std::string("load"))
+      .number("solver.end", "about = \"preload\": the load factor of the preloaded state", 1.0, Range::positive())
+      .number("solver.initial_step", "about = \"preload\": first load step", 0.25, Range::left_open(0.0, 1.0))
+      .number("solver.max_step", "about = \"preload\": largest load step", 0.25, Range::left_open(0.0, 1.0))
+      .number("solver.min_step", "about = \"preload\": smallest load step before giving up", 1e-5,
+              Range::left_open(0.0, 1.0))
+      .number("solver.tolerance", "about = \"preload\": relative residual and increment tolerance", 1e-8,
+              Range::left_open(0.0, 1e-2))
+      .integer("solver.max_iterations", "about = \"preload\": Newton corrections per attempt", 25,
+               IntRange::closed(2, 500));
+  declare_linear_solver(s, "mumps where compiled in (LDLᵀ of the symmetric matrices), else umfpack");
+  declare_output_keys(s, {"displacement", "strain"}, true);
+  declare_timeline(s, "load factor of the event (eigen-analyses: camera keys only)", "", {});
+  s.renamed("mesh", "part");
+  return s;
+}
+
+// A modal analysis of a structure with rigid bodies or joints: the dynamic model's stiffness and
+// mass at rest, the joints as constraints (core/shell/multibody_modes.h), about the reference state
+std::unique_ptr<Simulation> build_jointed_modal(const Document& d, const std::string& path, const SceneContext& ctx,
+                                                bool preload) {
+  using namespace ff::shell;
+  if (preload)
+    throw SceneError({d.issue("modal.about", "a structure with rigid bodies or joints ([[" +
+                                                 std::string(d.count("joint") > 0 ? "joint" : "rigid") +
+                                                 "]]) has its modes about the reference state only in this version; "
+                                                 "about = \"preload\" needs a static solve of the multibody model")});
+  MultibodyInput in = read_multibody_input(d, path, ctx, false, false);
+  in.spec.gravity = false;  // the unloaded reference state: loads and gravity are not applied
+  std::vector<MultibodyEigenSimulation::Probe> probes;
+  for (std::size_t i = 0; i < d.count("probe"); ++i) {
+    if (d.string("probe.quantity", i) != "displacement")
+      throw SceneError({d.issue("probe.quantity", i, "a modal analysis of a jointed structure records displacement "
+                                                     "probes only (its state is the unloaded reference)")});
+    const std::vector<int> ids = select_nodes(d, in.structure.joined, "probe", i);
+    const std::string name = d.string("probe.name", i), label = d.string("probe.label", i);
+    probes.push_back({name, label.empty() ? name : label, ids.front(), [&] {
+      const std::vector<double> v = d.numbers("probe.direction", i);
+      return Eigen::Vector3d(v[0], v[1], v[2]);
+    }()});
+  }
+  std::optional<double> shift;
+  if (d.number("modal.shift") > 0.0) {
+    const double w = 2.0 * std::acos(-1.0) * d.number("modal.shift");
+    shift = w * w;
+  }
+  RunInfo info;
+  describe_run(d, path, info);
+  // what the analysis evaluates besides the scene's effects: the inertia (the mass) and the joints
+  info.effects = d.strings("scene.effects");
+  info.effects.push_back("inertia");
+  if (d.count("joint") > 0) info.effects.push_back("joints");
+  std::unique_ptr<MultibodyEigenSimulation> sim;
+  try {
+    sim = std::make_unique<MultibodyEigenSimulation>(std::move(in.spec), static_cast<int>(d.integer("modal.modes")),
+                                                     shift, read_linear_solver(d), std::move(probes), std::move(info));
+  } catch (const std::invalid_argument& e) {
+    throw SceneError({d.issue(d.count("joint") > 0 ? "joint.type" : "rigid.name", 0, e.what())});
+  }
+  return sim;
+}
+
+std::unique_ptr<Simulation> build_eigen(const Document& d, const std::string& path, const SceneContext& ctx,
+                                        const std::string& analysis) {
+  using namespace ff::shell;
+  if (d.string("scene.analysis") != analysis)
+    throw SceneError({d.issue("scene.analysis", "the analysis is chosen by the scene file (it picks the keys the "
+                                                "scene may have); write analysis = \"" + d.string("scene.analysis") +
+                                                "\" in the file instead of setting it")});
+  const std::vector<std::string> fx = d.strings("scene.effects");
+  if (std::find(fx.begin(), fx.end(), "elastic") == fx.end())
+    throw SceneError({d.issue("scene.effects", "an eigen-analysis needs the effect 'elastic'")});
+  const bool modal = analysis == "modal";
+  const bool preload = d.string(analysis + ".about") == "preload";
+  if (!preload)
+    for (const std::string& k : preload_keys())
+      if (d.present("solver." + k))
+        throw SceneError({d.issue("solver." + k, "solver." + k + " sets the path to a preloaded state, but " + analysis +
+                                                     ".about = \"reference\": the modes are about the unloaded "
+                                                     "structure and no path is followed")});
+  if (modal && (d.count("rigid") > 0 || d.count("joint") > 0)) return build_jointed_modal(d, path, ctx, preload);
+  // buckling needs loads (their prestress); a modal analysis about the reference state does not
+  ShellStructureInput in = read_shell_structure_input(d, path, ctx, !modal || preload);
+  ShellEigenSettings st;
+  st.analysis = modal ? ShellEigenSettings::Analysis::modal : ShellEigenSettings::Analysis::buckling;
+  st.modes = static_cast<int>(d.integer(analysis + ".modes"));
+  st.preload = preload;
+  if (modal && d.number("modal.shift") > 0.0) {
+    const double w = 2.0 * std::acos(-1.0) * d.number("modal.shift");
+    st.shift = w * w;
+  }
+  st.solver.subspace = static_cast<int>(d.integer(analysis + ".lanczos_vectors"));
+  if (st.solver.subspace > 0 && st.solver.subspace <= st.modes)
+    throw SceneError({d.issue(analysis + ".lanczos_vectors", "the Lanczos basis must be larger than " + analysis +
+                                                                 ".modes (" + std::to_string(st.modes) + ")")});
+  st.solver.backend = read_linear_solver(d);
+  st.load_control.lambda_end = d.number("solver.end");
+  st.load_control.initial_step = d.number("solver.initial_step");
+  st.load_control.max_step = d.number("solver.max_step");
+  st.load_control.min_step = d.number("solver.min_step");
+  st.load_control.lambda_end_name = "solver.end";
+  st.load_control.convergence.residual_tolerance = st.load_control.convergence.increment_tolerance =
+      d.number("solver.tolerance");
+  st.load_control.convergence.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
+  st.load_control.convergence.linear_backend = st.solver.backend;
+  if (preload && st.load_control.max_step < st.load_control.initial_step)
+    throw SceneError({d.issue("solver.max_step", "solver.max_step is smaller than solver.initial_step: the first step "
+                                                 "cannot be taken")});
+  st.load_scale = d.number("solver.load_scale");
+  st.load_label = d.string("solver.load_label");
+  st.probes = std::move(in.probes);
+  if (modal) {
+    // every quad's density: its part's material (a layup: its plies' own, laminate.md (L10))
+    for (std::size_t p = 0; p < in.structure.parts.size(); ++p)
+      require_density(d, in.structure, p,
+                      "a modal analysis needs the mass of every part: give material.density for part '" +
+                          in.structure.parts[p].name + "'");
+    for (int q = 0; q < static_cast<int>(in.structure.quad_part.size()); ++q)
+      st.densities.push_back(in.structure.materials[in.structure.parts[in.structure.quad_part[q]].material].density);
+  }
+  if (modal) in.info.effects.push_back("inertia");  // the mass: evaluated whether or not the scene lists it
+  std::unique_ptr<ShellEigenSimulation> sim;
+  try {
+    sim = std::make_unique<ShellEigenSimulation>(std::move(in.spec), std::move(st), std::move(in.info));
+  } catch (const ShellSpecError& e) {
+    throw SceneError({located(d, e, in.structure)});
+  }
+  refuse_unknown_probe_fields(d, stress_fields(sim->model().stress_layout()));
+  refuse_unknown_color_field(d, sim->info());
+  return sim;
+}
+
+}  // namespace
+
+const Schema& shell_modal_schema() {
+  static const Schema schema = eigen_schema("modal");
+  return schema;
+}
+const Schema& shell_buckling_schema() {
+  static const Schema schema = eigen_schema("buckling");
+  return schema;
+}
+
+std::unique_ptr<Simulation> build_shell_modal(const Document& d, const std::string& path, const SceneContext& ctx) {
+  return build_eigen(d, path, ctx, "modal");
+}
+std::unique_ptr<Simulation> build_shell_buckling(const Document& d, const std::string& path, const SceneContext& ctx) {
+  return build_eigen(d, path, ctx, "buckling");
+}
+
+}  // namespace ff::scene

@@ -1,0 +1,345 @@
+#include "core/solve/eigen_solve.h"
+
+#include <Spectra/SymGEigsShiftSolver.h>
+#include <Spectra/SymGEigsSolver.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace ff {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// y = A x for a sparse symmetric A stored whole (both triangles)
+class ProductOp {
+ public:
+  using Scalar = double;
+  explicit ProductOp(const SparseMatrixD& a, double sign = 1.0) : a_(a), sign_(sign) {}
+  Eigen::Index rows() const { return a_.rows(); }
+  Eigen::Index cols() const { return a_.cols(); }
+  void perform_op(const double* x, double* y) const {
+    Eigen::Map<const Eigen::VectorXd> xv(x, a_.cols());
+    Eigen::Map<Eigen::VectorXd> yv(y, a_.rows());
+    yv.noalias() = sign_ * (a_ * xv);
+  }
+
+ private:
+  const SparseMatrixD& a_;
+  double sign_;
+};
+
+// y = (K − σM)⁻¹ x through one factorization per shift (Spectra's shift-invert operator)
+class ShiftSolveOp {
+ public:
+  using Scalar = double;
+  ShiftSolveOp(const SparseMatrixD& k, const SparseMatrixD& m, LinearBackend backend, EigenSolveResult& out)
+      : k_(k), m_(m), solver_(backend), out_(out) {}
+  Eigen::Index rows() const { return k_.rows(); }
+  Eigen::Index cols() const { return k_.cols(); }
+  void set_shift(double sigma) {
+    const Clock::time_point t0 = Clock::now();
+    SparseMatrixD shifted = k_ - sigma * m_;
+    shifted.makeCompressed();
+    status_ = solver_.factorize(shifted);
+    ++out_.factorizations;
+    out_.factorization_seconds += seconds_since(t0);
+  }
+  const LinearStatus& status() const { return status_; }
+  void perform_op(const double* x, double* y) const {
+    Eigen::Map<const Eigen::VectorXd> xv(x, k_.cols());
+    Eigen::VectorXd b = xv, sol;
+    const LinearStatus s = solver_.solve(b, sol);
+    Eigen::Map<Eigen::VectorXd> yv(y, k_.rows());
+    if (s)
+      yv = sol;
+    else
+      yv.setConstant(std::numeric_limits<double>::quiet_NaN());  // Spectra then stops; status says why
+  }
+
+ private:
+  const SparseMatrixD& k_;
+  const SparseMatrixD& m_;
+  SparseLinearSolver solver_;
+  LinearStatus status_;
+  EigenSolveResult& out_;
+};
+
+// y = top of [K − σM, Bᵀ; B, 0]⁻¹ [x; 0]: the shift-invert operator restricted to the constraints
+class BorderedShiftSolveOp {
+ public:
+  using Scalar = double;
+  BorderedShiftSolveOp(const SparseMatrixD& k, const SparseMatrixD& m, const SparseMatrixD& b, LinearBackend backend,
+                       EigenSolveResult& out)
+      : k_(k), m_(m), b_(b), solver_(backend), out_(out) {}
+  Eigen::Index rows() const { return k_.rows(); }
+  Eigen::Index cols() const { return k_.cols(); }
+  void set_shift(double sigma) {
+    const Clock::time_point t0 = Clock::now();
+    const Eigen::Index n = k_.rows(), c = b_.rows();
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(k_.nonZeros() + m_.nonZeros() + 2 * b_.nonZeros());
+    for (const SparseMatrixD* a : {&k_, &m_}) {
+      const double f = a == &k_ ? 1.0 : -sigma;
+      for (int j = 0; j < a->outerSize(); ++j)
+        for (SparseMatrixD::InnerIterator it(*a, j); it; ++it) t.emplace_back(it.row(), it.col(), f * it.value());
+    }
+    for (int j = 0; j < b_.outerSize(); ++j)
+      for (SparseMatrixD::InnerIterator it(b_, j); it; ++it) {
+        t.emplace_back(n + it.row(), it.col(), it.value());
+        t.emplace_back(it.col(), n + it.row(), it.value());
+      }
+    SparseMatrixD bordered(n + c, n + c);
+    bordered.setFromTriplets(t.begin(), t.end());
+    bordered.makeCompressed();
+    status_ = solver_.factorize(bordered);
+    ++out_.factorizations;
+    out_.factorization_seconds += seconds_since(t0);
+  }
+  const LinearStatus& status() const { return status_; }
+  void perform_op(const double* x, double* y) const {
+    const Eigen::Index n = k_.rows();
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + b_.rows()), sol;
+    rhs.head(n) = Eigen::Map<const Eigen::VectorXd>(x, n);
+    const LinearStatus s = solver_.solve(rhs, sol);
+    Eigen::Map<Eigen::VectorXd> yv(y, n);
+    if (s)
+      yv = sol.head(n);
+    else
+      yv.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
+
+ private:
+  const SparseMatrixD& k_;
+  const SparseMatrixD& m_;
+  const SparseMatrixD& b_;
+  SparseLinearSolver solver_;
+  LinearStatus status_;
+  EigenSolveResult& out_;
+};
+
+// Spectra's regular-inverse B operator: y = K₀ x and y = K₀⁻¹ x with one factorization
+class FactorizedOp {
+ public:
+  using Scalar = double;
+  FactorizedOp(const SparseMatrixD& k, LinearBackend backend, EigenSolveResult& out) : k_(k), solver_(backend) {
+    const Clock::time_point t0 = Clock::now();
+    SparseMatrixD copy = k;
+    copy.makeCompressed();
+    status_ = solver_.factorize(copy);
+    ++out.factorizations;
+    out.factorization_seconds += seconds_since(t0);
+  }
+  const LinearStatus& status() const { return status_; }
+  int determinant_sign() const { return solver_.determinant_sign(); }
+  Eigen::Index rows() const { return k_.rows(); }
+  Eigen::Index cols() const { return k_.cols(); }
+  void perform_op(const double* x, double* y) const {
+    Eigen::Map<const Eigen::VectorXd> xv(x, k_.cols());
+    Eigen::Map<Eigen::VectorXd> yv(y, k_.rows());
+    yv.noalias() = k_ * xv;
+  }
+  void solve(const double* x, double* y) const {
+    Eigen::Map<const Eigen::VectorXd> xv(x, k_.cols());
+    Eigen::VectorXd b = xv, sol;
+    const LinearStatus s = solver_.solve(b, sol);
+    Eigen::Map<Eigen::VectorXd> yv(y, k_.rows());
+    if (s)
+      yv = sol;
+    else
+      yv.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
+
+ private:
+  const SparseMatrixD& k_;
+  SparseLinearSolver solver_;
+  LinearStatus status_;
+};
+
+int basis_size(const EigenSolveSettings& s, int n) {
+  const int wanted = s.subspace > 0 ? s.subspace : std::max(2 * s.count + 1, s.count + 20);
+  return std::min(wanted, n);
+}
+
+std::string info_text(Spectra::CompInfo info) {
+  switch (info) {
+    case Spectra::CompInfo::Successful: return "";
+    case Spectra::CompInfo::NotComputed: return "the eigen-solver did not run";
+    case Spectra::CompInfo::NotConverging: return "the Lanczos iteration did not converge within its restarts";
+    case Spectra::CompInfo::NumericalIssue: return "the Lanczos iteration met a numerical issue";
+  }
+  return "the eigen-solver failed";
+}
+
+// columns of V reordered by ascending values
+void sort_ascending(std::vector<double>& values, Eigen::MatrixXd& vectors) {
+  std::vector<int> order(values.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return values[a] < values[b]; });
+  std::vector<double> v(values.size());
+  Eigen::MatrixXd m(vectors.rows(), vectors.cols());
+  for (std::size_t k = 0; k < order.size(); ++k) v[k] = values[order[k]], m.col(k) = vectors.col(order[k]);
+  values = std::move(v);
+  vectors = std::move(m);
+}
+
+}  // namespace
+
+EigenSolveResult lowest_vibration_modes(const SparseMatrixD& K, const SparseMatrixD& M, double shift,
+                                        const EigenSolveSettings& settings) {
+  EigenSolveResult out;
+  const int n = static_cast<int>(K.rows());
+  if (settings.count < 1 || settings.count >= n) {
+    out.error = "asked for " + std::to_string(settings.count) + " modes of a structure with " + std::to_string(n) +
+                " unknowns (at most " + std::to_string(n - 1) + ")";
+    return out;
+  }
+  ShiftSolveOp op(K, M, settings.backend, out);
+  ProductOp mass(M);
+  using Solver = Spectra::SymGEigsShiftSolver<ShiftSolveOp, ProductOp, Spectra::GEigsMode::ShiftInvert>;
+  Solver solver(op, mass, settings.count, basis_size(settings, n), shift);  // factorizes K − σM
+  if (!op.status()) {
+    out.error = "K - shift M could not be factorized: " + op.status().message +
+                (op.status().code == LinearStatus::Code::singular ? " (the shift is an eigenvalue; choose another)" : "");
+    return out;
+  }
+  const Clock::time_point t0 = Clock::now();
+  try {  // Spectra reports a failed inner decomposition by throwing
+    solver.init();
+    solver.compute(Spectra::SortRule::LargestMagn, settings.max_restarts, settings.tolerance);
+  } catch (const std::exception& e) {
+    out.error = std::string("the Lanczos iteration failed: ") + e.what() +
+                " (a solve with K - shift M gave no finite answer, or the problem is not symmetric definite)";
+    return out;
+  }
+  out.iteration_seconds = seconds_since(t0);
+  out.operator_applications = static_cast<int>(solver.num_operations());
+  out.restarts = static_cast<int>(solver.num_iterations());
+  if (solver.info() != Spectra::CompInfo::Successful) {
+    out.error = info_text(solver.info());
+    return out;
+  }
+  const Eigen::VectorXd values = solver.eigenvalues();
+  out.values.assign(values.data(), values.data() + values.size());
+  out.vectors = solver.eigenvectors();
+  if (!out.vectors.allFinite()) {
+    out.error = "the eigenvectors are not finite (a failed solve with K - shift M)";
+    return out;
+  }
+  sort_ascending(out.values, out.vectors);
+  return out;
+}
+
+EigenSolveResult lowest_constrained_vibration_modes(const SparseMatrixD& K, const SparseMatrixD& M,
+                                                    const SparseMatrixD& B, double shift,
+                                                    const EigenSolveSettings& settings) {
+  if (B.rows() == 0) return lowest_vibration_modes(K, M, shift, settings);
+  EigenSolveResult out;
+  const int n = static_cast<int>(K.rows());
+  if (settings.count < 1 || settings.count >= n - static_cast<int>(B.rows())) {
+    out.error = "asked for " + std::to_string(settings.count) + " modes of a structure with " + std::to_string(n) +
+                " unknowns and " + std::to_string(B.rows()) + " constraints";
+    return out;
+  }
+  BorderedShiftSolveOp op(K, M, B, settings.backend, out);
+  ProductOp mass(M);
+  using Solver = Spectra::SymGEigsShiftSolver<BorderedShiftSolveOp, ProductOp, Spectra::GEigsMode::ShiftInvert>;
+  Solver solver(op, mass, settings.count, basis_size(settings, n), shift);
+  if (!op.status()) {
+    out.error = "the bordered matrix [K - shift M, B'; B, 0] could not be factorized: " + op.status().message +
+                (op.status().code == LinearStatus::Code::singular
+                     ? " (redundant joint constraints, or the shift is an eigenvalue)"
+                     : "");
+    return out;
+  }
+  const Clock::time_point t0 = Clock::now();
+  try {
+    solver.init();
+    solver.compute(Spectra::SortRule::LargestMagn, settings.max_restarts, settings.tolerance);
+  } catch (const std::exception& e) {
+    out.error = std::string("the Lanczos iteration failed: ") + e.what();
+    return out;
+  }
+  out.iteration_seconds = seconds_since(t0);
+  out.operator_applications = static_cast<int>(solver.num_operations());
+  out.restarts = static_cast<int>(solver.num_iterations());
+  if (solver.info() != Spectra::CompInfo::Successful) {
+    out.error = info_text(solver.info());
+    return out;
+  }
+  const Eigen::VectorXd values = solver.eigenvalues();
+  out.values.assign(values.data(), values.data() + values.size());
+  out.vectors = solver.eigenvectors();
+  if (!out.vectors.allFinite()) {
+    out.error = "the eigenvectors are not finite (a failed bordered solve)";
+    return out;
+  }
+  sort_ascending(out.values, out.vectors);
+  return out;
+}
+
+EigenSolveResult lowest_buckling_multipliers(const SparseMatrixD& K0, const SparseMatrixD& KG,
+                                             const EigenSolveSettings& settings, int* negative) {
+  EigenSolveResult out;
+  const int n = static_cast<int>(K0.rows());
+  if (negative) *negative = 0;
+  if (settings.count < 1 || settings.count >= n) {
+    out.error = "asked for " + std::to_string(settings.count) + " buckling modes of a structure with " +
+                std::to_string(n) + " unknowns (at most " + std::to_string(n - 1) + ")";
+    return out;
+  }
+  FactorizedOp k0(K0, settings.backend, out);
+  if (!k0.status()) {
+    out.error = "the stiffness could not be factorized: " + k0.status().message +
+                (k0.status().code == LinearStatus::Code::singular
+                     ? " (a mechanism: some part is not held against rigid motion, which buckles at no load)"
+                     : "");
+    return out;
+  }
+  ProductOp minus_kg(KG, -1.0);
+  using Solver = Spectra::SymGEigsSolver<ProductOp, FactorizedOp, Spectra::GEigsMode::RegularInverse>;
+  Solver solver(minus_kg, k0, settings.count, basis_size(settings, n));
+  const Clock::time_point t0 = Clock::now();
+  try {
+    solver.init();
+    solver.compute(Spectra::SortRule::LargestAlge, settings.max_restarts, settings.tolerance);
+  } catch (const std::exception& e) {
+    out.error = std::string("the Lanczos iteration failed: ") + e.what() +
+                " (a solve with the stiffness gave no finite answer: a mechanism?)";
+    return out;
+  }
+  out.iteration_seconds = seconds_since(t0);
+  out.operator_applications = static_cast<int>(solver.num_operations());
+  out.restarts = static_cast<int>(solver.num_iterations());
+  if (solver.info() != Spectra::CompInfo::Successful) {
+    out.error = info_text(solver.info());
+    return out;
+  }
+  const Eigen::VectorXd theta = solver.eigenvalues();
+  const Eigen::MatrixXd vectors = solver.eigenvectors();
+  if (!vectors.allFinite()) {
+    out.error = "the eigenvectors are not finite (a failed solve with the stiffness)";
+    return out;
+  }
+  // θ = 1/λ: the largest positive θ are the smallest positive λ; θ ≤ 0 buckle only reversed
+  std::vector<int> kept;
+  for (int k = 0; k < theta.size(); ++k)
+    if (theta[k] > 0.0)
+      kept.push_back(k);
+    else if (negative)
+      ++*negative;
+  out.vectors.resize(n, static_cast<Eigen::Index>(kept.size()));
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    out.values.push_back(1.0 / theta[kept[k]]);
+    out.vectors.col(k) = vectors.col(kept[k]);
+  }
+  sort_ascending(out.values, out.vectors);
+  return out;
+}
+
+}  // namespace ff
