@@ -1590,7 +1590,6 @@ int run_gui(const GuiOptions& opt, const std::atomic<bool>& stop) {
   scene::LoadedScene scene;
   try {
     scene = scene::load_scene_text(text, path, {}, io::scene_context());
-    if (opt.simulation_for_test) scene.simulation = opt.simulation_for_test();
   } catch (...) {
     glfwTerminate();
     throw;

@@ -22,9 +22,6 @@ struct GuiOptions {
   double quit_after = 0.0;              ///< --quit-after SECONDS (0 = stay open)
   bool run = false;                     ///< --run: start the solver at once
   int width = 1360, height = 860;       ///< window size
-  /// Tests only: a model of the caller's in place of the one the scene builds (a model with
-  /// known modes, before any scene builds one); the scene still names it. Null: the scene's.
-  std::function<std::unique_ptr<Simulation>()> simulation_for_test;
 };
 
 /// Exit code of `flexframe gui` when no display can be opened.
