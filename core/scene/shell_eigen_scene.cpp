@@ -139,6 +139,13 @@ std::unique_ptr<Simulation> build_eigen(const Document& d, const std::string& pa
         throw SceneError({d.issue("solver." + k, "solver." + k + " sets the path to a preloaded state, but " + analysis +
                                                      ".about = \"reference\": the modes are about the unloaded "
                                                      "structure and no path is followed")});
+  // loads of a modal analysis about the unloaded structure change nothing: said, not refused (the
+  // same file serves about = "preload" with --set modal.about=reference as its comparison)
+  if (modal && !preload && d.count("load") > 0 && ctx.warnings)
+    ctx.warnings->push_back(d.issue("load.type", 0, "the [[load]] entries have no effect: modal.about = \"reference\" "
+                                                    "takes the modes of the unloaded structure; about = \"preload\" "
+                                                    "applies them first")
+                                .to_string());
   if (modal && (d.count("rigid") > 0 || d.count("joint") > 0)) return build_jointed_modal(d, path, ctx, preload);
   // buckling needs loads (their prestress); a modal analysis about the reference state does not
   ShellStructureInput in = read_shell_structure_input(d, path, ctx, !modal || preload);
