@@ -379,5 +379,19 @@ TEST(CliLaminate, BadLayupInputIsLocatedAndRadiansWarn) {
   }
 }
 
+// Issue 36: a modal analysis about the unloaded structure does not apply the scene's loads; check
+// says so at the first [[load]] (a warning, exit 0), and says nothing when the loads preload it.
+TEST(CliEigen, LoadsOfAReferenceModalAnalysisWarn) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult reference = run_flexframe({"check", "modal_tensioned_strip", "--set", "modal.about=reference"},
+                                             dir + "/reference");
+  EXPECT_EQ(reference.exit_code, 0) << reference.describe();
+  EXPECT_NE(reference.out.find("key 'load[0].type'"), std::string::npos) << reference.describe();
+  EXPECT_NE(reference.out.find("have no effect"), std::string::npos) << reference.describe();
+  const ProcResult preload = run_flexframe({"check", "modal_tensioned_strip"}, dir + "/preload");
+  EXPECT_EQ(preload.exit_code, 0) << preload.describe();
+  EXPECT_EQ(preload.out.find("have no effect"), std::string::npos) << preload.describe();
+}
+
 }  // namespace
 }  // namespace ff::cli::test
