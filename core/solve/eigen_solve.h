@@ -32,6 +32,7 @@ struct EigenSolveResult {
   int factorizations = 0;
   int operator_applications = 0;  ///< Lanczos matrix-vector products (one solve each)
   int restarts = 0;
+  int recovered = 0;              ///< modes the first Lanczos run missed, found by the deflated check
   double factorization_seconds = 0.0, iteration_seconds = 0.0;
   bool ok() const { return error.empty(); }
 };
