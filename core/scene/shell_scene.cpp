@@ -1,8 +1,10 @@
 #include "core/scene/shell_scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <toml++/toml.h>
 
 #include "core/mesh/generators.h"
@@ -31,7 +33,8 @@ const Schema& shell_static_schema() {
     s.table_array("metric", "numbers written to summary.json", 0, 32)
         .string("metric.name", "metric name", std::nullopt)
         .choice("metric.kind", "how it is read from the path",
-                {"at_load", "final", "first_limit_load", "at_first_limit", "min_load_after_limit", "max_abs"},
+                {"at_load", "final", "first_limit_load", "at_first_limit", "min_load_after_limit", "max_abs",
+                 "linear_buckling_load"},
                 std::nullopt)
         .string("metric.probe", "probe it reads", std::string{})
         .number("metric.load",
@@ -212,6 +215,42 @@ void apply_imperfections(const Document& d, const std::string& path, const Scene
       }
   }
 }
+
+// [[metric]] kind = "linear_buckling_load": one linear buckling analysis of this structure under
+// this scene's loads about the reference state (the first multiplier, shell_eigen.md), computed
+// once here; its value is the critical load in the scene's load units, beside the path's limit
+// load. The structure is the one the path starts from (imperfections included).
+void predict_linear_buckling(const shell::ShellModelSpec& spec, shell::ShellStaticSettings& st, LinearBackend backend) {
+  using namespace ff::shell;
+  const bool wanted = std::any_of(st.metrics.begin(), st.metrics.end(),
+                                  [](const ShellMetric& m) { return m.kind == ShellMetric::Kind::linear_buckling_load; });
+  if (!wanted) return;
+  ShellEigenSettings es;
+  es.analysis = ShellEigenSettings::Analysis::buckling;
+  es.modes = 1;
+  es.solver.backend = backend;
+  es.load_scale = st.load_scale;
+  double value = std::numeric_limits<double>::quiet_NaN();
+  std::string why;
+  try {
+    ShellEigenSimulation buckling(spec, es, RunInfo{});
+    why = buckling.compute();
+    if (why.empty()) {
+      if (const std::optional<double> v = find_metric(buckling.metrics(), "critical_load"))
+        value = *v;
+      else
+        for (const auto& [name, reason] : buckling.metrics_unreached()) why = reason;
+    }
+  } catch (const ShellSpecError& e) {
+    why = e.what();
+  }
+  if (why.empty() && !std::isfinite(value)) why = "the linear buckling analysis found no positive multiplier";
+  for (ShellMetric& m : st.metrics)
+    if (m.kind == ShellMetric::Kind::linear_buckling_load) {
+      m.computed = value;
+      m.computed_why = why.empty() ? "" : "linear buckling about the reference state: " + why;
+    }
+}
 }  // namespace
 
 std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path, const SceneContext& ctx) {
@@ -241,7 +280,8 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     static const std::pair<const char*, ShellMetric::Kind> kinds[] = {
         {"at_load", ShellMetric::Kind::at_load}, {"final", ShellMetric::Kind::final_value},
         {"first_limit_load", ShellMetric::Kind::first_limit_load}, {"at_first_limit", ShellMetric::Kind::at_first_limit},
-        {"min_load_after_limit", ShellMetric::Kind::min_load_after_limit}, {"max_abs", ShellMetric::Kind::max_abs}};
+        {"min_load_after_limit", ShellMetric::Kind::min_load_after_limit}, {"max_abs", ShellMetric::Kind::max_abs},
+        {"linear_buckling_load", ShellMetric::Kind::linear_buckling_load}};
     ShellMetric mt;
     mt.name = d.string("metric.name", i);
     if (mt.name.empty())  // summary.json and results.h5 key the metric by its name
@@ -250,7 +290,8 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
       if (d.string("metric.kind", i) == k) mt.kind = v;
     mt.probe = d.string("metric.probe", i);
     mt.load = d.number("metric.load", i);
-    const bool needs_probe = mt.kind != ShellMetric::Kind::first_limit_load && mt.kind != ShellMetric::Kind::min_load_after_limit;
+    const bool needs_probe = mt.kind != ShellMetric::Kind::first_limit_load && mt.kind != ShellMetric::Kind::min_load_after_limit &&
+                             mt.kind != ShellMetric::Kind::linear_buckling_load;
     if (needs_probe && !has_probe(mt.probe))
       throw SceneError({d.issue("metric.probe", i, "no probe named '" + mt.probe + "'")});
     st.metrics.push_back(mt);
@@ -340,6 +381,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   if (!st.monitor_probe.empty() && !has_probe(st.monitor_probe))
     throw SceneError({d.issue("solver.monitor_probe", "no probe named '" + st.monitor_probe + "'")});
   st.record_stresses = stresses_wanted(d, {"displacement", "strain"});
+  predict_linear_buckling(spec, st, conv.linear_backend);
   std::unique_ptr<ShellStaticSimulation> sim;
   try {
     sim = std::make_unique<ShellStaticSimulation>(std::move(spec), st, std::move(info));

@@ -274,6 +274,9 @@ std::vector<std::tuple<std::string, double, std::string>> ShellStaticSimulation:
         if (k >= 0)
           for (double x : values_[k]) v = std::isnan(v) ? std::abs(x) : std::max(v, std::abs(x));
         break;
+      case ShellMetric::Kind::linear_buckling_load:
+        v = mt.computed;
+        break;
     }
     std::string why;
     if (!std::isfinite(v)) why = unreached_reason(mt, limit);
@@ -297,6 +300,8 @@ std::string ShellStaticSimulation::unreached_reason(const ShellMetric& mt, int l
              settings_.load_label + " ran from " + number(*lo) + " to " + number(*hi) + unit + " and ended at " +
              number(loads_.back()) + unit + " (lambda = " + number(lambda_) + ")";
     }
+    case ShellMetric::Kind::linear_buckling_load:
+      return mt.computed_why;
     case ShellMetric::Kind::first_limit_load:
     case ShellMetric::Kind::at_first_limit:
     case ShellMetric::Kind::min_load_after_limit:

@@ -32,11 +32,17 @@ struct ShellProbe {
 
 /// A metric of the load path (summary.json "metrics").
 struct ShellMetric {
-  enum class Kind { at_load, final_value, first_limit_load, at_first_limit, min_load_after_limit, max_abs };
+  /// linear_buckling_load: the first critical load of a linear buckling analysis of the same
+  /// structure and loads about the reference state (shell_eigen.md), computed at set-up, to put
+  /// beside the first limit load the path finds
+  enum class Kind { at_load, final_value, first_limit_load, at_first_limit, min_load_after_limit, max_abs,
+                    linear_buckling_load };
   std::string name;
   Kind kind = Kind::final_value;
   std::string probe;       ///< probe name (unused for the load-only kinds)
   double load = 0.0;       ///< at_load: the load where the probe is read (interpolated along the path)
+  double computed = 0.0;   ///< linear_buckling_load: its value (NaN when the analysis found none)
+  std::string computed_why;  ///< linear_buckling_load: why there is none
 };
 
 struct ShellStaticSettings {

@@ -238,3 +238,38 @@ TEST(ShellEigen, GeometricStiffnessIsTheWorkOfThePrestress) {
   std::printf("K_G: phi^T K_G phi = %.6g, N_x pi^2 / 4 = %.6g, %+.3f %%\n", work, expected, 100 * (work / expected - 1));
   EXPECT_LT(std::abs(work / expected - 1), 0.01);
 }
+
+// [[metric]] kind = "linear_buckling_load" in a static scene: one linear buckling analysis of the
+// same structure and loads at set-up, in the scene's load units. (1) The perfect k = 4 plate as a
+// static scene (postbuckling_ss_plate without its imperfection) predicts exactly the buckling
+// scene's critical load, within 1 % of 4 pi^2 D / b^2 (Timoshenko & Gere 1961, §9.2); with its h/10
+// imperfection (the bundled scene) the slightly curved plate's prediction is lower (measured
+// 746.4 against 758.4 kN/m). (2) The hinged roof snaps through (first limit load 2215.3, the path
+// test in test_shell_scenes.cpp) below its linear buckling load (measured 3214.4): its prebuckling
+// flattening softens it, which a linear analysis about the unloaded roof cannot see.
+TEST(ShellEigen, LinearBucklingLoadBesideTheStaticPath) {
+  const std::string dir = std::string(FF_SOURCE_DIR) + "/assets/scenes/";
+  std::FILE* f = std::fopen((dir + "postbuckling_ss_plate.toml").c_str(), "rb");
+  ASSERT_TRUE(f);
+  std::string text;
+  for (int c; (c = std::fgetc(f)) != EOF;) text.push_back(static_cast<char>(c));
+  std::fclose(f);
+  const auto at = text.find("[[imperfection]]");
+  ASSERT_NE(at, std::string::npos);
+  const std::string perfect = text.substr(0, at) + text.substr(text.find("[[probe]]", at));
+  const ff::scene::LoadedScene plate = ff::scene::load_scene_text(perfect, dir + "postbuckling_ss_plate.toml");
+  const double predicted = metric(plate.simulation->metrics(), "linear_buckling_load");
+  const EigenRun buckling = run("buckling_ss_plate");
+  EXPECT_NEAR(predicted, metric(buckling.metrics, "critical_load"), 1e-9 * predicted);
+  const double h = 0.01, D = kE * h * h * h / (12 * (1 - kNu * kNu));
+  EXPECT_LT(std::abs(predicted / (4 * pi * pi * D) - 1), 0.01);
+  const ff::scene::LoadedScene imperfect = ff::scene::load_scene(dir + "postbuckling_ss_plate.toml");
+  const double curved = metric(imperfect.simulation->metrics(), "linear_buckling_load");
+  EXPECT_LT(curved, predicted);
+  EXPECT_GT(curved, 0.95 * predicted);
+
+  const EigenRun roof = run("hinged_roof_h127");
+  const double limit = metric(roof.metrics, "limit_load"), linear = metric(roof.metrics, "linear_buckling_load");
+  std::printf("hinged roof: first limit load %.6g, linear buckling load %.6g (ratio %.3f)\n", limit, linear, limit / linear);
+  EXPECT_LT(limit, linear);
+}
