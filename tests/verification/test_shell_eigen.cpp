@@ -254,7 +254,7 @@ TEST(ShellEigen, LinearBucklingLoadBesideTheStaticPath) {
   std::string text;
   for (int c; (c = std::fgetc(f)) != EOF;) text.push_back(static_cast<char>(c));
   std::fclose(f);
-  const auto at = text.find("[[imperfection]]");
+  const auto at = text.find("\n[[imperfection]]");
   ASSERT_NE(at, std::string::npos);
   const std::string perfect = text.substr(0, at) + text.substr(text.find("[[probe]]", at));
   const ff::scene::LoadedScene plate = ff::scene::load_scene_text(perfect, dir + "postbuckling_ss_plate.toml");
