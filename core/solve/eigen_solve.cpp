@@ -252,6 +252,39 @@ void recover_missed_modes(const Op& op, const SparseMatrixD& M, double shift, co
   }
 }
 
+// The Lanczos run of a shift-invert solver whose operator is factorized (its constructor did it),
+// its checks, and the recovery of missed copies (E2''): into `out`, or out.error
+template <class Solver, class Op>
+void shift_invert_lanczos(Solver& solver, const Op& op, const SparseMatrixD& M, double shift,
+                          const EigenSolveSettings& settings, int free_unknowns, const std::string& solve_name,
+                          EigenSolveResult& out) {
+  const Clock::time_point t0 = Clock::now();
+  try {  // Spectra reports a failed inner decomposition by throwing
+    solver.init();
+    solver.compute(Spectra::SortRule::LargestMagn, settings.max_restarts, settings.tolerance);
+  } catch (const std::exception& e) {
+    out.error = std::string("the Lanczos iteration failed: ") + e.what() + " (" + solve_name +
+                " gave no finite answer, or the problem is not symmetric definite)";
+    return;
+  }
+  out.operator_applications = static_cast<int>(solver.num_operations());
+  out.restarts = static_cast<int>(solver.num_iterations());
+  if (solver.info() != Spectra::CompInfo::Successful) {
+    out.error = info_text(solver.info());
+    return;
+  }
+  const Eigen::VectorXd values = solver.eigenvalues();
+  out.values.assign(values.data(), values.data() + values.size());
+  out.vectors = solver.eigenvectors();
+  if (!out.vectors.allFinite()) {
+    out.error = "the eigenvectors are not finite (" + solve_name + " failed)";
+    return;
+  }
+  sort_ascending(out.values, out.vectors);
+  recover_missed_modes(op, M, shift, settings, free_unknowns, out);
+  out.iteration_seconds = seconds_since(t0);
+}
+
 }  // namespace
 
 EigenSolveResult lowest_vibration_modes(const SparseMatrixD& K, const SparseMatrixD& M, double shift,
@@ -272,32 +305,7 @@ EigenSolveResult lowest_vibration_modes(const SparseMatrixD& K, const SparseMatr
                 (op.status().code == LinearStatus::Code::singular ? " (the shift is an eigenvalue; choose another)" : "");
     return out;
   }
-  const Clock::time_point t0 = Clock::now();
-  try {  // Spectra reports a failed inner decomposition by throwing
-    solver.init();
-    solver.compute(Spectra::SortRule::LargestMagn, settings.max_restarts, settings.tolerance);
-  } catch (const std::exception& e) {
-    out.error = std::string("the Lanczos iteration failed: ") + e.what() +
-                " (a solve with K - shift M gave no finite answer, or the problem is not symmetric definite)";
-    return out;
-  }
-  out.iteration_seconds = seconds_since(t0);
-  out.operator_applications = static_cast<int>(solver.num_operations());
-  out.restarts = static_cast<int>(solver.num_iterations());
-  if (solver.info() != Spectra::CompInfo::Successful) {
-    out.error = info_text(solver.info());
-    return out;
-  }
-  const Eigen::VectorXd values = solver.eigenvalues();
-  out.values.assign(values.data(), values.data() + values.size());
-  out.vectors = solver.eigenvectors();
-  if (!out.vectors.allFinite()) {
-    out.error = "the eigenvectors are not finite (a failed solve with K - shift M)";
-    return out;
-  }
-  sort_ascending(out.values, out.vectors);
-  recover_missed_modes(op, M, shift, settings, n, out);
-  out.iteration_seconds = seconds_since(t0);
+  shift_invert_lanczos(solver, op, M, shift, settings, n, "a solve with K - shift M", out);
   return out;
 }
 
@@ -323,31 +331,7 @@ EigenSolveResult lowest_constrained_vibration_modes(const SparseMatrixD& K, cons
                      : "");
     return out;
   }
-  const Clock::time_point t0 = Clock::now();
-  try {
-    solver.init();
-    solver.compute(Spectra::SortRule::LargestMagn, settings.max_restarts, settings.tolerance);
-  } catch (const std::exception& e) {
-    out.error = std::string("the Lanczos iteration failed: ") + e.what();
-    return out;
-  }
-  out.iteration_seconds = seconds_since(t0);
-  out.operator_applications = static_cast<int>(solver.num_operations());
-  out.restarts = static_cast<int>(solver.num_iterations());
-  if (solver.info() != Spectra::CompInfo::Successful) {
-    out.error = info_text(solver.info());
-    return out;
-  }
-  const Eigen::VectorXd values = solver.eigenvalues();
-  out.values.assign(values.data(), values.data() + values.size());
-  out.vectors = solver.eigenvectors();
-  if (!out.vectors.allFinite()) {
-    out.error = "the eigenvectors are not finite (a failed bordered solve)";
-    return out;
-  }
-  sort_ascending(out.values, out.vectors);
-  recover_missed_modes(op, M, shift, settings, n - static_cast<int>(B.rows()), out);
-  out.iteration_seconds = seconds_since(t0);
+  shift_invert_lanczos(solver, op, M, shift, settings, n - static_cast<int>(B.rows()), "a bordered solve", out);
   return out;
 }
 

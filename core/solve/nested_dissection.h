@@ -1,9 +1,10 @@
 #pragma once
 /// \file nested_dissection.h
 /// A fill-reducing ordering by METIS's nested dissection (METIS_NodeND), computed by FlexFrame
-/// and handed to MUMPS as a given ordering (ICNTL(7) = 1, PERM_IN): Debian's sequential MUMPS is
-/// built without METIS and orders with SCOTCH otherwise, which costs 18-44 % more factorization
-/// flops on the shell plates (docs/performance.md, "METIS for the sequential build").
+/// and handed to MUMPS as a given ordering (ICNTL(7) = 1, PERM_IN) when FLEXFRAME_MUMPS_ORDERING=metis:
+/// Debian's sequential MUMPS is built without METIS and orders with SCOTCH otherwise, which costs
+/// 12-14 % more factorization flops on the shell plates (docs/performance.md, the last section). Not
+/// the default: with it MUMPS missed the null pivot of a mechanism that SCOTCH's order revealed.
 ///
 /// Shell matrices come in node blocks (5 or 6 unknowns with identical columns): the graph METIS
 /// orders is the quotient graph of those blocks ("supervariables", columns with identical

@@ -26,17 +26,19 @@
 
 namespace ff {
 
-// FLEXFRAME_MUMPS_ORDERING=mumps leaves the ordering to MUMPS (SCOTCH in Debian's sequential
-// build), for before/after measurements of our METIS ordering
+// FLEXFRAME_MUMPS_ORDERING=metis hands MUMPS our METIS ordering on one rank (nested_dissection.h):
+// 12 % fewer flops than the SCOTCH order of Debian's sequential MUMPS on the 128² plate, but not
+// the default, because MUMPS's null-pivot detection of a mechanism (a part held by nothing) found
+// the singular pivot with SCOTCH's order and not with ours (docs/performance.md, the last section)
 static bool own_ordering_wanted() {
   static const bool wanted = [] {
     const char* e = std::getenv("FLEXFRAME_MUMPS_ORDERING");
-    return !(e && std::string(e) == "mumps");
+    return e && std::string(e) == "metis";
   }();
   return wanted;
 }
 const char* mumps_ordering_description() {
-  return own_ordering_wanted() ? "METIS (FlexFrame's, nested_dissection.h)" : "MUMPS's automatic choice";
+  return own_ordering_wanted() ? "METIS (FlexFrame's, FLEXFRAME_MUMPS_ORDERING=metis)" : "MUMPS's automatic choice";
 }
 
 namespace {
@@ -293,8 +295,8 @@ class MumpsInstance {
     icntl(28) = 1;   // sequential analysis, so ICNTL(7) picks the ordering
     // automatic: METIS when the build has it, else SCOTCH (Debian's sequential build: SCOTCH).
     // Not PORD, although it was 9-30 % faster for LDLᵀ on the larger plates: it ends the process
-    // (exit, no status) on matrices of a few unknowns (static_solvers.md §7.1). On one rank
-    // analyze() hands MUMPS our own METIS ordering instead (nested_dissection.h)
+    // (exit, no status) on matrices of a few unknowns (static_solvers.md §7.1). On one rank,
+    // with FLEXFRAME_MUMPS_ORDERING=metis, analyze() hands MUMPS our METIS ordering instead
     icntl(7) = 7;
     icntl(24) = 1;   // null pivot detection, so a singular K is reported, not factorized
     icntl(33) = 1;   // the determinant (its sign marks limit and bifurcation points)

@@ -34,8 +34,8 @@ LinearBackend default_linear_backend();
 bool linear_backend_available(LinearBackend backend);
 /// True for the Cholesky-type backends, which read only one triangle and need K = Kᵀ.
 bool linear_backend_is_symmetric(LinearBackend backend);
-/// How MUMPS orders on one rank: "METIS (FlexFrame's, nested_dissection.h)", or MUMPS's own
-/// automatic choice when FLEXFRAME_MUMPS_ORDERING=mumps (for before/after measurements).
+/// How MUMPS orders on one rank: MUMPS's own automatic choice, or our METIS ordering
+/// (nested_dissection.h) when FLEXFRAME_MUMPS_ORDERING=metis.
 const char* mumps_ordering_description();
 /// Scene-file name: "umfpack", "sparse_lu", "cholmod_llt", "simplicial_ldlt", "mumps".
 std::string_view to_string(LinearBackend backend);

@@ -147,6 +147,17 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   std::string err;
   EXPECT_FALSE(r.timed_out) << "a rank kept waiting after the other was killed\n" << r.describe();
   EXPECT_NE(r.exit_code, 0) << r.describe();
+  // the launcher may return while rank 0 is still closing its results file (its main thread a
+  // zombie while its writer thread runs on): rank 0 must end too, every thread of it
+  const int rank_zero = ranks[0] == rank_one ? ranks[1] : ranks[0];
+  const std::string status_file = "/proc/" + std::to_string(rank_zero) + "/status";
+  auto ended = [&] {
+    const std::string st = read_text(status_file);  // "" once reaped
+    return st.empty() || (st.find("State:\tZ") != std::string::npos && st.find("Threads:\t1\n") != std::string::npos);
+  };
+  const auto gone_by = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!ended() && std::chrono::steady_clock::now() < gone_by) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_TRUE(ended()) << "rank 0 outlived the launcher by 30 s:\n" << read_text(status_file);
 
   const auto h = io::ResultReader::open(out + "/results.h5", &err);
   ASSERT_TRUE(h) << err;
