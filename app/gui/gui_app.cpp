@@ -479,11 +479,7 @@ class Viewport {
     if (w < 32 || h < 32 || mode_->frames.empty()) return;
     if (mode_renderer_ && (mode_renderer_->width() != w || mode_renderer_->height() != h)) mode_renderer_.reset();
     if (!mode_renderer_) {
-      if (!gc_) {
-        gc_ = render::GraphicsContext::create(&error_);
-        glfwMakeContextCurrent(window_);
-        if (!gc_) return;
-      }
+      if (!ensure_graphics_context()) return;
       render::FrameStyle style;
       style.width = w;
       style.height = h;
@@ -528,12 +524,16 @@ class Viewport {
     error_.clear();
     dirty_ = true;
   }
-  void build(int w, int h) {
+  // the offscreen context both renderers draw in, made once (GLFW's context is current again after)
+  bool ensure_graphics_context() {
     if (!gc_) {
       gc_ = render::GraphicsContext::create(&error_);
       glfwMakeContextCurrent(window_);
-      if (!gc_) return;
     }
+    return gc_ != nullptr;
+  }
+  void build(int w, int h) {
+    if (!ensure_graphics_context()) return;
     render::FrameStyle style;
     style.width = w;
     style.height = h;

@@ -456,23 +456,8 @@ void ShellModel::elastic_term(Assembly& a) {
       const bool tangent = K || (prescribed_load && element_prescribed_[k]);
       e.elastic->evaluate(cur, work_.element_force[k], tangent ? &work_.element_tangent[k] : nullptr);
       if (!tangent) return;
-      // to solver rows here, in parallel: A_I blockdiag(C, C) is block diagonal in 3 x 3
-      std::array<Mat3, 8> L;  // per corner: translations, rotations
-      for (int c = 0; c < 4; ++c) {
-        const int I = e.nodes[c];
-        L[2 * c] = state_.poses[I].R * e.corner[c];
-        L[2 * c + 1] = six_dof_[I] ? L[2 * c] : e.corner[c];
-        if (has_basis_[I]) {
-          L[2 * c + 1] = six_dof_[I] ? Mat3(basis_r_[I].transpose() * L[2 * c + 1]) : L[2 * c + 1];
-          L[2 * c] = basis_u_[I].transpose() * L[2 * c];
-        }
-      }
-      Mat24& Ke = work_.element_tangent[k];
-      for (int row = 0; row < 8; ++row)
-        for (int col = 0; col < 8; ++col) {
-          const Mat3 blk = L[row] * Ke.block<3, 3>(3 * row, 3 * col);
-          Ke.block<3, 3>(3 * row, 3 * col).noalias() = blk * L[col].transpose();
-        }
+      // to solver rows here, in parallel
+      to_solver_rows(e, work_.element_tangent[k]);
     }
   });
   for (int k = share.begin; k < share.end; ++k) {
@@ -532,6 +517,28 @@ void ShellModel::elastic_term(Assembly& a) {
   elastic_.seconds += seconds_since(t_elastic);
 }
 
+// An element matrix in corner-local components turned into solver rows and columns: per 3 x 3
+// block L_row m L_colᵀ, with L the corner's node rotation times its corner frame (translations;
+// rotations of a 6-DoF node alike, of a 5-DoF node the corner frame alone), then the node's basis
+// (shell_model.md): A_I blockdiag(C, C) is block diagonal in 3 x 3
+void ShellModel::to_solver_rows(const ShellElement& e, Mat24& m) const {
+  std::array<Mat3, 8> L;  // per corner: translations, rotations
+  for (int c = 0; c < 4; ++c) {
+    const int I = e.nodes[c];
+    L[2 * c] = state_.poses[I].R * e.corner[c];
+    L[2 * c + 1] = six_dof_[I] ? L[2 * c] : e.corner[c];
+    if (has_basis_[I]) {
+      L[2 * c + 1] = six_dof_[I] ? Mat3(basis_r_[I].transpose() * L[2 * c + 1]) : L[2 * c + 1];
+      L[2 * c] = basis_u_[I].transpose() * L[2 * c];
+    }
+  }
+  for (int row = 0; row < 8; ++row)
+    for (int col = 0; col < 8; ++col) {
+      const Mat3 blk = L[row] * m.block<3, 3>(3 * row, 3 * col);
+      m.block<3, 3>(3 * row, 3 * col).noalias() = blk * L[col].transpose();
+    }
+}
+
 void ShellModel::assemble_element_matrices(const std::function<void(int, const ElementPoses&, Mat24&)>& element_matrix,
                                            Eigen::SparseMatrix<double>& out) const {
   pattern_.zeroed(out);
@@ -542,22 +549,7 @@ void ShellModel::assemble_element_matrices(const std::function<void(int, const E
     const ShellElement& e = elements_[k];
     ShellElements::corner_poses(e, state_.poses, cur);
     element_matrix(k, cur, m);
-    // the turns of elastic_term: solver rows = L (corner-local) per 3 x 3 block
-    std::array<Mat3, 8> L;
-    for (int c = 0; c < 4; ++c) {
-      const int I = e.nodes[c];
-      L[2 * c] = state_.poses[I].R * e.corner[c];
-      L[2 * c + 1] = six_dof_[I] ? L[2 * c] : e.corner[c];
-      if (has_basis_[I]) {
-        L[2 * c + 1] = six_dof_[I] ? Mat3(basis_r_[I].transpose() * L[2 * c + 1]) : L[2 * c + 1];
-        L[2 * c] = basis_u_[I].transpose() * L[2 * c];
-      }
-    }
-    for (int row = 0; row < 8; ++row)
-      for (int col = 0; col < 8; ++col) {
-        const Mat3 blk = L[row] * m.block<3, 3>(3 * row, 3 * col) * L[col].transpose();
-        m.block<3, 3>(3 * row, 3 * col) = blk;
-      }
+    to_solver_rows(e, m);  // the turns of elastic_term
     const std::array<int, 576>& idx = scatter_[k];
     for (int r = 0; r < 24; ++r)
       for (int s = 0; s < 24; ++s)

@@ -246,6 +246,7 @@ class ShellModel final : public ff::StaticProblem {
   };
   // the terms of evaluate(), each an effect with its own counter
   void elastic_term(Assembly& a);
+  void to_solver_rows(const ShellElement& e, Mat24& m) const;
   void point_load_term(Assembly& a);
   void pressure_term(Assembly& a, bool follower);
   Vec3 rows_u(int I, const Vec3& v) const;
