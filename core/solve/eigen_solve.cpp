@@ -16,6 +16,17 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// y = A⁻¹ x with a factorized solver; a failed solve gives NaN, which stops Spectra (the caller's
+// status says why)
+void solve_into(const SparseLinearSolver& solver, const double* x, double* y, Eigen::Index n) {
+  Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(x, n), sol;
+  Eigen::Map<Eigen::VectorXd> yv(y, n);
+  if (solver.solve(b, sol))
+    yv = sol;
+  else
+    yv.setConstant(std::numeric_limits<double>::quiet_NaN());
+}
+
 // y = A x for a sparse symmetric A stored whole (both triangles)
 class ProductOp {
  public:
@@ -51,16 +62,7 @@ class ShiftSolveOp {
     out_.factorization_seconds += seconds_since(t0);
   }
   const LinearStatus& status() const { return status_; }
-  void perform_op(const double* x, double* y) const {
-    Eigen::Map<const Eigen::VectorXd> xv(x, k_.cols());
-    Eigen::VectorXd b = xv, sol;
-    const LinearStatus s = solver_.solve(b, sol);
-    Eigen::Map<Eigen::VectorXd> yv(y, k_.rows());
-    if (s)
-      yv = sol;
-    else
-      yv.setConstant(std::numeric_limits<double>::quiet_NaN());  // Spectra then stops; status says why
-  }
+  void perform_op(const double* x, double* y) const { solve_into(solver_, x, y, k_.rows()); }
 
  private:
   const SparseMatrixD& k_;
@@ -144,16 +146,7 @@ class FactorizedOp {
     Eigen::Map<Eigen::VectorXd> yv(y, k_.rows());
     yv.noalias() = k_ * xv;
   }
-  void solve(const double* x, double* y) const {
-    Eigen::Map<const Eigen::VectorXd> xv(x, k_.cols());
-    Eigen::VectorXd b = xv, sol;
-    const LinearStatus s = solver_.solve(b, sol);
-    Eigen::Map<Eigen::VectorXd> yv(y, k_.rows());
-    if (s)
-      yv = sol;
-    else
-      yv.setConstant(std::numeric_limits<double>::quiet_NaN());
-  }
+  void solve(const double* x, double* y) const { solve_into(solver_, x, y, k_.rows()); }
 
  private:
   const SparseMatrixD& k_;
