@@ -22,6 +22,29 @@ int drawn_pixels(const Image& img, int x0, int x1, int y0, int y1) {
   return n;
 }
 
+/// Two PNGs pixel for pixel equal (a run's frame and replay's drawing of it).
+void expect_same_picture(const std::string& run_png, const std::string& replay_png) {
+  const std::string name = fs::path(run_png).filename().string();
+  const Image a = read_png(run_png), b = read_png(replay_png);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size()) << name;
+  EXPECT_TRUE(a.rgb == b.rgb) << name << " differs between run and replay";
+}
+
+/// The body is in view in a frame at kWidth x kHeight: nothing drawn on the picture's left, bottom
+/// or right edge of the 3D view (the colour bar's strip, the right 15 %, and the text at the top
+/// left aside), nor on its top edge right of the text when `top` is asked for.
+void expect_body_in_view(const std::string& path, bool top) {
+  const std::string name = fs::path(path).filename().string();
+  const Image img = read_png(path);
+  ASSERT_EQ(img.width, kWidth) << name;
+  const int view_right = kWidth - static_cast<int>(std::lround(0.15 * kWidth));
+  EXPECT_EQ(drawn_pixels(img, 0, 2, kHeight / 6, kHeight), 0) << name << ": the body leaves the view on the left";
+  EXPECT_EQ(drawn_pixels(img, 0, view_right, kHeight - 2, kHeight), 0) << name << ": the body leaves the view below";
+  EXPECT_EQ(drawn_pixels(img, view_right - 2, view_right, kHeight / 6, kHeight), 0)
+      << name << ": the body leaves the view on the right";
+  if (top) EXPECT_EQ(drawn_pixels(img, kWidth / 3, view_right, 0, 2), 0) << name << ": the body leaves the view above";
+}
+
 TEST(CliFrames, FramesShowTheBeamAndPlotsAreWritten) {
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
@@ -118,18 +141,7 @@ TEST(CliFrames, RunFramesShareOneRangeAndHoldTheFallingBodyAsReplayDraws) {
 
   const std::vector<std::string> frames = pngs_in(out + "/frames");
   ASSERT_EQ(frames.size(), 16u);  // 151 stored frames (t = 0, 0.01, ..., 1.5), every 10th
-  // the body in view in every frame: nothing drawn on the picture's left, bottom or right edge of
-  // the 3D view (the colour bar's strip, the right 15 %, and the text at the top left aside)
-  const int view_right = kWidth - static_cast<int>(std::lround(0.15 * kWidth));
-  for (const std::string& path : frames) {
-    const std::string name = fs::path(path).filename().string();
-    const Image img = read_png(path);
-    ASSERT_EQ(img.width, kWidth) << name;
-    EXPECT_EQ(drawn_pixels(img, 0, 2, kHeight / 6, kHeight), 0) << name << ": the body leaves the view on the left";
-    EXPECT_EQ(drawn_pixels(img, 0, view_right, kHeight - 2, kHeight), 0) << name << ": the body leaves the view below";
-    EXPECT_EQ(drawn_pixels(img, view_right - 2, view_right, kHeight / 6, kHeight), 0)
-        << name << ": the body leaves the view on the right";
-  }
+  for (const std::string& path : frames) expect_body_in_view(path, false);  // the body in view in every frame
 
   // replay draws the stored frames with the same range and camera: the same pictures
   const ProcResult rp = run_flexframe(
@@ -137,19 +149,9 @@ TEST(CliFrames, RunFramesShareOneRangeAndHoldTheFallingBodyAsReplayDraws) {
        std::to_string(kWidth) + "x" + std::to_string(kHeight)}, dir + "/replay");
   ASSERT_EQ(rp.exit_code, 0) << rp.describe();
   ASSERT_EQ(pngs_in(dir + "/replay/frames").size(), frames.size());
-  for (const std::string& path : frames) {
-    const std::string name = fs::path(path).filename().string();
-    const Image a = read_png(out + "/frames/" + name), b = read_png(dir + "/replay/frames/" + name);
-    ASSERT_EQ(a.rgb.size(), b.rgb.size()) << name;
-    EXPECT_TRUE(a.rgb == b.rgb) << name << " differs between run and replay";
-  }
+  for (const std::string& path : frames) expect_same_picture(path, dir + "/replay/frames/" + fs::path(path).filename().string());
 }
 
-}  // namespace
-}  // namespace ff::cli::test
-
-namespace ff::cli::test {
-namespace {
 // The frames kept for drawing after the solve have a memory budget (--frame-memory): beyond it the
 // kept ones are drawn at once and the rest as they come, in the kept frames' colour range and
 // view, so a run of a huge mesh does not hold every frame in memory. Every frame is still drawn,
@@ -199,29 +201,14 @@ TEST(CliFrames, RunWithACameraOptionHoldsTheMotionAsReplayDraws) {
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   const std::vector<std::string> frames = pngs_in(out + "/frames");
   ASSERT_EQ(frames.size(), 6u);  // 151 stored frames, every 30th
-  const int view_right = kWidth - static_cast<int>(std::lround(0.15 * kWidth));
-  for (const std::string& path : frames) {
-    const std::string name = fs::path(path).filename().string();
-    const Image img = read_png(path);
-    ASSERT_EQ(img.width, kWidth) << name;
-    EXPECT_EQ(drawn_pixels(img, 0, 2, kHeight / 6, kHeight), 0) << name << ": the body leaves the view on the left";
-    EXPECT_EQ(drawn_pixels(img, 0, view_right, kHeight - 2, kHeight), 0) << name << ": the body leaves the view below";
-    EXPECT_EQ(drawn_pixels(img, view_right - 2, view_right, kHeight / 6, kHeight), 0)
-        << name << ": the body leaves the view on the right";
-    EXPECT_EQ(drawn_pixels(img, kWidth / 3, view_right, 0, 2), 0) << name << ": the body leaves the view above";
-  }
+  for (const std::string& path : frames) expect_body_in_view(path, true);
   const ProcResult rp = run_flexframe({"replay", out, "--out", dir + "/replay", "--no-plots", "--camera", "iso",
                                        "--frame-every", "30", "--size",
                                        std::to_string(kWidth) + "x" + std::to_string(kHeight)},
                                       dir + "/replay");
   ASSERT_EQ(rp.exit_code, 0) << rp.describe();
   ASSERT_EQ(pngs_in(dir + "/replay/frames").size(), frames.size());
-  for (const std::string& path : frames) {
-    const std::string name = fs::path(path).filename().string();
-    const Image a = read_png(out + "/frames/" + name), b = read_png(dir + "/replay/frames/" + name);
-    ASSERT_EQ(a.rgb.size(), b.rgb.size()) << name;
-    EXPECT_TRUE(a.rgb == b.rgb) << name << " differs between run and replay";
-  }
+  for (const std::string& path : frames) expect_same_picture(path, dir + "/replay/frames/" + fs::path(path).filename().string());
 }
 
 }  // namespace
