@@ -14,6 +14,7 @@ struct BenchOptions {
   std::vector<std::string> scenes;     ///< --scene: time these scenes' whole runs (run_scene_bench)
   std::vector<std::string> overrides;  ///< --set: scene keys changed in every --scene run
   int modes = 0;                       ///< --modes N: only the eigen-solve table (run_modes_bench)
+  std::vector<double> estimate_dofs;   ///< --estimate: only MUMPS's analysis estimates (run_estimate_bench)
 };
 /// `flexframe bench`: steps/s of every bundled hub-beam scene, EFG/FEM cost ratios and headless
 /// frames/s, as a markdown table. Ratios come from one run of this command.
@@ -34,6 +35,10 @@ int run_scene_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// `flexframe bench --modes N`: N natural modes of clamped n x n plates (n = 16 .. --max-n): one
 /// factorization of K - sigma M and the Lanczos solves with it, in seconds (app/bench_modes.cpp).
 int run_modes_bench(const BenchOptions& options, const std::atomic<bool>& stop);
+/// `flexframe bench --estimate DOFS ...`: MUMPS's analysis alone of the plates' pattern (5 DoFs per
+/// node) at each size: estimated flops, factor entries and memory per rank over the ranks it runs
+/// on, for models too large to factorize here (app/bench_estimate.cpp).
+int run_estimate_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// Writes a bench's --json file and checks every step (open, write, close): on failure prints
 /// "error: cannot write PATH: <why>" and returns false, and the command exits 1; a benchmark whose
 /// numbers were not stored has failed.

@@ -161,6 +161,10 @@ int main(int argc, char** argv) {
   bench->add_option("--modes", bench_opt.modes,
                     "time N natural modes of clamped plates against one factorization (16 .. --max-n elements a side)")
       ->check(CLI::Range(1, 500));
+  bench->add_option("--estimate", bench_opt.estimate_dofs,
+                    "only MUMPS's analysis estimates (flops, factor entries, MB per rank) for plates of about these "
+                    "many DoFs, e.g. --estimate 1e6 1e7; under mpirun -n K, for K ranks")
+      ->check(CLI::Range(20.0, 5e7));
   bench->add_option("--set", bench_opt.overrides, "--scene: override a scene key in every run, e.g. --set solver.tolerance=1e-6")
       ->take_all();
 
@@ -330,7 +334,8 @@ int main(int argc, char** argv) {
     if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
     if (*bench) {
       if (follower) bench_opt.out_file.clear();  // rank 0 writes the JSON
-      const int code = bench_opt.modes > 0          ? ff::app::run_modes_bench(bench_opt, g_stop)
+      const int code = !bench_opt.estimate_dofs.empty() ? ff::app::run_estimate_bench(bench_opt, g_stop)
+                       : bench_opt.modes > 0          ? ff::app::run_modes_bench(bench_opt, g_stop)
                        : !bench_opt.scenes.empty() ? ff::app::run_scene_bench(bench_opt, g_stop)
                        : bench_opt.solve         ? ff::app::run_solve_bench(bench_opt, g_stop)
                        : bench_opt.effects       ? ff::app::run_effects_bench(bench_opt, g_stop)

@@ -332,26 +332,62 @@ class MumpsInstance {
           values_[q] = a.valuePtr()[p];
           ++q;
         }
+    given_order_ = ranks_ == 1 && own_ordering_wanted() ? nested_dissection_positions(a) : std::vector<int>{};
+    for (int& p : given_order_) ++p;  // MUMPS counts from 1
+    return analyze_entries(n);
+  }
+  // The analysis of a pattern alone, for its estimates (estimate_symmetric_factorization): no
+  // values are handed over, so nothing of MUMPS's analysis may read them — no matching or
+  // compressed ordering (ICNTL(12) = 1 for LDLᵀ, ICNTL(6) = 0) and no scaling (ICNTL(8) = 0)
+  // (the entries given are this rank's own share)
+  LinearStatus analyze_pattern(int n, std::vector<int> irn1, std::vector<int> jcn1) {
+    if (!initialised_) return fail(Code::backend_error, -1, "MUMPS could not be initialised");
+    irn_ = std::move(irn1);
+    jcn_ = std::move(jcn1);
+    values_.clear();
+    given_order_.clear();
+    icntl(6) = 0;
+    icntl(8) = 0;
+    icntl(12) = 1;
+    return analyze_entries(n, true);
+  }
+  FactorizationEstimate estimates() const {
+    FactorizationEstimate e;
+    e.ranks = ranks_;
+    e.flops = id_.rinfog[0];                 // RINFOG(1)
+    const int entries = id_.infog[19];       // INFOG(20), in millions when negative
+    e.factor_entries = entries >= 0 ? static_cast<double>(entries) : 1e6 * -entries;
+    e.memory_mb_max_rank = id_.infog[15];    // INFOG(16)
+    e.memory_mb_total = id_.infog[16];       // INFOG(17)
+    e.largest_front = id_.infog[4];          // INFOG(5)
+    return e;
+  }
+
+ private:
+  // MUMPS's analysis (JOB = 1) of the entries irn_/jcn_ (1-based) of an n x n matrix, values_ with
+  // them or empty; on one rank with given_order_ as PERM_IN when it is not empty. Over several
+  // ranks each hands MUMPS an equal share of the entries, or all it holds when they are its own
+  // share already (`own_share`)
+  LinearStatus analyze_entries(int n, bool own_share = false) {
+    double* values = values_.empty() ? nullptr : values_.data();
     id_.n = n;
     if (ranks_ == 1) {  // centralized input, as with the sequential build (same arithmetic)
-      id_.nnz = static_cast<int>(positions.size());
+      id_.nnz = static_cast<int>(irn_.size());
       id_.irn = irn_.data();
       id_.jcn = jcn_.data();
-      id_.a = values_.data();
-      given_order_ = own_ordering_wanted() ? nested_dissection_positions(a) : std::vector<int>{};
-      for (int& p : given_order_) ++p;  // MUMPS counts from 1
+      id_.a = values;
       icntl(7) = given_order_.empty() ? 7 : 1;
       id_.perm_in = given_order_.empty() ? nullptr : given_order_.data();
     } else {
       // distributed input: this rank's share of the entries, an equal count per rank (the
       // analysis gathers their coordinates only, the factorization reads the values where they are)
       icntl(18) = 3;
-      const std::size_t total = positions.size();
-      const std::size_t begin = total * rank_ / ranks_, end = total * (rank_ + 1) / ranks_;
+      const std::size_t total = irn_.size();
+      const std::size_t begin = own_share ? 0 : total * rank_ / ranks_, end = own_share ? total : total * (rank_ + 1) / ranks_;
       id_.nnz_loc = static_cast<int>(end - begin);
       id_.irn_loc = irn_.data() + begin;
       id_.jcn_loc = jcn_.data() + begin;
-      id_.a_loc = values_.data() + begin;
+      id_.a_loc = values ? values + begin : nullptr;
     }
     id_.job = 1;
     dmumps_c(&id_);
@@ -360,6 +396,8 @@ class MumpsInstance {
     scaled_ = false;
     return {};
   }
+
+ public:
   LinearStatus factorize(const SparseMatrixD& a, const std::vector<int>& positions) {
     for (std::size_t q = 0; q < positions.size(); ++q) values_[q] = a.valuePtr()[positions[q]];
     if (ranks_ > 1) return factorize_scaled();  // MUMPS's own scaling (constructor)
@@ -531,6 +569,27 @@ std::unique_ptr<SparseLinearSolver::Impl> make_impl(LinearBackend backend) {
 }
 
 }  // namespace
+
+LinearStatus estimate_symmetric_factorization(int n, std::vector<int> rows, std::vector<int> cols,
+                                              FactorizationEstimate& out) {
+  out = FactorizationEstimate{};
+  if (n <= 0 || rows.size() != cols.size())
+    return fail(Code::invalid_input, -1, "a pattern needs n > 0 and as many rows as columns");
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    if (rows[k] < cols[k] || cols[k] < 0 || rows[k] >= n)
+      return fail(Code::invalid_input, -1,
+                  "entry " + std::to_string(k) + " is not in the lower triangle of an " + std::to_string(n) + " x " +
+                      std::to_string(n) + " matrix");
+#ifdef FF_HAVE_MUMPS
+  for (std::size_t k = 0; k < rows.size(); ++k) ++rows[k], ++cols[k];  // MUMPS counts from 1
+  MumpsInstance mumps(2);  // general symmetric: LDLᵀ, as the solvers' symmetric tangents
+  const LinearStatus st = mumps.analyze_pattern(n, std::move(rows), std::move(cols));
+  if (st) out = mumps.estimates();
+  return st;
+#else
+  return fail(Code::unavailable, -1, "MUMPS is not compiled in: no analysis estimates");
+#endif
+}
 
 // ---------------------------------------------------------------------------------------------
 LinearBackend default_linear_backend() {

@@ -71,6 +71,25 @@ struct LinearFigures {
   double factor_entries = 0.0;      ///< entries of the factors
 };
 
+/// What MUMPS's analysis alone (no factorization) estimates a factorization of a pattern needs,
+/// over the ranks sharing the solvers (solver_ranks.h): how docs/performance.md sizes models too
+/// large to factorize here (core/solve/distributed.md §4).
+struct FactorizationEstimate {
+  int ranks = 1;
+  double flops = 0.0;               ///< RINFOG(1): floating-point operations of the elimination
+  double factor_entries = 0.0;      ///< INFOG(20): entries of the factors
+  double memory_mb_max_rank = 0.0;  ///< INFOG(16): MB of the in-core factorization on its largest rank
+  double memory_mb_total = 0.0;     ///< INFOG(17): MB over all ranks
+  int largest_front = 0;            ///< INFOG(5): order of the largest frontal matrix
+};
+
+/// Runs MUMPS's analysis (LDLᵀ, symmetric) of an n x n pattern given by the 0-based coordinates of
+/// its lower triangle (rows[k] >= cols[k]) and returns its estimates. Over several ranks each passes
+/// its own share of the entries (together the whole triangle, any split), so no rank builds the
+/// whole pattern; the vectors are taken over, since they may be large. `unavailable` without MUMPS.
+LinearStatus estimate_symmetric_factorization(int n, std::vector<int> rows, std::vector<int> cols,
+                                              FactorizationEstimate& out);
+
 class SparseLinearSolver {
  public:
   explicit SparseLinearSolver(LinearBackend backend = default_linear_backend());

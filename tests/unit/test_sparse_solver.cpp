@@ -239,6 +239,37 @@ TEST(SparseSolver, MumpsFactorsSymmetricMatricesByLdltAndOthersByLu) {
   EXPECT_GT(negatives, 4);
 }
 
+// estimate_symmetric_factorization (MUMPS's analysis alone, what docs/performance.md sizes large
+// models by): for a diagonally dominant matrix, where LDLᵀ delays no pivot, the analysis's
+// estimates of the flops and factor entries are what the factorization of the same pattern then
+// reports (MUMPS users' guide: RINFOG(1) against RINFOG(3), INFOG(20) against INFOG(29))
+TEST(SparseSolver, AnalysisEstimatesAreWhatTheFactorizationOfThePatternReports) {
+  if (!linear_backend_available(LinearBackend::mumps)) GTEST_SKIP() << "MUMPS not compiled in";
+  const SparseMatrixD k = shell_grid_matrix(12, 0.0, 4);
+  std::vector<int> rows, cols;
+  for (int j = 0; j < k.outerSize(); ++j)
+    for (SparseMatrixD::InnerIterator it(k, j); it; ++it)
+      if (it.row() >= j) rows.push_back(static_cast<int>(it.row())), cols.push_back(j);
+  FactorizationEstimate estimate;
+  ASSERT_TRUE(estimate_symmetric_factorization(static_cast<int>(k.rows()), rows, cols, estimate));
+  SparseLinearSolver solver(LinearBackend::mumps);
+  ASSERT_TRUE(solver.factorize(k));
+  ASSERT_TRUE(solver.symmetric_factorization());
+  const LinearFigures done = solver.factorization_figures();
+  EXPECT_GT(estimate.flops, 0.0);
+  EXPECT_NEAR(estimate.flops, done.flops, 1e-9 * done.flops);
+  EXPECT_EQ(estimate.factor_entries, done.factor_entries);
+  EXPECT_GE(estimate.largest_front, 6 * 13);  // at least a separator across the grid, 6 DoFs a node
+  // INFOG(16) holds ICNTL(14)'s 20 % margin over what the factorization then used
+  EXPECT_GE(estimate.memory_mb_max_rank, done.memory_mb_max_rank);
+
+  // anything but a lower triangle is refused, not handed to MUMPS
+  FactorizationEstimate bad;
+  EXPECT_EQ(estimate_symmetric_factorization(10, {0, 1}, {0, 2}, bad).code, Code::invalid_input);
+  EXPECT_EQ(estimate_symmetric_factorization(10, {0, 10}, {0, 0}, bad).code, Code::invalid_input);
+  EXPECT_EQ(estimate_symmetric_factorization(0, {}, {}, bad).code, Code::invalid_input);
+}
+
 // Ruiz's equilibration (equilibrate.h): every row and column maximum of D_r A D_c ends within the
 // tolerance of 1, checked on the dense scaled matrix, for rows and columns spread over 12 decades;
 // the symmetric form keeps one D for both sides and balances the whole symmetric matrix.
