@@ -65,6 +65,32 @@ TEST(CliBench, ModesTimesOneFactorizationPerPlate) {
   EXPECT_NEAR(p.at("f1_hz").get<double>(), 90.678, 0.01);
 }
 
+// `flexframe bench --estimate DOFS`: MUMPS's analysis alone of the plate pattern with at least that
+// many DoFs: 2000 DoFs is a 20 x 20 grid of 5-DoF nodes, whose lower triangle holds 15 entries per
+// node and 25 per pair of neighbouring nodes (20·19 across, 20·19 along, 2·19² diagonal): 43 050
+TEST(CliBench, EstimateAnalysesThePlatePatternOfTheSizeAsked) {
+  const std::string dir = fresh_test_dir();
+  const std::string json = dir + "/estimate.json";
+  const ProcResult r = run_flexframe({"bench", "--estimate", "2000", "--json", json}, dir + "/run");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json rows = nlohmann::json::parse(read_text(json)).at("estimates");
+  ASSERT_EQ(rows.size(), 1u);
+  const nlohmann::json& e = rows.at(0);
+  EXPECT_EQ(e.at("nodes_a_side").get<int>(), 20);
+  EXPECT_EQ(e.at("dofs").get<long long>(), 2000);
+  EXPECT_EQ(e.at("entries").get<double>(), 15.0 * 400 + 25.0 * (2 * 20 * 19 + 2 * 19 * 19));
+  EXPECT_EQ(e.at("ranks").get<int>(), 1);
+  // nested dissection of a 20 x 20 grid: a separator of about 20 nodes, 100 DoFs, at the root
+  EXPECT_GE(e.at("largest_front").get<int>(), 100);
+  EXPECT_GT(e.at("flops").get<double>(), 0.0);
+  EXPECT_GE(e.at("factor_entries").get<double>(), 43050.0);  // at least the matrix's own entries
+  EXPECT_GT(e.at("mb_max_rank").get<double>(), 0.0);
+
+  const ProcResult bad = run_flexframe({"bench", "--estimate", "5"}, dir + "/bad");
+  EXPECT_EQ(bad.exit_code, 2) << bad.describe();
+  EXPECT_NE(bad.err.find("--estimate"), std::string::npos) << bad.describe();
+}
+
 // `flexframe bench --scene`: the counts it reports are those of `flexframe run` on the same scene
 // (one solver, whatever verb drives it), and the JSON carries them with the timings
 TEST(CliBench, SceneReportsTheCountsOfTheRunItTimes) {
