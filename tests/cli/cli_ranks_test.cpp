@@ -167,6 +167,71 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   EXPECT_EQ(replay.exit_code, 0) << replay.describe();
 }
 
+// `bench --solve --ranks 1,2` on the smallest plates: one table with a row per plate and rank count,
+// MUMPS over as many ranks as launched (its own report), times and memory that make sense, and the
+// speed-up computed against the one-rank row of the same run.
+TEST(CliRanks, BenchOverRanksPrintsOneTable) {
+  const std::string exe = mpi_flexframe();
+  if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
+  const std::string dir = fresh_test_dir();
+  two_ranks();  // the launcher's variables for root
+  setenv("FLEXFRAME_MPIEXEC_ARGS", "--oversubscribe", 1);
+  const ProcResult r = run_on({}, {"bench", "--solve", "--ranks", "1,2", "--max-n", "32", "--repeat", "1", "--json",
+                                   dir + "/ranks.json"},
+                              dir + "/bench", exe);
+  unsetenv("FLEXFRAME_MPIEXEC_ARGS");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  for (const char* row : {"| 16 | 1360 | 1 |", "| 16 | 1360 | 2 |", "| 32 | 5280 | 1 |", "| 32 | 5280 | 2 |"})
+    EXPECT_EQ(count_of(r.out, row), 1u) << row << "\n" << r.out;
+  EXPECT_NE(r.out.find("speed-up"), std::string::npos) << r.out;
+
+  std::string err;
+  const std::optional<Json> root = parse_json(read_text(dir + "/ranks.json"), &err);
+  ASSERT_TRUE(root) << err;
+  const Json* plates = root->get("plate");
+  ASSERT_TRUE(plates && plates->kind == Json::Kind::array);
+  ASSERT_EQ(plates->array.size(), 4u);
+  auto number = [](const Json& row, const char* key) {
+    const Json* v = row.get(key);
+    EXPECT_TRUE(v && v->is_number()) << key;
+    return v && v->is_number() ? v->number : std::nan("");
+  };
+  for (std::size_t i = 0; i < 4; i += 2) {  // rows by plate, then rank count: (n, 1 rank), (n, 2 ranks)
+    const Json &one = plates->array[i], &two = plates->array[i + 1];
+    EXPECT_EQ(number(one, "n"), number(two, "n"));
+    EXPECT_EQ(number(one, "ranks"), 1.0);
+    EXPECT_EQ(number(two, "ranks"), 2.0);
+    for (const Json* row : {&one, &two}) {
+      const double fs = number(*row, "factorize_solve_ms"), newton = number(*row, "newton_iteration_ms");
+      EXPECT_GT(fs, 0.0);
+      EXPECT_LT(fs, 60e3);
+      EXPECT_GE(newton, fs);  // the iteration is assembly + factorization + solve
+      EXPECT_GT(number(*row, "mumps_gflop"), 0.0);
+      const double largest = number(*row, "mumps_memory_mb_largest_rank"), total = number(*row, "mumps_memory_mb_all_ranks");
+      EXPECT_GT(largest, 0.0);
+      EXPECT_GE(total, largest);
+      EXPECT_LE(total, number(*row, "ranks") * largest);
+    }
+    EXPECT_EQ(number(one, "factorize_solve_speedup"), 1.0);
+    EXPECT_NEAR(number(two, "factorize_solve_speedup"),
+                number(one, "factorize_solve_ms") / number(two, "factorize_solve_ms"), 1e-12);
+    EXPECT_NEAR(number(two, "newton_iteration_speedup"),
+                number(one, "newton_iteration_ms") / number(two, "newton_iteration_ms"), 1e-12);
+  }
+}
+
+// The sequential MUMPS has no ranks to time: `bench --solve --ranks 2` says so and how to build the
+// MPI one (exit 2), and launches nothing
+TEST(CliRanks, SequentialBuildRefusesBenchOverRanks) {
+  if (distributed_linear_solver_built()) GTEST_SKIP() << "MPI build: see CliRanks.BenchOverRanksPrintsOneTable";
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_on({}, {"bench", "--solve", "--ranks", "2", "--max-n", "16"}, dir + "/bench");
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find("bench --ranks needs a flexframe built with MUMPS's MPI build"), std::string::npos) << r.describe();
+  EXPECT_NE(r.err.find("-DFLEXFRAME_MUMPS=mpi"), std::string::npos) << r.describe();
+  EXPECT_EQ(r.out.find("| n |"), std::string::npos) << r.describe();
+}
+
 // A study under mpirun still spreads its variants over the ranks, each variant a process of its
 // own: with MUMPS's MPI build that child starts MPI alone, which the launcher's inherited
 // variables made fail before (every variant "exited with code 1 without a result").
