@@ -25,8 +25,11 @@
 
 namespace {
 std::atomic<bool> g_stop{false};
+std::atomic<int> g_stop_signal{0};  // the first signal that set g_stop (run: the outcome names SIGTERM)
 
-extern "C" void on_sigint(int) {
+extern "C" void on_sigint(int signal) {
+  int none = 0;
+  g_stop_signal.compare_exchange_strong(none, signal);
   if (g_stop.exchange(true)) {  // second Ctrl-C: leave at once
     std::signal(SIGINT, SIG_DFL);
     std::raise(SIGINT);
@@ -291,6 +294,7 @@ int main(int argc, char** argv) {
       run_opt.frames = !no_frames;
       run_opt.plots = !no_plots;
       run_opt.progress = !quiet;
+      run_opt.stop_signal = &g_stop_signal;
       if (follower) {
         const int code = ff::app::follow_run(run_opt);
         ff::finish_solver_mpi();  // reached only when rank 0 completed too (else it ended every rank)

@@ -122,7 +122,10 @@ TEST(CliRanks, TwoRanksRunTheModelOfOne) {
 }
 
 // One of two ranks killed mid-run: the run ends (no rank waits forever), not as completed, and
-// rank 0's results.h5 holds the frames it had stored, readable by replay.
+// rank 0's results.h5 holds the frames it had stored, readable by replay. Rank 0 closed the file
+// itself within the launcher's grace between SIGTERM and SIGKILL, its solver thread blocked in a
+// MUMPS call for the dead rank: the outcome in results.h5, summary.json and replay's report names
+// the launcher's SIGTERM (not the writer's "did not finish" of a process killed before closing).
 TEST(CliRanks, KilledRankLeavesReadableResults) {
   const std::string exe = mpi_flexframe();
   if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
@@ -162,9 +165,24 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   const auto h = io::ResultReader::open(out + "/results.h5", &err);
   ASSERT_TRUE(h) << err;
   EXPECT_GE(h->frame_count(), 2u);
-  EXPECT_NE(h->outcome().status, RunStatus::completed);
+  EXPECT_EQ(h->outcome().status, RunStatus::interrupted) << h->outcome().reason;
+  const std::string launcher = "stopped by SIGTERM from the MPI launcher at step ";
+  EXPECT_NE(h->outcome().reason.find(launcher), std::string::npos) << h->outcome().reason;
+  EXPECT_NE(h->outcome().reason.find("another rank may have died"), std::string::npos) << h->outcome().reason;
+  // the step named is that of the last frame in the file
+  const Frame last = h->frame(h->frame_count() - 1);
+  EXPECT_NE(h->outcome().reason.find(launcher + std::to_string(last.step) + ","), std::string::npos)
+      << h->outcome().reason << " (last stored frame: step " << last.step << ")";
+  const std::optional<Json> summary = read_summary(out, &err);
+  ASSERT_TRUE(summary) << err;
+  const Json* status = summary->get("status");
+  const Json* reason = summary->get("reason");
+  ASSERT_TRUE(status && status->is_string() && reason && reason->is_string());
+  EXPECT_EQ(status->string, "interrupted");
+  EXPECT_EQ(reason->string, h->outcome().reason);
   const ProcResult replay = run_flexframe({"replay", out, "--no-frames", "--out", dir + "/replay"}, dir + "/replay");
   EXPECT_EQ(replay.exit_code, 0) << replay.describe();
+  EXPECT_NE(replay.out.find(launcher), std::string::npos) << replay.describe();
 }
 
 // `bench --solve --ranks 1,2` on the smallest plates: one table with a row per plate and rank count,
