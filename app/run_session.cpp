@@ -226,6 +226,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   std::atomic<double> progress_time{0.0};
   std::atomic<long long> progress_steps{0};
   std::atomic<bool> solver_done{false};
+  RunOutcome solver_outcome;  // the solver's outcome, under done_mutex once solver_done (for the watchdog)
   std::mutex done_mutex;
   std::condition_variable done_signal;  // wakes the progress loop at once when the solver ends
   std::mutex history_mutex;
@@ -439,6 +440,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     store_ch.close();
     {
       std::lock_guard lock(done_mutex);
+      solver_outcome = outcome;
       solver_done = true;
     }
     done_signal.notify_all();
@@ -461,10 +463,23 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     o.status = RunStatus::interrupted;
     o.steps = progress_steps;  // the last frame stored: the store thread sets them after its append
     o.stop_time = progress_time;
-    o.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
     o.reason = launcher_stop_reason(o.steps, o.stop_time, info.time_unit) +
                "; the solver did not return from a call shared with the other ranks, so rank 0 closed results.h5 "
                "itself with the frames stored until then";
+    {
+      std::lock_guard done_lock(done_mutex);
+      if (solver_done) {  // the solve had ended: the SIGTERM came while the frames or other outputs were made
+        o = solver_outcome;
+        const std::string after = "stopped by SIGTERM from the MPI launcher while the run wrote its outputs";
+        if (o.status == RunStatus::completed) {
+          o.status = RunStatus::interrupted;
+          o.reason = after + ", after the solve had completed; results.h5 holds every frame: `flexframe replay` draws them";
+        } else {
+          o.reason += " (then " + after + ")";
+        }
+      }
+    }
+    o.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
     folder.release_reserve();  // room for the outcome and summary.json
     std::string e;
     if (!writer->finish(o, {}, &e)) std::fprintf(stderr, "error: results.h5 could not record the outcome: %s\n", e.c_str());
@@ -730,6 +745,11 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
         {"load_factor", von_mises_peak.frame >= 0 ? Json(von_mises_peak.load_factor) : Json()},
         {"unit", info.fields[von_mises].unit}};
   write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");  // throws WriteError: exit 1
+  // Over ranks, a run that did not complete leaves the other ranks in the solver loop, and the
+  // model's MUMPS instances end with a call every rank must make: destroying the model here would
+  // wait for them forever. The caller ends every rank next (end_all_ranks); the model is left to
+  // the end of the process.
+  if (linear_solver_ranks() > 1 && result.outcome.status != RunStatus::completed) (void)scene.simulation.release();
   return result;
 }
 

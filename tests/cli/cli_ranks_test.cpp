@@ -185,6 +185,40 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   EXPECT_NE(replay.out.find(launcher), std::string::npos) << replay.describe();
 }
 
+// Ctrl-C reaching rank 0 alone: its run stops at the next step and writes its results, and then it
+// ends every rank (exit 130). Before, it hung: destroying its model made MUMPS's closing call,
+// which every rank must make, while the other rank was still stepping.
+TEST(CliRanks, InterruptedRankZeroEndsEveryRank) {
+  const std::string exe = mpi_flexframe();
+  if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  Child c({"run", "double_pendulum_shells", "--no-frames", "--no-plots", "--out", out}, dir + "/run", "", two_ranks(), exe);
+  ASSERT_TRUE(c.started());
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (c.running() && std::chrono::steady_clock::now() < deadline && read_text(dir + "/run.stderr.txt").find("steps") == std::string::npos)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(c.running()) << "the run ended before rank 0 could be interrupted";
+  const std::vector<int> ranks = flexframe_children(c.pid());
+  ASSERT_EQ(ranks.size(), 2u);
+  const int rank_zero = rank_of(ranks[0]) == 0 ? ranks[0] : ranks[1];
+  ASSERT_EQ(rank_of(rank_zero), 0);
+  ASSERT_EQ(kill(rank_zero, SIGINT), 0);
+  const ProcResult r = c.wait(60.0);
+  EXPECT_FALSE(r.timed_out) << "the ranks did not end after rank 0 was interrupted\n" << r.describe();
+  EXPECT_EQ(r.exit_code, 130) << r.describe();
+  std::string err;
+  const auto h = io::ResultReader::open(out + "/results.h5", &err);
+  ASSERT_TRUE(h) << err;
+  EXPECT_EQ(h->outcome().status, RunStatus::interrupted);
+  EXPECT_NE(h->outcome().reason.find("interrupted by the user"), std::string::npos) << h->outcome().reason;
+  const std::optional<Json> summary = read_summary(out, &err);
+  ASSERT_TRUE(summary) << err;
+  const Json* status = summary->get("status");
+  ASSERT_TRUE(status && status->is_string());
+  EXPECT_EQ(status->string, "interrupted");
+}
+
 // `bench --solve --ranks 1,2` on the smallest plates: one table with a row per plate and rank count,
 // MUMPS over as many ranks as launched (its own report), times and memory that make sense, and the
 // speed-up computed against the one-rank row of the same run.
