@@ -547,7 +547,9 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   // the solve completed but its pictures did not: the run does not call itself completed
   if (!drawing_stopped.empty() && outcome.status == RunStatus::completed) {
     outcome.status = RunStatus::interrupted;
-    outcome.reason = "interrupted by the user while the frames were drawn (" + drawing_stopped +
+    const bool by_launcher = over_ranks && *opt.stop_signal == SIGTERM;
+    outcome.reason = std::string(by_launcher ? "stopped by SIGTERM from the MPI launcher" : "interrupted by the user") +
+                     " while the frames were drawn (" + drawing_stopped +
                      " drawn); the solve had completed and results.h5 holds every frame: `flexframe replay` draws them";
   }
   // a failed write is the run's outcome, whatever the solver would have said (it was stopped for it)
