@@ -27,9 +27,9 @@ namespace {
 std::atomic<bool> g_stop{false};
 std::atomic<int> g_stop_signal{0};  // the first signal that set g_stop (run: the outcome names SIGTERM)
 
-extern "C" void on_sigint(int signal) {
+extern "C" void on_sigint(int signo) {
   int none = 0;
-  g_stop_signal.compare_exchange_strong(none, signal);
+  g_stop_signal.compare_exchange_strong(none, signo);
   if (g_stop.exchange(true)) {  // second Ctrl-C: leave at once
     std::signal(SIGINT, SIG_DFL);
     std::raise(SIGINT);
