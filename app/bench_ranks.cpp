@@ -103,6 +103,11 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
                          "-DFLEXFRAME_MUMPS=mpi; core/solve/distributed.md)\n");
     return 2;
   }
+  if (!opt.solve_backend.empty() && opt.solve_backend != "mumps") {
+    std::fprintf(stderr, "error: bench --ranks times MUMPS, the one backend that spans ranks: leave out --backend %s\n",
+                 opt.solve_backend.c_str());
+    return 2;
+  }
   const std::string launcher = mpi_launcher();
   if (launcher.empty()) {
     std::fprintf(stderr, "error: bench --ranks needs MPI's launcher: none was found when this build was configured; "
