@@ -11,6 +11,7 @@ struct BenchOptions {
   bool solve = false;      ///< --solve: only the Newton-iteration table (run_solve_bench)
   int solve_max_n = 256;   ///< --max-n: largest plate of --solve
   std::string solve_backend;  ///< --backend: only this linear backend in --solve ("" = every unsymmetric one)
+  std::vector<int> solve_ranks;  ///< --ranks: --solve over these MPI rank counts (run_solve_bench_over_ranks)
   std::vector<std::string> scenes;     ///< --scene: time these scenes' whole runs (run_scene_bench)
   std::vector<std::string> overrides;  ///< --set: scene keys changed in every --scene run
   int modes = 0;                       ///< --modes N: only the eigen-solve table (run_modes_bench)
@@ -27,6 +28,12 @@ int run_effects_bench(const BenchOptions& options, const std::atomic<bool>& stop
 /// `flexframe bench --solve`: a static Newton iteration on n x n plates (n = 16 .. 256), assembly
 /// against factorization + solve for every compiled unsymmetric backend (app/bench_solve.cpp).
 int run_solve_bench(const BenchOptions& options, const std::atomic<bool>& stop);
+/// `flexframe bench --solve --ranks K[,K2,...]`: the --solve plates with MUMPS alone over 1 and each
+/// K ranks, one launch of `mpiexec -n K` of this executable per count (the launcher:
+/// FLEXFRAME_MPIEXEC, else the mpiexec CMake found; options for it in FLEXFRAME_MPIEXEC_ARGS), in
+/// one table with the speed-up against one rank (app/bench_ranks.cpp). Exit 2 with a message when
+/// this build links the sequential MUMPS, no launcher is known or it runs under mpirun itself.
+int run_solve_bench_over_ranks(const BenchOptions& options, const std::atomic<bool>& stop);
 /// `flexframe bench --scene S [--scene S2 ...]`: wall time of each scene's whole run, solver only
 /// (no files, no frames), the median of --repeat runs, with its steps, Newton corrections and
 /// matrix updates (factorizations), so a user times a scene of their own or two builds on it.

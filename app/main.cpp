@@ -25,8 +25,11 @@
 
 namespace {
 std::atomic<bool> g_stop{false};
+std::atomic<int> g_stop_signal{0};  // the first signal that set g_stop (run: the outcome names SIGTERM)
 
-extern "C" void on_sigint(int) {
+extern "C" void on_sigint(int signo) {
+  int none = 0;
+  g_stop_signal.compare_exchange_strong(none, signo);
   if (g_stop.exchange(true)) {  // second Ctrl-C: leave at once
     std::signal(SIGINT, SIG_DFL);
     std::raise(SIGINT);
@@ -154,6 +157,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(16, 256));
   bench->add_option("--backend", bench_opt.solve_backend, "--solve: only this linear backend (e.g. mumps)")
       ->check(CLI::IsMember({"umfpack", "sparse_lu", "mumps"}));
+  bench->add_option("--ranks", bench_opt.solve_ranks,
+                    "--solve: MUMPS over each of these MPI rank counts and 1, e.g. --ranks 2,4: launches this "
+                    "flexframe (MUMPS's MPI build) under mpiexec once per count and prints one table with the "
+                    "speed-up against 1 rank")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 4096))
+      ->needs(bench->get_option("--solve"));
   bench->add_option("--json", bench_opt.out_file, "same as --out: write the results as JSON to this file");
   bench->add_option("--scene", bench_opt.scenes,
                     "only whole runs of this scene (bundled name or file; repeatable): wall time, steps, "
@@ -257,6 +267,9 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  // `bench --solve --ranks K`: this process launches the ranks itself (it refuses to run under mpirun)
+  if (*bench && !bench_opt.solve_ranks.empty()) return ff::app::run_solve_bench_over_ranks(bench_opt, g_stop);
+
   // One model over MPI ranks (core/solve/distributed.md): `mpirun -n K flexframe run|bench`
   // factorizes over all K ranks; every rank runs the same model, rank 0 alone writes and prints
   const bool one_model_over_ranks = ff::launched_ranks() > 1 && (*run || *bench);
@@ -285,6 +298,7 @@ int main(int argc, char** argv) {
       run_opt.frames = !no_frames;
       run_opt.plots = !no_plots;
       run_opt.progress = !quiet;
+      run_opt.stop_signal = &g_stop_signal;
       if (follower) {
         const int code = ff::app::follow_run(run_opt);
         ff::finish_solver_mpi();  // reached only when rank 0 completed too (else it ended every rank)

@@ -4,6 +4,8 @@
 
 #include <unistd.h>
 
+#include <csignal>
+
 #include <algorithm>
 #include <atomic>
 #include <array>
@@ -29,6 +31,7 @@
 #include "app/plots.h"
 #include "app/view_options.h"
 #include "core/assembly/element_threads.h"
+#include "core/solve/solver_ranks.h"
 #include "core/scene/scene.h"
 #include "render/frame_layout.h"
 #include "render/frame_renderer.h"
@@ -54,6 +57,18 @@ std::string format_range(const std::array<double, 2>& r) {
   std::snprintf(text, sizeof text, "[%.17g, %.17g]", r[0], r[1]);
   return text;
 }
+// Over MPI ranks, how long after SIGTERM the run may take to close results.h5 itself before the
+// launcher watchdog closes it (Open MPI sends SIGKILL 1 s after SIGTERM: odls_base_sigkill_timeout)
+constexpr double kLauncherGraceS = 0.3;
+
+// The outcome's reason when the MPI launcher's SIGTERM stopped a run shared over ranks
+std::string launcher_stop_reason(long long steps, double t, const std::string& unit) {
+  char at[96];
+  std::snprintf(at, sizeof at, " at step %lld, t = %g %s", steps, t, unit.c_str());
+  return std::string("stopped by SIGTERM from the MPI launcher") + at +
+         ": another rank may have died, or the job was cancelled";
+}
+
 constexpr std::size_t kStoreChannelCapacity = 256;  // frames the solver may run ahead of the store
 constexpr std::size_t kRenderChannelCapacity = 8;   // frames queued for PNG output
 
@@ -182,6 +197,11 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   writer->set_attribute("flexframe_version", FF_VERSION);
   writer->set_attribute("git_commit", FF_GIT_COMMIT);
   writer->set_attribute("build_type", FF_BUILD_TYPE);
+  // the writer is used by one thread at a time: the store thread's appends, the closing below and,
+  // over MPI ranks, the launcher watchdog, which may close it while the solver thread is blocked
+  std::mutex writer_mutex;
+  std::atomic<bool> writer_closed{false};  // set under writer_mutex
+  const auto run_start = std::chrono::steady_clock::now();
 
   // An output that cannot be written ends the run `failed` (exit 1) at once: the solver is
   // stopped through run_stop, which also follows the caller's stop flag.
@@ -206,6 +226,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   std::atomic<double> progress_time{0.0};
   std::atomic<long long> progress_steps{0};
   std::atomic<bool> solver_done{false};
+  RunOutcome solver_outcome;  // the solver's outcome, under done_mutex once solver_done (for the watchdog)
   std::mutex done_mutex;
   std::condition_variable done_signal;  // wakes the progress loop at once when the solver ends
   std::mutex history_mutex;
@@ -229,9 +250,15 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     std::optional<Frame> unrendered_last;  // the final state is always a frame, whatever the cadence
     while (std::optional<Frame> f = store_ch.pop()) {
       std::string e;
-      if (store_error.empty() && !writer->append(*f, &e)) {
-        store_error = e;
-        fail_write("results.h5: " + e);
+      {
+        std::lock_guard lock(writer_mutex);
+        if (!writer_closed && store_error.empty() && !writer->append(*f, &e)) {
+          store_error = e;
+          fail_write("results.h5: " + e);
+        }
+        // with the append, so that the watchdog's outcome names the last frame in the file
+        progress_time = f->time;
+        progress_steps = f->step;
       }
       {
         std::lock_guard lock(history_mutex);
@@ -243,8 +270,6 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
           if (v[i] > von_mises_peak.value || (std::isnan(von_mises_peak.value) && std::isfinite(v[i])))
             von_mises_peak = {v[i], f->time, f->load_factor, static_cast<long long>(i), index, f->step};
       }
-      progress_time = f->time;
-      progress_steps = f->step;
       if (want_frames && index % out.frame_every == 0) {
         render_ch.push(std::move(*f));
         unrendered_last.reset();
@@ -415,10 +440,77 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     store_ch.close();
     {
       std::lock_guard lock(done_mutex);
+      solver_outcome = outcome;
       solver_done = true;
     }
     done_signal.notify_all();
   });
+
+  // Over MPI ranks (core/solve/distributed.md) Open MPI's launcher answers a rank's death with
+  // SIGTERM to every other rank and SIGKILL a second later. The solver thread may then wait inside
+  // a MUMPS call for the dead rank and never return: unless this run has closed results.h5 within
+  // kLauncherGraceS of the SIGTERM, the watchdog closes it, with an outcome that says so, writes
+  // summary.json and ends the process (rank 0 alone runs this function; the others write nothing).
+  std::atomic<bool> run_over{false};
+  const auto watch_launcher = [&] {
+    using namespace std::chrono_literals;
+    while (!run_over && opt.stop_signal->load() != SIGTERM) std::this_thread::sleep_for(20ms);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(kLauncherGraceS);
+    while (!run_over && !writer_closed && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(5ms);
+    std::unique_lock lock(writer_mutex);  // not while the store thread appends a frame
+    if (run_over || writer_closed) return;  // the run closed its results in time and ends as usual
+    RunOutcome o;
+    o.status = RunStatus::interrupted;
+    o.steps = progress_steps;  // the last frame stored: the store thread sets them after its append
+    o.stop_time = progress_time;
+    o.reason = launcher_stop_reason(o.steps, o.stop_time, info.time_unit) +
+               "; the solver did not return from a call shared with the other ranks, so rank 0 closed results.h5 "
+               "itself with the frames stored until then";
+    {
+      std::lock_guard done_lock(done_mutex);
+      if (solver_done) {  // the solve had ended: the SIGTERM came while the frames or other outputs were made
+        o = solver_outcome;
+        const std::string after = "stopped by SIGTERM from the MPI launcher while the run wrote its outputs";
+        if (o.status == RunStatus::completed) {
+          o.status = RunStatus::interrupted;
+          o.reason = after + ", after the solve had completed; results.h5 holds every frame: `flexframe replay` draws them";
+        } else {
+          o.reason += " (then " + after + ")";
+        }
+      }
+    }
+    o.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+    folder.release_reserve();  // room for the outcome and summary.json
+    std::string e;
+    if (!writer->finish(o, {}, &e)) std::fprintf(stderr, "error: results.h5 could not record the outcome: %s\n", e.c_str());
+    writer_closed = true;  // the lock is kept until the process ends: nothing touches the writer again
+    // summary.json without the metrics: the blocked solver thread holds them
+    const nlohmann::ordered_json summary = {
+        {"scene", scene.name}, {"scene_path", scene.path}, {"status", to_string(o.status)}, {"reason", o.reason},
+        {"stop_time", o.stop_time}, {"time_unit", info.time_unit}, {"wall_time_s", o.wall_time_s},
+        {"steps", o.steps}, {"metrics", nlohmann::ordered_json::object()},
+        {"outputs", {{"results", "results.h5"}}}};
+    try {
+      write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");
+    } catch (const std::exception& x) {
+      std::fprintf(stderr, "error: %s\n", x.what());
+    }
+    std::printf("%s: %s at t = %g after %lld steps\n  reason: %s\n  outputs: %s/{results.h5, summary.json}\n",
+                scene.name.c_str(), to_string(o.status), o.stop_time, static_cast<long long>(o.steps), o.reason.c_str(),
+                result.out_dir.c_str());
+    std::fflush(stdout);
+    std::fflush(stderr);
+    std::_Exit(exit_code(o));  // without joining the blocked solver thread; the launcher ends the others
+  };
+  const bool over_ranks = linear_solver_ranks() > 1 && opt.stop_signal;
+  struct JoinAtEnd {  // the watchdog ends with the run, also when it throws
+    std::atomic<bool>& over;
+    std::thread thread;
+    ~JoinAtEnd() {
+      over = true;
+      if (thread.joinable()) thread.join();
+    }
+  } watchdog{run_over, over_ranks ? std::thread(watch_launcher) : std::thread()};
 
   // progress on this thread
   const bool tty = isatty(STDERR_FILENO);
@@ -446,6 +538,8 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   worker.join();
   store.join();
   if (opt.progress && tty) std::fprintf(stderr, "\n");
+  if (over_ranks && outcome.status == RunStatus::interrupted && *opt.stop_signal == SIGTERM)
+    outcome.reason = launcher_stop_reason(outcome.steps, outcome.stop_time, info.time_unit);
 
   result.metrics = sim.metrics();
   result.totals = sim.totals();
@@ -453,7 +547,9 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   // the solve completed but its pictures did not: the run does not call itself completed
   if (!drawing_stopped.empty() && outcome.status == RunStatus::completed) {
     outcome.status = RunStatus::interrupted;
-    outcome.reason = "interrupted by the user while the frames were drawn (" + drawing_stopped +
+    const bool by_launcher = over_ranks && *opt.stop_signal == SIGTERM;
+    outcome.reason = std::string(by_launcher ? "stopped by SIGTERM from the MPI launcher" : "interrupted by the user") +
+                     " while the frames were drawn (" + drawing_stopped +
                      " drawn); the solve had completed and results.h5 holds every frame: `flexframe replay` draws them";
   }
   // a failed write is the run's outcome, whatever the solver would have said (it was stopped for it)
@@ -477,6 +573,9 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     else if (result.frames_rendered > 0 && !stop) fail_write("movie.mp4: " + m.message);
     else std::fprintf(stderr, "warning: no movie: %s\n", m.message.c_str());
   }
+  // results.h5 is closed under its lock; the launcher watchdog, once it has closed the file, keeps
+  // the lock until it ends the process
+  std::unique_lock writer_lock(writer_mutex);
   // the modes of an eigen-analysis, with the table, before the outcome (results_layout.md /modes)
   const ModeSet* modes = sim.modes();
   if (modes && failed_write().empty()) {
@@ -495,6 +594,8 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     record_write_failure();
   }
   writer.reset();
+  writer_closed = true;
+  writer_lock.unlock();
   render.join();  // its last frames and the plots
   record_write_failure();  // the plots are written while results.h5 closes
   if (no_graphics && !render_error.empty()) std::fprintf(stderr, "warning: frames not rendered: %s\n", render_error.c_str());
@@ -646,6 +747,11 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
         {"load_factor", von_mises_peak.frame >= 0 ? Json(von_mises_peak.load_factor) : Json()},
         {"unit", info.fields[von_mises].unit}};
   write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");  // throws WriteError: exit 1
+  // Over ranks, a run that did not complete leaves the other ranks in the solver loop, and the
+  // model's MUMPS instances end with a call every rank must make: destroying the model here would
+  // wait for them forever. The caller ends every rank next (end_all_ranks); the model is left to
+  // the end of the process.
+  if (linear_solver_ranks() > 1 && result.outcome.status != RunStatus::completed) (void)scene.simulation.release();
   return result;
 }
 

@@ -39,6 +39,10 @@ struct RunOptions {
   /// --animate-modes: after an eigen-analysis, at most this many modes are animated (frames,
   /// movies); -1 = every mode the analysis found, 0 = none (the table, plot and exports stay)
   int animate_modes = -1;
+  /// The signal that set the stop flag (the caller's handler stores it), or null. Over MPI ranks a
+  /// SIGTERM is the launcher's: the outcome names it, and a solver blocked in a call shared with a
+  /// dead rank does not keep results.h5 from being closed (run_session.cpp, the launcher watchdog).
+  const std::atomic<int>* stop_signal = nullptr;
 };
 
 struct RunResult {

@@ -122,7 +122,10 @@ TEST(CliRanks, TwoRanksRunTheModelOfOne) {
 }
 
 // One of two ranks killed mid-run: the run ends (no rank waits forever), not as completed, and
-// rank 0's results.h5 holds the frames it had stored, readable by replay.
+// rank 0's results.h5 holds the frames it had stored, readable by replay. Rank 0 closed the file
+// itself within the launcher's grace between SIGTERM and SIGKILL, its solver thread blocked in a
+// MUMPS call for the dead rank: the outcome in results.h5, summary.json and replay's report names
+// the launcher's SIGTERM (not the writer's "did not finish" of a process killed before closing).
 TEST(CliRanks, KilledRankLeavesReadableResults) {
   const std::string exe = mpi_flexframe();
   if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
@@ -162,9 +165,123 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   const auto h = io::ResultReader::open(out + "/results.h5", &err);
   ASSERT_TRUE(h) << err;
   EXPECT_GE(h->frame_count(), 2u);
-  EXPECT_NE(h->outcome().status, RunStatus::completed);
+  EXPECT_EQ(h->outcome().status, RunStatus::interrupted) << h->outcome().reason;
+  const std::string launcher = "stopped by SIGTERM from the MPI launcher at step ";
+  EXPECT_NE(h->outcome().reason.find(launcher), std::string::npos) << h->outcome().reason;
+  EXPECT_NE(h->outcome().reason.find("another rank may have died"), std::string::npos) << h->outcome().reason;
+  // the step named is that of the last frame in the file
+  const Frame last = h->frame(h->frame_count() - 1);
+  EXPECT_NE(h->outcome().reason.find(launcher + std::to_string(last.step) + ","), std::string::npos)
+      << h->outcome().reason << " (last stored frame: step " << last.step << ")";
+  const std::optional<Json> summary = read_summary(out, &err);
+  ASSERT_TRUE(summary) << err;
+  const Json* status = summary->get("status");
+  const Json* reason = summary->get("reason");
+  ASSERT_TRUE(status && status->is_string() && reason && reason->is_string());
+  EXPECT_EQ(status->string, "interrupted");
+  EXPECT_EQ(reason->string, h->outcome().reason);
   const ProcResult replay = run_flexframe({"replay", out, "--no-frames", "--out", dir + "/replay"}, dir + "/replay");
   EXPECT_EQ(replay.exit_code, 0) << replay.describe();
+  EXPECT_NE(replay.out.find(launcher), std::string::npos) << replay.describe();
+}
+
+// Ctrl-C reaching rank 0 alone: its run stops at the next step and writes its results, and then it
+// ends every rank (exit 130). Before, it hung: destroying its model made MUMPS's closing call,
+// which every rank must make, while the other rank was still stepping.
+TEST(CliRanks, InterruptedRankZeroEndsEveryRank) {
+  const std::string exe = mpi_flexframe();
+  if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  Child c({"run", "double_pendulum_shells", "--no-frames", "--no-plots", "--out", out}, dir + "/run", "", two_ranks(), exe);
+  ASSERT_TRUE(c.started());
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (c.running() && std::chrono::steady_clock::now() < deadline && read_text(dir + "/run.stderr.txt").find("steps") == std::string::npos)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(c.running()) << "the run ended before rank 0 could be interrupted";
+  const std::vector<int> ranks = flexframe_children(c.pid());
+  ASSERT_EQ(ranks.size(), 2u);
+  const int rank_zero = rank_of(ranks[0]) == 0 ? ranks[0] : ranks[1];
+  ASSERT_EQ(rank_of(rank_zero), 0);
+  ASSERT_EQ(kill(rank_zero, SIGINT), 0);
+  const ProcResult r = c.wait(60.0);
+  EXPECT_FALSE(r.timed_out) << "the ranks did not end after rank 0 was interrupted\n" << r.describe();
+  EXPECT_EQ(r.exit_code, 130) << r.describe();
+  std::string err;
+  const auto h = io::ResultReader::open(out + "/results.h5", &err);
+  ASSERT_TRUE(h) << err;
+  EXPECT_EQ(h->outcome().status, RunStatus::interrupted);
+  EXPECT_NE(h->outcome().reason.find("interrupted by the user"), std::string::npos) << h->outcome().reason;
+  const std::optional<Json> summary = read_summary(out, &err);
+  ASSERT_TRUE(summary) << err;
+  const Json* status = summary->get("status");
+  ASSERT_TRUE(status && status->is_string());
+  EXPECT_EQ(status->string, "interrupted");
+}
+
+// `bench --solve --ranks 1,2` on the smallest plates: one table with a row per plate and rank count,
+// MUMPS over as many ranks as launched (its own report), times and memory that make sense, and the
+// speed-up computed against the one-rank row of the same run.
+TEST(CliRanks, BenchOverRanksPrintsOneTable) {
+  const std::string exe = mpi_flexframe();
+  if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
+  const std::string dir = fresh_test_dir();
+  two_ranks();  // the launcher's variables for root
+  setenv("FLEXFRAME_MPIEXEC_ARGS", "--oversubscribe", 1);
+  const ProcResult r = run_on({}, {"bench", "--solve", "--ranks", "1,2", "--max-n", "32", "--repeat", "1", "--json",
+                                   dir + "/ranks.json"},
+                              dir + "/bench", exe);
+  unsetenv("FLEXFRAME_MPIEXEC_ARGS");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  for (const char* row : {"| 16 | 1360 | 1 |", "| 16 | 1360 | 2 |", "| 32 | 5280 | 1 |", "| 32 | 5280 | 2 |"})
+    EXPECT_EQ(count_of(r.out, row), 1u) << row << "\n" << r.out;
+  EXPECT_NE(r.out.find("speed-up"), std::string::npos) << r.out;
+
+  std::string err;
+  const std::optional<Json> root = parse_json(read_text(dir + "/ranks.json"), &err);
+  ASSERT_TRUE(root) << err;
+  const Json* plates = root->get("plate");
+  ASSERT_TRUE(plates && plates->kind == Json::Kind::array);
+  ASSERT_EQ(plates->array.size(), 4u);
+  auto number = [](const Json& row, const char* key) {
+    const Json* v = row.get(key);
+    EXPECT_TRUE(v && v->is_number()) << key;
+    return v && v->is_number() ? v->number : std::nan("");
+  };
+  for (std::size_t i = 0; i < 4; i += 2) {  // rows by plate, then rank count: (n, 1 rank), (n, 2 ranks)
+    const Json &one = plates->array[i], &two = plates->array[i + 1];
+    EXPECT_EQ(number(one, "n"), number(two, "n"));
+    EXPECT_EQ(number(one, "ranks"), 1.0);
+    EXPECT_EQ(number(two, "ranks"), 2.0);
+    for (const Json* row : {&one, &two}) {
+      const double fs = number(*row, "factorize_solve_ms"), newton = number(*row, "newton_iteration_ms");
+      EXPECT_GT(fs, 0.0);
+      EXPECT_LT(fs, 60e3);
+      EXPECT_GE(newton, fs);  // the iteration is assembly + factorization + solve
+      EXPECT_GT(number(*row, "mumps_gflop"), 0.0);
+      const double largest = number(*row, "mumps_memory_mb_largest_rank"), total = number(*row, "mumps_memory_mb_all_ranks");
+      EXPECT_GT(largest, 0.0);
+      EXPECT_GE(total, largest);
+      EXPECT_LE(total, number(*row, "ranks") * largest);
+    }
+    EXPECT_EQ(number(one, "factorize_solve_speedup"), 1.0);
+    EXPECT_NEAR(number(two, "factorize_solve_speedup"),
+                number(one, "factorize_solve_ms") / number(two, "factorize_solve_ms"), 1e-12);
+    EXPECT_NEAR(number(two, "newton_iteration_speedup"),
+                number(one, "newton_iteration_ms") / number(two, "newton_iteration_ms"), 1e-12);
+  }
+}
+
+// The sequential MUMPS has no ranks to time: `bench --solve --ranks 2` says so and how to build the
+// MPI one (exit 2), and launches nothing
+TEST(CliRanks, SequentialBuildRefusesBenchOverRanks) {
+  if (distributed_linear_solver_built()) GTEST_SKIP() << "MPI build: see CliRanks.BenchOverRanksPrintsOneTable";
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_on({}, {"bench", "--solve", "--ranks", "2", "--max-n", "16"}, dir + "/bench");
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find("bench --ranks needs a flexframe built with MUMPS's MPI build"), std::string::npos) << r.describe();
+  EXPECT_NE(r.err.find("-DFLEXFRAME_MUMPS=mpi"), std::string::npos) << r.describe();
+  EXPECT_EQ(r.out.find("| n |"), std::string::npos) << r.describe();
 }
 
 // A study under mpirun still spreads its variants over the ranks, each variant a process of its

@@ -1,0 +1,232 @@
+// `flexframe bench --solve --ranks K[,K2,...]`: the solve benchmark's plates over several rank
+// counts in one run. This process starts `mpiexec -n K flexframe bench --solve --backend mumps`
+// once per rank count (one after the other, never side by side), reads what rank 0 of each wrote
+// to its --json file and prints one table with the ratio against one rank (core/solve/distributed.md).
+#include <fcntl.h>
+#include <spawn.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/bench.h"
+#include "core/solve/solver_ranks.h"
+
+namespace fs = std::filesystem;
+
+namespace ff::app {
+
+namespace {
+
+// FLEXFRAME_MPIEXEC when set, else the mpiexec CMake found when this build was configured (that
+// of the MPI the MUMPS build was linked with); "" when neither
+std::string mpi_launcher() {
+  if (const char* env = std::getenv("FLEXFRAME_MPIEXEC"); env && *env) return env;
+#ifdef FF_MPIEXEC
+  return FF_MPIEXEC;
+#else
+  return "";
+#endif
+}
+
+// FLEXFRAME_MPIEXEC_ARGS split at white space: options for the launcher, e.g. --oversubscribe
+std::vector<std::string> launcher_options() {
+  std::vector<std::string> out;
+  if (const char* env = std::getenv("FLEXFRAME_MPIEXEC_ARGS")) {
+    std::istringstream in(env);
+    for (std::string word; in >> word;) out.push_back(word);
+  }
+  return out;
+}
+
+std::string joined(const std::vector<std::string>& words) {
+  std::string s;
+  for (const std::string& w : words) s += (s.empty() ? "" : " ") + w;
+  return s;
+}
+
+// Runs `argv` with its stdout to `log` and waits for it; returns its wait status, -1 when it
+// could not start (errno kept in *spawn_error)
+int run_and_wait(const std::vector<std::string>& argv, const std::string& log, int* spawn_error) {
+  std::vector<std::string> copy = argv;
+  std::vector<char*> args;
+  for (std::string& a : copy) args.push_back(a.data());
+  args.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = -1;
+  *spawn_error = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (*spawn_error != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return status;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct PlateRow {
+  int n = 0, dofs = 0, ranks = 0;
+  double assembly_ms = 0, factorize_solve_ms = 0, newton_ms = 0, gflop = 0, mb_largest = 0, mb_total = 0;
+};
+
+}  // namespace
+
+int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>& stop) {
+  if (launched_ranks() > 1) {
+    std::fprintf(stderr, "error: bench --ranks starts flexframe under mpiexec itself: run it as one process (or "
+                         "leave out --ranks: `mpirun -n K flexframe bench --solve` times one rank count)\n");
+    return 2;
+  }
+  if (!distributed_linear_solver_built()) {
+    std::fprintf(stderr, "error: bench --ranks needs a flexframe built with MUMPS's MPI build: this one links the "
+                         "sequential MUMPS, whose factorization runs in one process (configure with "
+                         "-DFLEXFRAME_MUMPS=mpi; core/solve/distributed.md)\n");
+    return 2;
+  }
+  if (!opt.solve_backend.empty() && opt.solve_backend != "mumps") {
+    std::fprintf(stderr, "error: bench --ranks times MUMPS, the one backend that spans ranks: leave out --backend %s\n",
+                 opt.solve_backend.c_str());
+    return 2;
+  }
+  const std::string launcher = mpi_launcher();
+  if (launcher.empty()) {
+    std::fprintf(stderr, "error: bench --ranks needs MPI's launcher: none was found when this build was configured; "
+                         "set FLEXFRAME_MPIEXEC to the mpiexec of the MPI that MUMPS was built with\n");
+    return 2;
+  }
+  if (launcher.find('/') != std::string::npos && access(launcher.c_str(), X_OK) != 0) {
+    std::fprintf(stderr, "error: bench --ranks: the MPI launcher %s (%s) is not an executable file: %s\n",
+                 launcher.c_str(), std::getenv("FLEXFRAME_MPIEXEC") ? "FLEXFRAME_MPIEXEC" : "found at configuration",
+                 std::strerror(errno));
+    return 2;
+  }
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);  // mpiexec must start this very build
+  if (ec) {
+    std::fprintf(stderr, "error: bench --ranks: cannot find this executable (/proc/self/exe): %s\n", ec.message().c_str());
+    return 1;
+  }
+  // one rank is always measured: every ratio is against it, from this run
+  std::vector<int> counts = opt.solve_ranks;
+  counts.push_back(1);
+  std::sort(counts.begin(), counts.end());
+  counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+
+  std::string pattern = (fs::temp_directory_path() / "flexframe_bench_ranks.XXXXXX").string();
+  if (!::mkdtemp(pattern.data())) {
+    std::fprintf(stderr, "error: bench --ranks: cannot create a folder in %s: %s\n",
+                 fs::temp_directory_path().string().c_str(), std::strerror(errno));
+    return 1;
+  }
+  const fs::path dir = pattern;
+  const std::vector<std::string> options = launcher_options();
+  std::vector<std::string> launch_words = {launcher};
+  launch_words.insert(launch_words.end(), options.begin(), options.end());
+
+  std::map<std::pair<int, int>, PlateRow> rows;  // (n, ranks)
+  int code = 0;
+  for (int k : counts) {
+    if (stop) break;
+    const fs::path json = dir / ("ranks_" + std::to_string(k) + ".json"), log = dir / ("ranks_" + std::to_string(k) + ".log");
+    std::vector<std::string> argv = launch_words;
+    argv.insert(argv.end(), {"-n", std::to_string(k), self.string(), "bench", "--solve", "--backend", "mumps", "--max-n",
+                             std::to_string(opt.solve_max_n), "--repeat", std::to_string(opt.repeat), "--json",
+                             json.string()});
+    std::fprintf(stderr, "bench --ranks: %d rank(s): %s\n", k, joined(argv).c_str());
+    int spawn_error = 0;
+    const int status = run_and_wait(argv, log.string(), &spawn_error);
+    if (status < 0) {
+      std::fprintf(stderr, "error: bench --ranks: cannot start %s: %s\n", launcher.c_str(), std::strerror(spawn_error));
+      code = 2;
+      break;
+    }
+    if (stop) break;
+    std::string why;
+    if (WIFSIGNALED(status)) why = "was killed by signal " + std::to_string(WTERMSIG(status));
+    else if (WEXITSTATUS(status) != 0) why = "exited with code " + std::to_string(WEXITSTATUS(status));
+    nlohmann::json root;
+    if (why.empty()) {
+      try {
+        root = nlohmann::json::parse(read_file(json));
+        for (const nlohmann::json& p : root.at("plate")) {
+          PlateRow r;
+          r.n = p.at("n");
+          r.dofs = p.at("dofs");
+          r.ranks = p.at("ranks");
+          r.assembly_ms = p.at("assembly_ms");
+          r.factorize_solve_ms = p.at("mumps_factorize_solve_ms");
+          r.newton_ms = p.at("newton_iteration_ms");
+          r.gflop = 1e-9 * p.at("mumps_flops").get<double>();
+          r.mb_largest = p.at("mumps_memory_mb_largest_rank");
+          r.mb_total = p.at("mumps_memory_mb_all_ranks");
+          // MUMPS must have spanned the ranks launched (a launcher of another MPI starts K lone processes)
+          if (r.ranks != k) why = "factorized over " + std::to_string(r.ranks) + " rank(s), not " + std::to_string(k);
+          if (r.factorize_solve_ms < 0) why = "could not factorize the " + std::to_string(r.n) + " x " + std::to_string(r.n) + " plate";
+          rows[{r.n, k}] = r;
+        }
+      } catch (const std::exception& e) {
+        why = std::string("left no readable ") + json.string() + " (" + e.what() + ")";
+      }
+    }
+    if (!why.empty()) {
+      std::fprintf(stderr, "error: bench --ranks: the %d-rank launch %s; its output (%s):\n%s\n", k, why.c_str(),
+                   log.string().c_str(), read_file(log).c_str());
+      code = 1;
+      break;
+    }
+  }
+  if (stop) code = 130;
+
+  if (rows.empty()) return code;
+  std::printf("Static Newton iteration on n x n plates (CB shell, hr + ans, 5 DoF) with MUMPS over MPI ranks, wall "
+              "time, best of %d (1 from n = 128); each rank count one launch of `%s -n K flexframe bench --solve "
+              "--backend mumps`, one after the other in this run; speed-up: the time on 1 rank / on K ranks\n\n",
+              opt.repeat, joined(launch_words).c_str());
+  std::printf("| n | DoFs | ranks | assembly [ms] | factorize + solve [ms] | Newton iteration [ms] | MUMPS Gflop | MUMPS MB "
+              "per rank (largest) | MUMPS MB, all ranks | factorize + solve speed-up | Newton iteration speed-up |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|\n");
+  nlohmann::ordered_json table = nlohmann::ordered_json::array();
+  for (const auto& [key, r] : rows) {
+    const auto one = rows.find({key.first, 1});
+    const double fs_ratio = one != rows.end() ? one->second.factorize_solve_ms / r.factorize_solve_ms : 0.0;
+    const double newton_ratio = one != rows.end() ? one->second.newton_ms / r.newton_ms : 0.0;
+    std::printf("| %d | %d | %d | %.4g | %.4g | %.4g | %.3g | %.0f | %.0f | %.2f | %.2f |\n", r.n, r.dofs, key.second,
+                r.assembly_ms, r.factorize_solve_ms, r.newton_ms, r.gflop, r.mb_largest, r.mb_total, fs_ratio,
+                newton_ratio);
+    table.push_back({{"n", r.n}, {"dofs", r.dofs}, {"ranks", key.second}, {"assembly_ms", r.assembly_ms},
+                     {"factorize_solve_ms", r.factorize_solve_ms}, {"newton_iteration_ms", r.newton_ms},
+                     {"mumps_gflop", r.gflop}, {"mumps_memory_mb_largest_rank", r.mb_largest},
+                     {"mumps_memory_mb_all_ranks", r.mb_total}, {"factorize_solve_speedup", fs_ratio},
+                     {"newton_iteration_speedup", newton_ratio}});
+  }
+  std::fflush(stdout);
+  if (code == 0 && !opt.out_file.empty()) {
+    const nlohmann::ordered_json root = {{"launcher", launch_words}, {"ranks", counts}, {"repeat", opt.repeat},
+                                         {"plate", table}};
+    if (!write_bench_json(opt.out_file, root.dump(2) + "\n")) code = 1;
+  }
+  if (code == 0) fs::remove_all(dir, ec);  // a failed launch keeps its log for the reader
+  return code;
+}
+
+}  // namespace ff::app
