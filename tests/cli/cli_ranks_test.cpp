@@ -63,6 +63,21 @@ int rank_of(int pid) {
   return -1;
 }
 
+// The pids of ranks 0 and 1 of a two-rank run, once rank 0's progress line (every 2 s when not on a
+// terminal, in `stderr_file`) says the solver is stepping; empty when the run ended first or the
+// ranks are not 0 and 1
+std::vector<int> ranks_once_stepping(Child& c, const std::string& stderr_file) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (c.running() && std::chrono::steady_clock::now() < deadline && read_text(stderr_file).find("steps") == std::string::npos)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  if (!c.running()) return {};
+  std::vector<int> pids = flexframe_children(c.pid());
+  if (pids.size() != 2) return {};
+  if (rank_of(pids[0]) != 0) std::swap(pids[0], pids[1]);
+  if (rank_of(pids[0]) != 0 || rank_of(pids[1]) != 1) return {};
+  return pids;
+}
+
 std::size_t count_of(const std::string& text, const std::string& word) {
   std::size_t n = 0;
   for (auto p = text.find(word); p != std::string::npos; p = text.find(word, p + 1)) ++n;
@@ -134,17 +149,12 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   // the main job's dynamics (double pendulum of shells), tens of seconds on two ranks
   Child c({"run", "double_pendulum_shells", "--no-frames", "--no-plots", "--out", out}, dir + "/run", "", two_ranks(), exe);
   ASSERT_TRUE(c.started());
-  // rank 0's progress line says the solver is stepping (every 2 s when not on a terminal); a few
-  // seconds more and results.h5 has been flushed (at least once a second) with frames in it
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (c.running() && std::chrono::steady_clock::now() < deadline && read_text(dir + "/run.stderr.txt").find("steps") == std::string::npos)
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const std::vector<int> ranks = ranks_once_stepping(c, dir + "/run.stderr.txt");
+  ASSERT_EQ(ranks.size(), 2u) << "no two stepping ranks 0 and 1";
+  // a few seconds more and results.h5 has been flushed (at least once a second) with frames in it
   std::this_thread::sleep_for(std::chrono::seconds(3));
   ASSERT_TRUE(c.running()) << "the run ended before a rank could be killed";
-  const std::vector<int> ranks = flexframe_children(c.pid());
-  ASSERT_EQ(ranks.size(), 2u);
-  const int rank_one = rank_of(ranks[0]) == 1 ? ranks[0] : ranks[1];
-  ASSERT_EQ(rank_of(rank_one), 1);
+  const int rank_zero = ranks[0], rank_one = ranks[1];
   ASSERT_EQ(kill(rank_one, SIGKILL), 0);
   const ProcResult r = c.wait(120.0);
   std::string err;
@@ -152,7 +162,6 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   EXPECT_NE(r.exit_code, 0) << r.describe();
   // the launcher may return while rank 0 is still closing its results file (its main thread a
   // zombie while its writer thread runs on): rank 0 must end too, every thread of it
-  const int rank_zero = ranks[0] == rank_one ? ranks[1] : ranks[0];
   const std::string status_file = "/proc/" + std::to_string(rank_zero) + "/status";
   auto ended = [&] {
     const std::string st = read_text(status_file);  // "" once reaped
@@ -195,15 +204,9 @@ TEST(CliRanks, InterruptedRankZeroEndsEveryRank) {
   const std::string out = dir + "/out";
   Child c({"run", "double_pendulum_shells", "--no-frames", "--no-plots", "--out", out}, dir + "/run", "", two_ranks(), exe);
   ASSERT_TRUE(c.started());
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (c.running() && std::chrono::steady_clock::now() < deadline && read_text(dir + "/run.stderr.txt").find("steps") == std::string::npos)
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ASSERT_TRUE(c.running()) << "the run ended before rank 0 could be interrupted";
-  const std::vector<int> ranks = flexframe_children(c.pid());
-  ASSERT_EQ(ranks.size(), 2u);
-  const int rank_zero = rank_of(ranks[0]) == 0 ? ranks[0] : ranks[1];
-  ASSERT_EQ(rank_of(rank_zero), 0);
-  ASSERT_EQ(kill(rank_zero, SIGINT), 0);
+  const std::vector<int> ranks = ranks_once_stepping(c, dir + "/run.stderr.txt");
+  ASSERT_EQ(ranks.size(), 2u) << "the run ended before rank 0 could be interrupted";
+  ASSERT_EQ(kill(ranks[0], SIGINT), 0);
   const ProcResult r = c.wait(60.0);
   EXPECT_FALSE(r.timed_out) << "the ranks did not end after rank 0 was interrupted\n" << r.describe();
   EXPECT_EQ(r.exit_code, 130) << r.describe();
