@@ -30,6 +30,9 @@ std::atomic<int> g_stop_signal{0};  // the first signal that set g_stop (run: th
 extern "C" void on_sigint(int signo) {
   int none = 0;
   g_stop_signal.compare_exchange_strong(none, signo);
+  // over MPI ranks this rank stops alone (the others ignore Ctrl-C): its solvers must not wait in
+  // closing calls for ranks still stepping (solver_ranks.h); no effect in one process
+  ff::leave_shared_solvers();
   if (g_stop.exchange(true)) {  // second Ctrl-C: leave at once
     std::signal(SIGINT, SIG_DFL);
     std::raise(SIGINT);
@@ -283,6 +286,10 @@ int main(int argc, char** argv) {
     if (ff::linear_solver_rank() != 0 && !std::freopen("/dev/null", "w", stdout)) return 1;
   }
   const bool follower = one_model_over_ranks && ff::linear_solver_rank() != 0;
+  // rank 0 decides when a run or bench over ranks stops: the others ignore Ctrl-C (which mpirun
+  // forwards to every rank) and are ended by rank 0 (end_all_ranks)
+  if (follower) std::signal(SIGINT, SIG_IGN);
+  const std::atomic<bool> follower_never_stops{false};
   // an error on one rank (its output folder, say) ends every rank: the others would wait for it
   const auto leave = [&](int code) {
     if (one_model_over_ranks) {
@@ -309,7 +316,7 @@ int main(int argc, char** argv) {
       const int code = ff::app::exit_code(r.outcome);
       // a run that did not complete may have left the other ranks waiting in a collective call for
       // this one: end them all, with this run's exit code (its results are written and closed)
-      if (one_model_over_ranks && r.outcome.status != ff::RunStatus::completed) {
+      if (one_model_over_ranks && (r.outcome.status != ff::RunStatus::completed || ff::shared_solvers_left())) {
         std::fflush(stdout);
         ff::end_all_ranks(code);
       }
@@ -348,13 +355,18 @@ int main(int argc, char** argv) {
     if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
     if (*bench) {
       if (follower) bench_opt.out_file.clear();  // rank 0 writes the JSON
-      const int code = !bench_opt.estimate_dofs.empty() ? ff::app::run_estimate_bench(bench_opt, g_stop)
-                       : bench_opt.modes > 0          ? ff::app::run_modes_bench(bench_opt, g_stop)
-                       : !bench_opt.scenes.empty() ? ff::app::run_scene_bench(bench_opt, g_stop)
-                       : bench_opt.solve         ? ff::app::run_solve_bench(bench_opt, g_stop)
-                       : bench_opt.effects       ? ff::app::run_effects_bench(bench_opt, g_stop)
-                                                 : ff::app::run_bench(bench_opt, g_stop);
-      if (one_model_over_ranks && code != 0) ff::end_all_ranks(code);
+      const std::atomic<bool>& stop = follower ? follower_never_stops : g_stop;
+      const int code = !bench_opt.estimate_dofs.empty() ? ff::app::run_estimate_bench(bench_opt, stop)
+                       : bench_opt.modes > 0          ? ff::app::run_modes_bench(bench_opt, stop)
+                       : !bench_opt.scenes.empty() ? ff::app::run_scene_bench(bench_opt, stop)
+                       : bench_opt.solve         ? ff::app::run_solve_bench(bench_opt, stop)
+                       : bench_opt.effects       ? ff::app::run_effects_bench(bench_opt, stop)
+                                                 : ff::app::run_bench(bench_opt, stop);
+      // a rank that stopped alone ends every rank (the others may wait for it in a shared call)
+      if (one_model_over_ranks && (code != 0 || ff::shared_solvers_left())) {
+        std::fflush(stdout);
+        ff::end_all_ranks(code);
+      }
       ff::finish_solver_mpi();
       return code;
     }

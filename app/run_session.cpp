@@ -178,6 +178,17 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
 
   RunResult result;
   result.scene_name = scene.name;
+  // Over ranks, a run that does not complete here (or throws) leaves the other ranks in the solver
+  // loop, and the model's MUMPS instances end with a call every rank must join: this rank leaves
+  // the shared solvers before its model is destroyed, and the caller ends every rank next
+  // (solver_ranks.h; nothing changes in one process)
+  bool completed_here = false;
+  struct LeaveSharedSolversUnlessCompleted {
+    const bool& completed;
+    ~LeaveSharedSolversUnlessCompleted() {
+      if (!completed) leave_shared_solvers();
+    }
+  } leave_unless_completed{completed_here};
   // the scene's name was checked to be one plain folder name (scene.cpp), so the default stays in out/
   result.out_dir = opt.out_dir.empty() ? (fs::path("out") / scene.name).string() : opt.out_dir;
   // the folder's lock comes before any file in it is touched (output_folder.h)
@@ -747,11 +758,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
         {"load_factor", von_mises_peak.frame >= 0 ? Json(von_mises_peak.load_factor) : Json()},
         {"unit", info.fields[von_mises].unit}};
   write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");  // throws WriteError: exit 1
-  // Over ranks, a run that did not complete leaves the other ranks in the solver loop, and the
-  // model's MUMPS instances end with a call every rank must make: destroying the model here would
-  // wait for them forever. The caller ends every rank next (end_all_ranks); the model is left to
-  // the end of the process.
-  if (linear_solver_ranks() > 1 && result.outcome.status != RunStatus::completed) (void)scene.simulation.release();
+  completed_here = result.outcome.status == RunStatus::completed;
   return result;
 }
 

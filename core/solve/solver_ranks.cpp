@@ -1,6 +1,7 @@
 #include "core/solve/solver_ranks.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdlib>
 #include <mutex>
 
@@ -119,6 +120,14 @@ void end_all_ranks(int) {}
 void finish_solver_mpi() {}
 
 #endif
+
+namespace {
+std::atomic<bool> g_solvers_left{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "leave_shared_solvers runs in a signal handler");
+}  // namespace
+
+void leave_shared_solvers() { g_solvers_left.store(true, std::memory_order_relaxed); }
+bool shared_solvers_left() { return g_solvers_left.load(std::memory_order_relaxed); }
 
 RankShare rank_share(int count) {
   const long long ranks = linear_solver_ranks(), rank = linear_solver_rank();

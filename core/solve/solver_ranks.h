@@ -56,6 +56,14 @@ RankShare rank_share(int count);
 /// since the other ranks may wait in a collective call for it. Returns when alone.
 void end_all_ranks(int code);
 
+/// From now on no solver shared over ranks makes another call that every rank must join: their
+/// MUMPS instances are not ended (JOB = −2) but left to the process's end. For a rank that stops
+/// on its own (rank 0 interrupted, an output that failed) while the others may still be in the
+/// solver loop: it ends every rank next (end_all_ranks), and its solvers' closing calls would wait
+/// for ranks that never make them. Async-signal-safe (the signal handler of Ctrl-C calls it).
+void leave_shared_solvers();
+bool shared_solvers_left();
+
 /// Ends MPI normally, when this module started it or the world shares the solvers (no-op otherwise).
 void finish_solver_mpi();
 

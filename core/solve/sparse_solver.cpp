@@ -307,7 +307,8 @@ class MumpsInstance {
     apply_user_controls();
   }
   ~MumpsInstance() {
-    if (!initialised_) return;
+    // over ranks JOB = −2 is a call every rank joins: not once this rank has left the others
+    if (!initialised_ || (ranks_ > 1 && shared_solvers_left())) return;
     id_.job = -2;
     dmumps_c(&id_);
   }

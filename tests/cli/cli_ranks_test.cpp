@@ -63,12 +63,12 @@ int rank_of(int pid) {
   return -1;
 }
 
-// The pids of ranks 0 and 1 of a two-rank run, once rank 0's progress line (every 2 s when not on a
-// terminal, in `stderr_file`) says the solver is stepping; empty when the run ended first or the
-// ranks are not 0 and 1
-std::vector<int> ranks_once_stepping(Child& c, const std::string& stderr_file) {
+// The pids of ranks 0 and 1 of a two-rank job, once rank 0 has written `text` to `log_file` (by
+// default its progress line, every 2 s when not on a terminal, saying the solver is stepping);
+// empty when the job ended first or the ranks are not 0 and 1
+std::vector<int> ranks_once_stepping(Child& c, const std::string& log_file, const std::string& text = "steps") {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (c.running() && std::chrono::steady_clock::now() < deadline && read_text(stderr_file).find("steps") == std::string::npos)
+  while (c.running() && std::chrono::steady_clock::now() < deadline && read_text(log_file).find(text) == std::string::npos)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   if (!c.running()) return {};
   std::vector<int> pids = flexframe_children(c.pid());
@@ -220,6 +220,29 @@ TEST(CliRanks, InterruptedRankZeroEndsEveryRank) {
   const Json* status = summary->get("status");
   ASSERT_TRUE(status && status->is_string());
   EXPECT_EQ(status->string, "interrupted");
+}
+
+// The same for `bench --scene` over two ranks: Ctrl-C reaching rank 0 alone, during the second
+// scene, ends every rank with exit 130 and the interrupted run's row. Before, rank 0's timed run
+// ended its MUMPS instances (a call every rank joins) while the other rank was still stepping,
+// and the job hung (MUMPS reported INFO(1) = -3 on the way).
+TEST(CliRanks, InterruptedBenchOverRanksEndsEveryRank) {
+  const std::string exe = mpi_flexframe();
+  if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
+  const std::string dir = fresh_test_dir();
+  Child c({"bench", "--scene", "hinged_roof_h127", "--scene", "double_pendulum_shells", "--repeat", "1"}, dir + "/bench", "",
+          two_ranks(), exe);
+  ASSERT_TRUE(c.started());
+  // the first scene's row is written (and flushed) when it is done: the second is running then
+  const std::vector<int> ranks = ranks_once_stepping(c, dir + "/bench.stdout.txt", "| hinged_roof_h127 | completed");
+  ASSERT_EQ(ranks.size(), 2u) << "the bench ended before rank 0 could be interrupted";
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  ASSERT_EQ(kill(ranks[0], SIGINT), 0);
+  const ProcResult r = c.wait(60.0);
+  EXPECT_FALSE(r.timed_out) << "the ranks did not end after rank 0 was interrupted\n" << r.describe();
+  EXPECT_EQ(r.exit_code, 130) << r.describe();
+  EXPECT_NE(r.out.find("| double_pendulum_shells | interrupted |"), std::string::npos) << r.describe();
+  EXPECT_EQ(r.err.find("ERROR RETURN"), std::string::npos) << r.describe();  // no MUMPS call left unmatched
 }
 
 // `bench --solve --ranks 1,2` on the smallest plates: one table with a row per plate and rank count,
