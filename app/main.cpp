@@ -273,6 +273,13 @@ int main(int argc, char** argv) {
   // `bench --solve --ranks K`: this process launches the ranks itself (it refuses to run under mpirun)
   if (*bench && !bench_opt.solve_ranks.empty()) return ff::app::run_solve_bench_over_ranks(bench_opt, g_stop);
 
+  // MUMPS's MPI build starts MPI before its first instance. In a process started without mpirun
+  // Open MPI then forks its helper daemon (a "singleton" start), which inherits every file open at
+  // that moment, results.h5 and its lock among them, and holds them while it lives: an
+  // eigen-analysis's mode pictures, reading results.h5 back, found it locked. So MPI starts
+  // before anything is opened (no effect in the sequential build).
+  if ((*run || *bench || *gui) && ff::distributed_linear_solver_built()) ff::ensure_solver_mpi();
+
   // One model over MPI ranks (core/solve/distributed.md): `mpirun -n K flexframe run|bench`
   // factorizes over all K ranks; every rank runs the same model, rank 0 alone writes and prints
   const bool one_model_over_ranks = ff::launched_ranks() > 1 && (*run || *bench);
