@@ -361,6 +361,19 @@ int main(int argc, char** argv) {
     }
     if (*compare) return ff::app::compare_runs(compare_inputs, compare_out);
     if (*bench) {
+      // over ranks, the benches of one model only: the others time one process, and the effects
+      // bench's rounds stop on timings that differ between ranks, so its ranks would part ways in a
+      // shared call (MPI_ERR_TRUNCATE)
+      const bool one_model_bench = !bench_opt.estimate_dofs.empty() || bench_opt.modes > 0 ||
+                                   !bench_opt.scenes.empty() || bench_opt.solve;
+      if (one_model_over_ranks && !one_model_bench) {
+        if (!follower)
+          std::fprintf(stderr, "error: under mpirun, bench takes --solve, --scene, --modes or --estimate (one model over "
+                               "the ranks); the hub-beam and --effects benches time one process: run them without "
+                               "mpirun\n");
+        ff::finish_solver_mpi();  // every rank refuses alike
+        return 2;
+      }
       if (follower) bench_opt.out_file.clear();  // rank 0 writes the JSON
       const std::atomic<bool>& stop = follower ? follower_never_stops : g_stop;
       const int code = !bench_opt.estimate_dofs.empty() ? ff::app::run_estimate_bench(bench_opt, stop)

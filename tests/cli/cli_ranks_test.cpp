@@ -169,6 +169,23 @@ TEST(CliRanks, ModalAnalysisOnOneProcessAndOnTwoRanks) {
     EXPECT_NEAR(m1->modes[i].value, m2->modes[i].value, 1e-9 * m1->modes[i].value) << "mode " << i + 1;
 }
 
+// Under mpirun the benches of one process are refused at once (exit 2, the benches that do run
+// named), on every rank alike. Before, `bench --effects` on two ranks ended in MPI_ERR_TRUNCATE:
+// its rounds stop on timings, which differ between ranks, and the ranks parted ways in a shared
+// element-loop sum.
+TEST(CliRanks, BenchesOfOneProcessAreRefusedUnderRanks) {
+  const std::string exe = mpi_flexframe();
+  if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_on(two_ranks(), {"bench", "--effects", "--plate", "4"}, dir + "/effects", exe);
+  EXPECT_FALSE(r.timed_out) << r.describe();
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_NE(r.err.find("under mpirun, bench takes --solve, --scene, --modes or --estimate"), std::string::npos)
+      << r.describe();
+  EXPECT_EQ(count_of(r.err, "error: under mpirun"), 1u) << r.describe();  // rank 0 alone says it
+  EXPECT_EQ(r.err.find("MPI_ERR"), std::string::npos) << r.describe();
+}
+
 // One of two ranks killed mid-run: the run ends (no rank waits forever), not as completed, and
 // rank 0's results.h5 holds the frames it had stored, readable by replay. Rank 0 closed the file
 // itself within the launcher's grace between SIGTERM and SIGKILL, its solver thread blocked in a
