@@ -78,6 +78,21 @@ std::vector<int> ranks_once_stepping(Child& c, const std::string& log_file, cons
   return pids;
 }
 
+// The main job's dynamics (double pendulum of shells) on two ranks, solver only: tens of seconds
+Child main_job_on_two_ranks(const std::string& exe, const std::string& dir, const std::string& out) {
+  return Child({"run", "double_pendulum_shells", "--no-frames", "--no-plots", "--out", out}, dir + "/run", "", two_ranks(),
+               exe);
+}
+
+// summary.json's "status" and "reason" of the run written to `out` ("" when absent)
+std::pair<std::string, std::string> summary_status(const std::string& out) {
+  std::string err;
+  const std::optional<Json> summary = read_summary(out, &err);
+  const Json* status = summary ? summary->get("status") : nullptr;
+  const Json* reason = summary ? summary->get("reason") : nullptr;
+  return {status && status->is_string() ? status->string : "", reason && reason->is_string() ? reason->string : ""};
+}
+
 std::size_t count_of(const std::string& text, const std::string& word) {
   std::size_t n = 0;
   for (auto p = text.find(word); p != std::string::npos; p = text.find(word, p + 1)) ++n;
@@ -196,8 +211,7 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
-  // the main job's dynamics (double pendulum of shells), tens of seconds on two ranks
-  Child c({"run", "double_pendulum_shells", "--no-frames", "--no-plots", "--out", out}, dir + "/run", "", two_ranks(), exe);
+  Child c = main_job_on_two_ranks(exe, dir, out);
   ASSERT_TRUE(c.started());
   const std::vector<int> ranks = ranks_once_stepping(c, dir + "/run.stderr.txt");
   ASSERT_EQ(ranks.size(), 2u) << "no two stepping ranks 0 and 1";
@@ -232,13 +246,7 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
   const Frame last = h->frame(h->frame_count() - 1);
   EXPECT_NE(h->outcome().reason.find(launcher + std::to_string(last.step) + ","), std::string::npos)
       << h->outcome().reason << " (last stored frame: step " << last.step << ")";
-  const std::optional<Json> summary = read_summary(out, &err);
-  ASSERT_TRUE(summary) << err;
-  const Json* status = summary->get("status");
-  const Json* reason = summary->get("reason");
-  ASSERT_TRUE(status && status->is_string() && reason && reason->is_string());
-  EXPECT_EQ(status->string, "interrupted");
-  EXPECT_EQ(reason->string, h->outcome().reason);
+  EXPECT_EQ(summary_status(out), std::make_pair(std::string("interrupted"), h->outcome().reason));
   const ProcResult replay = run_flexframe({"replay", out, "--no-frames", "--out", dir + "/replay"}, dir + "/replay");
   EXPECT_EQ(replay.exit_code, 0) << replay.describe();
   EXPECT_NE(replay.out.find(launcher), std::string::npos) << replay.describe();
@@ -252,7 +260,7 @@ TEST(CliRanks, InterruptedRankZeroEndsEveryRank) {
   if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
-  Child c({"run", "double_pendulum_shells", "--no-frames", "--no-plots", "--out", out}, dir + "/run", "", two_ranks(), exe);
+  Child c = main_job_on_two_ranks(exe, dir, out);
   ASSERT_TRUE(c.started());
   const std::vector<int> ranks = ranks_once_stepping(c, dir + "/run.stderr.txt");
   ASSERT_EQ(ranks.size(), 2u) << "the run ended before rank 0 could be interrupted";
@@ -265,11 +273,7 @@ TEST(CliRanks, InterruptedRankZeroEndsEveryRank) {
   ASSERT_TRUE(h) << err;
   EXPECT_EQ(h->outcome().status, RunStatus::interrupted);
   EXPECT_NE(h->outcome().reason.find("interrupted by the user"), std::string::npos) << h->outcome().reason;
-  const std::optional<Json> summary = read_summary(out, &err);
-  ASSERT_TRUE(summary) << err;
-  const Json* status = summary->get("status");
-  ASSERT_TRUE(status && status->is_string());
-  EXPECT_EQ(status->string, "interrupted");
+  EXPECT_EQ(summary_status(out).first, "interrupted");
 }
 
 // The same for `bench --scene` over two ranks: Ctrl-C reaching rank 0 alone, during the second
