@@ -270,6 +270,16 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  // Under mpirun (or srun) only run and bench share one model over the ranks and study spreads its
+  // variants over them; any other verb would run once per rank, each writing the same folder
+  if (ff::launched_ranks() > 1 && !app.get_subcommands().empty() && !(*run || *bench || *study)) {
+    if (ff::launched_rank() == 0)
+      std::fprintf(stderr, "error: flexframe %s runs as one process: under mpirun only run and bench (one model over the "
+                           "ranks) and study (its variants over the ranks) use them\n",
+                   app.get_subcommands().front()->get_name().c_str());
+    return 2;
+  }
+
   // `bench --solve --ranks K`: this process launches the ranks itself (it refuses to run under mpirun)
   if (*bench && !bench_opt.solve_ranks.empty()) return ff::app::run_solve_bench_over_ranks(bench_opt, g_stop);
 

@@ -25,6 +25,12 @@ int launched_ranks() {
   return 1;
 }
 
+int launched_rank() {
+  for (const char* key : {"OMPI_COMM_WORLD_RANK", "PMI_RANK"})
+    if (const char* v = std::getenv(key)) return std::max(0, std::atoi(v));
+  return 0;
+}
+
 #ifdef FF_MUMPS_MPI
 
 namespace {

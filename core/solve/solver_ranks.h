@@ -22,6 +22,10 @@ bool distributed_linear_solver_built();
 /// the environment before any MPI call; 1 otherwise.
 int launched_ranks();
 
+/// This process's rank among those the launcher started (OMPI_COMM_WORLD_RANK or PMI_RANK), read
+/// from the environment before any MPI call; 0 otherwise.
+int launched_rank();
+
 /// Starts MPI (thread level "multiple": the solver runs on a worker thread) unless it runs already,
 /// and ends it at exit. Called by the MUMPS backend before its first instance, so a one-process
 /// program (the tests) needs no call of its own. Returns false without MPI in this build.

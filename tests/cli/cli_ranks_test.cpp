@@ -201,6 +201,22 @@ TEST(CliRanks, BenchesOfOneProcessAreRefusedUnderRanks) {
   EXPECT_EQ(r.err.find("MPI_ERR"), std::string::npos) << r.describe();
 }
 
+// Under mpirun the verbs of one process (replay here; check, compare, scenes, policies, gui alike)
+// are refused on every rank, with one message: before, each rank ran the same replay into the same
+// folder, and the second was refused by the folder's lock while the first wrote.
+TEST(CliRanks, VerbsOfOneProcessAreRefusedUnderRanks) {
+  const std::string dir = fresh_test_dir();
+  const std::string stored = dir + "/stored";
+  const ProcResult made =
+      run_flexframe({"run", "clamped_plate_pressure", "--no-frames", "--no-plots", "--quiet", "--out", stored}, dir + "/made");
+  ASSERT_EQ(made.exit_code, 0) << made.describe();
+  const ProcResult r = run_on(two_ranks(), {"replay", stored, "--no-frames", "--out", dir + "/replay"}, dir + "/replay");
+  EXPECT_FALSE(r.timed_out) << r.describe();
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_EQ(count_of(r.err, "error: flexframe replay runs as one process"), 1u) << r.describe();
+  EXPECT_FALSE(fs::exists(dir + "/replay")) << "a refused replay wrote its folder";
+}
+
 // One of two ranks killed mid-run: the run ends (no rank waits forever), not as completed, and
 // rank 0's results.h5 holds the frames it had stored, readable by replay. Rank 0 closed the file
 // itself within the launcher's grace between SIGTERM and SIGKILL, its solver thread blocked in a
