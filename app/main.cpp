@@ -438,13 +438,14 @@ int main(int argc, char** argv) {
     }
     if (*study_variant) return ff::app::run_study_variant(variant_opt, g_stop);
   } catch (const ff::scene::SceneError& e) {
-    std::fprintf(stderr, "error: invalid scene or study file\n%s\n", e.what());
+    // over ranks every rank reads the same scene and meets the same error: rank 0 says it
+    if (!follower) std::fprintf(stderr, "error: invalid scene or study file\n%s\n", e.what());
     return leave(2);
   } catch (const ff::SetupInterrupted& e) {  // a signal while the model was being built: nothing was written
     std::fprintf(stderr, "\n%s; nothing was written\n", e.what());
     return leave(130);
   } catch (const ff::app::InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    if (!follower) std::fprintf(stderr, "error: %s\n", e.what());  // the same on every rank
     return leave(2);
   } catch (const std::exception& e) {  // output folder, HDF5 file, ...: the run failed
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -217,6 +217,20 @@ TEST(CliRanks, VerbsOfOneProcessAreRefusedUnderRanks) {
   EXPECT_FALSE(fs::exists(dir + "/replay")) << "a refused replay wrote its folder";
 }
 
+// A bad scene key under two ranks: every rank meets it, rank 0 alone reports it (file, key), and
+// the job ends with exit 2 before anything is written. Before, each rank printed the same error.
+TEST(CliRanks, BadSceneKeyIsReportedOnceOverRanks) {
+  const std::string exe = mpi_flexframe();
+  if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_on(two_ranks(), {"run", "hinged_roof_h127", "--set", "solver.bogus=1", "--out", dir + "/out"},
+                              dir + "/bad", exe);
+  EXPECT_FALSE(r.timed_out) << r.describe();
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_EQ(count_of(r.err, "unknown key 'solver.bogus'"), 1u) << r.describe();
+  EXPECT_FALSE(fs::exists(dir + "/out")) << "a refused scene wrote its folder";
+}
+
 // One of two ranks killed mid-run: the run ends (no rank waits forever), not as completed, and
 // rank 0's results.h5 holds the frames it had stored, readable by replay. Rank 0 closed the file
 // itself within the launcher's grace between SIGTERM and SIGKILL, its solver thread blocked in a
