@@ -99,6 +99,15 @@ std::size_t count_of(const std::string& text, const std::string& word) {
   return n;
 }
 
+// A two-rank job refused as bad input: it ended (no rank left waiting) with exit 2, `message`
+// said once (by rank 0) and no MPI error on the way
+void expect_refused_once(const ProcResult& r, const std::string& message) {
+  EXPECT_FALSE(r.timed_out) << r.describe();
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_EQ(count_of(r.err, message), 1u) << r.describe();
+  EXPECT_EQ(r.err.find("MPI_ERR"), std::string::npos) << r.describe();
+}
+
 ProcResult run_on(const std::vector<std::string>& launcher, const std::vector<std::string>& args,
                   const std::string& log_prefix, const std::string& exe = flexframe_exe()) {
   Child c(args, log_prefix, "", launcher, exe);
@@ -192,13 +201,8 @@ TEST(CliRanks, BenchesOfOneProcessAreRefusedUnderRanks) {
   const std::string exe = mpi_flexframe();
   if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
   const std::string dir = fresh_test_dir();
-  const ProcResult r = run_on(two_ranks(), {"bench", "--effects", "--plate", "4"}, dir + "/effects", exe);
-  EXPECT_FALSE(r.timed_out) << r.describe();
-  EXPECT_EQ(r.exit_code, 2) << r.describe();
-  EXPECT_NE(r.err.find("under mpirun, bench takes --solve, --scene, --modes or --estimate"), std::string::npos)
-      << r.describe();
-  EXPECT_EQ(count_of(r.err, "error: under mpirun"), 1u) << r.describe();  // rank 0 alone says it
-  EXPECT_EQ(r.err.find("MPI_ERR"), std::string::npos) << r.describe();
+  expect_refused_once(run_on(two_ranks(), {"bench", "--effects", "--plate", "4"}, dir + "/effects", exe),
+                      "error: under mpirun, bench takes --solve, --scene, --modes or --estimate");
 }
 
 // Under mpirun the verbs of one process (replay here; check, compare, scenes, policies, gui alike)
@@ -210,10 +214,8 @@ TEST(CliRanks, VerbsOfOneProcessAreRefusedUnderRanks) {
   const ProcResult made =
       run_flexframe({"run", "clamped_plate_pressure", "--no-frames", "--no-plots", "--quiet", "--out", stored}, dir + "/made");
   ASSERT_EQ(made.exit_code, 0) << made.describe();
-  const ProcResult r = run_on(two_ranks(), {"replay", stored, "--no-frames", "--out", dir + "/replay"}, dir + "/replay");
-  EXPECT_FALSE(r.timed_out) << r.describe();
-  EXPECT_EQ(r.exit_code, 2) << r.describe();
-  EXPECT_EQ(count_of(r.err, "error: flexframe replay runs as one process"), 1u) << r.describe();
+  expect_refused_once(run_on(two_ranks(), {"replay", stored, "--no-frames", "--out", dir + "/replay"}, dir + "/replay"),
+                      "error: flexframe replay runs as one process");
   EXPECT_FALSE(fs::exists(dir + "/replay")) << "a refused replay wrote its folder";
 }
 
@@ -223,11 +225,9 @@ TEST(CliRanks, BadSceneKeyIsReportedOnceOverRanks) {
   const std::string exe = mpi_flexframe();
   if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
   const std::string dir = fresh_test_dir();
-  const ProcResult r = run_on(two_ranks(), {"run", "hinged_roof_h127", "--set", "solver.bogus=1", "--out", dir + "/out"},
-                              dir + "/bad", exe);
-  EXPECT_FALSE(r.timed_out) << r.describe();
-  EXPECT_EQ(r.exit_code, 2) << r.describe();
-  EXPECT_EQ(count_of(r.err, "unknown key 'solver.bogus'"), 1u) << r.describe();
+  expect_refused_once(
+      run_on(two_ranks(), {"run", "hinged_roof_h127", "--set", "solver.bogus=1", "--out", dir + "/out"}, dir + "/bad", exe),
+      "unknown key 'solver.bogus'");
   EXPECT_FALSE(fs::exists(dir + "/out")) << "a refused scene wrote its folder";
 }
 
