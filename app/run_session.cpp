@@ -493,7 +493,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     o.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
     folder.release_reserve();  // room for the outcome and summary.json
     std::string e;
-    if (!writer->finish(o, {}, &e)) std::fprintf(stderr, "error: results.h5 could not record the outcome: %s\n", e.c_str());
+    if (!writer->finish(o, {}, &e)) std::fprintf(stderr, "error: results.h5 is incomplete: %s\n", e.c_str());
     writer_closed = true;  // the lock is kept until the process ends: nothing touches the writer again
     // summary.json without the metrics: the blocked solver thread holds them
     const nlohmann::ordered_json summary = {
@@ -600,7 +600,8 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     if (color_field >= 0) writer->set_attribute("color_range", format_range(color_range));
   }
   if (!writer->finish(outcome, result.metrics, &err)) {
-    std::fprintf(stderr, "error: results.h5 could not record the outcome: %s\n", err.c_str());
+    // the writer's message says what is missing (the outcome, or frames after the last flush)
+    std::fprintf(stderr, "error: results.h5 is incomplete: %s\n", err.c_str());
     fail_write("results.h5: " + err);
     record_write_failure();
   }

@@ -230,6 +230,10 @@ TEST(CliOutputSafety, FullDiskEndsTheRunFailedAndKeepsWhatWasStored) {
   ASSERT_TRUE(h5) << err;
   EXPECT_GT(h5->frame_count(), 0u);
   EXPECT_NE(h5->outcome().status, RunStatus::completed);
+  // the file holds the outcome, and the console does not say otherwise (it once printed "could
+  // not record the outcome: ... (the outcome is recorded; ...)" when frames were lost)
+  EXPECT_EQ(h5->outcome().status, RunStatus::failed) << h5->outcome().reason;
+  EXPECT_EQ(r.err.find("could not record the outcome"), std::string::npos) << r.describe();
   // the summary, where it could still be written, says failed
   if (const std::optional<Json> s = read_summary(out, &err)) {
     EXPECT_EQ(summary_string(*s, "status"), "failed");
