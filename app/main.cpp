@@ -30,9 +30,6 @@ std::atomic<int> g_stop_signal{0};  // the first signal that set g_stop (run: th
 extern "C" void on_sigint(int signo) {
   int none = 0;
   g_stop_signal.compare_exchange_strong(none, signo);
-  // over MPI ranks this rank stops alone (the others ignore Ctrl-C): its solvers must not wait in
-  // closing calls for ranks still stepping (solver_ranks.h); no effect in one process
-  ff::leave_shared_solvers();
   if (g_stop.exchange(true)) {  // second Ctrl-C: leave at once
     std::signal(SIGINT, SIG_DFL);
     std::raise(SIGINT);
@@ -306,7 +303,11 @@ int main(int argc, char** argv) {
   // rank 0 decides when a run or bench over ranks stops: the others ignore Ctrl-C (which mpirun
   // forwards to every rank) and are ended by rank 0 (end_all_ranks)
   if (follower) std::signal(SIGINT, SIG_IGN);
-  const std::atomic<bool> follower_never_stops{false};
+  // ... and every rank sees rank 0's stop at the same shared solver call (solver_ranks.h): the run
+  // and the benches watch this flag on every rank, so the ranks stop at the same step together
+  static std::atomic<bool> stop_over_ranks{false};
+  if (one_model_over_ranks) ff::share_stop_over_ranks(&g_stop, &stop_over_ranks);
+  const std::atomic<bool>& stop = one_model_over_ranks ? stop_over_ranks : g_stop;
   // an error on one rank (its output folder, say) ends every rank: the others would wait for it
   const auto leave = [&](int code) {
     if (one_model_over_ranks) {
@@ -324,11 +325,11 @@ int main(int argc, char** argv) {
       run_opt.progress = !quiet;
       run_opt.stop_signal = &g_stop_signal;
       if (follower) {
-        const int code = ff::app::follow_run(run_opt);
+        const int code = ff::app::follow_run(run_opt, stop);
         ff::finish_solver_mpi();  // reached only when rank 0 completed too (else it ended every rank)
         return code;
       }
-      const ff::app::RunResult r = ff::app::run_scene(run_opt, g_stop);
+      const ff::app::RunResult r = ff::app::run_scene(run_opt, stop);
       print_result(r);
       const int code = ff::app::exit_code(r.outcome);
       // a run that did not complete may have left the other ranks waiting in a collective call for
@@ -385,7 +386,6 @@ int main(int argc, char** argv) {
         return 2;
       }
       if (follower) bench_opt.out_file.clear();  // rank 0 writes the JSON
-      const std::atomic<bool>& stop = follower ? follower_never_stops : g_stop;
       const int code = !bench_opt.estimate_dofs.empty() ? ff::app::run_estimate_bench(bench_opt, stop)
                        : bench_opt.modes > 0          ? ff::app::run_modes_bench(bench_opt, stop)
                        : !bench_opt.scenes.empty() ? ff::app::run_scene_bench(bench_opt, stop)

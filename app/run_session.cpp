@@ -146,10 +146,9 @@ int exit_code(const RunOutcome& o) {
   return 1;
 }
 
-int follow_run(const RunOptions& opt) {
-  const std::atomic<bool> never{false};
-  scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&never));
-  const RunOutcome outcome = scene.simulation->run([](Frame&&) {}, never);
+int follow_run(const RunOptions& opt, const std::atomic<bool>& stop) {
+  scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&stop));
+  const RunOutcome outcome = scene.simulation->run([](Frame&&) {}, stop);
   return exit_code(outcome);
 }
 
@@ -217,6 +216,18 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   // An output that cannot be written ends the run `failed` (exit 1) at once: the solver is
   // stopped through run_stop, which also follows the caller's stop flag.
   std::atomic<bool> run_stop{false};
+  // over ranks the caller's stop reaches run_stop at a shared solver call, on every rank alike
+  const bool over_ranks_stop = linear_solver_ranks() > 1;
+  struct StopWithRanks {
+    explicit StopWithRanks(std::atomic<bool>* flag) : on(flag != nullptr) {
+      if (on) also_stop_with_ranks(flag);
+    }
+    ~StopWithRanks() {
+      if (on) also_stop_with_ranks(nullptr);
+    }
+    bool on;
+  } stop_with_ranks{over_ranks_stop ? &run_stop : nullptr};
+  if (over_ranks_stop && stop) run_stop = true;  // a stop the set-up's shared calls already saw
   std::mutex failure_mutex;
   std::string write_failure;  // the first failed write, for the reason
   const auto fail_write = [&](const std::string& what) {
@@ -529,7 +540,9 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   auto last_print = wall0;
   const double t_end = sim.end_time();
   while (!solver_done) {
-    if (stop) run_stop = true;
+    // over ranks run_stop changes only at a shared solver call (also_stop_with_ranks above), where
+    // every rank's does: set here, between two calls, it would stop rank 0 a step before the others
+    if (stop && !over_ranks_stop) run_stop = true;
     {
       std::unique_lock lock(done_mutex);
       done_signal.wait_for(lock, std::chrono::milliseconds(100), [&] { return solver_done.load(); });

@@ -68,10 +68,10 @@ RunResult run_loaded_scene(const RunOptions& options, scene::LoadedScene scene, 
 
 /// One of the other ranks of `mpirun -n K flexframe run` (core/solve/distributed.md): builds the
 /// same model and makes the same solver calls as rank 0, so that MUMPS factorizes over every rank,
-/// and writes nothing (rank 0 alone writes results.h5, frames, plots and summary.json). It does not
-/// follow Ctrl-C: rank 0 decides when the run ends (a rank stopping on its own would leave the
-/// others waiting in a collective call). Returns the exit code of its outcome.
-int follow_run(const RunOptions& options);
+/// and writes nothing (rank 0 alone writes results.h5, frames, plots and summary.json). It ignores
+/// Ctrl-C itself: `stop` is rank 0's stop, copied to every rank at each shared solver call
+/// (share_stop_over_ranks), so the ranks stop at the same step. Returns the exit code of its outcome.
+int follow_run(const RunOptions& options, const std::atomic<bool>& stop);
 
 /// Exit code for an outcome: 0 completed, 3 diverged, 130 interrupted, 1 failed.
 int exit_code(const RunOutcome& outcome);

@@ -129,8 +129,26 @@ void finish_solver_mpi() {}
 
 namespace {
 std::atomic<bool> g_solvers_left{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "leave_shared_solvers runs in a signal handler");
+const std::atomic<bool>* g_stop_source = nullptr;
+std::atomic<bool>* g_stop_shared = nullptr;
+std::atomic<std::atomic<bool>*> g_stop_also{nullptr};
 }  // namespace
+
+void share_stop_over_ranks(const std::atomic<bool>* source, std::atomic<bool>* shared) {
+  g_stop_source = source;
+  g_stop_shared = shared;
+}
+
+void also_stop_with_ranks(std::atomic<bool>* flag) { g_stop_also.store(flag); }
+
+void synchronize_stop_over_ranks() {
+  if (!g_stop_source || !g_stop_shared || linear_solver_ranks() < 2) return;
+  int stop = linear_solver_rank() == 0 && g_stop_source->load() ? 1 : 0;
+  broadcast_from_first_rank(&stop, 1);
+  if (!stop) return;
+  g_stop_shared->store(true);
+  if (std::atomic<bool>* also = g_stop_also.load()) also->store(true);
+}
 
 void leave_shared_solvers() { g_solvers_left.store(true, std::memory_order_relaxed); }
 bool shared_solvers_left() { return g_solvers_left.load(std::memory_order_relaxed); }

@@ -11,6 +11,7 @@
 /// is computed on rank 0 and broadcast, so every rank takes the same Newton update and stays in step.
 /// Only the MPI C API is used, and only in solver_ranks.cpp and sparse_solver.cpp.
 
+#include <atomic>
 #include <cstddef>
 
 namespace ff {
@@ -60,11 +61,24 @@ RankShare rank_share(int count);
 /// since the other ranks may wait in a collective call for it. Returns when alone.
 void end_all_ranks(int code);
 
+/// One stop decision for all ranks: from now on every MUMPS call shared over the ranks (each is
+/// joined by all of them) first copies rank 0's `source` flag into `shared` on every rank, so
+/// every rank sees a stop (rank 0's Ctrl-C) at the same point of the same solver sequence and
+/// they end together instead of parting ways in the next shared call. The run and the benches
+/// watch `shared` on every rank. No effect in one process.
+void share_stop_over_ranks(const std::atomic<bool>* source, std::atomic<bool>* shared);
+/// One more flag set with `shared` at the same call (null: none): a run whose solver watches a
+/// flag of its own (it also stops on a failed output) registers it, so that it too changes only
+/// at that call, never between two of them.
+void also_stop_with_ranks(std::atomic<bool>* flag);
+/// The copy share_stop_over_ranks describes; called by the MUMPS backend at each shared call.
+void synchronize_stop_over_ranks();
+
 /// From now on no solver shared over ranks makes another call that every rank must join: their
 /// MUMPS instances are not ended (JOB = −2) but left to the process's end. For a rank that stops
-/// on its own (rank 0 interrupted, an output that failed) while the others may still be in the
-/// solver loop: it ends every rank next (end_all_ranks), and its solvers' closing calls would wait
-/// for ranks that never make them. Async-signal-safe (the signal handler of Ctrl-C calls it).
+/// on its own (rank 0's run ended by a failed output, while the others may still be stepping): it
+/// ends every rank next (end_all_ranks), and its solvers' closing calls would wait for ranks that
+/// never make them.
 void leave_shared_solvers();
 bool shared_solvers_left();
 

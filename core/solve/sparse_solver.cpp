@@ -390,6 +390,7 @@ class MumpsInstance {
       id_.jcn_loc = jcn_.data() + begin;
       id_.a_loc = values ? values + begin : nullptr;
     }
+    if (ranks_ > 1) synchronize_stop_over_ranks();  // rank 0's stop, seen by every rank here
     id_.job = 1;
     dmumps_c(&id_);
     if (id_.infog[0] < 0) return fail(Code::backend_error, -1, "MUMPS analysis failed (INFOG(1) = " + std::to_string(id_.infog[0]) + ")");
@@ -421,6 +422,7 @@ class MumpsInstance {
     id_.rhs = x.data();
     id_.nrhs = 1;
     id_.lrhs = static_cast<int>(x.size());
+    if (ranks_ > 1) synchronize_stop_over_ranks();
     id_.job = 3;
     dmumps_c(&id_);
     // the solution is on rank 0 only: every rank takes the same Newton update
@@ -446,6 +448,7 @@ class MumpsInstance {
     scaled_ = true;
   }
   LinearStatus factorize_scaled() {
+    if (ranks_ > 1) synchronize_stop_over_ranks();
     for (int attempt = 0;; ++attempt) {
       id_.job = 2;
       dmumps_c(&id_);
