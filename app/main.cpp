@@ -311,6 +311,7 @@ int main(int argc, char** argv) {
   // an error on one rank (its output folder, say) ends every rank: the others would wait for it
   const auto leave = [&](int code) {
     if (one_model_over_ranks) {
+      std::fflush(stdout);
       std::fflush(stderr);
       ff::end_all_ranks(code);
     }
@@ -334,10 +335,7 @@ int main(int argc, char** argv) {
       const int code = ff::app::exit_code(r.outcome);
       // a run that did not complete may have left the other ranks waiting in a collective call for
       // this one: end them all, with this run's exit code (its results are written and closed)
-      if (one_model_over_ranks && (r.outcome.status != ff::RunStatus::completed || ff::shared_solvers_left())) {
-        std::fflush(stdout);
-        ff::end_all_ranks(code);
-      }
+      if (r.outcome.status != ff::RunStatus::completed) leave(code);
       ff::finish_solver_mpi();
       return code;
     }
@@ -393,10 +391,7 @@ int main(int argc, char** argv) {
                        : bench_opt.effects       ? ff::app::run_effects_bench(bench_opt, stop)
                                                  : ff::app::run_bench(bench_opt, stop);
       // a rank that stopped alone ends every rank (the others may wait for it in a shared call)
-      if (one_model_over_ranks && (code != 0 || ff::shared_solvers_left())) {
-        std::fflush(stdout);
-        ff::end_all_ranks(code);
-      }
+      if (code != 0) leave(code);
       ff::finish_solver_mpi();
       return code;
     }
