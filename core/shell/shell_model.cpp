@@ -435,6 +435,21 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   point_load_term(a);
   pressure_term(a, false);
   pressure_term(a, true);
+  if (K && in_parts_) tangent_parts_.sum_shared(a.values);  // distributed.md (D4)
+}
+
+const std::vector<int>* ShellModel::assemble_tangent_in_parts(bool on) {
+  in_parts_ = on && linear_solver_ranks() > 1;
+  if (!in_parts_) return nullptr;
+  if (!tangent_parts_.built()) {
+    const int nn = static_cast<int>(state_.poses.size());
+    tangent_parts_ = TangentParts(static_cast<int>(pattern_.pattern().nonZeros()), nn, elements_.size());
+    for (int k = 0; k < elements_.size(); ++k)
+      tangent_parts_.add_element(k, scatter_[k].data(), 576, elements_[k].nodes.data(), 4);
+    for (int I = 0; I < nn; ++I) tangent_parts_.add_node(I, node_scatter_[I].data(), 36);
+    tangent_parts_.finish();
+  }
+  return &tangent_parts_.held();
 }
 
 // Elastic term (cb_shell.md (S15)-(S17); shell_model.md for the node bases): the element loop
@@ -483,7 +498,8 @@ void ShellModel::elastic_term(Assembly& a) {
   }
   if (share.end - share.begin < elements_.size()) {  // the other ranks' elements: every rank gets the sums
     sum_over_ranks(node_force.data()->data(), 6 * node_force.size());
-    if (K) sum_over_ranks(values, static_cast<std::size_t>(K->nonZeros()));
+    // in parts, only the interface entries, once every term is in (evaluate)
+    if (K && !in_parts_) sum_over_ranks(values, static_cast<std::size_t>(K->nonZeros()));
     if (a.load) sum_over_ranks(a.load->data(), static_cast<std::size_t>(a.load->size()));
   }
   for (int I = 0; I < nn; ++I) {
@@ -495,7 +511,7 @@ void ShellModel::elastic_term(Assembly& a) {
     g.tail<3>() = six_dof_[I] ? rows_r(I, R_WN * node_force[I].tail<3>()) : Vec3(node_force[I].tail<3>());
     for (int s = 0; s < 6; ++s)
       if (dofs_.equation(I, s) >= 0) r[dofs_.equation(I, s)] += g[s];
-    if (!K) continue;
+    if (!K || !adds_node_tangent(I)) continue;
     // the rotating basis of A_I along the node's own rotation increment
     if (six_dof_[I]) {
       Mat3 tu = -hat(fu), tt = -hat(R_WN * node_force[I].tail<3>());
@@ -584,7 +600,7 @@ void ShellModel::point_load_term(Assembly& a) {
       r[a] -= lambda * f[s];
       if (load) (*load)[a] += f[s];
     }
-    if (!K) continue;
+    if (!K || !adds_node_tangent(I)) continue;
     if (l.follower) {
       Mat3 tf = six_dof_[I] ? Mat3(lambda * hat(R_WN * l.force)) : Mat3(lambda * R_WN * hat(l.force));
       if (has_basis_[I])
@@ -646,13 +662,14 @@ void ShellModel::pressure_term(Assembly& a, bool follower) {
     }
     if (!with_stiffness) return;
     const std::array<int, 576>& idx = scatter_[pl.quad];
+    const bool adds_element_tangent = !in_parts_ || tangent_parts_.adds_element(pl.quad);  // in parts: its rank's
     for (int c = 0; c < 4; ++c)
       for (int d = 0; d < 4; ++d) {
         const Mat3 b = block_uu(q[c], dfdx[4 * c + d], q[d]);
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) {
             if (prescribed_load) add_prescribed_load(a, q[c], i, q[d], j, -lambda * b(i, j));
-            const int v = K ? idx[(6 * c + i) * 24 + 6 * d + j] : -1;
+            const int v = K && adds_element_tangent ? idx[(6 * c + i) * 24 + 6 * d + j] : -1;
             if (v >= 0) values[v] -= lambda * b(i, j);
           }
       }

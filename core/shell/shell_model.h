@@ -29,6 +29,7 @@
 #include "core/shell/shell_stress.h"
 #include "core/shell/loads.h"
 #include "core/solve/static_problem.h"
+#include "core/solve/tangent_parts.h"
 
 namespace ff::shell {
 
@@ -138,6 +139,9 @@ class ShellModel final : public ff::StaticProblem {
   /// Dead forces and pressures and prescribed displacements are conservative; follower loads and
   /// moments (not conservative on finite rotations) are not (tests/unit/test_tangent_symmetry.cpp).
   bool tangent_symmetric_at_equilibrium() const override;
+  /// Over ranks: each rank adds its elements' and owned nodes' terms and only the interface
+  /// entries are summed over the ranks (core/solve/distributed.md §5); whole again with `false`.
+  const std::vector<int>* assemble_tangent_in_parts(bool on) override;
 
   const std::vector<NodePose>& poses() const { return state_.poses; }
   const ShellModelSpec& spec() const { return spec_; }
@@ -233,6 +237,9 @@ class ShellModel final : public ff::StaticProblem {
   assembly::EffectCounter elastic_, point_loads_, dead_pressure_stat_, follower_pressure_stat_;
   long long dead_pressures_ = 0, follower_pressures_ = 0;  // loaded quads of each kind
   long long assemblies_ = 0;  // hr / ans / drilling ran in every element of every assembly
+  TangentParts tangent_parts_;  // who adds and holds which entries over ranks (built when first asked)
+  bool in_parts_ = false;       // the tangent is assembled in parts (assemble_tangent_in_parts)
+  bool adds_node_tangent(int I) const { return !in_parts_ || tangent_parts_.adds_node(I); }
   void build_pattern();
   void build_node_bases(std::vector<unsigned>& fixed);
   // one assembly's inputs and outputs, handed to each term

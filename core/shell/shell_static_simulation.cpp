@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/solve/sparse_solver.h"
+#include "core/solve/static_common.h"
 
 namespace ff::shell {
 
@@ -122,8 +123,9 @@ StepDone ShellStaticSimulation::linear_step() {
   const double lambda = settings_.load_control.lambda_end;
   Eigen::VectorXd r, f_ref, du;
   SparseMatrixD K;
-  model_->evaluate(0.0, r, &K, &f_ref);
   SparseLinearSolver solver(settings_.load_control.convergence.linear_backend);
+  const TangentInParts parts(*model_, solver);  // over ranks each rank assembles and hands over its part
+  model_->evaluate(0.0, r, &K, &f_ref);
   LinearStatus status = solver.factorize(K);
   if (status) status = solver.solve(lambda * f_ref - r, du);
   if (!status) {

@@ -99,6 +99,16 @@ void sum_over_ranks(double* values, std::size_t n) {
                     MPI_COMM_WORLD);
 }
 
+double largest_over_ranks(double value) {
+  if (g_world && linear_solver_ranks() > 1) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  return value;
+}
+
+int smallest_over_ranks(int value) {
+  if (g_world && linear_solver_ranks() > 1) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  return value;
+}
+
 void end_all_ranks(int code) {
   if (g_world && linear_solver_ranks() > 1) MPI_Abort(MPI_COMM_WORLD, code);
 }
@@ -122,6 +132,8 @@ int solver_communicator_fortran() { return -987654; }  // MUMPS's USE_COMM_WORLD
 void broadcast_from_first_rank(double*, int) {}
 void broadcast_from_first_rank(int*, int) {}
 void sum_over_ranks(double*, std::size_t) {}
+double largest_over_ranks(double value) { return value; }
+int smallest_over_ranks(int value) { return value; }
 void end_all_ranks(int) {}
 void finish_solver_mpi() {}
 
@@ -153,9 +165,19 @@ void synchronize_stop_over_ranks() {
 void leave_shared_solvers() { g_solvers_left.store(true, std::memory_order_relaxed); }
 bool shared_solvers_left() { return g_solvers_left.load(std::memory_order_relaxed); }
 
-RankShare rank_share(int count) {
-  const long long ranks = linear_solver_ranks(), rank = linear_solver_rank();
-  return {static_cast<int>(count * rank / ranks), static_cast<int>(count * (rank + 1) / ranks)};
+RankShare rank_share(int count) { return rank_share(count, linear_solver_rank(), linear_solver_ranks()); }
+
+RankShare rank_share(int count, int rank, int ranks) {
+  const long long c = count;
+  return {static_cast<int>(c * rank / ranks), static_cast<int>(c * (rank + 1) / ranks)};
+}
+
+int rank_of_share_item(int item, int count, int ranks) {
+  // the largest r whose share begins at or before the item
+  int r = static_cast<int>(static_cast<long long>(item) * ranks / std::max(1, count));
+  while (r + 1 < ranks && rank_share(count, r + 1, ranks).begin <= item) ++r;
+  while (r > 0 && rank_share(count, r, ranks).begin > item) --r;
+  return r;
 }
 
 }  // namespace ff

@@ -50,12 +50,21 @@ void broadcast_from_first_rank(int* values, int n);
 /// each rank's share of the elements and sum their contributions with it (distributed.md §2).
 void sum_over_ranks(double* values, std::size_t n);
 
+/// The largest of one value over the ranks, and the smallest, the same on every rank (no-op alone):
+/// for decisions from values each rank holds only a part of (a check over its own entries).
+double largest_over_ranks(double value);
+int smallest_over_ranks(int value);
+
 /// The contiguous share [begin, end) of `count` items that this rank evaluates: all of them when
 /// alone, otherwise an equal share per rank in rank order.
 struct RankShare {
   int begin = 0, end = 0;
 };
 RankShare rank_share(int count);
+/// The same for rank `rank` of `ranks`.
+RankShare rank_share(int count, int rank, int ranks);
+/// The rank of `ranks` whose share holds item `item` of `count`.
+int rank_of_share_item(int item, int count, int ranks);
 
 /// Ends every rank at once with exit code `code` (MPI_Abort): rank 0 calls it when it stops early,
 /// since the other ranks may wait in a collective call for it. Returns when alone.

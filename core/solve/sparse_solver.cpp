@@ -2,6 +2,7 @@
 
 #include "core/solve/equilibrate.h"
 #include "core/solve/nested_dissection.h"
+#include "core/solve/solver_ranks.h"
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
@@ -11,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <sstream>
 
 #ifdef FF_HAVE_SUITESPARSE
@@ -20,7 +22,6 @@
 #ifdef FF_HAVE_MUMPS
 #include <dmumps_c.h>
 
-#include "core/solve/solver_ranks.h"
 #include "core/solve/solver_ranks_mpi.h"
 #endif
 
@@ -51,14 +52,6 @@ LinearStatus fail(Code code, int dof, std::string message) {
   s.dof = dof;
   s.message = std::move(message);
   return s;
-}
-
-// the column holding the first NaN/Inf value, -1 when all are finite
-int first_non_finite_column(const SparseMatrixD& k) {
-  for (int j = 0; j < k.outerSize(); ++j)
-    for (int p = k.outerIndexPtr()[j]; p < k.outerIndexPtr()[j + 1]; ++p)
-      if (!std::isfinite(k.valuePtr()[p])) return j;
-  return -1;
 }
 
 // CSC position of (j, i) for each entry (i, j) of a compressed square pattern, −1 when absent
@@ -102,6 +95,10 @@ class SparseLinearSolver::Impl {
   virtual bool symmetric_factorization() const { return false; }
   /// the library's own flop and memory figures, when it gives them
   virtual LinearFigures figures() const { return {}; }
+  /// processes the factorization spans (only MUMPS spans ranks)
+  virtual int ranks() const { return 1; }
+  /// SparseLinearSolver::hold_positions_over_ranks, for a backend that spans ranks (before analyze)
+  virtual void hold_positions(const std::vector<int>& positions) {}
 };
 
 namespace {
@@ -318,8 +315,11 @@ class MumpsInstance {
   bool analyzed() const { return analyzed_; }
   void forget_analysis() { analyzed_ = false; }
 
-  // 1-based coordinates of the entries `positions` of the CSC matrix a (all, or the lower triangle)
-  LinearStatus analyze(const SparseMatrixD& a, const std::vector<int>& positions) {
+  int ranks() const { return ranks_; }
+
+  // 1-based coordinates of the entries `positions` of the CSC matrix a (all, or the lower triangle;
+  // over ranks an equal share of them each, or, `own_share`, the ones this rank holds)
+  LinearStatus analyze(const SparseMatrixD& a, const std::vector<int>& positions, bool own_share) {
     if (!initialised_) return fail(Code::backend_error, -1, "MUMPS could not be initialised");
     const int n = static_cast<int>(a.rows());
     irn_.resize(positions.size());
@@ -335,7 +335,7 @@ class MumpsInstance {
         }
     given_order_ = ranks_ == 1 && own_ordering_wanted() ? nested_dissection_positions(a) : std::vector<int>{};
     for (int& p : given_order_) ++p;  // MUMPS counts from 1
-    return analyze_entries(n);
+    return analyze_entries(n, own_share);
   }
   // The analysis of a pattern alone, for its estimates (estimate_symmetric_factorization): no
   // values are handed over, so nothing of MUMPS's analysis may read them — no matching or
@@ -525,21 +525,30 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
   LinearStatus analyze(const SparseMatrixD& a) override {
     lu_.forget_analysis();
     ldlt_.forget_analysis();
-    all_.resize(a.nonZeros());
-    for (int p = 0; p < a.nonZeros(); ++p) all_[p] = p;
+    if (held_.empty()) {
+      all_.resize(a.nonZeros());
+      for (int p = 0; p < a.nonZeros(); ++p) all_[p] = p;
+    } else {
+      all_ = held_;
+    }
     lower_.clear();
-    for (int j = 0; j < a.outerSize(); ++j)
-      for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p)
+    for (int j = 0, q = 0; j < a.outerSize(); ++j)
+      for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p) {
+        if (q == static_cast<int>(all_.size()) || all_[q] != p) continue;
+        ++q;
         if (a.innerIndexPtr()[p] >= j) lower_.push_back(p);
-    return lu_.analyze(a, all_);
+      }
+    return lu_.analyze(a, all_, !held_.empty());
   }
   LinearStatus factorize(const SparseMatrixD& a, bool symmetric) override {
     last_ = symmetric ? &ldlt_ : &lu_;
     const std::vector<int>& positions = symmetric ? lower_ : all_;
     if (!last_->analyzed())
-      if (LinearStatus s = last_->analyze(a, positions); !s) return s;
+      if (LinearStatus s = last_->analyze(a, positions, !held_.empty()); !s) return s;
     return last_->factorize(a, positions);
   }
+  int ranks() const override { return lu_.ranks(); }
+  void hold_positions(const std::vector<int>& positions) override { held_ = positions; }
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override { return last_ && last_->solve(b, x); }
   int determinant_sign() override { return last_ ? last_->determinant_sign() : 0; }
   bool symmetric_factorization() const override { return last_ == &ldlt_; }
@@ -548,7 +557,8 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
  private:
   MumpsInstance lu_, ldlt_;
   MumpsInstance* last_ = nullptr;
-  std::vector<int> all_, lower_;  // CSC positions: every entry, the lower triangle
+  std::vector<int> all_, lower_;  // CSC positions: every entry (this rank's), the lower triangle of them
+  std::vector<int> held_;         // the positions this rank holds over ranks (empty: all)
 };
 #endif
 
@@ -670,9 +680,63 @@ LinearStatus SparseLinearSolver::analyze(const SparseMatrixD& pattern) {
   outer_.assign(pattern.outerIndexPtr(), pattern.outerIndexPtr() + n_ + 1);
   inner_.assign(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros());
   mirror_ = mirror_positions(pattern);
+  if (LinearStatus held = check_held_positions(); !held) return held;
   analyzed_ = true;
   ++analyses_;
   return s;
+}
+
+int SparseLinearSolver::ranks() const { return impl_ ? impl_->ranks() : 1; }
+
+LinearStatus SparseLinearSolver::hold_positions_over_ranks(std::vector<int> positions) {
+  if (!positions.empty() && ranks() == 1)
+    return fail(Code::invalid_input, -1, "a matrix held in parts needs a solver shared over ranks (solver_ranks.h)");
+  held_ = std::move(positions);
+  if (impl_) impl_->hold_positions(held_);
+  analyzed_ = factorized_ = false;  // the next factorize() analyzes the held entries
+  return {};
+}
+
+// what hold_positions_over_ranks asks of the list, against the analyzed pattern: every check that
+// reads a value and its mirror (symmetry, the symmetric part) must find both on this rank
+LinearStatus SparseLinearSolver::check_held_positions() const {
+  if (held_.empty()) return {};
+  std::vector<char> held(mirror_.size(), 0);
+  for (std::size_t q = 0; q < held_.size(); ++q) {
+    const int p = held_[q];
+    if (p < 0 || p >= static_cast<int>(mirror_.size()) || (q > 0 && p <= held_[q - 1]))
+      return fail(Code::invalid_input, -1, "held positions must be ascending positions of the pattern's values");
+    held[p] = 1;
+  }
+  for (const int p : held_)
+    if (mirror_[p] < 0 || !held[mirror_[p]])
+      return fail(Code::invalid_input, -1,
+                  "a matrix held in parts over ranks needs each held entry's mirror held too, in a structurally "
+                  "symmetric pattern");
+  return {};
+}
+
+int SparseLinearSolver::first_non_finite_column(const SparseMatrixD& k) const {
+  int first = std::numeric_limits<int>::max();
+  const double* v = k.valuePtr();
+  if (held_.empty()) {
+    for (int j = 0; j < k.outerSize() && first > j; ++j)
+      for (int p = k.outerIndexPtr()[j]; p < k.outerIndexPtr()[j + 1]; ++p)
+        if (!std::isfinite(v[p])) {
+          first = j;
+          break;
+        }
+  } else {
+    for (int j = 0, q = 0; q < static_cast<int>(held_.size()); ++q) {
+      while (outer_[j + 1] <= held_[q]) ++j;
+      if (!std::isfinite(v[held_[q]])) {
+        first = j;
+        break;
+      }
+    }
+    first = smallest_over_ranks(first);  // every rank the same verdict
+  }
+  return first == std::numeric_limits<int>::max() ? -1 : first;
 }
 
 LinearStatus SparseLinearSolver::factorize(const SparseMatrixD& k) { return factorize_values(k, false); }
@@ -682,7 +746,17 @@ LinearStatus SparseLinearSolver::factorize_symmetric_part(SparseMatrixD& k) {
   const bool analyzed_pattern = same_pattern(k);
   const std::vector<int> fresh = analyzed_pattern ? std::vector<int>{} : mirror_positions(k);  // a new pattern's
   const std::vector<int>& mirror = analyzed_pattern ? mirror_ : fresh;
-  if (std::find(mirror.begin(), mirror.end(), -1) != mirror.end()) {
+  if (!held_.empty()) {  // only this rank's entries, whose mirrors it holds (check_held_positions)
+    if (!analyzed_pattern)
+      if (LinearStatus s = analyze(k); !s) return s;
+    double* v = k.valuePtr();
+    for (const int p : held_) {
+      const int m = mirror_[p];
+      if (m < p) continue;
+      const double mean = 0.5 * (v[p] + v[m]);
+      v[p] = v[m] = mean;
+    }
+  } else if (std::find(mirror.begin(), mirror.end(), -1) != mirror.end()) {
     const SparseMatrixD transposed = k.transpose();
     k = 0.5 * (k + transposed);
     k.makeCompressed();
@@ -724,19 +798,32 @@ LinearStatus SparseLinearSolver::factorize_values(const SparseMatrixD& k, bool k
 int SparseLinearSolver::first_asymmetric_column(const SparseMatrixD& k, double relative_bound, bool any) const {
   const double* v = k.valuePtr();
   double largest = 0.0;
-  for (int p = 0; p < k.nonZeros(); ++p) largest = std::max(largest, std::abs(v[p]));
+  if (held_.empty()) {
+    for (int p = 0; p < k.nonZeros(); ++p) largest = std::max(largest, std::abs(v[p]));
+  } else {
+    for (const int p : held_) largest = std::max(largest, std::abs(v[p]));
+    largest = largest_over_ranks(largest);
+  }
   const double bound = relative_bound * std::max(1e-300, largest);
-  int first = -1;  // the first column of K − Kᵀ with an entry above the bound
-  for (int j = 0; j < n_; ++j)
-    for (int p = outer_[j]; p < outer_[j + 1]; ++p) {
-      const double mirrored = mirror_[p] >= 0 ? v[mirror_[p]] : 0.0;  // absent: a structural zero
-      if (std::abs(v[p] - mirrored) > bound) {
-        const int column = std::min(j, inner_[p]);
-        if (any) return column;
-        if (first < 0 || column < first) first = column;
-      }
+  int first = std::numeric_limits<int>::max();  // the first column of K − Kᵀ with an entry above the bound
+  auto differs = [&](int j, int p) {
+    const double mirrored = mirror_[p] >= 0 ? v[mirror_[p]] : 0.0;  // absent: a structural zero
+    if (std::abs(v[p] - mirrored) <= bound) return false;
+    first = std::min(first, std::min(j, inner_[p]));
+    return any;  // enough to tell that K ≠ Kᵀ
+  };
+  if (held_.empty()) {
+    for (int j = 0; j < n_; ++j)
+      for (int p = outer_[j]; p < outer_[j + 1]; ++p)
+        if (differs(j, p)) return first;
+  } else {
+    for (int j = 0, q = 0; q < static_cast<int>(held_.size()); ++q) {
+      while (outer_[j + 1] <= held_[q]) ++j;
+      if (differs(j, held_[q])) break;
     }
-  return first;
+    first = smallest_over_ranks(first);  // every rank the same verdict (LDLᵀ or LU)
+  }
+  return first == std::numeric_limits<int>::max() ? -1 : first;
 }
 
 LinearFigures SparseLinearSolver::factorization_figures() const {

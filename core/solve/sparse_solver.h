@@ -111,6 +111,21 @@ class SparseLinearSolver {
   /// x = K⁻¹ b with the last successful factorization.
   LinearStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
 
+  /// Processes this solver's factorization spans: the ranks sharing the solvers for MUMPS
+  /// (solver_ranks.h), 1 for every other backend and when alone.
+  int ranks() const;
+  /// For a matrix assembled in parts over the ranks (core/solve/distributed.md §5): the positions
+  /// of the CSC value array (ascending) whose values this rank holds in full and alone hands the
+  /// factorization. Together the ranks' lists hold every position once, each list holds the mirror
+  /// (j, i) of each of its entries (i, j), and the pattern must be structurally symmetric; the
+  /// values at other positions are never read. The checks that read values (non-finite entries,
+  /// the symmetry that picks LDLᵀ) are made over this rank's positions and reduced over the ranks,
+  /// so every rank takes the same decision. Empty: every rank holds the whole matrix (the default).
+  /// invalid_input when ranks() is 1 and the list is not empty.
+  LinearStatus hold_positions_over_ranks(std::vector<int> positions);
+  /// The positions held (empty: all of them).
+  const std::vector<int>& held_positions() const { return held_; }
+
   /// Sign of det K for the last factorization: +1 or −1, 0 when singular or not factorized. Its
   /// change along a load path marks a limit or bifurcation point (static_solvers.md §4.4). O(n).
   int determinant_sign() const;
@@ -145,6 +160,11 @@ class SparseLinearSolver {
   int analyses_ = 0, factorizations_ = 0;
   std::vector<int> outer_, inner_;  // analyzed pattern
   std::vector<int> mirror_;         // CSC position of (j, i) for each (i, j), −1 when absent
+  std::vector<int> held_;           // hold_positions_over_ranks (empty: the whole matrix)
+  /// The first column holding a NaN/Inf among the values read (over the ranks), −1 when none.
+  int first_non_finite_column(const SparseMatrixD& k) const;
+  /// held_'s fit with the analyzed pattern (ascending, in range, mirror-closed)
+  LinearStatus check_held_positions() const;
 };
 
 }  // namespace ff

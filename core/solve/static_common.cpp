@@ -1,5 +1,7 @@
 #include "core/solve/static_common.h"
 
+#include "core/solve/solver_ranks.h"
+
 #include <cstdio>
 
 namespace ff {
@@ -86,8 +88,25 @@ StaticStepInfo step_info(const AttemptOutcome& outcome, int step, double lambda,
 
 bool stop_requested(const std::atomic<bool>* stop) { return stop && stop->load(std::memory_order_relaxed); }
 
+TangentInParts::TangentInParts(StaticProblem& problem, SparseLinearSolver& solver) : problem_(problem) {
+  if (solver.ranks() < 2) return;
+  held_ = problem_.assemble_tangent_in_parts(true);
+  if (held_ && !solver.hold_positions_over_ranks(*held_)) {  // cannot fail with ranks() > 1: whole, then
+    problem_.assemble_tangent_in_parts(false);
+    held_ = nullptr;
+  }
+}
+
+TangentInParts::~TangentInParts() {
+  if (held_) problem_.assemble_tangent_in_parts(false);
+}
+
 StaticKernel::StaticKernel(StaticProblem& problem, const StaticConvergence& convergence)
-    : problem_(problem), convergence_(convergence), n_(problem.size()), linear_(convergence.linear_backend) {
+    : problem_(problem),
+      convergence_(convergence),
+      n_(problem.size()),
+      linear_(convergence.linear_backend),
+      tangent_parts_(problem, linear_) {
   w2_.resize(n_);
   for (int i = 0; i < n_; ++i) {
     const double s = problem_.dof_scale(i);
@@ -190,13 +209,29 @@ void StaticKernel::estimate_round_off() {
   magnitude_.resize(n_);
   for (int j = 0; j < n_; ++j) magnitude_[j] = problem_.state_magnitude(j);
   if (magnitude_.maxCoeff() <= 0.0) return;
-  Eigen::VectorXd acc = Eigen::VectorXd::Zero(n_);
-  for (int j = 0; j < tangent_.outerSize(); ++j)
-    for (SparseMatrixD::InnerIterator it(tangent_, j); it; ++it) {
-      const double v = it.value() * magnitude_[j];
-      acc[it.row()] += v * v;
+  // a sum over the entries: in parts over ranks each sums the entries it holds, and the parts are added
+  double sum = 0.0;
+  const int* outer = tangent_.outerIndexPtr();
+  const int* row = tangent_.innerIndexPtr();
+  const double* value = tangent_.valuePtr();
+  if (const std::vector<int>* held = tangent_parts_.held()) {
+    for (int j = 0, q = 0; q < static_cast<int>(held->size()); ++q) {
+      const int p = (*held)[q];
+      while (outer[j + 1] <= p) ++j;
+      const double v = value[p] * magnitude_[j];
+      sum += v * v * iw2_[row[p]];
     }
-  round_off_ = std::numeric_limits<double>::epsilon() * std::sqrt((acc.array() * iw2_.array()).sum());
+    sum_over_ranks(&sum, 1);
+  } else {
+    Eigen::VectorXd acc = Eigen::VectorXd::Zero(n_);
+    for (int j = 0; j < n_; ++j)
+      for (int p = outer[j]; p < outer[j + 1]; ++p) {
+        const double v = value[p] * magnitude_[j];
+        acc[row[p]] += v * v;
+      }
+    sum = (acc.array() * iw2_.array()).sum();
+  }
+  round_off_ = std::numeric_limits<double>::epsilon() * std::sqrt(sum);
 }
 
 double StaticKernel::residual_limit() const {

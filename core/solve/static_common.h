@@ -127,6 +127,23 @@ struct StaticResult {
   std::string notes;
 };
 
+/// While alive, a problem assembles its tangent in parts over the ranks a linear solver spans and
+/// the solver reads only this rank's part (StaticProblem::assemble_tangent_in_parts): no rank
+/// gathers the whole matrix. Nothing when the solver spans one rank or the problem cannot.
+class TangentInParts {
+ public:
+  TangentInParts(StaticProblem& problem, SparseLinearSolver& solver);
+  ~TangentInParts();
+  TangentInParts(const TangentInParts&) = delete;
+  TangentInParts& operator=(const TangentInParts&) = delete;
+  /// The positions of the tangent's values this rank holds, nullptr when it holds them all.
+  const std::vector<int>* held() const { return held_; }
+
+ private:
+  StaticProblem& problem_;
+  const std::vector<int>* held_ = nullptr;
+};
+
 /// Shared numerics of one solve() call. Owns the residual, load, tangent and linear solver; every
 /// state change goes through it so it knows whether the held tangent belongs to the current state.
 class StaticKernel {
@@ -200,6 +217,7 @@ class StaticKernel {
   Eigen::VectorXd r_, f_;
   SparseMatrixD tangent_;
   SparseLinearSolver linear_;
+  TangentInParts tangent_parts_;  // over ranks: this rank's part of tangent_ (after linear_)
   bool tangent_current_ = false;  // tangent_ was evaluated at the current state, at λ = tangent_lambda_
   double tangent_lambda_ = 0.0;
   bool evaluated_ = false;  // r_, f_ were evaluated at the current state, at λ = evaluated_lambda_

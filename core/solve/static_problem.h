@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 #include <optional>
+#include <vector>
 
 namespace ff {
 
@@ -65,6 +66,15 @@ class StaticProblem {
   /// computed more accurately than the change such an error makes (the round-off floor of the
   /// convergence test, static_solvers.md eq. 3'). 0 (default): no floor is estimated.
   virtual double state_magnitude(int i) const { return 0.0; }
+
+  /// Over the ranks sharing the solvers (solver_ranks.h; core/solve/distributed.md §5): `on` asks
+  /// the problem to assemble its tangent in parts from now on, each rank adding its own terms and
+  /// the entries several ranks add summed over just those ranks, and returns the positions of the
+  /// tangent's value array this rank then holds in full and alone hands the linear solver
+  /// (SparseLinearSolver::hold_positions_over_ranks); the values elsewhere are partial. `off`
+  /// returns to the whole tangent on every rank (and nullptr). nullptr also when the problem
+  /// always assembles the whole tangent (the default) or runs alone.
+  virtual const std::vector<int>* assemble_tangent_in_parts(bool on) { return nullptr; }
 };
 
 }  // namespace ff
