@@ -2,6 +2,8 @@
 // counts in one run. This process starts `mpiexec -n K flexframe bench --solve --backend mumps`
 // once per rank count (one after the other, never side by side), reads what rank 0 of each wrote
 // to its --json file and prints one table with the ratio against one rank (core/solve/distributed.md).
+// One rank is this executable started without mpiexec: what a user runs on one machine, its
+// element loop threaded over every core (mpiexec would bind a lone rank to one core).
 #include <fcntl.h>
 #include <spawn.h>
 #include <stdlib.h>
@@ -149,7 +151,9 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
     if (stop) break;
     const fs::path json = dir / ("ranks_" + std::to_string(k) + ".json"), log = dir / ("ranks_" + std::to_string(k) + ".log");
     std::vector<std::string> argv = launch_words;
-    argv.insert(argv.end(), {"-n", std::to_string(k), self.string(), "bench", "--solve", "--backend", "mumps", "--max-n",
+    argv.insert(argv.end(), {"-n", std::to_string(k)});
+    if (k == 1) argv.clear();  // one process as a user starts it
+    argv.insert(argv.end(), {self.string(), "bench", "--solve", "--backend", "mumps", "--max-n",
                              std::to_string(opt.solve_max_n), "--repeat", std::to_string(opt.repeat), "--json",
                              json.string()});
     std::fprintf(stderr, "bench --ranks: %d rank(s): %s\n", k, joined(argv).c_str());
@@ -200,7 +204,8 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
   if (rows.empty()) return code;
   std::printf("Static Newton iteration on n x n plates (CB shell, hr + ans, 5 DoF) with MUMPS over MPI ranks, wall "
               "time, best of %d (1 from n = 128); each rank count one launch of `%s -n K flexframe bench --solve "
-              "--backend mumps`, one after the other in this run; speed-up: the time on 1 rank / on K ranks\n\n",
+              "--backend mumps` (1 rank: flexframe alone, its element loop threaded), one after the other in this "
+              "run; speed-up: the time on 1 rank / on K ranks\n\n",
               opt.repeat, joined(launch_words).c_str());
   std::printf("| n | DoFs | ranks | assembly [ms] | factorize + solve [ms] | Newton iteration [ms] | MUMPS Gflop | MUMPS MB "
               "per rank (largest) | MUMPS MB, all ranks | factorize + solve speed-up | Newton iteration speed-up |\n"
