@@ -1,5 +1,5 @@
 // `flexframe bench --estimate DOFS ...`: what MUMPS's own analysis estimates a factorization of a
-// shell model of that many unknowns needs (core/solve/distributed.md §4, docs/performance.md "On
+// shell model of that many unknowns needs (core/solve/distributed.md "What is left" 8, docs/performance.md "On
 // paper"). The model is the pattern of the bench's plates (--solve): an m x m grid of nodes with 5
 // DoFs each, every node coupled to the nodes of the four quads around it (a 3 x 3 stencil of
 // nodes, 25 entries per node pair), LDLᵀ of its lower triangle. No values and no factorization:

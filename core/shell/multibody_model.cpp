@@ -288,6 +288,8 @@ void MultibodyModel::configure(const Eigen::VectorXd& step) {
 
 // into the iteration matrix at (I, si), (J, sj) when both are unknowns
 void MultibodyModel::add(Assembly& as, int I, int si, int J, int sj, double x) const {
+  // in parts (distributed.md (D2)): a node's own block by its owner, a coupling of two nodes by rank 0
+  if (in_parts_ && !(I == J ? matrix_parts_.adds_node(I) : linear_solver_rank() == 0)) return;
   const int a = dofs_.equation(I, si), b = dofs_.equation(J, sj);
   if (a >= 0 && b >= 0) as.values[pattern_.value_index(a, b)] += x;
 }
@@ -329,6 +331,36 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
     add_position_block(as, I, oi, J, oj, blk);
   });
   joint_term(as);
+  if (tangent && in_parts_) matrix_parts_.sum_shared(as.values);  // distributed.md (D4)
+}
+
+const std::vector<int>* MultibodyModel::assemble_matrix_in_parts(bool on) {
+  in_parts_ = on && linear_solver_ranks() > 1;
+  if (!in_parts_) return nullptr;
+  if (!matrix_parts_.built()) {
+    const int nn = node_count();
+    matrix_parts_ = TangentParts(static_cast<int>(pattern_.pattern().nonZeros()), nn, elements_.size());
+    for (int k = 0; k < elements_.size(); ++k)
+      matrix_parts_.add_element(k, scatter_[k].data(), 576, elements_[k].nodes.data(), 4);
+    for (int I = 0; I < nn; ++I) matrix_parts_.add_node(I, pattern_.node_scatter(dofs_, I).data(), 36);
+    // the blocks coupling two nodes of a joint (build_pattern), both ways
+    auto pair = [&](int a, int b) {
+      std::vector<int> positions;
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) {
+          const int ra = dofs_.equation(a, i), cb = dofs_.equation(b, j), rb = dofs_.equation(b, i), ca = dofs_.equation(a, j);
+          if (ra >= 0 && cb >= 0) positions.push_back(pattern_.value_index(ra, cb));
+          if (rb >= 0 && ca >= 0) positions.push_back(pattern_.value_index(rb, ca));
+        }
+      matrix_parts_.add_first_rank(positions.data(), static_cast<int>(positions.size()));
+    };
+    for (const PerpendicularConstraint& c : spec_.perpendiculars)
+      if (c.b >= 0) pair(c.a, c.b);
+    for (const PositionConstraint& c : spec_.positions)
+      if (c.b >= 0) pair(c.a, c.b);
+    matrix_parts_.finish();
+  }
+  return &matrix_parts_.held();
 }
 
 // Shell elements: elastic (S15-S17), inertia (D4-D7) and gravity (D8) in one kernel pass per
@@ -435,7 +467,8 @@ void MultibodyModel::shell_element_term(Assembly& as) {
   }
   if (share.end - share.begin < ne) {  // the other ranks' elements: every rank gets the sums
     sum_over_ranks(r.data(), static_cast<std::size_t>(r.size()));
-    if (tangent) sum_over_ranks(values, static_cast<std::size_t>(as.S->nonZeros()));
+    // in parts, only the interface entries, once every term is in (evaluate)
+    if (tangent && !in_parts_) sum_over_ranks(values, static_cast<std::size_t>(as.S->nonZeros()));
   }
 }
 

@@ -24,6 +24,7 @@
 #include "core/shell/shell_stress.h"
 #include "core/shell/loads.h"
 #include "core/solve/dynamic_problem.h"
+#include "core/solve/tangent_parts.h"
 
 namespace ff::shell {
 
@@ -187,6 +188,9 @@ class MultibodyModel final : public ff::DynamicProblem {
   void evaluate(double t, const Eigen::VectorXd& v, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda,
                 Eigen::VectorXd& r, Eigen::VectorXd& phi, const IterationWeights* w, SparseMatrixD* S,
                 SparseMatrixD* B) override;
+  /// Each rank adds its elements' entries and the node-level terms of the nodes it owns; the
+  /// joints' couplings between two nodes are rank 0's (core/solve/distributed.md §5).
+  const std::vector<int>* assemble_matrix_in_parts(bool on) override;
 
   int node_count() const { return static_cast<int>(state_.poses.size()); }
   /// First model-wide node id of shell body `b` (its nodes are consecutive), rigid body node ids.
@@ -294,6 +298,8 @@ class MultibodyModel final : public ff::DynamicProblem {
   std::vector<std::array<int, 4>> pressure_nodes_;   // per spec_.pressures: model-wide corner node ids
   assembly::EffectCounter elastic_, inertia_, gravity_, joints_, rigid_, point_loads_, dead_pressure_stat_;
   long long assemblies_ = 0;
+  TangentParts matrix_parts_;  // who adds and holds which entries of S over ranks (built when first asked)
+  bool in_parts_ = false;      // S is assembled in parts (assemble_matrix_in_parts)
   long long hr_elements_ = 0, ans_elements_ = 0, drilling_elements_ = 0;  // elements with the term on
 };
 

@@ -6,6 +6,7 @@
 /// and the holonomic constraints Φ(q) = 0 (index 3). Derivation: core/solve/generalized_alpha.md.
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "core/solve/sparse_solver.h"
 
@@ -38,6 +39,12 @@ class DynamicProblem {
   /// B = G T(x) (generalized_alpha.md (G9)). Null when G = B. Valid after an evaluate() that
   /// returned B; same sparsity pattern as B.
   virtual const SparseMatrixD* constraint_force_directions() const { return nullptr; }
+  /// Over the ranks sharing the solvers (core/solve/distributed.md §5): `on` asks the problem to
+  /// assemble S in parts from now on (each rank its own terms, the entries several ranks add summed
+  /// over just those) and returns the positions of S's value array this rank then holds in full;
+  /// the values elsewhere are partial. r, Φ and B stay whole on every rank. `off` returns to the
+  /// whole S (and nullptr); nullptr also when the problem always assembles all of S (the default).
+  virtual const std::vector<int>* assemble_matrix_in_parts(bool on) { return nullptr; }
 };
 
 }  // namespace ff

@@ -1,5 +1,7 @@
 #include "core/solve/generalized_alpha.h"
 
+#include "core/solve/solver_ranks.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -36,6 +38,33 @@ GeneralizedAlpha::GeneralizedAlpha(DynamicProblem& problem, GeneralizedAlphaSett
   a_.setZero(n);
   lambda_.setZero(m);
   corrections_.reserve(static_cast<std::size_t>(std::max(settings_.max_iterations, 1)));
+  // over ranks each assembles and hands MUMPS its part of S (core/solve/distributed.md §5)
+  if (solver_.ranks() > 1) s_held_ = problem_.assemble_matrix_in_parts(true);
+}
+
+GeneralizedAlpha::~GeneralizedAlpha() {
+  if (s_held_) problem_.assemble_matrix_in_parts(false);
+}
+
+const Eigen::VectorXd& GeneralizedAlpha::diagonal_of_S() {
+  const int n = problem_.size();
+  if (static_cast<int>(s_diagonal_.size()) != n) {
+    std::vector<char> held;
+    if (s_held_) {
+      held.assign(static_cast<std::size_t>(S_.nonZeros()), 0);
+      for (int p : *s_held_) held[p] = 1;
+    }
+    s_diagonal_.assign(n, -1);
+    for (int i = 0; i < n; ++i) {
+      const int p = value_index(S_, i, i);
+      if (p >= 0 && (!s_held_ || held[p])) s_diagonal_[i] = p;
+    }
+  }
+  diagonal_.setZero(n);
+  for (int i = 0; i < n; ++i)
+    if (s_diagonal_[i] >= 0) diagonal_[i] = S_.valuePtr()[s_diagonal_[i]];
+  if (s_held_) sum_over_ranks(diagonal_.data(), static_cast<std::size_t>(n));  // each entry held by one rank
+  return diagonal_;
 }
 
 void GeneralizedAlpha::build_augmented_pattern() {
@@ -62,6 +91,15 @@ void GeneralizedAlpha::build_augmented_pattern() {
       b_map_.push_back(value_index(A_, n + static_cast<int>(it.row()), c));
       bt_map_.push_back(value_index(A_, c, n + static_cast<int>(it.row())));
     }
+  if (!s_held_) return;
+  // in parts: this rank hands MUMPS its held entries of S, rank 0 also the constraint rows and
+  // columns (B is whole on every rank and small)
+  std::vector<int> held;
+  held.reserve(s_held_->size() + (linear_solver_rank() == 0 ? 2 * b_map_.size() : 0));
+  for (int p : *s_held_) held.push_back(s_map_[p]);
+  if (linear_solver_rank() == 0) held.insert(held.end(), b_map_.begin(), b_map_.end()), held.insert(held.end(), bt_map_.begin(), bt_map_.end());
+  std::sort(held.begin(), held.end());
+  solver_.hold_positions_over_ranks(std::move(held));
 }
 
 // A = [S kGᵀ; kB 0] (G7), (G9) from the current S_ and B_ (and G), then its factorization
@@ -101,10 +139,11 @@ std::string GeneralizedAlpha::initialize(double t0, const Eigen::VectorXd& v0) {
   // unknowns without inertia (the drilling rotation of a 6-DoF shell node moves no mass) have no
   // initial acceleration of their own: a unit-scale diagonal gives them v̇0 = −r_i / mean(M_ii),
   // which is 0 in a stress-free reference state
+  const Eigen::VectorXd& diagonal = diagonal_of_S();
   double diag_max = 0.0, diag_sum = 0.0;
-  for (int i = 0; i < n; ++i) diag_max = std::max(diag_max, std::abs(S_.coeff(i, i))), diag_sum += std::abs(S_.coeff(i, i));
+  for (int i = 0; i < n; ++i) diag_max = std::max(diag_max, std::abs(diagonal[i])), diag_sum += std::abs(diagonal[i]);
   for (int i = 0; i < n; ++i)
-    if (std::abs(S_.coeff(i, i)) <= 1e-12 * diag_max) S_.coeffRef(i, i) = diag_sum / n;
+    if (std::abs(diagonal[i]) <= 1e-12 * diag_max) S_.coeffRef(i, i) = diag_sum / n;
   // [M Bᵀ; B 0][v̇0; λ0] = [−g; 0] with unit row scale, then the counters start from zero
   constraint_scale_ = 1.0;
   std::string why;
@@ -137,8 +176,9 @@ std::string GeneralizedAlpha::find_static_equilibrium(double t0, int& iterations
     problem_.evaluate(t0, zero_n, zero_n, lam, r, phi, &static_weights, &S_, &B_);
     if (!finite(r) || !finite(phi)) return "non-finite residual at iteration " + std::to_string(it);
     if (constraint_scale_ == 0.0) {
+      const Eigen::VectorXd& diagonal = diagonal_of_S();
       double sum = 0.0;
-      for (int i = 0; i < n; ++i) sum += std::abs(S_.coeff(i, i));
+      for (int i = 0; i < n; ++i) sum += std::abs(diagonal[i]);
       constraint_scale_ = n > 0 && sum > 0 ? sum / n : 1.0;
     }
     std::string why;
@@ -216,8 +256,9 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
     }
     if (update) {
       if (constraint_scale_ == 0.0) {  // (G7): constraint rows scaled to the mean |S_ii| of the first matrix
+        const Eigen::VectorXd& diagonal = diagonal_of_S();
         double sum = 0.0;
-        for (int i = 0; i < n; ++i) sum += std::abs(S_.coeff(i, i));
+        for (int i = 0; i < n; ++i) sum += std::abs(diagonal[i]);
         constraint_scale_ = n > 0 && sum > 0 ? sum / n : 1.0;
       }
       std::string why;

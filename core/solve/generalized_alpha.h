@@ -38,6 +38,9 @@ struct GeneralizedAlphaSettings {
 class GeneralizedAlpha {
  public:
   GeneralizedAlpha(DynamicProblem& problem, GeneralizedAlphaSettings settings);
+  ~GeneralizedAlpha();
+  GeneralizedAlpha(const GeneralizedAlpha&) = delete;
+  GeneralizedAlpha& operator=(const GeneralizedAlpha&) = delete;
 
   /// Consistent initial accelerations and multipliers at rest or with the given v (§3).
   /// Returns an empty string on success, otherwise why it failed.
@@ -76,6 +79,9 @@ class GeneralizedAlpha {
   Attempt attempt(double h, bool force_full);
   bool update_matrix(std::string& why);  // refills A from S_, B_ and factorizes it
   void build_augmented_pattern();
+  /// S's diagonal, whole on every rank also when S is held in parts (each rank's held entries,
+  /// summed over the ranks): the mass fix of initialize() and the constraint scale (G7) read it
+  const Eigen::VectorXd& diagonal_of_S();
 
   DynamicProblem& problem_;
   GeneralizedAlphaSettings settings_;
@@ -86,6 +92,11 @@ class GeneralizedAlpha {
   double matrix_h_ = 0.0;  // step size the factorized matrix was built for
   SparseMatrixD S_, B_, A_;
   std::vector<int> s_map_, b_map_, bt_map_;  // value positions of S, B, Bᵀ inside A
+  // over ranks: the positions of S this rank holds (the problem's, null when S is whole), and its
+  // diagonal's positions in S (−1 absent, or not this rank's in parts) with the buffer they fill
+  const std::vector<int>* s_held_ = nullptr;
+  std::vector<int> s_diagonal_;
+  Eigen::VectorXd diagonal_;
   SparseLinearSolver solver_;
   bool have_matrix_ = false;
   long long noi_ = 0, nou_ = 0, fallbacks_ = 0;

@@ -73,7 +73,7 @@ struct LinearFigures {
 
 /// What MUMPS's analysis alone (no factorization) estimates a factorization of a pattern needs,
 /// over the ranks sharing the solvers (solver_ranks.h): how docs/performance.md sizes models too
-/// large to factorize here (core/solve/distributed.md §4).
+/// large to factorize here (core/solve/distributed.md, "What is left" 8).
 struct FactorizationEstimate {
   int ranks = 1;
   double flops = 0.0;               ///< RINFOG(1): floating-point operations of the elimination
