@@ -6,8 +6,9 @@
 /// With MUMPS's MPI build (configure FLEXFRAME_MUMPS=mpi) a program started on K ranks may call
 /// share_linear_solvers_over_world(): from then on every SparseLinearSolver with the mumps backend
 /// factorizes over all K ranks. The design is SPMD with a replicated model (core/solve/distributed.md):
-/// every rank builds the same model and makes the same sequence of solver calls; each hands MUMPS
-/// its own slice of the matrix's entries (distributed input, no gather on one rank); the solution
+/// every rank builds the same model and makes the same sequence of solver calls; each assembles
+/// its part of the matrix and hands MUMPS the entries it holds (distributed input, no gather on one
+/// rank; tangent_parts.h); the solution
 /// is computed on rank 0 and broadcast, so every rank takes the same Newton update and stays in step.
 /// Only the MPI C API is used, and only in solver_ranks.cpp and sparse_solver.cpp.
 
@@ -47,7 +48,8 @@ void broadcast_from_first_rank(int* values, int n);
 
 /// Sums `n` doubles over the ranks sharing the solvers, in place, the same result on every rank
 /// (MPI_Allreduce; no-op when alone). The element loops of a model shared over ranks evaluate
-/// each rank's share of the elements and sum their contributions with it (distributed.md §2).
+/// each rank's share of the elements and sum their residuals with it (distributed.md §2), and the
+/// interface entries of a matrix in parts (§5).
 void sum_over_ranks(double* values, std::size_t n);
 
 /// The largest of one value over the ranks, and the smallest, the same on every rank (no-op alone):

@@ -272,9 +272,10 @@ class CholmodImpl final : public SparseLinearSolver::Impl {
 // One MUMPS instance of one symmetry type: SYM = 0, multifrontal LU, or SYM = 2, LDLᵀ with
 // pivoting for symmetric indefinite matrices (a tangent past a limit point is indefinite), on the
 // lower triangle only: about half the flops and memory of LU. With MUMPS's MPI build and the
-// solvers shared over the world (solver_ranks.h), the instance spans every rank: each holds the
-// whole matrix (the model is replicated) and hands MUMPS only its slice of the entries
-// (ICNTL(18) = 3); the right-hand side is read on rank 0 and the solution broadcast from it.
+// solvers shared over the world (solver_ranks.h), the instance spans every rank and each hands
+// MUMPS entries of its own (ICNTL(18) = 3): those it holds when the matrix was assembled in parts
+// (distributed.md §5), else an equal slice of the whole matrix it holds; the right-hand side is
+// read on rank 0 and the solution broadcast from it.
 class MumpsInstance {
  public:
   explicit MumpsInstance(int sym) {
@@ -698,21 +699,25 @@ LinearStatus SparseLinearSolver::hold_positions_over_ranks(std::vector<int> posi
 }
 
 // what hold_positions_over_ranks asks of the list, against the analyzed pattern: every check that
-// reads a value and its mirror (symmetry, the symmetric part) must find both on this rank
+// reads a value and its mirror (symmetry, the symmetric part) must find both on this rank. The
+// verdict is every rank's (a rank that stopped here alone would leave the others in a shared call)
 LinearStatus SparseLinearSolver::check_held_positions() const {
   if (held_.empty()) return {};
+  int fault = 0;  // 1: not ascending positions of the pattern, 2: a mirror not held
   std::vector<char> held(mirror_.size(), 0);
-  for (std::size_t q = 0; q < held_.size(); ++q) {
+  for (std::size_t q = 0; q < held_.size() && !fault; ++q) {
     const int p = held_[q];
-    if (p < 0 || p >= static_cast<int>(mirror_.size()) || (q > 0 && p <= held_[q - 1]))
-      return fail(Code::invalid_input, -1, "held positions must be ascending positions of the pattern's values");
-    held[p] = 1;
+    if (p < 0 || p >= static_cast<int>(mirror_.size()) || (q > 0 && p <= held_[q - 1])) fault = 1;
+    else held[p] = 1;
   }
-  for (const int p : held_)
-    if (mirror_[p] < 0 || !held[mirror_[p]])
-      return fail(Code::invalid_input, -1,
-                  "a matrix held in parts over ranks needs each held entry's mirror held too, in a structurally "
-                  "symmetric pattern");
+  for (std::size_t q = 0; q < held_.size() && !fault; ++q)
+    if (mirror_[held_[q]] < 0 || !held[mirror_[held_[q]]]) fault = 2;
+  fault = -smallest_over_ranks(-fault);  // the worst over the ranks
+  if (fault == 1) return fail(Code::invalid_input, -1, "held positions must be ascending positions of the pattern's values");
+  if (fault == 2)
+    return fail(Code::invalid_input, -1,
+                "a matrix held in parts over ranks needs each held entry's mirror held too, in a structurally "
+                "symmetric pattern");
   return {};
 }
 
