@@ -334,12 +334,19 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
   if (tangent && in_parts_) matrix_parts_.sum_shared(as.values);  // distributed.md (D4)
 }
 
+// (D1): METIS's parts of the mesh over the ranks sharing the solvers, made when first needed there
+const ElementShare& MultibodyModel::element_share() {
+  if (element_share_.ranks() != linear_solver_ranks())
+    element_share_ = ElementShare(elements_.connectivity(), node_count(), linear_solver_rank(), linear_solver_ranks());
+  return element_share_;
+}
+
 const std::vector<int>* MultibodyModel::assemble_matrix_in_parts(bool on) {
   in_parts_ = on && linear_solver_ranks() > 1;
   if (!in_parts_) return nullptr;
   if (!matrix_parts_.built()) {
     const int nn = node_count();
-    matrix_parts_ = TangentParts(static_cast<int>(pattern_.pattern().nonZeros()), nn, elements_.size());
+    matrix_parts_ = TangentParts(static_cast<int>(pattern_.pattern().nonZeros()), nn, element_share());
     for (int k = 0; k < elements_.size(); ++k)
       matrix_parts_.add_element(k, scatter_[k].data(), 576, elements_[k].nodes.data(), 4);
     for (int I = 0; I < nn; ++I) matrix_parts_.add_node(I, pattern_.node_scatter(dofs_, I).data(), 36);
@@ -378,8 +385,9 @@ void MultibodyModel::shell_element_term(Assembly& as) {
   const bool gravity = spec_.gravity;
   // over MPI ranks each evaluates its share of the elements and the sums are added up below
   // (core/solve/distributed.md §2); alone, the share is every element
-  const RankShare share = rank_share(ne);
-  elements_.for_each_in(threads_, share.begin, share.end, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
+  const ElementShare& share = element_share();
+  const std::vector<int>& mine = share.mine(ne);
+  elements_.for_each_of(threads_, mine, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       ElementRates vel, acc;
       for (int c = 0; c < 4; ++c) {
@@ -428,14 +436,15 @@ void MultibodyModel::shell_element_term(Assembly& as) {
   });
   // this rank's timed elements, scaled to all elements (its own share's time, on more than one rank)
   int timed_count = 0;
-  for (int k = (share.begin + timing_stride - 1) / timing_stride * timing_stride; k < share.end; k += timing_stride)
-    t_el += timed_seconds_[k / timing_stride][0], t_in += timed_seconds_[k / timing_stride][1], ++timed_count;
-  const double scale = timed_count > 0 ? static_cast<double>(share.end - share.begin) / timed_count : 0.0;
+  for (const int k : mine)
+    if (k % timing_stride == 0)
+      t_el += timed_seconds_[k / timing_stride][0], t_in += timed_seconds_[k / timing_stride][1], ++timed_count;
+  const double scale = timed_count > 0 ? static_cast<double>(mine.size()) / timed_count : 0.0;
   elastic_.evaluations += ne, elastic_.seconds += scale * t_el;
   ++assemblies_;
   inertia_.evaluations += ne, inertia_.seconds += scale * t_in;
   if (gravity) gravity_.evaluations += ne;
-  for (int k = share.begin; k < share.end; ++k) {
+  for (const int k : mine) {
     const ShellElement& e = elements_[k];
     Vec24 F = results_[k].r;
     if (!e.plain)
@@ -465,7 +474,7 @@ void MultibodyModel::shell_element_term(Assembly& as) {
         if (p >= 0) values[p] += Ke(i, j);
       }
   }
-  if (share.end - share.begin < ne) {  // the other ranks' elements: every rank gets the sums
+  if (share.shared()) {  // the other ranks' elements: every rank gets the sums
     sum_over_ranks(r.data(), static_cast<std::size_t>(r.size()));
     // in parts, only the interface entries, once every term is in (evaluate)
     if (tangent && !in_parts_) sum_over_ranks(values, static_cast<std::size_t>(as.S->nonZeros()));

@@ -298,6 +298,8 @@ class MultibodyModel final : public ff::DynamicProblem {
   std::vector<std::array<int, 4>> pressure_nodes_;   // per spec_.pressures: model-wide corner node ids
   assembly::EffectCounter elastic_, inertia_, gravity_, joints_, rigid_, point_loads_, dead_pressure_stat_;
   long long assemblies_ = 0;
+  ElementShare element_share_;  // the elements this rank evaluates (element_share())
+  const ElementShare& element_share();
   TangentParts matrix_parts_;  // who adds and holds which entries of S over ranks (built when first asked)
   bool in_parts_ = false;      // S is assembled in parts (assemble_matrix_in_parts)
   long long hr_elements_ = 0, ans_elements_ = 0, drilling_elements_ = 0;  // elements with the term on

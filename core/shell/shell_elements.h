@@ -78,19 +78,32 @@ class ShellElements {
   /// writes only element k's own buffers; the caller sums them afterwards in element order.
   template <class Kernel>
   void for_each(const assembly::ElementThreads& threads, const std::vector<NodePose>& X_WN, Kernel&& kernel) const {
-    for_each_in(threads, 0, size(), X_WN, std::forward<Kernel>(kernel));
-  }
-  /// The same for the elements [first, last) only (a rank's share, core/solve/solver_ranks.h).
-  template <class Kernel>
-  void for_each_in(const assembly::ElementThreads& threads, int first, int last, const std::vector<NodePose>& X_WN,
-                   Kernel&& kernel) const {
-    assembly::for_each_chunk(threads, last - first, [&](int begin, int end) {
+    assembly::for_each_chunk(threads, size(), [&](int begin, int end) {
       ElementPoses cur;
-      for (int k = first + begin; k < first + end; ++k) {
+      for (int k = begin; k < end; ++k) {
         corner_poses(elements_[k], X_WN, cur);
         kernel(k, elements_[k], cur);
       }
     });
+  }
+  /// The same for the elements listed only (a rank's share, core/solve/tangent_parts.h ElementShare).
+  template <class Kernel>
+  void for_each_of(const assembly::ElementThreads& threads, const std::vector<int>& listed,
+                   const std::vector<NodePose>& X_WN, Kernel&& kernel) const {
+    assembly::for_each_chunk(threads, static_cast<int>(listed.size()), [&](int begin, int end) {
+      ElementPoses cur;
+      for (int q = begin; q < end; ++q) {
+        const int k = listed[q];
+        corner_poses(elements_[k], X_WN, cur);
+        kernel(k, elements_[k], cur);
+      }
+    });
+  }
+  /// The nodes of every element, in element order (for a partition of the mesh).
+  std::vector<std::array<int, 4>> connectivity() const {
+    std::vector<std::array<int, 4>> out(elements_.size());
+    for (std::size_t k = 0; k < elements_.size(); ++k) out[k] = elements_[k].nodes;
+    return out;
   }
 
  private:

@@ -438,12 +438,20 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   if (K && in_parts_) tangent_parts_.sum_shared(a.values);  // distributed.md (D4)
 }
 
+// (D1): METIS's parts of the mesh over the ranks sharing the solvers, made when first needed there
+const ElementShare& ShellModel::element_share() {
+  if (element_share_.ranks() != linear_solver_ranks())
+    element_share_ = ElementShare(elements_.connectivity(), static_cast<int>(state_.poses.size()), linear_solver_rank(),
+                                  linear_solver_ranks());
+  return element_share_;
+}
+
 const std::vector<int>* ShellModel::assemble_tangent_in_parts(bool on) {
   in_parts_ = on && linear_solver_ranks() > 1;
   if (!in_parts_) return nullptr;
   if (!tangent_parts_.built()) {
     const int nn = static_cast<int>(state_.poses.size());
-    tangent_parts_ = TangentParts(static_cast<int>(pattern_.pattern().nonZeros()), nn, elements_.size());
+    tangent_parts_ = TangentParts(static_cast<int>(pattern_.pattern().nonZeros()), nn, element_share());
     for (int k = 0; k < elements_.size(); ++k)
       tangent_parts_.add_element(k, scatter_[k].data(), 576, elements_[k].nodes.data(), 4);
     for (int I = 0; I < nn; ++I) tangent_parts_.add_node(I, node_scatter_[I].data(), 36);
@@ -465,8 +473,9 @@ void ShellModel::elastic_term(Assembly& a) {
   std::fill(node_force.begin(), node_force.end(), Vec6::Zero());
   // over MPI ranks each evaluates its share of the elements and the sums are added up below
   // (core/solve/distributed.md §2); alone, the share is every element
-  const RankShare share = rank_share(elements_.size());
-  elements_.for_each_in(threads_, share.begin, share.end, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
+  const ElementShare& share = element_share();
+  const std::vector<int>& mine = share.mine(elements_.size());
+  elements_.for_each_of(threads_, mine, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       const bool tangent = K || (prescribed_load && element_prescribed_[k]);
       e.elastic->evaluate(cur, work_.element_force[k], tangent ? &work_.element_tangent[k] : nullptr);
@@ -475,7 +484,7 @@ void ShellModel::elastic_term(Assembly& a) {
       to_solver_rows(e, work_.element_tangent[k]);
     }
   });
-  for (int k = share.begin; k < share.end; ++k) {
+  for (const int k : mine) {
     const ShellElement& e = elements_[k];
     const Vec24& F = work_.element_force[k];
     for (int c = 0; c < 4; ++c) {  // node-local from corner-local: blockdiag(C, C)
@@ -496,7 +505,7 @@ void ShellModel::elastic_term(Assembly& a) {
         if (v >= 0) values[v] += Ke(r, s);
       }
   }
-  if (share.end - share.begin < elements_.size()) {  // the other ranks' elements: every rank gets the sums
+  if (share.shared()) {  // the other ranks' elements: every rank gets the sums
     sum_over_ranks(node_force.data()->data(), 6 * node_force.size());
     // in parts, only the interface entries, once every term is in (evaluate)
     if (K && !in_parts_) sum_over_ranks(values, static_cast<std::size_t>(K->nonZeros()));
@@ -662,14 +671,14 @@ void ShellModel::pressure_term(Assembly& a, bool follower) {
     }
     if (!with_stiffness) return;
     const std::array<int, 576>& idx = scatter_[pl.quad];
-    const bool adds_element_tangent = !in_parts_ || tangent_parts_.adds_element(pl.quad);  // in parts: its rank's
+    const bool adds_stiffness = adds_element_tangent(pl.quad);  // in parts: its rank's
     for (int c = 0; c < 4; ++c)
       for (int d = 0; d < 4; ++d) {
         const Mat3 b = block_uu(q[c], dfdx[4 * c + d], q[d]);
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) {
             if (prescribed_load) add_prescribed_load(a, q[c], i, q[d], j, -lambda * b(i, j));
-            const int v = K && adds_element_tangent ? idx[(6 * c + i) * 24 + 6 * d + j] : -1;
+            const int v = K && adds_stiffness ? idx[(6 * c + i) * 24 + 6 * d + j] : -1;
             if (v >= 0) values[v] -= lambda * b(i, j);
           }
       }

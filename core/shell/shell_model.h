@@ -237,9 +237,12 @@ class ShellModel final : public ff::StaticProblem {
   assembly::EffectCounter elastic_, point_loads_, dead_pressure_stat_, follower_pressure_stat_;
   long long dead_pressures_ = 0, follower_pressures_ = 0;  // loaded quads of each kind
   long long assemblies_ = 0;  // hr / ans / drilling ran in every element of every assembly
+  ElementShare element_share_;  // the elements this rank evaluates (element_share())
   TangentParts tangent_parts_;  // who adds and holds which entries over ranks (built when first asked)
   bool in_parts_ = false;       // the tangent is assembled in parts (assemble_tangent_in_parts)
   bool adds_node_tangent(int I) const { return !in_parts_ || tangent_parts_.adds_node(I); }
+  bool adds_element_tangent(int k) const { return !in_parts_ || element_share_.rank_of(k) == element_share_.rank(); }
+  const ElementShare& element_share();
   void build_pattern();
   void build_node_bases(std::vector<unsigned>& fixed);
   // one assembly's inputs and outputs, handed to each term

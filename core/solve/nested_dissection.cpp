@@ -154,4 +154,29 @@ std::vector<int> nested_dissection_positions(const Eigen::SparseMatrix<double>& 
   return position;
 }
 
+std::vector<int> partition_mesh_elements(const std::vector<std::array<int, 4>>& elements, int nodes, int parts) {
+  const int count = static_cast<int>(elements.size());
+  if (parts < 1 || parts > count) return {};
+  if (parts == 1) return std::vector<int>(count, 0);
+  std::vector<idx_t> eptr(count + 1, 0), eind;
+  eind.reserve(4 * elements.size());
+  for (int k = 0; k < count; ++k) {
+    for (int c = 0; c < 4; ++c) {
+      const int I = elements[k][c];
+      if (std::find(eind.begin() + eptr[k], eind.end(), I) == eind.end()) eind.push_back(I);
+    }
+    eptr[k + 1] = static_cast<idx_t>(eind.size());
+  }
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_NUMBERING] = 0;
+  options[METIS_OPTION_SEED] = 1;  // the same parts on every rank
+  idx_t ne = count, nn = nodes, common = 2, nparts = parts, cut = 0;
+  std::vector<idx_t> epart(count), npart(nodes);
+  if (METIS_PartMeshDual(&ne, &nn, eptr.data(), eind.data(), nullptr, nullptr, &common, &nparts, nullptr, options, &cut,
+                         epart.data(), npart.data()) != METIS_OK)
+    return {};
+  return std::vector<int>(epart.begin(), epart.end());
+}
+
 }  // namespace ff

@@ -9,6 +9,7 @@
 /// Shell matrices come in node blocks (5 or 6 unknowns with identical columns): the graph METIS
 /// orders is the quotient graph of those blocks ("supervariables", columns with identical
 /// patterns), so it is 5-6× smaller and the unknowns of one node stay together in the order.
+#include <array>
 #include <vector>
 
 #include <Eigen/SparseCore>
@@ -24,5 +25,13 @@ std::vector<int> nested_dissection_positions(const Eigen::SparseMatrix<double>& 
 /// Columns of `a + aᵀ` (with the diagonal) grouped by identical pattern: group[i] is unknown i's
 /// supervariable, numbered 0.. in order of first appearance; returns the number of groups.
 int supervariables(const Eigen::SparseMatrix<double>& a, std::vector<int>& group);
+
+/// METIS's partition of a mesh's elements into `parts` compact parts of nearly equal size
+/// (METIS_PartMeshDual: the dual graph, elements adjacent when they share an edge, cut as little as
+/// it can): part[k] of element k, from 0. `elements` lists each element's nodes (a repeated node, a
+/// triangle stored as a degenerate quad, counts once). Empty when METIS fails or `parts` exceeds
+/// the elements (the caller then shares by index). Deterministic: the same input gives the same
+/// parts in every process (a fixed seed), which the ranks that compute it each rely on.
+std::vector<int> partition_mesh_elements(const std::vector<std::array<int, 4>>& elements, int nodes, int parts);
 
 }  // namespace ff

@@ -172,12 +172,4 @@ RankShare rank_share(int count, int rank, int ranks) {
   return {static_cast<int>(c * rank / ranks), static_cast<int>(c * (rank + 1) / ranks)};
 }
 
-int rank_of_share_item(int item, int count, int ranks) {
-  // the largest r whose share begins at or before the item
-  int r = static_cast<int>(static_cast<long long>(item) * ranks / std::max(1, count));
-  while (r + 1 < ranks && rank_share(count, r + 1, ranks).begin <= item) ++r;
-  while (r > 0 && rank_share(count, r, ranks).begin > item) --r;
-  return r;
-}
-
 }  // namespace ff

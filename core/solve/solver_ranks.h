@@ -65,8 +65,6 @@ struct RankShare {
 RankShare rank_share(int count);
 /// The same for rank `rank` of `ranks`.
 RankShare rank_share(int count, int rank, int ranks);
-/// The rank of `ranks` whose share holds item `item` of `count`.
-int rank_of_share_item(int item, int count, int ranks);
 
 /// Ends every rank at once with exit code `code` (MPI_Abort): rank 0 calls it when it stops early,
 /// since the other ranks may wait in a collective call for it. Returns when alone.

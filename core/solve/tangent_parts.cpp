@@ -1,5 +1,7 @@
 #include "core/solve/tangent_parts.h"
 
+#include "core/solve/nested_dissection.h"
+
 #include <algorithm>
 #include <limits>
 
@@ -9,11 +11,33 @@ namespace {
 constexpr int kNone = std::numeric_limits<int>::max();
 }
 
-TangentParts::TangentParts(int nonzeros, int nodes, int elements, int rank, int ranks)
-    : me_(rank),
-      ranks_(ranks),
-      elements_(elements),
-      share_(rank_share(elements, rank, ranks)),
+ElementShare::ElementShare(const std::vector<std::array<int, 4>>& elements, int nodes, int rank, int ranks)
+    : rank_(rank), ranks_(ranks) {
+  if (ranks_ < 2) return;
+  rank_of_ = partition_mesh_elements(elements, nodes, ranks_);
+  if (rank_of_.empty()) {  // fewer elements than ranks, or METIS failed: index ranges
+    const int count = static_cast<int>(elements.size());
+    rank_of_.resize(count);
+    for (int r = 0; r < ranks_; ++r) {
+      const RankShare s = rank_share(count, r, ranks_);
+      for (int k = s.begin; k < s.end; ++k) rank_of_[k] = r;
+    }
+  }
+  for (int k = 0; k < static_cast<int>(rank_of_.size()); ++k)
+    if (rank_of_[k] == rank_) mine_.push_back(k);
+}
+
+const std::vector<int>& ElementShare::mine(int count) const {
+  if (!shared() && static_cast<int>(mine_.size()) != count) {
+    mine_.resize(count);
+    for (int k = 0; k < count; ++k) mine_[k] = k;
+  }
+  return mine_;
+}
+
+TangentParts::TangentParts(int nonzeros, int nodes, const ElementShare& share)
+    : me_(share.rank()),
+      share_(&share),
       lowest_(nonzeros, kNone),
       highest_(nonzeros, -1),
       node_rank_(nodes, kNone),
@@ -26,7 +50,7 @@ void TangentParts::touch(int position, int rank) {
 
 // distributed.md (D1): element k is added by the rank whose share holds it
 void TangentParts::add_element(int k, const int* positions, int count, const int* nodes, int node_count) {
-  const int rank = rank_of_share_item(k, elements_, ranks_);
+  const int rank = share_->rank_of(k);
   for (int q = 0; q < count; ++q)
     if (positions[q] >= 0) touch(positions[q], rank);
   for (int c = 0; c < node_count; ++c) node_rank_[nodes[c]] = std::min(node_rank_[nodes[c]], rank);
@@ -59,6 +83,7 @@ void TangentParts::finish() {
   std::vector<int>().swap(lowest_);
   std::vector<int>().swap(highest_);
   std::vector<int>().swap(node_rank_);
+  share_ = nullptr;
   built_ = true;
 }
 

@@ -2,7 +2,8 @@
 // eqs. D1-D4), with the ranks simulated in one process: each simulated rank adds what its layout
 // says it adds, the shared entries are summed over the ranks, and every rank must then hold the
 // whole assembly's value at each position it hands the solver, the held lists covering every
-// position once. The shares here are uneven (5 ranks over 42 elements) and one node has no element.
+// position once. 5 ranks over 42 elements (METIS's parts), and one node has no element. And the
+// element shares: every element one rank's, compact parts whatever the element order.
 #include <gtest/gtest.h>
 
 #include <Eigen/SparseCore>
@@ -18,20 +19,6 @@
 #include "core/solve/tangent_parts.h"
 
 using namespace ff;
-
-TEST(TangentParts, RankOfAnItemIsTheRankWhoseShareHoldsIt) {
-  for (int ranks = 1; ranks <= 7; ++ranks)
-    for (int count = 0; count <= 40; ++count) {
-      int covered = 0;
-      for (int r = 0; r < ranks; ++r) {
-        const RankShare s = rank_share(count, r, ranks);
-        EXPECT_EQ(s.begin, covered);  // contiguous, in rank order
-        for (int k = s.begin; k < s.end; ++k) EXPECT_EQ(rank_of_share_item(k, count, ranks), r) << count << " " << ranks;
-        covered = s.end;
-      }
-      EXPECT_EQ(covered, count);
-    }
-}
 
 namespace {
 
@@ -59,8 +46,9 @@ struct Grid {
     for (int I = 0; I < nodes; ++I) node_scatter.push_back(pattern.node_scatter(dofs, I));
   }
   int nonzeros() const { return static_cast<int>(pattern.pattern().nonZeros()); }
-  TangentParts layout(int rank, int ranks) const {
-    TangentParts parts(nonzeros(), nodes, static_cast<int>(quads.size()), rank, ranks);
+  ElementShare share(int rank, int ranks) const { return ElementShare(quads, nodes, rank, ranks); }
+  TangentParts layout(const ElementShare& share) const {
+    TangentParts parts(nonzeros(), nodes, share);
     for (std::size_t k = 0; k < quads.size(); ++k)
       parts.add_element(static_cast<int>(k), element_scatter[k].data(), 576, quads[k].data(), 4);
     for (int I = 0; I < nodes; ++I) parts.add_node(I, node_scatter[I].data(), 36);
@@ -93,14 +81,16 @@ TEST(TangentParts, EachRankHoldsTheWholeValueOfItsPositionsAndTheRanksHoldEachPo
       if (grid.node_scatter[I][q] >= 0) whole[grid.node_scatter[I][q]] += node_values[I][q];
 
   // each rank its part (D1, D2), then the shared entries summed over the ranks (D4)
+  std::vector<ElementShare> shares;
   std::vector<TangentParts> layouts;
   std::vector<std::vector<double>> part(ranks, std::vector<double>(nnz, 0.0));
   std::vector<int> adders(nnz, 0);
+  for (int r = 0; r < ranks; ++r) shares.push_back(grid.share(r, ranks));
   for (int r = 0; r < ranks; ++r) {
-    layouts.push_back(grid.layout(r, ranks));
+    layouts.push_back(grid.layout(shares[r]));
     std::vector<char> added(nnz, 0);
     for (std::size_t k = 0; k < grid.quads.size(); ++k)
-      if (layouts[r].adds_element(static_cast<int>(k)))
+      if (shares[r].rank_of(static_cast<int>(k)) == r)
         for (int q = 0; q < 576; ++q)
           if (const int p = grid.element_scatter[k][q]; p >= 0) part[r][p] += element_values[k][q], added[p] = 1;
     for (int I = 0; I < grid.nodes; ++I)
@@ -150,7 +140,9 @@ TEST(TangentParts, EachRankHoldsTheWholeValueOfItsPositionsAndTheRanksHoldEachPo
 
 TEST(TangentParts, OneRankHoldsEverythingAndSharesNothing) {
   const Grid grid;
-  const TangentParts alone = grid.layout(0, 1);
+  const ElementShare one = grid.share(0, 1);
+  const TangentParts alone = grid.layout(one);
+  EXPECT_EQ(one.mine(static_cast<int>(grid.quads.size())).size(), grid.quads.size());
   EXPECT_EQ(static_cast<int>(alone.held().size()), grid.nonzeros());
   EXPECT_TRUE(alone.shared().empty());
 }
@@ -162,4 +154,46 @@ TEST(TangentParts, ASolverOfOneProcessRefusesAMatrixInParts) {
   const LinearStatus s = solver.hold_positions_over_ranks({0, 1, 2});
   EXPECT_EQ(s.code, LinearStatus::Code::invalid_input);
   EXPECT_TRUE(solver.hold_positions_over_ranks({}).ok());
+}
+
+namespace {
+// positions two or more ranks add to, over `ranks` shares of a grid whose quads come in `order`
+double interface_fraction(int ranks, bool shuffled) {
+  Grid grid;
+  if (shuffled) {  // a mesh file's order: no locality at all
+    std::mt19937 g(5);
+    std::shuffle(grid.quads.begin(), grid.quads.end(), g);
+    grid.element_scatter.clear();
+    for (const auto& q : grid.quads) grid.element_scatter.push_back(grid.pattern.element_scatter(grid.dofs, q));
+  }
+  const ElementShare share = grid.share(0, ranks);
+  return static_cast<double>(grid.layout(share).shared().size()) / grid.nonzeros();
+}
+}  // namespace
+
+TEST(TangentParts, ElementSharesAreBalancedAndCompactWhateverTheElementOrder) {
+  const Grid grid;
+  const int count = static_cast<int>(grid.quads.size());
+  for (int ranks : {2, 3, 5}) {
+    std::vector<int> size(ranks, 0);
+    std::vector<char> seen(count, 0);
+    for (int r = 0; r < ranks; ++r) {
+      const ElementShare share = grid.share(r, ranks);
+      for (int k : share.mine(count)) {
+        EXPECT_EQ(share.rank_of(k), r);
+        EXPECT_FALSE(seen[k]) << "element " << k << " in two shares";
+        seen[k] = 1;
+        ++size[r];
+      }
+    }
+    for (int k = 0; k < count; ++k) EXPECT_TRUE(seen[k]) << "element " << k << " in no share";
+    for (int r = 0; r < ranks; ++r) EXPECT_NEAR(size[r], static_cast<double>(count) / ranks, 0.15 * count / ranks + 1) << ranks;
+  }
+  // METIS's parts of a shuffled grid are as compact as of the ordered one: contiguous index ranges
+  // of the shuffled order would put most entries on the interface
+  for (int ranks : {2, 5}) {
+    const double ordered = interface_fraction(ranks, false), shuffled = interface_fraction(ranks, true);
+    EXPECT_LT(shuffled, 0.45) << ranks << " ranks";
+    EXPECT_LT(shuffled, 1.5 * ordered + 0.02) << ranks << " ranks";
+  }
 }
