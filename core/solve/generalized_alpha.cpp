@@ -97,7 +97,10 @@ void GeneralizedAlpha::build_augmented_pattern() {
   std::vector<int> held;
   held.reserve(s_held_->size() + (linear_solver_rank() == 0 ? 2 * b_map_.size() : 0));
   for (int p : *s_held_) held.push_back(s_map_[p]);
-  if (linear_solver_rank() == 0) held.insert(held.end(), b_map_.begin(), b_map_.end()), held.insert(held.end(), bt_map_.begin(), bt_map_.end());
+  if (linear_solver_rank() == 0) {
+    held.insert(held.end(), b_map_.begin(), b_map_.end());
+    held.insert(held.end(), bt_map_.begin(), bt_map_.end());
+  }
   std::sort(held.begin(), held.end());
   solver_.hold_positions_over_ranks(std::move(held));
 }

@@ -675,13 +675,13 @@ LinearStatus SparseLinearSolver::analyze(const SparseMatrixD& pattern) {
   if (pattern.rows() != pattern.cols() || pattern.rows() == 0)
     return fail(Code::invalid_input, -1, "matrix must be square and non-empty");
   if (!pattern.isCompressed()) return fail(Code::invalid_input, -1, "matrix must be compressed (makeCompressed())");
+  mirror_ = mirror_positions(pattern);
+  if (LinearStatus held = check_held_positions(); !held) return held;  // before MUMPS reads the entries
   LinearStatus s = impl_->analyze(pattern);
   if (!s) return s;
   n_ = static_cast<int>(pattern.rows());
   outer_.assign(pattern.outerIndexPtr(), pattern.outerIndexPtr() + n_ + 1);
   inner_.assign(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros());
-  mirror_ = mirror_positions(pattern);
-  if (LinearStatus held = check_held_positions(); !held) return held;
   analyzed_ = true;
   ++analyses_;
   return s;

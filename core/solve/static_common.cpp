@@ -91,7 +91,8 @@ bool stop_requested(const std::atomic<bool>* stop) { return stop && stop->load(s
 TangentInParts::TangentInParts(StaticProblem& problem, SparseLinearSolver& solver) : problem_(problem) {
   if (solver.ranks() < 2) return;
   held_ = problem_.assemble_tangent_in_parts(true);
-  if (held_ && !solver.hold_positions_over_ranks(*held_)) {  // cannot fail with ranks() > 1: whole, then
+  // refused only by a solver of one rank (excluded above); were it refused, the tangent stays whole
+  if (held_ && !solver.hold_positions_over_ranks(*held_)) {
     problem_.assemble_tangent_in_parts(false);
     held_ = nullptr;
   }
