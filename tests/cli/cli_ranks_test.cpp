@@ -153,7 +153,7 @@ void expect_two_ranks_run_the_model_of_one(const std::vector<std::string>& args,
   ASSERT_TRUE(h2) << err;
   EXPECT_EQ(h2->outcome().status, RunStatus::completed) << h2->outcome().reason;
   ASSERT_EQ(h1->frame_count(), h2->frame_count());
-  ASSERT_GT(h1->frame_count(), 2u);
+  ASSERT_GE(h1->frame_count(), 2u);  // the reference state and a computed one at least
   // against the run's largest displacement: a vibration passes through frames of almost none
   std::vector<double> differences;
   double scale = 0.0;
@@ -176,10 +176,13 @@ void expect_two_ranks_run_the_model_of_one(const std::vector<std::string>& args,
 
 // A static shell path (arc-length, LDLᵀ and LU factorizations) run on one process and on two ranks,
 // each rank assembling its part of the tangent (core/solve/distributed.md §5): the same steps and
-// every frame's displacements equal to 1e-10 relative to the largest one.
+// every frame's displacements equal to 1e-10 relative to the largest one. And a plate meshed by
+// Gmsh from a .geo part, whose element order is not spatial: the ranks take METIS's parts (D1).
 TEST(CliRanks, TwoRanksRunTheModelOfOne) {
   expect_two_ranks_run_the_model_of_one(
       {"run", "hinged_roof_h127", "--no-frames", "--no-plots", "--quiet", "--set", "solver.max_steps=12"}, 1e-10);
+  expect_two_ranks_run_the_model_of_one({"run", "clamped_plate_pressure_geo", "--no-frames", "--no-plots", "--quiet"},
+                                        1e-10);
 }
 
 // Dynamics with the iteration matrix in parts (core/solve/distributed.md §5): the main job (two
