@@ -1,6 +1,7 @@
 #pragma once
 /// \file nested_dissection.h
-/// A fill-reducing ordering by METIS's nested dissection (METIS_NodeND), computed by FlexFrame
+/// FlexFrame's uses of METIS: a mesh's partition for the ranks of one model (partition_mesh_elements,
+/// below), and a fill-reducing ordering by METIS's nested dissection (METIS_NodeND), computed by FlexFrame
 /// and handed to MUMPS as a given ordering (ICNTL(7) = 1, PERM_IN) when FLEXFRAME_MUMPS_ORDERING=metis:
 /// Debian's sequential MUMPS is built without METIS and orders with SCOTCH otherwise, which costs
 /// 12-14 % more factorization flops on the shell plates (docs/performance.md, the last section). Not
