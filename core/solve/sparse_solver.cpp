@@ -526,7 +526,7 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
   LinearStatus analyze(const SparseMatrixD& a) override {
     lu_.forget_analysis();
     ldlt_.forget_analysis();
-    if (held_.empty()) {
+    if (!in_parts_) {
       all_.resize(a.nonZeros());
       for (int p = 0; p < a.nonZeros(); ++p) all_[p] = p;
     } else {
@@ -539,17 +539,20 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
         ++q;
         if (a.innerIndexPtr()[p] >= j) lower_.push_back(p);
       }
-    return lu_.analyze(a, all_, !held_.empty());
+    return lu_.analyze(a, all_, in_parts_);
   }
   LinearStatus factorize(const SparseMatrixD& a, bool symmetric) override {
     last_ = symmetric ? &ldlt_ : &lu_;
     const std::vector<int>& positions = symmetric ? lower_ : all_;
     if (!last_->analyzed())
-      if (LinearStatus s = last_->analyze(a, positions, !held_.empty()); !s) return s;
+      if (LinearStatus s = last_->analyze(a, positions, in_parts_); !s) return s;
     return last_->factorize(a, positions);
   }
   int ranks() const override { return lu_.ranks(); }
-  void hold_positions(const std::vector<int>& positions) override { held_ = positions; }
+  void hold_positions(const std::vector<int>& positions) override {
+    in_parts_ = true;
+    held_ = positions;
+  }
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override { return last_ && last_->solve(b, x); }
   int determinant_sign() override { return last_ ? last_->determinant_sign() : 0; }
   bool symmetric_factorization() const override { return last_ == &ldlt_; }
@@ -559,7 +562,8 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
   MumpsInstance lu_, ldlt_;
   MumpsInstance* last_ = nullptr;
   std::vector<int> all_, lower_;  // CSC positions: every entry (this rank's), the lower triangle of them
-  std::vector<int> held_;         // the positions this rank holds over ranks (empty: all)
+  std::vector<int> held_;         // the positions this rank holds, in parts (it may hold none)
+  bool in_parts_ = false;
 };
 #endif
 
@@ -690,10 +694,11 @@ LinearStatus SparseLinearSolver::analyze(const SparseMatrixD& pattern) {
 int SparseLinearSolver::ranks() const { return impl_ ? impl_->ranks() : 1; }
 
 LinearStatus SparseLinearSolver::hold_positions_over_ranks(std::vector<int> positions) {
-  if (!positions.empty() && ranks() == 1)
+  if (ranks() == 1)
     return fail(Code::invalid_input, -1, "a matrix held in parts needs a solver shared over ranks (solver_ranks.h)");
   held_ = std::move(positions);
-  if (impl_) impl_->hold_positions(held_);
+  in_parts_ = true;
+  impl_->hold_positions(held_);
   analyzed_ = factorized_ = false;  // the next factorize() analyzes the held entries
   return {};
 }
@@ -702,7 +707,7 @@ LinearStatus SparseLinearSolver::hold_positions_over_ranks(std::vector<int> posi
 // reads a value and its mirror (symmetry, the symmetric part) must find both on this rank. The
 // verdict is every rank's (a rank that stopped here alone would leave the others in a shared call)
 LinearStatus SparseLinearSolver::check_held_positions() const {
-  if (held_.empty()) return {};
+  if (!in_parts_) return {};
   int fault = 0;  // 1: not ascending positions of the pattern, 2: a mirror not held
   std::vector<char> held(mirror_.size(), 0);
   for (std::size_t q = 0; q < held_.size() && !fault; ++q) {
@@ -724,7 +729,7 @@ LinearStatus SparseLinearSolver::check_held_positions() const {
 int SparseLinearSolver::first_non_finite_column(const SparseMatrixD& k) const {
   int first = std::numeric_limits<int>::max();
   const double* v = k.valuePtr();
-  if (held_.empty()) {
+  if (!in_parts_) {
     for (int j = 0; j < k.outerSize() && first > j; ++j)
       for (int p = k.outerIndexPtr()[j]; p < k.outerIndexPtr()[j + 1]; ++p)
         if (!std::isfinite(v[p])) {
@@ -751,7 +756,7 @@ LinearStatus SparseLinearSolver::factorize_symmetric_part(SparseMatrixD& k) {
   const bool analyzed_pattern = same_pattern(k);
   const std::vector<int> fresh = analyzed_pattern ? std::vector<int>{} : mirror_positions(k);  // a new pattern's
   const std::vector<int>& mirror = analyzed_pattern ? mirror_ : fresh;
-  if (!held_.empty()) {  // only this rank's entries, whose mirrors it holds (check_held_positions)
+  if (in_parts_) {  // only this rank's entries, whose mirrors it holds (check_held_positions)
     if (!analyzed_pattern)
       if (LinearStatus s = analyze(k); !s) return s;
     double* v = k.valuePtr();
@@ -803,7 +808,7 @@ LinearStatus SparseLinearSolver::factorize_values(const SparseMatrixD& k, bool k
 int SparseLinearSolver::first_asymmetric_column(const SparseMatrixD& k, double relative_bound, bool any) const {
   const double* v = k.valuePtr();
   double largest = 0.0;
-  if (held_.empty()) {
+  if (!in_parts_) {
     for (int p = 0; p < k.nonZeros(); ++p) largest = std::max(largest, std::abs(v[p]));
   } else {
     for (const int p : held_) largest = std::max(largest, std::abs(v[p]));
@@ -817,7 +822,7 @@ int SparseLinearSolver::first_asymmetric_column(const SparseMatrixD& k, double r
     first = std::min(first, std::min(j, inner_[p]));
     return any;  // enough to tell that K ≠ Kᵀ
   };
-  if (held_.empty()) {
+  if (!in_parts_) {
     for (int j = 0; j < n_; ++j)
       for (int p = outer_[j]; p < outer_[j + 1]; ++p)
         if (differs(j, p)) return first;

@@ -120,11 +120,11 @@ class SparseLinearSolver {
   /// (j, i) of each of its entries (i, j), and the pattern must be structurally symmetric; the
   /// values at other positions are never read. The checks that read values (non-finite entries,
   /// the symmetry that picks LDLᵀ) are made over this rank's positions and reduced over the ranks,
-  /// so every rank takes the same decision. Empty: every rank holds the whole matrix (the default).
-  /// invalid_input when ranks() is 1 and the list is not empty.
+  /// so every rank takes the same decision. A rank may hold no entry (a small model over many
+  /// ranks). invalid_input when ranks() is 1.
   LinearStatus hold_positions_over_ranks(std::vector<int> positions);
-  /// The positions held (empty: all of them).
-  const std::vector<int>& held_positions() const { return held_; }
+  /// The matrix is held in parts (hold_positions_over_ranks succeeded).
+  bool held_in_parts() const { return in_parts_; }
 
   /// Sign of det K for the last factorization: +1 or −1, 0 when singular or not factorized. Its
   /// change along a load path marks a limit or bifurcation point (static_solvers.md §4.4). O(n).
@@ -160,7 +160,8 @@ class SparseLinearSolver {
   int analyses_ = 0, factorizations_ = 0;
   std::vector<int> outer_, inner_;  // analyzed pattern
   std::vector<int> mirror_;         // CSC position of (j, i) for each (i, j), −1 when absent
-  std::vector<int> held_;           // hold_positions_over_ranks (empty: the whole matrix)
+  std::vector<int> held_;           // hold_positions_over_ranks, when in_parts_
+  bool in_parts_ = false;
   /// The first column holding a NaN/Inf among the values read (over the ranks), −1 when none.
   int first_non_finite_column(const SparseMatrixD& k) const;
   /// held_'s fit with the analyzed pattern (ascending, in range, mirror-closed)

@@ -185,6 +185,15 @@ TEST(CliRanks, TwoRanksRunTheModelOfOne) {
                                         1e-10);
 }
 
+// A model so small that one rank holds no entry of the tangent: a 2 x 2 plate clamped all round,
+// whose one free node's block is rank 0's. That rank's part is empty, not the whole matrix; when an
+// empty list meant "whole", the ranks parted ways in the solver's checks and the job hung.
+TEST(CliRanks, ARankThatHoldsNoEntryStillTakesPart) {
+  expect_two_ranks_run_the_model_of_one({"run", "clamped_plate_pressure", "--no-frames", "--no-plots", "--quiet", "--set",
+                                         "part[0].n1=2", "--set", "part[0].n2=2"},
+                                        1e-10);
+}
+
 // Dynamics with the iteration matrix in parts (core/solve/distributed.md §5): the main job (two
 // shells, a hinge between them and one to the ground: joint couplings rank 0 adds, the diagonal
 // reductions of (D6)) for 0.1 s of the lazy matrix policy, and a static preload Newton before a

@@ -153,7 +153,8 @@ TEST(TangentParts, ASolverOfOneProcessRefusesAMatrixInParts) {
   ASSERT_EQ(solver.ranks(), 1);
   const LinearStatus s = solver.hold_positions_over_ranks({0, 1, 2});
   EXPECT_EQ(s.code, LinearStatus::Code::invalid_input);
-  EXPECT_TRUE(solver.hold_positions_over_ranks({}).ok());
+  EXPECT_EQ(solver.hold_positions_over_ranks({}).code, LinearStatus::Code::invalid_input);  // none held is still a part
+  EXPECT_FALSE(solver.held_in_parts());
 }
 
 namespace {
