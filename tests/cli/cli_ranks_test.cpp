@@ -7,6 +7,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
+#include <memory>
 #include <thread>
 
 #include "app/io/results.h"
@@ -121,6 +122,28 @@ double largest(const std::vector<double>& v) {
   return m;
 }
 
+// `args` (a run of the MPI build `exe`) on one process into dir/one and on two ranks into dir/two:
+// both exit 0, rank 0 alone reports (the other rank's stdout goes nowhere), and `h1`, `h2` read
+// their results.h5
+void run_on_one_process_and_two_ranks(const std::string& exe, std::vector<std::string> args, const std::string& dir,
+                                      std::unique_ptr<io::ResultReader>& h1, std::unique_ptr<io::ResultReader>& h2) {
+  std::vector<std::string> one = args, two = std::move(args);
+  one.insert(one.end(), {"--out", dir + "/one"});
+  two.insert(two.end(), {"--out", dir + "/two"});
+  const ProcResult r1 = run_on({}, one, dir + "/one", exe);
+  ASSERT_EQ(r1.exit_code, 0) << r1.describe();
+  const ProcResult r2 = run_on(two_ranks(), two, dir + "/two", exe);
+  ASSERT_EQ(r2.exit_code, 0) << r2.describe();
+  EXPECT_EQ(count_of(r2.out, "outputs:"), 1u) << r2.out;
+  std::string err;
+  h1 = io::ResultReader::open(dir + "/one/results.h5", &err);
+  ASSERT_TRUE(h1) << err;
+  h2 = io::ResultReader::open(dir + "/two/results.h5", &err);
+  ASSERT_TRUE(h2) << err;
+  EXPECT_EQ(h1->outcome().status, RunStatus::completed) << h1->outcome().reason;
+  EXPECT_EQ(h2->outcome().status, RunStatus::completed) << h2->outcome().reason;
+}
+
 // `args` (a run) on one process and on two ranks: both complete, rank 0 alone reports, they take
 // the same Newton corrections and matrix updates (a wrong matrix converges to the same state, but
 // not in the same corrections), and every frame's displacements agree to `relative` of the
@@ -129,15 +152,9 @@ void expect_two_ranks_run_the_model_of_one(const std::vector<std::string>& args,
   const std::string exe = mpi_flexframe();
   if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
   const std::string dir = fresh_test_dir();
-  std::vector<std::string> one = args, two = args;
-  one.insert(one.end(), {"--out", dir + "/one"});
-  two.insert(two.end(), {"--out", dir + "/two"});
-  const ProcResult r1 = run_on({}, one, dir + "/one", exe);
-  ASSERT_EQ(r1.exit_code, 0) << r1.describe();
-  const ProcResult r2 = run_on(two_ranks(), two, dir + "/two", exe);
-  ASSERT_EQ(r2.exit_code, 0) << r2.describe();
-  // rank 0 alone reports (the other rank's stdout goes nowhere)
-  EXPECT_EQ(count_of(r2.out, "outputs:"), 1u) << r2.out;
+  std::unique_ptr<io::ResultReader> h1, h2;
+  run_on_one_process_and_two_ranks(exe, args, dir, h1, h2);
+  if (testing::Test::HasFatalFailure()) return;
   std::string err;
   const std::optional<Json> s1 = read_summary(dir + "/one", &err), s2 = read_summary(dir + "/two", &err);
   ASSERT_TRUE(s1 && s2) << err;
@@ -147,11 +164,6 @@ void expect_two_ranks_run_the_model_of_one(const std::vector<std::string>& args,
     EXPECT_EQ(c1->number, c2->number) << count;
   }
 
-  const auto h1 = io::ResultReader::open(dir + "/one/results.h5", &err);
-  ASSERT_TRUE(h1) << err;
-  const auto h2 = io::ResultReader::open(dir + "/two/results.h5", &err);
-  ASSERT_TRUE(h2) << err;
-  EXPECT_EQ(h2->outcome().status, RunStatus::completed) << h2->outcome().reason;
   ASSERT_EQ(h1->frame_count(), h2->frame_count());
   ASSERT_GE(h1->frame_count(), 2u);  // the reference state and a computed one at least
   // against the run's largest displacement: a vibration passes through frames of almost none
@@ -217,22 +229,10 @@ TEST(CliRanks, TwoRanksRunTheDynamicsOfOne) {
 TEST(CliRanks, ModalAnalysisOnOneProcessAndOnTwoRanks) {
   const std::string exe = mpi_flexframe();
   if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
-  const std::string dir = fresh_test_dir();
-  const std::vector<std::string> args = {"run", "modal_clamped_plate", "--no-frames", "--no-plots", "--quiet"};
-  std::vector<std::string> one = args, two = args;
-  one.insert(one.end(), {"--out", dir + "/one"});
-  two.insert(two.end(), {"--out", dir + "/two"});
-  const ProcResult r1 = run_on({}, one, dir + "/one", exe);
-  ASSERT_EQ(r1.exit_code, 0) << r1.describe();
-  const ProcResult r2 = run_on(two_ranks(), two, dir + "/two", exe);
-  ASSERT_EQ(r2.exit_code, 0) << r2.describe();
-  std::string err;
-  const auto h1 = io::ResultReader::open(dir + "/one/results.h5", &err);
-  ASSERT_TRUE(h1) << err;
-  const auto h2 = io::ResultReader::open(dir + "/two/results.h5", &err);
-  ASSERT_TRUE(h2) << err;
-  EXPECT_EQ(h1->outcome().status, RunStatus::completed) << h1->outcome().reason;
-  EXPECT_EQ(h2->outcome().status, RunStatus::completed) << h2->outcome().reason;
+  std::unique_ptr<io::ResultReader> h1, h2;
+  run_on_one_process_and_two_ranks(exe, {"run", "modal_clamped_plate", "--no-frames", "--no-plots", "--quiet"},
+                                   fresh_test_dir(), h1, h2);
+  if (HasFatalFailure()) return;
   const ModeSet *m1 = h1->modes(), *m2 = h2->modes();
   ASSERT_TRUE(m1 && m2);
   ASSERT_EQ(m1->modes.size(), m2->modes.size());
