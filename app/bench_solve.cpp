@@ -194,9 +194,10 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
 
   const std::string blas = blas_kernels();
   std::printf("Static Newton iteration on an n x n plate (CB shell, hr + ans, 5 DoF), wall time, best of %d "
-              "(1 from n = 128); default backend: %s; BLAS: %s; MUMPS ordering: %s; MUMPS over %d MPI "
-              "rank(s)%s\n\n",
-              opt.repeat, std::string(to_string(chosen)).c_str(), blas.c_str(), mumps_ordering_description(), ranks,
+              "(1 from n = 128); default backend: %s; BLAS: %s; MUMPS %s (%s); MUMPS ordering: %s; MUMPS over "
+              "%d MPI rank(s)%s\n\n",
+              opt.repeat, std::string(to_string(chosen)).c_str(), blas.c_str(), mumps_version().c_str(),
+              mumps_library_file().c_str(), mumps_ordering_description(), ranks,
               distributed_linear_solver_built() ? " (MPI build)" : " (sequential build)");
   std::printf("| n | DoFs | assembly [ms] |");
   for (LinearBackend b : backends) std::printf(" %s factorize + solve [ms] |", std::string(to_string(b)).c_str());
@@ -261,7 +262,8 @@ int run_solve_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
   if (!opt.out_file.empty()) {
     const nlohmann::ordered_json root{
         {"element", element}, {"plate", plates}, {"blas", blas}, {"mumps_ordering", mumps_ordering_description()},
-        {"ranks", ranks}, {"mumps_build", distributed_linear_solver_built() ? "mpi" : "sequential"}};
+        {"ranks", ranks}, {"mumps_build", distributed_linear_solver_built() ? "mpi" : "sequential"},
+        {"mumps_version", mumps_version()}, {"mumps_library", mumps_library_file()}};
     if (!write_bench_json(opt.out_file, root.dump(2) + "\n")) return 1;
   }
   return stop ? 130 : 0;

@@ -8,6 +8,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -20,6 +21,7 @@
 #include <Eigen/UmfPackSupport>
 #endif
 #ifdef FF_HAVE_MUMPS
+#include <dlfcn.h>
 #include <dmumps_c.h>
 
 #include "core/solve/solver_ranks_mpi.h"
@@ -40,6 +42,35 @@ static bool own_ordering_wanted() {
 }
 const char* mumps_ordering_description() {
   return own_ordering_wanted() ? "METIS (FlexFrame's, FLEXFRAME_MUMPS_ORDERING=metis)" : "MUMPS's automatic choice";
+}
+
+std::string mumps_library_file() {
+#ifdef FF_HAVE_MUMPS
+  // dladdr names the object that defines dmumps_c: a RUNPATH lost at link time shows here as
+  // Debian's library although the build was configured with another
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&dmumps_c), &info) != 0 && info.dli_fname != nullptr) {
+    char resolved[PATH_MAX];
+    return realpath(info.dli_fname, resolved) != nullptr ? resolved : info.dli_fname;
+  }
+#endif
+  return {};
+}
+
+std::string mumps_version() {
+#ifdef FF_HAVE_MUMPS
+  return MUMPS_VERSION;
+#else
+  return {};
+#endif
+}
+
+std::string mumps_configured_folder() {
+#ifdef FF_MUMPS_SEQ_DIR
+  return FF_MUMPS_SEQ_DIR;
+#else
+  return {};
+#endif
 }
 
 namespace {

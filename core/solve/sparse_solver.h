@@ -37,6 +37,13 @@ bool linear_backend_is_symmetric(LinearBackend backend);
 /// How MUMPS orders on one rank: MUMPS's own automatic choice, or our METIS ordering
 /// (nested_dissection.h) when FLEXFRAME_MUMPS_ORDERING=metis.
 const char* mumps_ordering_description();
+/// The shared library this process runs MUMPS from (empty without MUMPS), as the loader found it.
+std::string mumps_library_file();
+/// MUMPS_VERSION of the headers this build compiled against ("" without MUMPS).
+std::string mumps_version();
+/// The folder of the source-built sequential MUMPS this binary was configured to link
+/// (FLEXFRAME_MUMPS_SEQ_DIR, scripts/build_mumps); empty for Debian's binary or the MPI build.
+std::string mumps_configured_folder();
 /// Scene-file name: "umfpack", "sparse_lu", "cholmod_llt", "simplicial_ldlt", "mumps".
 std::string_view to_string(LinearBackend backend);
 std::optional<LinearBackend> parse_linear_backend(std::string_view name);

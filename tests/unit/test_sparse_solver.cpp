@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <climits>
+#include <cstdlib>
 #include <random>
 
 #include "core/solve/equilibrate.h"
@@ -52,6 +54,19 @@ TEST(SparseSolver, NamesRoundTrip) {
 }
 
 class EachBackend : public ::testing::TestWithParam<LinearBackend> {};
+
+// scripts/setup links a sequential MUMPS built from source (scripts/build_mumps); a link that
+// lost its run path would load Debian's binary instead and silently give up its solve phase
+TEST(SparseSolver, MumpsRunsFromTheLibraryTheBuildWasConfiguredWith) {
+  if (!linear_backend_available(LinearBackend::mumps)) GTEST_SKIP() << "no MUMPS in this build";
+  const std::string loaded = mumps_library_file();
+  ASSERT_FALSE(loaded.empty());
+  const std::string folder = mumps_configured_folder();
+  if (folder.empty()) return;  // Debian's binary, wherever the loader finds it
+  char resolved[PATH_MAX];
+  ASSERT_NE(realpath(folder.c_str(), resolved), nullptr) << folder;
+  EXPECT_EQ(loaded.rfind(std::string(resolved) + "/", 0), 0u) << "MUMPS loaded from " << loaded;
+}
 
 TEST_P(EachBackend, LargeShellSystemSolvesToTolerance) {
   const LinearBackend backend = GetParam();
