@@ -56,7 +56,8 @@ TEST(SparseSolver, NamesRoundTrip) {
 class EachBackend : public ::testing::TestWithParam<LinearBackend> {};
 
 // scripts/setup links a sequential MUMPS built from source (scripts/build_mumps); a link that
-// lost its run path would load Debian's binary instead and silently give up its solve phase
+// lost its run path would load Debian's 5.5.1 through its development link instead, a library of
+// another version than the headers the solver was compiled with
 TEST(SparseSolver, MumpsRunsFromTheLibraryTheBuildWasConfiguredWith) {
   if (!linear_backend_available(LinearBackend::mumps)) GTEST_SKIP() << "no MUMPS in this build";
   const std::string loaded = mumps_library_file();
