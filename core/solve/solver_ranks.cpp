@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <mutex>
+#include <thread>
 
 #ifdef FF_MUMPS_MPI
 // the C API only: Open MPI's deprecated C++ bindings would need libmpi_cxx
@@ -110,7 +112,14 @@ int smallest_over_ranks(int value) {
 }
 
 void end_all_ranks(int code) {
-  if (g_world && linear_solver_ranks() > 1) MPI_Abort(MPI_COMM_WORLD, code);
+  if (g_world && linear_solver_ranks() > 1) {
+    // MPI_Abort makes the launcher end the job at once, and Open MPI's mpirun may then drop what
+    // it had not yet forwarded of this rank's stdout (an interrupted bench's last table row was
+    // lost once in a loaded test run, while the stderr line written after it arrived): the
+    // caller flushed both streams, and half a second lets the launcher forward them first
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    MPI_Abort(MPI_COMM_WORLD, code);
+  }
 }
 
 void finish_solver_mpi() {

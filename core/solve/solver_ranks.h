@@ -67,7 +67,8 @@ RankShare rank_share(int count);
 RankShare rank_share(int count, int rank, int ranks);
 
 /// Ends every rank at once with exit code `code` (MPI_Abort): rank 0 calls it when it stops early,
-/// since the other ranks may wait in a collective call for it. Returns when alone.
+/// since the other ranks may wait in a collective call for it; half a second first, for the
+/// launcher to forward what was written. Returns when alone.
 void end_all_ranks(int code);
 
 /// One stop decision for all ranks: from now on every MUMPS call shared over the ranks (each is
