@@ -334,9 +334,10 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
   if (tangent && in_parts_) matrix_parts_.sum_shared(as.values);  // distributed.md (D4)
 }
 
-// (D1): METIS's parts of the mesh over the ranks sharing the solvers, made when first needed there
+// (D1): the elements this rank evaluates, METIS's part of the mesh over the ranks sharing the solvers
+// (alone: every element); made when first needed, again when the ranks change
 const ElementShare& MultibodyModel::element_share() {
-  if (element_share_.ranks() != linear_solver_ranks())
+  if (element_share_.elements() != elements_.size() || element_share_.ranks() != linear_solver_ranks())
     element_share_ = ElementShare(elements_.connectivity(), node_count(), linear_solver_rank(), linear_solver_ranks());
   return element_share_;
 }
@@ -386,7 +387,7 @@ void MultibodyModel::shell_element_term(Assembly& as) {
   // over MPI ranks each evaluates its share of the elements and the sums are added up below
   // (core/solve/distributed.md §2); alone, the share is every element
   const ElementShare& share = element_share();
-  const std::vector<int>& mine = share.mine(ne);
+  const std::vector<int>& mine = share.mine();
   elements_.for_each_of(threads_, mine, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       ElementRates vel, acc;

@@ -438,9 +438,10 @@ void ShellModel::evaluate(double lambda, Eigen::VectorXd& r, Eigen::SparseMatrix
   if (K && in_parts_) tangent_parts_.sum_shared(a.values);  // distributed.md (D4)
 }
 
-// (D1): METIS's parts of the mesh over the ranks sharing the solvers, made when first needed there
+// (D1): the elements this rank evaluates, METIS's part of the mesh over the ranks sharing the solvers
+// (alone: every element); made when first needed, again when the ranks change
 const ElementShare& ShellModel::element_share() {
-  if (element_share_.ranks() != linear_solver_ranks())
+  if (element_share_.elements() != elements_.size() || element_share_.ranks() != linear_solver_ranks())
     element_share_ = ElementShare(elements_.connectivity(), static_cast<int>(state_.poses.size()), linear_solver_rank(),
                                   linear_solver_ranks());
   return element_share_;
@@ -474,7 +475,7 @@ void ShellModel::elastic_term(Assembly& a) {
   // over MPI ranks each evaluates its share of the elements and the sums are added up below
   // (core/solve/distributed.md §2); alone, the share is every element
   const ElementShare& share = element_share();
-  const std::vector<int>& mine = share.mine(elements_.size());
+  const std::vector<int>& mine = share.mine();
   elements_.for_each_of(threads_, mine, state_.poses, [&](int k, const ShellElement& e, const ElementPoses& cur) {
     {
       const bool tangent = K || (prescribed_load && element_prescribed_[k]);

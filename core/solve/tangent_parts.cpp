@@ -12,8 +12,12 @@ constexpr int kNone = std::numeric_limits<int>::max();
 }
 
 ElementShare::ElementShare(const std::vector<std::array<int, 4>>& elements, int nodes, int rank, int ranks)
-    : rank_(rank), ranks_(ranks) {
-  if (ranks_ < 2) return;
+    : rank_(rank), ranks_(ranks), elements_(static_cast<int>(elements.size())) {
+  if (ranks_ < 2) {
+    mine_.resize(elements_);
+    for (int k = 0; k < elements_; ++k) mine_[k] = k;
+    return;
+  }
   rank_of_ = partition_mesh_elements(elements, nodes, ranks_);
   if (rank_of_.empty()) {  // fewer elements than ranks, or METIS failed: index ranges
     const int count = static_cast<int>(elements.size());
@@ -25,14 +29,6 @@ ElementShare::ElementShare(const std::vector<std::array<int, 4>>& elements, int 
   }
   for (int k = 0; k < static_cast<int>(rank_of_.size()); ++k)
     if (rank_of_[k] == rank_) mine_.push_back(k);
-}
-
-const std::vector<int>& ElementShare::mine(int count) const {
-  if (!shared() && static_cast<int>(mine_.size()) != count) {
-    mine_.resize(count);
-    for (int k = 0; k < count; ++k) mine_[k] = k;
-  }
-  return mine_;
 }
 
 TangentParts::TangentParts(int nonzeros, int nodes, const ElementShare& share)

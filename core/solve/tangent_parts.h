@@ -22,11 +22,13 @@ namespace ff {
 /// every element. Every rank computes the same partition from the same mesh.
 class ElementShare {
  public:
-  ElementShare() = default;  ///< one rank: nothing listed, every element this rank's
+  ElementShare() = default;  ///< no elements
   /// The share of rank `rank` of `ranks` of the elements (their nodes) of a mesh of `nodes` nodes.
   ElementShare(const std::vector<std::array<int, 4>>& elements, int nodes, int rank, int ranks);
-  /// The elements this rank evaluates, ascending (`count`: the model's elements, for one rank).
-  const std::vector<int>& mine(int count) const;
+  /// The elements this rank evaluates, ascending (alone: every element).
+  const std::vector<int>& mine() const { return mine_; }
+  /// The elements of the mesh the share was made for.
+  int elements() const { return elements_; }
   int rank_of(int element) const { return rank_of_.empty() ? 0 : rank_of_[element]; }
   int rank() const { return rank_; }
   int ranks() const { return ranks_; }
@@ -34,9 +36,9 @@ class ElementShare {
   bool shared() const { return ranks_ > 1; }
 
  private:
-  int rank_ = 0, ranks_ = 1;
+  int rank_ = 0, ranks_ = 1, elements_ = 0;
   std::vector<int> rank_of_;  // per element (empty alone)
-  mutable std::vector<int> mine_;
+  std::vector<int> mine_;
 };
 
 class TangentParts {
