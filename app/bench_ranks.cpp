@@ -146,6 +146,7 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
   launch_words.insert(launch_words.end(), options.begin(), options.end());
 
   std::map<std::pair<int, int>, PlateRow> rows;  // (n, ranks)
+  std::string mumps_version, mumps_library;       // as the launched runs report them
   int code = 0;
   for (int k : counts) {
     if (stop) break;
@@ -172,6 +173,8 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
     if (why.empty()) {
       try {
         root = nlohmann::json::parse(read_file(json));
+        mumps_version = root.at("mumps_version");
+        mumps_library = root.at("mumps_library");
         for (const nlohmann::json& p : root.at("plate")) {
           PlateRow r;
           r.n = p.at("n");
@@ -205,8 +208,8 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
   std::printf("Static Newton iteration on n x n plates (CB shell, hr + ans, 5 DoF) with MUMPS over MPI ranks, wall "
               "time, best of %d (1 from n = 128); each rank count one launch of `%s -n K flexframe bench --solve "
               "--backend mumps` (1 rank: flexframe alone, its element loop threaded), one after the other in this "
-              "run; speed-up: the time on 1 rank / on K ranks\n\n",
-              opt.repeat, joined(launch_words).c_str());
+              "run; speed-up: the time on 1 rank / on K ranks; MUMPS %s (%s)\n\n",
+              opt.repeat, joined(launch_words).c_str(), mumps_version.c_str(), mumps_library.c_str());
   std::printf("| n | DoFs | ranks | assembly [ms] | factorize + solve [ms] | Newton iteration [ms] | MUMPS Gflop | MUMPS MB "
               "per rank (largest) | MUMPS MB, all ranks | factorize + solve speed-up | Newton iteration speed-up |\n"
               "|---|---|---|---|---|---|---|---|---|---|---|\n");
@@ -227,6 +230,7 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
   std::fflush(stdout);
   if (code == 0 && !opt.out_file.empty()) {
     const nlohmann::ordered_json root = {{"launcher", launch_words}, {"ranks", counts}, {"repeat", opt.repeat},
+                                         {"mumps_version", mumps_version}, {"mumps_library", mumps_library},
                                          {"plate", table}};
     if (!write_bench_json(opt.out_file, root.dump(2) + "\n")) code = 1;
   }

@@ -66,8 +66,8 @@ std::string mumps_version() {
 }
 
 std::string mumps_configured_folder() {
-#ifdef FF_MUMPS_SEQ_DIR
-  return FF_MUMPS_SEQ_DIR;
+#ifdef FF_MUMPS_BUILT_DIR
+  return FF_MUMPS_BUILT_DIR;
 #else
   return {};
 #endif

@@ -41,8 +41,8 @@ const char* mumps_ordering_description();
 std::string mumps_library_file();
 /// MUMPS_VERSION of the headers this build compiled against ("" without MUMPS).
 std::string mumps_version();
-/// The folder of the source-built sequential MUMPS this binary was configured to link
-/// (FLEXFRAME_MUMPS_SEQ_DIR, scripts/build_mumps); empty for Debian's binary or the MPI build.
+/// The folder of the source-built MUMPS this binary was configured to link (scripts/build_mumps:
+/// FLEXFRAME_MUMPS_SEQ_DIR, or FLEXFRAME_MUMPS_MPI_DIR for the MPI build); empty for Debian's binary.
 std::string mumps_configured_folder();
 /// Scene-file name: "umfpack", "sparse_lu", "cholmod_llt", "simplicial_ldlt", "mumps".
 std::string_view to_string(LinearBackend backend);

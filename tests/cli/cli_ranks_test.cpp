@@ -401,6 +401,15 @@ TEST(CliRanks, BenchOverRanksPrintsOneTable) {
   const Json* plates = root->get("plate");
   ASSERT_TRUE(plates && plates->kind == Json::Kind::array);
   ASSERT_EQ(plates->array.size(), 4u);
+#ifdef FF_MPI_MUMPS_DIR
+  // the MPI flexframe runs MUMPS from the folder scripts/build_mumps --mpi made, as configured (a
+  // link that lost its run path would load Debian's 5.5.1 through its development link)
+  if (std::string configured = FF_MPI_MUMPS_DIR; !configured.empty()) {
+    const Json* library = root->get("mumps_library");
+    ASSERT_TRUE(library && library->kind == Json::Kind::string);
+    EXPECT_EQ(library->string.rfind(fs::canonical(configured).string() + "/lib/", 0), 0u) << library->string;
+  }
+#endif
   auto number = [](const Json& row, const char* key) {
     const Json* v = row.get(key);
     EXPECT_TRUE(v && v->is_number()) << key;
