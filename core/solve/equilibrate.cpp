@@ -6,10 +6,10 @@
 namespace ff {
 
 namespace {
-// the row and column maxima of |D_r A D_c|
+// the row and column maxima of |D_r A D_c|, over every part when `combine` joins the parts
 void scaled_maxima(std::size_t nnz, const int* rows, const int* cols, int base, const double* values,
                    bool symmetric_lower, const std::vector<double>& row_scale, const std::vector<double>& col_scale,
-                   std::vector<double>& row_max, std::vector<double>& col_max) {
+                   std::vector<double>& row_max, std::vector<double>& col_max, CombineMaxima combine) {
   std::fill(row_max.begin(), row_max.end(), 0.0);
   if (symmetric_lower) {  // (i, j) and its mirror (j, i); the column maxima are the row maxima
     for (std::size_t k = 0; k < nnz; ++k) {
@@ -18,6 +18,7 @@ void scaled_maxima(std::size_t nnz, const int* rows, const int* cols, int base, 
       row_max[i] = std::max(row_max[i], a);
       row_max[j] = std::max(row_max[j], a);
     }
+    if (combine) combine(row_max.data(), row_max.size());
     col_max = row_max;
     return;
   }
@@ -27,6 +28,10 @@ void scaled_maxima(std::size_t nnz, const int* rows, const int* cols, int base, 
     const double a = std::abs(values[k]) * row_scale[i] * col_scale[j];
     row_max[i] = std::max(row_max[i], a);
     col_max[j] = std::max(col_max[j], a);
+  }
+  if (combine) {
+    combine(row_max.data(), row_max.size());
+    combine(col_max.data(), col_max.size());
   }
 }
 
@@ -42,13 +47,14 @@ bool within(const std::vector<double>& row_max, const std::vector<double>& col_m
 
 int equilibrate_inf_norm(int n, std::size_t nnz, const int* rows, const int* cols, int base, const double* values,
                          bool symmetric_lower, std::vector<double>& row_scale, std::vector<double>& col_scale,
-                         double tolerance, int max_sweeps) {
+                         double tolerance, int max_sweeps, CombineMaxima combine_maxima) {
   row_scale.assign(n, 1.0);
   col_scale.assign(n, 1.0);
   std::vector<double> row_max(n), col_max(n);
   int sweep = 0;
   for (; sweep < max_sweeps; ++sweep) {
-    scaled_maxima(nnz, rows, cols, base, values, symmetric_lower, row_scale, col_scale, row_max, col_max);
+    scaled_maxima(nnz, rows, cols, base, values, symmetric_lower, row_scale, col_scale, row_max, col_max,
+                  combine_maxima);
     if (within(row_max, col_max, 1.0 - tolerance, 1.0 + tolerance)) break;
     for (int i = 0; i < n; ++i) {
       if (row_max[i] > 0.0) row_scale[i] /= std::sqrt(row_max[i]);
@@ -60,10 +66,11 @@ int equilibrate_inf_norm(int n, std::size_t nnz, const int* rows, const int* col
 
 bool scaling_still_balances(int n, std::size_t nnz, const int* rows, const int* cols, int base, const double* values,
                             bool symmetric_lower, const std::vector<double>& row_scale,
-                            const std::vector<double>& col_scale, double spread) {
+                            const std::vector<double>& col_scale, double spread, CombineMaxima combine_maxima) {
   if (static_cast<int>(row_scale.size()) != n || static_cast<int>(col_scale.size()) != n) return false;
   std::vector<double> row_max(n), col_max(n);
-  scaled_maxima(nnz, rows, cols, base, values, symmetric_lower, row_scale, col_scale, row_max, col_max);
+  scaled_maxima(nnz, rows, cols, base, values, symmetric_lower, row_scale, col_scale, row_max, col_max,
+                combine_maxima);
   return within(row_max, col_max, 1.0 / spread, spread);
 }
 

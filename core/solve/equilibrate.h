@@ -18,15 +18,21 @@ namespace ff {
 /// lower triangle of a symmetric matrix: each also stands for its mirror, and one scaling D serves
 /// both sides (row_scale = col_scale), so D A D stays symmetric. An empty row or column keeps
 /// the scale 1. Returns the number of sweeps made.
+/// The entries may be one part of a matrix whose parts are spread over processes, each entry in
+/// exactly one part: `combine_maxima(m, n)` then replaces the n maxima m of this part by the
+/// element-wise largest over the parts (an MPI_MAX reduction), and every part computes the scaling
+/// of the whole matrix, bit for bit, since a maximum does not depend on the order it is taken in.
+using CombineMaxima = void (*)(double* maxima, std::size_t n);
 int equilibrate_inf_norm(int n, std::size_t nnz, const int* rows, const int* cols, int base, const double* values,
                          bool symmetric_lower, std::vector<double>& row_scale, std::vector<double>& col_scale,
-                         double tolerance = 0.1, int max_sweeps = 20);
+                         double tolerance = 0.1, int max_sweeps = 20, CombineMaxima combine_maxima = nullptr);
 
 /// True when a scaling computed for earlier values still brings every non-empty row and column
 /// maximum of the current D_r A D_c within [1/spread, spread]: one pass over the entries, a
 /// fraction of a new equilibration. Same entry conventions as equilibrate_inf_norm.
 bool scaling_still_balances(int n, std::size_t nnz, const int* rows, const int* cols, int base, const double* values,
                             bool symmetric_lower, const std::vector<double>& row_scale,
-                            const std::vector<double>& col_scale, double spread);
+                            const std::vector<double>& col_scale, double spread,
+                            CombineMaxima combine_maxima = nullptr);
 
 }  // namespace ff

@@ -106,6 +106,14 @@ double largest_over_ranks(double value) {
   return value;
 }
 
+void largest_over_ranks(double* values, std::size_t n) {
+  constexpr std::size_t slice = std::size_t{1} << 30;  // MPI counts are int
+  if (g_world && linear_solver_ranks() > 1)
+    for (std::size_t at = 0; at < n; at += slice)
+      MPI_Allreduce(MPI_IN_PLACE, values + at, static_cast<int>(std::min(slice, n - at)), MPI_DOUBLE, MPI_MAX,
+                    MPI_COMM_WORLD);
+}
+
 int smallest_over_ranks(int value) {
   if (g_world && linear_solver_ranks() > 1) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
   return value;
@@ -142,6 +150,7 @@ void broadcast_from_first_rank(double*, int) {}
 void broadcast_from_first_rank(int*, int) {}
 void sum_over_ranks(double*, std::size_t) {}
 double largest_over_ranks(double value) { return value; }
+void largest_over_ranks(double*, std::size_t) {}
 int smallest_over_ranks(int value) { return value; }
 void end_all_ranks(int) {}
 void finish_solver_mpi() {}

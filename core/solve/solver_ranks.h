@@ -56,6 +56,9 @@ void sum_over_ranks(double* values, std::size_t n);
 /// for decisions from values each rank holds only a part of (a check over its own entries).
 double largest_over_ranks(double value);
 int smallest_over_ranks(int value);
+/// The element-wise largest of `n` doubles over the ranks, in place (no-op alone): row and column
+/// maxima of a matrix whose entries are spread over the ranks (a scaling, distributed.md (D7)).
+void largest_over_ranks(double* values, std::size_t n);
 
 /// The contiguous share [begin, end) of `count` items that this rank evaluates: all of them when
 /// alone, otherwise an equal share per rank in rank order.

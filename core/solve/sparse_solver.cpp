@@ -330,9 +330,10 @@ class MumpsInstance {
     icntl(24) = 1;   // null pivot detection, so a singular K is reported, not factorized
     icntl(33) = 1;   // the determinant (its sign marks limit and bifurcation points)
     icntl(8) = -1;   // the row and column scaling is ours, kept across factorizations (static_solvers.md §7.2)
-    // ... with a centralized matrix only: with distributed input MUMPS computes its own scaling
-    // (given ours, it freed memory twice at the end, core/solve/distributed.md)
-    if (ranks_ > 1) icntl(8) = 77;
+    // ... handed to MUMPS with a centralized matrix only (given ours with distributed input, MUMPS
+    // 5.5 freed memory twice at the end): over ranks the entries go to MUMPS scaled already and
+    // the right-hand side and the solution are scaled here (distributed.md (D7))
+    if (ranks_ > 1) icntl(8) = 0;
     apply_user_controls();
   }
   ~MumpsInstance() {
@@ -416,11 +417,12 @@ class MumpsInstance {
       // analysis gathers their coordinates only, the factorization reads the values where they are)
       icntl(18) = 3;
       const std::size_t total = irn_.size();
-      const std::size_t begin = own_share ? 0 : total * rank_ / ranks_, end = own_share ? total : total * (rank_ + 1) / ranks_;
-      id_.nnz_loc = static_cast<int>(end - begin);
-      id_.irn_loc = irn_.data() + begin;
-      id_.jcn_loc = jcn_.data() + begin;
-      id_.a_loc = values ? values + begin : nullptr;
+      share_begin_ = own_share ? 0 : total * rank_ / ranks_;
+      share_end_ = own_share ? total : total * (rank_ + 1) / ranks_;
+      id_.nnz_loc = static_cast<int>(share_end_ - share_begin_);
+      id_.irn_loc = irn_.data() + share_begin_;
+      id_.jcn_loc = jcn_.data() + share_begin_;
+      id_.a_loc = values ? values + share_begin_ : nullptr;
     }
     if (ranks_ > 1) synchronize_stop_over_ranks();  // rank 0's stop, seen by every rank here
     id_.job = 1;
@@ -434,13 +436,15 @@ class MumpsInstance {
  public:
   LinearStatus factorize(const SparseMatrixD& a, const std::vector<int>& positions) {
     for (std::size_t q = 0; q < positions.size(); ++q) values_[q] = a.valuePtr()[positions[q]];
-    if (ranks_ > 1) return factorize_scaled();  // MUMPS's own scaling (constructor)
     // §7.2: the scaling of an earlier matrix of the pattern is kept while it still balances this
     // one's rows and columns to within a factor scaling_spread; a factorization that fails on a kept
-    // scaling is tried once more on a current one
-    const bool kept = scaled_ && scaling_still_balances(id_.n, values_.size(), irn_.data(), jcn_.data(), 1,
-                                                        values_.data(), id_.sym != 0, row_scale_, col_scale_,
-                                                        scaling_spread);
+    // scaling is tried once more on a current one. Over ranks (D7) each rank looks at the entries
+    // it hands MUMPS and the maxima are the largest over the ranks: every rank takes the same
+    // decision and computes the same scaling, that of the whole matrix
+    const bool kept = scaled_ && scaling_still_balances(id_.n, share_size(), irn_.data() + share_begin(),
+                                                        jcn_.data() + share_begin(), 1, values_.data() + share_begin(),
+                                                        id_.sym != 0, row_scale_, col_scale_, scaling_spread,
+                                                        combine_maxima());
     if (!kept) rescale();
     LinearStatus st = factorize_scaled();
     if (!st && kept) {
@@ -451,6 +455,10 @@ class MumpsInstance {
   }
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     x = b;
+    // over ranks MUMPS factorized D_r A D_c (D7): it solves for y = D_c⁻¹ x from D_r b
+    const bool prescaled = ranks_ > 1 && scaled_;
+    if (prescaled)
+      for (Eigen::Index i = 0; i < x.size(); ++i) x[i] *= row_scale_[i];
     id_.rhs = x.data();
     id_.nrhs = 1;
     id_.lrhs = static_cast<int>(x.size());
@@ -459,6 +467,8 @@ class MumpsInstance {
     dmumps_c(&id_);
     // the solution is on rank 0 only: every rank takes the same Newton update
     if (ranks_ > 1) broadcast_from_first_rank(x.data(), static_cast<int>(x.size()));
+    if (prescaled)
+      for (Eigen::Index i = 0; i < x.size(); ++i) x[i] *= col_scale_[i];
     return id_.infog[0] >= 0;
   }
   int determinant_sign() const {
@@ -472,15 +482,34 @@ class MumpsInstance {
   // a factorization at these sizes, for magnitudes that hardly move between two Newton matrices
   static constexpr double scaling_spread = 4.0;
   void rescale() {
-    equilibrate_inf_norm(id_.n, values_.size(), irn_.data(), jcn_.data(), 1, values_.data(), id_.sym != 0,
-                         row_scale_, col_scale_);
-    id_.rowsca = row_scale_.data();
-    id_.colsca = col_scale_.data();
-    id_.rowsca_from_mumps = id_.colsca_from_mumps = 0;
+    equilibrate_inf_norm(id_.n, share_size(), irn_.data() + share_begin(), jcn_.data() + share_begin(), 1,
+                         values_.data() + share_begin(), id_.sym != 0, row_scale_, col_scale_, 0.1, 20,
+                         combine_maxima());
+    if (ranks_ == 1) {  // MUMPS applies it (ICNTL(8) = -1)
+      id_.rowsca = row_scale_.data();
+      id_.colsca = col_scale_.data();
+      id_.rowsca_from_mumps = id_.colsca_from_mumps = 0;
+    }
     scaled_ = true;
   }
+  // the entries this rank hands MUMPS: [share_begin(), share_begin() + share_size()) of irn_, jcn_, values_
+  std::size_t share_begin() const { return ranks_ > 1 ? share_begin_ : 0; }
+  std::size_t share_size() const { return ranks_ > 1 ? share_end_ - share_begin_ : values_.size(); }
+  CombineMaxima combine_maxima() const {
+    if (ranks_ == 1) return nullptr;
+    return &largest_over_ranks;
+  }
   LinearStatus factorize_scaled() {
-    if (ranks_ > 1) synchronize_stop_over_ranks();
+    if (ranks_ > 1) {
+      // (D7): this rank's entries of D_r A D_c, what MUMPS factorizes over ranks (ICNTL(8) = 0)
+      scaled_share_.resize(share_size());
+      for (std::size_t k = 0; k < scaled_share_.size(); ++k) {
+        const std::size_t q = share_begin_ + k;
+        scaled_share_[k] = values_[q] * row_scale_[irn_[q] - 1] * col_scale_[jcn_[q] - 1];
+      }
+      id_.a_loc = scaled_share_.data();
+      synchronize_stop_over_ranks();
+    }
     for (int attempt = 0;; ++attempt) {
       id_.job = 2;
       dmumps_c(&id_);
@@ -542,6 +571,8 @@ class MumpsInstance {
   std::vector<double> values_;
   std::vector<double> row_scale_, col_scale_;
   bool scaled_ = false;  // row_scale_, col_scale_ hold a scaling of this analysis's pattern
+  std::size_t share_begin_ = 0, share_end_ = 0;  // over ranks: the entries handed to MUMPS
+  std::vector<double> scaled_share_;              // over ranks: their values in D_r A D_c (D7)
 };
 
 // MUMPS with a nested-dissection ordering: on 2-D shell meshes it keeps the factor's fill at

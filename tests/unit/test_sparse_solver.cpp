@@ -6,7 +6,9 @@
 #include <Eigen/Dense>
 #include <climits>
 #include <cstdlib>
+#include <barrier>
 #include <random>
+#include <thread>
 
 #include "core/solve/equilibrate.h"
 #include "core/solve/sparse_grid.h"
@@ -334,6 +336,81 @@ TEST(Equilibrate, BalancesRowAndColumnMaximaToOne) {
     if (i != 7) {
       EXPECT_NEAR(ss.row(i).cwiseAbs().maxCoeff(), 1.0, 0.05) << "row " << i;
     }
+}
+
+// Over MPI ranks each rank equilibrates the entries it hands MUMPS and the row and column maxima
+// are the largest over the ranks (distributed.md (D7)). Two threads play two ranks here, their
+// maxima combined at a barrier as MPI_MAX combines them: each must compute, bit for bit, the
+// scaling one process computes from the whole matrix, and take the same keep decision.
+namespace {
+struct TwoPartMaxima {
+  std::barrier<> meet{2};
+  std::vector<double> part[2];
+};
+TwoPartMaxima* g_parts = nullptr;
+thread_local int t_part = 0;
+void combine_two_parts(double* maxima, std::size_t n) {
+  g_parts->part[t_part].assign(maxima, maxima + n);
+  g_parts->meet.arrive_and_wait();
+  for (std::size_t i = 0; i < n; ++i) maxima[i] = std::max(g_parts->part[0][i], g_parts->part[1][i]);
+  g_parts->meet.arrive_and_wait();  // both have read the other's maxima before the next sweep writes
+}
+}  // namespace
+
+TEST(SparseSolver, EquilibrationOfEntriesSpreadOverPartsIsThatOfTheWholeMatrix) {
+  for (bool symmetric : {false, true}) {
+    const SparseMatrixD whole = shell_grid_matrix(9, symmetric ? 0.0 : 0.05, 4);
+    const int n = static_cast<int>(whole.rows());
+    std::vector<int> rows, cols;
+    std::vector<double> values;
+    for (int j = 0; j < n; ++j)
+      for (SparseMatrixD::InnerIterator it(whole, j); it; ++it)
+        if (!symmetric || it.row() >= j) {
+          rows.push_back(it.row() + 1), cols.push_back(j + 1);
+          values.push_back(it.value() * std::pow(10.0, 3.0 * std::sin(0.3 * it.row()) + 2.0 * std::cos(0.2 * j)));
+        }
+    std::vector<double> dr, dc;
+    const int sweeps = equilibrate_inf_norm(n, values.size(), rows.data(), cols.data(), 1, values.data(), symmetric, dr, dc);
+    ASSERT_GT(sweeps, 1);  // the test must exercise more than one exchange
+
+    // the entries dealt to the two parts in an irregular pattern, each entry to exactly one
+    std::vector<int> part_rows[2], part_cols[2];
+    std::vector<double> part_values[2];
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      const int p = (k * 7 + k / 5) % 3 == 0 ? 1 : 0;
+      part_rows[p].push_back(rows[k]), part_cols[p].push_back(cols[k]), part_values[p].push_back(values[k]);
+    }
+    TwoPartMaxima parts;
+    g_parts = &parts;
+    std::vector<double> part_dr[2], part_dc[2];
+    bool kept[2] = {false, false}, kept_drifted[2] = {true, true};
+    std::vector<double> drifted[2];
+    for (int p = 0; p < 2; ++p) {
+      drifted[p] = part_values[p];
+      for (std::size_t k = 0; k < drifted[p].size(); ++k)
+        if (part_rows[p][k] % 11 == 0) drifted[p][k] *= 1e3;  // some rows out of balance by more than 4
+    }
+    auto run = [&](int p) {
+      t_part = p;
+      const std::size_t m = part_values[p].size();
+      equilibrate_inf_norm(n, m, part_rows[p].data(), part_cols[p].data(), 1, part_values[p].data(), symmetric,
+                           part_dr[p], part_dc[p], 0.1, 20, &combine_two_parts);
+      kept[p] = scaling_still_balances(n, m, part_rows[p].data(), part_cols[p].data(), 1, part_values[p].data(),
+                                       symmetric, part_dr[p], part_dc[p], 4.0, &combine_two_parts);
+      kept_drifted[p] = scaling_still_balances(n, m, part_rows[p].data(), part_cols[p].data(), 1, drifted[p].data(),
+                                               symmetric, part_dr[p], part_dc[p], 4.0, &combine_two_parts);
+    };
+    std::thread other(run, 1);
+    run(0);
+    other.join();
+    g_parts = nullptr;
+    for (int p = 0; p < 2; ++p) {
+      EXPECT_EQ(part_dr[p], dr) << "part " << p << (symmetric ? ", symmetric" : "");
+      EXPECT_EQ(part_dc[p], dc) << "part " << p << (symmetric ? ", symmetric" : "");
+      EXPECT_TRUE(kept[p]);           // the scaling balances the matrix it was made for
+      EXPECT_FALSE(kept_drifted[p]);  // and no part keeps it for rows a thousand times out
+    }
+  }
 }
 
 // MUMPS factorizes on a scaling computed once and kept over later factorizations of the pattern
