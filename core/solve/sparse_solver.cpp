@@ -334,6 +334,10 @@ class MumpsInstance {
     // 5.5 freed memory twice at the end): over ranks the entries go to MUMPS scaled already and
     // the right-hand side and the solution are scaled here (distributed.md (D7))
     if (ranks_ > 1) icntl(8) = 0;
+    // over ranks the right-hand side is handed in distributed form (ICNTL(20) = 10), each rank the
+    // rows MUMPS's solve needs on it (JOB = 9 after each factorization; distributed.md (D8)); the
+    // solution comes back on rank 0 (ICNTL(21) = 0) and is broadcast
+    if (ranks_ > 1) icntl(20) = 10;
     apply_user_controls();
   }
   ~MumpsInstance() {
@@ -455,10 +459,13 @@ class MumpsInstance {
   }
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     x = b;
-    // over ranks MUMPS factorized D_r A D_c (D7): it solves for y = D_c⁻¹ x from D_r b
-    const bool prescaled = ranks_ > 1 && scaled_;
-    if (prescaled)
-      for (Eigen::Index i = 0; i < x.size(); ++i) x[i] *= row_scale_[i];
+    // over ranks MUMPS factorized D_r A D_c (D7): it solves for y = D_c⁻¹ x from D_r b, given as
+    // this rank's rows (D8); the solution arrives in x on rank 0
+    if (ranks_ > 1)
+      for (int k = 0; k < id_.nloc_rhs; ++k) {
+        const int i = rhs_rows_[k] - 1;
+        rhs_share_[k] = b[i] * row_scale_[i];
+      }
     id_.rhs = x.data();
     id_.nrhs = 1;
     id_.lrhs = static_cast<int>(x.size());
@@ -466,9 +473,10 @@ class MumpsInstance {
     id_.job = 3;
     dmumps_c(&id_);
     // the solution is on rank 0 only: every rank takes the same Newton update
-    if (ranks_ > 1) broadcast_from_first_rank(x.data(), static_cast<int>(x.size()));
-    if (prescaled)
+    if (ranks_ > 1) {
+      broadcast_from_first_rank(x.data(), static_cast<int>(x.size()));
       for (Eigen::Index i = 0; i < x.size(); ++i) x[i] *= col_scale_[i];
+    }
     return id_.infog[0] >= 0;
   }
   int determinant_sign() const {
@@ -529,6 +537,29 @@ class MumpsInstance {
     }
     if (id_.infog[0] < 0)
       return fail(Code::backend_error, -1, "MUMPS factorization failed (INFOG(1) = " + std::to_string(id_.infog[0]) + ")");
+    if (ranks_ > 1) return ask_right_hand_side_rows();
+    return {};
+  }
+  // (D8): the rows of the right-hand side this rank hands MUMPS, MUMPS's own choice for this
+  // factorization's mapping of the fronts, which needs no right-hand-side message in the solve
+  // (JOB = 9, ICNTL(20) = 10; INFO(23) rows at most). Every rank holds the whole right-hand side,
+  // so any distribution would do: this one is the cheapest for MUMPS
+  LinearStatus ask_right_hand_side_rows() {
+    rhs_rows_.assign(std::max(id_.info[22], 1), 0);
+    id_.irhs_loc = rhs_rows_.data();
+    id_.lrhs_loc = static_cast<int>(rhs_rows_.size());  // the C interface passes IRHS_loc(1:LRHS_loc)
+    id_.job = 9;
+    dmumps_c(&id_);
+    if (id_.infog[0] < 0)
+      return fail(Code::backend_error, -1,
+                  "MUMPS could not distribute the right-hand side (JOB = 9, INFOG(1) = " + std::to_string(id_.infog[0]) + ")");
+    const int rows = std::max(id_.info[22], 0);
+    rhs_rows_.resize(std::max(rows, 1));
+    rhs_share_.assign(rhs_rows_.size(), 0.0);
+    id_.nloc_rhs = rows;
+    id_.lrhs_loc = std::max(rows, 1);
+    id_.irhs_loc = rhs_rows_.data();
+    id_.rhs_loc = rhs_share_.data();
     return {};
   }
 
@@ -573,6 +604,8 @@ class MumpsInstance {
   bool scaled_ = false;  // row_scale_, col_scale_ hold a scaling of this analysis's pattern
   std::size_t share_begin_ = 0, share_end_ = 0;  // over ranks: the entries handed to MUMPS
   std::vector<double> scaled_share_;              // over ranks: their values in D_r A D_c (D7)
+  std::vector<int> rhs_rows_;                     // over ranks: the right-hand side's rows handed (D8), 1-based
+  std::vector<double> rhs_share_;                 // ... and their values in D_r b
 };
 
 // MUMPS with a nested-dissection ordering: on 2-D shell meshes it keeps the factor's fill at
