@@ -1,8 +1,9 @@
 #pragma once
 /// \file equilibrate.h
 /// Row and column scaling of a sparse matrix given as coordinates, for a direct solver that takes
-/// a scaling from its caller (MUMPS with ICNTL(8) = -1). static_solvers.md §7.2 says why the
-/// scaling is computed here, once per several factorizations, and not by MUMPS at every one.
+/// a scaling from its caller (MUMPS with ICNTL(8) = -1 on one process; over MPI ranks MUMPS gets
+/// the scaled entries, distributed.md (D7)). static_solvers.md §7.2 says why the scaling is
+/// computed here, once per several factorizations, and not by MUMPS at every one.
 
 #include <cstddef>
 #include <vector>
