@@ -634,7 +634,10 @@ class MumpsImpl final : public SparseLinearSolver::Impl {
         ++q;
         if (a.innerIndexPtr()[p] >= j) lower_.push_back(p);
       }
-    return lu_.analyze(a, all_, in_parts_);
+    // each instance analyzes at its first factorization (factorize below), so a run whose
+    // matrices are all symmetric never pays an analysis of the LU instance, nor LDLᵀ's for
+    // unsymmetric ones (sequential, and on the host over ranks)
+    return {};
   }
   LinearStatus factorize(const SparseMatrixD& a, bool symmetric) override {
     last_ = symmetric ? &ldlt_ : &lu_;
