@@ -92,27 +92,26 @@ void broadcast_from_first_rank(int* values, int n) {
   if (g_world && n > 0) MPI_Bcast(values, n, MPI_INT, 0, MPI_COMM_WORLD);
 }
 
-void sum_over_ranks(double* values, std::size_t n) {
-  // in slices of at most 2^30 values: MPI counts are int
+namespace {
+// an in-place Allreduce of n doubles over the solvers' ranks, in slices of at most 2^30 values
+// (MPI counts are int)
+void reduce_over_ranks(double* values, std::size_t n, MPI_Op op) {
   constexpr std::size_t slice = std::size_t{1} << 30;
   if (g_world && linear_solver_ranks() > 1)
     for (std::size_t at = 0; at < n; at += slice)
-      MPI_Allreduce(MPI_IN_PLACE, values + at, static_cast<int>(std::min(slice, n - at)), MPI_DOUBLE, MPI_SUM,
+      MPI_Allreduce(MPI_IN_PLACE, values + at, static_cast<int>(std::min(slice, n - at)), MPI_DOUBLE, op,
                     MPI_COMM_WORLD);
 }
+}  // namespace
+
+void sum_over_ranks(double* values, std::size_t n) { reduce_over_ranks(values, n, MPI_SUM); }
 
 double largest_over_ranks(double value) {
   if (g_world && linear_solver_ranks() > 1) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
   return value;
 }
 
-void largest_over_ranks(double* values, std::size_t n) {
-  constexpr std::size_t slice = std::size_t{1} << 30;  // MPI counts are int
-  if (g_world && linear_solver_ranks() > 1)
-    for (std::size_t at = 0; at < n; at += slice)
-      MPI_Allreduce(MPI_IN_PLACE, values + at, static_cast<int>(std::min(slice, n - at)), MPI_DOUBLE, MPI_MAX,
-                    MPI_COMM_WORLD);
-}
+void largest_over_ranks(double* values, std::size_t n) { reduce_over_ranks(values, n, MPI_MAX); }
 
 int smallest_over_ranks(int value) {
   if (g_world && linear_solver_ranks() > 1) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);

@@ -403,7 +403,7 @@ TEST(CliRanks, BenchOverRanksPrintsOneTable) {
   ASSERT_EQ(plates->array.size(), 4u);
 #ifdef FF_MPI_MUMPS_DIR
   // the MPI flexframe runs MUMPS from the folder scripts/build_mumps --mpi made, as configured (a
-  // link that lost its run path would load Debian's 5.5.1 through its development link)
+  // configure that kept an earlier cached find of Debian's libdmumps would link 5.5.1 instead)
   if (std::string configured = FF_MPI_MUMPS_DIR; !configured.empty()) {
     const Json* library = root->get("mumps_library");
     ASSERT_TRUE(library && library->kind == Json::Kind::string);
