@@ -12,6 +12,7 @@ struct BenchOptions {
   int solve_max_n = 256;   ///< --max-n: largest plate of --solve
   std::string solve_backend;  ///< --backend: only this linear backend in --solve ("" = every unsymmetric one)
   std::vector<int> solve_ranks;  ///< --ranks: --solve over these MPI rank counts (run_solve_bench_over_ranks)
+  int solve_rounds = 1;          ///< --rounds: alternated rounds of the --ranks launches
   std::vector<std::string> scenes;     ///< --scene: time these scenes' whole runs (run_scene_bench)
   std::vector<std::string> overrides;  ///< --set: scene keys changed in every --scene run
   int modes = 0;                       ///< --modes N: only the eigen-solve table (run_modes_bench)

@@ -164,6 +164,11 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->check(CLI::Range(1, 4096))
       ->needs(bench->get_option("--solve"));
+  bench->add_option("--rounds", bench_opt.solve_rounds,
+                    "--ranks: alternated rounds of the launches (the rank counts' order reversed every other round); "
+                    "times are medians over the rounds and each speed-up the median of the rounds' own ratios")
+      ->check(CLI::Range(1, 100))
+      ->needs(bench->get_option("--ranks"));
   bench->add_option("--json", bench_opt.out_file, "same as --out: write the results as JSON to this file");
   bench->add_option("--scene", bench_opt.scenes,
                     "only whole runs of this scene (bundled name or file; repeatable): wall time, steps, "

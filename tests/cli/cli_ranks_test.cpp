@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
@@ -437,6 +439,54 @@ TEST(CliRanks, BenchOverRanksPrintsOneTable) {
     EXPECT_NEAR(number(two, "newton_iteration_speedup"),
                 number(one, "newton_iteration_ms") / number(two, "newton_iteration_ms"), 1e-12);
   }
+}
+
+// `--rounds R` alternates the launches (1 then 2 ranks, then 2 then 1, ...) and reports medians:
+// each speed-up the median of the rounds' own ratios, which the JSON keeps one by one; `--rounds`
+// without `--ranks` is refused
+TEST(CliRanks, BenchOverRanksAlternatesItsRounds) {
+  const std::string exe = mpi_flexframe();
+  if (exe.empty()) GTEST_SKIP() << "no flexframe with MUMPS's MPI build (configure with FLEXFRAME_TEST_RANKS=ON)";
+  const std::string dir = fresh_test_dir();
+  two_ranks();
+  setenv("FLEXFRAME_MPIEXEC_ARGS", "--oversubscribe", 1);
+  const ProcResult r = run_on({}, {"bench", "--solve", "--ranks", "2", "--rounds", "3", "--max-n", "16", "--repeat",
+                                   "1", "--json", dir + "/rounds.json"},
+                              dir + "/bench", exe);
+  unsetenv("FLEXFRAME_MPIEXEC_ARGS");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  // the launch order, as announced on stderr: 1, 2 | 2, 1 | 1, 2
+  std::vector<std::size_t> at;
+  for (const char* launch : {"round 1 of 3, 1 rank(s)", "round 1 of 3, 2 rank(s)", "round 2 of 3, 2 rank(s)",
+                             "round 2 of 3, 1 rank(s)", "round 3 of 3, 1 rank(s)", "round 3 of 3, 2 rank(s)"}) {
+    at.push_back(r.err.find(launch));
+    ASSERT_NE(at.back(), std::string::npos) << launch << "\n" << r.err;
+  }
+  EXPECT_TRUE(std::is_sorted(at.begin(), at.end())) << r.err;
+
+  std::string err;
+  const std::optional<Json> root = parse_json(read_text(dir + "/rounds.json"), &err);
+  ASSERT_TRUE(root) << err;
+  ASSERT_TRUE(root->get("rounds") && root->get("rounds")->number == 3.0);
+  const Json* plates = root->get("plate");
+  ASSERT_TRUE(plates && plates->kind == Json::Kind::array);
+  ASSERT_EQ(plates->array.size(), 2u);  // 16 x 16 on 1 and on 2 ranks
+  const Json& two = plates->array[1];
+  ASSERT_EQ(two.get("ranks")->number, 2.0);
+  for (const char* key : {"factorize_solve_speedup", "newton_iteration_speedup"}) {
+    const Json* per_round = two.get(std::string(key) + "_per_round");
+    ASSERT_TRUE(per_round && per_round->kind == Json::Kind::array) << key;
+    ASSERT_EQ(per_round->array.size(), 3u) << key;
+    std::vector<double> v;
+    for (const Json& x : per_round->array) v.push_back(x.number);
+    std::sort(v.begin(), v.end());
+    EXPECT_GT(v.front(), 0.0) << key;
+    EXPECT_EQ(two.get(key)->number, v[1]) << key;  // the median of three
+  }
+
+  const ProcResult bad = run_on({}, {"bench", "--solve", "--rounds", "3"}, dir + "/bad", exe);
+  EXPECT_EQ(bad.exit_code, 2) << bad.describe();
+  EXPECT_NE(bad.err.find("--rounds"), std::string::npos) << bad.err;
 }
 
 // The sequential MUMPS has no ranks to time: `bench --solve --ranks 2` says so and how to build the
