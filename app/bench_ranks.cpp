@@ -226,14 +226,13 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
   // the rounds that measured every rank count of a plate (an interrupted run may have left a round
   // part-done: its rows are not used)
   std::map<int, std::vector<int>> complete_rounds;  // n -> the rounds that measured it on every count
-  for (int round = 0; round < rounds; ++round)
-    for (const auto& [key, r] : rows) {
-      const auto [n, k, rd] = key;
-      if (rd != round || k != counts.front()) continue;
-      bool all = true;
-      for (int c : counts) all = all && rows.count({n, c, round});
-      if (all) complete_rounds[n].push_back(round);
-    }
+  for (const auto& [key, r] : rows) {  // ordered by n, rank count, round: each n's rounds ascending
+    const auto [n, k, round] = key;
+    if (k != counts.front()) continue;
+    bool all = true;
+    for (int c : counts) all = all && rows.count({n, c, round});
+    if (all) complete_rounds[n].push_back(round);
+  }
   if (complete_rounds.empty()) return code;
   std::printf("Static Newton iteration on n x n plates (CB shell, hr + ans, 5 DoF) with MUMPS over MPI ranks, wall "
               "time, best of %d (1 from n = 128); each rank count one launch of `%s -n K flexframe bench --solve "

@@ -335,9 +335,9 @@ void MultibodyModel::evaluate(double t, const Eigen::VectorXd& v, const Eigen::V
 }
 
 // (D1): the elements this rank evaluates, METIS's part of the mesh over the ranks sharing the solvers
-// (alone: every element); made when first needed, again when the ranks change
+// (alone: every element); made when first needed, again when the ranks or the elements change
 const ElementShare& MultibodyModel::element_share() {
-  if (element_share_.elements() != elements_.size() || element_share_.ranks() != linear_solver_ranks())
+  if (!element_share_.made_for(elements_.size(), linear_solver_ranks()))
     element_share_ = ElementShare(elements_.connectivity(), node_count(), linear_solver_rank(), linear_solver_ranks());
   return element_share_;
 }

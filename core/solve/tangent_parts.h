@@ -8,6 +8,7 @@
 /// builds the same layout from the same replicated model, with no communication.
 
 #include <array>
+#include <cstddef>
 #include <vector>
 
 #include "core/solve/solver_ranks.h"
@@ -27,8 +28,11 @@ class ElementShare {
   ElementShare(const std::vector<std::array<int, 4>>& elements, int nodes, int rank, int ranks);
   /// The elements this rank evaluates, ascending (alone: every element).
   const std::vector<int>& mine() const { return mine_; }
-  /// The elements of the mesh the share was made for.
-  int elements() const { return elements_; }
+  /// Whether this share was made for a mesh of `elements` elements over `ranks` ranks (a model
+  /// makes its share again when either changes).
+  bool made_for(std::size_t elements, int ranks) const {
+    return static_cast<std::size_t>(elements_) == elements && ranks_ == ranks;
+  }
   int rank_of(int element) const { return rank_of_.empty() ? 0 : rank_of_[element]; }
   int rank() const { return rank_; }
   int ranks() const { return ranks_; }
