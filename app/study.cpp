@@ -1,6 +1,7 @@
 #include "app/study.h"
 
 #include "app/output_folder.h"
+#include "core/frame/file_name.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -726,7 +727,7 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
   std::optional<OutputFolder> folder;
   if (!worker) {
     if (options.out_dir.empty())  // a study file's name was checked there; this is the last word
-      if (const std::string why = scene::output_name_problem(spec.name); !why.empty())
+      if (const std::string why = file_name_problem(spec.name); !why.empty())
         throw InputError("the study name '" + spec.name + "' " + why + "; give --out");
     folder.emplace(dir, "study");
     // stale runs of another study must not be resumed: what earlier studies recorded goes

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/frame/file_name.h"
 #include "app/run_session.h"
 #include "core/scene/scene.h"
 #include "core/scene/schema.h"
@@ -195,7 +196,7 @@ StudySpec read_study_file(const std::string& path) {
   };
   StudySpec s;
   s.name = d.string("study.name").empty() ? fs::path(path).stem().string() : d.string("study.name");
-  if (const std::string why = scene::output_name_problem(s.name); !why.empty())
+  if (const std::string why = file_name_problem(s.name); !why.empty())
     issues.push_back(d.issue(d.string("study.name").empty() ? "study.scene" : "study.name",
                              "the study name '" + s.name + "' " + why +
                                  "; it names the output folder out/study/<name>, so it must be one plain folder name "

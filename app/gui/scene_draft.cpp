@@ -6,6 +6,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "core/frame/file_name.h"
 #include "core/scene/mesh_generator_keys.h"
 #include "core/scene/scene.h"
 #include "core/scene/scene_edit.h"
@@ -347,7 +348,7 @@ DraftEdit with_live_edit(const std::string& text, const std::string& path, const
 std::string text_to_save(const std::string& text, const std::string& path, const std::string& save_path,
                          const std::string& opened_text, const std::string& opened_from) {
   const std::string stem = std::filesystem::path(save_path).stem().string();
-  if (const std::string why = scene::output_name_problem(stem); !why.empty())
+  if (const std::string why = file_name_problem(stem); !why.empty())
     throw std::invalid_argument("the file name '" + stem + "' becomes scene.name, the output folder out/" + stem +
                                 ", and " + why);
   std::string out = scene::edited_scene_text(text, path, {"scene.name=" + quoted(stem)});

@@ -11,6 +11,7 @@
 #include <variant>
 #include <toml++/toml.h>
 
+#include "core/frame/file_name.h"
 #include "core/scene/hub_beam_scene.h"
 #include "core/scene/mesh_generator_keys.h"
 #include "core/scene/scene_common.h"
@@ -168,18 +169,6 @@ void refuse_repeated_names(const Document& d) {
 }
 }  // namespace
 
-std::string output_name_problem(const std::string& name) {
-  if (name.empty()) return "is empty";
-  if (name.size() > 200) return "is longer than 200 bytes";
-  if (name == "." || name == "..") return "is '" + name + "', which names a folder above or at out/";
-  if (name.find("..") != std::string::npos) return "contains '..'";
-  for (const char c : name) {
-    if (c == '/' || c == '\\') return std::string("contains the path separator '") + c + "'";
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return "contains a control character";
-  }
-  return "";
-}
-
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
   return load_scene_text(read_scene_text(path), path, overrides, ctx);
 }
@@ -192,7 +181,7 @@ LoadedScene load_scene_text(const std::string& text, const std::string& path, co
   const Document d = validate(kind.schema(), text, path, overrides);
   LoadedScene s;
   s.name = d.string("scene.name");
-  if (const std::string why = output_name_problem(s.name); !why.empty())
+  if (const std::string why = file_name_problem(s.name); !why.empty())
     throw SceneError({d.issue("scene.name", "'" + s.name + "' " + why +
                                                 "; the name is the output folder out/<name>, so it must be one plain "
                                                 "folder name (letters, digits, '_', '-', '.'; --out chooses any folder)")});

@@ -66,12 +66,6 @@ std::vector<CameraKey> camera_path_from_text(const std::string& text, const std:
 /// Markdown reference of every scene key of every model (docs/reference/scene-keys.md).
 std::string scene_reference_markdown();
 
-/// Why `name` cannot name the default output folder out/<name>, or "" when it is one plain
-/// folder name: not empty, no '/' or '\\', not "." or "..", no control characters, at most 200
-/// bytes. A scene or study from someone else must not be able to point its output (and the
-/// clean-up of earlier output) anywhere but a folder of its own under out/.
-std::string output_name_problem(const std::string& name);
-
 /// Reads, validates and builds a scene. `overrides` are "key=value" from --set; `ctx` brings what
 /// the program around provides (a mesh file reader).
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
