@@ -315,7 +315,33 @@ DraftEdit with_material_preset(const std::string& text, const std::string& path,
   const std::string short_name = p->name.substr(0, p->name.find(' '));
   if (!named_by_a_part && old_name != short_name && (!old_name.empty() || d.count("material") > 1))
     overrides.push_back(element_name("material", index) + ".name=" + quoted(unique_name(d, "material", short_name)));
-  return {scene::edited_scene_text(bare, path, overrides), element_name("material", index) + " is " + p->about};
+  std::string note = element_name("material", index) + " is " + p->about;
+  // orthotropic plies have no default fibre direction (part.fibre_reference): every generated part
+  // the material makes, alone or as a ply of a layup, gets "u" written into the scene, and the note
+  // says which direction that is
+  const bool orthotropic = std::any_of(p->keys.begin(), p->keys.end(), [](const auto& k) { return k.first == "e1"; });
+  auto made_of_it = [&](std::size_t i) {
+    const std::string& material = d.string("part.material", i);
+    const std::string& layup = d.string("part.layup", i);
+    if (!layup.empty()) {
+      for (std::size_t l = 0; l < d.count("layup"); ++l)
+        if (d.string("layup.name", l) == layup) {
+          const std::vector<std::string> plies = d.strings("layup.plies", l);
+          return std::find(plies.begin(), plies.end(), old_name) != plies.end();
+        }
+      return false;
+    }
+    return material == old_name || (material.empty() && d.count("material") == 1);
+  };
+  if (orthotropic)
+    for (std::size_t i = 0; i < d.count("part"); ++i) {
+      const std::string generator = d.string("part.generator", i);
+      if (generator == "file" || d.present("part.fibre_reference", i) || !made_of_it(i)) continue;
+      overrides.push_back(element_name("part", i) + ".fibre_reference=\"u\"");
+      note += "; " + element_name("part", i) + ".fibre_reference = \"u\" written (0 degrees along u: " +
+              scene::generator_grid_directions(generator) + "; set it to \"v\" or \"vector\" for another direction)";
+    }
+  return {scene::edited_scene_text(bare, path, overrides), note};
 }
 
 DraftEdit with_live_edit(const std::string& text, const std::string& path, const std::string& key,

@@ -378,6 +378,26 @@ mesh::ShellMesh build(const Document& d, std::size_t i, const std::string& gen) 
 
 }  // namespace
 
+std::string generator_grid_directions(const std::string& generator) {
+  static const std::map<std::string, std::string> directions = {
+      {"rectangular_plate", "u along x (from edge x_min to x_max), v along y (from y_min to y_max)"},
+      {"l_plate",
+       "u along each arm, from arm1's free end towards arm2's (along x in arm1 and the corner, along y in arm2), v "
+       "across the width"},
+      {"folded_plate", "u along each leg, from leg1's end over the fold to leg2's end, v along the fold (y)"},
+      {"cylinder", "u around the arc (from edge start_angle to end_angle), v along the axis (from bottom to top)"},
+      {"cut_cylinder", "u around the arc (from edge start_angle to end_angle), v along the axis y (from bottom to top)"},
+      {"annulus",
+       "u radial (from edge inner, or core without a hole, to outer), v around (from start_angle to end_angle); in the "
+       "core square of a disk without a hole, the square's own grid"},
+      {"spherical_cap",
+       "u along the meridian (from edge hole, or core without a hole, to rim), v around the azimuth (from start_angle "
+       "to end_angle); in the core square of a cap without a hole, the square's own grid"},
+  };
+  const auto it = directions.find(generator);
+  return it == directions.end() ? std::string() : it->second;
+}
+
 void declare_part_keys(Schema& s) {
   s.table_array("part",
           "a shell part of the structure. A generator builds its mid-surface from the dimensions below (lengths in "
@@ -427,7 +447,8 @@ void declare_part_keys(Schema& s) {
               "the part's stresses): u or v, the generator's u or v grid direction at each element's centre (the "
               "edge names list which is which: u runs from edge u=0 to u=1); for generator = file, u is each "
               "element's edge from its first corner to its second and v to its fourth, so a file part of orthotropic plies needs \"vector\"; vector: "
-              "part.fibre_vector",
+              "part.fibre_vector. No default for a part of orthotropic plies (refused without it: u and v are other "
+              "directions on every generator); u for isotropic ones",
               {"u", "v", "vector"}, "u")
       .number_list("part.fibre_vector",
                    "fibre_reference = \"vector\" (required there, refused otherwise): the world vector ply angles are "

@@ -35,6 +35,12 @@ bool mesh_from_file(const Document& d, std::size_t i);
 void check_thickness_against_radius(const Document& d, std::size_t i, double thickness, const std::string& thickness_key,
                                     std::size_t thickness_index);
 
+/// What a generator's u and v grid directions are on its surface, in words ("u around the arc,
+/// from edge start_angle to end_angle; v along the axis, from bottom to top" for a cylinder), for
+/// messages that ask the scene to choose one (part.fibre_reference); "" for "file" and unknown
+/// names.
+std::string generator_grid_directions(const std::string& generator);
+
 /// The mesh of a parametric generator (part.generator != "file"), built from part i's keys.
 mesh::ShellMesh generate_mesh(const Document& d, std::size_t i);
 

@@ -350,7 +350,7 @@ void read_layups(const Document& d, Structure& s, const std::vector<shell::Ply>&
 // part the quad's edge from corner 0 to 1 (u) or 0 to 3 (v); vector: part.fibre_vector, refused
 // where it is parallel to a quad's normal.
 std::vector<Eigen::Vector3d> fibre_reference_directions(const Document& d, std::size_t i, const StructurePart& p,
-                                                        const shell::ShellSection& section) {
+                                                        const StructureMaterial& material) {
   const std::string& reference = d.string("part.fibre_reference", i);
   const mesh::ShellMesh& m = p.mesh;
   const int nq = m.quad_count();
@@ -358,8 +358,24 @@ std::vector<Eigen::Vector3d> fibre_reference_directions(const Document& d, std::
     throw SceneError({d.issue("part.fibre_vector", i, "part.fibre_vector belongs to fibre_reference = \"vector\"; this "
                                                       "part's fibre_reference = \"" + reference + "\" would ignore it")});
   bool orthotropic = false;
-  if (section.plies)
-    for (const shell::Ply& ply : *section.plies) orthotropic = orthotropic || !isotropic(ply);
+  if (material.section.plies)
+    for (const shell::Ply& ply : *material.section.plies) orthotropic = orthotropic || !isotropic(ply);
+  // no default for orthotropic plies: u or v of a generator is a different direction on each
+  // surface (around a cylinder's arc, along a plate's x), and the wrong one swaps a [0/90/0]
+  // layup into [90/0/90] without a word (docs/validation/laminates.md, the roof's two readings)
+  if (orthotropic && !p.from_file && !d.present("part.fibre_reference", i)) {
+    const std::string generator = d.string("part.generator", i);
+    throw SceneError({d.issue(
+        "part.fibre_reference", i,
+        "part '" + p.name + "' is made of orthotropic plies (" +
+            (material.layup >= 0 ? "layup '" + material.name + "'"
+             : material.name.empty() ? std::string("the scene's material")
+                                     : "material '" + material.name + "'") +
+            "), whose angles are measured from a direction the part must choose; there is no "
+            "default. On generator = \"" + generator + "\": " + generator_grid_directions(generator) +
+            ". Give fibre_reference = \"u\" or \"v\" (0 degrees along that grid direction), or \"vector\" with "
+            "part.fibre_vector = [x, y, z] (a world direction projected on each element)")});
+  }
   if (p.from_file && orthotropic && reference != "vector")
     throw SceneError({d.issue("part.fibre_reference", i,
                               "a file part has no u and v grid (\"" + reference + "\" would be each element's own edge, "
@@ -599,7 +615,7 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
                                                            "(arm1, corner, arm2; leg1, leg2), so a structure holds one "
                                                            "of each")
                                              : std::string("give the part a name of its own")))});
-    p.reference_direction = fibre_reference_directions(d, i, p, s.materials[p.material].section);
+    p.reference_direction = fibre_reference_directions(d, i, p, s.materials[p.material]);
     any_reference_key = any_reference_key || d.present("part.fibre_reference", i) || d.present("part.fibre_vector", i);
     s.parts.push_back(std::move(p));
   }

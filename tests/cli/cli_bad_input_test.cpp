@@ -346,7 +346,9 @@ TEST(CliLaminate, BadLayupInputIsLocatedAndRadiansWarn) {
            "[[load]]\ntype = \"pressure\"\npressure = 1000.0\nselect = \"all\"\n"
            "[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\nselect = \"nearest\"\npoint = [1.0, 0.5, 0.0]\n[solver]\n";
   };
-  const std::string plate = "generator = \"rectangular_plate\"\nlength = 1.0\nwidth = 1.0\nn1 = 4\nn2 = 4\n";
+  // orthotropic plies need their reference direction (issue 48): 0 degrees along x
+  const std::string plate =
+      "generator = \"rectangular_plate\"\nlength = 1.0\nwidth = 1.0\nn1 = 4\nn2 = 4\nfibre_reference = \"u\"\n";
   struct Case {
     std::string name, text;
     int exit_code, line;

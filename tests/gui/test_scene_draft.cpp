@@ -217,6 +217,10 @@ TEST(SceneDraft, MaterialPresetsReplaceTheElasticKeys) {
   EXPECT_FALSE(d.present("material.poisson_ratio", 0));
   EXPECT_EQ(d.number("material.e1", 0), 1.81e11);
   EXPECT_NE(ply.note.find("Tsai & Hahn"), std::string::npos) << "the preset says where its numbers come from";
+  // orthotropic plies have no default fibre direction: the preset writes one and says which it is
+  EXPECT_EQ(d.string("part.fibre_reference", 0), "u");
+  EXPECT_TRUE(d.present("part.fibre_reference", 0));
+  EXPECT_NE(ply.note.find("part[0].fibre_reference = \"u\" written"), std::string::npos) << ply.note;
   expect_builds(ply.text);
   EXPECT_THROW(with_material_preset(text, kPath, 0, "unobtainium"), std::invalid_argument);
   EXPECT_THROW(with_material_preset(text, kPath, 3, "steel"), std::invalid_argument);

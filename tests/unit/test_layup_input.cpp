@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "core/scene/mesh_generator_keys.h"
 #include "core/scene/scene.h"
 #include "core/scene/shell_scene.h"
 #include "core/scene/structure_parts.h"
@@ -45,8 +46,8 @@ int line_of(const std::string& text, const std::string& needle) {
   return 0;
 }
 
-// The [0/90/0] hinged roof of Sze, Liu & Lo (quarter model, 4 x 4), statics. `material`, `layup`
-// and `part_extra` replace the defaults.
+// The [0/90/0] hinged roof of Sze, Liu & Lo (quarter model, 4 x 4), statics, 0 degrees along its
+// axis as in the bundled scene. `material`, `layup` and `part_extra` replace the defaults.
 const std::string kPly =
     "[[material]]\nname = \"ply\"\ne1 = 3300.0\ne2 = 1100.0\ng12 = 660.0\ng13 = 660.0\ng23 = 660.0\nnu12 = 0.25\n";
 const std::string kLayup =
@@ -54,7 +55,7 @@ const std::string kLayup =
     "ply_thicknesses = [4.233333333333333, 4.233333333333333, 4.233333333333334]\nply_angles = [0.0, 90.0, 0.0]\n";
 
 std::string roof(const std::string& material = kPly, const std::string& layup = kLayup,
-                 const std::string& part_extra = "layup = \"cross\"\n") {
+                 const std::string& part_extra = "layup = \"cross\"\nfibre_reference = \"v\"\n") {
   return "[scene]\nname = \"laminated_roof\"\nmodel = \"shell\"\nanalysis = \"static\"\neffects = [\"elastic\", \"hr\", \"ans\"]\n"
          "[[part]]\ngenerator = \"cylinder\"\nname = \"roof\"\nradius = 2540.0\norigin = [0.0, 0.0, -2540.0]\n"
          "axis = [1.0, 0.0, 0.0]\nreference = [0.0, 0.0, 1.0]\nstart_angle = -5.729577951308232\nend_angle = 0.0\n"
@@ -191,6 +192,28 @@ TEST(LayupInput, FibreVectorAlongANormalNamesTheElement) {
 
 // Radians by mistake: every |angle| <= 2 pi, one non-zero, one not a whole number of degrees:
 // accepted with a warning located at layup.ply_angles; plausible degrees pass silently.
+// Issue 48, item 4: orthotropic plies have no default reference direction. Without
+// part.fibre_reference the part is refused at its [[part]] line, the message saying what u and v are
+// on its generator (the default "u" ran around the roof's arc and made [0/90/0] the [90/0/90]
+// stack); a layup of isotropic plies needs none, and every generator has its u and v in words.
+TEST(LayupInput, OrthotropicPartsNeedTheirFibreReference) {
+  const std::string roof_text = roof(kPly, kLayup, "layup = \"cross\"\n");
+  expect_refused("roof_without_reference", roof_text, "part[0].fibre_reference", "[[part]]", "no default");
+  const scene::Issue issue = first_issue("roof_without_reference", roof_text);
+  EXPECT_NE(issue.message.find("u around the arc"), std::string::npos) << issue.to_string();
+  EXPECT_NE(issue.message.find("v along the axis"), std::string::npos) << issue.to_string();
+  EXPECT_NE(issue.message.find("layup 'cross'"), std::string::npos) << issue.to_string();
+  // an orthotropic material as the whole section (one ply at 0 degrees) is orthotropic too
+  const std::string single_ply = roof(kPly + "thickness = 12.7\n", "", "material = \"ply\"\n");
+  expect_refused("single_ply_without_reference", single_ply, "part[0].fibre_reference", "[[part]]", "material 'ply'");
+  // isotropic plies: u, as before
+  const std::string iso = "[[material]]\nname = \"ply\"\nyoungs_modulus = 3300.0\n";
+  EXPECT_NO_THROW(scene::load_scene(write_scene("isotropic_layup", roof(iso, kLayup, "layup = \"cross\"\n"))));
+  for (const std::string generator :
+       {"rectangular_plate", "l_plate", "folded_plate", "cylinder", "cut_cylinder", "annulus", "spherical_cap"})
+    EXPECT_NE(scene::generator_grid_directions(generator).find("u "), std::string::npos) << generator;
+}
+
 TEST(LayupInput, AnglesThatLookLikeRadiansWarnAtTheirLine) {
   const std::string text = replaced(roof(), "ply_angles = [0.0, 90.0, 0.0]", "ply_angles = [0.0, 1.5708, 0.0]");
   const scene::LoadedScene s = scene::load_scene(write_scene("radians", text));
@@ -339,7 +362,7 @@ TEST(LayupInput, LayupDensityInDynamics) {
            materials +
            "[[layup]]\nname = \"two\"\nplies = [\"a\", \"b\"]\nply_thicknesses = [0.001, 0.003]\nply_angles = [0.0, 90.0]\n"
            "[[part]]\nname = \"plate\"\ngenerator = \"rectangular_plate\"\nn1 = 4\nn2 = 2\nlength = 0.6\nwidth = 0.2\n"
-           "layup = \"two\"\n"
+           "layup = \"two\"\nfibre_reference = \"u\"\n"
            "[[probe]]\nname = \"tip_z\"\nselect = \"nearest\"\npoint = [0.6, 0.1, 0.0]\ndirection = [0.0, 0.0, 1.0]\n";
   };
   const std::string a = "[[material]]\nname = \"a\"\nyoungs_modulus = 70e9\ndensity = 1000.0\n";
