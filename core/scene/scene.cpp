@@ -15,6 +15,7 @@
 #include "core/scene/hub_beam_scene.h"
 #include "core/scene/mesh_generator_keys.h"
 #include "core/scene/scene_common.h"
+#include "core/scene/schema_text.h"
 #include "core/scene/shell_dynamic_scene.h"
 #include "core/scene/shell_eigen_scene.h"
 #include "core/scene/shell_scene.h"
@@ -167,6 +168,23 @@ void refuse_repeated_names(const Document& d) {
     }
   }
 }
+// a probe's name becomes its plot, plots/<name>.png (an arc's, plots/arc_rate_<name>.png and
+// arc_strain_<name>.png), and a series of results.h5: refused here with the rule scene.name
+// follows, so that check sees it instead of a run that fails after its solve
+void refuse_names_unfit_for_files(const Document& d) {
+  for (const char* table : {"probe", "arc"}) {
+    if (!d.declares_array(table)) continue;
+    const std::string key = std::string(table) + ".name";
+    for (std::size_t i = 0; i < d.count(table); ++i) {
+      const std::string& name = d.string(key, i);
+      if (const std::string why = file_name_problem(name); !why.empty())
+        throw SceneError({d.issue(key, i, text::quoted(name) + " " + why + "; the name becomes the plot file plots/" +
+                                              (std::string(table) == "arc" ? "arc_rate_" : "") + "<name>.png, so it must "
+                                              "be one plain file name (letters, digits, '_', '-', '.'; at most " +
+                                              std::to_string(kMaxFileNameBytes) + " bytes)")});
+    }
+  }
+}
 }  // namespace
 
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
@@ -189,6 +207,7 @@ LoadedScene load_scene_text(const std::string& text, const std::string& path, co
   s.output = read_output(d, kind.camera_keys);
   s.output.camera_path = read_timeline(d, d.number(kind.end_key)).camera;
   refuse_repeated_names(d);
+  refuse_names_unfit_for_files(d);
   SceneContext with_report = ctx;  // a shell structure's builder leaves its mesh quality report here
   MeshQualityReport report;
   with_report.mesh_quality = &report;

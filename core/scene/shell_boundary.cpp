@@ -104,7 +104,9 @@ void declare_load_keys(Schema& s) {
 
 void declare_probe_keys(Schema& s) {
   s.table_array("probe", "quantities recorded along the path", 1, 32)
-      .string("probe.name", "probe name (also the plot file name)", std::nullopt)
+      .string("probe.name", "probe name, also its plot's file name plots/<name>.png: one plain file name (no '/', '\\', "
+                               "'..' or control characters, at most 200 bytes)",
+                  std::nullopt)
       .string("probe.label", "plot label", std::string{})
       .choice("probe.quantity",
               "displacement: direction . u of the (first) selected node; reaction: direction . (support force) "

@@ -85,7 +85,9 @@ const Schema& shell_dynamic_schema() {
         .number("load.ramp", "dynamics: the load rises linearly from 0 over this long from load.start; 0 = suddenly",
                 0.0, Range::non_negative(), "s");
     s.table_array("probe", "node displacements (direction . u) or stresses recorded every step", 0, 32)
-        .string("probe.name", "probe name (also the plot file name)", std::nullopt)
+        .string("probe.name", "probe name, also its plot's file name plots/<name>.png: one plain file name (no '/', '\\', "
+                               "'..' or control characters, at most 200 bytes)",
+                  std::nullopt)
         .string("probe.label", "plot label", std::string{})
         .choice("probe.quantity",
                 "displacement: direction . u of the (first) selected node; stress: the nodal value of the stress "
@@ -97,7 +99,8 @@ const Schema& shell_dynamic_schema() {
     declare_probe_field_key(s);
     declare_selector_keys(s, "probe");
     s.table_array("arc", "curves whose relative chord and length changes are recorded (arc_rate_<name>)", 0, 16)
-        .string("arc.name", "arc name", std::nullopt);
+        .string("arc.name", "arc name, also in its plots' file names plots/arc_rate_<name>.png: one plain file name",
+                std::nullopt);
     declare_selector_keys(s, "arc");
     s.table_array("metric", "numbers written to summary.json", 0, 32)
         .string("metric.name", "metric name", std::nullopt)
