@@ -113,6 +113,18 @@ void refuse_ambiguous_nearest(const Document& d, const mesh::ShellMesh& m, const
   const double nearest = (m.points[chosen] - point).norm();
   auto check = [&](int k) {
     if (k == chosen || !((m.points[k] - point).norm() - nearest <= tie)) return;
+    // two nodes at one place are a seam the mesh keeps open: a slit's lips, or faces of a mesh
+    // file that were not joined there
+    if ((m.points[k] - m.points[chosen]).norm() <= tie)
+      throw SceneError({d.issue(t + ".point", i,
+                                "nodes " + std::to_string(chosen) + " and " + std::to_string(k) + " lie at the same place " +
+                                    point_text(m.points[chosen]) + ": the mesh holds two unconnected nodes there (the "
+                                    "lips of a slit, or faces of a mesh file that are not joined along that line; "
+                                    "part.weld_tolerance welds a file's), so select = \"nearest\" cannot tell which "
+                                    "one is meant; " +
+                                    (side.isZero(0.0) ? "pick a side with " + t + ".side"
+                                                      : t + ".side does not tell them apart either") +
+                                    ", or join the faces")});
     throw SceneError({d.issue(t + ".point", i,
                               "the point " + point_text(point) + " is equally near node " + std::to_string(chosen) +
                                   " at " + point_text(m.points[chosen]) + " and node " + std::to_string(k) + " at " +

@@ -46,9 +46,9 @@ const std::vector<ModelKind>& model_kinds() {
         {"shell", "dynamic", "a CB shell structure, rigid bodies and joints in motion", shell_dynamic_schema,
          "solver.end", true, build_shell_dynamic, estimated_structure_bytes},
         {"shell", "modal", "natural frequencies and mode shapes of a CB shell structure, unloaded or preloaded",
-         shell_modal_schema, "solver.end", true, build_shell_modal, estimated_structure_bytes},
+         shell_modal_schema, "solver.end", true, build_shell_modal, estimated_eigen_bytes},
         {"shell", "buckling", "linear buckling loads and modes of a CB shell structure under its loads",
-         shell_buckling_schema, "solver.end", true, build_shell_buckling, estimated_structure_bytes},
+         shell_buckling_schema, "solver.end", true, build_shell_buckling, estimated_eigen_bytes},
     };
     // every schema's scene.model offers model_names() (scene_common.cpp, below this file)
     std::vector<std::string> names;

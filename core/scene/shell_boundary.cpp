@@ -292,10 +292,6 @@ std::vector<std::pair<int, Vec3>> surface_load_forces(const mesh::ShellMesh& m, 
   return {f.begin(), f.end()};
 }
 
-void read_loads(const Document& d, shell::ShellModelSpec& spec) {
-  for (std::size_t i = 0; i < d.count("load"); ++i) read_load(d, i, spec);
-}
-
 void read_load(const Document& d, std::size_t i, shell::ShellModelSpec& spec) {
   using namespace ff::shell;
   const mesh::ShellMesh& m = spec.mesh;
@@ -374,6 +370,149 @@ std::vector<shell::ShellProbe> read_probes(const Document& d, const mesh::ShellM
     probes.push_back(std::move(p));
   }
   return probes;
+}
+
+std::vector<HeldDirection> held_directions(const shell::ShellModelSpec& spec) {
+  std::vector<HeldDirection> held;
+  for (const shell::DirectionRestraint& r : spec.directions)
+    held.push_back({r.node, r.direction.normalized(), r.rotation, r.value != 0.0, "bc[" + std::to_string(r.source) + "]"});
+  for (const shell::SymmetryPlane& p : spec.symmetry_planes) {
+    const Vec3 n = p.normal.normalized(), t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+    const std::string entry = "bc[" + std::to_string(p.source) + "]";
+    held.push_back({p.node, n, false, false, entry});
+    held.push_back({p.node, t1, true, false, entry});  // rotation only about the normal
+    held.push_back({p.node, t2, true, false, entry});
+  }
+  return held;
+}
+
+namespace {
+// What the supports hold at one node: orthonormal bases of the held translations and rotations,
+// and the entries holding them
+struct NodeHold {
+  std::vector<Vec3> translations, rotations;
+  std::vector<std::string> entries;
+  bool prescribed = false;
+};
+// adds `v` to the orthonormal basis `basis` unless it lies in its span already
+void add_to_basis(std::vector<Vec3>& basis, Vec3 v) {
+  for (const Vec3& b : basis) v -= v.dot(b) * b;
+  if (v.norm() > 1e-9) basis.push_back(v.normalized());
+}
+std::map<int, NodeHold> holds_by_node(const std::vector<HeldDirection>& held) {
+  std::map<int, NodeHold> out;
+  for (const HeldDirection& h : held) {
+    NodeHold& n = out[h.node];
+    add_to_basis(h.rotation ? n.rotations : n.translations, h.direction);
+    if (std::find(n.entries.begin(), n.entries.end(), h.entry) == n.entries.end()) n.entries.push_back(h.entry);
+    n.prescribed = n.prescribed || h.prescribed;
+  }
+  return out;
+}
+// the part of v the basis leaves free
+Vec3 free_part(const std::vector<Vec3>& basis, Vec3 v) {
+  for (const Vec3& b : basis) v -= v.dot(b) * b;
+  return v;
+}
+// v (non-zero) lies in what `basis` holds, to round-off; a follower vector only when all of it is held
+bool held_along(const std::vector<Vec3>& basis, const Vec3& v, bool follower) {
+  if (follower) return basis.size() == 3;
+  return free_part(basis, v).norm() <= 1e-9 * v.norm();
+}
+std::string nodes_text(std::size_t n) { return std::to_string(n) + (n == 1 ? " node" : " nodes"); }
+}  // namespace
+
+void refuse_loads_on_held_dofs(const Document& d, const mesh::ShellMesh& m, const std::vector<HeldDirection>& held,
+                               const std::vector<EntryLoads>& loads) {
+  if (held.empty()) return;
+  const std::map<int, NodeHold> holds = holds_by_node(held);
+  static const std::vector<Vec3> none;
+  for (const EntryLoads& e : loads) {
+    // every non-zero nodal force and moment of the entry, pressures as their reference nodal forces
+    std::vector<shell::NodalLoad> nodal = e.nodal;
+    for (const shell::PressureLoad& p : e.pressures) {
+      std::array<Vec3, 4> x;
+      for (int c = 0; c < 4; ++c) x[c] = m.points[m.quads[p.quad][c]];
+      const std::array<Vec3, 4> f = shell::dead_pressure_forces(x, p.pressure);
+      for (int c = 0; c < 4; ++c) nodal.push_back({m.quads[p.quad][c], f[c], Vec3::Zero(), p.follower});
+    }
+    bool loaded = false, works = false;
+    std::vector<int> nodes;
+    std::vector<std::string> entries;
+    bool prescribed = false;
+    for (const shell::NodalLoad& l : nodal) {
+      const bool force = !l.force.isZero(0.0), moment = !l.moment.isZero(0.0);
+      if (!force && !moment) continue;
+      loaded = true;
+      const auto it = holds.find(l.node);
+      const NodeHold* h = it == holds.end() ? nullptr : &it->second;
+      if ((force && !held_along(h ? h->translations : none, l.force, l.follower)) ||
+          (moment && !held_along(h ? h->rotations : none, l.moment, l.follower))) {
+        works = true;
+        break;
+      }
+      if (std::find(nodes.begin(), nodes.end(), l.node) == nodes.end()) nodes.push_back(l.node);
+      for (const std::string& name : h->entries)
+        if (std::find(entries.begin(), entries.end(), name) == entries.end()) entries.push_back(name);
+      prescribed = prescribed || h->prescribed;
+    }
+    if (!loaded || works) continue;
+    const std::size_t i = e.entry;
+    const std::string type = d.string("load.type", i);
+    const std::string amount = type == "force" || type == "moment" ? "load.total"
+                               : type == "line"                    ? "load.per_length"
+                               : type == "pressure"                ? "load.pressure"
+                                                                   : "load.per_area";
+    std::string by;
+    for (const std::string& name : entries) by += (by.empty() ? "" : ", ") + name;
+    throw SceneError({d.issue(amount, i, "load[" + std::to_string(i) + "] does no work: at each of its " +
+                                             nodes_text(nodes.size()) + " the supports (" + by + ") " +
+                                             (prescribed ? "hold or prescribe" : "hold") + " every direction it " +
+                                             (type == "moment" ? "turns" : "pushes") + ", so they take all of it and "
+                                             "the structure never feels it; load nodes the supports leave free along "
+                                             "the load, or give the load another direction")});
+  }
+}
+
+void warn_probes_on_held_dofs(const Document& d, const mesh::ShellMesh& m, const std::vector<HeldDirection>& held,
+                              std::vector<std::string>* warnings) {
+  if (!warnings) return;
+  const std::map<int, NodeHold> holds = holds_by_node(held);
+  static const std::vector<Vec3> none;
+  auto held_at = [&](int node) -> const NodeHold* {
+    const auto it = holds.find(node);
+    return it == holds.end() ? nullptr : &it->second;
+  };
+  for (std::size_t i = 0; i < d.count("probe"); ++i) {
+    const std::string quantity = d.string("probe.quantity", i);
+    if (quantity == "stress") continue;
+    const Vec3 direction = vec(d.numbers("probe.direction", i));
+    if (!(direction.norm() > 0) || !direction.allFinite()) continue;
+    const std::vector<int> ids = select_nodes(d, m, "probe", i);
+    const std::string name = "probe[" + std::to_string(i) + "] '" + d.string("probe.name", i) + "'";
+    if (quantity == "displacement") {
+      const NodeHold* h = held_at(ids.front());
+      if (!h || h->prescribed || !held_along(h->translations, direction, false)) continue;
+      std::string by;
+      for (const std::string& e : h->entries) by += (by.empty() ? "" : ", ") + e;
+      warnings->push_back(d.issue("probe.direction", i, name + " reads the displacement of node " +
+                                                            std::to_string(ids.front()) + " along a direction the "
+                                                            "supports (" + by + ") hold there: it records 0 throughout "
+                                                            "(quantity = \"reaction\" reads the support's force)")
+                              .to_string());
+    } else if (quantity == "reaction") {
+      const bool any = std::any_of(ids.begin(), ids.end(), [&](int node) {
+        const NodeHold* h = held_at(node);
+        return h && free_part(h->translations, direction).norm() < (1.0 - 1e-9) * direction.norm();
+      });
+      if (!any)
+        warnings->push_back(d.issue("probe.direction", i, name + " sums the support force along a direction no "
+                                                              "support holds at any of its " + nodes_text(ids.size()) +
+                                                              ": it records only the residual, about 0 (select the "
+                                                              "supported nodes)")
+                                .to_string());
+    }
+  }
 }
 
 Issue located(const Document& d, const shell::ShellSpecError& e, const Structure& structure) {

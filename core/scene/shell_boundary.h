@@ -40,13 +40,50 @@ void refuse_unknown_probe_fields(const Document& d, const std::vector<shell::Str
 /// Restraints, symmetry planes and prescribed displacements of every [[bc]] into `spec`
 /// (each tagged with its entry index as `source`). Needs spec.mesh. Throws SceneError.
 void read_bcs(const Document& d, shell::ShellModelSpec& spec);
-/// Point forces and moments, line, surface and pressure loads of every [[load]] into `spec`.
-void read_loads(const Document& d, shell::ShellModelSpec& spec);
-/// Entry i of [[load]] alone, added to spec.loads / spec.pressures (the dynamic model reads each
-/// entry with its own time history).
+/// Entry i of [[load]] (point forces and moments, line, surface and pressure loads), added to
+/// spec.loads / spec.pressures; each entry apart, so that a caller knows what each one applies
+/// (the dynamic model gives each its own time history).
 void read_load(const Document& d, std::size_t i, shell::ShellModelSpec& spec);
 /// Probes of every [[probe]].
 std::vector<shell::ShellProbe> read_probes(const Document& d, const mesh::ShellMesh& m);
+
+/// One direction a support holds at a node (world components): its translation, or with
+/// `rotation` its rotation, along `direction` is held at zero, or moved by a prescribed
+/// displacement (`prescribed`); `entry` names the scene entry that holds it ("bc[2]", "joint[0]").
+struct HeldDirection {
+  int node = -1;
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
+  bool rotation = false;
+  bool prescribed = false;
+  std::string entry;
+};
+/// The directions the [[bc]] entries read into `spec` (read_bcs) hold: restraints, prescribed
+/// displacements, and a symmetry plane's normal translation and in-plane rotations.
+std::vector<HeldDirection> held_directions(const shell::ShellModelSpec& spec);
+
+/// The loads one [[load]] entry put on the structure, as read_load read them.
+struct EntryLoads {
+  std::size_t entry = 0;
+  std::vector<shell::NodalLoad> nodal;
+  std::vector<shell::PressureLoad> pressures;  ///< quads of the mesh given to refuse_loads_on_held_dofs
+};
+/// Refuses, at its amount key (load.total, load.per_length, load.pressure, load.per_area), a
+/// non-zero [[load]] entry that does no work: at every node it loads, its force lies in the
+/// translations the supports hold or prescribe there and its moment in the rotations they hold,
+/// so that the supports take all of it and the structure never feels it (a run would report its
+/// undisturbed state as completed). The message names the supports. A load the supports hold only
+/// in part is accepted without a word: the share at held nodes goes into the reactions. A
+/// follower load counts as held only where the node's whole translation (rotation) is held, since
+/// it turns with the node. Pressures are taken as their reference nodal forces on `m`.
+void refuse_loads_on_held_dofs(const Document& d, const mesh::ShellMesh& m, const std::vector<HeldDirection>& held,
+                               const std::vector<EntryLoads>& loads);
+/// Warnings (ctx.warnings, at probe.direction) for a displacement probe whose direction the
+/// supports hold at its node (it records 0 throughout; a prescribed direction is not warned
+/// about: it records the prescribed motion), and a reaction probe whose direction no support holds
+/// at any of its nodes (it records only the residual, about 0). A reaction probe on a support, and
+/// a displacement probe on a partly held node along a free direction, are what they should be.
+void warn_probes_on_held_dofs(const Document& d, const mesh::ShellMesh& m, const std::vector<HeldDirection>& held,
+                              std::vector<std::string>* warnings);
 
 /// The scene issue for an error the model constructor raised about the spec read from `d`
 /// (an element's fault at its part's material or generator).

@@ -261,6 +261,12 @@ MultibodyInput read_multibody_input(const Document& d, const std::string& path, 
     throw SceneError({d.issue("joint.other", i, "no part or rigid body called '" + name + "'")});
   };
 
+  // what the supports and the joints to the ground hold, for the loads and probes on them
+  std::vector<HeldDirection> held;
+  auto hold = [&](int node, bool rotation, const std::string& entry) {
+    for (int k = 0; k < 3; ++k) held.push_back({node, Eigen::Vector3d::Unit(k), rotation, false, entry});
+  };
+
   if (d.count("joint") > 0 && !has("joints"))
     throw SceneError({d.issue("scene.effects", "the scene has [[joint]] entries but not the effect 'joints'")});
   for (std::size_t i = 0; i < d.count("joint"); ++i) {
@@ -275,6 +281,8 @@ MultibodyInput read_multibody_input(const Document& d, const std::string& path, 
                                                          "'; a joint joins nodes of one part to another body (name "
                                                          "the part with joint.patch)")});
     const bool ground = d.string("joint.other", i).empty();
+    if (ground)  // the joint holds its nodes' points in space
+      for (int id : ids) hold(id, false, "joint[" + std::to_string(i) + "]");
     if (type == "simple_support" && !ground)
       throw SceneError({d.issue("joint.other", i, "a simple support holds nodes in space: leave 'other' empty")});
     const int other = ground ? 0 : other_of(i);
@@ -347,19 +355,19 @@ MultibodyInput read_multibody_input(const Document& d, const std::string& path, 
   // selected nodes: exact in the local increments of dynamics (they leave the unknowns)
   for (std::size_t i = 0; i < d.count("bc"); ++i) {
     const std::string type = d.string("bc.type", i);
-    NodeSupport held;
+    NodeSupport support;
     if (type == "clamped" || type == "hinged") {
       if (d.present("bc.fix", i))
         throw SceneError({d.issue("bc.fix", i, "type = \"" + type + "\" restrains a fixed set of DoFs; use type = "
                                                  "\"fix\" to list them")});
-      held.translations = true;
-      held.rotations = type == "clamped";
+      support.translations = true;
+      support.rotations = type == "clamped";
     } else if (type == "fix") {
       const std::vector<std::string> dofs = d.strings("bc.fix", i);
       int translations = 0, rotations = 0;
       for (const std::string& name : dofs) (name[0] == 'u' ? translations : rotations) += 1;
-      held.translations = translations == 3;
-      held.rotations = rotations == 3;
+      support.translations = translations == 3;
+      support.rotations = rotations == 3;
       if ((translations != 0 && translations != 3) || (rotations != 0 && rotations != 3) || dofs.empty())
         throw SceneError({d.issue("bc.fix", i, "a dynamic analysis holds a node's three translations, its three "
                                                "rotations, or both (fix = [\"ux\", \"uy\", \"uz\"] and/or [\"rx\", \"ry\", "
@@ -371,10 +379,13 @@ MultibodyInput read_multibody_input(const Document& d, const std::string& path, 
                                               "rotations (a [[joint]] holds points and axes)")});
     }
     for (int id : select_nodes(d, structure.joined, "bc", i)) {
-      held.node = id;
-      spec.supports.push_back(held);
+      support.node = id;
+      spec.supports.push_back(support);
+      if (support.translations) hold(id, false, "bc[" + std::to_string(i) + "]");
+      if (support.rotations) hold(id, true, "bc[" + std::to_string(i) + "]");
     }
   }
+  warn_probes_on_held_dofs(d, joined, held, ctx.warnings);
   std::vector<std::size_t>& load_entry = in.load_entry;
   std::vector<std::size_t>& pressure_entry = in.pressure_entry;
   // [[load]]: the static reading (the same selections, consistent line, surface and pressure
@@ -382,6 +393,7 @@ MultibodyInput read_multibody_input(const Document& d, const std::string& path, 
   if (with_loads) {
     ShellModelSpec loaded;
     loaded.mesh = structure.joined;
+    std::vector<EntryLoads> entry_loads;
     for (std::size_t i = 0; i < d.count("load"); ++i) {
       LoadHistory history;
       history.start = d.number("load.start", i);
@@ -395,6 +407,9 @@ MultibodyInput read_multibody_input(const Document& d, const std::string& path, 
                                                       "in dynamics a pressure is dead (reference normal and area)")});
       const std::size_t loads_before = loaded.loads.size(), pressures_before = loaded.pressures.size();
       read_load(d, i, loaded);
+      entry_loads.push_back(
+          {i, {loaded.loads.begin() + static_cast<std::ptrdiff_t>(loads_before), loaded.loads.end()},
+           {loaded.pressures.begin() + static_cast<std::ptrdiff_t>(pressures_before), loaded.pressures.end()}});
       for (std::size_t k = loads_before; k < loaded.loads.size(); ++k)
         spec.loads.push_back({loaded.loads[k], history}), load_entry.push_back(i);
       for (std::size_t k = pressures_before; k < loaded.pressures.size(); ++k) {
@@ -407,6 +422,7 @@ MultibodyInput read_multibody_input(const Document& d, const std::string& path, 
         pressure_entry.push_back(i);
       }
     }
+    refuse_loads_on_held_dofs(d, joined, held, entry_loads);
   }
   return in;
 }

@@ -13,6 +13,10 @@ namespace ff::scene {
 
 const Schema& shell_modal_schema();
 const Schema& shell_buckling_schema();
+/// The estimated peak memory [bytes] of a modal or buckling run (the registry's estimate): the
+/// structure's and the Lanczos iteration's (ff::lanczos_peak_bytes) on every node's DoFs; 0 when
+/// the structure cannot be counted.
+double estimated_eigen_bytes(const Document& d, const std::string& path, const SceneContext& ctx);
 /// Build the simulations; throw SceneError located at the offending key.
 std::unique_ptr<Simulation> build_shell_modal(const Document& d, const std::string& path, const SceneContext& ctx);
 std::unique_ptr<Simulation> build_shell_buckling(const Document& d, const std::string& path, const SceneContext& ctx);

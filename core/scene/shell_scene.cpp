@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <toml++/toml.h>
 
 #include "core/mesh/generators.h"
@@ -52,7 +53,9 @@ const Schema& shell_static_schema() {
                 std::nullopt)
         .integer("imperfection.mode", "which of its modes (1 = the lowest)", 1, IntRange::closed(1, 500))
         .number("imperfection.amplitude",
-                "largest nodal translation of the imperfection, in the scene's length unit (the sign flips the mode)",
+                "largest nodal translation of the imperfection, in the scene's length unit (the sign flips the mode); "
+                "its size between 1e-9 and 1 times the structure's size (the diagonal of its bounding box): "
+                "smaller moves nothing a path can see, larger is another structure",
                 std::nullopt);
     s.table_array("reference", "reference curves drawn on the load-path plots", 0, 16)
         .string("reference.file", "CSV file relative to the scene file", std::nullopt)
@@ -150,11 +153,41 @@ void check_method_keys(const Document& d) {
 }  // namespace
 
 namespace {
+// the sizes of an imperfection's amplitude, as fractions of the structure's size
+constexpr double kSmallestImperfection = 1e-9, kLargestImperfection = 1.0;
+std::string text_of(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
 // [[imperfection]]: the mesh moved by amplitude x a mode of an eigen-analysis scene of the same
 // structure, computed here (shell_eigen.md §4); refused at the entry's keys when the file is no
 // such scene, its mesh is another one, it has fewer modes or its analysis fails
 void apply_imperfections(const Document& d, const std::string& path, const SceneContext& ctx, mesh::ShellMesh& mesh) {
+  // the structure's size, the diagonal of its bounding box: what an amplitude is measured against
+  Eigen::Vector3d lo = mesh.points.front(), hi = lo;
+  for (const Eigen::Vector3d& x : mesh.points) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const double size = (hi - lo).norm();
   for (std::size_t i = 0; i < d.count("imperfection"); ++i) {
+    // an imperfection is small beside the structure but must move it: below 1e-9 of its size the
+    // path meets the perfect structure's bifurcation, which load control cannot pass (an amplitude
+    // of 0 ended "diverged" at the buckling load); one of the structure's own size is no longer
+    // an imperfection, and its quads fold
+    const double amplitude = d.number("imperfection.amplitude", i);
+    if (!(std::abs(amplitude) >= kSmallestImperfection * size) || !(std::abs(amplitude) <= kLargestImperfection * size))
+      throw SceneError({d.issue("imperfection.amplitude", i,
+                                "an amplitude of " + d.value_text("imperfection.amplitude", i) + " on a structure of size " +
+                                    text_of(size) + " (its bounding box's diagonal): |amplitude| must lie in [" +
+                                    text_of(kSmallestImperfection * size) + ", " + text_of(kLargestImperfection * size) +
+                                    "] (1e-9 to 1 times the size); " +
+                                    (std::abs(amplitude) < kSmallestImperfection * size
+                                         ? "a smaller one leaves the path at the perfect structure's bifurcation, "
+                                           "which it cannot pass (remove the [[imperfection]] to load the perfect "
+                                           "structure)"
+                                         : "a geometric imperfection is a fraction of the structure (typically of "
+                                           "the order of its thickness)"))});
     const fs::path file = fs::path(path).parent_path() / d.string("imperfection.from", i);
     std::error_code ec;
     if (!fs::is_regular_file(file, ec))
@@ -200,8 +233,7 @@ void apply_imperfections(const Document& d, const std::string& path, const Scene
       throw SceneError({d.issue("imperfection.mode", i, "mode " + std::to_string(wanted) + " asked, but '" + file.string() +
                                                             "' computes " + std::to_string(sim->mode_vectors().cols()) +
                                                             " (its " + analysis + ".modes)")});
-    const mesh::ShellMesh moved =
-        shell::perturbed_mesh(sim->model(), sim->mode_vectors().col(wanted - 1), d.number("imperfection.amplitude", i));
+    const mesh::ShellMesh moved = shell::perturbed_mesh(sim->model(), sim->mode_vectors().col(wanted - 1), amplitude);
     // the move is relative to the eigen scene's reference: apply it to this mesh (equal up to round-off)
     for (int n = 0; n < mesh.node_count(); ++n) {
       mesh.points[n] += moved.points[n] - theirs.points[n];
@@ -262,9 +294,13 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
                                                 "scene may have); write analysis = \"" + d.string("scene.analysis") +
                                                 "\" in the file instead of setting it")});
   if (!has("elastic")) throw SceneError({d.issue("scene.effects", "a static analysis needs the effect 'elastic'")});
-  ShellStructureInput in = read_shell_structure_input(d, path, ctx, true);
+  ShellStructureInput in = read_shell_structure_input(d, path, ctx, "scene.analysis");
   ShellModelSpec& spec = in.spec;
   Structure& structure = in.structure;
+  // the mesh as the scene builds it, kept while imperfections move it: an element they fold is
+  // theirs to answer for (below)
+  const std::optional<mesh::ShellMesh> unperturbed =
+      d.count("imperfection") > 0 ? std::optional<mesh::ShellMesh>(spec.mesh) : std::nullopt;
   apply_imperfections(d, path, ctx, spec.mesh);
   const mesh::ShellMesh& m = spec.mesh;
   ShellStaticSettings st;
@@ -383,9 +419,32 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   st.record_stresses = stresses_wanted(d, {"displacement", "strain"});
   predict_linear_buckling(spec, st, conv.linear_backend);
   std::unique_ptr<ShellStaticSimulation> sim;
+  const ShellModelSpec spec_copy = unperturbed ? spec : ShellModelSpec{};
   try {
     sim = std::make_unique<ShellStaticSimulation>(std::move(spec), st, std::move(info));
   } catch (const ShellSpecError& e) {
+    // an element the structure forms without its imperfections was folded by them: at the
+    // largest amplitude, not at the part's mesh
+    if (unperturbed && (e.part() == ShellSpecError::Part::element || e.part() == ShellSpecError::Part::mid_surface)) {
+      ShellModelSpec perfect = spec_copy;
+      perfect.mesh = *unperturbed;
+      bool perfect_builds = true;
+      try {
+        ShellModel model(std::move(perfect));
+      } catch (const ShellSpecError&) {
+        perfect_builds = false;
+      }
+      if (perfect_builds) {
+        std::size_t largest = 0;
+        for (std::size_t i = 1; i < d.count("imperfection"); ++i)
+          if (std::abs(d.number("imperfection.amplitude", i)) > std::abs(d.number("imperfection.amplitude", largest)))
+            largest = i;
+        throw SceneError({d.issue("imperfection.amplitude", largest,
+                                  "the imperfections move the mesh so far that it folds: " + std::string(e.what()) +
+                                      " (the structure without them forms every element); a geometric imperfection "
+                                      "is small beside the elements' size, typically of the order of the thickness")});
+      }
+    }
     throw SceneError({located(d, e, structure)});
   }
   // the stress fields follow the structure's layup: known once its elements are built

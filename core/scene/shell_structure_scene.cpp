@@ -36,7 +36,8 @@ void declare_shell_structure_scene_keys(Schema& s) {
 }
 
 ShellStructureInput read_shell_structure_input(const Document& d, const std::string& path, const SceneContext& ctx,
-                                               bool require_loads) {
+                                               const std::string& loads_needed_by) {
+  const bool require_loads = !loads_needed_by.empty();
   using namespace ff::shell;
   const std::vector<std::string> fx = d.strings("scene.effects");
   auto has = [&](const char* e) { return std::find(fx.begin(), fx.end(), e) != fx.end(); };
@@ -70,7 +71,18 @@ ShellStructureInput read_shell_structure_input(const Document& d, const std::str
   const mesh::ShellMesh& m = spec.mesh;
 
   read_bcs(d, spec);
-  read_loads(d, spec);
+  const std::vector<HeldDirection> held = held_directions(spec);
+  std::vector<EntryLoads> entry_loads;
+  for (std::size_t i = 0; i < d.count("load"); ++i) {
+    const std::size_t loads_before = spec.loads.size(), pressures_before = spec.pressures.size();
+    read_load(d, i, spec);
+    entry_loads.push_back({i, {spec.loads.begin() + static_cast<std::ptrdiff_t>(loads_before), spec.loads.end()},
+                           {spec.pressures.begin() + static_cast<std::ptrdiff_t>(pressures_before), spec.pressures.end()}});
+  }
+  // loads the supports take whole do nothing where they are applied (modal about the reference
+  // state applies none: its [[load]] entries are warned about as a whole)
+  if (require_loads) refuse_loads_on_held_dofs(d, spec.mesh, held, entry_loads);
+  warn_probes_on_held_dofs(d, spec.mesh, held, ctx.warnings);
   // gravity: each part's self-weight rho h g per unit area of its reference mid-surface, as
   // consistent nodal forces of a dead surface load (shell_model.md (P5)), times the load factor
   if (d.table_present("gravity") && !has("gravity"))
@@ -97,8 +109,9 @@ ShellStructureInput read_shell_structure_input(const Document& d, const std::str
       std::any_of(spec.directions.begin(), spec.directions.end(), [](const DirectionRestraint& r) { return r.value != 0.0; });
   if (!loaded && require_loads) {
     if (d.count("load") == 0)
-      throw SceneError({d.issue("scene.model", "nothing loads the shell: give a [[load]] or a [[bc]] of type = "
-                                               "\"displacement\"")});
+      throw SceneError({d.issue(loads_needed_by, loads_needed_by + " = \"" + d.string(loads_needed_by) +
+                                                     "\" follows the scene's loads, but nothing loads the shell: give "
+                                                     "a [[load]] or a [[bc]] of type = \"displacement\"")});
     const std::string type = d.string("load.type", 0);
     const std::string amount = type == "force" || type == "moment" ? "load.total"
                                : type == "line"                    ? "load.per_length"

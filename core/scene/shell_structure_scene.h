@@ -28,9 +28,12 @@ struct ShellStructureInput {
   std::vector<shell::ShellProbe> probes;
   RunInfo info;
 };
-/// Reads them (SceneError at the offending key); `require_loads`: refuse a scene whose loads and
-/// prescribed displacements are all zero.
+/// Reads them (SceneError at the offending key). `loads_needed_by`: the key whose value makes the
+/// analysis apply the loads ("scene.analysis", "modal.about"), at which a scene with no [[load]]
+/// is refused, and a scene whose loads and prescribed displacements are all zero, or whose loads
+/// the supports take whole (refuse_loads_on_held_dofs), is refused at the load; "" when the
+/// analysis applies no loads.
 ShellStructureInput read_shell_structure_input(const Document& d, const std::string& path, const SceneContext& ctx,
-                                               bool require_loads);
+                                               const std::string& loads_needed_by);
 
 }  // namespace ff::scene

@@ -29,10 +29,12 @@ void declare_structure_keys(Schema& s) {
       .string("material.name", "its name, for part.material and layup.plies; \"\" is allowed when the scene has one material",
               std::string{})
       // "0 = not given": the two forms exclude each other, so neither can be required by the schema
-      .number("material.youngs_modulus", "E, isotropic (required unless the orthotropic e1 ... nu12 are given; 0 = not given)",
+      .number("material.youngs_modulus", "E, isotropic (required unless the orthotropic e1 ... nu12 are given; 0 = not given); "
+              "every modulus lies in [1e-100, 1e100]",
               0.0, Range::non_negative())
       .number("material.poisson_ratio", "nu, isotropic (not with e1 ... nu12)", 0.3, Range::right_open(0.0, 0.5))
-      .number("material.e1", "orthotropic: E1, the modulus along the fibre (give all of e1, e2, g12, g13, g23, nu12; 0 = not given)",
+      .number("material.e1", "orthotropic: E1, the modulus along the fibre (give all of e1, e2, g12, g13, g23, nu12; 0 = not given); "
+              "the five moduli within a factor 1e6 of each other",
               0.0, Range::non_negative())
       .number("material.e2", "orthotropic: E2, the modulus across the fibre in the ply's plane (0 = not given)", 0.0,
               Range::non_negative())
@@ -55,7 +57,8 @@ void declare_structure_keys(Schema& s) {
       .number("material.strength_s12", "Tsai-Wu: in-plane shear strength (0 = not given)", 0.0, Range::non_negative())
       .number("material.thickness",
               "h0, the shell's thickness: required for a material a part is made of (part.material); not given for a "
-              "ply of a [[layup]], whose ply_thicknesses set it (0 = not given)",
+              "ply of a [[layup]], whose ply_thicknesses set it (0 = not given). Between 1e-6 x the part's longest "
+              "element edge and the part's size",
               0.0, Range::non_negative())
       .number("material.shear_factor", "transverse shear correction factor", 5.0 / 6.0, Range::left_open(0.0, 1.0))
       .number("material.drilling_factor", "effect drilling: c in the drilling penalty gamma = c G h0", 1e-3,
@@ -75,8 +78,9 @@ void declare_structure_keys(Schema& s) {
                    std::nullopt, {}, 0, SIZE_MAX, "length")
       .number_list("layup.ply_angles",
                    "each ply's fibre angle, in the order of layup.plies: from the part's fibre reference direction to "
-                   "the fibre, right-handed about the director",
-                   std::nullopt, {}, 0, SIZE_MAX, "deg")
+                   "the fibre, right-handed about the director; within one turn either way (an angle beyond it, "
+                   "720 or 1e300, is a slip, not a direction)",
+                   std::nullopt, Range::closed(-360.0, 360.0), 0, SIZE_MAX, "deg")
       .number("layup.shear_factor", "transverse shear correction factor of the section (laminate.md (L9))", 5.0 / 6.0,
               Range::left_open(0.0, 1.0))
       .number("layup.drilling_factor", "effect drilling: c in the drilling penalty gamma = c G h0", 1e-3,
@@ -184,6 +188,28 @@ int root(std::vector<int>& parent, int i) {
   return i;
 }
 
+// Moduli the element can compute with: its stiffness multiplies a modulus by lengths and strains
+// (the lengths kept inside [1e-100, 1e100], mesh_generator_keys.cpp), so a modulus beyond these
+// bounds overflows or underflows there (1e308 and 1e-320 ended as "non-finite residual"); no
+// material in any consistent unit system comes near them.
+constexpr double kSmallestModulus = 1e-100, kLargestModulus = 1e100;
+// One ply's moduli within this factor of each other: its stiffness matrix spans their ratio (a
+// ratio of 1e6 still leaves 10 of the 16 digits of a double), and real plies stay far inside it
+// (high-modulus carbon: E1 / G23 ~ 300)
+constexpr double kLargestModulusRatio = 1e6;
+
+// refuses a modulus (material.<name> of entry k) outside [kSmallestModulus, kLargestModulus]
+void check_modulus_range(const Document& d, std::size_t k, const std::string& name) {
+  const std::string key = "material." + name;
+  const double v = d.number(key, k);
+  if (!(v >= kSmallestModulus) || !(v <= kLargestModulus))
+    throw SceneError({d.issue(key, k, key + " = " + g(v) + " is outside the moduli an element can compute with, [" +
+                                          g(kSmallestModulus) + ", " + g(kLargestModulus) +
+                                          "]: its stiffness multiplies the modulus by lengths and strains, which must "
+                                          "stay inside double precision; give it in the scene's units (e.g. 2.1e11 for "
+                                          "steel in Pa, 2.1e5 in N/mm^2)")});
+}
+
 // [[material]] k as a ply (laminate.md (L1)-(L2)), thickness and angle left to its use: the
 // orthotropic constants checked for a stable ply, an isotropic material as the case E1 = E2 = E,
 // G = E / (2 (1 + nu)); Tsai-Wu strengths when given
@@ -212,10 +238,29 @@ shell::Ply read_material_ply(const Document& d, std::size_t k) {
       if (d.present(key(iso), k))
         throw SceneError({d.issue(key(iso), k, "material." + std::string(iso) + " belongs to an isotropic material; this "
                                                 "one is orthotropic (e1, e2, g12, g13, g23, nu12): give one form, not both")});
-    for (const char* modulus : {"e1", "e2", "g12", "g13", "g23"})
+    static const char* const kModuli[] = {"e1", "e2", "g12", "g13", "g23"};
+    for (const char* modulus : kModuli) {
       if (!(d.number(key(modulus), k) > 0))
         throw SceneError({d.issue(key(modulus), k, key(modulus) + " must be > 0: a ply whose modulus is zero has no "
                                                    "stiffness there (laminate.md (L2))")});
+      check_modulus_range(d, k, modulus);
+    }
+    // the moduli within kLargestModulusRatio of each other; refused at the one furthest (in ratio)
+    // from their median, the likely slip
+    std::vector<std::pair<double, const char*>> moduli;
+    for (const char* modulus : kModuli) moduli.emplace_back(d.number(key(modulus), k), modulus);
+    std::sort(moduli.begin(), moduli.end());
+    const double median = moduli[2].first;
+    if (moduli.back().first > kLargestModulusRatio * moduli.front().first) {
+      const auto& odd = moduli.back().first / median > median / moduli.front().first ? moduli.back() : moduli.front();
+      throw SceneError({d.issue(key(odd.second), k,
+                                key(odd.second) + " = " + g(odd.first) + " is " +
+                                    g(std::max(odd.first / median, median / odd.first)) + " times " +
+                                    (odd.first > median ? "the" : "below the") + " median modulus of the ply (" +
+                                    g(median) + "), and its largest and smallest moduli differ by more than the " +
+                                    g(kLargestModulusRatio) + " an element's stiffness can span with the precision "
+                                    "left for the solution; no real ply comes near it (a unit slip?)")});
+    }
     ply.e1 = d.number("material.e1", k), ply.e2 = d.number("material.e2", k);
     ply.g12 = d.number("material.g12", k), ply.g13 = d.number("material.g13", k), ply.g23 = d.number("material.g23", k);
     ply.nu12 = d.number("material.nu12", k);
@@ -233,6 +278,7 @@ shell::Ply read_material_ply(const Document& d, std::size_t k) {
                                 "for an isotropic one, or e1, e2, g12, g13, g23, nu12 for an orthotropic ply")});
     const double E = d.number("material.youngs_modulus", k), nu = d.number("material.poisson_ratio", k);
     if (!(E > 0)) throw SceneError({d.issue("material.youngs_modulus", k, "youngs_modulus must be > 0")});
+    check_modulus_range(d, k, "youngs_modulus");
     ply.e1 = ply.e2 = E;
     ply.g12 = ply.g13 = ply.g23 = E / (2.0 * (1.0 + nu));
     ply.nu12 = nu;
@@ -508,6 +554,36 @@ double estimated_structure_bytes(const Document& d, const std::string& scene_pat
                    : 0.0;
 }
 
+namespace {
+// An element more than this many times as long as its shell is thick: its bending stiffness (h^3)
+// drowns in the round-off of its membrane stiffness (h), the ratio squared being beyond the digits
+// a double keeps (16 x 16 elements of 0.0625 on a plate 1e-8 thick: "singular matrix" at the first
+// step; 1e-7 thick still factorizes). No shell's elements come near it.
+constexpr double kLargestSlenderness = 1e6;
+
+// Refuses, at the key that sets its thickness, a section too thin for part p's elements
+// (kLargestSlenderness) or thicker than the part is large (its bounding box's diagonal): no shell
+void check_thickness_against_part(const Document& d, const Structure& s, const StructurePart& p) {
+  if (p.mesh.points.empty()) return;  // a mesh without nodes is refused where it is read
+  const double h = s.materials[static_cast<std::size_t>(p.material)].section.thickness;
+  const double longest = mesh::max_edge_length(p.mesh);
+  Eigen::Vector3d lo = p.mesh.points.front(), hi = lo;
+  for (const Eigen::Vector3d& x : p.mesh.points) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const double size = (hi - lo).norm();
+  if (longest <= kLargestSlenderness * h && h <= size) return;
+  throw SceneError({thickness_issue(
+      d, s, p.material,
+      "a section " + g(h) + " thick on part '" + p.name + "' (elements up to " + g(longest) + " long, the part " + g(size) +
+          " across): " +
+          (h > size ? std::string("a shell thicker than the part is large is no shell")
+                    : "its elements are more than " + g(kLargestSlenderness) +
+                          " times as long as it is thick, where the bending stiffness (h^3) is lost in the round-off "
+                          "of the membrane stiffness (h)") +
+          "; the thickness must lie in [" + g(longest / kLargestSlenderness) + ", " + g(size) +
+          "] for this part (a thickness in the scene's length unit?)")});
+}
+}  // namespace
+
 Structure read_structure(const Document& d, const std::string& scene_path, const SceneContext& ctx) {
   Structure s;
   // materials: names unique; a nameless one only when it is the only one
@@ -597,8 +673,9 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
       else
         check_thickness_against_radius(d, i, thickness, "layup.ply_thicknesses", static_cast<std::size_t>(p.material) - nm);
     }
-    if (d.boolean("part.flip_director", i)) flip_directors(p.mesh);
     p.name = part_name(d, i, &p.mesh);
+    check_thickness_against_part(d, s, p);
+    if (d.boolean("part.flip_director", i)) flip_directors(p.mesh);
     if (s.find(p.name) >= 0)
       throw SceneError({d.issue(d.present("part.name", i) ? "part.name" : "part.generator", i,
                                 "another part is called '" + p.name + "'" +

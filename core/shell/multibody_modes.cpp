@@ -7,13 +7,13 @@
 
 namespace ff::shell {
 
-MultibodyModes multibody_modes(MultibodyModel& model, const EigenSolveSettings& settings, std::optional<double> shift,
-                               double t) {
-  MultibodyModes out;
+namespace {
+// K and M at rest at time t (the iteration matrix with the stiffness and with the mass weight
+// alone) and the constraint Jacobian B
+void rest_matrices(MultibodyModel& model, double t, SparseMatrixD& K, SparseMatrixD& M, SparseMatrixD& B) {
   const int n = model.size(), m = model.constraint_count();
   const Eigen::VectorXd zero_n = Eigen::VectorXd::Zero(n), zero_m = Eigen::VectorXd::Zero(m);
   Eigen::VectorXd r, phi;
-  SparseMatrixD K, M, B;
   const IterationWeights stiffness{0.0, 0.0, 1.0}, mass{1.0, 0.0, 0.0};
   model.evaluate(t, zero_n, zero_n, zero_m, r, phi, &stiffness, &K, &B);
   model.evaluate(t, zero_n, zero_n, zero_m, r, phi, &mass, &M, nullptr);
@@ -22,8 +22,21 @@ MultibodyModes multibody_modes(MultibodyModel& model, const EigenSolveSettings& 
   K = 0.5 * (K + Kt);
   M = 0.5 * (M + Mt);
   K.makeCompressed(), M.makeCompressed(), B.makeCompressed();
-  for (int i = 0; i < n; ++i)
-    if (M.coeff(i, i) > 0.0) out.reference_omega2 = std::max(out.reference_omega2, K.coeff(i, i) / M.coeff(i, i));
+}
+}  // namespace
+
+double multibody_reference_omega2(MultibodyModel& model, double t) {
+  SparseMatrixD K, M, B;
+  rest_matrices(model, t, K, M, B);
+  return largest_stiffness_to_mass(K, M);
+}
+
+MultibodyModes multibody_modes(MultibodyModel& model, const EigenSolveSettings& settings, std::optional<double> shift,
+                               double t) {
+  MultibodyModes out;
+  SparseMatrixD K, M, B;
+  rest_matrices(model, t, K, M, B);
+  out.reference_omega2 = largest_stiffness_to_mass(K, M);
   if (!(out.reference_omega2 > 0.0)) {
     out.result.error = "the structure has no stiffness or no mass to vibrate with";
     return out;
@@ -34,12 +47,10 @@ MultibodyModes multibody_modes(MultibodyModel& model, const EigenSolveSettings& 
   return out;
 }
 
-MultibodyEigenSimulation::MultibodyEigenSimulation(MultibodySpec spec, int modes, std::optional<double> shift,
-                                                   LinearBackend backend, std::vector<Probe> probes, RunInfo info)
-    : shift_(shift), probes_(std::move(probes)), info_(std::move(info)) {
+MultibodyEigenSimulation::MultibodyEigenSimulation(MultibodySpec spec, EigenSolveSettings settings,
+                                                   std::optional<double> shift, std::vector<Probe> probes, RunInfo info)
+    : settings_(settings), shift_(shift), probes_(std::move(probes)), info_(std::move(info)) {
   model_ = std::make_unique<MultibodyModel>(std::move(spec));
-  settings_.count = modes;
-  settings_.backend = backend;
   info_.time_unit = "";
   info_.mesh = {};
   for (int I = 0; I < model_->node_count(); ++I) {
@@ -57,7 +68,7 @@ MultibodyEigenSimulation::MultibodyEigenSimulation(MultibodySpec spec, int modes
   modes_.value_unit = "Hz";
   modes_.value_label = "natural frequency";
   modes_.about = "reference state";
-  info_.settings.emplace_back("eigen_analysis", "modal, " + std::to_string(modes) +
+  info_.settings.emplace_back("eigen_analysis", "modal, " + std::to_string(settings_.count) +
                                                     " modes about the reference state, joints as constraints "
                                                     "(bordered shift-invert)");
 }

@@ -29,6 +29,10 @@ struct MultibodyModes {
 MultibodyModes multibody_modes(MultibodyModel& model, const EigenSolveSettings& settings,
                                std::optional<double> shift = std::nullopt, double t = 0.0);
 
+/// ω²_ref = max_i K_ii / M_ii of the structure at rest at time t (shell_eigen.md (E3)), what
+/// multibody_modes measures its shift and its rigid-body test against.
+double multibody_reference_omega2(MultibodyModel& model, double t = 0.0);
+
 /// The modal analysis of a multibody structure as a run (scene.analysis = "modal" with rigid bodies
 /// or joints): it publishes the reference configuration and modes() returns the modes; drawn
 /// points are the shell nodes (bodies in order) and one point per rigid body (its centre of mass).
@@ -39,7 +43,8 @@ class MultibodyEigenSimulation final : public Simulation {
     int node = -1;
     Vec3 direction = Vec3::UnitZ();
   };
-  MultibodyEigenSimulation(MultibodySpec spec, int modes, std::optional<double> shift, LinearBackend backend,
+  /// `settings`: the modes wanted (count), the Lanczos basis (subspace) and the linear solver.
+  MultibodyEigenSimulation(MultibodySpec spec, EigenSolveSettings settings, std::optional<double> shift,
                            std::vector<Probe> probes, RunInfo info);
   const RunInfo& info() const override { return info_; }
   double end_time() const override { return 0.0; }
@@ -55,6 +60,8 @@ class MultibodyEigenSimulation final : public Simulation {
   void set_element_threads(int count, const std::atomic<bool>* busy) override { model_->set_threads({count, busy}); }
   const MultibodyModel& model() const { return *model_; }
   const MultibodyModes& result() const { return result_; }
+  /// ω²_ref of the structure at rest (multibody_reference_omega2), for `check` to judge a shift.
+  double reference_omega2() { return multibody_reference_omega2(*model_); }
 
  private:
   std::unique_ptr<MultibodyModel> model_;

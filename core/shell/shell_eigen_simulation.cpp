@@ -201,9 +201,8 @@ void ShellEigenSimulation::add_mode(int number, double value, double eigenvalue,
   modes_.modes.push_back(std::move(mode));
 }
 
-std::string ShellEigenSimulation::modal() {
+void ShellEigenSimulation::stiffness_and_mass(SparseMatrixD& K, SparseMatrixD& M) {
   Eigen::VectorXd r;
-  SparseMatrixD K, M;
   model_->evaluate(lambda_, r, &K, nullptr);
   K = symmetric_part(K);  // at equilibrium K = Kᵀ to O(|r|) (static_problem.h)
   const Clock::time_point t0 = Clock::now();
@@ -221,10 +220,19 @@ std::string ShellEigenSimulation::modal() {
   M = symmetric_part(M);
   inertia_seconds_ += seconds_since(t0);
   inertia_evaluations_ += static_cast<long long>(inertia_.size());
+}
+
+double ShellEigenSimulation::reference_omega2() {
+  SparseMatrixD K, M;
+  stiffness_and_mass(K, M);
+  return largest_stiffness_to_mass(K, M);
+}
+
+std::string ShellEigenSimulation::modal() {
+  SparseMatrixD K, M;
+  stiffness_and_mass(K, M);
   // (E4): the mesh's largest stiffness-to-mass ratio scales the automatic shift and the zero test
-  reference_omega2_ = 0.0;
-  for (int i = 0; i < K.rows(); ++i)
-    if (M.coeff(i, i) > 0.0) reference_omega2_ = std::max(reference_omega2_, K.coeff(i, i) / M.coeff(i, i));
+  reference_omega2_ = largest_stiffness_to_mass(K, M);
   if (!(reference_omega2_ > 0.0)) return "the structure has no stiffness or no mass to vibrate with";
   shift_ = settings_.shift ? *settings_.shift : -kAutomaticShift * reference_omega2_;
   result_ = lowest_vibration_modes(K, M, shift_, settings_.solver);

@@ -82,10 +82,16 @@ class ShellEigenSimulation final : public Simulation {
   const EigenSolveResult& solve_result() const { return result_; }
   /// Runs the whole analysis at once (start and step): "" or why it failed.
   std::string compute();
+  /// modal: ω²_ref = max_i K_ii / M_ii at the current state (shell_eigen.md (E3)), the mesh's
+  /// frequency scale that the automatic shift and the rigid-body test are measured against; one
+  /// assembly of K and M, for `check` to judge a shift the scene gives.
+  double reference_omega2();
 
  private:
   std::string modal();
   std::string buckling();
+  /// modal: the symmetric stiffness and consistent mass at the current state, in solver rows
+  void stiffness_and_mass(SparseMatrixD& K, SparseMatrixD& M);
   void add_mode(int number, double value, double eigenvalue, bool rigid, const Eigen::VectorXd& x);
   std::unique_ptr<ShellModel> model_;
   ShellEigenSettings settings_;

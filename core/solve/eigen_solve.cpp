@@ -154,11 +154,6 @@ class FactorizedOp {
   LinearStatus status_;
 };
 
-int basis_size(const EigenSolveSettings& s, int n) {
-  const int wanted = s.subspace > 0 ? s.subspace : std::max(2 * s.count + 1, s.count + 20);
-  return std::min(wanted, n);
-}
-
 std::string info_text(Spectra::CompInfo info) {
   switch (info) {
     case Spectra::CompInfo::Successful: return "";
@@ -280,6 +275,24 @@ void shift_invert_lanczos(Solver& solver, const Op& op, const SparseMatrixD& M, 
 
 }  // namespace
 
+double largest_stiffness_to_mass(const SparseMatrixD& K, const SparseMatrixD& M) {
+  double largest = 0.0;
+  for (int i = 0; i < K.rows(); ++i)
+    if (M.coeff(i, i) > 0.0) largest = std::max(largest, K.coeff(i, i) / M.coeff(i, i));
+  return largest;
+}
+
+long long lanczos_basis_size(const EigenSolveSettings& settings, long long n) {
+  const long long count = settings.count;
+  const long long wanted = settings.subspace > 0 ? settings.subspace : std::max(2 * count + 1, count + 20);
+  return std::min(wanted, n);
+}
+
+double lanczos_peak_bytes(const EigenSolveSettings& settings, long long n) {
+  const double ncv = static_cast<double>(lanczos_basis_size(settings, n)), count = settings.count;
+  return 8.0 * (static_cast<double>(n) * std::max(2.0 * ncv, ncv + 2.0 * count) + 4.0 * ncv * ncv);
+}
+
 EigenSolveResult lowest_vibration_modes(const SparseMatrixD& K, const SparseMatrixD& M, double shift,
                                         const EigenSolveSettings& settings) {
   EigenSolveResult out;
@@ -292,7 +305,7 @@ EigenSolveResult lowest_vibration_modes(const SparseMatrixD& K, const SparseMatr
   ShiftSolveOp op(K, M, settings.backend, out);
   ProductOp mass(M);
   using Solver = Spectra::SymGEigsShiftSolver<ShiftSolveOp, ProductOp, Spectra::GEigsMode::ShiftInvert>;
-  Solver solver(op, mass, settings.count, basis_size(settings, n), shift);  // factorizes K − σM
+  Solver solver(op, mass, settings.count, static_cast<int>(lanczos_basis_size(settings, n)), shift);  // factorizes K − σM
   if (!op.status()) {
     out.error = "K - shift M could not be factorized: " + op.status().message +
                 (op.status().code == LinearStatus::Code::singular ? " (the shift is an eigenvalue; choose another)" : "");
@@ -316,7 +329,7 @@ EigenSolveResult lowest_constrained_vibration_modes(const SparseMatrixD& K, cons
   BorderedShiftSolveOp op(K, M, B, settings.backend, out);
   ProductOp mass(M);
   using Solver = Spectra::SymGEigsShiftSolver<BorderedShiftSolveOp, ProductOp, Spectra::GEigsMode::ShiftInvert>;
-  Solver solver(op, mass, settings.count, basis_size(settings, n), shift);
+  Solver solver(op, mass, settings.count, static_cast<int>(lanczos_basis_size(settings, n)), shift);
   if (!op.status()) {
     out.error = "the bordered matrix [K - shift M, B'; B, 0] could not be factorized: " + op.status().message +
                 (op.status().code == LinearStatus::Code::singular
@@ -348,7 +361,7 @@ EigenSolveResult lowest_buckling_multipliers(const SparseMatrixD& K0, const Spar
   }
   ProductOp minus_kg(KG, -1.0);
   using Solver = Spectra::SymGEigsSolver<ProductOp, FactorizedOp, Spectra::GEigsMode::RegularInverse>;
-  Solver solver(minus_kg, k0, settings.count, basis_size(settings, n));
+  Solver solver(minus_kg, k0, settings.count, static_cast<int>(lanczos_basis_size(settings, n)));
   const Clock::time_point t0 = Clock::now();
   try {
     solver.init();

@@ -37,6 +37,22 @@ struct EigenSolveResult {
   bool ok() const { return error.empty(); }
 };
 
+/// max_i K_ii / M_ii over the rows with mass (0 when none): a structure's frequency scale ω²_ref,
+/// of the order of its highest ω² (shell_eigen.md (E3)).
+double largest_stiffness_to_mass(const SparseMatrixD& K, const SparseMatrixD& M);
+
+/// The Lanczos basis a solve of `n` unknowns builds: settings.subspace, or max(2 count + 1,
+/// count + 20) when it is 0; at most n.
+long long lanczos_basis_size(const EigenSolveSettings& settings, long long n);
+
+/// Peak memory [bytes] of the Lanczos iteration on `n` unknowns, beside the matrices and their
+/// factorization (shell_eigen.md §5): Spectra keeps the basis V (n x ncv doubles) and, while it
+/// restarts, builds the compressed basis in a second n x (k + 1) block (k < ncv) before copying it
+/// back; the ncv x ncv tridiagonal matrix, its rotations and its eigenvectors; at the end the
+/// n x count Ritz vectors and their sorted copy beside V. So n max(2 ncv, ncv + 2 count) + 4 ncv²
+/// doubles. For `check`, which refuses a basis the machine cannot hold before any is allocated.
+double lanczos_peak_bytes(const EigenSolveSettings& settings, long long n);
+
 /// The `count` eigenvalues ω² of K φ = ω² M φ nearest above the shift σ (K, M symmetric, M
 /// positive definite), by shift-invert: Lanczos on (K − σM)⁻¹ M in the M inner product, whose
 /// largest eigenvalues ν = 1/(ω² − σ) are those ω² closest to σ from above (shell_eigen.md (E2)).
