@@ -417,16 +417,20 @@ Vec3 free_part(const std::vector<Vec3>& basis, Vec3 v) {
 // v (non-zero) lies in what `basis` holds, to round-off; a follower vector only when all of it is held
 bool held_along(const std::vector<Vec3>& basis, const Vec3& v, bool follower) {
   if (follower) return basis.size() == 3;
-  return free_part(basis, v).norm() <= 1e-9 * v.norm();
+  // measured on v scaled to its largest component, so that neither 1e308 nor 1e-300 leaves double precision
+  const double scale = v.cwiseAbs().maxCoeff();
+  if (!(scale > 0) || !std::isfinite(scale)) return false;
+  const Vec3 unit = v / scale;
+  return free_part(basis, unit).norm() <= 1e-9 * unit.norm();
 }
-std::string nodes_text(std::size_t n) { return std::to_string(n) + (n == 1 ? " node" : " nodes"); }
+// "its one node", "each of its 3 nodes"
+std::string each_node_text(std::size_t n) { return n == 1 ? "its one node" : "each of its " + std::to_string(n) + " nodes"; }
 }  // namespace
 
 void refuse_loads_on_held_dofs(const Document& d, const mesh::ShellMesh& m, const std::vector<HeldDirection>& held,
                                const std::vector<EntryLoads>& loads) {
   if (held.empty()) return;
   const std::map<int, NodeHold> holds = holds_by_node(held);
-  static const std::vector<Vec3> none;
   for (const EntryLoads& e : loads) {
     // every non-zero nodal force and moment of the entry, pressures as their reference nodal forces
     std::vector<shell::NodalLoad> nodal = e.nodal;
@@ -445,9 +449,13 @@ void refuse_loads_on_held_dofs(const Document& d, const mesh::ShellMesh& m, cons
       if (!force && !moment) continue;
       loaded = true;
       const auto it = holds.find(l.node);
-      const NodeHold* h = it == holds.end() ? nullptr : &it->second;
-      if ((force && !held_along(h ? h->translations : none, l.force, l.follower)) ||
-          (moment && !held_along(h ? h->rotations : none, l.moment, l.follower))) {
+      if (it == holds.end()) {  // a node no support holds
+        works = true;
+        break;
+      }
+      const NodeHold* h = &it->second;
+      if ((force && !held_along(h->translations, l.force, l.follower)) ||
+          (moment && !held_along(h->rotations, l.moment, l.follower))) {
         works = true;
         break;
       }
@@ -465,8 +473,8 @@ void refuse_loads_on_held_dofs(const Document& d, const mesh::ShellMesh& m, cons
                                                                    : "load.per_area";
     std::string by;
     for (const std::string& name : entries) by += (by.empty() ? "" : ", ") + name;
-    throw SceneError({d.issue(amount, i, "load[" + std::to_string(i) + "] does no work: at each of its " +
-                                             nodes_text(nodes.size()) + " the supports (" + by + ") " +
+    throw SceneError({d.issue(amount, i, "load[" + std::to_string(i) + "] does no work: at " +
+                                             each_node_text(nodes.size()) + " the supports (" + by + ") " +
                                              (prescribed ? "hold or prescribe" : "hold") + " every direction it " +
                                              (type == "moment" ? "turns" : "pushes") + ", so they take all of it and "
                                              "the structure never feels it; load nodes the supports leave free along "
@@ -475,10 +483,9 @@ void refuse_loads_on_held_dofs(const Document& d, const mesh::ShellMesh& m, cons
 }
 
 void warn_probes_on_held_dofs(const Document& d, const mesh::ShellMesh& m, const std::vector<HeldDirection>& held,
-                              std::vector<std::string>* warnings) {
+                              bool reaction_probes, std::vector<std::string>* warnings) {
   if (!warnings) return;
   const std::map<int, NodeHold> holds = holds_by_node(held);
-  static const std::vector<Vec3> none;
   auto held_at = [&](int node) -> const NodeHold* {
     const auto it = holds.find(node);
     return it == holds.end() ? nullptr : &it->second;
@@ -486,8 +493,10 @@ void warn_probes_on_held_dofs(const Document& d, const mesh::ShellMesh& m, const
   for (std::size_t i = 0; i < d.count("probe"); ++i) {
     const std::string quantity = d.string("probe.quantity", i);
     if (quantity == "stress") continue;
-    const Vec3 direction = vec(d.numbers("probe.direction", i));
-    if (!(direction.norm() > 0) || !direction.allFinite()) continue;
+    const Vec3 given = vec(d.numbers("probe.direction", i));
+    const double scale = given.cwiseAbs().maxCoeff();  // a direction of 1e308 or 1e-300 stays a direction
+    if (!(scale > 0) || !std::isfinite(scale)) continue;
+    const Vec3 direction = given / scale;
     const std::vector<int> ids = select_nodes(d, m, "probe", i);
     const std::string name = "probe[" + std::to_string(i) + "] '" + d.string("probe.name", i) + "'";
     if (quantity == "displacement") {
@@ -497,8 +506,10 @@ void warn_probes_on_held_dofs(const Document& d, const mesh::ShellMesh& m, const
       for (const std::string& e : h->entries) by += (by.empty() ? "" : ", ") + e;
       warnings->push_back(d.issue("probe.direction", i, name + " reads the displacement of node " +
                                                             std::to_string(ids.front()) + " along a direction the "
-                                                            "supports (" + by + ") hold there: it records 0 throughout "
-                                                            "(quantity = \"reaction\" reads the support's force)")
+                                                            "supports (" + by + ") hold there: it records 0 throughout" +
+                                                            (reaction_probes ? " (quantity = \"reaction\" reads the "
+                                                                               "support's force)"
+                                                                             : ""))
                               .to_string());
     } else if (quantity == "reaction") {
       const bool any = std::any_of(ids.begin(), ids.end(), [&](int node) {
@@ -507,7 +518,10 @@ void warn_probes_on_held_dofs(const Document& d, const mesh::ShellMesh& m, const
       });
       if (!any)
         warnings->push_back(d.issue("probe.direction", i, name + " sums the support force along a direction no "
-                                                              "support holds at any of its " + nodes_text(ids.size()) +
+                                                              "support holds at " +
+                                                              (ids.size() == 1 ? std::string("its node")
+                                                                               : "any of its " + std::to_string(ids.size()) +
+                                                                                     " nodes") +
                                                               ": it records only the residual, about 0 (select the "
                                                               "supported nodes)")
                                 .to_string());

@@ -82,8 +82,9 @@ void refuse_loads_on_held_dofs(const Document& d, const mesh::ShellMesh& m, cons
 /// about: it records the prescribed motion), and a reaction probe whose direction no support holds
 /// at any of its nodes (it records only the residual, about 0). A reaction probe on a support, and
 /// a displacement probe on a partly held node along a free direction, are what they should be.
+/// `reaction_probes`: the analysis has them (the warning then points to one).
 void warn_probes_on_held_dofs(const Document& d, const mesh::ShellMesh& m, const std::vector<HeldDirection>& held,
-                              std::vector<std::string>* warnings);
+                              bool reaction_probes, std::vector<std::string>* warnings);
 
 /// The scene issue for an error the model constructor raised about the spec read from `d`
 /// (an element's fault at its part's material or generator).

@@ -385,7 +385,7 @@ MultibodyInput read_multibody_input(const Document& d, const std::string& path, 
       if (support.rotations) hold(id, true, "bc[" + std::to_string(i) + "]");
     }
   }
-  warn_probes_on_held_dofs(d, joined, held, ctx.warnings);
+  warn_probes_on_held_dofs(d, joined, held, false, ctx.warnings);
   std::vector<std::size_t>& load_entry = in.load_entry;
   std::vector<std::size_t>& pressure_entry = in.pressure_entry;
   // [[load]]: the static reading (the same selections, consistent line, surface and pressure

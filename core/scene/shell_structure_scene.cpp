@@ -82,7 +82,7 @@ ShellStructureInput read_shell_structure_input(const Document& d, const std::str
   // loads the supports take whole do nothing where they are applied (modal about the reference
   // state applies none: its [[load]] entries are warned about as a whole)
   if (require_loads) refuse_loads_on_held_dofs(d, spec.mesh, held, entry_loads);
-  warn_probes_on_held_dofs(d, spec.mesh, held, ctx.warnings);
+  warn_probes_on_held_dofs(d, spec.mesh, held, true, ctx.warnings);
   // gravity: each part's self-weight rho h g per unit area of its reference mid-surface, as
   // consistent nodal forces of a dead surface load (shell_model.md (P5)), times the load factor
   if (d.table_present("gravity") && !has("gravity"))
