@@ -117,7 +117,8 @@ void refuse_ambiguous_nearest(const Document& d, const mesh::ShellMesh& m, const
     // file that were not joined there
     if ((m.points[k] - m.points[chosen]).norm() <= tie)
       throw SceneError({d.issue(t + ".point", i,
-                                "nodes " + std::to_string(chosen) + " and " + std::to_string(k) + " lie at the same place " +
+                                "the point " + point_text(point) + " is equally near node " + std::to_string(chosen) +
+                                    " and node " + std::to_string(k) + ", which lie at the same place " +
                                     point_text(m.points[chosen]) + ": the mesh holds two unconnected nodes there (the "
                                     "lips of a slit, or faces of a mesh file that are not joined along that line; "
                                     "part.weld_tolerance welds a file's), so select = \"nearest\" cannot tell which "

@@ -129,6 +129,39 @@ void refuse_impossible_step_count(const Document& d, const std::string& dt_key, 
   }
 }
 
+void refuse_unworkable_load_steps(const Document& d, int max_steps) {
+  const auto from_set = [&](const std::string& k) { return d.where(k).rfind("--set", 0) == 0; };
+  // of two keys out of order, the one the user just changed (a --set), else the one given, else the later
+  const auto blamed = [&](const std::string& first, const std::string& second) {
+    if (from_set(first) != from_set(second)) return from_set(first) ? first : second;
+    if (d.present(first) != d.present(second)) return d.present(first) ? first : second;
+    return second;
+  };
+  const double min_step = d.number("solver.min_step"), initial = d.number("solver.initial_step"),
+               max_step = d.number("solver.max_step"), end = d.number("solver.end");
+  if (initial < min_step)
+    throw SceneError({d.issue(blamed("solver.min_step", "solver.initial_step"),
+                              "solver.initial_step (" + d.value_text("solver.initial_step") +
+                                  ") is smaller than solver.min_step (" + d.value_text("solver.min_step") +
+                                  "): load control gives up below min_step, so the first step is never tried; "
+                                  "lower solver.min_step or raise solver.initial_step")});
+  if (max_step < initial)
+    throw SceneError({d.issue(blamed("solver.initial_step", "solver.max_step"),
+                              "solver.max_step (" + d.value_text("solver.max_step") +
+                                  ") is smaller than solver.initial_step (" + d.value_text("solver.initial_step") +
+                                  "): load control never steps beyond max_step, so the first step cannot be taken; "
+                                  "raise solver.max_step or lower solver.initial_step")});
+  const double steps = end / max_step;  // a double: the quotient may exceed every integer type
+  if (!(steps <= max_steps)) {
+    std::ostringstream m;
+    m << "solver.end / solver.max_step = " << end << " / " << max_step << " = " << steps
+      << " steps at the least, more than the " << max_steps << " a load-control path may take; lower solver.end or "
+      << "raise solver.max_step";
+    const bool at_max = from_set("solver.max_step") && !from_set("solver.end");
+    throw SceneError({d.issue(at_max ? "solver.max_step" : "solver.end", m.str())});
+  }
+}
+
 void refuse_oversized(const Document& d, const SceneContext& ctx, int nodes, double six_dof_fraction,
                       const std::string& key, int index) {
   if (!(ctx.memory_limit_bytes > 0)) return;

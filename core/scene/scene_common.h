@@ -35,6 +35,11 @@ inline constexpr double kMaxTimeSteps = 1e9;
 /// Refuses, at `dt_key`, a time step larger than the end time or one that needs more than
 /// kMaxTimeSteps steps to reach it (the count is in the message); `check` sees it as `run` would.
 void refuse_impossible_step_count(const Document& d, const std::string& dt_key, const std::string& end_key);
+/// Refuses load-control steps (solver.initial_step, max_step, min_step, end) a path cannot take,
+/// before it starts: unless min_step <= initial_step <= max_step (at whichever key of a pair the
+/// --set changed, else the later one in that order), and a solver.end that max_step cannot reach
+/// within `max_steps` steps (the path's budget; at solver.end, or max_step when only it was set).
+void refuse_unworkable_load_steps(const Document& d, int max_steps);
 /// Refuses, at `key` (element `index` of an array of tables, or a plain key when index < 0), a
 /// shell run whose estimated peak memory (shell::estimated_peak_bytes) exceeds the context's
 /// limit; the message gives both figures.

@@ -278,9 +278,7 @@ std::unique_ptr<Simulation> build_eigen(const Document& d, const std::string& pa
       d.number("solver.tolerance");
   st.load_control.convergence.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
   st.load_control.convergence.linear_backend = st.solver.backend;
-  if (preload && st.load_control.max_step < st.load_control.initial_step)
-    throw SceneError({d.issue("solver.max_step", "solver.max_step is smaller than solver.initial_step: the first step "
-                                                 "cannot be taken")});
+  if (preload) refuse_unworkable_load_steps(d, st.load_control.max_steps);
   st.load_scale = d.number("solver.load_scale");
   st.load_label = d.string("solver.load_label");
   st.probes = std::move(in.probes);

@@ -375,17 +375,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
                                       (d.boolean("load.follower", i) ? "a follower load" : "a moment") +
                                       ", whose load stiffness is not symmetric; use umfpack, mumps or sparse_lu (or "
                                       "default)")});
-  if (!arc_length_method(d) && d.number("solver.max_step") < d.number("solver.initial_step")) {
-    // load control never takes a step above max_step: a first step above it cannot be taken
-    // at max_step, unless it is a default or only initial_step came from --set (the key just changed)
-    const auto from_set = [&](const char* k) { return d.where(k).rfind("--set", 0) == 0; };
-    const bool at_initial = !d.present("solver.max_step") || (from_set("solver.initial_step") && !from_set("solver.max_step"));
-    throw SceneError({d.issue(at_initial ? "solver.initial_step" : "solver.max_step",
-                              "solver.max_step (" + d.value_text("solver.max_step") +
-                                  ") is smaller than solver.initial_step (" + d.value_text("solver.initial_step") +
-                                  "): load control never steps beyond max_step, so the first step cannot be taken; "
-                                  "raise solver.max_step or lower solver.initial_step")});
-  }
+  if (d.string("solver.method") == "load_control") refuse_unworkable_load_steps(d, LoadControlSettings{}.max_steps);
   conv.residual_tolerance = conv.increment_tolerance = d.number("solver.tolerance");
   conv.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
   conv.tangent = d.string("solver.tangent") == "modified" ? TangentPolicy::modified : TangentPolicy::every_iteration;

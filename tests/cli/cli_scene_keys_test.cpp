@@ -84,6 +84,12 @@ INSTANTIATE_TEST_SUITE_P(
         // item 16: a preload without loads was blamed on scene.model
         KeyCase{"PreloadWithoutLoads", "modal_clamped_plate", {kSmallPlate[0], kSmallPlate[1], "modal.about=\"preload\""},
                 2, "modal.about", "nothing loads the shell"},
+        // item 16: load-control steps the path cannot take (initial below min_step: "diverged" at the
+        // start; an end max_step cannot reach in the step budget: the path runs until it meets a limit)
+        KeyCase{"InitialStepBelowMinStep", "postbuckling_ss_plate", {"solver.initial_step=1e-300"}, 2,
+                "solver.initial_step", "smaller than solver.min_step"},
+        KeyCase{"EndBeyondTheStepBudget", "postbuckling_ss_plate", {"solver.end=1e308"}, 2, "solver.end",
+                "a load-control path may take"},
         // item 10: names that become plots/<name>.png
         KeyCase{"ProbeNameWithANewline", "clamped_plate_pressure", {"probe[0].name=\"a\\nb\""}, 2, "probe[0].name",
                 "control character"},
