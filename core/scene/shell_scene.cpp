@@ -376,6 +376,14 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
                                       ", whose load stiffness is not symmetric; use umfpack, mumps or sparse_lu (or "
                                       "default)")});
   if (d.string("solver.method") == "load_control") refuse_unworkable_load_steps(d, LoadControlSettings{}.max_steps);
+  // the arc length measures its later steps against the first load increment: one the load factor
+  // cannot hold (below 1e-12 of solver.end, some ten thousand units of its last digit) ended
+  // "Δl cut below its minimum" at the start (1e-300)
+  if (arc_length_method(d) && d.number("solver.initial_step") < 1e-12 * d.number("solver.end"))
+    throw SceneError({d.issue("solver.initial_step", "the first load increment " + d.value_text("solver.initial_step") +
+                                                         " is below 1e-12 of solver.end (" + d.value_text("solver.end") +
+                                                         "): lost in the round-off of the load factor, the arc length "
+                                                         "cannot measure a step by it; give a few per cent of the range")});
   conv.residual_tolerance = conv.increment_tolerance = d.number("solver.tolerance");
   conv.max_iterations = static_cast<int>(d.integer("solver.max_iterations"));
   conv.tangent = d.string("solver.tangent") == "modified" ? TangentPolicy::modified : TangentPolicy::every_iteration;

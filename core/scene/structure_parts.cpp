@@ -198,6 +198,10 @@ constexpr double kSmallestModulus = 1e-100, kLargestModulus = 1e100;
 // (high-modulus carbon: E1 / G23 ~ 300)
 constexpr double kLargestModulusRatio = 1e6;
 
+// The thinnest ply as a fraction of its section (the thinnest real plies, about 0.02 mm, are
+// 1e-3 of a laminate 20 mm thick)
+constexpr double kThinnestPly = 1e-6;
+
 // refuses a modulus (material.<name> of entry k) outside [kSmallestModulus, kLargestModulus]
 void check_modulus_range(const Document& d, std::size_t k, const std::string& name) {
   const std::string key = "material." + name;
@@ -375,6 +379,16 @@ void read_layups(const Document& d, Structure& s, const std::vector<shell::Ply>&
     }
     if (!std::isfinite(thickness))
       throw SceneError({d.issue("layup.ply_thicknesses", l, "the plies' thicknesses add up to more than a double holds")});
+    // a ply is a layer of the element's thickness coordinate [-1, 1] (laminate.md (L6)): one below
+    // kThinnestPly of the section is lost in its round-off (1e-300 beside 4.2 ended "non-finite
+    // residual" at the first step), and no laminate has one
+    for (std::size_t j = 0; j < thicknesses.size(); ++j)
+      if (thicknesses[j] < kThinnestPly * thickness)
+        throw SceneError({d.issue("layup.ply_thicknesses", l,
+                                  "entry " + std::to_string(j + 1) + " (ply '" + names[j] + "', counting from 1 at the "
+                                  "bottom) is " + g(thicknesses[j]) + ", less than " + g(kThinnestPly) + " of the "
+                                  "section's " + g(thickness) + ": a ply that thin is lost in the round-off of the "
+                                  "element's thickness coordinate; leave it out of the layup")});
     warn_radian_angles(d, l, angles, ctx);
     // youngs_modulus and poisson_ratio of a laminated section only name it in messages: the
     // element takes the plies (laminate.md); they are the bottom ply's e1 and nu12
@@ -621,6 +635,12 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
                                 "a density of " + g(m.density) + " is too small to make a mass matrix (its products with "
                                 "the element's lengths underflow to zero); give it in the scene's units, e.g. 7850 for "
                                 "steel in kg/m^3, or leave it out of a static analysis")});
+    // and one this large overflows them (1e308 ended a modal analysis in a failed eigen decomposition)
+    if (m.density > 1e100)
+      throw SceneError({d.issue("material.density", k,
+                                "a density of " + g(m.density) + " is too large to make a mass matrix (its products with "
+                                "the element's lengths overflow); give it in the scene's units, e.g. 7850 for steel in "
+                                "kg/m^3")});
     s.materials.push_back(m);
   }
   read_layups(d, s, material_ply, ctx);

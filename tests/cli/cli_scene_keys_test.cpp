@@ -64,6 +64,11 @@ INSTANTIATE_TEST_SUITE_P(
                 "material[0].youngs_modulus", "[1e-100, 1e+100]"},
         KeyCase{"PlyModulusRatio", "hinged_roof_h127_0_90_0", {"material[0].g23=1e-5"}, 2, "material[0].g23",
                 "median modulus"},
+        KeyCase{"PlyLostInTheRoundOff", "hinged_roof_h127_0_90_0",
+                {"layup[0].ply_thicknesses=[1e-300, 4.233333333333333, 4.233333333333333]"}, 2,
+                "layup[0].ply_thicknesses", "entry 1"},
+        KeyCase{"DensityOverflows", "modal_clamped_plate", {kSmallPlate[0], kSmallPlate[1], "material[0].density=1e308"}, 2,
+                "material[0].density", "too large"},
         // item 16: ply angles beyond a turn (ran without a word)
         KeyCase{"PlyAnglesBeyondATurn", "hinged_roof_h127_0_90_0", {"layup[0].ply_angles=[720.0, -720.0, 1e300]"}, 2,
                 "layup[0].ply_angles", "[-360, 360]"},
@@ -88,6 +93,8 @@ INSTANTIATE_TEST_SUITE_P(
         // start; an end max_step cannot reach in the step budget: the path runs until it meets a limit)
         KeyCase{"InitialStepBelowMinStep", "postbuckling_ss_plate", {"solver.initial_step=1e-300"}, 2,
                 "solver.initial_step", "smaller than solver.min_step"},
+        KeyCase{"ArcLengthIncrementLostInTheRoundOff", "hinged_roof_h127_0_90_0", {"solver.initial_step=1e-300"}, 2,
+                "solver.initial_step", "below 1e-12 of solver.end"},
         KeyCase{"EndBeyondTheStepBudget", "postbuckling_ss_plate", {"solver.end=1e308"}, 2, "solver.end",
                 "a load-control path may take"},
         // item 10: names that become plots/<name>.png
