@@ -185,6 +185,27 @@ void refuse_names_unfit_for_files(const Document& d) {
     }
   }
 }
+// a [[probe]] named as a series the run records itself ("lambda" and "load" of a static path)
+// would be a second series of that name in results.h5, which refuses it when the run starts:
+// refused here, naming the run's own series
+void refuse_names_the_run_takes(const Document& d, const RunInfo& info) {
+  if (!d.declares_array("probe")) return;
+  for (std::size_t i = 0; i < d.count("probe"); ++i) {
+    const std::string& name = d.string("probe.name", i);
+    const auto same = std::count_if(info.probes.begin(), info.probes.end(), [&](const Quantity& q) { return q.name == name; });
+    if (same < 2) continue;
+    // the run's series less one of each name the [[probe]] entries declare
+    std::vector<std::string> series;
+    for (const Quantity& q : info.probes) series.push_back(q.name);
+    for (std::size_t k = 0; k < d.count("probe"); ++k)
+      if (const auto at = std::find(series.begin(), series.end(), d.string("probe.name", k)); at != series.end())
+        series.erase(at);
+    std::string own;
+    for (const std::string& n : series) own += (own.empty() ? "" : ", ") + n;
+    throw SceneError({d.issue("probe.name", i, "'" + name + "' is the name of a series the run records itself (" + own +
+                                                   "); give the probe another name")});
+  }
+}
 }  // namespace
 
 LoadedScene load_scene(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
@@ -213,6 +234,7 @@ LoadedScene load_scene_text(const std::string& text, const std::string& path, co
   with_report.mesh_quality = &report;
   with_report.warnings = &s.warnings;
   s.simulation = kind.build(d, path, with_report);
+  refuse_names_the_run_takes(d, s.simulation->info());
   if (report.quality.quad_count > 0) s.mesh_quality = std::move(report);
   s.schema = &kind.schema();
   return s;

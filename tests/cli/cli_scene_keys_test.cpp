@@ -104,6 +104,9 @@ INSTANTIATE_TEST_SUITE_P(
                 "probe[0].name", "plots/<name>.png"},
         KeyCase{"ProbeNameTooLong", "clamped_plate_pressure", {"probe[0].name=\"" + std::string(300, 'A') + "\""}, 2,
                 "probe[0].name", "longer than 200 bytes"},
+        // a probe named as one of the run's own series: valid, then "probe name 'load' is repeated" (exit 1)
+        KeyCase{"ProbeNamedAsTheRunsLoad", "clamped_plate_pressure", {"probe[0].name=\"load\"", "metric[0].probe=\"load\""},
+                2, "probe[0].name", "series the run records itself (lambda, load)"},
         KeyCase{"ArcNameWithASlash", "double_pendulum_shells", {"arc[0].name=\"I/II\""}, 2, "arc[0].name",
                 "plots/arc_rate_<name>.png"},
         // item 5: loads the supports take whole (the runs reported the unloaded state as completed)
