@@ -12,6 +12,11 @@ namespace {
 using Vec3 = Eigen::Vector3d;
 Vec3 vec(const std::vector<double>& v) { return Vec3(v[0], v[1], v[2]); }
 
+// Loads and prescribed displacements within what the element's products with lengths (at most
+// 1e100, mesh_generator_keys.cpp) keep inside double precision: a force of 1e300 or a pressure of
+// 1e308 ended "non-finite residual" at the first step, and in dynamics "failed" (exit 1)
+const Range kLoadRange = Range::closed(-1e100, 1e100);
+
 // DoF names per frame: three translations, then three rotations, each along axis k of the frame
 const std::map<std::string, std::vector<std::string>> kDofNames = {
     {"global", {"ux", "uy", "uz", "rx", "ry", "rz"}},
@@ -68,7 +73,7 @@ void declare_bc_keys(Schema& s) {
       .number_list("bc.displacement",
                    "displacement: components at lambda = 1 along the frame's three translation axes (only those "
                    "listed in bc.fix are prescribed)",
-                   std::vector<double>{0, 0, 0}, {}, 3, 3);
+                   std::vector<double>{0, 0, 0}, kLoadRange, 3, 3);
   s.unit_of("bc.axis_point", "length").unit_of("bc.displacement", "length");
   declare_selector_keys(s, "bc");
 }
@@ -82,16 +87,16 @@ void declare_load_keys(Schema& s) {
               "surface: a force per unit area in a fixed direction (self-weight, snow) on those quads",
               {"force", "moment", "line", "pressure", "surface"}, std::nullopt)
       .number_list("load.total", "force / moment (required there): total vector at lambda = 1 (global components)",
-                   std::vector<double>{0, 0, 0}, {}, 3, 3)
+                   std::vector<double>{0, 0, 0}, kLoadRange, 3, 3)
       .number_list("load.per_length", "line (required there): force per unit length at lambda = 1 (global components)",
-                   std::vector<double>{0, 0, 0}, {}, 3, 3)
+                   std::vector<double>{0, 0, 0}, kLoadRange, 3, 3)
       .number_list("load.per_area",
                    "surface (required there): force per unit area of the reference mid-surface at lambda = 1 "
                    "(global components; a dead load: consistent nodal forces, core/shell/shell_model.md P5)",
-                   std::vector<double>{0, 0, 0}, {}, 3, 3)
+                   std::vector<double>{0, 0, 0}, kLoadRange, 3, 3)
       .number("load.pressure",
               "pressure (required there): force per unit area at lambda = 1, positive along the director (the "
-              "normal of a counter-clockwise quad)", 0.0)
+              "normal of a counter-clockwise quad)", 0.0, kLoadRange)
       .boolean("load.follower",
                "force / moment: turn with the nodes (components then in the node frame); pressure: act on the "
                "current normal and area instead of the reference ones; line and surface loads are dead loads", false);

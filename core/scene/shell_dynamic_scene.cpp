@@ -70,7 +70,8 @@ const Schema& shell_dynamic_schema() {
     declare_linear_solver(s, "mumps where compiled in, else umfpack: 14 % less wall time on the double pendulum, "
                              "docs/validation/shell-dynamics.md");
     s.table("gravity", "uniform gravity (effect gravity)")
-        .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3)
+        .number_list("gravity.g", "acceleration of gravity [m/s^2]; each component within [-1e100, 1e100]",
+                     std::vector<double>{0, 0, -9.81}, Range::closed(-1e100, 1e100), 3, 3)
         .live("gravity.g");
     declare_structure_keys(s);
     declare_mesh_quality_keys(s);

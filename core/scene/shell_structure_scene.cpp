@@ -29,7 +29,8 @@ void declare_shell_structure_scene_keys(Schema& s) {
     declare_mesh_quality_keys(s);
     s.table("gravity", "uniform gravity (effect gravity): in a static analysis the parts' self-weight, a dead load "
                        "times the load factor")
-        .number_list("gravity.g", "acceleration of gravity [m/s^2]", std::vector<double>{0, 0, -9.81}, {}, 3, 3);
+        .number_list("gravity.g", "acceleration of gravity [m/s^2]; each component within [-1e100, 1e100]",
+                     std::vector<double>{0, 0, -9.81}, Range::closed(-1e100, 1e100), 3, 3);
     declare_bc_keys(s);
     declare_load_keys(s);
     declare_probe_keys(s);

@@ -79,8 +79,10 @@ void declare_timeline(Schema& s, const std::string& at_doc, const std::string& a
       s.number("timeline.torque_scale", "multiplies the hub torque tau(t) from `at` on (0 switches it off)", 1.0,
                Range::non_negative());
     else if (p == "gravity")
-      s.number_list("timeline.gravity", "gravity vector [gx, gy, gz] from `at` on (needs the effect gravity)",
-                    std::vector<double>{}, {}, 0, 3, "m/s^2");
+      s.number_list("timeline.gravity",
+                    "gravity vector [gx, gy, gz] from `at` on (needs the effect gravity); as gravity.g, each component "
+                    "within [-1e100, 1e100]",
+                    std::vector<double>{}, Range::closed(-1e100, 1e100), 0, 3, "m/s^2");
   }
 }
 

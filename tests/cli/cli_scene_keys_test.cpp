@@ -69,6 +69,11 @@ INSTANTIATE_TEST_SUITE_P(
                 "layup[0].ply_thicknesses", "entry 1"},
         KeyCase{"DensityOverflows", "modal_clamped_plate", {kSmallPlate[0], kSmallPlate[1], "material[0].density=1e308"}, 2,
                 "material[0].density", "too large"},
+        // item 16: loads beyond double precision's products (static "diverged", dynamic "failed")
+        KeyCase{"PressureOverflows", "clamped_plate_pressure", {"load[0].pressure=1e308"}, 2, "load[0].pressure",
+                "[-1e+100, 1e+100]"},
+        KeyCase{"DynamicForceOverflows", "cantilever_step_load", {"load[0].total=[0.0, 0.0, 1e300]"}, 2, "load[0].total",
+                "[-1e+100, 1e+100]"},
         // item 16: ply angles beyond a turn (ran without a word)
         KeyCase{"PlyAnglesBeyondATurn", "hinged_roof_h127_0_90_0", {"layup[0].ply_angles=[720.0, -720.0, 1e300]"}, 2,
                 "layup[0].ply_angles", "[-360, 360]"},

@@ -292,9 +292,17 @@ TEST(LiveChange, RefusedValuesNameTheKey) {
   LoadedScene shells = load_scene(bundled("double_pendulum_shells"), {"part[0].n1=4", "part[0].n2=4", "part[1].n1=4",
                                                                       "part[1].n2=4"});
   e = change_live(shells, "gravity.g", "[1, 2]");
-  EXPECT_NE(e.find("key 'gravity.g': expected a list of numbers (length 3), got 2 elements"), std::string::npos) << e;
+  EXPECT_NE(e.find("key 'gravity.g': expected a list of numbers (length 3), each [-1e+100, 1e+100], got 2 elements"),
+            std::string::npos)
+      << e;
   e = change_live(shells, "gravity.g", "9.81");
-  EXPECT_NE(e.find("key 'gravity.g': expected a list of numbers (length 3), got a floating-point number (9.81)"), std::string::npos) << e;
+  EXPECT_NE(e.find("key 'gravity.g': expected a list of numbers (length 3), each [-1e+100, 1e+100], got a "
+                   "floating-point number (9.81)"),
+            std::string::npos)
+      << e;
+  // a gravity beyond what the element's products hold is refused live as in a scene file
+  e = change_live(shells, "gravity.g", "[0, 0, -1e300]");
+  EXPECT_NE(e.find("expected a number in [-1e+100, 1e+100], got -1e+300"), std::string::npos) << e;
   e = change_live(shells, "solver.dt", "0.1");
   EXPECT_NE(e.find("'solver.dt' cannot change while the model runs (live keys: gravity.g)"), std::string::npos) << e;
   EXPECT_EQ(change_live(shells, "gravity.g", "[0, 0, -1]"), "");
