@@ -20,6 +20,8 @@ namespace ff::scene {
 
 namespace {
 Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+// the smallest Newton tolerance of a step, as a fraction of the structure's size
+constexpr double kSmallestDynamicTolerance = 1e-12;
 constexpr double kDeg = std::numbers::pi / 180.0;
 }  // namespace
 
@@ -38,8 +40,10 @@ const Schema& shell_dynamic_schema() {
         .number("solver.count_until", "NOI/NOU are also counted up to this time (metrics NOI_window, NOU_window)",
                 1e300, Range::positive())
         .number("solver.rho_inf", "spectral radius at infinity", 0.9, Range::closed(0.0, 1.0))
-        .number("solver.tolerance", "Newton stops when the 2-norm of the correction is below this", 1e-6,
-                Range::left_open(0.0, 1.0))
+        .number("solver.tolerance",
+                "Newton stops when the 2-norm of the correction is below this (at least 1e-12 x the structure's "
+                "size: below it the coordinates' round-off)",
+                1e-6, Range::left_open(0.0, 1.0))
         .integer("solver.max_iterations", "corrections per attempt", 30, IntRange::closed(2, 500))
         .choice("solver.policy",
                 "iteration matrix: full (every iteration), nni (from iteration nni on), frozen (the first one, "
@@ -446,6 +450,22 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   std::vector<std::size_t>& load_entry = in.load_entry;
   std::vector<std::size_t>& pressure_entry = in.pressure_entry;
   refuse_impossible_step_count(d, "solver.dt", "solver.end");
+  // solver.tolerance bounds the 2-norm of a Newton correction, in the structure's length unit: one
+  // below the round-off of its coordinates is never met (on the double pendulum, about 2 across,
+  // 1e-13 converged, 1e-14 had not finished a step in two minutes, 1e-300 "diverged")
+  {
+    const mesh::ShellMesh& joined = structure.joined;
+    Eigen::Vector3d lo = joined.points.front(), hi = lo;
+    for (const Eigen::Vector3d& x : joined.points) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+    const double size = (hi - lo).norm(), smallest = kSmallestDynamicTolerance * size;
+    if (d.number("solver.tolerance") < smallest) {
+      std::ostringstream m;
+      m << "a correction of " << d.value_text("solver.tolerance") << " is below the round-off of the coordinates of "
+        << "a structure " << size << " across (the 2-norm of a Newton correction, in its length unit): Newton "
+        << "cannot reach it; give at least " << smallest << " (" << kSmallestDynamicTolerance << " of the size)";
+      throw SceneError({d.issue("solver.tolerance", m.str())});
+    }
+  }
   ShellDynamicSettings st;
   st.dt = d.number("solver.dt");
   st.end_time = d.number("solver.end");

@@ -91,6 +91,9 @@ INSTANTIATE_TEST_SUITE_P(
                 "imperfection[0].amplitude", "size 1.41421"},
         KeyCase{"ImperfectionThatFoldsTheMesh", "postbuckling_ss_plate", {"imperfection[0].amplitude=1"}, 2,
                 "imperfection[0].amplitude", "folds"},
+        // item 16: a dynamic Newton tolerance below the coordinates' round-off ("diverged" at the first step)
+        KeyCase{"DynamicToleranceBelowRoundOff", "double_pendulum_shells", {"solver.tolerance=1e-300"}, 2,
+                "solver.tolerance", "below the round-off"},
         // item 16: a preload without loads was blamed on scene.model
         KeyCase{"PreloadWithoutLoads", "modal_clamped_plate", {kSmallPlate[0], kSmallPlate[1], "modal.about=\"preload\""},
                 2, "modal.about", "nothing loads the shell"},
