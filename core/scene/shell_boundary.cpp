@@ -158,6 +158,10 @@ bool probe_reads_stress(const Document& d, std::size_t i) {
   if (!d.present("probe.direction", i))
     throw SceneError({d.issue("probe.direction", i, "quantity = \"" + quantity + "\" needs probe.direction, the "
                                                     "global direction the " + quantity + " is projected on")});
+  // a zero direction projects everything to 0: the probe would record 0 throughout
+  if (vec(d.numbers("probe.direction", i)).isZero(0.0))
+    throw SceneError({d.issue("probe.direction", i, "the direction is the zero vector: the " + quantity +
+                                                    " projected on it is 0 throughout; give the direction to read")});
   return false;
 }
 

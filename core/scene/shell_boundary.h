@@ -28,7 +28,7 @@ std::vector<std::string> stress_field_names();
 void declare_probe_field_key(Schema& s);
 /// Whether [[probe]] entry i reads a stress (probe.quantity = "stress"); refuses probe.field
 /// without that quantity, and the quantity without probe.field or with probe.direction, and a
-/// displacement or reaction probe without probe.direction.
+/// displacement or reaction probe without probe.direction or with a zero one.
 bool probe_reads_stress(const Document& d, std::size_t i);
 /// Whether a shell run records its stress fields: output.stresses, or a colour field other than
 /// `fixed_fields` and "none", or a stress probe.

@@ -198,6 +198,7 @@ std::unique_ptr<Simulation> build_jointed_modal(const Document& d, const std::st
     if (d.string("probe.quantity", i) != "displacement")
       throw SceneError({d.issue("probe.quantity", i, "a modal analysis of a jointed structure records displacement "
                                                      "probes only (its state is the unloaded reference)")});
+    probe_reads_stress(d, i);  // its direction given and not zero
     const std::vector<int> ids = select_nodes(d, in.structure.joined, "probe", i);
     const std::string name = d.string("probe.name", i), label = d.string("probe.label", i);
     probes.push_back({name, label.empty() ? name : label, ids.front(), [&] {

@@ -125,6 +125,8 @@ INSTANTIATE_TEST_SUITE_P(
         KeyCase{"DynamicLoadOnTheClamp", "cantilever_step_load", {"load[0].edge=\"x_min\""}, 2, "load[0].total",
                 "bc[0]"},
         // item 5: probes that can only read zero are accepted with a warning
+        KeyCase{"ProbeAlongTheZeroVector", "cantilever_step_load", {"probe[0].direction=[0.0, 0.0, 0.0]"}, 2,
+                "probe[0].direction", "the zero vector"},
         KeyCase{"DisplacementProbeOnTheClamp", "cantilever_step_load", {"probe[0].point=[0.0, 0.05, 0.0]"}, 0,
                 "probe[0].direction", "records 0 throughout"},
         KeyCase{"ReactionProbeOnAFreeNode", "pulled_cylinder", {"probe[0].quantity=\"reaction\""}, 0,
