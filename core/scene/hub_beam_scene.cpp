@@ -30,7 +30,9 @@ const Schema& hub_beam_schema() {
         .number("beam.youngs_modulus", "Young's modulus E", 6.8952e10, Range::positive(), "Pa")
         .number("beam.second_moment", "second moment of area I", 1.3021e-10, Range::positive(), "m^4");
     s.table("torque", "hub torque tau(t) = amplitude sin(2 pi t / period) for t <= period, 0 after")
-        .number("torque.amplitude", "tau0", 1.0, Range::non_negative(), "N m")
+        .number("torque.amplitude",
+                "tau0; at most 1e100 (the model's products with lengths and inertias stay inside double precision)",
+                1.0, Range::closed(0.0, 1e100), "N m")
         .number("torque.period", "T", 2.0, Range::positive(), "s")
         .live("torque.amplitude");
     s.table("discretization", "how the beam is discretized")
@@ -125,6 +127,12 @@ std::unique_ptr<Simulation> build_hub_beam(const Document& d, const std::string&
   representable("the axial stiffness E A / L",
                 {{"beam.youngs_modulus", p.youngs_modulus, 1}, {"beam.area", p.area, 1}, {"beam.length", p.length, -1}});
   representable("L^8 (the scale of the EFG moment matrices)", {{"beam.length", p.length, 8}});
+  // the hub radius moves the beam's mass off the axis: its inertia about the axis grows with a^2
+  // (1e300 ended "initial accelerations are not finite", exit 1)
+  if (p.hub_radius > 0)
+    representable("the beam's inertia about the hub axis from its offset, rho A L a^2",
+                  {{"beam.density", p.density, 1}, {"beam.area", p.area, 1}, {"beam.length", p.length, 1},
+                   {"hub.radius", p.hub_radius, 2}});
   HubBeamEffects fx;
   fx.axial = has(effects, "axial");
   fx.first_order_coupling = has(effects, "first_order_coupling");

@@ -94,6 +94,12 @@ INSTANTIATE_TEST_SUITE_P(
         // item 16: a dynamic Newton tolerance below the coordinates' round-off ("diverged" at the first step)
         KeyCase{"DynamicToleranceBelowRoundOff", "double_pendulum_shells", {"solver.tolerance=1e-300"}, 2,
                 "solver.tolerance", "below the round-off"},
+        // item 16, the hub-beam model: a hub radius whose inertia overflows ("failed", exit 1) and a
+        // torque beyond double precision's products ("diverged": non-finite residual)
+        KeyCase{"HubRadiusOverflows", "hub_beam_fem_tau1", {"hub.radius=1e300"}, 2, "hub.radius",
+                "outside double precision"},
+        KeyCase{"HubTorqueOverflows", "hub_beam_fem_tau1", {"torque.amplitude=1e300"}, 2, "torque.amplitude",
+                "[0, 1e+100]"},
         // item 16: a preload without loads was blamed on scene.model
         KeyCase{"PreloadWithoutLoads", "modal_clamped_plate", {kSmallPlate[0], kSmallPlate[1], "modal.about=\"preload\""},
                 2, "modal.about", "nothing loads the shell"},

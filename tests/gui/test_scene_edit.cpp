@@ -145,7 +145,7 @@ TEST(GuiRefusal, WorkerRefusalHasNoCliSyntax) {
   ASSERT_TRUE(r.has_value());
   EXPECT_EQ(r->text.find("--set"), std::string::npos) << r->text;
   EXPECT_EQ(r->text.find("key '"), std::string::npos) << r->text;
-  EXPECT_NE(r->text.find("torque.amplitude = fast was not applied: expected a number >= 0"), std::string::npos)
+  EXPECT_NE(r->text.find("torque.amplitude = fast was not applied: expected a number in [0, 1e+100]"), std::string::npos)
       << r->text;
 }
 
