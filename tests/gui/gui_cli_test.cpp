@@ -160,8 +160,9 @@ TEST(GuiCli, CantileverSetUpFromNothingRerunsHeadlessToTheSameMetric) {
              "set part[0].n1 16\n"
              "set part[0].n2 2\n"
              "add bc type=clamped select=patch_edge edge=x_min\n"
-             "set load[0].select patch_edge\n"
-             "set load[0].edge x_max\n"
+             // one edit: a load switched to patch_edge alone would sit on the clamp's edge (u=0),
+             // where it does no work, and be refused (issue 48)
+             "use-edge load[0] plate x_max\n"
              "set load[0].total [0.0, 0.0, 1000.0]\n"
              "set probe[0].name tip_w\n"
              "pick 33\n"  // the middle node of the free end (17 x 3 nodes, row by row)
