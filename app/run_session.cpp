@@ -31,6 +31,7 @@
 #include "app/plots.h"
 #include "app/view_options.h"
 #include "core/assembly/element_threads.h"
+#include "core/frame/input_file.h"
 #include "core/solve/solver_ranks.h"
 #include "core/scene/scene.h"
 #include "render/frame_layout.h"
@@ -127,6 +128,10 @@ std::string default_scene() { return "double_pendulum_shells"; }
 
 std::string resolve_scene(const std::string& name) {
   if (fs::is_regular_file(name)) return name;
+  // there, but a FIFO, a device or a link to one: said so, not looked up among the bundled scenes
+  std::error_code ec;
+  if (const fs::file_status st = fs::symlink_status(name, ec); !ec && fs::exists(st) && !fs::is_directory(name, ec))
+    throw InputError("scene file '" + name + "' " + input_file_problem(name, kMaxTextInputBytes, kTextInputBound));
   const fs::path bundled = fs::path(scene_dir()) / (name + ".toml");
   if (fs::is_regular_file(bundled)) return bundled.string();
   std::string msg = "no scene file '" + name + "' and no bundled scene of that name in " + scene_dir() +
