@@ -1,5 +1,8 @@
 #include "app/io/gmsh_import.h"
 
+#include "app/io/machine_memory.h"
+#include "core/frame/input_file.h"
+
 // Gmsh's C API, for its function types only: the library is opened with dlopen in the child
 // process, so `flexframe` neither links it nor loads it (with OpenCASCADE, 91 libraries, 84 ms and
 // 50 MB at every start-up) unless a scene reads a Gmsh file
@@ -7,13 +10,16 @@
 
 #include <dlfcn.h>
 #include <fcntl.h>
+#include <link.h>
 #include <linux/audit.h>
 #include <linux/filter.h>
+#include <linux/landlock.h>
 #include <linux/seccomp.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -27,6 +33,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -121,6 +128,10 @@ struct GmshApi {
   decltype(&::gmshModelMeshGetNodesForPhysicalGroup) get_nodes_for_physical_group = nullptr;
   decltype(&::gmshModelMeshGetElements) get_elements = nullptr;
   decltype(&::gmshModelMeshSetSize) set_size = nullptr;
+  decltype(&::gmshModelOccGetEntities) occ_get_entities = nullptr;
+  decltype(&::gmshModelOccGetMass) occ_get_mass = nullptr;
+  decltype(&::gmshModelGetParametrizationBounds) get_parametrization_bounds = nullptr;
+  decltype(&::gmshModelGetValue) get_value = nullptr;
   decltype(&::gmshLoggerStart) logger_start = nullptr;
   decltype(&::gmshLoggerGetLastError) last_error = nullptr;
   decltype(&::gmshLoggerGet) logger_get = nullptr;
@@ -155,6 +166,10 @@ struct GmshApi {
     find(get_nodes_for_physical_group, "gmshModelMeshGetNodesForPhysicalGroup");
     find(get_elements, "gmshModelMeshGetElements");
     find(set_size, "gmshModelMeshSetSize");
+    find(occ_get_entities, "gmshModelOccGetEntities");
+    find(occ_get_mass, "gmshModelOccGetMass");
+    find(get_parametrization_bounds, "gmshModelGetParametrizationBounds");
+    find(get_value, "gmshModelGetValue");
     find(logger_start, "gmshLoggerStart");
     find(last_error, "gmshLoggerGetLastError");
     find(logger_get, "gmshLoggerGet");
@@ -255,6 +270,54 @@ bool enter_read_only_sandbox() {
 #endif
 }
 
+// Reads confined to the folders in `readable` and below (Landlock, Linux 5.13 or later): a .geo
+// script may Include or Merge the files beside its own and below, and read nothing else: not
+// /etc, not the user's home, not /proc/<the parent>/environ (the environment is cleared in the
+// child, but /proc keeps every process's first one). Returns "" when confined, else why not.
+std::string confine_reads(const std::vector<std::string>& readable) {
+  const long abi = syscall(SYS_landlock_create_ruleset, nullptr, 0, LANDLOCK_CREATE_RULESET_VERSION);
+  if (abi < 1) return "this kernel offers no Landlock (Linux 5.13 or later, with Landlock enabled)";
+  landlock_ruleset_attr attr{};
+  attr.handled_access_fs = (LANDLOCK_ACCESS_FS_MAKE_SYM << 1) - 1;  // every file-system right of its first version
+  const int ruleset = static_cast<int>(syscall(SYS_landlock_create_ruleset, &attr, sizeof attr, 0));
+  if (ruleset < 0) return std::string("the kernel refused a Landlock rule set: ") + std::strerror(errno);
+  std::string problem;
+  for (const std::string& dir : readable) {
+    landlock_path_beneath_attr rule{};
+    rule.allowed_access = LANDLOCK_ACCESS_FS_READ_FILE | LANDLOCK_ACCESS_FS_READ_DIR;
+    rule.parent_fd = ::open(dir.c_str(), O_PATH | O_CLOEXEC);
+    if (rule.parent_fd < 0) continue;  // a folder that is not there needs no rule
+    if (syscall(SYS_landlock_add_rule, ruleset, LANDLOCK_RULE_PATH_BENEATH, &rule, 0) != 0 && problem.empty())
+      problem = "the kernel refused the Landlock rule for " + dir + ": " + std::strerror(errno);
+    close(rule.parent_fd);
+  }
+  if (problem.empty() && (prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0 || syscall(SYS_landlock_restrict_self, ruleset, 0) != 0))
+    problem = std::string("the kernel refused to apply Landlock's rules: ") + std::strerror(errno);
+  close(ruleset);
+  return problem;
+}
+
+// the folders a Gmsh child may read: the file's own (as named, and where a link leads), and
+// those of the libraries already loaded (Gmsh, OpenCASCADE and theirs), for what they load later
+std::vector<std::string> readable_folders(const std::string& path) {
+  std::vector<std::string> dirs;
+  std::error_code ec;
+  dirs.push_back(fs::absolute(path, ec).parent_path().string());
+  const fs::path real = fs::canonical(path, ec);
+  if (!ec) dirs.push_back(real.parent_path().string());
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* data) {
+        // the program itself has no name here; linux-vdso.so.1 no path
+        if (info->dlpi_name && info->dlpi_name[0] == '/')
+          static_cast<std::vector<std::string>*>(data)->push_back(fs::path(info->dlpi_name).parent_path().string());
+        return 0;
+      },
+      &dirs);
+  std::sort(dirs.begin(), dirs.end());
+  dirs.erase(std::unique(dirs.begin(), dirs.end()), dirs.end());
+  return dirs;
+}
+
 // Gmsh element types (gmsh's numbering) and what a shell makes of them
 constexpr int kLine2 = 1, kTriangle3 = 2, kQuad4 = 3, kPoint = 15;
 std::string element_type_words(int type) {
@@ -316,8 +379,106 @@ std::size_t count_triangles(const GmshApi& g) {
   return n;
 }
 
-// Everything the child does with Gmsh; throws GmshFailure with a sentence
-void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
+// The area of the geometry's surfaces, before they are meshed: OpenCASCADE's own (exact, trims
+// included) for its entities (STEP, IGES, BREP, a .geo on that kernel); otherwise the integral of
+// |x_u x x_v| over the surface's parameter rectangle on a 16 x 16 grid (exact for a plane; a
+// trimmed surface's whole rectangle, so more than its area). A surface with neither counts 0.
+double geometry_area(const GmshApi& g) {
+  int ierr = 0;
+  int* occ = nullptr;
+  std::size_t occ_n = 0;
+  g.occ_get_entities(&occ, &occ_n, 2, &ierr);
+  std::set<int> occ_surfaces;
+  for (std::size_t k = 0; ierr == 0 && k + 1 < occ_n; k += 2) occ_surfaces.insert(occ[k + 1]);
+  int* surfs = nullptr;
+  std::size_t surfs_n = 0;
+  g.get_entities(&surfs, &surfs_n, 2, &ierr);
+  double area = 0;
+  for (std::size_t k = 0; k + 1 < surfs_n; k += 2) {
+    const int tag = surfs[k + 1];
+    if (occ_surfaces.count(tag)) {
+      double mass = 0;
+      g.occ_get_mass(2, tag, &mass, &ierr);
+      if (ierr == 0 && std::isfinite(mass) && mass > 0) {
+        area += mass;
+        continue;
+      }
+    }
+    double *lo = nullptr, *hi = nullptr;
+    std::size_t lo_n = 0, hi_n = 0;
+    g.get_parametrization_bounds(2, tag, &lo, &lo_n, &hi, &hi_n, &ierr);
+    if (ierr != 0 || lo_n != 2 || hi_n != 2) continue;
+    constexpr int n = 16;
+    std::vector<double> uv;
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) uv.push_back(lo[0] + (hi[0] - lo[0]) * i / n), uv.push_back(lo[1] + (hi[1] - lo[1]) * j / n);
+    double* xyz = nullptr;
+    std::size_t xyz_n = 0;
+    g.get_value(2, tag, uv.data(), uv.size(), &xyz, &xyz_n, &ierr);
+    if (ierr != 0 || xyz_n != 3 * uv.size() / 2) continue;
+    const auto x = [&](int i, int j) { return Eigen::Vector3d(xyz + 3 * (j * (n + 1) + i)); };
+    double a = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) a += 0.5 * (x(i + 1, j + 1) - x(i, j)).cross(x(i, j + 1) - x(i + 1, j)).norm();
+    if (std::isfinite(a)) area += a;
+  }
+  return area;
+}
+
+// The longest element of Gmsh's mesh of the curves (meshed here, at the script's own sizes; the
+// surface mesh then starts from it): the size a surface's elements do not exceed when nothing
+// but its boundary sets them
+double longest_curve_element(const GmshApi& g) {
+  int ierr = 0;
+  g.generate(1, &ierr);
+  check(g, ierr, "Gmsh could not mesh its curves");
+  std::size_t* tags = nullptr;
+  std::size_t tags_n = 0, coord_n = 0, par_n = 0;
+  double* coord = nullptr;
+  double* par = nullptr;
+  g.get_nodes(&tags, &tags_n, &coord, &coord_n, &par, &par_n, -1, -1, 0, 0, &ierr);
+  std::unordered_map<std::size_t, Eigen::Vector3d> at;
+  for (std::size_t k = 0; k < tags_n; ++k) at.emplace(tags[k], Eigen::Vector3d(coord + 3 * k));
+  int* types = nullptr;
+  std::size_t types_n = 0, *et_n = nullptr, et_nn = 0, *nt_n = nullptr, nt_nn = 0;
+  std::size_t** et = nullptr;
+  std::size_t** nt = nullptr;
+  g.get_elements(&types, &types_n, &et, &et_n, &et_nn, &nt, &nt_n, &nt_nn, 1, -1, &ierr);
+  double longest = 0;
+  for (std::size_t t = 0; t < types_n; ++t)
+    for (std::size_t e = 0; types[t] == kLine2 && e < et_n[t]; ++e) {
+      const auto a = at.find(nt[t][2 * e]), b = at.find(nt[t][2 * e + 1]);
+      if (a != at.end() && b != at.end()) longest = std::max(longest, (a->second - b->second).norm());
+    }
+  return longest;
+}
+
+// Refuses geometry whose mesh would have more nodes than a run can hold (r.most_nodes, from the
+// scene's memory estimate) before Gmsh spends minutes and gigabytes meshing it: about its
+// surfaces' area over the element size squared (quads of a Frontal-Delaunay mesh recombined are a
+// little smaller than size x size, so this is at most the count, give or take a trimmed surface)
+void refuse_oversized_geometry(const GmshApi& g, const GmshMeshRequest& r) {
+  if (!(r.most_nodes > 0)) return;
+  const double area = geometry_area(g);
+  if (!(area > 0)) return;
+  const bool scene_size = r.mesh_size > 0;
+  const double size = scene_size ? r.mesh_size : longest_curve_element(g);
+  if (!(size > 0)) return;
+  const double quads = area / (size * size);
+  if (quads <= r.most_nodes) return;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "Gmsh would mesh it into about %.3g quads (its surfaces' area %.4g over the square of %s %.4g), more "
+                "than the about %.3g nodes a run can hold within the %s this machine allows (the scene's memory "
+                "estimate); ",
+                quads, area, scene_size ? "part.mesh_size =" : "the longest element of Gmsh's mesh of its curves,",
+                size, r.most_nodes, input_bytes_words(r.memory_limit_bytes).c_str());
+  throw GmshFailure(std::string(text) + (scene_size ? "raise part.mesh_size" : "give a part.mesh_size, or larger sizes in the script"));
+}
+
+// Everything the child does with Gmsh; throws GmshFailure with a sentence. `unconfined` says
+// what the sandbox could not confine ("" when it confined all), for the notes.
+void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w, const std::string& unconfined) {
   int ierr = 0;
   g.initialize(0, nullptr, 0, &ierr);
   check(g, ierr, "Gmsh did not start");
@@ -329,9 +490,11 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   // a reader that meets a malformed file, or a script command that the sandbox refused (Save,
   // System), logs an error and goes on: any error while reading is the file's fault
   if (const std::string e = g.first_logged_error(); !e.empty()) throw GmshFailure("Gmsh could not read it: " + e +
-                       (lower_extension(r.path) == ".geo"
-                            ? " (FlexFrame runs .geo scripts read-only: a script may not write files or run commands)"
-                            : ""));
+                       (lower_extension(r.path) != ".geo" ? ""
+                        : unconfined.empty()
+                            ? " (FlexFrame runs .geo scripts read-only, and lets them read only the files in their own "
+                              "folder and below: a script may not write files, run commands or read other files)"
+                            : " (FlexFrame runs .geo scripts read-only: a script may not write files or run commands)"));
 
   // physical groups, read before meshing (their entities carry the per-group sizes)
   int* pg = nullptr;
@@ -364,6 +527,7 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   };
 
   std::vector<std::string> notes;
+  if (!unconfined.empty()) notes.push_back(unconfined);
   bool subdivided = false;
   if (r.mesh_geometry) {
     // sizes times `factor`: part.mesh_size at every point of the geometry (a CAD file's points
@@ -398,6 +562,7 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
       }
     };
     apply_sizes(1.0);
+    refuse_oversized_geometry(g, r);
     // Frontal-Delaunay (6) with Blossom recombination: robust in Gmsh 4.8, where the quad-dedicated
     // Frontal-Delaunay for quads (8) segfaulted on a cylindrical roof
     g.set_number("Mesh.Algorithm", 6, &ierr);
@@ -578,7 +743,12 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   for (const std::string& n : notes) w.put_string(n);
 }
 
-[[noreturn]] void child_main(int fd, const GmshMeshRequest& r) {
+[[noreturn]] void child_main(int fd, const GmshMeshRequest& r, pid_t parent) {
+  // The child dies with its parent: a flexframe ended by SIGKILL (a batch system's hard stop, the
+  // OOM killer) must not leave Gmsh meshing on, its time limit gone with the parent that enforced
+  // it. The signal comes when the thread that forked ends, which waits for this child to end
+  // (read_with_gmsh); should the parent have died before prctl, this child now has another parent.
+  if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(4);
   // Gmsh and OpenCASCADE print to stdout and stderr: the run's own output must stay clean
   const int devnull = ::open("/dev/null", O_RDWR);
   if (devnull >= 0) dup2(devnull, 0), dup2(devnull, 1), dup2(devnull, 2);
@@ -601,15 +771,24 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   Writer w;
   GmshApi g;
   std::string problem = g.load();
+  const bool script = lower_extension(r.path) == ".geo";
+  // Nothing the child reads may come from outside the file's folder: an empty environment (a
+  // script's GetEnv("HOME") reads ""; Gmsh needs none, its libraries are loaded), and reads
+  // confined to the file's folder and the libraries' (Landlock) where the kernel offers it.
+  clearenv();
+  const std::vector<std::string> readable = readable_folders(r.path);
+  const std::string unconfined = problem.empty() ? confine_reads(readable) : std::string();
   // a .geo script is a program and runs only inside the sandbox; a data file (.msh, STEP, IGES,
   // BREP) has no commands, and is still read in this child (crashes and time bounded) where the
   // kernel offers no seccomp filter (some containers)
-  if (problem.empty() && !enter_read_only_sandbox() && lower_extension(r.path) == ".geo")
+  if (problem.empty() && !enter_read_only_sandbox() && script)
     problem = "the kernel refused the read-only sandbox in which FlexFrame runs Gmsh scripts, so the .geo script "
               "is not run (a script can write files and run commands); give its geometry as STEP or BREP instead";
   if (problem.empty()) {
     try {
-      mesh_in_child(g, r, w);
+      mesh_in_child(g, r, w, script && !unconfined.empty()
+                                 ? "the .geo script could read any file this user may read (" + unconfined + ")"
+                                 : std::string());
     } catch (const GmshFailure& e) {
       problem = e.what();
     } catch (const std::bad_alloc&) {
@@ -638,6 +817,139 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   _exit(0);
 }
 
+// ---- a .msh file's claims, checked in the parent before Gmsh reads it ------------------------------
+// Gmsh allocates for the counts of a .msh file's $Nodes and $Elements headers as it meets them: a
+// 1.6 kB file whose $Nodes header claimed 10^9 nodes took the child past 13 GB. The parent reads
+// $MeshFormat and those two headers (formats 2 and 4, ASCII and binary) and refuses a claim the
+// bytes after its header cannot hold, or whose reading would not fit in the memory limit.
+
+// Peak bytes of reading a .msh, per node and per element: Gmsh 4.8 read a v4.1 ASCII file of
+// 1.0 M nodes and 1.0 M quads in 190 MB more than it started with (about 100 bytes a node and
+// 100 an element), the child's copies out of Gmsh's API as much again, and the import's own
+// (mesh_import.cpp: 250 a vertex, 400 a face).
+constexpr double kMshBytesPerNode = 450.0, kMshBytesPerElement = 600.0;
+
+// a file read in pieces, line by line or byte by byte: memory bounded whatever the file holds
+class MshScan {
+ public:
+  explicit MshScan(int fd) : fd_(fd) {}
+  /// The next line without its end ("\n" or "\r\n"), at most `most` bytes of it; false at the end.
+  bool line(std::string& out, std::size_t most = 256) {
+    out.clear();
+    bool any = false;
+    while (at_ < buf_.size() || fill()) {
+      any = true;
+      const char* start = buf_.data() + at_;
+      const char* nl = static_cast<const char*>(std::memchr(start, '\n', buf_.size() - at_));
+      const std::size_t len = nl ? static_cast<std::size_t>(nl - start) : buf_.size() - at_;
+      out.append(start, std::min(len, most - std::min(most, out.size())));
+      at_ += len + (nl ? 1 : 0);
+      offset_ += len + (nl ? 1 : 0);
+      if (nl) {
+        ++line_;
+        break;
+      }
+    }
+    if (!out.empty() && out.back() == '\r') out.pop_back();
+    return any;
+  }
+  /// The next n bytes; false when the file ends first.
+  bool bytes(void* out, std::size_t n) {
+    while (buf_.size() - at_ < n)
+      if (!fill()) return false;
+    std::memcpy(out, buf_.data() + at_, n);
+    at_ += n;
+    offset_ += n;
+    return true;
+  }
+  std::uint64_t offset() const { return offset_; }  ///< bytes read so far
+  int line_number() const { return line_; }          ///< of the line that comes next
+
+ private:
+  bool fill() {
+    buf_.erase(0, at_);
+    at_ = 0;
+    char chunk[1 << 16];
+    while (true) {
+      const ssize_t n = ::read(fd_, chunk, sizeof chunk);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      buf_.append(chunk, static_cast<std::size_t>(n));
+      return true;
+    }
+  }
+  int fd_;
+  std::string buf_;
+  std::size_t at_ = 0;
+  std::uint64_t offset_ = 0;
+  int line_ = 1;
+};
+
+bool check_msh_claims(const std::string& path, const std::string& who, double memory_limit, std::string* error) {
+  std::uintmax_t size = 0;
+  std::string problem;
+  const int fd = open_input_file(path, 0, "", &problem, &size);
+  if (fd < 0) return fail(error, who + " " + problem);
+  struct Closer {
+    int fd;
+    ~Closer() { close(fd); }
+  } closer{fd};
+  MshScan in(fd);
+  std::string line;
+  if (!in.line(line) || line != "$MeshFormat" || !in.line(line)) return true;  // not format 2 or 4: Gmsh says what it is
+  double version = 0;
+  int binary = 0, data_size = 0;
+  if (std::sscanf(line.c_str(), "%lf %d %d", &version, &binary, &data_size) != 3) return true;
+  const bool v4 = version >= 4;
+  // a count in a section header: text, except the size_t words of format 4's binary headers
+  const auto count = [&](double& n) {
+    if (binary && v4) {
+      // the number of entity blocks, of nodes or elements, and (4.1) the smallest and largest tag
+      std::uint64_t words[4] = {0, 0, 0, 0};
+      if (data_size != 8 || !in.bytes(words, (version >= 4.1 ? 4 : 2) * sizeof(std::uint64_t))) return false;
+      n = static_cast<double>(words[1]);
+      return true;
+    }
+    if (!in.line(line)) return false;
+    double blocks = 0;
+    return v4 ? std::sscanf(line.c_str(), "%lf %lf", &blocks, &n) == 2 : std::sscanf(line.c_str(), "%lf", &n) == 1;
+  };
+  // the fewest bytes a node and an element take after their header: ASCII "1\n0 0 0\n" (format 4)
+  // or "1 0 0 0\n", and "1 1\n" or "1 15 0 1\n"; binary, a tag and three doubles, two indices
+  const double node_bytes = !binary ? 8.0 : v4 ? 8.0 + 24.0 : 4.0 + 24.0;
+  const double element_bytes = !binary ? (v4 ? 4.0 : 8.0) : v4 ? 16.0 : 8.0;
+  double claimed[2] = {0, 0};
+  const char* sections[2] = {"$Nodes", "$Elements"};
+  const char* what[2] = {"nodes", "elements"};
+  const double least[2] = {node_bytes, element_bytes};
+  for (int k = 0; k < 2; ++k) {
+    while (in.line(line) && line != sections[k]) {
+    }
+    // where the counts are: their line, or in format 4's binary headers their byte
+    const std::string at = binary && v4 ? "at byte " + std::to_string(in.offset()) : "line " + std::to_string(in.line_number());
+    double n = 0;
+    if (!count(n)) break;  // no such section, or cut short: Gmsh says so
+    const double after = static_cast<double>(size) - static_cast<double>(in.offset());
+    if (n * least[k] > after) {
+      char msg[400];
+      std::snprintf(msg, sizeof msg,
+                    ": its %s header claims %.0f %s, but the %.0f bytes after it hold at most %.0f (each takes at "
+                    "least %.0f bytes): the header does not describe this file (damaged or cut short)",
+                    sections[k], n, what[k], std::max(after, 0.0), std::floor(std::max(after, 0.0) / least[k]), least[k]);
+      return fail(error, who + " " + at + msg);
+    }
+    claimed[k] = n;
+  }
+  const double need = claimed[0] * kMshBytesPerNode + claimed[1] * kMshBytesPerElement;
+  if (memory_limit > 0 && need > memory_limit) {
+    char msg[300];
+    std::snprintf(msg, sizeof msg, ": its headers claim %.0f nodes and %.0f elements; reading them would need about %s, more than the %s",
+                  claimed[0], claimed[1], input_bytes_words(need).c_str(), input_bytes_words(memory_limit).c_str());
+    return fail(error, who + msg + " " + kMemoryLimitBound);
+  }
+  return true;
+}
+
 std::string signal_words(int sig) {
   const char* name = sigdescr_np(sig);
   return std::string(name ? name : "signal") + " (signal " + std::to_string(sig) + ")";
@@ -660,11 +972,13 @@ bool read_with_gmsh(const GmshMeshRequest& r, ImportedSurface& out, std::string*
   std::error_code ec;
   if (!fs::exists(r.path, ec)) return fail(error, who + " does not exist");
   if (fs::is_directory(r.path, ec)) return fail(error, who + " is a directory, not a mesh file");
-  {  // readable at all, before a process is started for it
-    FILE* f = std::fopen(r.path.c_str(), "rb");
-    if (!f) return fail(error, "cannot open " + who);
-    std::fclose(f);
-  }
+  // a regular file within the memory limit, before a process is started for it; a .msh file's
+  // header claims checked against its size and the memory limit before Gmsh allocates for them
+  const std::uintmax_t bound = r.memory_limit_bytes > 0 ? static_cast<std::uintmax_t>(r.memory_limit_bytes) : 0;
+  if (const std::string problem = input_file_problem(r.path, bound, kMemoryLimitBound); !problem.empty())
+    return fail(error, who + " " + problem);
+  if (!r.mesh_geometry && !check_msh_claims(r.path, who, r.memory_limit_bytes, error)) return false;
+  const pid_t parent = getpid();
   int fds[2];
   if (pipe2(fds, O_CLOEXEC) != 0) return fail(error, "cannot start Gmsh for " + who + ": no pipe");
   const pid_t pid = fork();
@@ -674,7 +988,7 @@ bool read_with_gmsh(const GmshMeshRequest& r, ImportedSurface& out, std::string*
   }
   if (pid == 0) {
     close(fds[0]);
-    child_main(fds[1], r);
+    child_main(fds[1], r, parent);
   }
   close(fds[1]);
   std::string bytes;

@@ -25,6 +25,10 @@ struct MeshFileRequest {
   std::vector<std::string> local_size_groups;  ///< part.local_size_groups
   std::vector<double> local_sizes;             ///< part.local_sizes, one per group above
   double time_limit_seconds = 300.0;           ///< part.mesh_time_limit: Gmsh is stopped after this
+  /// The most nodes a run of this scene can hold within the memory limit (the scene's memory
+  /// estimate; 0: no bound). A CAD or .geo part whose estimated mesh has more is refused before
+  /// Gmsh meshes it.
+  double most_nodes = 0.0;
   bool operator==(const MeshFileRequest&) const = default;
 };
 

@@ -130,9 +130,23 @@ std::string part_name(const Document& d, std::size_t i, const mesh::ShellMesh* m
   return d.string("part.generator", i) + std::to_string(i + 1);
 }
 
+// the most nodes whose run fits in `bytes` by the scene's memory estimate (shell::estimated_peak_bytes,
+// 5 DoF per node: the least a mesh of that size needs); 0 when the limit is unknown
+double most_nodes_within(double bytes) {
+  if (!(bytes > 0)) return 0.0;
+  long long lo = 0, hi = std::numeric_limits<int>::max();
+  while (lo < hi) {  // the largest n with estimated_peak_bytes(n) <= bytes
+    const long long mid = lo + (hi - lo + 1) / 2;
+    if (shell::estimated_peak_bytes(static_cast<int>(mid), 0.0) <= bytes) lo = mid;
+    else hi = mid - 1;
+  }
+  return static_cast<double>(std::max(lo, 1LL));  // 0 would mean "no bound"
+}
+
 // what part i asks of its file
-MeshFileRequest file_request(const Document& d, std::size_t i, const std::string& scene_path) {
+MeshFileRequest file_request(const Document& d, std::size_t i, const std::string& scene_path, const SceneContext& ctx) {
   MeshFileRequest r;
+  r.most_nodes = most_nodes_within(ctx.memory_limit_bytes);
   r.path = (fs::path(scene_path).parent_path() / d.string("part.file", i)).string();
   r.weld_tolerance = d.number("part.weld_tolerance", i);
   r.triangles = d.string("part.triangles", i);
@@ -160,7 +174,7 @@ mesh::ShellMesh read_part_file(const Document& d, std::size_t i, const std::stri
                                               "loader; the flexframe executable passes its assimp importer)")});
   mesh::ShellMesh m;
   MeshFileError error;
-  const MeshFileRequest request = file_request(d, i, scene_path);
+  const MeshFileRequest request = file_request(d, i, scene_path, ctx);
   if (!ctx.mesh_reader(request, m, &error))
     throw SceneError({d.issue(error.key.empty() ? "part.file" : error.key, i, error.message)});
   return m;
@@ -474,7 +488,7 @@ StructureSize structure_size(const Document& d, const std::string& scene_path, c
     } else if (ctx.mesh_reader && !d.string("part.file", i).empty()) {
       mesh::ShellMesh m;
       MeshFileError error;
-      if (ctx.mesh_reader(file_request(d, i, scene_path), m, &error))
+      if (ctx.mesh_reader(file_request(d, i, scene_path, ctx), m, &error))
         nodes = m.node_count();
     }
     size.nodes += nodes;
