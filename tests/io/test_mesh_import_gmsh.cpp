@@ -13,8 +13,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "app/io/gmsh_import.h"
@@ -540,4 +543,160 @@ TEST(GmshImport, WhereBlossomLeavesTrianglesGmshSubdividesIntoQuadsOnTheSurface)
   double worst = 0;
   for (const auto& x : r.mesh.points) worst = std::max(worst, std::abs(x.norm() - 10.0));
   EXPECT_LT(worst, 1e-6);
+}
+
+// ---- issue 48: what Gmsh reads, and how much ----------------------------------------------------
+
+namespace {
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+}  // namespace
+
+// Item 12: the node and element counts of a .msh file's section headers are checked against the
+// bytes after them and against the memory limit in the parent, before Gmsh allocates for them (a
+// 1.6 kB file claiming 10^9 nodes took the child past 13 GB)
+TEST(GmshImport, MshHeaderClaimsAreCheckedBeforeGmshReadsThem) {
+  std::string v4 = file_text(data("square_quads_v4.msh"));
+  const std::size_t nodes = v4.find("$Nodes\n") + 7;
+  std::string claim = v4;
+  claim.replace(nodes, v4.find('\n', nodes) - nodes, "9 1000000000 1 25");
+  const Read v4_claim = read(request(write_text("claim_v4.msh", claim)));
+  ASSERT_FALSE(v4_claim.ok);
+  EXPECT_NE(v4_claim.error.message.find("claim_v4.msh' line "), std::string::npos) << v4_claim.error.message;
+  EXPECT_NE(v4_claim.error.message.find("its $Nodes header claims 1000000000 nodes, but the "), std::string::npos)
+      << v4_claim.error.message;
+  EXPECT_EQ(v4_claim.error.key, "part.file");
+
+  std::string v22 = file_text(data("square_quads_v22.msh"));
+  const std::size_t elements = v22.find("$Elements\n") + 10;
+  v22.replace(elements, v22.find('\n', elements) - elements, "4000000000");
+  const Read v22_claim = read(request(write_text("claim_v22.msh", v22)));
+  ASSERT_FALSE(v22_claim.ok);
+  EXPECT_NE(v22_claim.error.message.find("its $Elements header claims 4000000000 elements"), std::string::npos)
+      << v22_claim.error.message;
+
+  // format 4.1 binary: the counts are size_t words after the header line
+  std::string binary = "$MeshFormat\n4.1 1 8\n";
+  const int one = 1;
+  binary.append(reinterpret_cast<const char*>(&one), 4);
+  binary += "\n$EndMeshFormat\n$Nodes\n";
+  const std::uint64_t header[4] = {1, 1000000000, 1, 1000000000};
+  binary.append(reinterpret_cast<const char*>(header), sizeof header);
+  binary.append(200, '\0');
+  const Read binary_claim = read(request(write_text("claim_binary.msh", binary)));
+  ASSERT_FALSE(binary_claim.ok);
+  EXPECT_NE(binary_claim.error.message.find("at byte "), std::string::npos) << binary_claim.error.message;
+  EXPECT_NE(binary_claim.error.message.find("claims 1000000000 nodes, but the 200 bytes after it hold at most 6"),
+            std::string::npos) << binary_claim.error.message;
+
+  // counts the file can hold, but whose reading would not fit in the memory limit
+  ff::scene::MeshFileRequest q = request(data("square_quads_v4.msh"));
+  ShellMesh m;
+  ff::scene::MeshFileError e;
+  EXPECT_FALSE(ff::io::read_mesh_file(q, m, e, 5000.0));
+  EXPECT_NE(e.message.find("its headers claim 25 nodes and "), std::string::npos) << e.message;
+  EXPECT_NE(e.message.find("more than the 5000 bytes of memory this machine allows"), std::string::npos) << e.message;
+  EXPECT_TRUE(ff::io::read_mesh_file(q, m, e, 1e9)) << e.message;
+}
+
+// Item 15: a CAD part whose mesh would have more nodes than a run can hold is refused before Gmsh
+// meshes it (a unit square at mesh_size 1e-4, 10^8 quads, ran to its time limit twice), at the key
+// that sets the size; a part within the bound is meshed as before
+TEST(GmshImport, ACadPartTooFineForTheMemoryIsRefusedBeforeMeshing) {
+  ff::scene::MeshFileRequest q = request(write_text("fine_square.geo", square_geo("")));
+  q.mesh_size = 1e-4;
+  q.most_nodes = 1e5;
+  q.time_limit_seconds = 5;  // without the estimate, Gmsh would mesh until then
+  const auto start = std::chrono::steady_clock::now();
+  Read r = read(q);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+  ASSERT_FALSE(r.ok);
+  EXPECT_EQ(r.error.key, "part.mesh_size");
+  EXPECT_NE(r.error.message.find("Gmsh would mesh it into about 1e+08 quads (its surfaces' area 1 over the square of "
+                                 "part.mesh_size = 0.0001), more than the about 1e+05 nodes a run can hold"),
+            std::string::npos) << r.error.message;
+  // the same square from STEP (OpenCASCADE's own area)
+  q.path = data("square.step");
+  r = read(q);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.message.find("about 1e+08 quads (its surfaces' area 1 over"), std::string::npos) << r.error.message;
+  // a .geo's own sizes: the longest element of Gmsh's mesh of the curves
+  q.path = write_text("fine_points.geo", "lc = 1e-4;\nPoint(1) = {0, 0, 0, lc}; Point(2) = {1, 0, 0, lc}; Point(3) = {1, 1, 0, lc};"
+                                         " Point(4) = {0, 1, 0, lc};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};"
+                                         " Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n");
+  q.mesh_size = 0;
+  r = read(q);
+  ASSERT_FALSE(r.ok);
+  EXPECT_EQ(r.error.key, "part.file");
+  EXPECT_NE(r.error.message.find("the longest element of Gmsh's mesh of its curves"), std::string::npos) << r.error.message;
+  // within the bound: meshed
+  q.path = data("square.step");
+  q.mesh_size = 0.25;
+  r = read(q);
+  EXPECT_TRUE(r.ok) << r.error.message;
+}
+
+// Item 15: a part Gmsh fails on is read once per process, like one it meshes: the scene reads its
+// parts twice (their size for the memory estimate, then the mesh), and a part stopped at its time
+// limit took twice that limit
+TEST(GmshImport, APartThatFailsIsNotMeshedAgain) {
+  const ff::scene::SceneContext ctx = ff::io::scene_context();
+  ff::scene::MeshFileRequest q = request(write_text("sleeps.geo", square_geo("Sleep 10;\n")));
+  q.time_limit_seconds = 1.0;
+  ShellMesh m;
+  ff::scene::MeshFileError first, second;
+  auto start = std::chrono::steady_clock::now();
+  ASSERT_FALSE(ctx.mesh_reader(q, m, &first));
+  EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.9);
+  EXPECT_NE(first.message.find("did not finish within 1 s"), std::string::npos) << first.message;
+  start = std::chrono::steady_clock::now();
+  ASSERT_FALSE(ctx.mesh_reader(q, m, &second));
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.5);
+  EXPECT_EQ(second.message, first.message);
+  EXPECT_EQ(second.key, first.key);
+}
+
+// Item 17: a .geo script reads no environment variable (GetEnv gives ""), and no file outside its
+// own folder (Landlock): not /etc/passwd, not this process's environment through /proc, not a
+// file of the folder above; Include and Merge of files beside it and below still work
+TEST(GmshImport, AGeoScriptReadsNothingButItsOwnFolder) {
+  setenv("FLEXFRAME_TEST_SECRET", "secret", 1);
+  const Read env = read(request(write_text("env.geo", "w = 1 + StrLen(GetEnv(\"FLEXFRAME_TEST_SECRET\"));\n"
+                                                      "Point(1) = {0, 0, 0, 0.25}; Point(2) = {w, 0, 0, 0.25};"
+                                                      " Point(3) = {w, 1, 0, 0.25}; Point(4) = {0, 1, 0, 0.25};\n"
+                                                      "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+                                                      "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n")));
+  unsetenv("FLEXFRAME_TEST_SECRET");
+  ASSERT_TRUE(env.ok) << env.error.message;
+  double widest = 0;
+  for (const auto& p : env.mesh.points) widest = std::max(widest, p.x());
+  EXPECT_NEAR(widest, 1.0, 1e-12) << "the script read the environment";
+
+  const fs::path root = fs::path(scratch("confined"));
+  fs::remove_all(root);
+  fs::create_directories(root / "inside" / "below");
+  fs::create_directories(root / "outside");
+  std::ofstream(root / "outside" / "secret.geo") << "width = 2;\n";
+  std::ofstream(root / "inside" / "below" / "width.geo") << "width = 1;\n";
+  const std::string square = "Point(1) = {0, 0, 0, 0.25}; Point(2) = {width, 0, 0, 0.25}; Point(3) = {width, 1, 0, 0.25};"
+                             " Point(4) = {0, 1, 0, 0.25};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};"
+                             " Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n";
+  const auto script = [&](const std::string& name, const std::string& include) {
+    const std::string path = (root / "inside" / name).string();
+    std::ofstream(path) << "Include \"" << include << "\";\n" << square;
+    return path;
+  };
+  const Read below = read(request(script("below.geo", "below/width.geo")));
+  EXPECT_TRUE(below.ok) << below.error.message;
+  for (const std::string& outside : {std::string("../outside/secret.geo"), std::string("/etc/passwd"),
+                                     std::string("/proc/self/environ")}) {
+    SCOPED_TRACE(outside);
+    const Read r = read(request(script("outside.geo", outside)));
+    ASSERT_FALSE(r.ok);
+    EXPECT_NE(r.error.message.find("lets them read only the files in their own folder and below"), std::string::npos)
+        << r.error.message;
+    EXPECT_EQ(r.error.message.find("root:"), std::string::npos) << r.error.message;
+  }
 }
