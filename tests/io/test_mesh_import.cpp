@@ -358,13 +358,17 @@ TEST(MeshImport, OnlyRegularFilesWithinTheMemoryLimitAreRead) {
     fs::remove(fifo);
     ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
     std::atomic<bool> done{false};
-    std::thread unblock([&] {
-      for (int k = 0; k < 300 && !done; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-      const int fd = open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
-      if (fd >= 0) close(fd);
+    std::thread unblock([&] {  // after 3 s, every open of the FIFO for reading returns (at its end)
+      for (int k = 0; !done; ++k) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        if (k < 300) continue;
+        const int fd = open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+        if (fd >= 0) close(fd);
+      }
     });
     ff::scene::MeshFileRequest q;
     q.path = fifo;
+    q.time_limit_seconds = 5;  // should Gmsh read it
     ShellMesh m;
     ff::scene::MeshFileError e;
     EXPECT_FALSE(ff::io::read_mesh_file(q, m, e, 1e9));
@@ -382,6 +386,7 @@ TEST(MeshImport, OnlyRegularFilesWithinTheMemoryLimitAreRead) {
     ff::scene::MeshFileRequest q;
     q.path = link;
     q.mesh_size = fs::path(link).extension() == ".step" ? 0.25 : 0.0;
+    q.time_limit_seconds = 2;  // should Gmsh read it
     ShellMesh m;
     ff::scene::MeshFileError e;
     EXPECT_FALSE(ff::io::read_mesh_file(q, m, e, 1e9));
