@@ -516,8 +516,9 @@ class AsciiStl {
 
 bool check_stl_structure(const std::string& path, const std::string& who, double memory_limit, std::string* error) {
   std::string bytes, problem;
-  if (!read_input_file(path, &bytes, file_bound(memory_limit) > 0 ? file_bound(memory_limit) : kMaxTextInputBytes,
-                       file_bound(memory_limit) > 0 ? kMemoryLimitBound : kTextInputBound, &problem))
+  const std::uintmax_t bound = file_bound(memory_limit);  // none known: the file's own size
+  if (!read_input_file(path, &bytes, bound > 0 ? bound : std::numeric_limits<std::uintmax_t>::max(), kMemoryLimitBound,
+                       &problem))
     return fail(error, who + " " + problem);
   const std::size_t size = bytes.size();
   std::uint32_t count = 0;

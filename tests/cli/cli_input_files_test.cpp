@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <dirent.h>
 #include <sys/stat.h>
 
 #include "cli_support.h"
@@ -35,32 +34,6 @@ const char* const kSquareGeo =
     "Point(1) = {0, 0, 0, 1}; Point(2) = {1, 0, 0, 1}; Point(3) = {1, 1, 0, 1}; Point(4) = {0, 1, 0, 1};\n"
     "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
     "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\nPhysical Surface(\"plate\") = {1};\n";
-
-// the processes whose parent is `parent` (from /proc/<pid>/stat)
-std::vector<pid_t> children_of(pid_t parent) {
-  std::vector<pid_t> out;
-  DIR* proc = opendir("/proc");
-  if (!proc) return out;
-  while (const dirent* e = readdir(proc)) {
-    const pid_t pid = static_cast<pid_t>(std::atoi(e->d_name));
-    if (pid <= 0) continue;
-    const std::string stat = read_text("/proc/" + std::string(e->d_name) + "/stat");
-    const std::size_t close = stat.rfind(')');  // the command name may hold spaces
-    char state = 0;
-    int ppid = 0;
-    if (close != std::string::npos && std::sscanf(stat.c_str() + close + 1, " %c %d", &state, &ppid) == 2 && ppid == parent)
-      out.push_back(pid);
-  }
-  closedir(proc);
-  return out;
-}
-
-// a process that has ended (gone, or a zombie its new parent has not reaped yet)
-bool ended(pid_t pid) {
-  const std::string stat = read_text("/proc/" + std::to_string(pid) + "/stat");
-  const std::size_t close = stat.rfind(')');
-  return close == std::string::npos || stat.compare(close + 1, 3, " Z ") == 0 || stat.compare(close + 1, 3, " X ") == 0;
-}
 
 // Item 7 (stl_damaged_accepted): an ASCII STL cut inside a facet, or with random bytes (a NUL among
 // them) inside one, was read as 26 and 20 of its 32 triangles and ran to "completed"
@@ -136,7 +109,7 @@ TEST(CliInputFiles, TheGmshChildEndsWithAKilledParent) {
   bool gone = false;
   for (int k = 0; k < 100 && !gone; ++k) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    gone = ended(gmsh[0]);
+    gone = process_ended(gmsh[0]);
   }
   EXPECT_TRUE(gone) << "the Gmsh child " << gmsh[0] << " outlived its parent by 2 s";
   if (!gone) kill(gmsh[0], SIGKILL);
