@@ -852,8 +852,8 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
                  std::to_string(edges) + " element edges that touch it)";
         if (reached > kLocalSizeReachedWithin * asked)
           said.push_back("'" + name + "': the element edges that touch group '" + group + "' are " + g_text(reached) +
-                         " long on average, not the " + g_text(asked) + " part.local_sizes asks: the file's own size "
-                         "settings (a field, Mesh.MeshSizeFromCurvature) or the group's geometry set the size there");
+                         " long on average, not the " + g_text(asked) + " part.local_sizes asks: the file's own "
+                         "settings (a transfinite curve, a field) or the group's geometry set the size there");
       }
     }
     std::string groups;

@@ -734,6 +734,19 @@ TEST(GmshImport, LocalSizesWinOverTheScriptsBoundsAndSayWhatTheyReached) {
   EXPECT_LT(quads[1], quads[2]);
   EXPECT_GT(reached[0], reached[1]);
   EXPECT_GT(reached[1], reached[2]);
+  // what no size can change (the script's transfinite hole: 2 segments per quarter, 3.1 long) is
+  // said: the size reached, and a warning that it is not the size asked
+  ff::scene::MeshFileRequest fixed = request(write_text("hole_transfinite.geo", hole_plate + "Transfinite Curve{5, 6, 7, 8} = 3;\n"));
+  fixed.mesh_size = 4.0;
+  fixed.local_size_groups = {"hole"};
+  fixed.local_sizes = {0.5};
+  ShellMesh transfinite;
+  ff::scene::MeshFileError error;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(ff::io::read_mesh_file(fixed, transfinite, error, 0.0, nullptr, &warnings)) << error.message;
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("group 'hole'"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("not the 0.5 part.local_sizes asks"), std::string::npos) << warnings[0];
   // a local size the script's cap would undo, without part.mesh_size to replace the cap
   ff::scene::MeshFileRequest capped = request(write_text("hole_max1.geo", hole_plate + "Mesh.MeshSizeMax = 1;\n"));
   capped.local_size_groups = {"hole"};
