@@ -199,6 +199,18 @@ std::uint64_t run_info_bytes_bound(const RunInfo& info) {
   return bytes + objects * kPerObjectBytes + kMetadataMarginBytes;
 }
 
+// How the writer opens its file (created or amended): locked against a second writer, but working
+// on file systems without flock; closing the file closes whatever is still open in it, so a failed
+// write never leaves objects for HDF5's exit handler to close after the file has gone
+h5::Handle writer_file_access() {
+  h5::Handle fapl(h5::check_id(H5Pcreate(H5P_FILE_ACCESS), "file access properties"));
+#if H5_VERSION_GE(1, 10, 7)
+  h5::check(H5Pset_file_locking(fapl.get(), 1, 1), "file access properties");
+#endif
+  h5::check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), "file access properties");
+  return fapl;
+}
+
 // "disk full: ..." when the folder of `path` has less room than create() may need, or ""
 std::string room_for_run_info(const std::string& path, const RunInfo& info) {
   const std::uint64_t need = run_info_bytes_bound(info);
@@ -519,14 +531,7 @@ std::unique_ptr<ResultWriter> ResultWriter::create(const std::string& path, cons
     return nullptr;
   }
   try {
-    h5::Handle fapl(h5::check_id(H5Pcreate(H5P_FILE_ACCESS), "file access properties"));
-    // lock against a second writer, but work on file systems without flock
-#if H5_VERSION_GE(1, 10, 7)
-    h5::check(H5Pset_file_locking(fapl.get(), 1, 1), "file access properties");
-#endif
-    // closing the file closes whatever is still open in it, so a failed write never leaves
-    // objects for HDF5's exit handler to close after the file has gone
-    h5::check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), "file access properties");
+    const h5::Handle fapl = writer_file_access();
     impl->file = h5::Handle(
         h5::check_id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), ""));
     impl->write_run_info(info);
@@ -782,11 +787,7 @@ bool ResultWriter::finish(const RunOutcome& outcome,
 bool amend_outcome(const std::string& path, const RunOutcome& outcome, std::string* error) {
   h5::Quiet quiet;
   try {
-    h5::Handle fapl(h5::check_id(H5Pcreate(H5P_FILE_ACCESS), "file access properties"));
-#if H5_VERSION_GE(1, 10, 7)
-    h5::check(H5Pset_file_locking(fapl.get(), 1, 1), "file access properties");
-#endif
-    h5::check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), "file access properties");
+    const h5::Handle fapl = writer_file_access();
     h5::Handle file(h5::check_id(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), "open"));
     {
       h5::Handle o = h5::open_group(file.get(), names::kOutcome);
