@@ -885,9 +885,15 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
                     "mesh file '" + request.path + "': its faces touch without being joined: " + where +
                         ", so the shell would come apart there (faces side by side, each with its own row of nodes; a "
                         "stiffener whose foot does not share the nodes of the face it stands on). " +
-                        (geometry ? "FlexFrame joins touching CAD faces, but these were not joined: check the CAD model"
+                        (ext == ".geo" ? "FlexFrame joins the touching faces of OpenCASCADE geometry, not those of "
+                                         "Gmsh's built-in kernel: join them in the script (Coherence for faces side by side, "
+                                         "Curve{...} In Surface{...} for a foot on a face), or build it with "
+                                         "SetFactory(\"OpenCASCADE\")"
+                         : geometry ? "FlexFrame joined the touching CAD faces it found, and these still touch: check "
+                                      "the CAD model"
                          : by_gmsh || ext == ".inp"
-                             ? "Join them in the file (Gmsh: BooleanFragments or Coherence before meshing)"
+                             ? "Join them in the file (in Gmsh, before meshing: BooleanFragments of OpenCASCADE "
+                               "geometry, Coherence of the built-in kernel's)"
                              : "Give part.weld_tolerance to join vertices at one place, or join them in the file") +
                         "; or set part.keep_faces_apart = true if they are meant to be apart (a slit, a lap that is not "
                         "bonded)");
