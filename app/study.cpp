@@ -241,13 +241,7 @@ void write_variant_run(const fs::path& file, const std::string& label, const std
   j["shared"] = r.shared;
   j["scene_hash"] = r.scene_hash;
   fs::create_directories(file.parent_path());
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, file);
+  write_text_file(file, j.dump(2) + "\n");  // through a temporary, never through a link
 }
 
 /// The run recorded in `file` when it is of this variant (same scene and overrides) and has a status.
@@ -615,9 +609,7 @@ bool run_distributed(const std::vector<Task>& tasks, int& workers, const std::at
         if (it != task_of_entry.end()) {
           const Task& t = tasks[it->second];
           fs::create_directories(t.folder);
-          const fs::path tmp = (t.folder / "summary.json").string() + ".gathered";
-          std::ofstream(tmp, std::ios::binary) << text.substr(nl + 1);
-          fs::rename(tmp, t.folder / "summary.json");
+          write_text_file(t.folder / "summary.json", text.substr(nl + 1));
           VariantRun r = collect_child(t, 0);
           more = done(t, r) && more;
         }
@@ -777,7 +769,7 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     for (const fs::path& f : folders) {
       const std::string rel = "runs/" + f.filename().string();
       folder->sub_folder(rel);
-      for (const char* file : {"summary.json", "log.txt"}) folder->record(rel + "/" + file);
+      for (const char* file : {"summary.json", "log.txt"}) folder->file(rel + "/" + file);  // refuses a planted link
     }
 #ifdef FF_HAVE_MPI
   if (worker) return mpi_worker(entries, folders, stop);

@@ -32,6 +32,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -128,13 +129,24 @@ struct GmshApi {
   decltype(&::gmshModelMeshGetNodesForPhysicalGroup) get_nodes_for_physical_group = nullptr;
   decltype(&::gmshModelMeshGetElements) get_elements = nullptr;
   decltype(&::gmshModelMeshSetSize) set_size = nullptr;
-  decltype(&::gmshModelOccGetEntities) occ_get_entities = nullptr;
   decltype(&::gmshModelOccGetMass) occ_get_mass = nullptr;
-  decltype(&::gmshModelGetParametrizationBounds) get_parametrization_bounds = nullptr;
-  decltype(&::gmshModelGetValue) get_value = nullptr;
   decltype(&::gmshLoggerStart) logger_start = nullptr;
   decltype(&::gmshLoggerGetLastError) last_error = nullptr;
   decltype(&::gmshLoggerGet) logger_get = nullptr;
+  decltype(&::gmshOptionGetNumber) get_number = nullptr;
+  decltype(&::gmshModelGetBoundingBox) get_bounding_box = nullptr;
+  decltype(&::gmshModelGetEntitiesInBoundingBox) get_entities_in_bounding_box = nullptr;
+  decltype(&::gmshModelGetValue) get_value = nullptr;
+  decltype(&::gmshModelGetParametrizationBounds) get_parametrization_bounds = nullptr;
+  decltype(&::gmshModelGetClosestPoint) get_closest_point = nullptr;
+  decltype(&::gmshModelAddPhysicalGroup) add_physical_group = nullptr;
+  decltype(&::gmshModelSetPhysicalName) set_physical_name = nullptr;
+  decltype(&::gmshModelRemovePhysicalGroups) remove_physical_groups = nullptr;
+  decltype(&::gmshModelOccGetEntities) occ_get_entities = nullptr;
+  decltype(&::gmshModelOccFragment) occ_fragment = nullptr;
+  decltype(&::gmshModelOccCopy) occ_copy = nullptr;
+  decltype(&::gmshModelOccRemove) occ_remove = nullptr;
+  decltype(&::gmshModelOccSynchronize) occ_synchronize = nullptr;
 
   std::string load() {
     void* h = nullptr;
@@ -166,13 +178,24 @@ struct GmshApi {
     find(get_nodes_for_physical_group, "gmshModelMeshGetNodesForPhysicalGroup");
     find(get_elements, "gmshModelMeshGetElements");
     find(set_size, "gmshModelMeshSetSize");
-    find(occ_get_entities, "gmshModelOccGetEntities");
     find(occ_get_mass, "gmshModelOccGetMass");
-    find(get_parametrization_bounds, "gmshModelGetParametrizationBounds");
-    find(get_value, "gmshModelGetValue");
     find(logger_start, "gmshLoggerStart");
     find(last_error, "gmshLoggerGetLastError");
     find(logger_get, "gmshLoggerGet");
+    find(get_number, "gmshOptionGetNumber");
+    find(get_bounding_box, "gmshModelGetBoundingBox");
+    find(get_entities_in_bounding_box, "gmshModelGetEntitiesInBoundingBox");
+    find(get_value, "gmshModelGetValue");
+    find(get_parametrization_bounds, "gmshModelGetParametrizationBounds");
+    find(get_closest_point, "gmshModelGetClosestPoint");
+    find(add_physical_group, "gmshModelAddPhysicalGroup");
+    find(set_physical_name, "gmshModelSetPhysicalName");
+    find(remove_physical_groups, "gmshModelRemovePhysicalGroups");
+    find(occ_get_entities, "gmshModelOccGetEntities");
+    find(occ_fragment, "gmshModelOccFragment");
+    find(occ_copy, "gmshModelOccCopy");
+    find(occ_remove, "gmshModelOccRemove");
+    find(occ_synchronize, "gmshModelOccSynchronize");
     return missing.empty() ? std::string() : "the Gmsh library lacks " + missing + " (Gmsh 4.8 or later is needed)";
   }
 
@@ -379,6 +402,178 @@ std::size_t count_triangles(const GmshApi& g) {
   return n;
 }
 
+// a physical group as the file defines it
+struct Physical {
+  int dim, tag;
+  std::string name;
+  std::vector<int> entities;
+};
+
+std::string dim_words(int dim) {
+  return dim == 0 ? std::string("point") : dim == 1 ? std::string("curve") : dim == 2 ? std::string("surface") : std::string("volume");
+}
+
+std::string physical_label(const Physical& p) {
+  return "physical " + dim_words(p.dim) + " " + std::to_string(p.tag) + (p.name.empty() ? "" : " '" + p.name + "'");
+}
+
+int entity_count(const GmshApi& g, int dim) {
+  int ierr = 0;
+  int* tags = nullptr;
+  std::size_t n = 0;
+  g.get_entities(&tags, &n, dim, &ierr);
+  return static_cast<int>(n / 2);
+}
+
+// CAD faces that touch without sharing an edge (a stiffener's foot standing on a panel face, two
+// faces side by side each with an edge of its own) are meshed apart, and the shell comes apart
+// there. OpenCASCADE's fragment (general fuse) of every face against the others splits faces and
+// edges where they meet and makes each common edge one, so that the mesh shares its nodes there.
+// Gmsh forgets the physical groups when the model is synchronized after it, so each is found again
+// on the new entities: a surface group by the fragment's map of old faces to new, a curve group as
+// the new curves lying on its old curves (a copy of each is kept for that search), a point group
+// at its old place. Returns a note for the part's description ("" when nothing changed).
+std::string join_touching_faces(const GmshApi& g, std::vector<Physical>& physicals) {
+  int ierr = 0;
+  int* solids = nullptr;
+  std::size_t solids_n = 0;
+  g.occ_get_entities(&solids, &solids_n, 3, &ierr);
+  int* faces = nullptr;
+  std::size_t faces_n = 0;
+  g.occ_get_entities(&faces, &faces_n, 2, &ierr);
+  // one face cannot touch another (and OpenCASCADE refuses to fragment it); faces that bound a
+  // solid share their edges already, and fragmenting them would leave the solid behind
+  if (ierr != 0 || solids_n > 0 || faces_n < 4) return {};
+  const std::vector<int> face_dim_tags(faces, faces + faces_n);
+  const int faces_before = entity_count(g, 2), curves_before = entity_count(g, 1);
+  double box[6];
+  g.get_bounding_box(-1, -1, &box[0], &box[1], &box[2], &box[3], &box[4], &box[5], &ierr);
+  check(g, ierr, "measuring its geometry");
+  const double tol = 1e-6 * Eigen::Vector3d(box[3] - box[0], box[4] - box[1], box[5] - box[2]).norm();
+
+  std::map<int, Eigen::Vector3d> point_at;  // grouped point -> where it was
+  std::map<int, int> copy_of;               // grouped curve -> a copy of it
+  for (const Physical& p : physicals)
+    for (int e : p.entities) {
+      if (p.dim == 0 && !point_at.count(e)) {
+        double* x = nullptr;
+        std::size_t n = 0;
+        g.get_value(0, e, nullptr, 0, &x, &n, &ierr);
+        check(g, ierr, "reading the place of point " + std::to_string(e));
+        if (n == 3) point_at[e] = Eigen::Vector3d(x[0], x[1], x[2]);
+      }
+      if (p.dim == 1 && !copy_of.count(e)) {
+        int dim_tag[2] = {1, e};
+        int* out = nullptr;
+        std::size_t out_n = 0;
+        g.occ_copy(dim_tag, 2, &out, &out_n, &ierr);
+        check(g, ierr, "keeping curve " + std::to_string(e) + " of " + physical_label(p));
+        if (out_n == 2) copy_of[e] = out[1];
+      }
+    }
+
+  int* out = nullptr;
+  std::size_t out_n = 0;
+  int** map = nullptr;
+  std::size_t* map_n = nullptr;
+  std::size_t map_nn = 0;
+  g.occ_fragment(const_cast<int*>(face_dim_tags.data()), face_dim_tags.size(), nullptr, 0, &out, &out_n, &map, &map_n,
+                 &map_nn, -1, 1, 1, &ierr);
+  const bool fragmented = ierr == 0 && map_nn == face_dim_tags.size() / 2;
+  const std::string failure = ierr != 0 ? g.why() : std::string();
+  g.occ_synchronize(&ierr);
+  check(g, ierr, "joining its faces");
+
+  std::map<int, std::vector<int>> faces_of;  // old face -> the faces it became
+  for (std::size_t k = 0; k < face_dim_tags.size() / 2; ++k) {
+    const int old = face_dim_tags[2 * k + 1];
+    if (!fragmented) {
+      faces_of[old] = {old};
+      continue;
+    }
+    for (std::size_t m = 0; m + 1 < map_n[k]; m += 2)
+      if (map[k][m] == 2) faces_of[old].push_back(map[k][m + 1]);
+  }
+  // every new curve (not a copy) at two inner points, against each grouped curve's copy
+  std::vector<int> copies;
+  for (const auto& [old, copy] : copy_of) copies.push_back(copy);
+  std::map<int, std::vector<int>> curves_of;  // old curve -> the new curves on it
+  if (!copy_of.empty()) {
+    int* curves = nullptr;
+    std::size_t curves_n = 0;
+    g.get_entities(&curves, &curves_n, 1, &ierr);
+    for (std::size_t k = 0; k + 1 < curves_n; k += 2) {
+      const int c = curves[k + 1];
+      if (std::find(copies.begin(), copies.end(), c) != copies.end()) continue;
+      double *lo = nullptr, *hi = nullptr;
+      std::size_t lo_n = 0, hi_n = 0;
+      g.get_parametrization_bounds(1, c, &lo, &lo_n, &hi, &hi_n, &ierr);
+      if (ierr != 0 || lo_n != 1 || hi_n != 1) continue;
+      std::vector<double> inner;
+      for (double f : {0.3, 0.7}) {
+        const double t = lo[0] + f * (hi[0] - lo[0]);
+        double* x = nullptr;
+        std::size_t n = 0;
+        g.get_value(1, c, const_cast<double*>(&t), 1, &x, &n, &ierr);
+        if (ierr == 0 && n == 3) inner.insert(inner.end(), x, x + 3);
+      }
+      if (inner.size() != 6) continue;
+      for (const auto& [old, copy] : copy_of) {
+        double *near = nullptr, *par = nullptr;
+        std::size_t near_n = 0, par_n = 0;
+        g.get_closest_point(1, copy, inner.data(), inner.size(), &near, &near_n, &par, &par_n, &ierr);
+        if (ierr != 0 || near_n != 6) continue;
+        bool on = true;
+        for (int a = 0; a < 2; ++a)
+          on = on && Eigen::Vector3d(near[3 * a] - inner[3 * a], near[3 * a + 1] - inner[3 * a + 1],
+                                     near[3 * a + 2] - inner[3 * a + 2]).norm() <= tol;
+        if (on) curves_of[old].push_back(c);
+      }
+    }
+    std::vector<int> copy_dim_tags;
+    for (int c : copies) copy_dim_tags.push_back(1), copy_dim_tags.push_back(c);
+    g.occ_remove(copy_dim_tags.data(), copy_dim_tags.size(), 1, &ierr);
+    check(g, ierr, "removing the curves kept for the groups");
+    g.occ_synchronize(&ierr);
+    check(g, ierr, "joining its faces");
+  }
+
+  g.remove_physical_groups(nullptr, 0, &ierr);
+  for (Physical& p : physicals) {
+    std::vector<int> now;
+    for (int e : p.entities) {
+      const std::vector<int>* found = p.dim == 2 ? &faces_of[e] : p.dim == 1 ? &curves_of[e] : nullptr;
+      if (found) now.insert(now.end(), found->begin(), found->end());
+      if (p.dim == 0 && point_at.count(e)) {
+        const Eigen::Vector3d& x = point_at[e];
+        int* tags = nullptr;
+        std::size_t n = 0;
+        g.get_entities_in_bounding_box(x.x() - tol, x.y() - tol, x.z() - tol, x.x() + tol, x.y() + tol, x.z() + tol, &tags,
+                                       &n, 0, &ierr);
+        for (std::size_t k = 0; k + 1 < n; k += 2) now.push_back(tags[k + 1]);
+      }
+    }
+    std::sort(now.begin(), now.end());
+    now.erase(std::unique(now.begin(), now.end()), now.end());
+    if (now.empty() && !p.entities.empty())
+      throw GmshFailure(physical_label(p) + " was lost when its faces were joined where they touch (OpenCASCADE's "
+                        "fragment); part.keep_faces_apart = true leaves the faces as they are");
+    g.add_physical_group(p.dim, now.data(), now.size(), p.tag, &ierr);
+    check(g, ierr, "keeping " + physical_label(p));
+    if (!p.name.empty()) g.set_physical_name(p.dim, p.tag, p.name.c_str(), &ierr);
+    p.entities = std::move(now);
+  }
+  if (!fragmented)
+    return "CAD faces not joined where they touch: OpenCASCADE's fragment failed (" + failure + ")";
+  const int faces_after = entity_count(g, 2), curves_after = entity_count(g, 1);
+  bool changed = faces_after != faces_before || curves_after != curves_before;
+  for (const auto& [old, now] : faces_of) changed = changed || now.size() != 1 || now[0] != old;
+  if (!changed) return {};
+  return "CAD faces joined where they touch (OpenCASCADE's fragment: " + std::to_string(faces_before) + " faces and " +
+         std::to_string(curves_before) + " edges became " + std::to_string(faces_after) + " and " +
+         std::to_string(curves_after) + ")";
+}
+
 // The area of the geometry's surfaces, before they are meshed: OpenCASCADE's own (exact, trims
 // included) for its entities (STEP, IGES, BREP, a .geo on that kernel); otherwise the integral of
 // |x_u x x_v| over the surface's parameter rectangle on a 16 x 16 grid (exact for a plane; a
@@ -501,11 +696,6 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w, const 
   std::size_t pg_n = 0;
   g.get_physical_groups(&pg, &pg_n, -1, &ierr);
   check(g, ierr, "reading its physical groups");
-  struct Physical {
-    int dim, tag;
-    std::string name;
-    std::vector<int> entities;
-  };
   std::vector<Physical> physicals;
   for (std::size_t k = 0; k + 1 < pg_n; k += 2) {
     Physical p{pg[k], pg[k + 1], {}, {}};
@@ -519,49 +709,86 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w, const 
     p.entities.assign(ents, ents + ents_n);
     physicals.push_back(std::move(p));
   }
-  const auto dim_words = [](int dim) {
-    return dim == 0 ? std::string("point") : dim == 1 ? std::string("curve") : dim == 2 ? std::string("surface") : std::string("volume");
-  };
-  const auto physical_label = [&](const Physical& p) {
-    return "physical " + dim_words(p.dim) + " " + std::to_string(p.tag) + (p.name.empty() ? "" : " '" + p.name + "'");
-  };
 
   std::vector<std::string> notes;
   if (!unconfined.empty()) notes.push_back(unconfined);
   bool subdivided = false;
+  if (r.mesh_geometry && r.join_touching_faces)
+    if (std::string joined = join_touching_faces(g, physicals); !joined.empty()) notes.push_back(std::move(joined));
   if (r.mesh_geometry) {
-    // sizes times `factor`: part.mesh_size at every point of the geometry (a CAD file's points
-    // carry no sizes, and Gmsh would give them a tenth of the part's diagonal, which
-    // Mesh.MeshSizeMax only lowers) and as the cap; each named group's points at its own size
-    const auto apply_sizes = [&](double factor) {
-      if (r.mesh_size > 0) {
-        g.set_number("Mesh.MeshSizeMax", factor * r.mesh_size, &ierr);
-        int* points = nullptr;
-        std::size_t points_n = 0;
-        g.get_entities(&points, &points_n, 0, &ierr);
-        check(g, ierr, "reading its points");
-        if (points_n > 0) g.set_size(points, points_n, factor * r.mesh_size, &ierr);
-        check(g, ierr, "setting its size");
-      }
-      for (const auto& [name, size] : r.group_sizes) {
-        const auto it = std::find_if(physicals.begin(), physicals.end(), [&](const Physical& p) { return p.name == name; });
-        if (it == physicals.end())
-          throw GmshFailure("part.local_size_groups names group '" + name + "', which the file does not define");
-        std::vector<int> dim_tags;
-        for (int e : it->entities) dim_tags.push_back(it->dim), dim_tags.push_back(e);
-        int* points = nullptr;
-        std::size_t points_n = 0;
-        if (it->dim == 0) {
-          g.set_size(dim_tags.data(), dim_tags.size(), factor * size, &ierr);
-        } else {
-          g.get_boundary(dim_tags.data(), dim_tags.size(), &points, &points_n, 0, 0, 1, &ierr);
-          check(g, ierr, "finding the points of group '" + name + "'");
-          g.set_size(points, points_n, factor * size, &ierr);
-        }
-        check(g, ierr, "setting the size of group '" + name + "'");
-      }
+    // The scene's sizes win over the script's global size settings, which would otherwise undo
+    // them silently (a Mesh.MeshSizeMin of 2 made local sizes 2, 1 and 0.5 one mesh). Gmsh takes at
+    // each point the smallest size from points, curvature and fields, clamps it to [MeshSizeMin,
+    // MeshSizeMax] and multiplies it by MeshSizeFactor: the scene's sizes are set as point sizes
+    // divided by the script's factor, a minimum above the smallest of them is lowered to it, and
+    // point sizes are switched on. A local size above the script's cap is refused (the cap is
+    // the script's wish for every element; part.mesh_size replaces it).
+    const auto option = [&](const char* name) {
+      double v = 0.0;
+      g.get_number(name, &v, &ierr);
+      check(g, ierr, std::string("reading ") + name);
+      return v;
     };
-    apply_sizes(1.0);
+    const double script_factor = option("Mesh.MeshSizeFactor"), script_min = option("Mesh.MeshSizeMin"),
+                 script_max = option("Mesh.MeshSizeMax");
+    const bool scene_sizes = r.mesh_size > 0 || !r.group_sizes.empty();
+    const auto text = [](double v) {
+      char b[64];
+      std::snprintf(b, sizeof b, "%.6g", v);
+      return std::string(b);
+    };
+    if (scene_sizes) {
+      if (!(script_factor > 0)) throw GmshFailure("its Mesh.MeshSizeFactor is " + text(script_factor) + ", not > 0");
+      double smallest = r.mesh_size > 0 ? r.mesh_size : std::numeric_limits<double>::infinity();
+      for (const auto& [name, size] : r.group_sizes) {
+        smallest = std::min(smallest, size);
+        if (!(r.mesh_size > 0) && size > script_max * script_factor)
+          throw GmshFailure("part.local_sizes asks " + text(size) + " at group '" + name + "', above the script's "
+                            "largest element (Mesh.MeshSizeMax " + text(script_max) +
+                            (script_factor != 1 ? " x Mesh.MeshSizeFactor " + text(script_factor) : std::string()) +
+                            "): a local size is finer than the rest; give a smaller one, or part.mesh_size (which "
+                            "replaces the script's largest element)");
+      }
+      if (script_min * script_factor > smallest) {
+        g.set_number("Mesh.MeshSizeMin", smallest / script_factor, &ierr);
+        notes.push_back("the script's Mesh.MeshSizeMin " + text(script_min) + " lowered to " +
+                        text(smallest / script_factor) + " so that the scene's sizes are reached");
+      }
+      if (option("Mesh.MeshSizeFromPoints") == 0) {
+        g.set_number("Mesh.MeshSizeFromPoints", 1, &ierr);
+        notes.push_back("the script's Mesh.MeshSizeFromPoints = 0 set to 1 (the scene's sizes are point sizes)");
+      }
+      if (script_factor != 1)
+        notes.push_back("the script's Mesh.MeshSizeFactor " + text(script_factor) + " kept for its own sizes, the "
+                        "scene's set so that they come out as given");
+    }
+    if (r.mesh_size > 0) {  // at every point (a CAD file's points carry no sizes, and Gmsh would give
+                            // them a tenth of the part's diagonal, which a cap alone only lowers) and as the cap
+      g.set_number("Mesh.MeshSizeMax", r.mesh_size / script_factor, &ierr);
+      int* points = nullptr;
+      std::size_t points_n = 0;
+      g.get_entities(&points, &points_n, 0, &ierr);
+      check(g, ierr, "reading its points");
+      if (points_n > 0) g.set_size(points, points_n, r.mesh_size / script_factor, &ierr);
+      check(g, ierr, "setting its size");
+    }
+    for (const auto& [name, size] : r.group_sizes) {  // each named group's points at its own size
+      const auto it = std::find_if(physicals.begin(), physicals.end(), [&](const Physical& p) { return p.name == name; });
+      if (it == physicals.end())
+        throw GmshFailure("part.local_size_groups names group '" + name + "', which the file does not define");
+      std::vector<int> dim_tags;
+      for (int e : it->entities) dim_tags.push_back(it->dim), dim_tags.push_back(e);
+      int* points = nullptr;
+      std::size_t points_n = 0;
+      if (it->dim == 0) {
+        g.set_size(dim_tags.data(), dim_tags.size(), size / script_factor, &ierr);
+      } else {
+        g.get_boundary(dim_tags.data(), dim_tags.size(), &points, &points_n, 0, 0, 1, &ierr);
+        check(g, ierr, "finding the points of group '" + name + "'");
+        g.set_size(points, points_n, size / script_factor, &ierr);
+      }
+      check(g, ierr, "setting the size of group '" + name + "'");
+    }
     refuse_oversized_geometry(g, r);
     // Frontal-Delaunay (6) with Blossom recombination: robust in Gmsh 4.8, where the quad-dedicated
     // Frontal-Delaunay for quads (8) segfaulted on a cylindrical roof
@@ -579,20 +806,17 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w, const 
     if (count_triangles(g) > 0) {
       g.clear(nullptr, 0, &ierr);
       check(g, ierr, "clearing a mesh with triangles");
-      apply_sizes(2.0);
+      g.set_number("Mesh.MeshSizeFactor", 2.0 * script_factor, &ierr);  // every size, the script's and the scene's
       g.set_number("Mesh.SubdivisionAlgorithm", 1, &ierr);
       g.generate(2, &ierr);
       check(g, ierr, "Gmsh could not mesh it into quads only");
       subdivided = true;
     }
-    char size[64];
-    std::snprintf(size, sizeof size, "%.6g", r.mesh_size);
     notes.push_back(std::string("meshed by Gmsh 2D Frontal-Delaunay with Blossom recombination") +
                     (subdivided ? " at twice the size, then every element subdivided into quads (plain Blossom left "
                                   "triangles), "
                                 : ", ") +
-                    (r.mesh_size > 0 ? "elements about " + std::string(size) + " across" : std::string("the file's sizes")) +
-                    (r.group_sizes.empty() ? "" : ", finer at " + std::to_string(r.group_sizes.size()) + " named groups"));
+                    (r.mesh_size > 0 ? "elements at most " + text(r.mesh_size) + " across" : std::string("the file's sizes")));
   } else if (r.recombine_triangles) {
     const double before = surface_area(g);
     g.recombine(&ierr);

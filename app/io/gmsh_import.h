@@ -40,6 +40,9 @@ struct GmshMeshRequest {
   double mesh_size = 0.0;
   /// a smaller size at the points of a named physical group (name, size)
   std::vector<std::pair<std::string, double>> group_sizes;
+  /// CAD: faces that touch without sharing an edge are joined first (OpenCASCADE's fragment of
+  /// every face against the others; the physical groups found again on the new entities)
+  bool join_touching_faces = true;
   /// a mesh file's triangles joined into quads by Gmsh's recombination (Blossom)
   bool recombine_triangles = false;
   double time_limit_seconds = 300.0;

@@ -56,6 +56,9 @@ constexpr double kFoldAngle = 1e-5;
 constexpr double kLargestDirectorTiltBeyondTurn = 5.0;
 // and never more than this, whatever the turn: a director this far off is no shell's
 constexpr double kLargestDirectorTilt = 60.0;
+// A named group whose touching element edges are longer than this many times its part.local_sizes
+// is said loudly: its local size did not reach the mesh
+constexpr double kLocalSizeReachedWithin = 1.5;
 
 std::string g_text(double v) {
   std::ostringstream s;
@@ -670,7 +673,7 @@ void directors_from_file(const RawSurface& raw, ShellMesh& m) {
 }  // namespace
 
 bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* error, const MeshImportOptions& options,
-                       bool* weld_tolerance_at_fault) {
+                       bool* weld_tolerance_at_fault, std::vector<std::string>* warnings) {
   const std::string who = "mesh file '" + path + "'";
   if (weld_tolerance_at_fault) *weld_tolerance_at_fault = false;
   std::error_code ec;
@@ -726,6 +729,7 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
     if (!ff::mesh::shell_mesh_from_surface(surface, convert, m, error, &report)) return false;
     m.patches[0].description = "imported from " + surface.file + " (" + raw.format + "; " + report.summary() +
                                (raw.corner_normals.empty() ? "" : "; the file's normals are not used for a split mesh") + ")";
+    if (warnings && !report.turned_warning().empty()) warnings->push_back("'" + surface.file + "': " + report.turned_warning());
     out = std::move(m);
     return true;
   }
@@ -887,7 +891,8 @@ ff::scene::SceneContext scene_context(const std::atomic<bool>* stop) {
   }
   ctx.memory_limit_bytes = machine_memory_limit_bytes();
   ctx.mesh_reader = [limit = ctx.memory_limit_bytes, stop](const ff::scene::MeshFileRequest& request, ShellMesh& out,
-                                                           ff::scene::MeshFileError* error) {
+                                                           ff::scene::MeshFileError* error,
+                                                           std::vector<std::string>* warnings) {
     // a scene's parts are read more than once (their size for the memory check, then the mesh,
     // and `check` loads twice): a file is read, and a CAD part meshed, once per process as long
     // as it is unchanged on disk (its size and modification time). A refusal is kept too (a part
@@ -897,6 +902,7 @@ ff::scene::SceneContext scene_context(const std::atomic<bool>* stop) {
       std::uintmax_t size;
       fs::file_time_type modified;
       ShellMesh mesh;
+      std::vector<std::string> warnings;
       std::optional<ff::scene::MeshFileError> refusal;
     };
     static std::mutex mutex;
@@ -914,24 +920,27 @@ ff::scene::SceneContext scene_context(const std::atomic<bool>* stop) {
             return false;
           }
           out = c.mesh;
+          if (warnings) *warnings = c.warnings;
           return true;
         }
     }
     ff::scene::MeshFileError local;
     ff::scene::MeshFileError& e = error ? *error : local;
-    const bool ok = read_mesh_file(request, out, e, limit, stop);
+    std::vector<std::string> said;
+    const bool ok = read_mesh_file(request, out, e, limit, stop, &said);
     if (cacheable && !(stop && stop->load())) {
       std::lock_guard<std::mutex> lock(mutex);
       if (cache.size() >= 4) cache.erase(cache.begin());  // a study's variants: a few meshes at a time
-      cache.push_back({request, size, modified, ok ? out : ShellMesh(), ok ? std::nullopt : std::optional(e)});
+      cache.push_back({request, size, modified, ok ? out : ShellMesh(), said, ok ? std::nullopt : std::optional(e)});
     }
+    if (ok && warnings) *warnings = std::move(said);
     return ok;
   };
   return ctx;
 }
 
 bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, ff::scene::MeshFileError& error,
-                    double memory_limit_bytes, const std::atomic<bool>* stop) {
+                    double memory_limit_bytes, const std::atomic<bool>* stop, std::vector<std::string>* warnings) {
   const std::string ext = lower_extension(request.path);
   const std::string name = fs::path(request.path).filename().string();
   const bool gmsh = gmsh_reads(request.path), geometry = gmsh_is_geometry(request.path);
@@ -963,32 +972,78 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
     return refuse("part.weld_tolerance", "part.weld_tolerance joins the loose vertices of OBJ and PLY files; '" + name +
                                              "' numbers its nodes, and elements that share a node share it already");
 
-  ff::mesh::ImportedSurface surface;
-  if (ext == ".inp") {
-    std::string why;
-    if (!read_abaqus_inp(request.path, surface, &why, memory_limit_bytes)) return refuse("part.file", why);
-    surface.file = name;
-  } else if (by_gmsh) {
-    GmshMeshRequest g;
-    g.path = request.path;
-    g.mesh_geometry = geometry;
-    g.mesh_size = request.mesh_size;
-    for (std::size_t k = 0; k < request.local_size_groups.size() && k < request.local_sizes.size(); ++k)
-      g.group_sizes.emplace_back(request.local_size_groups[k], request.local_sizes[k]);
-    g.recombine_triangles = request.triangles == "recombine";
-    g.time_limit_seconds = request.time_limit_seconds;
-    g.memory_limit_bytes = memory_limit_bytes;
-    g.most_nodes = request.most_nodes;
-    g.stop = stop;
-    std::string why;
-    if (!read_with_gmsh(g, surface, &why)) {
-      // a group size naming no group is the scene's key, not the file
-      return refuse(why.find("part.local_size_groups") != std::string::npos || why.find("group_sizes") != std::string::npos
-                        ? "part.local_size_groups"
-                    : why.find("raise part.mesh_size") != std::string::npos && request.mesh_size > 0 ? "part.mesh_size"
-                                                                                                   : "part.file",
-                    why);
+  ShellMesh m;
+  std::vector<std::string> said;
+  if (ext == ".inp" || by_gmsh) {
+    ff::mesh::ImportedSurface surface;
+    if (ext == ".inp") {
+      std::string why;
+      if (!read_abaqus_inp(request.path, surface, &why, memory_limit_bytes)) return refuse("part.file", why);
+      surface.file = name;
+    } else {
+      GmshMeshRequest g;
+      g.path = request.path;
+      g.mesh_geometry = geometry;
+      g.mesh_size = request.mesh_size;
+      for (std::size_t k = 0; k < request.local_size_groups.size() && k < request.local_sizes.size(); ++k)
+        g.group_sizes.emplace_back(request.local_size_groups[k], request.local_sizes[k]);
+      g.recombine_triangles = request.triangles == "recombine";
+      g.join_touching_faces = !request.keep_faces_apart;
+      g.time_limit_seconds = request.time_limit_seconds;
+      g.memory_limit_bytes = memory_limit_bytes;
+      g.most_nodes = request.most_nodes;
+      g.stop = stop;
+      std::string why;
+      if (!read_with_gmsh(g, surface, &why)) {
+        // a group size naming no group, a size the script's bounds refuse, or a mesh size too fine
+        // for the memory, is the scene's key
+        return refuse(why.find("part.local_sizes") != std::string::npos         ? "part.local_sizes"
+                      : why.find("part.local_size_groups") != std::string::npos ? "part.local_size_groups"
+                      : why.find("raise part.mesh_size") != std::string::npos && request.mesh_size > 0 ? "part.mesh_size"
+                                                                                 : "part.file",
+                      why);
+      }
     }
+    ff::mesh::SurfaceConversionOptions convert;
+    convert.triangles = request.triangles == "refuse" ? ff::mesh::TriangleHandling::refuse : ff::mesh::TriangleHandling::split;
+    convert.crease_angle_deg = request.crease_angle_deg;
+    convert.patch_name = request.group.empty() ? fs::path(request.path).stem().string() : request.group;
+    convert.only_group = request.group;
+    ff::mesh::SurfaceConversionReport report;
+    std::string why;
+    if (!ff::mesh::shell_mesh_from_surface(surface, convert, m, &why, &report)) {
+      const bool group_at_fault = !request.group.empty() && why.find("no surface group called") != std::string::npos;
+      const bool triangles_at_fault = why.find("part.triangles") != std::string::npos;
+      return refuse(group_at_fault ? "part.group" : triangles_at_fault ? "part.triangles" : "part.file",
+                    "mesh file '" + request.path + "': " + why);
+    }
+    if (!report.turned_warning().empty()) said.push_back("'" + name + "': " + report.turned_warning());
+    std::string notes;
+    for (const std::string& n : surface.notes) notes += "; " + n;
+    // what the mesh reached, measured on it: the mean element edge, and at each group given a
+    // local size the edges that touch it (the script's own settings or a field may win there)
+    if (geometry) {
+      notes += "; element edges " + g_text(ff::mesh::mean_edge_length(m)) + " long on average";
+      for (std::size_t k = 0; k < request.local_size_groups.size() && k < request.local_sizes.size(); ++k) {
+        const int at = m.find_group(request.local_size_groups[k]);
+        if (at < 0) continue;  // a group of another part cut from the same file
+        int edges = 0;
+        const double reached = ff::mesh::mean_edge_length(m, &m.groups[static_cast<std::size_t>(at)], &edges);
+        const std::string& group = request.local_size_groups[k];
+        const double asked = request.local_sizes[k];
+        notes += "; at '" + group + "' " + g_text(reached) + " (asked " + g_text(asked) + "; the mean of the " +
+                 std::to_string(edges) + " element edges that touch it)";
+        if (reached > kLocalSizeReachedWithin * asked)
+          said.push_back("'" + name + "': the element edges that touch group '" + group + "' are " + g_text(reached) +
+                         " long on average, not the " + g_text(asked) + " part.local_sizes asks: the file's own "
+                         "settings (a transfinite curve, a field) or the group's geometry set the size there");
+      }
+    }
+    std::string groups;
+    for (const ff::mesh::MeshGroup& grp : m.groups) groups += (groups.empty() ? "" : ", ") + grp.name;
+    m.patches[0].description = "imported from " + surface.file + " (" + surface.format + notes + "; " + report.summary() +
+                               "; " + std::to_string(m.node_count()) + " nodes" +
+                               (groups.empty() ? std::string("; no named groups") : "; named groups: " + groups) + ")";
   } else {
     MeshImportOptions options;
     options.weld_tolerance = request.weld_tolerance;
@@ -996,32 +1051,40 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
     options.triangles = request.triangles == "refuse" ? ff::mesh::TriangleHandling::refuse : ff::mesh::TriangleHandling::split;
     options.crease_angle_deg = request.crease_angle_deg;
     bool tolerance_at_fault = false;
-    const bool ok = import_shell_mesh(request.path, out, &error.message, options, &tolerance_at_fault);
-    if (!ok && tolerance_at_fault) error.key = "part.weld_tolerance";
-    return ok;
+    if (!import_shell_mesh(request.path, m, &error.message, options, &tolerance_at_fault, &said)) {
+      if (tolerance_at_fault) error.key = "part.weld_tolerance";
+      return false;
+    }
   }
-  ff::mesh::SurfaceConversionOptions convert;
-  convert.triangles = request.triangles == "refuse" ? ff::mesh::TriangleHandling::refuse : ff::mesh::TriangleHandling::split;
-  convert.crease_angle_deg = request.crease_angle_deg;
-  convert.patch_name = request.group.empty() ? fs::path(request.path).stem().string() : request.group;
-  convert.only_group = request.group;
-  ff::mesh::SurfaceConversionReport report;
-  ShellMesh m;
-  std::string why;
-  if (!ff::mesh::shell_mesh_from_surface(surface, convert, m, &why, &report)) {
-    const bool group_at_fault = !request.group.empty() && why.find("no surface group called") != std::string::npos;
-    const bool triangles_at_fault = why.find("part.triangles") != std::string::npos;
-    return refuse(group_at_fault ? "part.group" : triangles_at_fault ? "part.triangles" : "part.file",
-                  "mesh file '" + request.path + "': " + why);
+  // faces that touch without sharing their nodes compute as pieces apart: refused unless the scene
+  // says they are meant to be (a slit, a lap that is not bonded)
+  const ff::mesh::UnjoinedContacts contacts = ff::mesh::find_unjoined_contacts(m);
+  if (contacts.nodes > 0) {
+    const Eigen::Vector3d& x = m.points[static_cast<std::size_t>(contacts.first_node)];
+    const std::string where = std::to_string(contacts.nodes) + " boundary nodes lie on elements they are not joined "
+                              "to (the first at [" + g_text(x.x()) + ", " + g_text(x.y()) + ", " + g_text(x.z()) + "])";
+    if (!request.keep_faces_apart)
+      return refuse("part.file",
+                    "mesh file '" + request.path + "': its faces touch without being joined: " + where +
+                        ", so the shell would come apart there (faces side by side, each with its own row of nodes; a "
+                        "stiffener whose foot does not share the nodes of the face it stands on). " +
+                        (ext == ".geo" ? "FlexFrame joins the touching faces of OpenCASCADE geometry, not those of "
+                                         "Gmsh's built-in kernel: join them in the script (Coherence for faces side by side, "
+                                         "Curve{...} In Surface{...} for a foot on a face), or build it with "
+                                         "SetFactory(\"OpenCASCADE\")"
+                         : geometry ? "FlexFrame joined the touching CAD faces it found, and these still touch: check "
+                                      "the CAD model"
+                         : by_gmsh || ext == ".inp"
+                             ? "Join them in the file (in Gmsh, before meshing: BooleanFragments of OpenCASCADE "
+                               "geometry, Coherence of the built-in kernel's)"
+                             : "Give part.weld_tolerance to join vertices at one place, or join them in the file") +
+                        "; or set part.keep_faces_apart = true if they are meant to be apart (a slit, a lap that is not "
+                        "bonded)");
+    m.patches[0].description.insert(m.patches[0].description.size() - 1,
+                                    "; faces kept apart where they touch (part.keep_faces_apart): " + where);
   }
-  std::string notes;
-  for (const std::string& n : surface.notes) notes += "; " + n;
-  std::string groups;
-  for (const ff::mesh::MeshGroup& grp : m.groups) groups += (groups.empty() ? "" : ", ") + grp.name;
-  m.patches[0].description = "imported from " + surface.file + " (" + surface.format + notes + "; " + report.summary() +
-                             "; " + std::to_string(m.node_count()) + " nodes" +
-                             (groups.empty() ? std::string("; no named groups") : "; named groups: " + groups) + ")";
   out = std::move(m);
+  if (warnings) *warnings = std::move(said);
   return true;
 }
 

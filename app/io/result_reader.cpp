@@ -217,6 +217,8 @@ void ResultReader::Impl::load_all() {
   h5::Handle field_group = h5::open_group(f, names::kFields);
   info.fields = read_quantities(field_group.get());
   for (const Quantity& q : info.fields) fields.push_back(h5::open_dataset(field_group.get(), q.name));
+  if (const std::string why = file_names_problem(info); !why.empty())
+    throw h5::Failure(why + " (flexframe never writes such a file)");
 
   // complete frames: frames_written of the last flush, never more than any data set holds
   std::vector<const h5::Handle*> all{&time, &step, &load, &points, &base_points, &dt, &iterations,

@@ -156,11 +156,19 @@ MeshFileRequest file_request(const Document& d, std::size_t i, const std::string
   r.local_size_groups = d.strings("part.local_size_groups", i);
   r.local_sizes = d.numbers("part.local_sizes", i);
   r.time_limit_seconds = d.number("part.mesh_time_limit", i);
+  r.keep_faces_apart = d.boolean("part.keep_faces_apart", i);
   if (r.local_size_groups.size() != r.local_sizes.size())
     throw SceneError({d.issue("part.local_sizes", i,
                               "part.local_sizes has " + std::to_string(r.local_sizes.size()) + " sizes for " +
                                   std::to_string(r.local_size_groups.size()) +
                                   " groups in part.local_size_groups: give one size per group, in the same order")});
+  // part.mesh_size caps every element: a local size above it could not be reached
+  for (std::size_t k = 0; k < r.local_sizes.size(); ++k)
+    if (r.mesh_size > 0 && r.local_sizes[k] > r.mesh_size)
+      throw SceneError({d.issue("part.local_sizes", i,
+                                "part.local_sizes asks " + g(r.local_sizes[k]) + " at group '" + r.local_size_groups[k] +
+                                    "', above part.mesh_size = " + g(r.mesh_size) + ", which caps every element: a "
+                                    "local size is finer than the rest")});
   return r;
 }
 
@@ -174,9 +182,12 @@ mesh::ShellMesh read_part_file(const Document& d, std::size_t i, const std::stri
                                               "loader; the flexframe executable passes its assimp importer)")});
   mesh::ShellMesh m;
   MeshFileError error;
+  std::vector<std::string> warnings;
   const MeshFileRequest request = file_request(d, i, scene_path, ctx);
-  if (!ctx.mesh_reader(request, m, &error))
+  if (!ctx.mesh_reader(request, m, &error, &warnings))
     throw SceneError({d.issue(error.key.empty() ? "part.file" : error.key, i, error.message)});
+  if (ctx.warnings)
+    for (const std::string& w : warnings) ctx.warnings->push_back(d.issue("part.file", i, w).to_string());
   return m;
 }
 
@@ -488,7 +499,7 @@ StructureSize structure_size(const Document& d, const std::string& scene_path, c
     } else if (ctx.mesh_reader && !d.string("part.file", i).empty()) {
       mesh::ShellMesh m;
       MeshFileError error;
-      if (ctx.mesh_reader(file_request(d, i, scene_path, ctx), m, &error))
+      if (ctx.mesh_reader(file_request(d, i, scene_path, ctx), m, &error, nullptr))
         nodes = m.node_count();
     }
     size.nodes += nodes;
