@@ -43,7 +43,7 @@ inline std::string input_bytes_words(double bytes) {
 namespace input_file_detail {
 
 inline std::string kind_words(mode_t mode) {
-  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISDIR(mode)) return "a directory";
   if (S_ISFIFO(mode)) return "a named pipe (FIFO)";
   if (S_ISCHR(mode)) return "a character device";
   if (S_ISBLK(mode)) return "a block device";
