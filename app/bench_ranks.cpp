@@ -6,8 +6,6 @@
 // median of each round's own ratio (core/solve/distributed.md).
 // One rank is this executable started without mpiexec: what a user runs on one machine, its
 // element loop threaded over every core (mpiexec would bind a lone rank to one core).
-#include <fcntl.h>
-#include <spawn.h>
 #include <stdlib.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -17,7 +15,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
@@ -27,6 +24,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/bench.h"
+#include "app/child_process.h"
+#include "core/frame/input_file.h"
 #include "core/solve/solver_ranks.h"
 
 namespace fs = std::filesystem;
@@ -65,17 +64,16 @@ std::string joined(const std::vector<std::string>& words) {
 // Runs `argv` with its stdout to `log` and waits for it; returns its wait status, -1 when it
 // could not start (errno kept in *spawn_error)
 int run_and_wait(const std::vector<std::string>& argv, const std::string& log, int* spawn_error) {
-  std::vector<std::string> copy = argv;
-  std::vector<char*> args;
-  for (std::string& a : copy) args.push_back(a.data());
-  args.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = -1;
-  *spawn_error = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (*spawn_error != 0) return -1;
+  // the launch (mpirun, or flexframe itself) stops when this process dies, even by SIGKILL
+  ChildSpec spec;
+  spec.program = argv.front();
+  spec.args = argv;
+  spec.log = log;
+  const pid_t pid = spawn_child(spec);
+  if (pid < 0) {
+    *spawn_error = errno;
+    return -1;
+  }
   int status = 0;
   while (waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return -1;
@@ -83,10 +81,9 @@ int run_and_wait(const std::vector<std::string>& argv, const std::string& log, i
 }
 
 std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::string text;
+  read_input_file(p.string(), &text, kMaxTextInputBytes, kTextInputBound, nullptr);
+  return text;
 }
 
 // the median of a non-empty list (the mean of the middle two for an even count)

@@ -10,6 +10,7 @@
 
 #include "app/io/results.h"
 #include "app/plots.h"
+#include "app/run_session.h"
 
 namespace fs = std::filesystem;
 
@@ -21,7 +22,7 @@ int compare_runs(const std::vector<std::string>& inputs, const std::string& out_
     const std::string path = fs::is_directory(in) ? (fs::path(in) / "results.h5").string() : in;
     std::string err;
     auto reader = io::ResultReader::open(path, &err);
-    if (!reader) throw std::runtime_error(err);
+    if (!reader) throw InputError(err);  // a file that is not a run's results is bad input: exit 2
     LabelledRun r;
     r.info = reader->info();
     r.label = r.info.scene_name;

@@ -7,6 +7,7 @@
 
 #include "app/io/frame_export.h"
 #include "app/io/movie_writer.h"
+#include "core/frame/file_name.h"
 #include "render/frame_layout.h"
 #include "render/image_io.h"
 #include "render/mesh_export.h"
@@ -163,8 +164,10 @@ ExportReport export_frames(const io::ResultReader& reader, const std::vector<std
                                   std::pair{formats.obj, io::MeshFileFormat::obj}}) {
       if (!wanted) continue;
       const std::string path = base.string() + "." + io::extension(format);
-      if (!io::write_frame_mesh(path, format, info, f, color_field, range, &r.error)) break;
-      r.written.push_back(fs::path(path).filename().string());
+      std::vector<std::string> files;  // an OBJ writes its .mtl beside it
+      const bool ok = io::write_frame_mesh(path, format, info, f, color_field, range, &r.error, &files);
+      for (const std::string& file : files) r.written.push_back(fs::path(file).filename().string());
+      if (!ok) break;
       if (k == 0) r.files.push_back(path);
     }
     if (r.error.empty()) ++r.frames;
@@ -172,12 +175,15 @@ ExportReport export_frames(const io::ResultReader& reader, const std::vector<std
   if (formats.vtu && !pvd.empty()) {
     const std::string name = (info.scene_name.empty() ? std::string("frames") : info.scene_name) + ".pvd";
     std::string e;
-    if (render::write_pvd((fs::path(dir) / name).string(), pvd, &e)) {
+    // a name becomes a file name only once it is known to be one (the last word: results files
+    // are checked on reading, scenes at their key)
+    if (const std::string why = file_name_problem(info.scene_name); !info.scene_name.empty() && !why.empty())
+      e = "the scene name '" + info.scene_name + "' " + why + ": no .pvd file made";
+    else if (render::write_pvd((fs::path(dir) / name).string(), pvd, &e)) {
       r.files.insert(r.files.begin(), (fs::path(dir) / name).string());
       r.written.push_back(name);
     }
-    else if (r.error.empty())
-      r.error = e;
+    if (!e.empty() && r.error.empty()) r.error = e;
   }
   return r;
 }

@@ -1,5 +1,7 @@
 #include "app/output_folder.h"
 
+#include "core/frame/output_file.h"
+
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -8,7 +10,6 @@
 #include <cerrno>
 #include <algorithm>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 #include <vector>
 
@@ -20,6 +21,8 @@ namespace {
 constexpr const char* kLockName = ".flexframe.lock";
 constexpr const char* kManifestName = ".flexframe-files";
 constexpr const char* kReserveName = ".flexframe-reserve";
+// what a refused write says it did not do, and what the user can do
+constexpr const char* kNotThrough = "; nothing was written through it (remove it, or choose another --out)";
 
 // every byte of `text`, or false with errno set
 bool write_all(int fd, const std::string& text) {
@@ -44,6 +47,45 @@ bool safe_relative(const std::string& rel) {
   return rel.find('\0') == std::string::npos && rel.find('\n') == std::string::npos;
 }
 
+// Walks the folders of `rel` below `dir` without following a link: each must be a real folder
+// this user owns (a link, a file or another user's folder on the way would carry a write outside,
+// or into someone else's files); absent ones are made when `make`. Returns why not, or "".
+std::string real_folders(const fs::path& dir, const std::string& rel, bool make) {
+  fs::path at = dir;
+  for (const fs::path& part : fs::path(rel)) {
+    if (part.empty()) continue;
+    at /= part;
+    struct stat st;
+    if (::lstat(at.c_str(), &st) != 0) {
+      if (errno == ENOENT && !make) return "";  // nothing below to check: the writer's open says why
+      if (errno != ENOENT) return at.string() + ": " + write_failure_reason(errno);
+      if (::mkdir(at.c_str(), 0755) != 0 || ::lstat(at.c_str(), &st) != 0)
+        return "cannot create " + at.string() + ": " + write_failure_reason(errno);
+    }
+    if (S_ISLNK(st.st_mode)) return at.string() + " is a symbolic link that no flexframe job made";
+    if (!S_ISDIR(st.st_mode)) return at.string() + " is not a folder";
+    if (st.st_uid != ::geteuid()) return at.string() + " belongs to another user";
+  }
+  return "";
+}
+
+// The manifest's text, read without following a link or blocking on a FIFO, and bounded: a
+// manifest is a few lines a file; a larger one is not flexframe's.
+std::string read_manifest(const fs::path& path) {
+  constexpr std::size_t kMaxManifestBytes = 64u << 20;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return "";
+  struct stat st;
+  std::string text;
+  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && static_cast<std::size_t>(st.st_size) <= kMaxManifestBytes) {
+    text.resize(static_cast<std::size_t>(st.st_size));
+    const ssize_t n = ::pread(fd, text.data(), text.size(), 0);
+    text.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
+  }
+  ::close(fd);
+  return text;
+}
+
 // No part of `rel` below `dir` is a symbolic link (so deleting it cannot reach outside).
 bool reached_without_links(const fs::path& dir, const std::string& rel) {
   fs::path at = dir;
@@ -63,9 +105,15 @@ std::string write_failure_reason(int err) {
 }
 
 void write_text_file(const fs::path& path, const std::string& text) {
+  // the temporary is opened as the file itself would be: a link planted at "<name>.tmp" is refused,
+  // not followed (core/frame/output_file.h); rename() then replaces the name, never a link's target
+  // and the name itself: rename() would replace a planted link, which is not this job's to delete
+  if (const std::string why = output_entry_problem(path.string()); !why.empty())
+    throw WriteError("cannot write " + path.string() + ": " + why + kNotThrough);
   const std::string tmp = path.string() + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw WriteError("cannot write " + path.string() + ": " + write_failure_reason(errno));
+  std::string why;
+  const int fd = open_output_file(tmp, &why);
+  if (fd < 0) throw WriteError("cannot write " + path.string() + ": " + (errno != 0 ? write_failure_reason(errno) : tmp + ": " + why + kNotThrough));
   const bool written = write_all(fd, text) && ::fsync(fd) == 0;
   const int err = errno;
   const bool closed = ::close(fd) == 0;
@@ -89,8 +137,15 @@ OutputFolder::OutputFolder(const fs::path& dir, const std::string& job) : dir_(d
                      (ec ? write_failure_reason(ec.value()) : std::string("not a folder")));
   // the lock first: nothing else in the folder is touched before it is held
   const fs::path lock_path = dir_ / kLockName;
-  lock_fd_ = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-  if (lock_fd_ < 0) throw WriteError("cannot write " + lock_path.string() + ": " + write_failure_reason(errno));
+  lock_fd_ = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
+  if (lock_fd_ < 0)
+    throw WriteError("cannot write " + lock_path.string() + ": " +
+                     (errno == ELOOP ? std::string("it is a symbolic link that no flexframe job made") : write_failure_reason(errno)));
+  if (struct stat st; ::fstat(lock_fd_, &st) != 0 || !S_ISREG(st.st_mode) || st.st_nlink > 1) {
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    throw WriteError("cannot write " + lock_path.string() + ": it is not a regular file of its own (a link or a device)");
+  }
   if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
     char holder[128] = {0};
     const ssize_t n = ::pread(lock_fd_, holder, sizeof holder - 1, 0);
@@ -111,7 +166,13 @@ OutputFolder::OutputFolder(const fs::path& dir, const std::string& job) : dir_(d
   // the reserve for the final records (posix_fallocate: real blocks, not a sparse file)
   {
     const fs::path reserve = dir_ / kReserveName;
-    const int fd = ::open(reserve.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0644);
+    std::string why;
+    const int fd = open_output_file(reserve.string(), &why);
+    if (fd < 0 && errno == 0) {
+      ::close(lock_fd_);
+      lock_fd_ = -1;
+      throw WriteError("cannot write " + reserve.string() + ": " + why);
+    }
     int e = fd < 0 ? errno : ::posix_fallocate(fd, 0, static_cast<off_t>(kReserveBytes));
     if (fd >= 0 && e == EOPNOTSUPP) {  // a file system without fallocate: write the bytes
       const std::string zeros(kReserveBytes, '\0');
@@ -128,7 +189,7 @@ OutputFolder::OutputFolder(const fs::path& dir, const std::string& job) : dir_(d
     reserve_held_ = true;
   }
   // what earlier jobs wrote here, as far as it still exists
-  std::ifstream in(dir_ / kManifestName);
+  std::istringstream in(read_manifest(dir_ / kManifestName));
   for (std::string line; std::getline(in, line);) {
     if (!safe_relative(line)) continue;
     const bool folder = line.back() == '/';
@@ -173,16 +234,18 @@ void OutputFolder::record(const std::string& relative) {
 
 fs::path OutputFolder::file(const std::string& relative) {
   record(relative);
-  return dir_ / relative;
+  const fs::path p = dir_ / relative;
+  std::string why = real_folders(dir_, fs::path(relative).parent_path().string(), false);
+  if (why.empty()) why = output_entry_problem(p.string());
+  if (!why.empty()) throw WriteError("cannot write " + p.string() + ": " + why + kNotThrough);
+  return p;
 }
 
 fs::path OutputFolder::sub_folder(const std::string& relative) {
   record(relative + "/");
   const fs::path p = dir_ / relative;
-  std::error_code ec;
-  fs::create_directories(p, ec);
-  if (ec || !fs::is_directory(p))
-    throw WriteError("cannot create " + p.string() + ": " + (ec ? write_failure_reason(ec.value()) : std::string("not a folder")));
+  if (const std::string why = real_folders(dir_, relative, true); !why.empty())
+    throw WriteError("cannot create " + p.string() + ": " + why + kNotThrough);
   return p;
 }
 

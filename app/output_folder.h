@@ -3,14 +3,19 @@
 /// An output folder that one flexframe job owns while it writes: the only place a run, replay
 /// or study writes to, and the only place it deletes from.
 ///
-/// Three rules keep a user's files safe (docs/guide/running.md, "What a run may touch"):
+/// Four rules keep a user's files safe (docs/guide/running.md, "What a run may touch"):
 /// - the folder's lock (`.flexframe.lock`, an flock) is taken before any other file in it is
 ///   touched, so a second job on the same folder is refused before it changes anything;
 /// - a job deletes only files that an earlier flexframe job recorded in the folder's manifest
 ///   (`.flexframe-files`, one relative path a line), never a whole tree, and never through a
 ///   symbolic link;
 /// - every file a job writes is recorded in the manifest (a file missing from it is only ever
-///   kept, never deleted).
+///   kept, never deleted);
+/// - nothing is written through a link: the folders on the way to an output must be real folders
+///   this user owns (`file`, `sub_folder`), and the output itself absent or a regular file with no
+///   other name; every writer flexframe owns opens it with core/frame/output_file.h, which refuses a
+///   link, a FIFO or a device at the last step too. A planted link is refused, never followed and
+///   never deleted.
 /// And one rule keeps the record true on a full disk: the folder holds a reserve of
 /// kReserveBytes (`.flexframe-reserve`, allocated when the folder is claimed) that is given back
 /// the moment a write fails, so that the outcome (results.h5's status, summary.json) can still
@@ -36,8 +41,9 @@ struct WriteError : std::runtime_error {
 std::string write_failure_reason(int err);
 
 /// Writes `text` to `path` through a temporary file renamed over it, checking every step
-/// (open, write, flush, close, rename). Throws WriteError naming `path` on failure and leaves
-/// no temporary behind.
+/// (open, write, flush, close, rename). The temporary `<path>.tmp` is opened without following a
+/// link (core/frame/output_file.h). Throws WriteError naming `path` on failure and leaves no
+/// temporary behind.
 void write_text_file(const std::filesystem::path& path, const std::string& text);
 
 class OutputFolder {
@@ -61,9 +67,12 @@ class OutputFolder {
   /// Records `relative` (a file or, with a trailing '/', a folder, inside this folder) in the
   /// manifest. Throws WriteError when the manifest cannot be written; thread-safe.
   void record(const std::string& relative);
-  /// record() then the path inside the folder, for the writer to create.
+  /// record() then the path inside the folder, for the writer to create. Throws WriteError when a
+  /// folder on the way is a link (or not a real folder of this user's), or when the entry itself
+  /// is a link, a hard link, a FIFO or a device: nothing may be written through it.
   std::filesystem::path file(const std::string& relative);
-  /// Creates the sub-folder `relative` (recorded first). Throws WriteError.
+  /// Creates the sub-folder `relative` (recorded first), each folder on the way a real folder of
+  /// this user's, none reached through a link. Throws WriteError.
   std::filesystem::path sub_folder(const std::string& relative);
 
   /// Deletes what earlier jobs recorded whose relative path starts with `prefix` (files, then

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/frame/file_name.h"
 #include "render/graphics_context.h"
 #include "render/plot.h"
 
@@ -171,6 +172,12 @@ std::vector<std::string> write_overlay_plots(const std::vector<LabelledRun>& run
           spec.series.push_back({ref.label, ref.x, ref.y, true});
     }
     if (spec.series.empty()) continue;
+    // a name becomes a file name only once it is known to be one (results files are checked on
+    // reading, scenes at their key: this is the last word)
+    if (const std::string why = file_name_problem(name); !why.empty()) {
+      if (error && error->empty()) *error = "probe name '" + name + "' " + why + ": no plot file made for it";
+      continue;
+    }
     const std::string file = name + ".png";
     std::string e;
     if (render::write_plot_png(*gc, spec, (std::filesystem::path(dir) / file).string(), &e))

@@ -31,6 +31,7 @@
 #include "app/plots.h"
 #include "app/view_options.h"
 #include "core/assembly/element_threads.h"
+#include "core/frame/input_file.h"
 #include "core/solve/solver_ranks.h"
 #include "core/scene/scene.h"
 #include "render/frame_layout.h"
@@ -127,6 +128,10 @@ std::string default_scene() { return "double_pendulum_shells"; }
 
 std::string resolve_scene(const std::string& name) {
   if (fs::is_regular_file(name)) return name;
+  // there, but a FIFO, a device or a link to one: said so, not looked up among the bundled scenes
+  std::error_code ec;
+  if (const fs::file_status st = fs::symlink_status(name, ec); !ec && fs::exists(st) && !fs::is_directory(name, ec))
+    throw InputError("scene file '" + name + "' " + input_file_problem(name, kMaxTextInputBytes, kTextInputBound));
   const fs::path bundled = fs::path(scene_dir()) / (name + ".toml");
   if (fs::is_regular_file(bundled)) return bundled.string();
   std::string msg = "no scene file '" + name + "' and no bundled scene of that name in " + scene_dir() +
@@ -203,7 +208,20 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   std::string err;
   const std::string h5_path = folder.file("results.h5").string();
   std::unique_ptr<io::ResultWriter> writer = io::ResultWriter::create(h5_path, info, &err);
-  if (!writer) throw std::runtime_error(err);
+  if (!writer) {
+    // nothing was computed; summary.json still says `failed` and why, as after any failed write
+    folder.release_reserve();
+    const nlohmann::ordered_json summary = {{"scene", scene.name},   {"scene_path", scene.path},
+                                            {"status", "failed"},    {"reason", "results.h5 could not be created: " + err},
+                                            {"steps", 0},            {"metrics", nlohmann::ordered_json::object()},
+                                            {"outputs", nlohmann::ordered_json::object()}};
+    try {
+      write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");
+    } catch (const WriteError& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+    }
+    throw std::runtime_error(err);
+  }
   writer->set_attribute("flexframe_version", FF_VERSION);
   writer->set_attribute("git_commit", FF_GIT_COMMIT);
   writer->set_attribute("build_type", FF_BUILD_TYPE);
@@ -316,7 +334,8 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   std::string frame_memory_note;  // what drawing did when the kept frames outgrew their budget
   const double frame_memory_mb = opt.frame_memory_mb > 0 ? opt.frame_memory_mb : default_frame_memory_mb();
   const int color_field = out.color_field == "none" ? -1 : field_index(info, out.color_field);
-  std::thread render([&] {
+  bool frames_announced = false;  // frames_done is set (by the render thread only)
+  const auto render_all = [&] {
     std::unique_ptr<render::GraphicsContext> gc;
     std::unique_ptr<render::FrameRenderer> renderer;
     std::vector<Frame> to_draw;
@@ -427,6 +446,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     result.frames_rendered = n;
     result.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     frames_done.set_value();  // render_backend, gl_renderer, render_error and the counts are final
+    frames_announced = true;
     // the plots, on this thread's GL context while the main thread closes results.h5: the store
     // thread closed render_ch after its last history.add, so the history is complete
     if (opt.plots && out.plots) {
@@ -438,6 +458,19 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
         if (plot_error.empty()) plot_error = e.what();
       }
       if (!plot_error.empty() && !no_graphics) fail_write("plots: " + plot_error);
+    }
+  };
+  std::thread render([&] {
+    // nothing may escape a thread (std::terminate): an error drawing or recording an output is a
+    // failed output, said in the outcome, and the channel is drained so the store thread goes on
+    try {
+      render_all();
+    } catch (const std::exception& e) {
+      render_busy = false;
+      fail_write(std::string("drawing the frames and plots: ") + e.what());
+      while (render_ch.pop()) {
+      }
+      if (!frames_announced) frames_done.set_value();
     }
   });
 
@@ -581,22 +614,11 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     const std::string what = failed_write();
     if (what.empty() || outcome.status == RunStatus::failed) return;
     char at[64];
-    std::snprintf(at, sizeof at, " (stopped at t = %g %s)", outcome.stop_time, info.time_unit.c_str());
+    std::snprintf(at, sizeof at, " (stopped at t = %g%s%s)", outcome.stop_time, info.time_unit.empty() ? "" : " ",
+                  info.time_unit.c_str());
     outcome.status = RunStatus::failed;
     outcome.reason = "an output could not be written: " + what + at;
   };
-  // the movie before results.h5 is closed, so that its failure is in the file's outcome too
-  if (opt.movie && failed_write().empty()) {
-    MovieReport m{false, "", "", 0, "no frames were rendered"};
-    try {
-      if (result.frames_rendered > 0) m = write_movie(frames_dir.string(), folder.file("movie.mp4").string(), opt.fps, stop);
-    } catch (const WriteError& e) {
-      m.message = e.what();
-    }
-    if (m.ok) result.movie = m.path;
-    else if (result.frames_rendered > 0 && !stop) fail_write("movie.mp4: " + m.message);
-    else std::fprintf(stderr, "warning: no movie: %s\n", m.message.c_str());
-  }
   // results.h5 is closed under its lock; the launcher watchdog, once it has closed the file, keeps
   // the lock until it ends the process
   std::unique_lock writer_lock(writer_mutex);
@@ -612,6 +634,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     writer->set_attribute("gl_renderer", gl_renderer);
     if (color_field >= 0) writer->set_attribute("color_range", format_range(color_range));
   }
+  const RunOutcome finished_with = outcome;  // what results.h5 says until amended below
   if (!writer->finish(outcome, result.metrics, &err)) {
     // the writer's message says what is missing (the outcome, or frames after the last flush)
     std::fprintf(stderr, "error: results.h5 is incomplete: %s\n", err.c_str());
@@ -623,6 +646,21 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   writer_lock.unlock();
   render.join();  // its last frames and the plots
   record_write_failure();  // the plots are written while results.h5 closes
+  // the movie once the render thread has ended: its library loads while no other thread loads or
+  // unloads one (the GL driver does at the render thread's end; ThreadSanitizer cannot see the
+  // loader's own lock). Its failure still reaches results.h5's outcome, amended below.
+  if (opt.movie && failed_write().empty()) {
+    MovieReport m{false, "", "", 0, "no frames were rendered"};
+    try {
+      if (result.frames_rendered > 0) m = write_movie(frames_dir.string(), folder.file("movie.mp4").string(), opt.fps, stop);
+    } catch (const WriteError& e) {
+      m.message = e.what();
+    }
+    if (m.ok) result.movie = m.path;
+    else if (result.frames_rendered > 0 && !stop) fail_write("movie.mp4: " + m.message);
+    else std::fprintf(stderr, "warning: no movie: %s\n", m.message.c_str());
+  }
+  record_write_failure();
   if (no_graphics && !render_error.empty()) std::fprintf(stderr, "warning: frames not rendered: %s\n", render_error.c_str());
   if (!frame_memory_note.empty()) std::fprintf(stderr, "warning: frames: %s\n", frame_memory_note.c_str());
   if (no_graphics && !plot_error.empty()) std::fprintf(stderr, "warning: plots: %s\n", plot_error.c_str());
@@ -630,8 +668,8 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   for (const auto& [name, why] : unreached)
     std::fprintf(stderr, "warning: metric '%s' has no value: %s\n", name.c_str(), why.c_str());
 
-  // mesh exports of the frames, read back from results.h5 (closed by now: a failure here is in
-  // summary.json and on the console, while results.h5 keeps the solver's outcome)
+  // mesh exports of the frames, read back from results.h5 (closed by now: a failure here amends
+  // its outcome below, as it goes into summary.json)
   if (formats.any() && failed_write().empty()) {
     std::string e;
     const auto reader = io::ResultReader::open(h5_path, &e);
@@ -690,6 +728,18 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     if (!e.empty()) {
       fail_write("modes: " + e);
       record_write_failure();
+    }
+  }
+  // one outcome in both records, summary.json written last: what the outputs after finish() did
+  // to the verdict (a Ctrl-C, a full disk) goes into results.h5 first
+  if (outcome.status != finished_with.status || outcome.reason != finished_with.reason) {
+    folder.release_reserve();
+    if (std::string e; !io::amend_outcome(h5_path, outcome, &e)) {
+      std::fprintf(stderr, "error: %s\n", e.c_str());
+      fail_write("results.h5: " + e);
+      outcome.status = RunStatus::failed;
+      outcome.reason += "; results.h5 still says '" + std::string(to_string(finished_with.status)) +
+                        "': its outcome could not be updated (" + e + ")";
     }
   }
   result.outcome = outcome;
@@ -771,7 +821,16 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
         {"time", von_mises_peak.frame >= 0 ? Json(von_mises_peak.time) : Json()},
         {"load_factor", von_mises_peak.frame >= 0 ? Json(von_mises_peak.load_factor) : Json()},
         {"unit", info.fields[von_mises].unit}};
-  write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");  // throws WriteError: exit 1
+  try {
+    write_text_file(folder.file("summary.json"), summary.dump(2) + "\n");
+  } catch (const WriteError& e) {  // exit 1, and results.h5 says so too
+    RunOutcome failed = outcome;
+    failed.status = RunStatus::failed;
+    failed.reason = std::string("summary.json could not be written: ") + e.what();
+    folder.release_reserve();
+    io::amend_outcome(h5_path, failed, nullptr);
+    throw;
+  }
   completed_here = result.outcome.status == RunStatus::completed;
   return result;
 }

@@ -1,11 +1,11 @@
 #include "app/study.h"
 
+#include "app/child_process.h"
 #include "app/output_folder.h"
 #include "core/frame/file_name.h"
+#include "core/frame/input_file.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -157,21 +157,27 @@ double number_at(const Json& j, const char* key) {
 /// Empty when the scene cannot be read (the run then reports that itself).
 std::string scene_fingerprint(const std::string& scene, const std::vector<std::string>& overrides) {
   std::uint64_t h = io::kFnvOffset;
+  // a regular file only, read in pieces: a mesh file may be large, and nothing of it is kept
   const auto add_file = [&](const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    const std::string text = bytes.str();
+    const int fd = open_input_file(file.string(), 0, "", nullptr);
+    if (fd < 0) return false;
     const std::string name = file.filename().string();
     h = io::fnv1a(h, name.data(), name.size());
-    h = io::fnv1a(h, text.data(), text.size());
+    char buffer[1 << 16];
+    for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) != 0;) {
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) break;
+      h = io::fnv1a(h, buffer, static_cast<std::size_t>(n));
+    }
+    ::close(fd);
+    return true;
   };
-  std::error_code ec;
-  if (!fs::is_regular_file(scene, ec)) return {};
-  add_file(scene);
+  if (!add_file(scene)) return {};
   std::vector<std::string> meshes;
   try {
-    const toml::table doc = toml::parse_file(scene);
+    std::string text;
+    read_input_file(scene, &text, kMaxTextInputBytes, kTextInputBound, nullptr);
+    const toml::table doc = toml::parse(text, scene);
     std::function<void(const toml::node&)> visit = [&](const toml::node& n) {
       if (const toml::table* t = n.as_table()) {
         if (const toml::array* parts = t->get_as<toml::array>("part"))
@@ -196,7 +202,7 @@ std::string scene_fingerprint(const std::string& scene, const std::vector<std::s
   }
   for (const std::string& m : meshes) {
     const fs::path file = fs::path(m).is_absolute() ? fs::path(m) : fs::path(scene).parent_path() / m;
-    if (fs::is_regular_file(file, ec)) add_file(file);
+    add_file(file);
   }
   char b[32];
   std::snprintf(b, sizeof b, "fnv1a64:%016llx", static_cast<unsigned long long>(h));
@@ -235,13 +241,7 @@ void write_variant_run(const fs::path& file, const std::string& label, const std
   j["shared"] = r.shared;
   j["scene_hash"] = r.scene_hash;
   fs::create_directories(file.parent_path());
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, file);
+  write_text_file(file, j.dump(2) + "\n");  // through a temporary, never through a link
 }
 
 /// The run recorded in `file` when it is of this variant (same scene and overrides) and has a status.
@@ -249,11 +249,11 @@ void write_variant_run(const fs::path& file, const std::string& label, const std
 /// *edited says what changed (--resume then runs the variant again and says so).
 std::optional<VariantRun> read_variant_run(const fs::path& file, const StudyVariant& v,
                                            std::string* edited = nullptr) {
-  std::ifstream in(file);
-  if (!in) return std::nullopt;
+  std::string text;
+  if (!read_input_file(file.string(), &text, kMaxTextInputBytes, kTextInputBound, nullptr)) return std::nullopt;
   Json j;
   try {
-    j = Json::parse(in);
+    j = Json::parse(text);
     if (j.value("scene", std::string()) != v.scene ||
         j.value("overrides", std::vector<std::string>()) != v.overrides)
       return std::nullopt;
@@ -373,21 +373,14 @@ pid_t spawn_task(const Task& t, bool shared, const std::vector<std::string>& env
     args.push_back("--set");
     args.insert(args.end(), t.variant.overrides.begin(), t.variant.overrides.end());
   }
-  std::vector<char*> argv, envp;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  std::vector<std::string> env_copy = env;
-  for (std::string& e : env_copy) envp.push_back(e.data());
-  envp.push_back(nullptr);
-  const std::string log = (t.folder / "log.txt").string();
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), envp.data());
-  posix_spawn_file_actions_destroy(&actions);
-  return rc == 0 ? pid : -1;
+  // it ends (interrupted, its records written) when the study dies, even by SIGKILL
+  ChildSpec spec;
+  spec.program = "/proc/self/exe";
+  spec.args = std::move(args);
+  spec.env = env;
+  spec.log = (t.folder / "log.txt").string();
+  spec.stderr_to_log = true;
+  return spawn_child(spec);
 }
 
 /// What a finished child left in its run folder; a crashed or killed one is reported with how it
@@ -530,10 +523,9 @@ struct MpiSession {
 };
 
 std::string read_file_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::string text;
+  read_input_file(p.string(), &text, kMaxTextInputBytes, kTextInputBound, nullptr);
+  return text;
 }
 
 /// A rank other than 0: asks rank 0 for an entry, runs it as a child process (one thread, as with
@@ -617,9 +609,7 @@ bool run_distributed(const std::vector<Task>& tasks, int& workers, const std::at
         if (it != task_of_entry.end()) {
           const Task& t = tasks[it->second];
           fs::create_directories(t.folder);
-          const fs::path tmp = (t.folder / "summary.json").string() + ".gathered";
-          std::ofstream(tmp, std::ios::binary) << text.substr(nl + 1);
-          fs::rename(tmp, t.folder / "summary.json");
+          write_text_file(t.folder / "summary.json", text.substr(nl + 1));
           VariantRun r = collect_child(t, 0);
           more = done(t, r) && more;
         }
@@ -779,7 +769,7 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     for (const fs::path& f : folders) {
       const std::string rel = "runs/" + f.filename().string();
       folder->sub_folder(rel);
-      for (const char* file : {"summary.json", "log.txt"}) folder->record(rel + "/" + file);
+      for (const char* file : {"summary.json", "log.txt"}) folder->file(rel + "/" + file);  // refuses a planted link
     }
 #ifdef FF_HAVE_MPI
   if (worker) return mpi_worker(entries, folders, stop);

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "core/frame/file_name.h"
+#include "core/frame/input_file.h"
 #include "app/run_session.h"
 #include "core/scene/scene.h"
 #include "core/scene/schema.h"
@@ -172,8 +172,11 @@ std::optional<StudyVariant> StudySpec::reference_run() const {
 }
 
 bool is_study_file(const std::string& path) {
-  if (fs::path(path).extension() != ".toml" || !fs::is_regular_file(path)) return false;
-  std::ifstream in(path);
+  std::string text;
+  if (fs::path(path).extension() != ".toml" ||
+      !read_input_file(path, &text, kMaxTextInputBytes, kTextInputBound, nullptr))
+    return false;  // a scene, or unreadable: what reads it next says why
+  std::istringstream in(text);
   std::string line;
   while (std::getline(in, line)) {
     const auto b = line.find_first_not_of(" \t");

@@ -11,15 +11,14 @@
 #include <vtkStringArray.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkErrorCode.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <cstdio>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <mutex>
 
+#include "core/frame/output_file.h"
 #include "render/graphics_context.h"
 #include "render/vtk_messages.h"
 
@@ -32,6 +31,23 @@ vtkNew<vtkDoubleArray> one_value(const char* name, double v) {
   a->SetNumberOfTuples(1);
   a->SetValue(0, v);
   return a;
+}
+
+// `bytes` as the whole of the file `path`, opened without following a link (core/frame/output_file.h);
+// "" or why not ("disk full (...)" for ENOSPC and EDQUOT)
+std::string write_whole_file(const std::string& path, const std::string& bytes) {
+  const auto reason = [](int e) {
+    return std::string(e == ENOSPC || e == EDQUOT ? "disk full (" : "write failed (") + std::strerror(e) + ")";
+  };
+  std::string why;
+  std::FILE* f = open_output_stream(path, &why);
+  if (!f) return errno != 0 ? reason(errno) : why;
+  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  int e = written ? 0 : errno;
+  if (std::fclose(f) != 0 && e == 0) e = errno;
+  if (written && e == 0) return "";
+  std::remove(path.c_str());  // the file this call made, never a link (refused above)
+  return reason(e != 0 ? e : EIO);
 }
 
 // minimal XML escaping for attribute values
@@ -144,42 +160,30 @@ bool write_vtu(const std::string& path, const RunInfo& info, const Frame& frame,
   }
 
   MessageCapture vtk_errors;
+  // VTK writes into a string and the file is ours to open: VTK's own open would follow a link
   vtkNew<vtkXMLUnstructuredGridWriter> writer;
-  writer->SetFileName(path.c_str());
+  writer->WriteToOutputStringOn();
   writer->SetInputData(grid);
   writer->SetDataModeToAppended();
   writer->SetCompressorTypeToZLib();
-  errno = 0;
-  const bool written = writer->Write() == 1 && writer->GetErrorCode() == 0;
-  const int write_errno = errno;  // VTK's messages only name the pipeline; the stream's errno says why
-  if (!written) {
-    if (writer->GetErrorCode() == vtkErrorCode::OutOfDiskSpaceError || write_errno == ENOSPC || write_errno == EDQUOT)
-      return fail("could not write the VTU file: disk full (No space left on device)");
+  if (writer->Write() != 1 || writer->GetErrorCode() != 0)
     return fail("could not write the VTU file" + (vtk_errors.empty() ? std::string() : ": " + vtk_errors.text()));
-  }
+  if (const std::string why = write_whole_file(path, writer->GetOutputString()); !why.empty())
+    return fail("could not write the VTU file: " + why);
   return true;
 }
 
 bool write_pvd(const std::string& path, const std::vector<PvdEntry>& entries, std::string* error) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) {
-    if (error) *error = "'" + path + "': cannot open for writing";
-    return false;
-  }
-  out << "<?xml version=\"1.0\"?>\n"
-      << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+  std::string out = "<?xml version=\"1.0\"?>\n"
+                    "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
   for (const PvdEntry& e : entries) {
     char t[40];
     std::snprintf(t, sizeof t, "%.17g", e.time);
-    out << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << xml_attr(e.file) << "\"/>\n";
+    out += std::string("    <DataSet timestep=\"") + t + "\" group=\"\" part=\"0\" file=\"" + xml_attr(e.file) + "\"/>\n";
   }
-  out << "  </Collection>\n</VTKFile>\n";
-  out.close();
-  if (!out) {
-    const int e = errno;
-    if (error)
-      *error = "'" + path + "': write failed: " + (e == ENOSPC || e == EDQUOT ? "disk full (" : "(") +
-               std::strerror(e) + ")";
+  out += "  </Collection>\n</VTKFile>\n";
+  if (const std::string why = write_whole_file(path, out); !why.empty()) {
+    if (error) *error = "'" + path + "': " + why;
     return false;
   }
   return true;

@@ -1,5 +1,7 @@
 #include "render/png_file.h"
 
+#include "core/frame/output_file.h"
+
 #include <png.h>
 
 #include <cerrno>
@@ -61,9 +63,10 @@ bool write(std::FILE* file, const unsigned char* rgb, int width, int height, boo
 
 bool write_png_rgb(const std::string& path, const unsigned char* rgb, int width, int height, bool bottom_up,
                    std::string* error) {
-  std::FILE* file = std::fopen(path.c_str(), "wb");
+  std::string why;
+  std::FILE* file = open_output_stream(path, &why);  // never through a planted link
   if (!file) {
-    if (error) *error = "could not write PNG '" + path + "': " + std::strerror(errno);
+    if (error) *error = "could not write PNG '" + path + "': " + why;
     return false;
   }
   PngError err;

@@ -1,9 +1,10 @@
 #include "app/gui/actions.h"
 
+#include "core/frame/input_file.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <cctype>
 #include <sstream>
 
@@ -215,11 +216,10 @@ std::vector<Action> parse_actions(const std::string& text, const std::string& fi
 }
 
 std::vector<Action> read_actions(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ActionError(path + ": cannot read the actions file");
-  std::stringstream s;
-  s << in.rdbuf();
-  return parse_actions(s.str(), path);
+  std::string text, problem;
+  if (!read_input_file(path, &text, kMaxTextInputBytes, kTextInputBound, &problem))
+    throw ActionError("the actions file '" + path + "' " + problem);
+  return parse_actions(text, path);
 }
 
 }  // namespace ff::app::gui

@@ -1,5 +1,8 @@
 #include "app/io/abaqus_inp.h"
 
+#include "app/io/machine_memory.h"
+#include "core/frame/input_file.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -759,6 +762,12 @@ bool InpReader::resolve(ImportedSurface& out) {
 bool InpReader::read(ImportedSurface& out) {
   std::error_code ec;
   if (std::filesystem::is_directory(path_, ec)) return fail(path_ + " is a directory, not an .inp file");
+  // a regular file no larger than the memory limit (a FIFO would block the open below, /dev/zero never end)
+  if (std::filesystem::exists(path_, ec))
+    if (const std::string problem = input_file_problem(
+            path_, memory_limit_ > 0 ? static_cast<std::uintmax_t>(memory_limit_) : 0, kMemoryLimitBound);
+        !problem.empty())
+      return fail(path_ + " " + problem);
   std::ifstream in(path_, std::ios::binary);
   if (!in) return fail("cannot open " + path_);
   std::string raw, keyword_text;

@@ -4,6 +4,8 @@
 
 #include "app/io/frame_export.h"
 
+#include "core/frame/output_file.h"
+
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/Exporter.hpp>
 #include <assimp/IOStream.hpp>
@@ -65,15 +67,21 @@ class CheckedStream : public Assimp::IOStream {
 class CheckedIOSystem : public Assimp::DefaultIOSystem {
  public:
   Assimp::IOStream* Open(const char* file, const char* mode) override {
-    std::FILE* f = std::fopen(file, mode);
+    // an export only writes: opened as every output is, never through a planted link
+    std::string why;
+    std::FILE* f = std::strchr(mode, 'w') ? open_output_stream(file, &why) : nullptr;
+    if (f) opened.push_back(file);
     if (!f) {
       if (first_errno == 0) first_errno = errno;
+      if (errno == 0 && refused.empty()) refused = why.empty() ? std::string("asked to read ") + file : std::string(file) + ": " + why;
       return nullptr;
     }
     return new CheckedStream(f, &first_errno);
   }
   void Close(Assimp::IOStream* stream) override { delete stream; }
   int first_errno = 0;
+  std::string refused;  // why a file was not opened
+  std::vector<std::string> opened;  // every file written, in order
 };
 
 // the frames' colour map ends and middle (render/frame_renderer.cpp), linear in RGB here
@@ -131,7 +139,8 @@ aiMesh* new_mesh(const char* name, const Frame& frame, std::size_t n, const std:
 const char* extension(MeshFileFormat format) { return format == MeshFileFormat::obj ? "obj" : "glb"; }
 
 bool write_frame_mesh(const std::string& path, MeshFileFormat format, const RunInfo& info, const Frame& frame,
-                      int color_field, std::array<double, 2> range, std::string* error) {
+                      int color_field, std::array<double, 2> range, std::string* error,
+                      std::vector<std::string>* files) {
   auto fail = [&](const std::string& why) {
     if (error) *error = "'" + path + "': " + why;
     return false;
@@ -193,7 +202,9 @@ bool write_frame_mesh(const std::string& path, MeshFileFormat format, const RunI
   exporter.SetIOHandler(io);
   const char* id = format == MeshFileFormat::obj ? "obj" : "glb2";
   const bool exported = exporter.Export(scene.get(), id, path) == AI_SUCCESS;
+  if (files) *files = io->opened;
   const int e = io->first_errno;
+  if (!io->refused.empty()) return fail("could not write: " + io->refused);
   if (e != 0)
     return fail(std::string("could not write: ") + (e == ENOSPC || e == EDQUOT ? "disk full (" : "(") +
                 std::strerror(e) + ")");

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "core/frame/frame.h"
 
@@ -32,8 +33,11 @@ const char* extension(MeshFileFormat format);
 
 /// Writes `frame` of the run `info` to `path`. color_field: index into info.fields, or -1 for
 /// no vertex colours; range: field values mapped to the ends of the colour map. Returns false
-/// and sets *error on size mismatches or when assimp cannot write the file.
+/// and sets *error on size mismatches or when assimp cannot write the file. `files`, when given,
+/// receives every file written (an OBJ's .mtl beside it too), each opened without following a
+/// link (core/frame/output_file.h).
 bool write_frame_mesh(const std::string& path, MeshFileFormat format, const RunInfo& info, const Frame& frame,
-                      int color_field, std::array<double, 2> range, std::string* error);
+                      int color_field, std::array<double, 2> range, std::string* error,
+                      std::vector<std::string>* files = nullptr);
 
 }  // namespace ff::io

@@ -1,5 +1,8 @@
 #include "app/io/gmsh_import.h"
 
+#include "app/io/machine_memory.h"
+#include "core/frame/input_file.h"
+
 // Gmsh's C API, for its function types only: the library is opened with dlopen in the child
 // process, so `flexframe` neither links it nor loads it (with OpenCASCADE, 91 libraries, 84 ms and
 // 50 MB at every start-up) unless a scene reads a Gmsh file
@@ -7,13 +10,16 @@
 
 #include <dlfcn.h>
 #include <fcntl.h>
+#include <link.h>
 #include <linux/audit.h>
 #include <linux/filter.h>
+#include <linux/landlock.h>
 #include <linux/seccomp.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -26,7 +32,9 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -121,9 +129,24 @@ struct GmshApi {
   decltype(&::gmshModelMeshGetNodesForPhysicalGroup) get_nodes_for_physical_group = nullptr;
   decltype(&::gmshModelMeshGetElements) get_elements = nullptr;
   decltype(&::gmshModelMeshSetSize) set_size = nullptr;
+  decltype(&::gmshModelOccGetMass) occ_get_mass = nullptr;
   decltype(&::gmshLoggerStart) logger_start = nullptr;
   decltype(&::gmshLoggerGetLastError) last_error = nullptr;
   decltype(&::gmshLoggerGet) logger_get = nullptr;
+  decltype(&::gmshOptionGetNumber) get_number = nullptr;
+  decltype(&::gmshModelGetBoundingBox) get_bounding_box = nullptr;
+  decltype(&::gmshModelGetEntitiesInBoundingBox) get_entities_in_bounding_box = nullptr;
+  decltype(&::gmshModelGetValue) get_value = nullptr;
+  decltype(&::gmshModelGetParametrizationBounds) get_parametrization_bounds = nullptr;
+  decltype(&::gmshModelGetClosestPoint) get_closest_point = nullptr;
+  decltype(&::gmshModelAddPhysicalGroup) add_physical_group = nullptr;
+  decltype(&::gmshModelSetPhysicalName) set_physical_name = nullptr;
+  decltype(&::gmshModelRemovePhysicalGroups) remove_physical_groups = nullptr;
+  decltype(&::gmshModelOccGetEntities) occ_get_entities = nullptr;
+  decltype(&::gmshModelOccFragment) occ_fragment = nullptr;
+  decltype(&::gmshModelOccCopy) occ_copy = nullptr;
+  decltype(&::gmshModelOccRemove) occ_remove = nullptr;
+  decltype(&::gmshModelOccSynchronize) occ_synchronize = nullptr;
 
   std::string load() {
     void* h = nullptr;
@@ -155,9 +178,24 @@ struct GmshApi {
     find(get_nodes_for_physical_group, "gmshModelMeshGetNodesForPhysicalGroup");
     find(get_elements, "gmshModelMeshGetElements");
     find(set_size, "gmshModelMeshSetSize");
+    find(occ_get_mass, "gmshModelOccGetMass");
     find(logger_start, "gmshLoggerStart");
     find(last_error, "gmshLoggerGetLastError");
     find(logger_get, "gmshLoggerGet");
+    find(get_number, "gmshOptionGetNumber");
+    find(get_bounding_box, "gmshModelGetBoundingBox");
+    find(get_entities_in_bounding_box, "gmshModelGetEntitiesInBoundingBox");
+    find(get_value, "gmshModelGetValue");
+    find(get_parametrization_bounds, "gmshModelGetParametrizationBounds");
+    find(get_closest_point, "gmshModelGetClosestPoint");
+    find(add_physical_group, "gmshModelAddPhysicalGroup");
+    find(set_physical_name, "gmshModelSetPhysicalName");
+    find(remove_physical_groups, "gmshModelRemovePhysicalGroups");
+    find(occ_get_entities, "gmshModelOccGetEntities");
+    find(occ_fragment, "gmshModelOccFragment");
+    find(occ_copy, "gmshModelOccCopy");
+    find(occ_remove, "gmshModelOccRemove");
+    find(occ_synchronize, "gmshModelOccSynchronize");
     return missing.empty() ? std::string() : "the Gmsh library lacks " + missing + " (Gmsh 4.8 or later is needed)";
   }
 
@@ -255,6 +293,54 @@ bool enter_read_only_sandbox() {
 #endif
 }
 
+// Reads confined to the folders in `readable` and below (Landlock, Linux 5.13 or later): a .geo
+// script may Include or Merge the files beside its own and below, and read nothing else: not
+// /etc, not the user's home, not /proc/<the parent>/environ (the environment is cleared in the
+// child, but /proc keeps every process's first one). Returns "" when confined, else why not.
+std::string confine_reads(const std::vector<std::string>& readable) {
+  const long abi = syscall(SYS_landlock_create_ruleset, nullptr, 0, LANDLOCK_CREATE_RULESET_VERSION);
+  if (abi < 1) return "this kernel offers no Landlock (Linux 5.13 or later, with Landlock enabled)";
+  landlock_ruleset_attr attr{};
+  attr.handled_access_fs = (LANDLOCK_ACCESS_FS_MAKE_SYM << 1) - 1;  // every file-system right of its first version
+  const int ruleset = static_cast<int>(syscall(SYS_landlock_create_ruleset, &attr, sizeof attr, 0));
+  if (ruleset < 0) return std::string("the kernel refused a Landlock rule set: ") + std::strerror(errno);
+  std::string problem;
+  for (const std::string& dir : readable) {
+    landlock_path_beneath_attr rule{};
+    rule.allowed_access = LANDLOCK_ACCESS_FS_READ_FILE | LANDLOCK_ACCESS_FS_READ_DIR;
+    rule.parent_fd = ::open(dir.c_str(), O_PATH | O_CLOEXEC);
+    if (rule.parent_fd < 0) continue;  // a folder that is not there needs no rule
+    if (syscall(SYS_landlock_add_rule, ruleset, LANDLOCK_RULE_PATH_BENEATH, &rule, 0) != 0 && problem.empty())
+      problem = "the kernel refused the Landlock rule for " + dir + ": " + std::strerror(errno);
+    close(rule.parent_fd);
+  }
+  if (problem.empty() && (prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0 || syscall(SYS_landlock_restrict_self, ruleset, 0) != 0))
+    problem = std::string("the kernel refused to apply Landlock's rules: ") + std::strerror(errno);
+  close(ruleset);
+  return problem;
+}
+
+// the folders a Gmsh child may read: the file's own (as named, and where a link leads), and
+// those of the libraries already loaded (Gmsh, OpenCASCADE and theirs), for what they load later
+std::vector<std::string> readable_folders(const std::string& path) {
+  std::vector<std::string> dirs;
+  std::error_code ec;
+  dirs.push_back(fs::absolute(path, ec).parent_path().string());
+  const fs::path real = fs::canonical(path, ec);
+  if (!ec) dirs.push_back(real.parent_path().string());
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* data) {
+        // the program itself has no name here; linux-vdso.so.1 no path
+        if (info->dlpi_name && info->dlpi_name[0] == '/')
+          static_cast<std::vector<std::string>*>(data)->push_back(fs::path(info->dlpi_name).parent_path().string());
+        return 0;
+      },
+      &dirs);
+  std::sort(dirs.begin(), dirs.end());
+  dirs.erase(std::unique(dirs.begin(), dirs.end()), dirs.end());
+  return dirs;
+}
+
 // Gmsh element types (gmsh's numbering) and what a shell makes of them
 constexpr int kLine2 = 1, kTriangle3 = 2, kQuad4 = 3, kPoint = 15;
 std::string element_type_words(int type) {
@@ -316,8 +402,278 @@ std::size_t count_triangles(const GmshApi& g) {
   return n;
 }
 
-// Everything the child does with Gmsh; throws GmshFailure with a sentence
-void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
+// a physical group as the file defines it
+struct Physical {
+  int dim, tag;
+  std::string name;
+  std::vector<int> entities;
+};
+
+std::string dim_words(int dim) {
+  return dim == 0 ? std::string("point") : dim == 1 ? std::string("curve") : dim == 2 ? std::string("surface") : std::string("volume");
+}
+
+std::string physical_label(const Physical& p) {
+  return "physical " + dim_words(p.dim) + " " + std::to_string(p.tag) + (p.name.empty() ? "" : " '" + p.name + "'");
+}
+
+int entity_count(const GmshApi& g, int dim) {
+  int ierr = 0;
+  int* tags = nullptr;
+  std::size_t n = 0;
+  g.get_entities(&tags, &n, dim, &ierr);
+  return static_cast<int>(n / 2);
+}
+
+// CAD faces that touch without sharing an edge (a stiffener's foot standing on a panel face, two
+// faces side by side each with an edge of its own) are meshed apart, and the shell comes apart
+// there. OpenCASCADE's fragment (general fuse) of every face against the others splits faces and
+// edges where they meet and makes each common edge one, so that the mesh shares its nodes there.
+// Gmsh forgets the physical groups when the model is synchronized after it, so each is found again
+// on the new entities: a surface group by the fragment's map of old faces to new, a curve group as
+// the new curves lying on its old curves (a copy of each is kept for that search), a point group
+// at its old place. Returns a note for the part's description ("" when nothing changed).
+std::string join_touching_faces(const GmshApi& g, std::vector<Physical>& physicals) {
+  int ierr = 0;
+  int* solids = nullptr;
+  std::size_t solids_n = 0;
+  g.occ_get_entities(&solids, &solids_n, 3, &ierr);
+  int* faces = nullptr;
+  std::size_t faces_n = 0;
+  g.occ_get_entities(&faces, &faces_n, 2, &ierr);
+  // one face cannot touch another (and OpenCASCADE refuses to fragment it); faces that bound a
+  // solid share their edges already, and fragmenting them would leave the solid behind
+  if (ierr != 0 || solids_n > 0 || faces_n < 4) return {};
+  const std::vector<int> face_dim_tags(faces, faces + faces_n);
+  const int faces_before = entity_count(g, 2), curves_before = entity_count(g, 1);
+  double box[6];
+  g.get_bounding_box(-1, -1, &box[0], &box[1], &box[2], &box[3], &box[4], &box[5], &ierr);
+  check(g, ierr, "measuring its geometry");
+  const double tol = 1e-6 * Eigen::Vector3d(box[3] - box[0], box[4] - box[1], box[5] - box[2]).norm();
+
+  std::map<int, Eigen::Vector3d> point_at;  // grouped point -> where it was
+  std::map<int, int> copy_of;               // grouped curve -> a copy of it
+  for (const Physical& p : physicals)
+    for (int e : p.entities) {
+      if (p.dim == 0 && !point_at.count(e)) {
+        double* x = nullptr;
+        std::size_t n = 0;
+        g.get_value(0, e, nullptr, 0, &x, &n, &ierr);
+        check(g, ierr, "reading the place of point " + std::to_string(e));
+        if (n == 3) point_at[e] = Eigen::Vector3d(x[0], x[1], x[2]);
+      }
+      if (p.dim == 1 && !copy_of.count(e)) {
+        int dim_tag[2] = {1, e};
+        int* out = nullptr;
+        std::size_t out_n = 0;
+        g.occ_copy(dim_tag, 2, &out, &out_n, &ierr);
+        check(g, ierr, "keeping curve " + std::to_string(e) + " of " + physical_label(p));
+        if (out_n == 2) copy_of[e] = out[1];
+      }
+    }
+
+  int* out = nullptr;
+  std::size_t out_n = 0;
+  int** map = nullptr;
+  std::size_t* map_n = nullptr;
+  std::size_t map_nn = 0;
+  g.occ_fragment(const_cast<int*>(face_dim_tags.data()), face_dim_tags.size(), nullptr, 0, &out, &out_n, &map, &map_n,
+                 &map_nn, -1, 1, 1, &ierr);
+  const bool fragmented = ierr == 0 && map_nn == face_dim_tags.size() / 2;
+  const std::string failure = ierr != 0 ? g.why() : std::string();
+  g.occ_synchronize(&ierr);
+  check(g, ierr, "joining its faces");
+
+  std::map<int, std::vector<int>> faces_of;  // old face -> the faces it became
+  for (std::size_t k = 0; k < face_dim_tags.size() / 2; ++k) {
+    const int old = face_dim_tags[2 * k + 1];
+    if (!fragmented) {
+      faces_of[old] = {old};
+      continue;
+    }
+    for (std::size_t m = 0; m + 1 < map_n[k]; m += 2)
+      if (map[k][m] == 2) faces_of[old].push_back(map[k][m + 1]);
+  }
+  // every new curve (not a copy) at two inner points, against each grouped curve's copy
+  std::vector<int> copies;
+  for (const auto& [old, copy] : copy_of) copies.push_back(copy);
+  std::map<int, std::vector<int>> curves_of;  // old curve -> the new curves on it
+  if (!copy_of.empty()) {
+    int* curves = nullptr;
+    std::size_t curves_n = 0;
+    g.get_entities(&curves, &curves_n, 1, &ierr);
+    for (std::size_t k = 0; k + 1 < curves_n; k += 2) {
+      const int c = curves[k + 1];
+      if (std::find(copies.begin(), copies.end(), c) != copies.end()) continue;
+      double *lo = nullptr, *hi = nullptr;
+      std::size_t lo_n = 0, hi_n = 0;
+      g.get_parametrization_bounds(1, c, &lo, &lo_n, &hi, &hi_n, &ierr);
+      if (ierr != 0 || lo_n != 1 || hi_n != 1) continue;
+      std::vector<double> inner;
+      for (double f : {0.3, 0.7}) {
+        const double t = lo[0] + f * (hi[0] - lo[0]);
+        double* x = nullptr;
+        std::size_t n = 0;
+        g.get_value(1, c, const_cast<double*>(&t), 1, &x, &n, &ierr);
+        if (ierr == 0 && n == 3) inner.insert(inner.end(), x, x + 3);
+      }
+      if (inner.size() != 6) continue;
+      for (const auto& [old, copy] : copy_of) {
+        double *near = nullptr, *par = nullptr;
+        std::size_t near_n = 0, par_n = 0;
+        g.get_closest_point(1, copy, inner.data(), inner.size(), &near, &near_n, &par, &par_n, &ierr);
+        if (ierr != 0 || near_n != 6) continue;
+        bool on = true;
+        for (int a = 0; a < 2; ++a)
+          on = on && Eigen::Vector3d(near[3 * a] - inner[3 * a], near[3 * a + 1] - inner[3 * a + 1],
+                                     near[3 * a + 2] - inner[3 * a + 2]).norm() <= tol;
+        if (on) curves_of[old].push_back(c);
+      }
+    }
+    std::vector<int> copy_dim_tags;
+    for (int c : copies) copy_dim_tags.push_back(1), copy_dim_tags.push_back(c);
+    g.occ_remove(copy_dim_tags.data(), copy_dim_tags.size(), 1, &ierr);
+    check(g, ierr, "removing the curves kept for the groups");
+    g.occ_synchronize(&ierr);
+    check(g, ierr, "joining its faces");
+  }
+
+  g.remove_physical_groups(nullptr, 0, &ierr);
+  for (Physical& p : physicals) {
+    std::vector<int> now;
+    for (int e : p.entities) {
+      const std::vector<int>* found = p.dim == 2 ? &faces_of[e] : p.dim == 1 ? &curves_of[e] : nullptr;
+      if (found) now.insert(now.end(), found->begin(), found->end());
+      if (p.dim == 0 && point_at.count(e)) {
+        const Eigen::Vector3d& x = point_at[e];
+        int* tags = nullptr;
+        std::size_t n = 0;
+        g.get_entities_in_bounding_box(x.x() - tol, x.y() - tol, x.z() - tol, x.x() + tol, x.y() + tol, x.z() + tol, &tags,
+                                       &n, 0, &ierr);
+        for (std::size_t k = 0; k + 1 < n; k += 2) now.push_back(tags[k + 1]);
+      }
+    }
+    std::sort(now.begin(), now.end());
+    now.erase(std::unique(now.begin(), now.end()), now.end());
+    if (now.empty() && !p.entities.empty())
+      throw GmshFailure(physical_label(p) + " was lost when its faces were joined where they touch (OpenCASCADE's "
+                        "fragment); part.keep_faces_apart = true leaves the faces as they are");
+    g.add_physical_group(p.dim, now.data(), now.size(), p.tag, &ierr);
+    check(g, ierr, "keeping " + physical_label(p));
+    if (!p.name.empty()) g.set_physical_name(p.dim, p.tag, p.name.c_str(), &ierr);
+    p.entities = std::move(now);
+  }
+  if (!fragmented)
+    return "CAD faces not joined where they touch: OpenCASCADE's fragment failed (" + failure + ")";
+  const int faces_after = entity_count(g, 2), curves_after = entity_count(g, 1);
+  bool changed = faces_after != faces_before || curves_after != curves_before;
+  for (const auto& [old, now] : faces_of) changed = changed || now.size() != 1 || now[0] != old;
+  if (!changed) return {};
+  return "CAD faces joined where they touch (OpenCASCADE's fragment: " + std::to_string(faces_before) + " faces and " +
+         std::to_string(curves_before) + " edges became " + std::to_string(faces_after) + " and " +
+         std::to_string(curves_after) + ")";
+}
+
+// The area of the geometry's surfaces, before they are meshed: OpenCASCADE's own (exact, trims
+// included) for its entities (STEP, IGES, BREP, a .geo on that kernel); otherwise the integral of
+// |x_u x x_v| over the surface's parameter rectangle on a 16 x 16 grid (exact for a plane; a
+// trimmed surface's whole rectangle, so more than its area). A surface with neither counts 0.
+double geometry_area(const GmshApi& g) {
+  int ierr = 0;
+  int* occ = nullptr;
+  std::size_t occ_n = 0;
+  g.occ_get_entities(&occ, &occ_n, 2, &ierr);
+  std::set<int> occ_surfaces;
+  for (std::size_t k = 0; ierr == 0 && k + 1 < occ_n; k += 2) occ_surfaces.insert(occ[k + 1]);
+  int* surfs = nullptr;
+  std::size_t surfs_n = 0;
+  g.get_entities(&surfs, &surfs_n, 2, &ierr);
+  double area = 0;
+  for (std::size_t k = 0; k + 1 < surfs_n; k += 2) {
+    const int tag = surfs[k + 1];
+    if (occ_surfaces.count(tag)) {
+      double mass = 0;
+      g.occ_get_mass(2, tag, &mass, &ierr);
+      if (ierr == 0 && std::isfinite(mass) && mass > 0) {
+        area += mass;
+        continue;
+      }
+    }
+    double *lo = nullptr, *hi = nullptr;
+    std::size_t lo_n = 0, hi_n = 0;
+    g.get_parametrization_bounds(2, tag, &lo, &lo_n, &hi, &hi_n, &ierr);
+    if (ierr != 0 || lo_n != 2 || hi_n != 2) continue;
+    constexpr int n = 16;
+    std::vector<double> uv;
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) uv.push_back(lo[0] + (hi[0] - lo[0]) * i / n), uv.push_back(lo[1] + (hi[1] - lo[1]) * j / n);
+    double* xyz = nullptr;
+    std::size_t xyz_n = 0;
+    g.get_value(2, tag, uv.data(), uv.size(), &xyz, &xyz_n, &ierr);
+    if (ierr != 0 || xyz_n != 3 * uv.size() / 2) continue;
+    const auto x = [&](int i, int j) { return Eigen::Vector3d(xyz + 3 * (j * (n + 1) + i)); };
+    double a = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) a += 0.5 * (x(i + 1, j + 1) - x(i, j)).cross(x(i, j + 1) - x(i + 1, j)).norm();
+    if (std::isfinite(a)) area += a;
+  }
+  return area;
+}
+
+// The longest element of Gmsh's mesh of the curves (meshed here, at the script's own sizes; the
+// surface mesh then starts from it): the size a surface's elements do not exceed when nothing
+// but its boundary sets them
+double longest_curve_element(const GmshApi& g) {
+  int ierr = 0;
+  g.generate(1, &ierr);
+  check(g, ierr, "Gmsh could not mesh its curves");
+  std::size_t* tags = nullptr;
+  std::size_t tags_n = 0, coord_n = 0, par_n = 0;
+  double* coord = nullptr;
+  double* par = nullptr;
+  g.get_nodes(&tags, &tags_n, &coord, &coord_n, &par, &par_n, -1, -1, 0, 0, &ierr);
+  std::unordered_map<std::size_t, Eigen::Vector3d> at;
+  for (std::size_t k = 0; k < tags_n; ++k) at.emplace(tags[k], Eigen::Vector3d(coord + 3 * k));
+  int* types = nullptr;
+  std::size_t types_n = 0, *et_n = nullptr, et_nn = 0, *nt_n = nullptr, nt_nn = 0;
+  std::size_t** et = nullptr;
+  std::size_t** nt = nullptr;
+  g.get_elements(&types, &types_n, &et, &et_n, &et_nn, &nt, &nt_n, &nt_nn, 1, -1, &ierr);
+  double longest = 0;
+  for (std::size_t t = 0; t < types_n; ++t)
+    for (std::size_t e = 0; types[t] == kLine2 && e < et_n[t]; ++e) {
+      const auto a = at.find(nt[t][2 * e]), b = at.find(nt[t][2 * e + 1]);
+      if (a != at.end() && b != at.end()) longest = std::max(longest, (a->second - b->second).norm());
+    }
+  return longest;
+}
+
+// Refuses geometry whose mesh would have more nodes than a run can hold (r.most_nodes, from the
+// scene's memory estimate) before Gmsh spends minutes and gigabytes meshing it: about its
+// surfaces' area over the element size squared (quads of a Frontal-Delaunay mesh recombined are a
+// little smaller than size x size, so this is at most the count, give or take a trimmed surface)
+void refuse_oversized_geometry(const GmshApi& g, const GmshMeshRequest& r) {
+  if (!(r.most_nodes > 0)) return;
+  const double area = geometry_area(g);
+  if (!(area > 0)) return;
+  const bool scene_size = r.mesh_size > 0;
+  const double size = scene_size ? r.mesh_size : longest_curve_element(g);
+  if (!(size > 0)) return;
+  const double quads = area / (size * size);
+  if (quads <= r.most_nodes) return;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "Gmsh would mesh it into about %.3g quads (its surfaces' area %.4g over the square of %s %.4g), more "
+                "than the about %.3g nodes a run can hold within the %s this machine allows (the scene's memory "
+                "estimate); ",
+                quads, area, scene_size ? "part.mesh_size =" : "the longest element of Gmsh's mesh of its curves,",
+                size, r.most_nodes, input_bytes_words(r.memory_limit_bytes).c_str());
+  throw GmshFailure(std::string(text) + (scene_size ? "raise part.mesh_size" : "give a part.mesh_size, or larger sizes in the script"));
+}
+
+// Everything the child does with Gmsh; throws GmshFailure with a sentence. `unconfined` says
+// what the sandbox could not confine ("" when it confined all), for the notes.
+void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w, const std::string& unconfined) {
   int ierr = 0;
   g.initialize(0, nullptr, 0, &ierr);
   check(g, ierr, "Gmsh did not start");
@@ -329,20 +685,17 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   // a reader that meets a malformed file, or a script command that the sandbox refused (Save,
   // System), logs an error and goes on: any error while reading is the file's fault
   if (const std::string e = g.first_logged_error(); !e.empty()) throw GmshFailure("Gmsh could not read it: " + e +
-                       (lower_extension(r.path) == ".geo"
-                            ? " (FlexFrame runs .geo scripts read-only: a script may not write files or run commands)"
-                            : ""));
+                       (lower_extension(r.path) != ".geo" ? ""
+                        : unconfined.empty()
+                            ? " (FlexFrame runs .geo scripts read-only, and lets them read only the files in their own "
+                              "folder and below: a script may not write files, run commands or read other files)"
+                            : " (FlexFrame runs .geo scripts read-only: a script may not write files or run commands)"));
 
   // physical groups, read before meshing (their entities carry the per-group sizes)
   int* pg = nullptr;
   std::size_t pg_n = 0;
   g.get_physical_groups(&pg, &pg_n, -1, &ierr);
   check(g, ierr, "reading its physical groups");
-  struct Physical {
-    int dim, tag;
-    std::string name;
-    std::vector<int> entities;
-  };
   std::vector<Physical> physicals;
   for (std::size_t k = 0; k + 1 < pg_n; k += 2) {
     Physical p{pg[k], pg[k + 1], {}, {}};
@@ -356,48 +709,87 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
     p.entities.assign(ents, ents + ents_n);
     physicals.push_back(std::move(p));
   }
-  const auto dim_words = [](int dim) {
-    return dim == 0 ? std::string("point") : dim == 1 ? std::string("curve") : dim == 2 ? std::string("surface") : std::string("volume");
-  };
-  const auto physical_label = [&](const Physical& p) {
-    return "physical " + dim_words(p.dim) + " " + std::to_string(p.tag) + (p.name.empty() ? "" : " '" + p.name + "'");
-  };
 
   std::vector<std::string> notes;
+  if (!unconfined.empty()) notes.push_back(unconfined);
   bool subdivided = false;
+  if (r.mesh_geometry && r.join_touching_faces)
+    if (std::string joined = join_touching_faces(g, physicals); !joined.empty()) notes.push_back(std::move(joined));
   if (r.mesh_geometry) {
-    // sizes times `factor`: part.mesh_size at every point of the geometry (a CAD file's points
-    // carry no sizes, and Gmsh would give them a tenth of the part's diagonal, which
-    // Mesh.MeshSizeMax only lowers) and as the cap; each named group's points at its own size
-    const auto apply_sizes = [&](double factor) {
-      if (r.mesh_size > 0) {
-        g.set_number("Mesh.MeshSizeMax", factor * r.mesh_size, &ierr);
-        int* points = nullptr;
-        std::size_t points_n = 0;
-        g.get_entities(&points, &points_n, 0, &ierr);
-        check(g, ierr, "reading its points");
-        if (points_n > 0) g.set_size(points, points_n, factor * r.mesh_size, &ierr);
-        check(g, ierr, "setting its size");
-      }
-      for (const auto& [name, size] : r.group_sizes) {
-        const auto it = std::find_if(physicals.begin(), physicals.end(), [&](const Physical& p) { return p.name == name; });
-        if (it == physicals.end())
-          throw GmshFailure("part.local_size_groups names group '" + name + "', which the file does not define");
-        std::vector<int> dim_tags;
-        for (int e : it->entities) dim_tags.push_back(it->dim), dim_tags.push_back(e);
-        int* points = nullptr;
-        std::size_t points_n = 0;
-        if (it->dim == 0) {
-          g.set_size(dim_tags.data(), dim_tags.size(), factor * size, &ierr);
-        } else {
-          g.get_boundary(dim_tags.data(), dim_tags.size(), &points, &points_n, 0, 0, 1, &ierr);
-          check(g, ierr, "finding the points of group '" + name + "'");
-          g.set_size(points, points_n, factor * size, &ierr);
-        }
-        check(g, ierr, "setting the size of group '" + name + "'");
-      }
+    // The scene's sizes win over the script's global size settings, which would otherwise undo
+    // them silently (a Mesh.MeshSizeMin of 2 made local sizes 2, 1 and 0.5 one mesh). Gmsh takes at
+    // each point the smallest size from points, curvature and fields, clamps it to [MeshSizeMin,
+    // MeshSizeMax] and multiplies it by MeshSizeFactor: the scene's sizes are set as point sizes
+    // divided by the script's factor, a minimum above the smallest of them is lowered to it, and
+    // point sizes are switched on. A local size above the script's cap is refused (the cap is
+    // the script's wish for every element; part.mesh_size replaces it).
+    const auto option = [&](const char* name) {
+      double v = 0.0;
+      g.get_number(name, &v, &ierr);
+      check(g, ierr, std::string("reading ") + name);
+      return v;
     };
-    apply_sizes(1.0);
+    const double script_factor = option("Mesh.MeshSizeFactor"), script_min = option("Mesh.MeshSizeMin"),
+                 script_max = option("Mesh.MeshSizeMax");
+    const bool scene_sizes = r.mesh_size > 0 || !r.group_sizes.empty();
+    const auto text = [](double v) {
+      char b[64];
+      std::snprintf(b, sizeof b, "%.6g", v);
+      return std::string(b);
+    };
+    if (scene_sizes) {
+      if (!(script_factor > 0)) throw GmshFailure("its Mesh.MeshSizeFactor is " + text(script_factor) + ", not > 0");
+      double smallest = r.mesh_size > 0 ? r.mesh_size : std::numeric_limits<double>::infinity();
+      for (const auto& [name, size] : r.group_sizes) {
+        smallest = std::min(smallest, size);
+        if (!(r.mesh_size > 0) && size > script_max * script_factor)
+          throw GmshFailure("part.local_sizes asks " + text(size) + " at group '" + name + "', above the script's "
+                            "largest element (Mesh.MeshSizeMax " + text(script_max) +
+                            (script_factor != 1 ? " x Mesh.MeshSizeFactor " + text(script_factor) : std::string()) +
+                            "): a local size is finer than the rest; give a smaller one, or part.mesh_size (which "
+                            "replaces the script's largest element)");
+      }
+      if (script_min * script_factor > smallest) {
+        g.set_number("Mesh.MeshSizeMin", smallest / script_factor, &ierr);
+        notes.push_back("the script's Mesh.MeshSizeMin " + text(script_min) + " lowered to " +
+                        text(smallest / script_factor) + " so that the scene's sizes are reached");
+      }
+      if (option("Mesh.MeshSizeFromPoints") == 0) {
+        g.set_number("Mesh.MeshSizeFromPoints", 1, &ierr);
+        notes.push_back("the script's Mesh.MeshSizeFromPoints = 0 set to 1 (the scene's sizes are point sizes)");
+      }
+      if (script_factor != 1)
+        notes.push_back("the script's Mesh.MeshSizeFactor " + text(script_factor) + " kept for its own sizes, the "
+                        "scene's set so that they come out as given");
+    }
+    if (r.mesh_size > 0) {  // at every point (a CAD file's points carry no sizes, and Gmsh would give
+                            // them a tenth of the part's diagonal, which a cap alone only lowers) and as the cap
+      g.set_number("Mesh.MeshSizeMax", r.mesh_size / script_factor, &ierr);
+      int* points = nullptr;
+      std::size_t points_n = 0;
+      g.get_entities(&points, &points_n, 0, &ierr);
+      check(g, ierr, "reading its points");
+      if (points_n > 0) g.set_size(points, points_n, r.mesh_size / script_factor, &ierr);
+      check(g, ierr, "setting its size");
+    }
+    for (const auto& [name, size] : r.group_sizes) {  // each named group's points at its own size
+      const auto it = std::find_if(physicals.begin(), physicals.end(), [&](const Physical& p) { return p.name == name; });
+      if (it == physicals.end())
+        throw GmshFailure("part.local_size_groups names group '" + name + "', which the file does not define");
+      std::vector<int> dim_tags;
+      for (int e : it->entities) dim_tags.push_back(it->dim), dim_tags.push_back(e);
+      int* points = nullptr;
+      std::size_t points_n = 0;
+      if (it->dim == 0) {
+        g.set_size(dim_tags.data(), dim_tags.size(), size / script_factor, &ierr);
+      } else {
+        g.get_boundary(dim_tags.data(), dim_tags.size(), &points, &points_n, 0, 0, 1, &ierr);
+        check(g, ierr, "finding the points of group '" + name + "'");
+        g.set_size(points, points_n, size / script_factor, &ierr);
+      }
+      check(g, ierr, "setting the size of group '" + name + "'");
+    }
+    refuse_oversized_geometry(g, r);
     // Frontal-Delaunay (6) with Blossom recombination: robust in Gmsh 4.8, where the quad-dedicated
     // Frontal-Delaunay for quads (8) segfaulted on a cylindrical roof
     g.set_number("Mesh.Algorithm", 6, &ierr);
@@ -414,20 +806,17 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
     if (count_triangles(g) > 0) {
       g.clear(nullptr, 0, &ierr);
       check(g, ierr, "clearing a mesh with triangles");
-      apply_sizes(2.0);
+      g.set_number("Mesh.MeshSizeFactor", 2.0 * script_factor, &ierr);  // every size, the script's and the scene's
       g.set_number("Mesh.SubdivisionAlgorithm", 1, &ierr);
       g.generate(2, &ierr);
       check(g, ierr, "Gmsh could not mesh it into quads only");
       subdivided = true;
     }
-    char size[64];
-    std::snprintf(size, sizeof size, "%.6g", r.mesh_size);
     notes.push_back(std::string("meshed by Gmsh 2D Frontal-Delaunay with Blossom recombination") +
                     (subdivided ? " at twice the size, then every element subdivided into quads (plain Blossom left "
                                   "triangles), "
                                 : ", ") +
-                    (r.mesh_size > 0 ? "elements about " + std::string(size) + " across" : std::string("the file's sizes")) +
-                    (r.group_sizes.empty() ? "" : ", finer at " + std::to_string(r.group_sizes.size()) + " named groups"));
+                    (r.mesh_size > 0 ? "elements at most " + text(r.mesh_size) + " across" : std::string("the file's sizes")));
   } else if (r.recombine_triangles) {
     const double before = surface_area(g);
     g.recombine(&ierr);
@@ -578,7 +967,12 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   for (const std::string& n : notes) w.put_string(n);
 }
 
-[[noreturn]] void child_main(int fd, const GmshMeshRequest& r) {
+[[noreturn]] void child_main(int fd, const GmshMeshRequest& r, pid_t parent) {
+  // The child dies with its parent: a flexframe ended by SIGKILL (a batch system's hard stop, the
+  // OOM killer) must not leave Gmsh meshing on, its time limit gone with the parent that enforced
+  // it. The signal comes when the thread that forked ends, which waits for this child to end
+  // (read_with_gmsh); should the parent have died before prctl, this child now has another parent.
+  if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(4);
   // Gmsh and OpenCASCADE print to stdout and stderr: the run's own output must stay clean
   const int devnull = ::open("/dev/null", O_RDWR);
   if (devnull >= 0) dup2(devnull, 0), dup2(devnull, 1), dup2(devnull, 2);
@@ -601,15 +995,24 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   Writer w;
   GmshApi g;
   std::string problem = g.load();
+  const bool script = lower_extension(r.path) == ".geo";
+  // Nothing the child reads may come from outside the file's folder: an empty environment (a
+  // script's GetEnv("HOME") reads ""; Gmsh needs none, its libraries are loaded), and reads
+  // confined to the file's folder and the libraries' (Landlock) where the kernel offers it.
+  clearenv();
+  const std::vector<std::string> readable = readable_folders(r.path);
+  const std::string unconfined = problem.empty() ? confine_reads(readable) : std::string();
   // a .geo script is a program and runs only inside the sandbox; a data file (.msh, STEP, IGES,
   // BREP) has no commands, and is still read in this child (crashes and time bounded) where the
   // kernel offers no seccomp filter (some containers)
-  if (problem.empty() && !enter_read_only_sandbox() && lower_extension(r.path) == ".geo")
+  if (problem.empty() && !enter_read_only_sandbox() && script)
     problem = "the kernel refused the read-only sandbox in which FlexFrame runs Gmsh scripts, so the .geo script "
               "is not run (a script can write files and run commands); give its geometry as STEP or BREP instead";
   if (problem.empty()) {
     try {
-      mesh_in_child(g, r, w);
+      mesh_in_child(g, r, w, script && !unconfined.empty()
+                                 ? "the .geo script could read any file this user may read (" + unconfined + ")"
+                                 : std::string());
     } catch (const GmshFailure& e) {
       problem = e.what();
     } catch (const std::bad_alloc&) {
@@ -638,6 +1041,139 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w) {
   _exit(0);
 }
 
+// ---- a .msh file's claims, checked in the parent before Gmsh reads it ------------------------------
+// Gmsh allocates for the counts of a .msh file's $Nodes and $Elements headers as it meets them: a
+// 1.6 kB file whose $Nodes header claimed 10^9 nodes took the child past 13 GB. The parent reads
+// $MeshFormat and those two headers (formats 2 and 4, ASCII and binary) and refuses a claim the
+// bytes after its header cannot hold, or whose reading would not fit in the memory limit.
+
+// Peak bytes of reading a .msh, per node and per element: Gmsh 4.8 read a v4.1 ASCII file of
+// 1.0 M nodes and 1.0 M quads in 190 MB more than it started with (about 100 bytes a node and
+// 100 an element), the child's copies out of Gmsh's API as much again, and the import's own
+// (mesh_import.cpp: 250 a vertex, 400 a face).
+constexpr double kMshBytesPerNode = 450.0, kMshBytesPerElement = 600.0;
+
+// a file read in pieces, line by line or byte by byte: memory bounded whatever the file holds
+class MshScan {
+ public:
+  explicit MshScan(int fd) : fd_(fd) {}
+  /// The next line without its end ("\n" or "\r\n"), at most `most` bytes of it; false at the end.
+  bool line(std::string& out, std::size_t most = 256) {
+    out.clear();
+    bool any = false;
+    while (at_ < buf_.size() || fill()) {
+      any = true;
+      const char* start = buf_.data() + at_;
+      const char* nl = static_cast<const char*>(std::memchr(start, '\n', buf_.size() - at_));
+      const std::size_t len = nl ? static_cast<std::size_t>(nl - start) : buf_.size() - at_;
+      out.append(start, std::min(len, most - std::min(most, out.size())));
+      at_ += len + (nl ? 1 : 0);
+      offset_ += len + (nl ? 1 : 0);
+      if (nl) {
+        ++line_;
+        break;
+      }
+    }
+    if (!out.empty() && out.back() == '\r') out.pop_back();
+    return any;
+  }
+  /// The next n bytes; false when the file ends first.
+  bool bytes(void* out, std::size_t n) {
+    while (buf_.size() - at_ < n)
+      if (!fill()) return false;
+    std::memcpy(out, buf_.data() + at_, n);
+    at_ += n;
+    offset_ += n;
+    return true;
+  }
+  std::uint64_t offset() const { return offset_; }  ///< bytes read so far
+  int line_number() const { return line_; }          ///< of the line that comes next
+
+ private:
+  bool fill() {
+    buf_.erase(0, at_);
+    at_ = 0;
+    char chunk[1 << 16];
+    while (true) {
+      const ssize_t n = ::read(fd_, chunk, sizeof chunk);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      buf_.append(chunk, static_cast<std::size_t>(n));
+      return true;
+    }
+  }
+  int fd_;
+  std::string buf_;
+  std::size_t at_ = 0;
+  std::uint64_t offset_ = 0;
+  int line_ = 1;
+};
+
+bool check_msh_claims(const std::string& path, const std::string& who, double memory_limit, std::string* error) {
+  std::uintmax_t size = 0;
+  std::string problem;
+  const int fd = open_input_file(path, 0, "", &problem, &size);
+  if (fd < 0) return fail(error, who + " " + problem);
+  struct Closer {
+    int fd;
+    ~Closer() { close(fd); }
+  } closer{fd};
+  MshScan in(fd);
+  std::string line;
+  if (!in.line(line) || line != "$MeshFormat" || !in.line(line)) return true;  // not format 2 or 4: Gmsh says what it is
+  double version = 0;
+  int binary = 0, data_size = 0;
+  if (std::sscanf(line.c_str(), "%lf %d %d", &version, &binary, &data_size) != 3) return true;
+  const bool v4 = version >= 4;
+  // a count in a section header: text, except the size_t words of format 4's binary headers
+  const auto count = [&](double& n) {
+    if (binary && v4) {
+      // the number of entity blocks, of nodes or elements, and (4.1) the smallest and largest tag
+      std::uint64_t words[4] = {0, 0, 0, 0};
+      if (data_size != 8 || !in.bytes(words, (version >= 4.1 ? 4 : 2) * sizeof(std::uint64_t))) return false;
+      n = static_cast<double>(words[1]);
+      return true;
+    }
+    if (!in.line(line)) return false;
+    double blocks = 0;
+    return v4 ? std::sscanf(line.c_str(), "%lf %lf", &blocks, &n) == 2 : std::sscanf(line.c_str(), "%lf", &n) == 1;
+  };
+  // the fewest bytes a node and an element take after their header: ASCII "1\n0 0 0\n" (format 4)
+  // or "1 0 0 0\n", and "1 1\n" or "1 15 0 1\n"; binary, a tag and three doubles, two indices
+  const double node_bytes = !binary ? 8.0 : v4 ? 8.0 + 24.0 : 4.0 + 24.0;
+  const double element_bytes = !binary ? (v4 ? 4.0 : 8.0) : v4 ? 16.0 : 8.0;
+  double claimed[2] = {0, 0};
+  const char* sections[2] = {"$Nodes", "$Elements"};
+  const char* what[2] = {"nodes", "elements"};
+  const double least[2] = {node_bytes, element_bytes};
+  for (int k = 0; k < 2; ++k) {
+    while (in.line(line) && line != sections[k]) {
+    }
+    // where the counts are: their line, or in format 4's binary headers their byte
+    const std::string at = binary && v4 ? "at byte " + std::to_string(in.offset()) : "line " + std::to_string(in.line_number());
+    double n = 0;
+    if (!count(n)) break;  // no such section, or cut short: Gmsh says so
+    const double after = static_cast<double>(size) - static_cast<double>(in.offset());
+    if (n * least[k] > after) {
+      char msg[400];
+      std::snprintf(msg, sizeof msg,
+                    ": its %s header claims %.0f %s, but the %.0f bytes after it hold at most %.0f (each takes at "
+                    "least %.0f bytes): the header does not describe this file (damaged or cut short)",
+                    sections[k], n, what[k], std::max(after, 0.0), std::floor(std::max(after, 0.0) / least[k]), least[k]);
+      return fail(error, who + " " + at + msg);
+    }
+    claimed[k] = n;
+  }
+  const double need = claimed[0] * kMshBytesPerNode + claimed[1] * kMshBytesPerElement;
+  if (memory_limit > 0 && need > memory_limit) {
+    char msg[300];
+    std::snprintf(msg, sizeof msg, ": its headers claim %.0f nodes and %.0f elements; reading them would need about %s, more than the %s",
+                  claimed[0], claimed[1], input_bytes_words(need).c_str(), input_bytes_words(memory_limit).c_str());
+    return fail(error, who + msg + " " + kMemoryLimitBound);
+  }
+  return true;
+}
+
 std::string signal_words(int sig) {
   const char* name = sigdescr_np(sig);
   return std::string(name ? name : "signal") + " (signal " + std::to_string(sig) + ")";
@@ -660,11 +1196,13 @@ bool read_with_gmsh(const GmshMeshRequest& r, ImportedSurface& out, std::string*
   std::error_code ec;
   if (!fs::exists(r.path, ec)) return fail(error, who + " does not exist");
   if (fs::is_directory(r.path, ec)) return fail(error, who + " is a directory, not a mesh file");
-  {  // readable at all, before a process is started for it
-    FILE* f = std::fopen(r.path.c_str(), "rb");
-    if (!f) return fail(error, "cannot open " + who);
-    std::fclose(f);
-  }
+  // a regular file within the memory limit, before a process is started for it; a .msh file's
+  // header claims checked against its size and the memory limit before Gmsh allocates for them
+  const std::uintmax_t bound = r.memory_limit_bytes > 0 ? static_cast<std::uintmax_t>(r.memory_limit_bytes) : 0;
+  if (const std::string problem = input_file_problem(r.path, bound, kMemoryLimitBound); !problem.empty())
+    return fail(error, who + " " + problem);
+  if (!r.mesh_geometry && !check_msh_claims(r.path, who, r.memory_limit_bytes, error)) return false;
+  const pid_t parent = getpid();
   int fds[2];
   if (pipe2(fds, O_CLOEXEC) != 0) return fail(error, "cannot start Gmsh for " + who + ": no pipe");
   const pid_t pid = fork();
@@ -674,7 +1212,7 @@ bool read_with_gmsh(const GmshMeshRequest& r, ImportedSurface& out, std::string*
   }
   if (pid == 0) {
     close(fds[0]);
-    child_main(fds[1], r);
+    child_main(fds[1], r, parent);
   }
   close(fds[1]);
   std::string bytes;

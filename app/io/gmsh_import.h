@@ -10,11 +10,18 @@
 ///   reported with its signal;
 /// - a mesher that runs long is bounded: the child is killed at the time limit, or when the
 ///   stop flag (a signal) is set;
-/// - a .geo script is a program (it can Save files and run System commands): the child runs
-///   under a seccomp filter that refuses every write, create, delete, rename, exec and socket
-///   call, so a scene from a stranger cannot touch anything outside its output folder. Its
-///   memory is limited to the machine's limit (setrlimit), so a huge mesh fails in the child.
-/// The child sends the mesh back through a pipe; nothing is written to disk.
+/// - a .geo script is a program (it can Save files, run System commands, read files and the
+///   environment): the child runs under a seccomp filter that refuses every write, create,
+///   delete, rename, exec and socket call, so a scene from a stranger cannot touch anything
+///   outside its output folder; with an empty environment (GetEnv reads ""); and, where the
+///   kernel has Landlock (Linux 5.13+), reading only the file's folder and below and the loaded
+///   libraries' folders (else a note says what is not confined). Its memory is limited to the
+///   machine's limit (setrlimit), so a huge mesh fails in the child.
+/// The child dies with its parent (PR_SET_PDEATHSIG), and sends the mesh back through a pipe;
+/// nothing is written to disk. Before it starts, the parent refuses what is not a regular file
+/// or is larger than the memory limit (core/frame/input_file.h), and a .msh file whose $Nodes or
+/// $Elements header claims more than its bytes hold or the memory limit allows; geometry whose
+/// estimated mesh (area over size squared) exceeds request.most_nodes is refused before meshing.
 
 #include <atomic>
 #include <string>
@@ -33,10 +40,16 @@ struct GmshMeshRequest {
   double mesh_size = 0.0;
   /// a smaller size at the points of a named physical group (name, size)
   std::vector<std::pair<std::string, double>> group_sizes;
+  /// CAD: faces that touch without sharing an edge are joined first (OpenCASCADE's fragment of
+  /// every face against the others; the physical groups found again on the new entities)
+  bool join_touching_faces = true;
   /// a mesh file's triangles joined into quads by Gmsh's recombination (Blossom)
   bool recombine_triangles = false;
   double time_limit_seconds = 300.0;
   double memory_limit_bytes = 0.0;  ///< 0: no limit
+  /// geometry: the most nodes its mesh may have (0: no bound); an estimate above it (the surfaces'
+  /// area over the element size squared, before meshing) is refused
+  double most_nodes = 0.0;
   const std::atomic<bool>* stop = nullptr;
 };
 

@@ -13,4 +13,11 @@ namespace ff::io {
 /// 0 when none is known. An unparsable FLEXFRAME_MEMORY_LIMIT_GB sets *error and returns 0.
 double machine_memory_limit_bytes(std::string* error = nullptr);
 
+/// The bound a mesh or CAD file's size is checked against (ff::open_input_file, core/frame/input_file.h),
+/// for messages: a mesh takes more memory than its file, so a file larger than the memory limit
+/// cannot be read.
+inline constexpr const char* kMemoryLimitBound =
+    "of memory this machine allows (FLEXFRAME_MEMORY_LIMIT_GB, or the machine's own); a mesh takes more memory "
+    "than its file";
+
 }  // namespace ff::io

@@ -4,16 +4,19 @@
 #include "app/io/gmsh_import.h"
 #include "app/io/machine_memory.h"
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -24,8 +27,10 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
+#include "core/frame/input_file.h"
 #include "core/mesh/generators.h"
 #include "core/scene/mesh_file.h"
 
@@ -51,6 +56,9 @@ constexpr double kFoldAngle = 1e-5;
 constexpr double kLargestDirectorTiltBeyondTurn = 5.0;
 // and never more than this, whatever the turn: a director this far off is no shell's
 constexpr double kLargestDirectorTilt = 60.0;
+// A named group whose touching element edges are longer than this many times its part.local_sizes
+// is said loudly: its local size did not reach the mesh
+constexpr double kLocalSizeReachedWithin = 1.5;
 
 std::string g_text(double v) {
   std::ostringstream s;
@@ -399,18 +407,184 @@ void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& X_WP, 
   for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], X_WN, raw, all_normals, depth + 1);
 }
 
+// the size bound of every file a mesh import reads (0: none known)
+std::uintmax_t file_bound(double memory_limit) { return memory_limit > 0 ? static_cast<std::uintmax_t>(memory_limit) : 0; }
+
+// An STL file must end as its format requires: assimp reads what it can of a damaged one and says
+// nothing (an ASCII file cut inside facet 26 gave 26 triangles; one with random bytes inside facet 20, 20).
+// Binary: an 80-byte header, the triangle count n, and exactly 50 n bytes after it (the test by
+// which assimp tells binary from ASCII). ASCII: "solid name", then facets "facet normal x y z,
+// outer loop, vertex x y z three times, endloop, endfacet", then "endsolid" (then another solid,
+// or the end); nothing but text.
+class AsciiStl {
+ public:
+  AsciiStl(const std::string& bytes, const std::string& who) : b_(bytes), who_(who) {}
+
+  bool check(std::string* error) {
+    if (!keyword("solid") || !skip_line()) return fail(error, problem_);
+    while (true) {
+      const std::string_view t = token();
+      if (!problem_.empty()) return fail(error, problem_);
+      if (t == "facet") {
+        ++facet_;
+        if (!facet()) return fail(error, problem_);
+      } else if (t == "endsolid") {
+        if (!skip_line()) return fail(error, problem_);
+        ended_ = true;
+        const std::string_view next = token();
+        if (!problem_.empty()) return fail(error, problem_);
+        if (next.empty()) return true;
+        if (next != "solid" || !skip_line()) return fail(error, unexpected(next, "another 'solid' or the end of the file"));
+        ended_ = false;
+      } else {
+        return fail(error, unexpected(t, "'facet' or 'endsolid'"));
+      }
+    }
+  }
+
+ private:
+  static bool space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
+  static bool text(char c) { return space(c) || (static_cast<unsigned char>(c) >= 0x20 && static_cast<unsigned char>(c) < 0x7f); }
+
+  std::string place() const {
+    return "line " + std::to_string(line_) +
+           (inside_ ? ", inside facet " + std::to_string(facet_) : facet_ > 0 ? ", after facet " + std::to_string(facet_) : std::string());
+  }
+  bool not_text() {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned char>(b_[at_]));
+    problem_ = who_ + " " + place() + ": a byte that is not text (" + hex + "); an ASCII STL holds only text (the "
+               "file is damaged)";
+    return false;
+  }
+  // the next whitespace-separated word; "" at the end of the file (or with problem_ set)
+  std::string_view token() {
+    for (; at_ < b_.size() && space(b_[at_]); ++at_)
+      if (b_[at_] == '\n') ++line_;
+    const std::size_t start = at_;
+    for (; at_ < b_.size() && !space(b_[at_]); ++at_)
+      if (!text(b_[at_])) return not_text(), std::string_view();
+    return std::string_view(b_).substr(start, at_ - start);
+  }
+  // the rest of the line (a solid's name)
+  bool skip_line() {
+    for (; at_ < b_.size() && b_[at_] != '\n'; ++at_)
+      if (!text(b_[at_])) return not_text();
+    return true;
+  }
+  std::string unexpected(std::string_view found, const std::string& expected) {
+    if (!problem_.empty()) return problem_;
+    if (!ended_ && (found.empty() || at_ == b_.size())) {  // the end of the file, or a word the end cut
+      const std::string cut = found.empty() ? "" : ", in the middle of '" + std::string(found.substr(0, 40)) + "'";
+      return who_ + (inside_ ? " ends inside facet " + std::to_string(facet_) + " (line " + std::to_string(line_) + cut + ")"
+                             : " ends after facet " + std::to_string(facet_) + cut) +
+             " with no 'endsolid': the file was cut short";
+    }
+    return who_ + " " + place() + ": expected " + expected + ", found '" + std::string(found.substr(0, 40)) +
+           "' (the file is damaged)";
+  }
+  bool keyword(const char* word) {
+    const std::string_view t = token();
+    if (t == word) return true;
+    problem_ = unexpected(t, std::string("'") + word + "'");
+    return false;
+  }
+  bool number() {
+    const std::string_view t = token();
+    double x = 0;
+    std::string_view digits = !t.empty() && t.front() == '+' ? t.substr(1) : t;
+    const auto r = std::from_chars(digits.data(), digits.data() + digits.size(), x);
+    if (!t.empty() && (r.ec == std::errc() || r.ec == std::errc::result_out_of_range) && r.ptr == digits.data() + digits.size())
+      return true;
+    problem_ = unexpected(t, "a number");
+    return false;
+  }
+  bool facet() {
+    inside_ = true;
+    if (!keyword("normal") || !number() || !number() || !number() || !keyword("outer") || !keyword("loop")) return false;
+    for (int v = 0; v < 3; ++v)
+      if (!keyword("vertex") || !number() || !number() || !number()) return false;
+    if (!keyword("endloop") || !keyword("endfacet")) return false;
+    inside_ = false;
+    return true;
+  }
+
+  const std::string& b_;
+  const std::string& who_;
+  std::size_t at_ = 0;
+  int line_ = 1, facet_ = 0;
+  bool inside_ = false, ended_ = false;  // in a facet; after an endsolid
+  std::string problem_;
+};
+
+bool check_stl_structure(const std::string& path, const std::string& who, double memory_limit, std::string* error) {
+  std::string bytes, problem;
+  const std::uintmax_t bound = file_bound(memory_limit);  // none known: the file's own size
+  if (!read_input_file(path, &bytes, bound > 0 ? bound : std::numeric_limits<std::uintmax_t>::max(), kMemoryLimitBound,
+                       &problem))
+    return fail(error, who + " " + problem);
+  const std::size_t size = bytes.size();
+  std::uint32_t count = 0;
+  if (size >= 84) std::memcpy(&count, bytes.data() + 80, 4);  // little-endian, as the format and this machine
+  const std::uint64_t binary_size = 84 + 50 * static_cast<std::uint64_t>(count);
+  if (size >= 84 && binary_size == size) return true;
+  // ASCII when it starts "solid" and a facet or the end of the solid follows its first line
+  const std::size_t first = bytes.find_first_not_of(" \t\r\n");
+  const std::size_t eol = bytes.find('\n');
+  const std::size_t next = eol == std::string::npos ? std::string::npos : bytes.find_first_not_of(" \t\r\n", eol);
+  const bool ascii = first != std::string::npos && bytes.compare(first, 5, "solid") == 0 && next != std::string::npos &&
+                     (bytes.compare(next, 5, "facet") == 0 || bytes.compare(next, 8, "endsolid") == 0);
+  if (ascii) return AsciiStl(bytes, who).check(error);
+  if (size < 84)
+    return fail(error, who + " is " + std::to_string(size) + " bytes: too short for a binary STL (an 80-byte header and a "
+                             "4-byte triangle count), and not an ASCII STL (which begins 'solid', then 'facet')");
+  return fail(error, who + " is not a complete binary STL: its header counts " + std::to_string(count) +
+                         " triangles, which take 84 + 50 x " + std::to_string(count) + " = " +
+                         std::to_string(binary_size) + " bytes, but the file has " + std::to_string(size) +
+                         (size < binary_size ? " (cut short)" : " (other bytes follow them)") +
+                         "; nor is it an ASCII STL (which begins 'solid', then 'facet')");
+}
+
+// Every file assimp opens (the mesh, and any it names: a glTF's buffers) passes the input-file
+// check first: a regular file within the size bound. assimp's own Exists() opens the file, which
+// blocks on a FIFO: here it only asks whether the name exists.
+class CheckedFiles : public Assimp::DefaultIOSystem {
+ public:
+  explicit CheckedFiles(std::uintmax_t max_bytes) : max_bytes_(max_bytes) {}
+  bool Exists(const char* file) const override {
+    struct stat st {};
+    return ::stat(file, &st) == 0;
+  }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (std::strpbrk(mode, "wa+")) return nullptr;  // an importer writes nothing
+    if (std::string p = input_file_problem(file, max_bytes_, kMemoryLimitBound); !p.empty()) {
+      if (problem.empty()) problem = "'" + std::string(file) + "' " + p;
+      return nullptr;
+    }
+    return DefaultIOSystem::Open(file, mode);
+  }
+  std::string problem;  ///< the first file refused
+
+ private:
+  std::uintmax_t max_bytes_;
+};
+
 bool read_with_assimp(const std::string& path, const std::string& who, RawSurface& raw, double memory_limit,
                       std::string* error) {
   const std::string ext = lower_extension(path);
   if (ext == ".ply" && !check_ply_header(path, who, memory_limit, error)) return false;
+  if (ext == ".stl" && !check_stl_structure(path, who, memory_limit, error)) return false;
   // ValidateDataStructure: indices in range, counts consistent, before anything reads them.
   // PLY keeps its vertices as written; formats that store a vertex per face corner (STL, glTF
   // and the rest) get identical corners joined, as their files carry no vertex identity.
   unsigned flags = aiProcess_ValidateDataStructure;
   if (ext != ".ply") flags |= aiProcess_JoinIdenticalVertices;
   Assimp::Importer importer;
+  auto* files = new CheckedFiles(file_bound(memory_limit));
+  importer.SetIOHandler(files);  // the importer owns it
   const aiScene* scene = importer.ReadFile(path, flags);
-  if (!scene) return fail(error, "cannot read " + who + ": " + importer.GetErrorString());
+  if (!scene)
+    return fail(error, "cannot read " + who + ": " + (files->problem.empty() ? importer.GetErrorString() : files->problem));
   if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) return fail(error, who + " was read only partially (incomplete scene)");
   raw.format = ext == ".ply" ? "PLY" : ext.empty() ? "mesh" : ext.substr(1);
   bool all_normals = true;
@@ -499,12 +673,15 @@ void directors_from_file(const RawSurface& raw, ShellMesh& m) {
 }  // namespace
 
 bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* error, const MeshImportOptions& options,
-                       bool* weld_tolerance_at_fault) {
+                       bool* weld_tolerance_at_fault, std::vector<std::string>* warnings) {
   const std::string who = "mesh file '" + path + "'";
   if (weld_tolerance_at_fault) *weld_tolerance_at_fault = false;
   std::error_code ec;
   if (!fs::exists(path, ec)) return fail(error, who + " does not exist");
   if (fs::is_directory(path, ec)) return fail(error, who + " is a directory, not a mesh file");
+  if (const std::string problem = input_file_problem(path, file_bound(options.memory_limit_bytes), kMemoryLimitBound);
+      !problem.empty())
+    return fail(error, who + " " + problem);
   if (!(options.weld_tolerance >= 0) || !std::isfinite(options.weld_tolerance)) {
     if (weld_tolerance_at_fault) *weld_tolerance_at_fault = true;
     return fail(error, "the weld tolerance must be a finite length >= 0");
@@ -552,6 +729,7 @@ bool import_shell_mesh(const std::string& path, ShellMesh& out, std::string* err
     if (!ff::mesh::shell_mesh_from_surface(surface, convert, m, error, &report)) return false;
     m.patches[0].description = "imported from " + surface.file + " (" + raw.format + "; " + report.summary() +
                                (raw.corner_normals.empty() ? "" : "; the file's normals are not used for a split mesh") + ")";
+    if (warnings && !report.turned_warning().empty()) warnings->push_back("'" + surface.file + "': " + report.turned_warning());
     out = std::move(m);
     return true;
   }
@@ -713,15 +891,19 @@ ff::scene::SceneContext scene_context(const std::atomic<bool>* stop) {
   }
   ctx.memory_limit_bytes = machine_memory_limit_bytes();
   ctx.mesh_reader = [limit = ctx.memory_limit_bytes, stop](const ff::scene::MeshFileRequest& request, ShellMesh& out,
-                                                           ff::scene::MeshFileError* error) {
+                                                           ff::scene::MeshFileError* error,
+                                                           std::vector<std::string>* warnings) {
     // a scene's parts are read more than once (their size for the memory check, then the mesh,
     // and `check` loads twice): a file is read, and a CAD part meshed, once per process as long
-    // as it is unchanged on disk (its size and modification time)
+    // as it is unchanged on disk (its size and modification time). A refusal is kept too (a part
+    // stopped at part.mesh_time_limit took that limit at every read), except one by the stop flag.
     struct Cached {
       ff::scene::MeshFileRequest request;
       std::uintmax_t size;
       fs::file_time_type modified;
       ShellMesh mesh;
+      std::vector<std::string> warnings;
+      std::optional<ff::scene::MeshFileError> refusal;
     };
     static std::mutex mutex;
     static std::vector<Cached> cache;
@@ -733,25 +915,32 @@ ff::scene::SceneContext scene_context(const std::atomic<bool>* stop) {
       std::lock_guard<std::mutex> lock(mutex);
       for (const Cached& c : cache)
         if (c.request == request && c.size == size && c.modified == modified) {
+          if (c.refusal) {
+            if (error) *error = *c.refusal;
+            return false;
+          }
           out = c.mesh;
+          if (warnings) *warnings = c.warnings;
           return true;
         }
     }
     ff::scene::MeshFileError local;
     ff::scene::MeshFileError& e = error ? *error : local;
-    if (!read_mesh_file(request, out, e, limit, stop)) return false;
-    if (cacheable) {
+    std::vector<std::string> said;
+    const bool ok = read_mesh_file(request, out, e, limit, stop, &said);
+    if (cacheable && !(stop && stop->load())) {
       std::lock_guard<std::mutex> lock(mutex);
       if (cache.size() >= 4) cache.erase(cache.begin());  // a study's variants: a few meshes at a time
-      cache.push_back({request, size, modified, out});
+      cache.push_back({request, size, modified, ok ? out : ShellMesh(), said, ok ? std::nullopt : std::optional(e)});
     }
-    return true;
+    if (ok && warnings) *warnings = std::move(said);
+    return ok;
   };
   return ctx;
 }
 
 bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, ff::scene::MeshFileError& error,
-                    double memory_limit_bytes, const std::atomic<bool>* stop) {
+                    double memory_limit_bytes, const std::atomic<bool>* stop, std::vector<std::string>* warnings) {
   const std::string ext = lower_extension(request.path);
   const std::string name = fs::path(request.path).filename().string();
   const bool gmsh = gmsh_reads(request.path), geometry = gmsh_is_geometry(request.path);
@@ -783,28 +972,78 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
     return refuse("part.weld_tolerance", "part.weld_tolerance joins the loose vertices of OBJ and PLY files; '" + name +
                                              "' numbers its nodes, and elements that share a node share it already");
 
-  ff::mesh::ImportedSurface surface;
-  if (ext == ".inp") {
-    std::string why;
-    if (!read_abaqus_inp(request.path, surface, &why, memory_limit_bytes)) return refuse("part.file", why);
-    surface.file = name;
-  } else if (by_gmsh) {
-    GmshMeshRequest g;
-    g.path = request.path;
-    g.mesh_geometry = geometry;
-    g.mesh_size = request.mesh_size;
-    for (std::size_t k = 0; k < request.local_size_groups.size() && k < request.local_sizes.size(); ++k)
-      g.group_sizes.emplace_back(request.local_size_groups[k], request.local_sizes[k]);
-    g.recombine_triangles = request.triangles == "recombine";
-    g.time_limit_seconds = request.time_limit_seconds;
-    g.memory_limit_bytes = memory_limit_bytes;
-    g.stop = stop;
-    std::string why;
-    if (!read_with_gmsh(g, surface, &why)) {
-      // a group size naming no group is the scene's key, not the file
-      return refuse(why.find("part.local_size_groups") != std::string::npos || why.find("group_sizes") != std::string::npos
-                        ? "part.local_size_groups" : "part.file", why);
+  ShellMesh m;
+  std::vector<std::string> said;
+  if (ext == ".inp" || by_gmsh) {
+    ff::mesh::ImportedSurface surface;
+    if (ext == ".inp") {
+      std::string why;
+      if (!read_abaqus_inp(request.path, surface, &why, memory_limit_bytes)) return refuse("part.file", why);
+      surface.file = name;
+    } else {
+      GmshMeshRequest g;
+      g.path = request.path;
+      g.mesh_geometry = geometry;
+      g.mesh_size = request.mesh_size;
+      for (std::size_t k = 0; k < request.local_size_groups.size() && k < request.local_sizes.size(); ++k)
+        g.group_sizes.emplace_back(request.local_size_groups[k], request.local_sizes[k]);
+      g.recombine_triangles = request.triangles == "recombine";
+      g.join_touching_faces = !request.keep_faces_apart;
+      g.time_limit_seconds = request.time_limit_seconds;
+      g.memory_limit_bytes = memory_limit_bytes;
+      g.most_nodes = request.most_nodes;
+      g.stop = stop;
+      std::string why;
+      if (!read_with_gmsh(g, surface, &why)) {
+        // a group size naming no group, a size the script's bounds refuse, or a mesh size too fine
+        // for the memory, is the scene's key
+        return refuse(why.find("part.local_sizes") != std::string::npos         ? "part.local_sizes"
+                      : why.find("part.local_size_groups") != std::string::npos ? "part.local_size_groups"
+                      : why.find("raise part.mesh_size") != std::string::npos && request.mesh_size > 0 ? "part.mesh_size"
+                                                                                 : "part.file",
+                      why);
+      }
     }
+    ff::mesh::SurfaceConversionOptions convert;
+    convert.triangles = request.triangles == "refuse" ? ff::mesh::TriangleHandling::refuse : ff::mesh::TriangleHandling::split;
+    convert.crease_angle_deg = request.crease_angle_deg;
+    convert.patch_name = request.group.empty() ? fs::path(request.path).stem().string() : request.group;
+    convert.only_group = request.group;
+    ff::mesh::SurfaceConversionReport report;
+    std::string why;
+    if (!ff::mesh::shell_mesh_from_surface(surface, convert, m, &why, &report)) {
+      const bool group_at_fault = !request.group.empty() && why.find("no surface group called") != std::string::npos;
+      const bool triangles_at_fault = why.find("part.triangles") != std::string::npos;
+      return refuse(group_at_fault ? "part.group" : triangles_at_fault ? "part.triangles" : "part.file",
+                    "mesh file '" + request.path + "': " + why);
+    }
+    if (!report.turned_warning().empty()) said.push_back("'" + name + "': " + report.turned_warning());
+    std::string notes;
+    for (const std::string& n : surface.notes) notes += "; " + n;
+    // what the mesh reached, measured on it: the mean element edge, and at each group given a
+    // local size the edges that touch it (the script's own settings or a field may win there)
+    if (geometry) {
+      notes += "; element edges " + g_text(ff::mesh::mean_edge_length(m)) + " long on average";
+      for (std::size_t k = 0; k < request.local_size_groups.size() && k < request.local_sizes.size(); ++k) {
+        const int at = m.find_group(request.local_size_groups[k]);
+        if (at < 0) continue;  // a group of another part cut from the same file
+        int edges = 0;
+        const double reached = ff::mesh::mean_edge_length(m, &m.groups[static_cast<std::size_t>(at)], &edges);
+        const std::string& group = request.local_size_groups[k];
+        const double asked = request.local_sizes[k];
+        notes += "; at '" + group + "' " + g_text(reached) + " (asked " + g_text(asked) + "; the mean of the " +
+                 std::to_string(edges) + " element edges that touch it)";
+        if (reached > kLocalSizeReachedWithin * asked)
+          said.push_back("'" + name + "': the element edges that touch group '" + group + "' are " + g_text(reached) +
+                         " long on average, not the " + g_text(asked) + " part.local_sizes asks: the file's own "
+                         "settings (a transfinite curve, a field) or the group's geometry set the size there");
+      }
+    }
+    std::string groups;
+    for (const ff::mesh::MeshGroup& grp : m.groups) groups += (groups.empty() ? "" : ", ") + grp.name;
+    m.patches[0].description = "imported from " + surface.file + " (" + surface.format + notes + "; " + report.summary() +
+                               "; " + std::to_string(m.node_count()) + " nodes" +
+                               (groups.empty() ? std::string("; no named groups") : "; named groups: " + groups) + ")";
   } else {
     MeshImportOptions options;
     options.weld_tolerance = request.weld_tolerance;
@@ -812,32 +1051,40 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
     options.triangles = request.triangles == "refuse" ? ff::mesh::TriangleHandling::refuse : ff::mesh::TriangleHandling::split;
     options.crease_angle_deg = request.crease_angle_deg;
     bool tolerance_at_fault = false;
-    const bool ok = import_shell_mesh(request.path, out, &error.message, options, &tolerance_at_fault);
-    if (!ok && tolerance_at_fault) error.key = "part.weld_tolerance";
-    return ok;
+    if (!import_shell_mesh(request.path, m, &error.message, options, &tolerance_at_fault, &said)) {
+      if (tolerance_at_fault) error.key = "part.weld_tolerance";
+      return false;
+    }
   }
-  ff::mesh::SurfaceConversionOptions convert;
-  convert.triangles = request.triangles == "refuse" ? ff::mesh::TriangleHandling::refuse : ff::mesh::TriangleHandling::split;
-  convert.crease_angle_deg = request.crease_angle_deg;
-  convert.patch_name = request.group.empty() ? fs::path(request.path).stem().string() : request.group;
-  convert.only_group = request.group;
-  ff::mesh::SurfaceConversionReport report;
-  ShellMesh m;
-  std::string why;
-  if (!ff::mesh::shell_mesh_from_surface(surface, convert, m, &why, &report)) {
-    const bool group_at_fault = !request.group.empty() && why.find("no surface group called") != std::string::npos;
-    const bool triangles_at_fault = why.find("part.triangles") != std::string::npos;
-    return refuse(group_at_fault ? "part.group" : triangles_at_fault ? "part.triangles" : "part.file",
-                  "mesh file '" + request.path + "': " + why);
+  // faces that touch without sharing their nodes compute as pieces apart: refused unless the scene
+  // says they are meant to be (a slit, a lap that is not bonded)
+  const ff::mesh::UnjoinedContacts contacts = ff::mesh::find_unjoined_contacts(m);
+  if (contacts.nodes > 0) {
+    const Eigen::Vector3d& x = m.points[static_cast<std::size_t>(contacts.first_node)];
+    const std::string where = std::to_string(contacts.nodes) + " boundary nodes lie on elements they are not joined "
+                              "to (the first at [" + g_text(x.x()) + ", " + g_text(x.y()) + ", " + g_text(x.z()) + "])";
+    if (!request.keep_faces_apart)
+      return refuse("part.file",
+                    "mesh file '" + request.path + "': its faces touch without being joined: " + where +
+                        ", so the shell would come apart there (faces side by side, each with its own row of nodes; a "
+                        "stiffener whose foot does not share the nodes of the face it stands on). " +
+                        (ext == ".geo" ? "FlexFrame joins the touching faces of OpenCASCADE geometry, not those of "
+                                         "Gmsh's built-in kernel: join them in the script (Coherence for faces side by side, "
+                                         "Curve{...} In Surface{...} for a foot on a face), or build it with "
+                                         "SetFactory(\"OpenCASCADE\")"
+                         : geometry ? "FlexFrame joined the touching CAD faces it found, and these still touch: check "
+                                      "the CAD model"
+                         : by_gmsh || ext == ".inp"
+                             ? "Join them in the file (in Gmsh, before meshing: BooleanFragments of OpenCASCADE "
+                               "geometry, Coherence of the built-in kernel's)"
+                             : "Give part.weld_tolerance to join vertices at one place, or join them in the file") +
+                        "; or set part.keep_faces_apart = true if they are meant to be apart (a slit, a lap that is not "
+                        "bonded)");
+    m.patches[0].description.insert(m.patches[0].description.size() - 1,
+                                    "; faces kept apart where they touch (part.keep_faces_apart): " + where);
   }
-  std::string notes;
-  for (const std::string& n : surface.notes) notes += "; " + n;
-  std::string groups;
-  for (const ff::mesh::MeshGroup& grp : m.groups) groups += (groups.empty() ? "" : ", ") + grp.name;
-  m.patches[0].description = "imported from " + surface.file + " (" + surface.format + notes + "; " + report.summary() +
-                             "; " + std::to_string(m.node_count()) + " nodes" +
-                             (groups.empty() ? std::string("; no named groups") : "; named groups: " + groups) + ")";
   out = std::move(m);
+  if (warnings) *warnings = std::move(said);
   return true;
 }
 

@@ -27,6 +27,7 @@
 
 #include <atomic>
 #include <string>
+#include <vector>
 
 #include "core/mesh/imported_surface.h"
 #include "core/mesh/shell_mesh.h"
@@ -60,8 +61,11 @@ struct MeshImportOptions {
 /// deg beyond the turn of the file's normals across that quad, or by more than 60 deg, is
 /// refused (face, corner, node and angle named); the patch description records the largest tilt. *weld_tolerance_at_fault (when given) says that options.weld_tolerance, not the file,
 /// is what was refused.
+/// *warnings (when given) receives what the user must hear of a mesh that was read (a piece of
+/// which a quarter or more was turned to agree with the rest).
 bool import_shell_mesh(const std::string& path, ff::mesh::ShellMesh& out, std::string* error,
-                       const MeshImportOptions& options = {}, bool* weld_tolerance_at_fault = nullptr);
+                       const MeshImportOptions& options = {}, bool* weld_tolerance_at_fault = nullptr,
+                       std::vector<std::string>* warnings = nullptr);
 
 /// What the app passes to every scene load: import_shell_mesh (default options, the machine's memory
 /// limit) as the reader for scenes with mesh.generator = "file" (core/scene/mesh_file.h), and the
@@ -71,10 +75,15 @@ ff::scene::SceneContext scene_context(const std::atomic<bool>* stop = nullptr);
 
 /// Reads the mesh a scene part asks for (core/scene/mesh_file.h), whatever its format: .msh and CAD
 /// (STEP, IGES, BREP, .geo) through Gmsh (gmsh_import.h), Abaqus .inp, OBJ/PLY/STL through
-/// import_shell_mesh; triangles as the request says; named groups kept. On failure, error says
-/// why and which part.* key is at fault.
+/// import_shell_mesh; triangles as the request says; named groups kept. A surface that touches
+/// itself without being joined there (ff::mesh::find_unjoined_contacts: faces side by side with a
+/// row of nodes each, a stiffener's foot not joined to its face) is refused at part.file unless
+/// request.keep_faces_apart. On failure, error says why and which part.* key is at fault. What
+/// the user must hear of a mesh that was read goes into *warnings (a piece of which a quarter or
+/// more was turned to agree with the rest, a named group meshed far coarser than its local size).
 bool read_mesh_file(const ff::scene::MeshFileRequest& request, ff::mesh::ShellMesh& out, ff::scene::MeshFileError& error,
-                    double memory_limit_bytes = 0.0, const std::atomic<bool>* stop = nullptr);
+                    double memory_limit_bytes = 0.0, const std::atomic<bool>* stop = nullptr,
+                    std::vector<std::string>* warnings = nullptr);
 
 /// Writes points and quads as Wavefront OBJ (1-based "f a b c d", 17 significant digits); with
 /// `normals`, every quad corner's director as a vn record ("f a//i b//j ...").

@@ -14,6 +14,7 @@
 #include "app/io/h5_util.h"
 #include "app/io/results.h"
 #include "app/io/results_names.h"
+#include "core/frame/input_file.h"
 
 namespace ff::io {
 
@@ -216,6 +217,8 @@ void ResultReader::Impl::load_all() {
   h5::Handle field_group = h5::open_group(f, names::kFields);
   info.fields = read_quantities(field_group.get());
   for (const Quantity& q : info.fields) fields.push_back(h5::open_dataset(field_group.get(), q.name));
+  if (const std::string why = file_names_problem(info); !why.empty())
+    throw h5::Failure(why + " (flexframe never writes such a file)");
 
   // complete frames: frames_written of the last flush, never more than any data set holds
   std::vector<const h5::Handle*> all{&time, &step, &load, &points, &base_points, &dt, &iterations,
@@ -613,6 +616,8 @@ std::unique_ptr<ResultReader> ResultReader::open(const std::string& path, std::s
   auto st = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(st)) return set("no such file");
   if (std::filesystem::is_directory(st)) return set("it is a directory");
+  // a regular file (HDF5 reads it in parts, as it needs them: no size bound)
+  if (const std::string problem = input_file_problem(path, 0, ""); !problem.empty()) return set("it " + problem);
   if (H5Fis_hdf5(path.c_str()) <= 0) {
     // H5Fis_hdf5 also fails on unreadable files: say which
     if (!std::ifstream(path, std::ios::binary)) return set("the file cannot be read (permissions?)");

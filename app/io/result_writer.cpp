@@ -20,6 +20,8 @@
 #include "app/io/h5_util.h"
 #include "app/io/results.h"
 #include "app/io/results_names.h"
+#include "core/frame/file_name.h"
+#include "core/frame/output_file.h"
 
 namespace ff::io {
 
@@ -103,7 +105,8 @@ std::string check_names(const std::vector<Quantity>& quantities, const char* kin
   for (const auto& q : quantities) {
     if (q.name.empty()) return std::string(kind) + " with an empty name";
     if (q.name.find('/') != std::string::npos || q.name == "." || q.name == "..") {
-      return std::string(kind) + " name '" + q.name + "' is not a valid data set name (contains '/')";
+      return std::string(kind) + " name '" + q.name + "' is not a valid data set name" +
+             (q.name.find('/') != std::string::npos ? " (contains '/')" : "");
     }
     if (!seen.insert(q.name).second) return std::string(kind) + " name '" + q.name + "' is repeated";
   }
@@ -125,6 +128,20 @@ std::string check_indices(const std::vector<std::int32_t>& indices, std::size_t 
   return {};
 }
 
+}  // namespace
+
+std::string file_names_problem(const RunInfo& info) {
+  if (!info.scene_name.empty())
+    if (const std::string why = file_name_problem(info.scene_name); !why.empty())
+      return "the scene name '" + info.scene_name + "' " + why + ", so it cannot name an output file";
+  for (const Quantity& q : info.probes)
+    if (const std::string why = file_name_problem(q.name); !why.empty())
+      return "the probe name '" + q.name + "' " + why + ", so it cannot name its plot file";
+  return "";
+}
+
+namespace {
+
 std::string validate(const RunInfo& info) {
   const FrameMesh& m = info.mesh;
   if (m.reference_points.size() % 3 != 0) {
@@ -135,7 +152,8 @@ std::string validate(const RunInfo& info) {
   for (const std::string& e : {check_indices(m.lines, 2, n, "lines"),
                                check_indices(m.triangles, 3, n, "triangles"),
                                check_indices(m.quads, 4, n, "quads"),
-                               check_names(info.probes, "probe"), check_names(info.fields, "field")}) {
+                               check_names(info.probes, "probe"), check_names(info.fields, "field"),
+                               file_names_problem(info)}) {
     if (!e.empty()) return e;
   }
   for (const auto& [key, value] : info.settings) {
@@ -147,7 +165,7 @@ std::string validate(const RunInfo& info) {
 // H5Fcreate(H5F_ACC_TRUNC) truncates before it takes HDF5's flock, so a second run started
 // on the same path would wipe the live file of the first. Probe the lock first.
 std::string locked_by_another_process(const std::string& path) {
-  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
   if (fd < 0) return {};  // absent (or unreadable: H5Fcreate will say why)
   std::string why;
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
@@ -159,6 +177,50 @@ std::string locked_by_another_process(const std::string& path) {
   }
   ::close(fd);
   return why;
+}
+
+}  // namespace
+
+namespace {
+
+// An upper bound of the bytes create() writes: the run description (mesh, scene text, names and
+// settings) and, per data set it creates, its object header and first index node.
+std::uint64_t run_info_bytes_bound(const RunInfo& info) {
+  constexpr std::uint64_t kPerObjectBytes = 4096;
+  const FrameMesh& m = info.mesh;
+  std::uint64_t bytes = 8 * m.reference_points.size() + 4 * (m.lines.size() + m.triangles.size() + m.quads.size()) +
+                        info.scene_text.size() + info.scene_name.size() + info.scene_path.size();
+  for (const auto& [key, value] : info.settings) bytes += key.size() + value.size() + 64;
+  std::uint64_t objects = 32 + info.effects.size();  // groups, fixed columns, the step log
+  for (const std::vector<Quantity>* qs : {&info.probes, &info.fields}) {
+    objects += qs->size();
+    for (const Quantity& q : *qs) bytes += q.name.size() + q.unit.size() + q.label.size();
+  }
+  return bytes + objects * kPerObjectBytes + kMetadataMarginBytes;
+}
+
+// How the writer opens its file (created or amended): locked against a second writer, but working
+// on file systems without flock; closing the file closes whatever is still open in it, so a failed
+// write never leaves objects for HDF5's exit handler to close after the file has gone
+h5::Handle writer_file_access() {
+  h5::Handle fapl(h5::check_id(H5Pcreate(H5P_FILE_ACCESS), "file access properties"));
+#if H5_VERSION_GE(1, 10, 7)
+  h5::check(H5Pset_file_locking(fapl.get(), 1, 1), "file access properties");
+#endif
+  h5::check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), "file access properties");
+  return fapl;
+}
+
+// "disk full: ..." when the folder of `path` has less room than create() may need, or ""
+std::string room_for_run_info(const std::string& path, const RunInfo& info) {
+  const std::uint64_t need = run_info_bytes_bound(info);
+  struct statvfs disk {};
+  const std::string folder = std::filesystem::path(path).parent_path().string();
+  if (::statvfs(folder.empty() ? "." : folder.c_str(), &disk) != 0) return "";  // H5Fcreate says why
+  const std::uint64_t free_bytes = static_cast<std::uint64_t>(disk.f_bavail) * disk.f_frsize;
+  if (free_bytes >= need) return "";
+  return "disk full: " + std::to_string(free_bytes / 1024) + " KiB free, the run's description (its mesh and scene) "
+         "needs up to " + std::to_string(need / 1024) + " KiB; nothing was written";
 }
 
 }  // namespace
@@ -453,19 +515,23 @@ std::unique_ptr<ResultWriter> ResultWriter::create(const std::string& path, cons
     if (error) *error = prefix + why;
     return nullptr;
   }
+  // HDF5 opens by name and would follow a link: what is there must be a file of its own
+  if (std::string why = output_entry_problem(path); !why.empty()) {
+    if (error) *error = prefix + why + "; nothing was written through it";
+    return nullptr;
+  }
   if (std::string why = locked_by_another_process(path); !why.empty()) {
     if (error) *error = prefix + why;
     return nullptr;
   }
+  // the same rule as every flush (flush_or_throw): what might not fit is not handed to HDF5, which
+  // cannot drop what it failed to write (a file it could not create crashed its exit handler)
+  if (std::string why = room_for_run_info(path, info); !why.empty()) {
+    if (error) *error = prefix + why;
+    return nullptr;
+  }
   try {
-    h5::Handle fapl(h5::check_id(H5Pcreate(H5P_FILE_ACCESS), "file access properties"));
-    // lock against a second writer, but work on file systems without flock
-#if H5_VERSION_GE(1, 10, 7)
-    h5::check(H5Pset_file_locking(fapl.get(), 1, 1), "file access properties");
-#endif
-    // closing the file closes whatever is still open in it, so a failed write never leaves
-    // objects for HDF5's exit handler to close after the file has gone
-    h5::check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), "file access properties");
+    const h5::Handle fapl = writer_file_access();
     impl->file = h5::Handle(
         h5::check_id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), ""));
     impl->write_run_info(info);
@@ -669,8 +735,12 @@ bool ResultWriter::finish(const RunOutcome& outcome,
       h5::write_attr_double(m.metrics_group.get(), name, value);
     }
     hid_t o = m.outcome_group.get();
-    h5::write_attr_string(o, "status", to_string(outcome.status));
-    h5::write_attr_string(o, "reason", outcome.reason);
+    // frames that could not be stored make the run failed, in the file as in summary.json
+    const bool lost_frames = !flush_failure.empty() && outcome.status != RunStatus::failed;
+    h5::write_attr_string(o, "status", to_string(lost_frames ? RunStatus::failed : outcome.status));
+    h5::write_attr_string(o, "reason", lost_frames ? "an output could not be written: results.h5: " + flush_failure +
+                                                         " (the frames after the last flush are not stored)"
+                                                   : outcome.reason);
     h5::write_attr_double(o, "stop_time", outcome.stop_time);
     h5::write_attr_int64(o, "steps", outcome.steps);
     if (outcome.cutbacks >= 0) h5::write_attr_int64(o, "cutbacks", outcome.cutbacks);
@@ -709,6 +779,24 @@ bool ResultWriter::finish(const RunOutcome& outcome,
   }
   if (!skipped.empty()) {
     if (error) *error = m.prefix() + skipped;
+    return false;
+  }
+  return true;
+}
+
+bool amend_outcome(const std::string& path, const RunOutcome& outcome, std::string* error) {
+  h5::Quiet quiet;
+  try {
+    const h5::Handle fapl = writer_file_access();
+    h5::Handle file(h5::check_id(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), "open"));
+    {
+      h5::Handle o = h5::open_group(file.get(), names::kOutcome);
+      h5::write_attr_string(o.get(), "status", to_string(outcome.status));
+      h5::write_attr_string(o.get(), "reason", outcome.reason);
+    }
+    h5::check(H5Fclose(file.release()), "close");
+  } catch (const h5::Failure& e) {
+    if (error) *error = "cannot update the outcome of results file '" + path + "': " + e.what();
     return false;
   }
   return true;

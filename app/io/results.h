@@ -21,6 +21,12 @@
 
 namespace ff::io {
 
+/// Why a name in `info` that outputs turn into a file name cannot be one (core/frame/file_name.h),
+/// or "": the scene name (export/<name>.pvd) and every probe name (plots/<name>.png). The writer
+/// refuses such a run before it writes, and the reader refuses such a file, so that a results
+/// file from someone else cannot point `replay` or `compare` at a path outside --out.
+std::string file_names_problem(const RunInfo& info);
+
 /// Writes one run to an HDF5 file. Not copyable; use from one thread at a time.
 class ResultWriter {
  public:
@@ -80,6 +86,12 @@ class ResultWriter {
   explicit ResultWriter(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
+
+/// Rewrites the status and reason of a finished results file's outcome, when what the run did
+/// after finish() (drawing frames and plots, the movie, exports, the mode pictures) changed its
+/// verdict: a Ctrl-C or a full disk then, so that results.h5 and summary.json say one outcome.
+/// Returns false with *error (naming the path and HDF5's reason) when the file cannot be updated.
+bool amend_outcome(const std::string& path, const RunOutcome& outcome, std::string* error);
 
 /// Reads a results file written by ResultWriter (finished, interrupted or killed).
 /// Everything constant (info, outcome, metrics, attributes) is read by open(); frame data is

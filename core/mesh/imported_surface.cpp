@@ -38,7 +38,83 @@ Vec3 vector_area(const std::vector<Vec3>& x, const std::array<int, 4>& n, int k)
 
 double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
+// distance from p to the triangle (a, b, c): the closest point by the region p projects into
+// (Voronoi regions of the vertices, edges and face; e.g. Ericson, Real-Time Collision Detection, 5.1.5)
+double distance_to_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return ap.norm();
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return bp.norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return cp.norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
+  const double denom = 1.0 / (va + vb + vc);
+  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
+}
+
 }  // namespace
+
+// (S9)
+UnjoinedContacts find_unjoined_contacts(const ShellMesh& m) {
+  UnjoinedContacts out;
+  const int nq = m.quad_count(), nn = m.node_count();
+  if (nq == 0) return out;
+  const double tol = 1e-6 * min_edge_length(m);
+  std::map<std::pair<int, int>, int> edge_uses;
+  double total = 0.0;
+  for (const auto& q : m.quads)
+    for (int k = 0; k < 4; ++k) {
+      ++edge_uses[edge_key(q[k], q[(k + 1) % 4])];
+      total += (m.points[q[(k + 1) % 4]] - m.points[q[k]]).norm();
+    }
+  std::vector<char> boundary(static_cast<std::size_t>(nn), 0);
+  for (const auto& [edge, uses] : edge_uses)
+    if (uses == 1) boundary[edge.first] = boundary[edge.second] = 1;
+  // every quad in each cell its box (grown by tol) touches; cells of about an element's size, and
+  // at least an eighth of the longest edge so that no quad spans more than a few cells
+  const double cell = std::max({total / (4.0 * nq), max_edge_length(m) / 8.0, 1e-300});
+  Vec3 lo = m.points[0];
+  for (const Vec3& x : m.points) lo = lo.cwiseMin(x);
+  const auto cell_of = [&](const Vec3& x) {
+    return std::array<long long, 3>{static_cast<long long>(std::floor((x.x() - lo.x()) / cell)),
+                                    static_cast<long long>(std::floor((x.y() - lo.y()) / cell)),
+                                    static_cast<long long>(std::floor((x.z() - lo.z()) / cell))};
+  };
+  std::map<std::array<long long, 3>, std::vector<int>> grid;
+  for (int q = 0; q < nq; ++q) {
+    Vec3 a = m.points[m.quads[q][0]], b = a;
+    for (int k : m.quads[q]) a = a.cwiseMin(m.points[k]), b = b.cwiseMax(m.points[k]);
+    const auto c0 = cell_of(a - Vec3::Constant(tol)), c1 = cell_of(b + Vec3::Constant(tol));
+    for (long long i = c0[0]; i <= c1[0]; ++i)
+      for (long long j = c0[1]; j <= c1[1]; ++j)
+        for (long long k = c0[2]; k <= c1[2]; ++k) grid[{i, j, k}].push_back(q);
+  }
+  for (int I = 0; I < nn; ++I) {
+    if (!boundary[I]) continue;
+    const auto it = grid.find(cell_of(m.points[I]));
+    if (it == grid.end()) continue;
+    for (int q : it->second) {
+      const auto& c = m.quads[q];
+      if (std::find(c.begin(), c.end(), I) != c.end()) continue;
+      const Vec3& x = m.points[I];
+      const double d = std::min(distance_to_triangle(x, m.points[c[0]], m.points[c[1]], m.points[c[2]]),
+                                distance_to_triangle(x, m.points[c[0]], m.points[c[2]], m.points[c[3]]));
+      if (d > tol) continue;
+      if (out.nodes == 0) out.first_node = I, out.first_quad = q;
+      ++out.nodes;
+      break;
+    }
+  }
+  return out;
+}
 
 std::string SurfaceConversionReport::summary() const {
   std::ostringstream s;
@@ -47,14 +123,24 @@ std::string SurfaceConversionReport::summary() const {
       << " split into " << quads_out << " quads" << (quads_split ? " (a mixed mesh: every quad into four, so it stays conforming)" : "");
   else
     s << quads_out << " quads as read";
-  if (flipped > 0) s << "; " << flipped << " elements turned to agree with their neighbours";
+  if (flipped > 0) {
+    s << "; " << flipped << " quads turned to agree with their neighbours (";
+    if (turned_share >= kLoudTurnedShare) s << "WARNING: ";
+    s << std::lround(100.0 * turned_share) << " % of the area of a piece; each piece keeps the side most of its area "
+      << "was wound to)";
+  }
   s << "; directors " << (exact_normals ? "from the surface's own normals" : "averaged over each smooth piece");
+  if (junction_edges > 0) s << "; " << junction_edges << " element edges where three or more faces meet (a T: fold nodes there)";
   if (folds > 0) s << "; " << folds << " fold nodes (6 DoF) where pieces meet at a crease";
-  if (coincident_unshared > 0)
-    s << "; WARNING: at " << coincident_unshared << " places two boundary nodes coincide without being one node, "
-      << "so the surfaces are not connected there (a slit; or faces meshed apart: join them in the CAD "
-         "model, e.g. Gmsh's BooleanFragments or Coherence)";
   return s.str();
+}
+
+std::string SurfaceConversionReport::turned_warning() const {
+  if (flipped == 0 || turned_share < kLoudTurnedShare) return {};
+  return std::to_string(flipped) + " quads, " + std::to_string(std::lround(100.0 * turned_share)) +
+         " % of the area of one piece of the surface, were wound the other way and were turned to agree with their "
+         "neighbours: the piece's directors face the side most of its area was wound to, and a pressure pushes along "
+         "them; if that is the wrong side, set part.flip_director = true";
 }
 
 bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionOptions& options, ShellMesh& out,
@@ -165,20 +251,20 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
         if (!v.allFinite() || !(v.norm() > 0.5))
           return fail(error, file + ": the mesher gave a zero or non-finite surface normal");
 
-  // ---- orientation: one side for the whole surface --------------------------------------------
+  // ---- (S7)-(S8) orientation: each piece on the side most of its area was wound to -------------
   ShellMesh m;
   m.points = points;
   m.quads = qs;
   std::string why;
   ShellMesh oriented = m;
-  if (!orient_consistently(oriented, &why))
+  OrientationOptions orientation;
+  orientation.junction_edges = true;  // a T of faces: the faces that continue each other agree
+  orientation.continuation_angle_deg = options.crease_angle_deg;
+  OrientationReport turned;
+  if (!orient_consistently(oriented, &why, orientation, &turned))
     return fail(error, file + ": " + why + " (numbers: quads in the order made from the file's elements)");
-  int flipped = 0;
   for (std::size_t q = 0; q < qs.size(); ++q)
-    if (oriented.quads[q] != qs[q]) {
-      ++flipped;
-      std::swap(exact_normals[q][1], exact_normals[q][3]);
-    }
+    if (oriented.quads[q] != qs[q]) std::swap(exact_normals[q][1], exact_normals[q][3]);
   m.quads = std::move(oriented.quads);
 
   // drop nodes no quad uses (a group's part of the file, or stray file nodes), number by first use
@@ -196,6 +282,14 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
   m.corner_normals.assign(nq, {});
   m.normals.assign(nn, Vec3::Zero());
   m.fold.assign(nn, 0);
+  // (S5) the nodes of an edge where three or more faces meet (a T) are fold nodes, whatever
+  // their directors
+  std::map<std::pair<int, int>, int> edge_uses;
+  for (const auto& q : m.quads)
+    for (int k = 0; k < 4; ++k) ++edge_uses[edge_key(q[k], q[(k + 1) % 4])];
+  int junction_edges = 0;
+  for (const auto& [edge, uses] : edge_uses)
+    if (uses > 2) ++junction_edges, m.fold[edge.first] = m.fold[edge.second] = 1;
   if (exact) {
     // the surface's own normal, turned to the quad's side; a node whose corners disagree lies on
     // a crease between CAD faces: a fold node, each quad keeping its face's normal
@@ -348,7 +442,9 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
     m.groups.push_back(std::move(out_group));
   }
 
-  const MeshCheck check = validate(m);
+  // an edge of three or more quads is a T the orientation above joined, not an error here
+  MeshCheck check = validate(m);
+  std::erase_if(check.issues, [](const MeshIssue& i) { return i.kind == IssueKind::non_manifold_edge; });
   if (!check.ok()) {
     std::string summary = check.summary();
     if (!summary.empty() && summary.back() == '\n') summary.pop_back();
@@ -356,42 +452,14 @@ bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionO
                               "nodes in order of first use):\n" + summary);
   }
   if (report) {
-    // boundary nodes that coincide without being one node: a hash grid of cell 1e-9 x the extent
-    std::map<std::pair<int, int>, int> edge_uses;
-    for (const auto& q : m.quads)
-      for (int k = 0; k < 4; ++k) ++edge_uses[edge_key(q[k], q[(k + 1) % 4])];
-    std::vector<char> boundary(nn, 0);
-    for (const auto& [edge, uses] : edge_uses)
-      if (uses == 1) boundary[edge.first] = boundary[edge.second] = 1;
-    Vec3 lo = m.points[0], hi = lo;
-    for (const Vec3& x : m.points) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-    const double cell = std::max(1e-9 * (hi - lo).norm(), 1e-300);
-    std::map<std::array<long long, 3>, std::vector<int>> grid;
-    int coincident = 0;
-    for (int I = 0; I < nn; ++I) {
-      if (!boundary[I]) continue;
-      const std::array<long long, 3> c{static_cast<long long>(std::floor((m.points[I].x() - lo.x()) / cell)),
-                                       static_cast<long long>(std::floor((m.points[I].y() - lo.y()) / cell)),
-                                       static_cast<long long>(std::floor((m.points[I].z() - lo.z()) / cell))};
-      bool found = false;
-      for (long long dx = -1; dx <= 1 && !found; ++dx)
-        for (long long dy = -1; dy <= 1 && !found; ++dy)
-          for (long long dz = -1; dz <= 1 && !found; ++dz) {
-            const auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
-            if (it == grid.end()) continue;
-            for (int J : it->second)
-              if ((m.points[I] - m.points[J]).norm() <= cell) found = true;
-          }
-      coincident += found;
-      grid[c].push_back(I);
-    }
-    report->coincident_unshared = coincident;
     report->quads_in = quads;
     report->triangles_in = triangles;
     report->quads_out = nq;
     report->triangles_split = split;
     report->quads_split = split_quads;
-    report->flipped = flipped;
+    report->flipped = turned.flipped;
+    report->turned_share = turned.flipped > 0 ? turned.largest_turned_share : 0.0;
+    report->junction_edges = junction_edges;
     report->folds = m.fold_count();
     report->exact_normals = exact;
   }

@@ -7,7 +7,9 @@
 /// - triangles are refused, or split into quads (each triangle into three through its centroid
 ///   and edge midpoints; in a mesh that also has quads, every quad into four as well, so the
 ///   mesh stays conforming): imported_surface.md (S1)-(S3);
-/// - orientation is made consistent (breadth-first from the first element of each piece);
+/// - orientation is made consistent, each piece keeping the side most of its area was wound to;
+///   an edge of three or more elements (a T) joins the elements that continue each other and is
+///   a fold;
 /// - directors: the exact surface normals when the mesher gives them (CAD), else averaged per
 ///   smooth piece (elements joined across edges where they turn less than the crease angle);
 ///   a node where pieces with different normals meet is a fold node (6 DoF): (S4)-(S5);
@@ -64,27 +66,50 @@ struct SurfaceConversionOptions {
   std::string only_group;
 };
 
+/// A turned share from this on is said loudly (a warning, not only a note): the side a piece's
+/// directors face was then decided by a majority of at most three to one.
+constexpr double kLoudTurnedShare = 0.25;
+
 /// What the conversion did, for `check` and the summary.
 struct SurfaceConversionReport {
   int quads_in = 0, triangles_in = 0;  ///< elements read
   int quads_out = 0;                   ///< shell quads made
   bool triangles_split = false;        ///< each triangle became three quads
   bool quads_split = false;            ///< ... and each quad four (a mixed mesh)
-  int flipped = 0;                     ///< elements turned to agree with their neighbours
+  int flipped = 0;                     ///< quads turned to agree with their neighbours
+  /// the largest share of one piece's area that was turned (a piece keeps the side most of its
+  /// area was wound to, so at most one half)
+  double turned_share = 0.0;
+  int junction_edges = 0;              ///< mesh edges where three or more quads meet (a T)
   int folds = 0;                       ///< fold nodes (6 DoF)
   bool exact_normals = false;          ///< directors from the surface's own normals
-  /// boundary nodes at the same place as another boundary node but not shared with it: the
-  /// pieces are not connected there (a slit, or CAD faces meshed apart that should be joined)
-  int coincident_unshared = 0;
   /// one line in words, e.g. "412 triangles split into 1236 quads; 0 flipped; 3 fold nodes"
   std::string summary() const;
+  /// a sentence for the console when a piece's side was decided by a slim majority
+  /// (turned_share >= kLoudTurnedShare), else ""
+  std::string turned_warning() const;
 };
+
+
+
+/// Where a surface mesh touches itself without being joined: boundary nodes (on an edge of one
+/// quad only) that lie on a quad they are not a corner of (at one of its nodes, on an edge or
+/// inside it), within 1e-6 x the shortest element edge (a [[junction]]'s default tolerance).
+/// Faces side by side, each with its own row of nodes along the common line, a stiffener whose
+/// foot stands on a face without sharing its nodes, a slit. On a curved face a foot is found
+/// only where it meets nodes (elsewhere the flat quads lie off the curved surface).
+struct UnjoinedContacts {
+  int nodes = 0;        ///< boundary nodes touching a quad they do not belong to
+  int first_node = -1;  ///< the first of them (node number of the mesh)
+  int first_quad = -1;  ///< and the quad it touches
+};
+UnjoinedContacts find_unjoined_contacts(const ShellMesh& mesh);
 
 /// Builds `out` from `in`. Returns false with a complete sentence in *error (naming the file, the
 /// element or group, and what to do) when: there are no elements; triangles are present and
 /// options.triangles is refuse; an element names a node that does not exist or repeats one; a
 /// group is empty or names nothing; only_group is not a surface group of the file; the surface
-/// is not orientable or has an edge shared by more than two elements; or validate() fails.
+/// is not orientable; or validate() fails (edges of three or more elements excepted).
 /// `out` is untouched on failure.
 bool shell_mesh_from_surface(const ImportedSurface& in, const SurfaceConversionOptions& options, ShellMesh& out,
                              std::string* error, SurfaceConversionReport* report = nullptr);

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <sstream>
 #include <unordered_map>
 
@@ -120,6 +120,23 @@ double max_edge_length(const ShellMesh& mesh) {
   return h;
 }
 
+double mean_edge_length(const ShellMesh& mesh, const MeshGroup* group, int* edges) {
+  std::vector<char> in_group(mesh.points.size(), group ? 0 : 1);
+  if (group)
+    for (int i : group->nodes)
+      if (i >= 0 && i < mesh.node_count()) in_group[i] = 1;
+  std::map<std::uint64_t, double> length;
+  for (const auto& c : mesh.quads)
+    for (int k = 0; k < 4; ++k) {
+      const int a = c[k], b = c[(k + 1) % 4];
+      if (in_group[a] || in_group[b]) length.emplace(edge_key(a, b), (mesh.points[b] - mesh.points[a]).norm());
+    }
+  double sum = 0;
+  for (const auto& [key, l] : length) sum += l;
+  if (edges) *edges = static_cast<int>(length.size());
+  return length.empty() ? 0.0 : sum / static_cast<double>(length.size());
+}
+
 void compute_area_weighted_normals(ShellMesh& mesh) {
   mesh.normals.assign(mesh.points.size(), Vec3::Zero());
   for (const auto& c : mesh.quads) {
@@ -176,47 +193,99 @@ void complete_layout(ShellMesh& mesh, const std::string& patch_name) {
   mesh.quad_patch.resize(mesh.quads.size(), 0);
 }
 
-bool orient_consistently(ShellMesh& mesh, std::string* why) {
+bool orient_consistently(ShellMesh& mesh, std::string* why, const OrientationOptions& options, OrientationReport* report) {
   const EdgeMap edges = build_edge_map(mesh);
-  for (const auto& [key, uses] : edges)
-    if (uses.size() > 2) {
+  const int nq = mesh.quad_count();
+  // quads whose orientations depend on each other: `same` when both run their common edge the
+  // same way as stored (then exactly one of them turns)
+  struct Link {
+    int other;
+    bool same;
+  };
+  std::vector<std::vector<Link>> links(static_cast<std::size_t>(nq));
+  const auto join = [&](const EdgeUse& u, const EdgeUse& v) {
+    links[u.quad].push_back({v.quad, u.from == v.from});
+    links[v.quad].push_back({u.quad, u.from == v.from});
+  };
+  const double continuation = options.continuation_angle_deg * std::numbers::pi / 180.0;
+  for (const auto& [key, uses] : edges) {
+    if (uses.size() == 2) join(uses[0], uses[1]);
+    if (uses.size() <= 2) continue;
+    const int a = static_cast<int>(key & 0xffffffffu), b = static_cast<int>(key >> 32);
+    if (!options.junction_edges) {
       if (why)
-        *why = "edge " + std::to_string(key & 0xffffffffu) + "-" + std::to_string(key >> 32) + " is shared by " +
-               std::to_string(uses.size()) + " quads (non-manifold), so no consistent orientation exists";
+        *why = "edge " + std::to_string(a) + "-" + std::to_string(b) + " is shared by " + std::to_string(uses.size()) +
+               " quads (non-manifold), so no consistent orientation exists";
       return false;
     }
-  const int nq = mesh.quad_count();
-  std::vector<int> state(nq, -1);  // -1 unvisited, 0 kept, 1 flipped
+    // each quad's wing: from the edge towards its centre, across the edge; two quads continue each
+    // other where their wings point (nearly) opposite ways
+    const Vec3 along = (mesh.points[b] - mesh.points[a]).normalized();
+    std::vector<Vec3> wing;
+    for (const EdgeUse& u : uses) {
+      Vec3 centre = Vec3::Zero();
+      for (int k : mesh.quads[u.quad]) centre += 0.25 * mesh.points[k];
+      Vec3 w = centre - mesh.points[a];
+      w -= w.dot(along) * along;
+      wing.push_back(w.normalized());
+    }
+    struct Pair {
+      double turn;
+      std::size_t i, j;
+    };
+    std::vector<Pair> pairs;
+    for (std::size_t i = 0; i < uses.size(); ++i)
+      for (std::size_t j = i + 1; j < uses.size(); ++j) {
+        const double turn = std::atan2(wing[i].cross(-wing[j]).norm(), wing[i].dot(-wing[j]));
+        if (turn < continuation) pairs.push_back({turn, i, j});
+      }
+    std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) { return x.turn < y.turn; });
+    std::vector<char> paired(uses.size(), 0);
+    for (const Pair& p : pairs)
+      if (!paired[p.i] && !paired[p.j]) paired[p.i] = paired[p.j] = 1, join(uses[p.i], uses[p.j]);
+  }
+
+  // each piece breadth-first from its first quad; then the side the larger area had stays
+  std::vector<int> state(static_cast<std::size_t>(nq), -1);  // -1 unvisited, 0 kept, 1 flipped
+  std::vector<double> area(static_cast<std::size_t>(nq));
+  for (int q = 0; q < nq; ++q) area[q] = quad_area(mesh, q);
+  OrientationReport r;
   for (int seed = 0; seed < nq; ++seed) {
     if (state[seed] >= 0) continue;
     state[seed] = 0;
-    std::deque<int> queue{seed};
-    while (!queue.empty()) {
-      const int q = queue.front();
-      queue.pop_front();
-      const auto& c = mesh.quads[q];
-      for (int k = 0; k < 4; ++k) {
-        // direction q runs this edge in, after its own flip decision
-        const int a = state[q] ? c[(k + 1) % 4] : c[k];
-        for (const EdgeUse& u : edges.at(edge_key(c[k], c[(k + 1) % 4]))) {
-          if (u.quad == q) continue;
-          const bool same = (u.from == a);  // as stored; a flip of u.quad reverses it
-          const int want = same ? 1 : 0;
-          if (state[u.quad] < 0) {
-            state[u.quad] = want;
-            queue.push_back(u.quad);
-          } else if (state[u.quad] != want) {
-            if (why)
-              *why = "the surface is not orientable (quads " + std::to_string(q) + " and " +
-                     std::to_string(u.quad) + " cannot agree; a Moebius-like band?)";
-            return false;
-          }
+    std::vector<int> piece{seed};
+    for (std::size_t next = 0; next < piece.size(); ++next) {
+      const int q = piece[next];
+      for (const Link& l : links[q]) {
+        const int want = l.same ? 1 - state[q] : state[q];
+        if (state[l.other] < 0) {
+          state[l.other] = want;
+          piece.push_back(l.other);
+        } else if (state[l.other] != want) {
+          if (why)
+            *why = "the surface is not orientable (quads " + std::to_string(q) + " and " + std::to_string(l.other) +
+                   " cannot agree; a Moebius-like band?)";
+          return false;
         }
       }
     }
+    double kept = 0.0, turned = 0.0;
+    for (int q : piece) (state[q] ? turned : kept) += area[q];
+    if (turned > kept) {
+      for (int q : piece) state[q] = 1 - state[q];
+      std::swap(kept, turned);
+    }
+    ++r.pieces;
+    if (kept + turned > 0) r.largest_turned_share = std::max(r.largest_turned_share, turned / (kept + turned));
   }
-  for (int q = 0; q < nq; ++q)
-    if (state[q] == 1) flip_quad(mesh, q);
+  for (int q = 0; q < nq; ++q) {
+    r.area += area[q];
+    if (state[q] != 1) continue;
+    flip_quad(mesh, q);
+    ++r.flipped;
+    r.flipped_area += area[q];
+  }
+  if (report) *report = r;
   return true;
 }
 

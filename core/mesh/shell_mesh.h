@@ -91,6 +91,10 @@ double total_area(const ShellMesh& mesh);
 double min_edge_length(const ShellMesh& mesh);
 /// Longest quad edge length.
 double max_edge_length(const ShellMesh& mesh);
+/// Mean length of the mesh's edges (each edge once, however many quads share it); 0 without quads.
+/// With a group: of the edges with at least one end among the group's nodes (the size the mesh
+/// reached there), and *edges says how many.
+double mean_edge_length(const ShellMesh& mesh, const MeshGroup* group = nullptr, int* edges = nullptr);
 
 // ---- derived data ----
 
@@ -108,10 +112,33 @@ void compute_frames(ShellMesh& mesh, const Eigen::Vector3d& reference = Eigen::V
 /// built from points + quads + normals satisfies the layout validate() expects.
 void complete_layout(ShellMesh& mesh, const std::string& patch_name = "surface");
 
+struct OrientationOptions {
+  /// Accept edges of three or more quads (a T where a stiffener meets a panel, a cross): at such an
+  /// edge two quads whose surfaces continue each other (turning less than continuation_angle_deg
+  /// across it; the smallest turns paired first) are oriented as across an ordinary edge, and a
+  /// quad left unpaired starts a piece of its own. false: such an edge is refused.
+  bool junction_edges = false;
+  double continuation_angle_deg = 30.0;
+};
+
+/// What orient_consistently did.
+struct OrientationReport {
+  int pieces = 0;              ///< sets of quads whose orientations depend on each other
+  int flipped = 0;             ///< quads turned
+  double area = 0.0;           ///< the whole mesh's area
+  double flipped_area = 0.0;   ///< the turned quads' area
+  /// the largest share of one piece's area that was turned (at most one half: the majority stays)
+  double largest_turned_share = 0.0;
+};
+
 /// Flips quads so that every interior edge is traversed in opposite directions by its two
-/// quads (breadth-first from quad 0 of every connected piece). Returns false and explains in
-/// *why when the surface is not orientable or has non-manifold edges. Does not touch normals.
-bool orient_consistently(ShellMesh& mesh, std::string* why = nullptr);
+/// quads. Within each piece of quads joined that way, the side the larger area was already wound
+/// to stays (ties: the side of the piece's first quad), so one reversed element cannot turn the
+/// rest. Returns false and explains in *why when the surface is not orientable or has an edge of
+/// three or more quads that options do not accept. Does not touch normals (corner normals are
+/// swapped with their corners).
+bool orient_consistently(ShellMesh& mesh, std::string* why = nullptr, const OrientationOptions& options = {},
+                         OrientationReport* report = nullptr);
 
 // ---- validation ----
 

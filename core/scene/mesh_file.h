@@ -25,6 +25,13 @@ struct MeshFileRequest {
   std::vector<std::string> local_size_groups;  ///< part.local_size_groups
   std::vector<double> local_sizes;             ///< part.local_sizes, one per group above
   double time_limit_seconds = 300.0;           ///< part.mesh_time_limit: Gmsh is stopped after this
+  /// The most nodes a run of this scene can hold within the memory limit (the scene's memory
+  /// estimate; 0: no bound). A CAD or .geo part whose estimated mesh has more is refused before
+  /// Gmsh meshes it.
+  double most_nodes = 0.0;
+  /// part.keep_faces_apart: faces that touch stay apart (CAD faces are not joined, and a surface
+  /// touching itself without being joined is accepted instead of refused)
+  bool keep_faces_apart = false;
   bool operator==(const MeshFileRequest&) const = default;
 };
 
@@ -37,7 +44,10 @@ struct MeshFileError {
 };
 
 /// Reads the mesh of `request` into `out` (quads, named groups in out.groups, what was done in
-/// the patch description); on failure returns false and fills *error.
-using MeshFileReader = std::function<bool(const MeshFileRequest& request, mesh::ShellMesh& out, MeshFileError* error)>;
+/// the patch description); on failure returns false and fills *error. What the user must hear of
+/// a mesh that was read (most of a piece turned, a local size not reached) goes into *warnings,
+/// one sentence each naming the file (when warnings is not null).
+using MeshFileReader = std::function<bool(const MeshFileRequest& request, mesh::ShellMesh& out, MeshFileError* error,
+                                          std::vector<std::string>* warnings)>;
 
 }  // namespace ff::scene

@@ -33,7 +33,7 @@ const std::map<std::string, std::vector<std::string>>& generator_keys() {
         "end_angle"}},
       {"file",
        {"file", "weld_tolerance", "triangles", "crease_angle", "group", "mesh_size", "local_size_groups",
-        "local_sizes", "mesh_time_limit"}},
+        "local_sizes", "mesh_time_limit", "keep_faces_apart"}},
   };
   return keys;
 }
@@ -56,7 +56,8 @@ const std::vector<std::string> kDimensionKeys = {"n1",     "n2",          "n3", 
                                                  "radius", "inner_radius", "start_angle", "end_angle", "polar_start",
                                                  "polar_end", "fold_angle", "slit", "weld_tolerance", "end_slope",
                                                  "triangles", "crease_angle", "group", "mesh_size",
-                                                 "local_size_groups", "local_sizes", "mesh_time_limit"};
+                                                 "local_size_groups", "local_sizes", "mesh_time_limit",
+                                                 "keep_faces_apart"};
 
 double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }  // exact for 90 -> pi/2
 
@@ -545,6 +546,12 @@ void declare_part_keys(Schema& s) {
       .number("part.mesh_time_limit",
               "generator = file, Gmsh files: the time Gmsh may take to read or mesh the file before it is stopped",
               300.0, Range::positive(), "s")
+      .boolean("part.keep_faces_apart",
+               "generator = file: the file's faces that touch are meant to be apart (a slit, a lap that is not "
+               "bonded): CAD faces are not joined where they touch, and a surface that touches itself without "
+               "sharing nodes there is accepted; false: touching CAD faces are joined (OpenCASCADE's fragment), and "
+               "what still touches without being joined is refused",
+               false)
       .number("part.weld_tolerance",
               "generator = file: join vertices closer than this length (0: every vertex of the file is a node of its "
               "own, so a slit written with separate vertices stays open)",

@@ -1,8 +1,9 @@
 #include "core/scene/reference_csv.h"
 
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "core/frame/input_file.h"
 
 namespace ff::scene {
 
@@ -15,8 +16,10 @@ const std::vector<double>& ReferenceTable::column(const std::string& name) const
 }
 
 ReferenceTable read_reference_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot read reference table");
+  std::string text, problem;
+  if (!read_input_file(path, &text, kMaxTextInputBytes, kTextInputBound, &problem))
+    throw std::runtime_error("reference table '" + path + "' " + problem);
+  std::istringstream in(text);
   ReferenceTable t;
   t.path = path;
   std::string line;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -12,6 +11,7 @@
 #include <toml++/toml.h>
 
 #include "core/frame/file_name.h"
+#include "core/frame/input_file.h"
 #include "core/scene/hub_beam_scene.h"
 #include "core/scene/mesh_generator_keys.h"
 #include "core/scene/scene_common.h"
@@ -92,11 +92,11 @@ const ModelKind* model_kind(const Peeked& p) {
     if (k.name == p.model) return &k;
   return nullptr;
 }
+// "" when unreadable: validate_file then reads it again and says why
 std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  std::string text;
+  read_input_file(path, &text, kMaxTextInputBytes, kTextInputBound, nullptr);
+  return text;
 }
 const ModelKind& kind_or_first(const Peeked& p) {
   const ModelKind* k = model_kind(p);

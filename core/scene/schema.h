@@ -337,7 +337,8 @@ Document validate(const Schema& schema, std::string_view text, const std::string
 /// does not validate, or when `key` is not declared live (the message lists the live keys).
 Value validate_live(const Schema& schema, const std::string& key, const std::string& value);
 
-/// The contents of the scene file `path`; a SceneError naming it when it cannot be read.
+/// The contents of the scene file `path`; a SceneError naming it when it cannot be read, or is not a
+/// regular file or larger than kMaxTextInputBytes (core/frame/input_file.h).
 std::string read_scene_text(const std::string& path);
 
 /// validate() on the contents of `path`; an unreadable file is a SceneError naming it.

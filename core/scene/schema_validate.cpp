@@ -10,17 +10,14 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 #include <toml++/toml.h>
 
 #include "core/scene/schema.h"
+#include "core/frame/input_file.h"
 #include "core/scene/schema_text.h"
 
 namespace ff::scene {
@@ -873,14 +870,9 @@ std::string read_scene_text(const std::string& path) {
   const auto cannot = [&](const std::string& why) {
     return SceneError({Issue{path, 0, 0, "", "cannot read scene file: " + why}});
   };
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw cannot("it is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw cannot(std::strerror(errno));
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) throw cannot("read error");
-  return buf.str();
+  std::string text, problem;
+  if (!read_input_file(path, &text, kMaxTextInputBytes, kTextInputBound, &problem)) throw cannot("it " + problem);
+  return text;
 }
 
 Document validate_file(const Schema& schema, const std::string& path,

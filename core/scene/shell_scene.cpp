@@ -197,7 +197,9 @@ void apply_imperfections(const Document& d, const std::string& path, const Scene
     // its scene.analysis picks its schema, as load_scene does
     std::string analysis;
     try {
-      analysis = toml::parse_file(file.string())["scene"]["analysis"].value_or(std::string());
+      analysis = toml::parse(read_scene_text(file.string()), file.string())["scene"]["analysis"].value_or(std::string());
+    } catch (const SceneError& e) {
+      throw SceneError({d.issue("imperfection.from", i, "'" + file.string() + "': " + e.issues.front().message)});
     } catch (const toml::parse_error& e) {
       throw SceneError({d.issue("imperfection.from", i, "'" + file.string() + "' is not a TOML file: " +
                                                             std::string(e.description()))});

@@ -134,9 +134,23 @@ std::string part_name(const Document& d, std::size_t i, const mesh::ShellMesh* m
   return d.string("part.generator", i) + std::to_string(i + 1);
 }
 
+// the most nodes whose run fits in `bytes` by the scene's memory estimate (shell::estimated_peak_bytes,
+// 5 DoF per node: the least a mesh of that size needs); 0 when the limit is unknown
+double most_nodes_within(double bytes) {
+  if (!(bytes > 0)) return 0.0;
+  long long lo = 0, hi = std::numeric_limits<int>::max();
+  while (lo < hi) {  // the largest n with estimated_peak_bytes(n) <= bytes
+    const long long mid = lo + (hi - lo + 1) / 2;
+    if (shell::estimated_peak_bytes(static_cast<int>(mid), 0.0) <= bytes) lo = mid;
+    else hi = mid - 1;
+  }
+  return static_cast<double>(std::max(lo, 1LL));  // 0 would mean "no bound"
+}
+
 // what part i asks of its file
-MeshFileRequest file_request(const Document& d, std::size_t i, const std::string& scene_path) {
+MeshFileRequest file_request(const Document& d, std::size_t i, const std::string& scene_path, const SceneContext& ctx) {
   MeshFileRequest r;
+  r.most_nodes = most_nodes_within(ctx.memory_limit_bytes);
   r.path = (fs::path(scene_path).parent_path() / d.string("part.file", i)).string();
   r.weld_tolerance = d.number("part.weld_tolerance", i);
   r.triangles = d.string("part.triangles", i);
@@ -146,11 +160,19 @@ MeshFileRequest file_request(const Document& d, std::size_t i, const std::string
   r.local_size_groups = d.strings("part.local_size_groups", i);
   r.local_sizes = d.numbers("part.local_sizes", i);
   r.time_limit_seconds = d.number("part.mesh_time_limit", i);
+  r.keep_faces_apart = d.boolean("part.keep_faces_apart", i);
   if (r.local_size_groups.size() != r.local_sizes.size())
     throw SceneError({d.issue("part.local_sizes", i,
                               "part.local_sizes has " + std::to_string(r.local_sizes.size()) + " sizes for " +
                                   std::to_string(r.local_size_groups.size()) +
                                   " groups in part.local_size_groups: give one size per group, in the same order")});
+  // part.mesh_size caps every element: a local size above it could not be reached
+  for (std::size_t k = 0; k < r.local_sizes.size(); ++k)
+    if (r.mesh_size > 0 && r.local_sizes[k] > r.mesh_size)
+      throw SceneError({d.issue("part.local_sizes", i,
+                                "part.local_sizes asks " + g(r.local_sizes[k]) + " at group '" + r.local_size_groups[k] +
+                                    "', above part.mesh_size = " + g(r.mesh_size) + ", which caps every element: a "
+                                    "local size is finer than the rest")});
   return r;
 }
 
@@ -164,9 +186,12 @@ mesh::ShellMesh read_part_file(const Document& d, std::size_t i, const std::stri
                                               "loader; the flexframe executable passes its assimp importer)")});
   mesh::ShellMesh m;
   MeshFileError error;
-  const MeshFileRequest request = file_request(d, i, scene_path);
-  if (!ctx.mesh_reader(request, m, &error))
+  std::vector<std::string> warnings;
+  const MeshFileRequest request = file_request(d, i, scene_path, ctx);
+  if (!ctx.mesh_reader(request, m, &error, &warnings))
     throw SceneError({d.issue(error.key.empty() ? "part.file" : error.key, i, error.message)});
+  if (ctx.warnings)
+    for (const std::string& w : warnings) ctx.warnings->push_back(d.issue("part.file", i, w).to_string());
   return m;
 }
 
@@ -550,7 +575,7 @@ StructureSize structure_size(const Document& d, const std::string& scene_path, c
     } else if (ctx.mesh_reader && !d.string("part.file", i).empty()) {
       mesh::ShellMesh m;
       MeshFileError error;
-      if (ctx.mesh_reader(file_request(d, i, scene_path), m, &error))
+      if (ctx.mesh_reader(file_request(d, i, scene_path, ctx), m, &error, nullptr))
         nodes = m.node_count();
     }
     size.nodes += nodes;

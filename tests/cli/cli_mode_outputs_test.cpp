@@ -30,7 +30,8 @@ namespace {
 using namespace ff::test;
 
 app::RunResult run_plate(const std::string& out, bool with_modes = true, bool movie = false,
-                         const std::string& export_formats = "", int animate_modes = -1) {
+                         const std::string& export_formats = "", int animate_modes = -1,
+                         const std::atomic<bool>* stop_flag = nullptr) {
   scene::LoadedScene scene;
   scene.name = "ss_plate_modes";
   scene.path = "(test model)";
@@ -44,7 +45,7 @@ app::RunResult run_plate(const std::string& out, bool with_modes = true, bool mo
   opt.export_formats = export_formats;
   opt.animate_modes = animate_modes;
   const std::atomic<bool> stop{false};
-  return app::run_loaded_scene(opt, std::move(scene), stop);
+  return app::run_loaded_scene(opt, std::move(scene), stop_flag ? *stop_flag : stop);
 }
 
 std::size_t differing_pixels(const ff::render::test::Image& a, const render::test::Image& b) {
@@ -383,6 +384,40 @@ TEST(ModeOutputs, SpectrumMarksRigidBodyModes) {
   const auto img = ff::render::test::read_png(dir + "/plots/spectrum.png");
   EXPECT_GT(img.width, 0);
   EXPECT_EQ(app::mode_value_text(set, set.modes[0]), "0 Hz (rigid body)");
+}
+
+// Issue 48, item 6: a Ctrl-C while the mode pictures are drawn (after results.h5 had recorded the
+// solve as completed) once left summary.json `interrupted` and results.h5 `completed`, and replay
+// then reported a completed run. Both records now say the same status and reason.
+TEST(ModeOutputs, CtrlCWhileModesAreDrawnIsOneOutcomeInBothRecords) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  std::atomic<bool> stop{false}, done{false};
+  // Ctrl-C as soon as the first mode picture is on disk
+  std::thread ctrl_c([&] {
+    while (!done && !stop) {
+      std::error_code ec;
+      for (const auto& e : fs::recursive_directory_iterator(out, ec))
+        if (e.path().extension() == ".png" && e.path().parent_path().filename().string().rfind("mode", 0) == 0)
+          stop = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  });
+  const app::RunResult r = run_plate(out, true, false, "", -1, &stop);
+  done = true;
+  ctrl_c.join();
+  ASSERT_TRUE(stop.load()) << "no mode picture was drawn";
+  EXPECT_EQ(r.outcome.status, RunStatus::interrupted) << r.outcome.reason;
+  EXPECT_NE(r.outcome.reason.find("mode pictures"), std::string::npos) << r.outcome.reason;
+  std::string err;
+  const auto h5 = io::ResultReader::open(out + "/results.h5", &err);
+  ASSERT_TRUE(h5) << err;
+  EXPECT_EQ(h5->outcome().status, r.outcome.status) << h5->outcome().reason;
+  EXPECT_EQ(h5->outcome().reason, r.outcome.reason);
+  const std::optional<Json> s = read_summary(out, &err);
+  ASSERT_TRUE(s) << err;
+  EXPECT_EQ(summary_string(*s, "status"), "interrupted");
+  EXPECT_EQ(summary_string(*s, "reason"), r.outcome.reason);
 }
 
 }  // namespace

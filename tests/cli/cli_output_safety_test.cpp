@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/mount.h>
+#include <sys/stat.h>
 
 #include "app/io/results.h"
 #include "cli_support.h"
@@ -134,7 +135,8 @@ TEST(CliOutputSafety, OnlyRecordedFilesAreDeleted) {
   EXPECT_TRUE(fs::is_regular_file(study_out + "/runs/001/summary.json"));
 }
 
-// The second job on a folder is refused before it touches anything: the first keeps every frame.
+// The second job on a folder is refused before it touches anything: the first keeps its results
+// file, and every frame it reports is there at the end.
 TEST(CliOutputSafety, SecondRunOnTheSameFolderIsRefusedBeforeTouchingIt) {
   const std::string dir = fresh_test_dir();
   const std::string out = dir + "/out";
@@ -144,20 +146,34 @@ TEST(CliOutputSafety, SecondRunOnTheSameFolderIsRefusedBeforeTouchingIt) {
   ASSERT_TRUE(first.started());
   const auto t0 = std::chrono::steady_clock::now();
   const auto waited = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  while (pngs_in(out + "/frames").size() < 3 && first.running() && waited() < 60)
+  // frames are drawn after the solve: what shows the first run at work is its results file, which
+  // it creates under its lock before the solve starts and fills while it solves
+  const std::string h5 = out + "/results.h5";
+  const auto h5_size = [&] {
+    std::error_code ec;
+    const auto n = fs::file_size(h5, ec);
+    return ec ? std::uintmax_t{0} : n;
+  };
+  while (h5_size() == 0 && first.running() && waited() < 120)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  ASSERT_GE(pngs_in(out + "/frames").size(), 3u) << first.wait(1).describe();
+  ASSERT_GT(h5_size(), 0u) << first.wait(1).describe();
+  struct stat before;
+  ASSERT_EQ(::stat(h5.c_str(), &before), 0);
   const ProcResult second = run_flexframe({"run", "hub_beam_converged_tau1", "--out", out}, dir + "/second");
   EXPECT_EQ(second.exit_code, 1) << second.describe();
   EXPECT_NE(second.err.find("in use by flexframe run (pid " + std::to_string(first.pid()) + ")"), std::string::npos)
       << second.describe();
-  EXPECT_TRUE(fs::is_regular_file(out + "/frames/frame_00000.png")) << "the second run deleted the first's frames";
+  struct stat after;
+  ASSERT_EQ(::stat(h5.c_str(), &after), 0) << "the second run deleted the first's results file";
+  EXPECT_EQ(after.st_ino, before.st_ino) << "the second run replaced the first's results file";
+  EXPECT_GE(after.st_size, before.st_size) << "the second run truncated the first's results file";
   ASSERT_TRUE(first.send(SIGINT));
-  const ProcResult r = first.wait(30);
+  const ProcResult r = first.wait(120);
   EXPECT_EQ(r.exit_code, 130) << r.describe();
   std::string err;
   const std::optional<Json> s = read_summary(out, &err);
   ASSERT_TRUE(s) << err;
+  EXPECT_GT(output_frames(*s), 0.0) << "the frames the first run computed are drawn after its Ctrl-C";
   EXPECT_EQ(output_frames(*s), static_cast<double>(pngs_in(out + "/frames").size()))
       << "every frame the first run reports is there";
 }
@@ -271,6 +287,63 @@ TEST(CliOutputSafety, FullDiskFailsTheStudyReplayMovieAndExport) {
   }
   r = run_flexframe({"study", study, "--out", dir + "/tiny/study"}, dir + "/study", "", 120);
   expect_disk_full_failure(r);
+}
+
+// Issue 48, item 6: the two records of a run say one outcome. A disk that fills after the solve
+// (while the frames and plots are written, after results.h5 had recorded `completed`) once left
+// summary.json `failed` and results.h5 `completed` with no frame, and replay then reported the
+// stored run as completed. Both now say `failed`, with the same reason, whatever the fill.
+void expect_one_outcome(const std::string& out, const ProcResult& r) {
+  std::string err;
+  const std::unique_ptr<io::ResultReader> h5 = io::ResultReader::open(out + "/results.h5", &err);
+  ASSERT_TRUE(h5) << err << "\n" << r.describe();
+  const std::optional<Json> s = read_summary(out, &err);
+  if (!s) {  // no summary.json: the file alone must not claim success
+    EXPECT_NE(h5->outcome().status, RunStatus::completed) << h5->outcome().reason << "\n" << r.describe();
+    return;
+  }
+  EXPECT_EQ(summary_string(*s, "status"), to_string(h5->outcome().status)) << r.describe();
+  EXPECT_EQ(summary_string(*s, "reason"), h5->outcome().reason) << r.describe();
+}
+
+TEST(CliOutputSafety, DiskFullAfterTheSolveFailsBothRecords) {
+  const std::string dir = fresh_test_dir();
+  SmallDisk disk(dir + "/tiny", 2048);
+  if (!disk.mounted()) GTEST_SKIP() << disk.why();
+  // the solve's results fit; the frames and plots that follow do not, at each of these fills
+  for (const int fill_kib : {0, 300, 600, 900}) {
+    SCOPED_TRACE("filled " + std::to_string(fill_kib) + " KiB");
+    fs::remove_all(dir + "/tiny/out");
+    fs::remove(dir + "/tiny/fill");
+    {
+      std::ofstream fill(dir + "/tiny/fill", std::ios::binary);
+      fill << std::string(static_cast<std::size_t>(fill_kib) * 1024, 'x');
+    }
+    const ProcResult r = run_flexframe({"run", "hinged_roof_h635", "--out", dir + "/tiny/out", "--quiet"},
+                                       dir + "/run" + std::to_string(fill_kib), "", 120);
+    EXPECT_EQ(r.signal, 0) << r.describe();
+    EXPECT_NE(r.exit_code, 0) << "the frames and plots do not fit in 2 MB\n" << r.describe();
+    expect_one_outcome(dir + "/tiny/out", r);
+  }
+}
+
+// Issue 48, item 11: a results file that cannot even be created (no room for its first block)
+// once ended in SIGSEGV in HDF5's exit handler, with no summary.json and an unreadable file. It
+// ends `failed` (exit 1) like a disk that fills later, and says so.
+TEST(CliOutputSafety, ResultsFileThatCannotBeCreatedEndsFailedCleanly) {
+  const std::string dir = fresh_test_dir();
+  SmallDisk disk(dir + "/tiny", 2048);
+  if (!disk.mounted()) GTEST_SKIP() << disk.why();
+  {
+    std::ofstream fill(dir + "/tiny/fill", std::ios::binary);
+    fill << std::string(1400 * 1024, 'x');
+  }
+  // a 120 x 120 plate: its mesh does not fit in what is left after the folder's reserve
+  const ProcResult r = run_flexframe({"run", "clamped_plate_pressure", "--out", dir + "/tiny/o", "--quiet", "--set",
+                                      "part[0].n1=120", "--set", "part[0].n2=120"},
+                                     dir + "/run", "", 120);
+  expect_disk_full_failure(r);
+  EXPECT_NE(r.err.find("results"), std::string::npos) << r.describe();
 }
 
 }  // namespace

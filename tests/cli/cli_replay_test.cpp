@@ -459,5 +459,75 @@ TEST(CliReplay, AFileWithoutFramesIsBadInput) {
   EXPECT_FALSE(fs::exists(run + "/replay")) << "bad input must not write anything";
 }
 
+// Issue 48, item 9: a results file from someone else names where replay and compare write.
+// A probe named "/<dir>/evil" (its data set at that path in the file) once made replay write the
+// plot <dir>/evil.png outside --out, and a stored scene name "<dir>/pvd_victim" the export
+// <dir>/pvd_victim.pvd. Both files are refused as bad input (exit 2) before anything is written.
+void rewrite_string_attribute(const std::string& file, const std::string& object, const std::string& name,
+                              const std::vector<std::string>& values) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t o = H5Oopen(f, object.c_str(), H5P_DEFAULT);
+  ASSERT_GE(o, 0);
+  if (H5Aexists(o, name.c_str()) > 0) H5Adelete(o, name.c_str());
+  const hid_t t = H5Tcopy(H5T_C_S1);
+  H5Tset_size(t, H5T_VARIABLE);
+  H5Tset_cset(t, H5T_CSET_UTF8);
+  const hsize_t n = values.size();
+  const hid_t space = values.size() == 1 && name != "names" ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr);
+  const hid_t a = H5Acreate2(o, name.c_str(), t, space, H5P_DEFAULT, H5P_DEFAULT);
+  std::vector<const char*> p;
+  for (const std::string& v : values) p.push_back(v.c_str());
+  EXPECT_GE(H5Awrite(a, t, p.data()), 0);
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(t);
+  H5Oclose(o);
+  H5Fclose(f);
+}
+
+TEST(CliReplay, NamesInAStrangersResultsFileNeverLeaveOut) {
+  const std::string dir = fresh_test_dir();
+  const std::string run = dir + "/run", victim = dir + "/victim";
+  ProcResult r = run_flexframe({"run", "clamped_plate_pressure", "--out", run, "--quiet", "--no-frames"}, run);
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  fs::create_directories(victim);
+  write_text(victim + "/evil.png", "precious\n");
+  write_text(victim + "/pvd_victim.pvd", "precious\n");
+
+  // a probe whose name is an absolute path, its data set linked there inside the file
+  const std::string probe_file = dir + "/evil_probe.h5";
+  fs::copy_file(run + "/results.h5", probe_file);
+  {
+    const hid_t f = H5Fopen(probe_file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    ASSERT_GE(H5Lcreate_hard(f, "/frames/probes/w_centre", f, (victim + "/evil").c_str(), lcpl, H5P_DEFAULT), 0);
+    H5Pclose(lcpl);
+    H5Fclose(f);
+  }
+  rewrite_string_attribute(probe_file, "/frames/probes", "names", {"lambda", victim + "/evil"});
+  // a scene name that is a path
+  const std::string scene_file = dir + "/evil_scene.h5";
+  fs::copy_file(run + "/results.h5", scene_file);
+  rewrite_string_attribute(scene_file, "/run", "scene_name", {victim + "/pvd_victim"});
+
+  for (const auto& [file, what] : {std::pair{probe_file, std::string("the probe name '")},
+                                   std::pair{scene_file, std::string("the scene name '")}}) {
+    SCOPED_TRACE(file);
+    r = run_flexframe({"replay", file, "--out", dir + "/replay", "--export", "vtu"}, dir + "/replay");
+    EXPECT_EQ(r.exit_code, 2) << r.describe();
+    EXPECT_NE(r.err.find(what + victim), std::string::npos) << r.describe();
+    EXPECT_NE(r.err.find("contains the path separator '/'"), std::string::npos) << r.describe();
+    r = run_flexframe({"compare", file, run, "--out", dir + "/compare"}, dir + "/compare");
+    EXPECT_EQ(r.exit_code, 2) << r.describe();
+    EXPECT_NE(r.err.find(what + victim), std::string::npos) << r.describe();
+  }
+  EXPECT_EQ(read_text(victim + "/evil.png"), "precious\n");
+  EXPECT_EQ(read_text(victim + "/pvd_victim.pvd"), "precious\n");
+  EXPECT_EQ(tree(victim), (std::vector<std::string>{"evil.png", "pvd_victim.pvd"}));
+}
+
 }  // namespace
 }  // namespace ff::cli::test

@@ -468,16 +468,6 @@ ProcResult run_mpirun(const std::string& mpirun, int ranks, const std::vector<st
 }
 
 /// Child processes of `pid` (from /proc/PID/task/*/children), or none.
-std::vector<pid_t> children_of(pid_t pid) {
-  std::vector<pid_t> out;
-  std::error_code ec;
-  for (const auto& t : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
-    std::ifstream in(t.path() / "children");
-    for (pid_t c; in >> c;) out.push_back(c);
-  }
-  return out;
-}
-
 // A variant whose process is killed is reported as failed with the signal; the others complete.
 TEST(CliStudy, KilledVariantProcessIsReportedAndTheOthersComplete) {
   const std::string dir = fresh_test_dir();
@@ -503,6 +493,33 @@ TEST(CliStudy, KilledVariantProcessIsReportedAndTheOthersComplete) {
   // the kill may land before the child wrote anything or after it finished: at most one fails
   EXPECT_LE(failed, 1);
   EXPECT_EQ(failed + completed, 9);
+}
+
+// Issue 48, item 13: a study killed outright (SIGKILL: the OOM killer, a batch system's hard stop)
+// takes its variant processes with it (each gets SIGTERM as its parent dies and ends interrupted)
+// instead of leaving them running unattended into its folder
+TEST(CliStudy, VariantProcessesEndWithAKilledStudy) {
+  const std::string dir = fresh_test_dir();
+  // variants of a minute each: they cannot have finished by themselves when they are looked at
+  Child study({"study", "double_pendulum_dt_policy", "--set", "solver.end=60", "--out", dir + "/out", "--jobs", "2"},
+              dir + "/study");
+  ASSERT_TRUE(study.started());
+  std::vector<pid_t> kids;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (study.running() && (kids = children_of(study.pid())).size() < 2 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_FALSE(kids.empty()) << "no variant process seen";
+  ASSERT_TRUE(study.send(SIGKILL));
+  study.wait(10);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  bool all_ended = false;
+  while (!all_ended && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    all_ended = std::all_of(kids.begin(), kids.end(), process_ended);
+  }
+  EXPECT_TRUE(all_ended) << "a variant process outlived its killed study by 5 s";
+  for (pid_t k : kids)
+    if (!process_ended(k)) kill(k, SIGKILL);
 }
 
 // mpirun -n 2: rank 0 hands the variants out and gathers them; the rows are the sequential ones

@@ -192,6 +192,24 @@ inline ProcResult run_flexframe(const std::vector<std::string>& args, const std:
   return c.wait(timeout_s);
 }
 
+/// The children of process `pid` (every thread's, from /proc/<pid>/task/<tid>/children).
+inline std::vector<pid_t> children_of(pid_t pid) {
+  std::vector<pid_t> out;
+  std::error_code ec;
+  for (const auto& t : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
+    std::ifstream in(t.path() / "children");
+    for (pid_t c; in >> c;) out.push_back(c);
+  }
+  return out;
+}
+
+/// True when process `pid` has ended: gone, or a zombie its (new) parent has not reaped yet.
+inline bool process_ended(pid_t pid) {
+  const std::string stat = read_text("/proc/" + std::to_string(pid) + "/stat");
+  const std::size_t name_end = stat.rfind(')');  // the command name may hold spaces
+  return name_end == std::string::npos || stat.compare(name_end + 1, 3, " Z ") == 0 || stat.compare(name_end + 1, 3, " X ") == 0;
+}
+
 /// Files and folders below `dir` (relative paths), sorted.
 inline std::vector<std::string> tree(const std::string& dir) {
   std::vector<std::string> out;

@@ -289,5 +289,45 @@ TEST(ResultStoreErrors, CreateRejectsBadNames) {
   EXPECT_TRUE(contains(error, "quads")) << error;
 }
 
+// Issue 48, item 10: names that outputs turn into file names (a probe's plots/<name>.png, the
+// scene's export/<name>.pvd) are checked when the run starts, not when the plot is written after
+// the solve (a probe named "a\nb" once aborted the run there, SIGABRT on the plot thread).
+TEST(ResultStoreErrors, CreateRejectsNamesThatCannotBeFileNames) {
+  const std::string path = out_path("file_names.h5");
+  std::string error;
+  for (const std::string& bad : {std::string("a\nb"), std::string(300, 'A'), std::string("w..max")}) {
+    SCOPED_TRACE(bad);
+    RunInfo info = make_info();
+    info.probes[0].name = bad;
+    EXPECT_EQ(ResultWriter::create(path, info, &error), nullptr);
+    EXPECT_TRUE(contains(error, "cannot name its plot file")) << error;
+    EXPECT_FALSE(std::filesystem::exists(path)) << "nothing is created for a run that cannot be stored";
+  }
+  RunInfo info = make_info();
+  info.scene_name = "../victim";
+  EXPECT_EQ(ResultWriter::create(path, info, &error), nullptr);
+  EXPECT_TRUE(contains(error, "the scene name '../victim'")) << error;
+}
+
+// Item 8: results.h5 is opened by name through HDF5, which would follow a link: what is there must
+// be a file of its own.
+TEST(ResultStoreErrors, CreateRefusesALinkOrAHardLinkAtItsPath) {
+  const std::string victim = out_path("link_victim.txt"), path = out_path("linked.h5");
+  std::filesystem::remove(path);
+  std::ofstream(victim) << "precious\n";
+  std::filesystem::create_symlink(victim, path);
+  std::string error;
+  EXPECT_EQ(ResultWriter::create(path, make_info(), &error), nullptr);
+  EXPECT_TRUE(contains(error, "symbolic link")) << error;
+  std::filesystem::remove(path);
+  std::filesystem::create_hard_link(victim, path);
+  EXPECT_EQ(ResultWriter::create(path, make_info(), &error), nullptr);
+  EXPECT_TRUE(contains(error, "hard link")) << error;
+  std::ifstream in(victim);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "precious\n");
+  std::filesystem::remove(path);
+}
+
 }  // namespace
 }  // namespace ff::io

@@ -4,14 +4,24 @@
 // Scratch files go to ${FF_BINARY_DIR}/test_out/mesh_import/.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
+#include <thread>
 
 #include "app/io/mesh_import.h"
 #include "core/mesh/generators.h"
+#include "core/scene/mesh_file.h"
 
 using namespace ff::mesh;
 using Eigen::Vector3d;
@@ -281,4 +291,118 @@ TEST(MeshImport, MalformedFilesAreRefused) {
   EXPECT_NE(empty_face.find("line 5"), std::string::npos) << empty_face;
   const std::string range = import_error(write_text("range.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 9\n"));
   EXPECT_NE(range.find("line 5: vertex 9 does not exist"), std::string::npos) << range;
+}
+
+// Issue 48, item 7: an STL file that does not end as its format requires is refused, saying where,
+// instead of being read as a smaller mesh (assimp read a file cut inside facet 26 as 26 triangles,
+// one with random bytes inside facet 20 as 20). The intact plate: 32 triangles in ASCII.
+TEST(MeshImport, DamagedStlFilesAreRefusedSayingWhere) {
+  std::ifstream in(std::string(FF_SOURCE_DIR) + "/tests/io/data/stl/plate_32_triangles.stl", std::ios::binary);
+  const std::string intact((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(intact.size(), 3675u);
+  ff::io::MeshImportOptions split;
+  split.triangles = TriangleHandling::split;
+  ShellMesh m;
+  std::string e;
+  ASSERT_TRUE(ff::io::import_shell_mesh(write_text("intact.stl", intact), m, &e, split)) << e;
+  EXPECT_EQ(m.quad_count(), 3 * 32);
+
+  const std::string cut = import_error(write_text("cut.stl", intact.substr(0, 2970)), split);
+  EXPECT_NE(cut.find("cut.stl' ends inside facet 26 (line 182, in the middle of 'endlo') with no 'endsolid'"),
+            std::string::npos) << cut;
+  std::size_t facet_20 = 0;
+  for (int k = 0; k < 20; ++k) facet_20 = intact.find("facet normal", facet_20 + 1);
+  std::string nul = intact;
+  nul.insert(intact.find("vertex", facet_20) + 7, std::string("1\0x", 3));
+  const std::string with_nul = import_error(write_text("nul.stl", nul), split);
+  EXPECT_NE(with_nul.find("inside facet 20: a byte that is not text (0x00)"), std::string::npos) << with_nul;
+  const std::string no_end = import_error(write_text("no_end.stl", intact.substr(0, intact.rfind("endsolid"))), split);
+  EXPECT_NE(no_end.find("ends after facet 32 with no 'endsolid'"), std::string::npos) << no_end;
+  const std::string junk = import_error(write_text("junk.stl", intact + "facet normal 0 0 1\n"), split);
+  EXPECT_NE(junk.find("expected another 'solid' or the end of the file, found 'facet'"), std::string::npos) << junk;
+  std::string four = intact;
+  four.insert(four.find("  endloop"), "    vertex 1 1 0\n");
+  const std::string quad = import_error(write_text("four_vertices.stl", four), split);
+  EXPECT_NE(quad.find("line 7, inside facet 1: expected 'endloop', found 'vertex'"), std::string::npos) << quad;
+
+  // binary: 80 header bytes (this one begins "solid", as many exporters write), the count, 50
+  // bytes a triangle; exactly that many bytes, or it is refused
+  std::string binary = "solid binary plate";
+  binary.resize(80, ' ');
+  const std::uint32_t n = 2;
+  binary.append(reinterpret_cast<const char*>(&n), 4);
+  const float tris[2][12] = {{0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 1, 0, 0, 0, 1, 1, 0, 0, 1, 0}};
+  for (const auto& t : tris) {
+    binary.append(reinterpret_cast<const char*>(t), sizeof t);
+    binary.append(2, '\0');
+  }
+  ASSERT_TRUE(ff::io::import_shell_mesh(write_text("binary.stl", binary), m, &e, split)) << e;
+  EXPECT_EQ(m.quad_count(), 6);
+  const std::string short_binary = import_error(write_text("binary_cut.stl", binary.substr(0, binary.size() - 1)), split);
+  EXPECT_NE(short_binary.find("is not a complete binary STL: its header counts 2 triangles, which take 84 + 50 x 2 = 184 "
+                              "bytes, but the file has 183 (cut short)"),
+            std::string::npos) << short_binary;
+  const std::string long_binary = import_error(write_text("binary_long.stl", binary + "extra"), split);
+  EXPECT_NE(long_binary.find("(other bytes follow them)"), std::string::npos) << long_binary;
+}
+
+// Issue 48, item 14: a mesh file that is not a regular file is refused before it is opened (a FIFO
+// blocked open() for ever, a link to /dev/zero read without end), and one larger than the memory
+// limit before it is read; a link to a regular file is ordinary input. Should the refusal be
+// missing, a writer opens the FIFO after a few seconds, so that the test fails instead of hanging.
+TEST(MeshImport, OnlyRegularFilesWithinTheMemoryLimitAreRead) {
+  const auto start = std::chrono::steady_clock::now();
+  for (const char* name : {"fifo.obj", "fifo.ply", "fifo.stl", "fifo.msh", "fifo.inp"}) {
+    SCOPED_TRACE(name);
+    const std::string fifo = scratch(name);
+    fs::remove(fifo);
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    std::atomic<bool> done{false};
+    std::thread unblock([&] {  // after 3 s, every open of the FIFO for reading returns (at its end)
+      for (int k = 0; !done; ++k) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        if (k < 300) continue;
+        const int fd = open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+        if (fd >= 0) close(fd);
+      }
+    });
+    ff::scene::MeshFileRequest q;
+    q.path = fifo;
+    q.time_limit_seconds = 5;  // should Gmsh read it
+    ShellMesh m;
+    ff::scene::MeshFileError e;
+    EXPECT_FALSE(ff::io::read_mesh_file(q, m, e, 1e9));
+    done = true;
+    unblock.join();
+    EXPECT_NE(e.message.find(name), std::string::npos) << e.message;
+    EXPECT_NE(e.message.find(" is a named pipe (FIFO), not a regular file"), std::string::npos) << e.message;
+    fs::remove(fifo);
+  }
+  for (const char* name : {"zero.obj", "zero.ply", "zero.stl", "zero.msh", "zero.step"}) {
+    SCOPED_TRACE(name);
+    const std::string link = scratch(name);
+    fs::remove(link);
+    fs::create_symlink("/dev/zero", link);
+    ff::scene::MeshFileRequest q;
+    q.path = link;
+    q.mesh_size = fs::path(link).extension() == ".step" ? 0.25 : 0.0;
+    q.time_limit_seconds = 2;  // should Gmsh read it
+    ShellMesh m;
+    ff::scene::MeshFileError e;
+    EXPECT_FALSE(ff::io::read_mesh_file(q, m, e, 1e9));
+    EXPECT_NE(e.message.find("is a link to '/dev/zero', which is a character device, not a regular file"), std::string::npos)
+        << e.message;
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0);
+
+  const std::string link = scratch("link_to_plate.obj");
+  fs::remove(link);
+  fs::create_symlink(asset("plate_8x8_unit.obj"), link);
+  ShellMesh m;
+  std::string e;
+  EXPECT_TRUE(ff::io::import_shell_mesh(link, m, &e)) << e;
+  ff::io::MeshImportOptions small;
+  small.memory_limit_bytes = 1000;
+  e = import_error(asset("plate_8x8_unit.obj"), small);
+  EXPECT_NE(e.find(", more than the 1000 bytes of memory this machine allows"), std::string::npos) << e;
 }

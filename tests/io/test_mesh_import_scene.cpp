@@ -141,8 +141,9 @@ TEST(MeshImportScene, MeshFileErrorsAreLocatedAtTheKey) {
 
 // Issue 11 acceptance, import: an imported slit stays open. The slit annular plate (a ring cut at
 // azimuth 0, clamped along one lip and lifted by a line force along the other) is built by the
-// generator and, from the same mesh written as OBJ, by import. The importer keeps both lips (same
-// node count), `side` picks each lip apart on the seam plane y = 0 (the start lip's quads lie
+// generator and, from the same mesh written as OBJ, by import. The lips touch without sharing
+// nodes, which an import refuses unless the scene says so (part.keep_faces_apart, issue 48); with
+// it the importer keeps both lips (same node count), `side` picks each lip apart on the seam plane y = 0 (the start lip's quads lie
 // toward +y, the end lip's toward -y; the probes take the outer corner of each lip by nearest +
 // side, since the importer numbers nodes differently), and the slit opens: the lifted lip rises while the
 // clamped one stays. The two runs solve the same equations, so they agree to round-off (1e-9).
@@ -171,7 +172,12 @@ TEST(MeshImportScene, ImportedSlitStaysOpenUnderLoad) {
   }
   for (std::size_t at; (at = rest_file.find("#side ")) != std::string::npos;) rest_file.replace(at, 6, "side = ");
   const auto gen = run_text("slit_generated", static_scene(mesh, material, rest));
-  const auto imp = run_text("slit_imported", static_scene(file_mesh(obj), material, rest_file));
+  std::ofstream(scratch("slit_unsaid.toml")) << static_scene(file_mesh(obj), material, rest_file);
+  const std::vector<ff::scene::Issue> unsaid = load_issues(scratch("slit_unsaid.toml"));
+  ASSERT_EQ(unsaid.size(), 1u) << "lips that touch without being joined, and the scene does not say they are apart";
+  EXPECT_EQ(unsaid[0].key, "part[0].file");
+  EXPECT_NE(unsaid[0].message.find("part.keep_faces_apart = true"), std::string::npos) << unsaid[0].message;
+  const auto imp = run_text("slit_imported", static_scene(file_mesh(obj) + "keep_faces_apart = true\n", material, rest_file));
 
   ff::scene::LoadedScene s = ff::scene::load_scene(scratch("slit_imported.toml"), {}, ff::io::scene_context());
   EXPECT_EQ(s.simulation->info().mesh.point_count(), static_cast<std::size_t>(generated.node_count())) << "the importer merged the lips";
@@ -230,4 +236,84 @@ TEST(MeshImportScene, ImportedMeshBeyondTheMemoryLimitIsRefusedAtItsFile) {
   EXPECT_EQ(issues[0].key, "part[0].file");
   EXPECT_NE(issues[0].message.find("81 nodes"), std::string::npos) << issues[0].message;
   EXPECT_NE(issues[0].message.find("more than the 0.051 GB"), std::string::npos) << issues[0].message;
+}
+
+namespace {
+// The plate of tests/io/data/obj (the unit square as 32 triangles) clamped at x = 0 under a
+// pressure of 1000 along its directors: w at the free corner (1, 0.5), the structure's
+// mesh_import text and the scene's warnings.
+struct TrianglePlate {
+  double w = NAN;
+  std::string import;
+  std::vector<std::string> warnings;
+};
+
+TrianglePlate run_triangle_plate(const std::string& name, const std::string& obj) {
+  const std::string path = scratch(name + ".toml");
+  std::ofstream(path) << static_scene(file_mesh(obj), "youngs_modulus = 2.1e11\npoisson_ratio = 0.3\nthickness = 0.01",
+                                      "[[bc]]\ntype = \"clamped\"\nselect = \"plane\"\npoint = [0.0, 0.0, 0.0]\n"
+                                      "normal = [1.0, 0.0, 0.0]\n[[load]]\ntype = \"pressure\"\npressure = 1000.0\n"
+                                      "select = \"all\"\n[[probe]]\nname = \"w\"\ndirection = [0.0, 0.0, 1.0]\n"
+                                      "select = \"nearest\"\npoint = [1.0, 0.5, 0.0]\n");
+  ff::scene::LoadedScene s = ff::scene::load_scene(path, {}, ff::io::scene_context());
+  std::atomic<bool> stop{false};
+  std::vector<double> last;
+  const ff::RunOutcome o = s.simulation->run([&](ff::Frame&& f) { last = f.probes; }, stop);
+  EXPECT_EQ(o.status, ff::RunStatus::completed) << name << ": " << o.reason;
+  TrianglePlate r;
+  const ff::RunInfo& info = s.simulation->info();
+  for (std::size_t k = 0; k < info.probes.size() && k < last.size(); ++k)
+    if (info.probes[k].name == "w") r.w = last[k];
+  for (const auto& [key, value] : s.simulation->info().settings)
+    if (key == "mesh_import") r.import = value;
+  r.warnings = s.warnings;
+  return r;
+}
+
+std::string obj_data(const std::string& name) { return std::string(FF_SOURCE_DIR) + "/tests/io/data/obj/" + name; }
+}  // namespace
+
+// Issue 48, item 2 (obj_first_facet_flips_pressure): with its first triangle reversed, the plate
+// was turned to agree with that one triangle, its directors pointed to -z and the pressure pushed
+// it the other way (w = -0.0067 instead of +0.0067, completed). The majority's side (by area)
+// stays: both files give one answer, and the first file's three quads are the ones turned.
+TEST(MeshImportScene, OneReversedTriangleDoesNotTurnThePlate) {
+  const TrianglePlate consistent = run_triangle_plate("plate_tri", obj_data("plate_tri.obj"));
+  const TrianglePlate first_flipped = run_triangle_plate("first_flipped", obj_data("first_flipped.obj"));
+  std::printf("w: consistent %.9g, first triangle reversed %.9g\n", consistent.w, first_flipped.w);
+  EXPECT_GT(consistent.w, 1e-3) << "the pressure pushes along +z (the directors of the triangles' winding)";
+  EXPECT_NEAR(first_flipped.w / consistent.w, 1.0, 1e-9);
+  EXPECT_EQ(consistent.import.find("turned"), std::string::npos) << consistent.import;
+  EXPECT_NE(first_flipped.import.find("3 quads turned to agree with their neighbours (3 % of the area of a piece"),
+            std::string::npos)
+      << first_flipped.import;
+  EXPECT_TRUE(first_flipped.warnings.empty()) << "one triangle of 32 is not worth a warning";
+}
+
+// ... and when a large share was wound the other way (12 of 32 triangles), the side still follows
+// the majority, and the user hears it: a warning located at part.file (check prints it, run writes
+// it to stderr) and WARNING in the import text (summary.json's mesh_import)
+TEST(MeshImportScene, ManyReversedTrianglesAreTurnedLoudly) {
+  std::ifstream in(obj_data("plate_tri.obj"));
+  std::string line, text;
+  int faces = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("f ", 0) == 0 && faces++ < 12) {
+      std::istringstream f(line.substr(2));
+      std::string a, b, c;
+      f >> a >> b >> c;
+      line = "f " + a + " " + c + " " + b;
+    }
+    text += line + "\n";
+  }
+  const std::string obj = scratch("twelve_reversed.obj");
+  std::ofstream(obj) << text;
+  const TrianglePlate consistent = run_triangle_plate("plate_tri", obj_data("plate_tri.obj"));
+  const TrianglePlate many = run_triangle_plate("twelve_reversed", obj);
+  EXPECT_NEAR(many.w / consistent.w, 1.0, 1e-9) << "the 20 triangles wound counter-clockwise about +z decide";
+  EXPECT_NE(many.import.find("36 quads turned to agree with their neighbours (WARNING: 38 % of the area"), std::string::npos)
+      << many.import;
+  ASSERT_EQ(many.warnings.size(), 1u);
+  EXPECT_NE(many.warnings[0].find("part[0].file"), std::string::npos) << many.warnings[0];
+  EXPECT_NE(many.warnings[0].find("part.flip_director = true"), std::string::npos) << many.warnings[0];
 }

@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "app/output_folder.h"
 
@@ -91,6 +94,65 @@ TEST(WriteTextFile, ReplacesTheFileWhole) {
   EXPECT_EQ(s, "second\n");
   EXPECT_FALSE(fs::exists(d / "a.json.tmp"));
   EXPECT_THROW(write_text_file(d / "missing" / "a.json", "x"), WriteError);
+}
+
+// Issue 48, item 8: nothing is written through a link. A folder on the way to an output that is a
+// link (or not a folder), and an output that is a symbolic link, a hard link or a FIFO, are
+// refused with a WriteError that names the path; the link stays and its target is untouched.
+std::string text_of(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+TEST(OutputFolder, NothingIsWrittenThroughALink) {
+  const fs::path d = fresh_dir("links");
+  const fs::path outside = fresh_dir("links_outside");
+  std::ofstream(outside / "victim") << "precious\n";
+  fs::create_directories(d / "out");
+  fs::create_symlink(outside, d / "out" / "frames");
+  fs::create_symlink(outside / "victim", d / "out" / "summary.json");
+  fs::create_hard_link(outside / "victim", d / "out" / "results.h5");
+  ASSERT_EQ(::mkfifo((d / "out" / "movie.mp4").c_str(), 0644), 0);
+  OutputFolder f(d / "out", "run");
+  const auto refused = [&](const std::function<void()>& write, const std::string& words) {
+    try {
+      write();
+      ADD_FAILURE() << "not refused: " << words;
+    } catch (const WriteError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("nothing was written through it"), std::string::npos) << e.what();
+    }
+  };
+  refused([&] { f.sub_folder("frames"); }, "frames is a symbolic link");
+  refused([&] { f.file("frames/frame_00000.png"); }, "frames is a symbolic link");
+  refused([&] { f.sub_folder("frames/deeper"); }, "frames is a symbolic link");
+  refused([&] { f.file("summary.json"); }, "symbolic link");
+  refused([&] { write_text_file(d / "out" / "summary.json", "x"); }, "symbolic link");
+  refused([&] { f.file("results.h5"); }, "hard link");
+  refused([&] { f.file("movie.mp4"); }, "not a regular file");
+  EXPECT_EQ(text_of(outside / "victim"), "precious\n");
+  EXPECT_TRUE(fs::is_symlink(d / "out" / "frames"));
+  EXPECT_TRUE(fs::is_symlink(d / "out" / "summary.json"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(outside), fs::directory_iterator()), 1) << "a file was made outside";
+  // a temporary planted as a link is refused too, not followed
+  std::ofstream(d / "out" / "plain.json") << "old\n";
+  fs::create_symlink(outside / "victim", d / "out" / "plain.json.tmp");
+  refused([&] { write_text_file(d / "out" / "plain.json", "new\n"); }, "symbolic link");
+  EXPECT_EQ(text_of(outside / "victim"), "precious\n");
+  EXPECT_EQ(text_of(d / "out" / "plain.json"), "old\n");
+}
+
+TEST(OutputFolder, ALinkAtItsOwnFilesIsRefusedWhenClaimed) {
+  const fs::path outside = fresh_dir("own_outside");
+  std::ofstream(outside / "victim") << "precious\n";
+  for (const char* own : {".flexframe.lock", ".flexframe-reserve", ".flexframe-files", ".flexframe-files.tmp"}) {
+    SCOPED_TRACE(own);
+    const fs::path d = fresh_dir("own_links");
+    fs::create_symlink(outside / "victim", d / own);
+    EXPECT_THROW(OutputFolder(d, "run"), WriteError);
+    EXPECT_EQ(text_of(outside / "victim"), "precious\n");
+    EXPECT_TRUE(fs::is_symlink(d / own));
+  }
 }
 
 }  // namespace

@@ -58,6 +58,40 @@ TEST(MeshValidation, OrientConsistentlyRepairsAFlippedQuad) {
   EXPECT_TRUE(validate(m).ok()) << validate(m).summary();
 }
 
+// issue 48: one reversed element does not turn the rest; each piece keeps the side most of its
+// area was wound to, and the report says how much was turned
+TEST(MeshValidation, OrientConsistentlyKeepsTheSideOfTheLargerArea) {
+  ShellMesh m = plate();
+  const auto original = m.quads;
+  std::swap(m.quads[0][1], m.quads[0][3]);  // the FIRST quad reversed
+  std::string why;
+  OrientationReport report;
+  ASSERT_TRUE(orient_consistently(m, &why, {}, &report)) << why;
+  EXPECT_EQ(m.quads, original) << "quad 0 turns back; the five others stay";
+  EXPECT_EQ(report.flipped, 1);
+  EXPECT_EQ(report.pieces, 1);
+  EXPECT_NEAR(report.largest_turned_share, 1.0 / 6.0, 1e-12);
+  EXPECT_NEAR(report.flipped_area, 1.0, 1e-12);
+}
+
+// an edge of three quads (a T): the two that continue each other agree across it, the third is a
+// piece of its own, and nothing is refused when junction edges are accepted
+TEST(MeshValidation, AnEdgeOfThreeQuadsJoinsTheTwoThatContinueEachOther) {
+  // quads 0 and 1 continue each other in the plane z = 0 across edge 0-1; quad 2 stands on it
+  ShellMesh m = from_points_and_quads(
+      {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, -1, 0}, {0, -1, 0}, {1, 0, 1}, {0, 0, 1}},
+      {{{0, 1, 2, 3}}, {{0, 1, 4, 5}}, {{0, 1, 6, 7}}});  // quad 1 runs edge 0-1 the same way as quad 0
+  OrientationOptions junctions;
+  junctions.junction_edges = true;
+  std::string why;
+  OrientationReport report;
+  ASSERT_TRUE(orient_consistently(m, &why, junctions, &report)) << why;
+  EXPECT_EQ(report.pieces, 2) << "the plane, and the quad standing on it";
+  EXPECT_EQ(report.flipped, 1);
+  EXPECT_GT(quad_normal(m, 0).dot(quad_normal(m, 1)), 0.99) << "the two halves of the plane face one side";
+  EXPECT_EQ(m.quads[2], (std::array<int, 4>{0, 1, 6, 7})) << "a piece of one quad keeps its own winding";
+}
+
 TEST(MeshValidation, MoebiusBandIsNotOrientable) {
   // a strip of n quads whose ends are glued with a half twist
   const int n = 8;
