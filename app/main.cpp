@@ -36,6 +36,26 @@ extern "C" void on_sigint(int signo) {
   }
 }
 
+// what the error bars cost and what they could not cover, after the metric table
+void print_error_bar_cost(const ff::app::ErrorBarReport& b) {
+  if (!b.on) return;
+  if (!b.not_estimated.empty()) {
+    std::printf("  error bars: none (%s)\n", b.not_estimated.c_str());
+    return;
+  }
+  std::string twins;
+  for (const ff::app::TwinRun& t : b.twins) twins += (twins.empty() ? "" : "; ") + t.name + ": " + t.description;
+  std::printf("  error bars: Richardson, %s; twins %s; they cost %.0f %% of the run (summary.json \"error_bars\")\n",
+              b.levels == 3 ? "three levels (the observed order, safety factor 1.25)"
+                            : "two levels (the formal order 2, safety factor 3)",
+              twins.empty() ? "none" : twins.c_str(), 100 * b.cost_share());
+  for (const std::string& m : b.missing) std::printf("  error bars: %s\n", m.c_str());
+  for (const ff::app::TwinRun& t : b.twins)
+    if (t.status != ff::RunStatus::completed)
+      std::fprintf(stderr, "warning: error bars: the %s twin ended %s: %s\n", t.name.c_str(), ff::to_string(t.status),
+                   t.reason.c_str());
+}
+
 void print_result(const ff::app::RunResult& r) {
   std::printf("%s: %s at t = %g after %lld steps (%lld Newton iterations) in %.2f s wall\n", r.scene_name.c_str(),
               ff::to_string(r.outcome.status), r.outcome.stop_time, static_cast<long long>(r.totals.steps),
@@ -46,7 +66,13 @@ void print_result(const ff::app::RunResult& r) {
   for (const ff::PathEvent& e : r.outcome.events) ++kinds[e.kind];
   for (const auto& [kind, n] : kinds)  // "2 limit_points", but "2 unloaded"
     std::printf("  events: %d %s%s (summary.json \"events\")\n", n, kind.c_str(), n > 1 && kind.back() != 'd' ? "s" : "");
-  for (const auto& [k, v] : r.metrics) std::printf("  %-30s %.6g\n", k.c_str(), v);
+  // answer metrics with their error bars (app/error_bar_run.h), the solver's counts plain
+  for (const auto& [k, v] : r.metrics) {
+    const ff::MetricError* e = r.error_bars.find(k);
+    const std::string bar = e ? ff::app::error_bar_text(*e) : "";
+    std::printf("  %-30s %.6g%s%s\n", k.c_str(), v, bar.empty() ? "" : " ", bar.c_str());
+  }
+  print_error_bar_cost(r.error_bars);
   std::printf("  outputs: %s/{results.h5, summary.json, frames/ (%d PNG), plots/", r.out_dir.c_str(),
               r.frames_rendered);
   if (!r.movie.empty()) std::printf(", movie.mp4");
@@ -88,6 +114,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1000000));
   run->add_option("--export", run_opt.export_formats,
                   "write the rendered frames' deformed mesh to DIR/export: vtu (+ .pvd), gltf (.glb), obj");
+  std::string error_bar;
+  run->add_option("--error-bar", error_bar,
+                  "on: every answer metric with its discretization error from a coarser twin of the run per source "
+                  "(a coarser mesh, twice the time step; docs/guide/how-accurate.md); three: two twins per source, "
+                  "for the observed order; off: no twin (default: the scene's output.error_bar, on)")
+      ->check(CLI::IsMember({"on", "off", "three"}));
 
   // replay
   ff::app::ReplayOptions replay_opt;
@@ -328,6 +360,7 @@ int main(int argc, char** argv) {
       run_opt.scene_path = ff::app::resolve_scene(run_scene.empty() ? ff::app::default_scene() : run_scene);
       run_opt.frames = !no_frames;
       run_opt.plots = !no_plots;
+      if (!error_bar.empty()) run_opt.error_bar_levels = error_bar == "off" ? 0 : error_bar == "three" ? 3 : 2;
       run_opt.progress = !quiet;
       run_opt.stop_signal = &g_stop_signal;
       if (follower) {
@@ -355,6 +388,7 @@ int main(int argc, char** argv) {
       std::printf("%s\n",
                   ff::scene::check_scene_report(ff::app::resolve_scene(check_scene), check_overrides,
                                                 ff::io::scene_context(&g_stop)).c_str());
+      std::printf("%s\n", ff::app::error_bar_plan_text(ff::app::resolve_scene(check_scene), check_overrides).c_str());
       if (check_picture_opt->count() > 0)
         std::printf("%s\n", ff::app::write_check_picture(ff::app::resolve_scene(check_scene), check_overrides,
                                                          check_picture, ff::io::scene_context(&g_stop)).c_str());

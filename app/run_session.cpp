@@ -600,6 +600,31 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
 
   result.metrics = sim.metrics();
   result.totals = sim.totals();
+  // every answer metric with its discretization error, from coarser twins solved while the render
+  // thread draws the frames (core/model/error_bars.md); only a completed run has answers to bar
+  const int bar_levels = opt.error_bar_levels.value_or(scene.output.error_bar ? scene.output.error_bar_levels : 0);
+  if (bar_levels > 0) {
+    ErrorBarReport& bars = result.error_bars;
+    bars.on = true;
+    if (outcome.status != RunStatus::completed) {
+      bars.not_estimated = "the run did not complete";
+    } else if (linear_solver_ranks() > 1) {
+      bars.not_estimated = "a run over MPI ranks runs no twins yet (--error-bar off skips this note)";
+    } else {
+      if (opt.progress) std::fprintf(stderr, "error bars: solving the coarser twins (--error-bar off skips them)\n");
+      const int elements = scene.mesh_quality ? scene.mesh_quality->quality.quad_count : 0;
+      try {
+        bars = estimate_error_bars(opt.scene_path, opt.overrides, sim, outcome, elements, bar_levels, stop);
+      } catch (const std::exception& e) {  // the scene file changed under the run, or no file (a test's model)
+        bars.not_estimated = std::string("the twins could not be planned: ") + e.what();
+      }
+      if (bars.interrupted && outcome.status == RunStatus::completed) {
+        outcome.status = RunStatus::interrupted;
+        outcome.reason = "interrupted by the user while the error-bar twins were solved; the solve had completed and "
+                         "results.h5 holds every frame (--error-bar off skips the twins)";
+      }
+    }
+  }
   frames_done.get_future().wait();
   // the solve completed but its pictures did not: the run does not call itself completed
   if (!drawing_stopped.empty() && outcome.status == RunStatus::completed) {
@@ -810,6 +835,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       {"mesh_import", mesh_import},
       {"outputs", outputs},
       {"render", render_info}};
+  if (result.error_bars.on) summary["error_bars"] = error_bars_json(result.error_bars);
   if (modes) summary["modes"] = modes_json(*modes);
   if (scene.mesh_quality) summary["mesh_quality"] = mesh_quality_json(*scene.mesh_quality);
   if (von_mises >= 0)  // null node and frame: no stored frame had a finite value

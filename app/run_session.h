@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "app/error_bar_run.h"
 #include "core/model/simulation.h"
 #include "core/scene/scene.h"
 
@@ -39,6 +40,10 @@ struct RunOptions {
   /// --animate-modes: after an eigen-analysis, at most this many modes are animated (frames,
   /// movies); -1 = every mode the analysis found, 0 = none (the table, plot and exports stay)
   int animate_modes = -1;
+  /// --error-bar off|on|three: the metrics' discretization errors from coarser twins of the run
+  /// (app/error_bar_run.h) with this many levels per source: 0 = none, 2, 3; unset = the scene's
+  /// output.error_bar and output.error_bar_levels (on, 2 levels, by default)
+  std::optional<int> error_bar_levels;
   /// The signal that set the stop flag (the caller's handler stores it), or null. Over MPI ranks a
   /// SIGTERM is the launcher's: the outcome names it, and a solver blocked in a call shared with a
   /// dead rank does not keep results.h5 from being closed (run_session.cpp, the launcher watchdog).
@@ -57,6 +62,7 @@ struct RunResult {
   double render_seconds = 0.0;   ///< wall time spent rendering frames (render thread)
   int modes = -1;                ///< modes the eigen-analysis found; -1: the run computes none
   int modes_animated = 0;        ///< of them, animated (frames/mode_NN/)
+  ErrorBarReport error_bars;     ///< the metrics' error bars (on = false: not asked for)
 };
 
 /// Runs a scene. Throws ff::scene::SceneError for bad input (before anything is written) and

@@ -57,6 +57,7 @@ class HubBeamSimulation final : public Simulation {
   StepDone step(double h) override;
   Frame frame() const override { return current_; }
   Metrics metrics() const override;
+  std::vector<std::string> answer_metrics() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override { return sys_ ? sys_->effect_stats() : std::vector<EffectStat>{}; }
   /// The built system (after start()); null before.

@@ -119,6 +119,11 @@ class Simulation {
   /// never reached): summary.json keeps them as null under "metrics" and says why under
   /// "metrics_unreached", and run warns, instead of leaving them out.
   virtual std::vector<std::pair<std::string, std::string>> metrics_unreached() const { return {}; }
+  /// The metrics that are answers of the discretized physics (probe readings, frequencies, loads),
+  /// which a coarser mesh or a longer time step changes: these get error bars
+  /// (core/model/error_bars.md). The others (Newton counts, wall time, drifts, constraint
+  /// violations) describe the solver and get none.
+  virtual std::vector<std::string> answer_metrics() const { return {}; }
   /// The modes an eigen-analysis (scene.analysis = "modal" or "buckling") found, after the run;
   /// null for analyses that compute none.
   virtual const ModeSet* modes() const { return nullptr; }

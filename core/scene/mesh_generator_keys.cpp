@@ -574,6 +574,15 @@ std::vector<std::string> generator_required_keys(const std::string& generator) {
   return it == required_keys().end() ? std::vector<std::string>{} : it->second;
 }
 
+std::vector<std::string> generator_count_keys(const std::string& generator) {
+  std::vector<std::string> out;
+  const auto it = generator_keys().find(generator);
+  if (it == generator_keys().end()) return out;
+  for (const std::string& key : it->second)
+    if (key == "n1" || key == "n2" || key == "n3") out.push_back(key);
+  return out;
+}
+
 bool mesh_from_file(const Document& d, std::size_t i) {
   const std::string& gen = d.string("part.generator", i);
   // generator = "file" without part.file: the reader's "needs part.file" comes first

@@ -25,6 +25,10 @@ void declare_part_keys(Schema& s);
 /// key names inside [[part]]; empty for "file" (it needs part.file) and unknown names.
 std::vector<std::string> generator_required_keys(const std::string& generator);
 
+/// The element-count keys generator `generator` reads (of n1, n2, n3), as key names inside [[part]];
+/// empty for "file" and unknown names.
+std::vector<std::string> generator_count_keys(const std::string& generator);
+
 /// True when part.generator = "file" (the caller reads part.file); checks first that no
 /// generator dimension is given with it.
 bool mesh_from_file(const Document& d, std::size_t i);

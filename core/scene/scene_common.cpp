@@ -50,6 +50,15 @@ void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool 
                  false);
   }
   s.boolean("output.plots", "write plots/*.png at the end", true);
+  s.boolean("output.error_bar",
+            "estimate every answer metric's discretization error from coarser twins of the run (a coarser mesh, "
+            "twice the time step) and print it as a bar (docs/guide/how-accurate.md); --error-bar on|off overrides it",
+            true);
+  s.integer("output.error_bar_levels",
+            "levels per source of error: 2 (the run and one twin, the element's formal order, safety factor 3) or 3 "
+            "(two twins: the observed order, safety factor 1.25, and a flag where the levels are not in the "
+            "asymptotic range); --error-bar three asks 3 for one run",
+            2, IntRange::closed(2, 3));
   if (!camera_keys) return;
   s.choice("output.view", "camera: iso, front (looking along +y, z up), top (looking down z)", {"iso", "front", "top"},
            "iso")
@@ -105,6 +114,8 @@ OutputSettings read_output(const Document& d, bool camera_keys) {
   o.deformation_scale = d.number("output.deformation_scale");
   o.color_field = d.string("output.color_field");
   o.plots = d.boolean("output.plots");
+  o.error_bar = d.boolean("output.error_bar");
+  o.error_bar_levels = static_cast<int>(d.integer("output.error_bar_levels"));
   if (camera_keys) {
     o.view = d.string("output.view");
     o.view_center = d.numbers("output.view_center");

@@ -133,6 +133,13 @@ StepDone MultibodyEigenSimulation::step(double) {
   return d;
 }
 
+std::vector<std::string> MultibodyEigenSimulation::answer_metrics() const {
+  std::vector<std::string> out;  // rigid-body modes have no frequency to converge to
+  for (const Mode& mode : modes_.modes)
+    if (!mode.rigid_body) out.push_back("frequency_" + std::to_string(mode.number));
+  return out;
+}
+
 Metrics MultibodyEigenSimulation::metrics() const {
   Metrics m;
   if (!done_) return m;

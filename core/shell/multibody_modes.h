@@ -54,6 +54,7 @@ class MultibodyEigenSimulation final : public Simulation {
   StepDone step(double h) override;
   Frame frame() const override;
   Metrics metrics() const override;
+  std::vector<std::string> answer_metrics() const override;
   const ModeSet* modes() const override { return done_ ? &modes_ : nullptr; }
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override { return model_->effect_stats(); }

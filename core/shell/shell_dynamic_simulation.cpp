@@ -194,6 +194,12 @@ StepDone ShellDynamicSimulation::step(double h) {
 
 std::vector<EffectStat> ShellDynamicSimulation::effect_stats() const { return model_->effect_stats(); }
 
+std::vector<std::string> ShellDynamicSimulation::answer_metrics() const {
+  std::vector<std::string> out;  // the [[metric]]s read probes; the rest count the solver's work
+  for (const DynamicMetric& mt : settings_.metrics) out.push_back(mt.name);
+  return out;
+}
+
 Metrics ShellDynamicSimulation::metrics() const {
   Metrics m;
   auto index = [&](const std::string& name) {

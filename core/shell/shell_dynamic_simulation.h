@@ -82,6 +82,7 @@ class ShellDynamicSimulation final : public Simulation {
   bool logs_skipped_steps() const override { return true; }
   void on_publish(const Frame& frame) override;
   Metrics metrics() const override;
+  std::vector<std::string> answer_metrics() const override;
   std::vector<std::pair<std::string, std::string>> metrics_unreached() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override;

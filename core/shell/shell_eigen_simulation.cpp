@@ -306,6 +306,15 @@ std::string ShellEigenSimulation::buckling() {
   return "";
 }
 
+std::vector<std::string> ShellEigenSimulation::answer_metrics() const {
+  std::vector<std::string> out;  // rigid-body modes have no frequency to converge to
+  if (!done_) return out;
+  for (const Mode& mode : modes_.modes)
+    if (!mode.rigid_body) out.push_back(modes_.value_name + "_" + std::to_string(mode.number));
+  if (settings_.analysis == ShellEigenSettings::Analysis::buckling && !modes_.modes.empty()) out.push_back("critical_load");
+  return out;
+}
+
 Metrics ShellEigenSimulation::metrics() const {
   Metrics m;
   if (!done_) return m;

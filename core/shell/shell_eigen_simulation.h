@@ -66,6 +66,7 @@ class ShellEigenSimulation final : public Simulation {
   StepDone step(double h) override;
   Frame frame() const override;
   Metrics metrics() const override;
+  std::vector<std::string> answer_metrics() const override;
   /// buckling: the multipliers asked for that are not positive (they buckle the reversed loads)
   std::vector<std::pair<std::string, std::string>> metrics_unreached() const override;
   const ModeSet* modes() const override { return done_ ? &modes_ : nullptr; }

@@ -196,6 +196,12 @@ double vertex(const std::vector<double>& load, int i, const std::vector<double>&
 }
 }  // namespace
 
+std::vector<std::string> ShellStaticSimulation::answer_metrics() const {
+  std::vector<std::string> out;  // every [[metric]] reads the path of the discretized structure
+  for (const ShellMetric& mt : settings_.metrics) out.push_back(mt.name);
+  return out;
+}
+
 Metrics ShellStaticSimulation::metrics() const {
   Metrics m;
   for (const auto& [name, value, why] : evaluate_metrics())

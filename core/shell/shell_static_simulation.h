@@ -75,6 +75,7 @@ class ShellStaticSimulation final : public Simulation {
   StepDone step(double h) override;  ///< one converged step of the path (h is not used: the solver sizes it)
   Frame frame() const override;
   Metrics metrics() const override;
+  std::vector<std::string> answer_metrics() const override;
   std::vector<std::pair<std::string, std::string>> metrics_unreached() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override { return model_->effect_stats(); }

@@ -81,6 +81,8 @@ const std::map<std::string, SceneLevel> kSceneLevels = {
     {"scene", kRegistry},
     // what a scene's names select, for check --picture (reads a scene as the registry does)
     {"scene_selections", kRegistry},
+    // the coarser twins of a scene whose metrics give the error bars (reads a scene as the registry does)
+    {"discretization_twins", kRegistry},
     // writing edited scenes back
     {"scene_edit", kEditing},
 };

@@ -1,0 +1,276 @@
+#include "app/error_bar_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+
+#include "app/io/mesh_import.h"
+#include "core/model/run_loop.h"
+#include "core/scene/discretization_twins.h"
+#include "core/scene/scene.h"
+
+namespace ff::app {
+namespace {
+
+// the formal orders of error_bars.md §1: displacements and eigenvalues of the CB shell, and the
+// generalized-alpha step, are second order
+constexpr double kFormalOrder = 2.0;
+
+std::map<std::string, int> event_counts(const std::vector<PathEvent>& events) {
+  std::map<std::string, int> n;
+  for (const PathEvent& e : events) ++n[e.kind];
+  return n;
+}
+
+std::string events_text(const std::map<std::string, int>& n) {
+  if (n.empty()) return "none";
+  std::string s;
+  for (const auto& [kind, count] : n) s += (s.empty() ? "" : ", ") + std::to_string(count) + " " + kind;
+  return s;
+}
+
+TwinRun run_twin(const scene::TwinPlan& plan, const std::string& path, const std::vector<std::string>& overrides,
+                 const std::atomic<bool>& stop) {
+  TwinRun t;
+  t.name = plan.name;
+  t.description = plan.description;
+  const auto wall0 = std::chrono::steady_clock::now();
+  try {
+    std::vector<std::string> all = overrides;
+    all.insert(all.end(), plan.overrides.begin(), plan.overrides.end());
+    scene::LoadedScene twin = scene::load_scene(path, all, io::scene_context(&stop));
+    if (twin.mesh_quality) t.elements = twin.mesh_quality->quality.quad_count;
+    RunLoop loop(*twin.simulation);
+    const RunOutcome o = loop.run([](Frame&&) {}, stop);
+    t.status = o.status;
+    t.reason = o.reason;
+    t.events = event_counts(o.events);
+    t.metrics = twin.simulation->metrics();
+  } catch (const std::exception& e) {  // a twin the scene's keys refuse (e.g. a cylinder of too few elements)
+    t.status = RunStatus::failed;
+    t.reason = std::string("the twin could not be built: ") + e.what();
+  }
+  t.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return t;
+}
+
+const TwinRun* twin_named(const std::vector<TwinRun>& twins, const std::string& name) {
+  for (const TwinRun& t : twins)
+    if (t.name == name) return &t;
+  return nullptr;
+}
+
+// r of (R5) for a surface mesh (d = 2), or 0 when the twin is not coarser
+double mesh_ratio(int fine_elements, int coarse_elements) {
+  if (fine_elements <= 0 || coarse_elements <= 0 || coarse_elements >= fine_elements) return 0.0;
+  return std::sqrt(static_cast<double>(fine_elements) / coarse_elements);
+}
+
+// why `twin` cannot stand beside the run for a metric read off its path, or "" (error_bars.md §6)
+std::string twin_problem(const TwinRun& twin, const RunOutcome& run) {
+  if (twin.status != RunStatus::completed)
+    return "the " + twin.name + " twin ended " + std::string(to_string(twin.status)) + " where the run completed (" +
+           twin.reason + ")";
+  const std::map<std::string, int> run_events = event_counts(run.events);
+  if (twin.events != run_events)
+    return "the " + twin.name + " twin's path differs in kind: the run had " + events_text(run_events) +
+           ", the twin " + events_text(twin.events);
+  return "";
+}
+
+std::string pct(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2g %%", 100 * x);
+  return b;
+}
+
+}  // namespace
+
+const MetricError* ErrorBarReport::find(const std::string& metric) const {
+  for (const MetricError& m : metrics)
+    if (m.metric == metric) return &m;
+  return nullptr;
+}
+
+ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vector<std::string>& overrides,
+                                   const Simulation& run, const RunOutcome& outcome, int run_elements, int levels,
+                                   const std::atomic<bool>& stop) {
+  ErrorBarReport r;
+  r.on = true;
+  r.levels = levels;
+  r.run_wall_s = outcome.wall_time_s;
+  const scene::TwinPlans plans = scene::discretization_twins(scene_path, overrides, levels);
+  r.missing = plans.missing;
+  for (const scene::TwinPlan& plan : plans.twins) {
+    if (stop) break;
+    r.twins.push_back(run_twin(plan, scene_path, overrides, stop));
+    r.twins_wall_s += r.twins.back().wall_s;
+    if (r.twins.back().status == RunStatus::interrupted) r.interrupted = true;
+  }
+  if (stop) r.interrupted = true;
+
+  // one ladder of levels per source, finest first: the time step on the run's mesh; the mesh at the
+  // run's step (statics, eigen) or at 2 dt from the time twin down (dynamics, (R8))
+  struct Rung {
+    const TwinRun* twin;  // null: the run itself
+    int elements;
+  };
+  struct Ladder {
+    std::string source;
+    std::vector<Rung> rungs;
+    bool known_ratio;  // time: 2 per rung; mesh: from the element counts (R5)
+  };
+  std::vector<Ladder> ladders;
+  if (const TwinRun* t = twin_named(r.twins, "time")) {
+    Ladder time{"time", {{nullptr, run_elements}, {t, run_elements}}, true};
+    if (const TwinRun* t4 = twin_named(r.twins, "time_coarser")) time.rungs.push_back({t4, run_elements});
+    ladders.push_back(time);
+  }
+  const std::string suffix = plans.dynamic ? "_at_2dt" : "";
+  const TwinRun* mesh_top = plans.dynamic ? twin_named(r.twins, "time") : nullptr;
+  if (const TwinRun* m = twin_named(r.twins, "mesh" + suffix); m && (!plans.dynamic || mesh_top)) {
+    Ladder mesh{"mesh", {}, false};
+    if (plans.dynamic) mesh.rungs.push_back({mesh_top, run_elements});
+    else mesh.rungs.push_back({nullptr, run_elements});
+    mesh.rungs.push_back({m, m->elements});
+    if (const TwinRun* m4 = twin_named(r.twins, "mesh_coarser" + suffix)) mesh.rungs.push_back({m4, m4->elements});
+    ladders.push_back(mesh);
+  }
+
+  const Metrics values = run.metrics();
+  for (const std::string& name : run.answer_metrics()) {
+    const std::optional<double> value = find_metric(values, name);
+    if (!value || !std::isfinite(*value)) continue;
+    MetricError m;
+    m.metric = name;
+    m.value = *value;
+    m.missing = r.missing;
+    if (r.interrupted) {
+      m.missing.push_back("not estimated: the twins were interrupted");
+      r.metrics.push_back(std::move(m));
+      continue;
+    }
+    for (const Ladder& ladder : ladders) {
+      std::vector<double> levels_values, ratios;
+      std::string flag;
+      for (std::size_t k = 0; k < ladder.rungs.size() && flag.empty(); ++k) {
+        const Rung& rung = ladder.rungs[k];
+        std::optional<double> v = value;
+        if (rung.twin) {
+          if (const std::string problem = twin_problem(*rung.twin, outcome); !problem.empty()) {
+            flag = problem;
+            break;
+          }
+          v = find_metric(rung.twin->metrics, name);
+          if (!v || !std::isfinite(*v)) {
+            flag = "the " + rung.twin->name + " twin has no value for it";
+            break;
+          }
+        }
+        levels_values.push_back(*v);
+        if (k == 0) continue;
+        const double ratio = ladder.known_ratio ? 2.0 : mesh_ratio(ladder.rungs[k - 1].elements, rung.elements);
+        if (ratio <= 0) {
+          flag = "the " + rung.twin->name + " twin is not coarser than the level above it (" +
+                 std::to_string(rung.elements) + " elements for " + std::to_string(ladder.rungs[k - 1].elements) + ")";
+          break;
+        }
+        ratios.push_back(ratio);
+      }
+      if (flag.empty()) {
+        const LevelEstimate e = estimate_from_levels(ladder.source, levels_values, ratios, kFormalOrder);
+        if (e.error) m.sources.push_back(*e.error);
+        else flag = e.flag;
+      }
+      if (!flag.empty()) m.flags.push_back(flag);
+    }
+    if (!m.flags.empty()) m.sources.clear();  // a flagged metric gets no number (error_bars.md §3, §6)
+    r.metrics.push_back(std::move(m));
+  }
+  return r;
+}
+
+std::string error_bar_plan_text(const std::string& scene_path, const std::vector<std::string>& overrides) {
+  const scene::TwinPlans plans = scene::discretization_twins(scene_path, overrides, 0);
+  if (!plans.on) return "error bars: off (output.error_bar = false; --error-bar on turns them on for one run)";
+  std::string s = "error bars (--error-bar off skips them):";
+  if (plans.twins.empty()) s += " no twin";
+  for (const scene::TwinPlan& t : plans.twins) {
+    // the shares measured on the bundled scenes (docs/validation/error-bars.md#cost)
+    const char* share = t.name == "time" ? "50-75 %" : t.name == "mesh_at_2dt" ? "about 15 %" : "15-30 %";
+    s += "\n  " + t.name + " twin: " + t.description + " (typically " + share + " of the run's time)";
+  }
+  for (const std::string& m : plans.missing) s += "\n  " + m;
+  return s;
+}
+
+std::string error_bar_text(const MetricError& m) {
+  if (!m.flags.empty()) return "(no bar: " + m.flags.front() + ")";
+  if (m.sources.empty()) return m.missing.empty() ? "" : "(no bar: " + m.missing.front() + ")";
+  char b[64];
+  std::snprintf(b, sizeof b, "± %.2g", m.bar());
+  std::string s = b;
+  s += " (" + pct(m.relative_bar());
+  std::string parts;
+  if (m.sources.size() > 1 || !m.missing.empty())
+    for (const SourceError& e : m.sources)
+      parts += (parts.empty() ? "" : ", ") + e.source + " " + pct(m.value != 0 ? e.bar / std::abs(m.value) : 0.0);
+  if (!parts.empty()) s += ": " + parts;
+  s += ")";
+  for (const std::string& missing : m.missing) s += "; " + missing.substr(0, missing.find(':'));
+  return s;
+}
+
+nlohmann::ordered_json error_bars_json(const ErrorBarReport& report) {
+  using Json = nlohmann::ordered_json;
+  Json metrics = Json::object();
+  for (const MetricError& m : report.metrics) {
+    Json sources = Json::array();
+    for (const SourceError& s : m.sources)
+      sources.push_back({{"source", s.source},
+                         {"fine", s.fine},
+                         {"coarse", s.coarse},
+                         {"ratio", s.ratio},
+                         {"order", s.order},
+                         {"order_kind", s.order_observed ? "observed" : "formal"},
+                         {"safety_factor", s.safety},
+                         {"estimate", s.estimate},
+                         {"bar", s.bar}});
+    const bool bar = m.has_bar();
+    metrics[m.metric] = {{"value", m.value},
+                         {"estimate", bar ? Json(m.estimate()) : Json()},
+                         {"extrapolated", bar ? Json(m.extrapolated()) : Json()},
+                         {"bar", bar ? Json(m.bar()) : Json()},
+                         {"bar_relative", bar ? Json(m.relative_bar()) : Json()},
+                         {"method", "Richardson extrapolation of twins, GCI bar (core/model/error_bars.md)"},
+                         {"sources", sources},
+                         {"flags", m.flags},
+                         {"missing", m.missing}};
+  }
+  Json twins = Json::array();
+  for (const TwinRun& t : report.twins) {
+    Json tm = Json::object();
+    for (const auto& [k, v] : t.metrics) tm[k] = v;
+    twins.push_back({{"name", t.name},
+                     {"description", t.description},
+                     {"status", to_string(t.status)},
+                     {"reason", t.reason},
+                     {"elements", t.elements},
+                     {"wall_time_s", t.wall_s},
+                     {"events", t.events},
+                     {"metrics", tm}});
+  }
+  return {{"on", report.on},
+          {"not_estimated", report.not_estimated},
+          {"metrics", metrics},
+          {"twins", twins},
+          {"missing", report.missing},
+          {"cost", {{"twins_wall_time_s", report.twins_wall_s},
+                    {"run_wall_time_s", report.run_wall_s},
+                    {"share_of_run", report.cost_share()},
+                    {"twins_ran", "after the run, one after the other"}}}};
+}
+
+}  // namespace ff::app

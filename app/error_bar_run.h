@@ -1,0 +1,69 @@
+#pragma once
+/// \file error_bar_run.h
+/// Every run's metrics with their discretization error: the scene's coarser twins
+/// (core/scene/discretization_twins.h) are solved after the run, and their metrics turned into an
+/// estimate and a bar per metric (core/model/error_bars.{h,md}); the console line, summary.json
+/// "error_bars" and the cost as a share of the run come from here.
+
+#include <atomic>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/model/error_bars.h"
+#include "core/model/simulation.h"
+
+namespace ff::app {
+
+/// One twin as it ran.
+struct TwinRun {
+  std::string name;         ///< "mesh", "time", "mesh_at_2dt" (discretization_twins.h)
+  std::string description;  ///< what differs from the run
+  RunStatus status = RunStatus::failed;
+  std::string reason;       ///< why it did not complete; also a twin that could not be built
+  double wall_s = 0.0;
+  int elements = 0;         ///< quads of its mesh
+  Metrics metrics;
+  std::map<std::string, int> events;  ///< path events by kind (statics)
+};
+
+struct ErrorBarReport {
+  bool on = false;              ///< asked for (--error-bar, output.error_bar)
+  int levels = 2;               ///< levels per source (the run and one or two twins)
+  std::string not_estimated;    ///< why no twin ran although asked ("" when they ran)
+  std::vector<TwinRun> twins;
+  std::vector<std::string> missing;  ///< sources without a twin, and why
+  std::vector<MetricError> metrics;  ///< one per answer metric the run has
+  double twins_wall_s = 0.0;
+  double run_wall_s = 0.0;
+  bool interrupted = false;     ///< the stop flag ended a twin
+  /// the twins' wall time over the run's (the cost of the bars, as a share of the run)
+  double cost_share() const { return run_wall_s > 0 ? twins_wall_s / run_wall_s : 0.0; }
+  const MetricError* find(const std::string& metric) const;
+};
+
+/// Runs the twins of the scene at `scene_path` (with the run's `overrides`) and estimates the
+/// error of each of `run`'s answer metrics. `run_elements`: quads of the run's mesh (0 when it has
+/// none); `outcome`: the run's, whose events the twins' paths are compared with; `levels`: 2 (one
+/// twin per source, formal order) or 3 (two twins per source, observed order). A twin that cannot
+/// be built or does not complete flags the metrics instead of failing the run; the stop flag ends
+/// a twin (interrupted).
+ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vector<std::string>& overrides,
+                                   const Simulation& run, const RunOutcome& outcome, int run_elements, int levels,
+                                   const std::atomic<bool>& stop);
+
+/// What `check` says the bars will cost before the run: the twins a run of the scene would solve,
+/// what each changes and its expected share of the run, and the sources without a twin.
+std::string error_bar_plan_text(const std::string& scene_path, const std::vector<std::string>& overrides);
+
+/// The console's text after the metric's value, e.g. "± 0.0031 (0.7 %: mesh 0.6 %, time 0.1 %)",
+/// or "(no bar: <flag>)"; "" for a metric without an estimate.
+std::string error_bar_text(const MetricError& m);
+
+/// summary.json "error_bars": per metric its value, estimate, extrapolated value, bar, sources
+/// (levels, ratio, order, safety factor), flags and what is missing; the twins and the cost.
+nlohmann::ordered_json error_bars_json(const ErrorBarReport& report);
+
+}  // namespace ff::app

@@ -1,0 +1,131 @@
+#include "core/scene/discretization_twins.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <utility>
+#include <cstdlib>
+#include <filesystem>
+
+#include "core/scene/mesh_generator_keys.h"
+#include "core/scene/scene.h"
+
+namespace ff::scene {
+namespace {
+
+std::string number_text(double x) {  // the shortest text that reads back as x: exact, and legible
+  char b[40];
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(b, sizeof b, "%.*g", digits, x);
+    if (std::strtod(b, nullptr) == x) break;
+  }
+  return b;
+}
+
+std::string part_key(std::size_t i, const std::string& key) { return "part[" + std::to_string(i) + "]." + key; }
+
+// A mesh twin's overrides, `halvings` times coarser: generator parts at their element counts halved
+// (rounded up) that many times, Gmsh parts at their sizes doubled as often (error_bars.md §5).
+// Empty, with why in `why_not`, when a part cannot be coarsened: a twin coarser in some parts only
+// would measure a mixture of errors.
+std::vector<std::string> coarser_mesh(const Document& d, int halvings, std::string* description, std::string* why_not) {
+  std::vector<std::string> out;
+  std::string what;
+  const double factor = std::ldexp(1.0, halvings);
+  for (std::size_t i = 0; i < d.count("part"); ++i) {
+    const std::string& generator = d.string("part.generator", i);
+    if (generator == "file") {
+      const double size = d.number("part.mesh_size", i);
+      if (size > 0) {  // meshed by Gmsh from geometry (mesh_generator_keys: part.mesh_size)
+        out.push_back(part_key(i, "mesh_size") + "=" + number_text(factor * size));
+        what += (what.empty() ? "" : ", ") + part_key(i, "mesh_size") + " = " + number_text(factor * size) + " (" +
+                number_text(size) + ")";
+        std::vector<double> local = d.numbers("part.local_sizes", i);
+        if (!local.empty()) {
+          std::string list;
+          for (double s : local) list += (list.empty() ? "" : ", ") + number_text(factor * s);
+          out.push_back(part_key(i, "local_sizes") + "=[" + list + "]");
+          what += ", its local sizes x " + number_text(factor);
+        }
+        continue;
+      }
+      const std::string file = d.string("part.file", i);
+      const bool script = std::filesystem::path(file).extension() == ".geo";
+      *why_not = part_key(i, "file") + " ('" + file + "') " +
+                 (script ? "is meshed at its script's own sizes; give part.mesh_size, which a twin can double"
+                         : "is a fixed mesh, which no twin can coarsen faithfully");
+      return {};
+    }
+    for (const std::string& key : generator_count_keys(generator)) {
+      if (key == "n3" && !d.present("part.n3", i)) continue;  // n3 absent follows n1
+      const long long n = d.integer("part." + key, i);
+      long long coarse = n;
+      for (int h = 0; h < halvings; ++h) coarse = (coarse + 1) / 2;
+      // each level must be coarser than the one before it
+      long long previous = n;
+      for (int h = 0; h + 1 < halvings; ++h) previous = (previous + 1) / 2;
+      if (coarse >= previous) {
+        *why_not = part_key(i, key) + " = " + std::to_string(n) + " cannot be halved " + std::to_string(halvings) +
+                   " time(s) (" + std::to_string(1LL << halvings) + " elements there at least)";
+        return {};
+      }
+      out.push_back(part_key(i, key) + "=" + std::to_string(coarse));
+      what += (what.empty() ? "" : ", ") + part_key(i, key) + " = " + std::to_string(coarse) + " (" + std::to_string(n) + ")";
+    }
+  }
+  *description = what;
+  return out;
+}
+
+}  // namespace
+
+TwinPlans discretization_twins(const std::string& path, const std::vector<std::string>& overrides, int levels) {
+  const Document d = validate_file(scene_schema(path), path, overrides);
+  if (levels == 0) levels = static_cast<int>(d.integer("output.error_bar_levels"));
+  if (levels != 2 && levels != 3) throw std::invalid_argument("discretization_twins: two or three levels");
+  TwinPlans plans;
+  plans.on = d.boolean("output.error_bar");
+  plans.levels = levels;
+  const std::string& model = d.string("scene.model");
+  const bool shell = model == "shell";
+  plans.dynamic = !shell || d.string("scene.analysis") == "dynamic";  // the hub-beam steps in time
+  const double dt = plans.dynamic ? d.number("solver.dt") : 0.0;
+  auto step = [&](int halvings) {  // solver.dt made 2^halvings times longer
+    const double longer = std::ldexp(dt, halvings);
+    return std::pair{"solver.dt=" + number_text(longer), "solver.dt = " + number_text(longer) + " (" + number_text(dt) + ")"};
+  };
+  if (plans.dynamic) {
+    const auto [set2, text2] = step(1);
+    plans.twins.push_back({"time", {set2}, text2, 2.0});
+    if (levels == 3) {
+      const auto [set4, text4] = step(2);
+      plans.twins.push_back({"time_coarser", {set4}, text4, 4.0});
+    }
+  }
+  if (!shell) {
+    plans.missing.push_back("no mesh estimate: the hub-beam's twins are in time only (its EFG and FEM "
+                            "discretizations are compared with each other in its verification)");
+    return plans;
+  }
+  for (int halvings = 1; halvings < levels; ++halvings) {
+    std::string description, why_not = "the scene has no shell part to coarsen";
+    std::vector<std::string> mesh = coarser_mesh(d, halvings, &description, &why_not);
+    if (mesh.empty()) {  // a third level that cannot be made leaves the two-level estimate
+      plans.missing.push_back(std::string(halvings == 1 ? "no mesh estimate: " : "no third mesh level (two only): ") +
+                              why_not);
+      return plans;
+    }
+    const std::string name = halvings == 1 ? "mesh" : "mesh_coarser";
+    if (plans.dynamic) {  // (R8): the mesh estimate from twins at 2 dt
+      const auto [set2, text2] = step(1);
+      mesh.push_back(set2);
+      plans.twins.push_back({name + "_at_2dt", mesh, description + ", " + text2, 0.0});
+    } else {
+      plans.twins.push_back({name, mesh, description, 0.0});
+    }
+  }
+  return plans;
+}
+
+}  // namespace ff::scene

@@ -1,0 +1,42 @@
+#pragma once
+/// \file discretization_twins.h
+/// Which coarser twins of a scene measure its discretization error (core/model/error_bars.md §5):
+/// the same scene with extra --set overrides, so that a twin is built by load_scene exactly as the
+/// run was and differs only in its mesh or its time step.
+
+#include <string>
+#include <vector>
+
+namespace ff::scene {
+
+/// One twin: the run's scene with `overrides` added after the run's own.
+struct TwinPlan {
+  /// "mesh" (coarser mesh, the run's time step), "time" (the run's mesh at twice its time step),
+  /// "mesh_at_2dt" (coarser mesh at twice the time step: the mesh estimate of a dynamic run, (R8));
+  /// with three levels also "mesh_coarser" (halved twice), "time_coarser" (4 dt) and
+  /// "mesh_coarser_at_2dt"
+  std::string name;
+  std::vector<std::string> overrides;
+  std::string description;  ///< what differs from the run, e.g. "part[0].n1 = 8 (15), part[0].n2 = 8 (15)"
+  /// the refinement ratio when the overrides fix it (time: 2); 0 when it is measured from the two
+  /// meshes' element counts (R5)
+  double ratio = 0.0;
+};
+
+struct TwinPlans {
+  std::vector<TwinPlan> twins;  ///< in the order to run them
+  /// sources that get no twin, each a sentence saying why and what would give one
+  /// ("no mesh estimate: part[1].file is a fixed mesh (...)")
+  std::vector<std::string> missing;
+  bool dynamic = false;  ///< a time-stepping run (time and mesh_at_2dt twins)
+  bool on = true;        ///< the scene's output.error_bar (--error-bar overrides it)
+  int levels = 2;        ///< levels per source: the run and one twin, or two (the observed order)
+};
+
+/// The twins of the scene at `path` with the run's `overrides`, for `levels` = 2 or 3 levels per
+/// source (the run counts as one; 0: the scene's output.error_bar_levels). Throws SceneError when the scene does not validate (the run
+/// would have refused it first).
+TwinPlans discretization_twins(const std::string& path, const std::vector<std::string>& overrides, int levels = 2);
+
+
+}  // namespace ff::scene

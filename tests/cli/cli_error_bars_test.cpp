@@ -1,0 +1,175 @@
+// Every run's answer metrics with their discretization error (issue 49; core/model/error_bars.md,
+// docs/guide/how-accurate.md): the estimate from the coarser twin must bracket the true error
+// against a published solution, the bars are on by default and can be turned off, and a source
+// that cannot be estimated is said, not dropped silently.
+
+#include <nlohmann/json.hpp>
+
+#include "cli_support.h"
+
+namespace ff::cli::test {
+namespace {
+
+nlohmann::json summary_of(const std::string& out) {
+  return nlohmann::json::parse(read_text(out + "/summary.json"));
+}
+
+ProcResult run_scene(const std::string& dir, const std::string& name, const std::string& out,
+                     const std::vector<std::string>& extra = {}, double timeout_s = 300) {
+  std::vector<std::string> args = {"run", scene_path(name), "--out", dir + "/" + out,
+                                   "--no-frames", "--no-plots", "--quiet"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return run_flexframe(args, dir + "/" + out, "", timeout_s);
+}
+
+// The effectivity (estimated over true error) the issue asks where the true error exceeds 0.5 %:
+// between 1/3 and 3; and the bar (GCI) at least the true error.
+void expect_brackets(const nlohmann::json& metric, double reference, const std::string& what,
+                     double least_error = 0.005) {
+  ASSERT_TRUE(metric["flags"].empty()) << what << ": " << metric.dump(1);
+  const double value = metric["value"], estimate = metric["estimate"], bar = metric["bar"];
+  const double true_error = value - reference;
+  ASSERT_GT(std::abs(true_error), least_error * std::abs(reference)) << what << ": the case must have an error to bracket";
+  const double effectivity = estimate / true_error;
+  EXPECT_GE(effectivity, 1.0 / 3.0) << what << ": estimate " << estimate << " for a true error " << true_error;
+  EXPECT_LE(effectivity, 3.0) << what << ": estimate " << estimate << " for a true error " << true_error;
+  EXPECT_GE(bar, std::abs(true_error)) << what;
+}
+
+TEST(ErrorBars, ClampedPlateFrequenciesAgainstLeissa) {
+  // Leissa, Vibration of Plates, NASA SP-160 (1969), Table 4.23: clamped square plate,
+  // lambda = omega a^2 sqrt(rho h / D) = 35.985, 73.394, 73.394, 108.22, 131.58, 132.21; with the
+  // scene's plate f = 2.49903 lambda Hz (its header). At 16 x 16 every frequency is 0.8-5.4 % high.
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_scene(dir, "modal_clamped_plate", "out", {"--set", "part[0].n1=16", "part[0].n2=16"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json bars = summary_of(dir + "/out")["error_bars"];
+  const double lambda[] = {35.985, 73.394, 73.394, 108.22, 131.58, 132.21};
+  for (int k = 0; k < 6; ++k) {
+    const std::string name = "frequency_" + std::to_string(k + 1);
+    ASSERT_TRUE(bars["metrics"].contains(name)) << bars.dump(1);
+    expect_brackets(bars["metrics"][name], 2.49903 * lambda[k], name);
+  }
+  EXPECT_EQ(bars["twins"][0]["elements"], 64) << "the mesh twin halves 16 x 16";
+  EXPECT_NE(r.out.find("frequency_1"), std::string::npos);
+  EXPECT_NE(r.out.find(" ± "), std::string::npos) << "the console prints the bar beside the value:\n" << r.out;
+  EXPECT_NE(r.out.find("% of the run"), std::string::npos) << "and what it cost:\n" << r.out;
+}
+
+TEST(ErrorBars, ClampedPlateDeflectionAgainstTheSeriesSolution) {
+  // Timoshenko & Woinowsky-Krieger (1959), §44, Table 35: w_max = 0.00126 q a^4 / D for the
+  // clamped square plate; the series to more digits gives the coefficient 0.0012653 (Taylor &
+  // Govindjee, Commun. Numer. Meth. Engng 20 (2004) 757-765, Table I). At the scene's 8 x 8 the
+  // centre deflection is 0.42 % low (the Reissner-Mindlin shear adds ~0.1 % to the limit), and the
+  // 4 x 4 twin must see it: judged here below the issue's 0.5 % threshold, since it is the
+  // scene's own mesh. (At 6 x 6 the 3 x 3 twin has no node at the centre and the metric is flagged;
+  // at 4 x 4 the 2 x 2 twin is far outside the asymptotic range: see the guide's limits.)
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_scene(dir, "clamped_plate_pressure", "out");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json s = summary_of(dir + "/out");
+  const double D = 210e9 * std::pow(0.01, 3) / (12 * (1 - 0.3 * 0.3));
+  expect_brackets(s["error_bars"]["metrics"]["w_centre"], 0.0012653 * 1000.0 / D, "w_centre", 0.003);
+  EXPECT_EQ(s["error_bars"]["metrics"]["w_centre"]["sources"][0]["source"], "mesh");
+  EXPECT_DOUBLE_EQ(s["error_bars"]["metrics"]["w_centre"]["sources"][0]["ratio"], 2.0);
+}
+
+TEST(ErrorBars, TimeStepEstimateAgainstATenTimesFinerStep) {
+  // The double pendulum (the main job) shortened to 0.5 s at dt = 1e-3: its time twin at 2e-3 must
+  // estimate the difference to the same mesh at dt = 1e-4, a step ten times finer whose own error
+  // is 1 % of the run's (second order).
+  const std::string dir = fresh_test_dir();
+  const ProcResult run = run_scene(dir, "double_pendulum_shells", "run", {"--set", "solver.dt=1e-3", "solver.end=0.5"}, 600);
+  ASSERT_EQ(run.exit_code, 0) << run.describe();
+  const ProcResult fine = run_scene(dir, "double_pendulum_shells", "fine",
+                                    {"--error-bar", "off", "--set", "solver.dt=1e-4", "solver.end=0.5"}, 600);
+  ASSERT_EQ(fine.exit_code, 0) << fine.describe();
+  const nlohmann::json bars = summary_of(dir + "/run")["error_bars"];
+  const nlohmann::json reference = summary_of(dir + "/fine");
+  EXPECT_FALSE(reference.contains("error_bars")) << "--error-bar off runs no twin";
+  int judged = 0;
+  for (const auto& [name, m] : bars["metrics"].items()) {
+    ASSERT_TRUE(m["flags"].empty()) << name << ": " << m.dump(1);
+    const nlohmann::json* time = nullptr;
+    for (const auto& source : m["sources"])
+      if (source["source"] == "time") time = &source;
+    ASSERT_NE(time, nullptr) << name;
+    EXPECT_DOUBLE_EQ((*time)["ratio"].get<double>(), 2.0);
+    const double true_error = m["value"].get<double>() - reference["metrics"][name].get<double>();
+    // the bar covers the difference to the finer step wherever it is above the solver's
+    // tolerance (1e-6 of the metric), and the estimate is within 1/3-3 of it above 0.5 %
+    if (std::abs(true_error) > 1e-6 * std::abs(m["value"].get<double>())) {
+      EXPECT_GE((*time)["bar"].get<double>(), std::abs(true_error)) << name;
+    }
+    if (std::abs(true_error) <= 0.005 * std::abs(m["value"].get<double>())) continue;
+    ++judged;
+    const double effectivity = (*time)["estimate"].get<double>() / true_error;
+    EXPECT_GE(effectivity, 1.0 / 3.0) << name;
+    EXPECT_LE(effectivity, 3.0) << name;
+  }
+  EXPECT_TRUE(bars["metrics"].contains("pointF_z_min")) << bars.dump(1);
+  EXPECT_FALSE(bars["metrics"].contains("NOI")) << "the solver's counts get no bar";
+  (void)judged;
+}
+
+TEST(ErrorBars, ThreeLevelsGiveTheObservedOrderOrAFlag) {
+  // --error-bar three: twins at 8 x 8 and 4 x 4 beside the 16 x 16 run; each frequency either gets
+  // the observed order (R6) with F_s = 1.25, or a flag saying the levels are not in the asymptotic
+  // range: never a number from an order the levels contradict
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_scene(dir, "modal_clamped_plate", "out",
+                                 {"--error-bar", "three", "--set", "part[0].n1=16", "part[0].n2=16"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json bars = summary_of(dir + "/out")["error_bars"];
+  ASSERT_EQ(bars["twins"].size(), 2u) << bars.dump(1);
+  EXPECT_EQ(bars["twins"][1]["elements"], 16);
+  int observed = 0;
+  for (const auto& [name, m] : bars["metrics"].items()) {
+    if (!m["flags"].empty()) {
+      EXPECT_NE(m["flags"][0].get<std::string>().find("asymptotic range"), std::string::npos) << name << m.dump(1);
+      EXPECT_TRUE(m["bar"].is_null());
+      continue;
+    }
+    ++observed;
+    ASSERT_EQ(m["sources"].size(), 1u);
+    EXPECT_EQ(m["sources"][0]["order_kind"], "observed") << name;
+    EXPECT_EQ(m["sources"][0]["safety_factor"], 1.25) << name;
+    const double p = m["sources"][0]["order"];
+    EXPECT_GE(p, 1.0) << name;
+    EXPECT_LE(p, 4.0) << name;
+  }
+  EXPECT_GT(observed, 0) << "the first frequency converges cleanly from 4 x 4: " << bars.dump(1);
+  EXPECT_NE(r.out.find("three levels"), std::string::npos) << r.out;
+}
+
+TEST(ErrorBars, AFixedMeshFileSaysWhyItHasNoMeshEstimate) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_scene(dir, "clamped_plate_pressure_obj", "out");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json m = summary_of(dir + "/out")["error_bars"]["metrics"]["w_centre"];
+  EXPECT_TRUE(m["bar"].is_null()) << m.dump(1);
+  ASSERT_EQ(m["missing"].size(), 1u) << m.dump(1);
+  EXPECT_NE(m["missing"][0].get<std::string>().find("is a fixed mesh"), std::string::npos) << m.dump(1);
+  EXPECT_NE(r.out.find("no mesh estimate"), std::string::npos) << "said where the user looks:\n" << r.out;
+}
+
+TEST(ErrorBars, OffByFlagOrSceneKey) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult flag = run_scene(dir, "clamped_plate_pressure", "flag", {"--error-bar", "off"});
+  ASSERT_EQ(flag.exit_code, 0) << flag.describe();
+  EXPECT_FALSE(summary_of(dir + "/flag").contains("error_bars"));
+  EXPECT_EQ(flag.out.find(" ± "), std::string::npos) << flag.out;
+  const ProcResult key = run_scene(dir, "clamped_plate_pressure", "key", {"--set", "output.error_bar=false"});
+  ASSERT_EQ(key.exit_code, 0) << key.describe();
+  EXPECT_FALSE(summary_of(dir + "/key").contains("error_bars"));
+  // the flag wins over the key
+  const ProcResult both = run_scene(dir, "clamped_plate_pressure", "both", {"--error-bar", "on", "--set", "output.error_bar=false"});
+  ASSERT_EQ(both.exit_code, 0) << both.describe();
+  EXPECT_TRUE(summary_of(dir + "/both").contains("error_bars"));
+  const ProcResult bad = run_scene(dir, "clamped_plate_pressure", "bad", {"--error-bar", "maybe"});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.err.find("--error-bar"), std::string::npos) << bad.describe();
+}
+
+}  // namespace
+}  // namespace ff::cli::test
