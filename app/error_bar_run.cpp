@@ -95,13 +95,13 @@ const MetricError* ErrorBarReport::find(const std::string& metric) const {
 }
 
 ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vector<std::string>& overrides,
-                                   const Simulation& run, const RunOutcome& outcome, int run_elements, int levels,
-                                   const std::atomic<bool>& stop) {
+                                   const Simulation& run, const RunOutcome& outcome, double setup_wall_s,
+                                   int run_elements, int levels, const std::atomic<bool>& stop) {
   ErrorBarReport r;
   r.on = true;
-  r.levels = levels;
-  r.run_wall_s = outcome.wall_time_s;
+  r.run_wall_s = outcome.wall_time_s + setup_wall_s;
   const scene::TwinPlans plans = scene::discretization_twins(scene_path, overrides, levels);
+  r.levels = plans.levels;
   r.missing = plans.missing;
   for (const scene::TwinPlan& plan : plans.twins) {
     if (stop) break;
@@ -195,12 +195,16 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
 std::string error_bar_plan_text(const std::string& scene_path, const std::vector<std::string>& overrides) {
   const scene::TwinPlans plans = scene::discretization_twins(scene_path, overrides, 0);
   if (!plans.on) return "error bars: off (output.error_bar = false; --error-bar on turns them on for one run)";
-  std::string s = "error bars (--error-bar off skips them):";
+  std::string s = "error bars, " + std::to_string(plans.levels) + " levels per source (--error-bar off skips them):";
   if (plans.twins.empty()) s += " no twin";
   for (const scene::TwinPlan& t : plans.twins) {
-    // the shares measured on the bundled scenes (docs/validation/error-bars.md#cost)
-    const char* share = t.name == "time" ? "50-75 %" : t.name == "mesh_at_2dt" ? "about 15 %" : "15-30 %";
-    s += "\n  " + t.name + " twin: " + t.description + " (typically " + share + " of the run's time)";
+    // what the twin costs beside the run, in work (measured shares: docs/validation/error-bars.md#cost)
+    const bool coarser = t.name.find("coarser") != std::string::npos;
+    const std::string mesh_work = coarser ? "about a sixteenth of the run's elements" : "about a quarter of the run's elements";
+    const std::string work = t.name == "time"           ? "half the run's steps, often with more Newton iterations each"
+                             : t.name == "time_coarser" ? "a quarter of the run's steps"
+                                                        : mesh_work;
+    s += "\n  " + t.name + " twin: " + t.description + " (" + work + ")";
   }
   for (const std::string& m : plans.missing) s += "\n  " + m;
   return s;
@@ -263,6 +267,7 @@ nlohmann::ordered_json error_bars_json(const ErrorBarReport& report) {
                      {"metrics", tm}});
   }
   return {{"on", report.on},
+          {"levels", report.levels},
           {"not_estimated", report.not_estimated},
           {"metrics", metrics},
           {"twins", twins},

@@ -37,7 +37,7 @@ struct ErrorBarReport {
   std::vector<std::string> missing;  ///< sources without a twin, and why
   std::vector<MetricError> metrics;  ///< one per answer metric the run has
   double twins_wall_s = 0.0;
-  double run_wall_s = 0.0;
+  double run_wall_s = 0.0;      ///< the run's set-up (reading, meshing) and solve
   bool interrupted = false;     ///< the stop flag ended a twin
   /// the twins' wall time over the run's (the cost of the bars, as a share of the run)
   double cost_share() const { return run_wall_s > 0 ? twins_wall_s / run_wall_s : 0.0; }
@@ -46,13 +46,15 @@ struct ErrorBarReport {
 
 /// Runs the twins of the scene at `scene_path` (with the run's `overrides`) and estimates the
 /// error of each of `run`'s answer metrics. `run_elements`: quads of the run's mesh (0 when it has
-/// none); `outcome`: the run's, whose events the twins' paths are compared with; `levels`: 2 (one
-/// twin per source, formal order) or 3 (two twins per source, observed order). A twin that cannot
+/// none); `outcome`: the run's, whose events the twins' paths are compared with; `setup_wall_s`:
+/// what building the run's model took (reading and meshing its parts), which the twins pay again,
+/// so that the cost share compares like with like; `levels`: 2 (one twin per source, formal
+/// order), 3 (two twins per source, observed order) or 0 (the scene's output.error_bar_levels). A twin that cannot
 /// be built or does not complete flags the metrics instead of failing the run; the stop flag ends
 /// a twin (interrupted).
 ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vector<std::string>& overrides,
-                                   const Simulation& run, const RunOutcome& outcome, int run_elements, int levels,
-                                   const std::atomic<bool>& stop);
+                                   const Simulation& run, const RunOutcome& outcome, double setup_wall_s,
+                                   int run_elements, int levels, const std::atomic<bool>& stop);
 
 /// What `check` says the bars will cost before the run: the twins a run of the scene would solve,
 /// what each changes and its expected share of the run, and the sources without a twin.

@@ -116,10 +116,11 @@ int main(int argc, char** argv) {
                   "write the rendered frames' deformed mesh to DIR/export: vtu (+ .pvd), gltf (.glb), obj");
   std::string error_bar;
   run->add_option("--error-bar", error_bar,
-                  "on: every answer metric with its discretization error from a coarser twin of the run per source "
-                  "(a coarser mesh, twice the time step; docs/guide/how-accurate.md); three: two twins per source, "
-                  "for the observed order; off: no twin (default: the scene's output.error_bar, on)")
-      ->check(CLI::IsMember({"on", "off", "three"}));
+                  "on: every answer metric with its discretization error from coarser twins of the run (a coarser "
+                  "mesh, a longer time step; docs/guide/how-accurate.md), as many as the scene's "
+                  "output.error_bar_levels asks (auto: three levels in statics and eigen-analyses, two in time); "
+                  "two, three: that many levels per source; off: no twin (default: the scene's output.error_bar, on)")
+      ->check(CLI::IsMember({"on", "off", "two", "three"}));
 
   // replay
   ff::app::ReplayOptions replay_opt;
@@ -360,7 +361,8 @@ int main(int argc, char** argv) {
       run_opt.scene_path = ff::app::resolve_scene(run_scene.empty() ? ff::app::default_scene() : run_scene);
       run_opt.frames = !no_frames;
       run_opt.plots = !no_plots;
-      if (!error_bar.empty()) run_opt.error_bar_levels = error_bar == "off" ? 0 : error_bar == "three" ? 3 : 2;
+      if (!error_bar.empty())
+        run_opt.error_bar_levels = error_bar == "off" ? 0 : error_bar == "two" ? 2 : error_bar == "three" ? 3 : -1;
       run_opt.progress = !quiet;
       run_opt.stop_signal = &g_stop_signal;
       if (follower) {

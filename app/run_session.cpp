@@ -158,7 +158,11 @@ int follow_run(const RunOptions& opt, const std::atomic<bool>& stop) {
 }
 
 RunResult run_scene(const RunOptions& opt, const std::atomic<bool>& stop) {
-  return run_loaded_scene(opt, scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&stop)), stop);
+  const auto wall0 = std::chrono::steady_clock::now();
+  scene::LoadedScene scene = scene::load_scene(opt.scene_path, opt.overrides, io::scene_context(&stop));
+  RunOptions timed = opt;
+  timed.setup_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return run_loaded_scene(timed, std::move(scene), stop);
 }
 
 RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, const std::atomic<bool>& stop) {
@@ -602,8 +606,8 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   result.totals = sim.totals();
   // every answer metric with its discretization error, from coarser twins solved while the render
   // thread draws the frames (core/model/error_bars.md); only a completed run has answers to bar
-  const int bar_levels = opt.error_bar_levels.value_or(scene.output.error_bar ? scene.output.error_bar_levels : 0);
-  if (bar_levels > 0) {
+  const int bar_levels = opt.error_bar_levels.value_or(scene.output.error_bar ? -1 : 0);
+  if (bar_levels != 0) {
     ErrorBarReport& bars = result.error_bars;
     bars.on = true;
     if (outcome.status != RunStatus::completed) {
@@ -614,7 +618,8 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       if (opt.progress) std::fprintf(stderr, "error bars: solving the coarser twins (--error-bar off skips them)\n");
       const int elements = scene.mesh_quality ? scene.mesh_quality->quality.quad_count : 0;
       try {
-        bars = estimate_error_bars(opt.scene_path, opt.overrides, sim, outcome, elements, bar_levels, stop);
+        bars = estimate_error_bars(opt.scene_path, opt.overrides, sim, outcome, opt.setup_wall_s, elements,
+                                   bar_levels < 0 ? 0 : bar_levels, stop);
       } catch (const std::exception& e) {  // the scene file changed under the run, or no file (a test's model)
         bars.not_estimated = std::string("the twins could not be planned: ") + e.what();
       }

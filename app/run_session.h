@@ -40,10 +40,13 @@ struct RunOptions {
   /// --animate-modes: after an eigen-analysis, at most this many modes are animated (frames,
   /// movies); -1 = every mode the analysis found, 0 = none (the table, plot and exports stay)
   int animate_modes = -1;
-  /// --error-bar off|on|three: the metrics' discretization errors from coarser twins of the run
-  /// (app/error_bar_run.h) with this many levels per source: 0 = none, 2, 3; unset = the scene's
-  /// output.error_bar and output.error_bar_levels (on, 2 levels, by default)
+  /// --error-bar off|on|two|three: the metrics' discretization errors from coarser twins of the run
+  /// (app/error_bar_run.h) with this many levels per source: 0 = none, -1 = the scene's
+  /// output.error_bar_levels, 2, 3; unset = the scene's output.error_bar and levels (on, auto)
   std::optional<int> error_bar_levels;
+  /// wall time of building the scene's model before the run (run_scene measures it; 0 when the
+  /// caller hands a built scene): the error bars' cost share counts it, since every twin pays it too
+  double setup_wall_s = 0.0;
   /// The signal that set the stop flag (the caller's handler stores it), or null. Over MPI ranks a
   /// SIGTERM is the launcher's: the outcome names it, and a solver blocked in a call shared with a
   /// dead rank does not keep results.h5 from being closed (run_session.cpp, the launcher watchdog).

@@ -82,14 +82,17 @@ std::vector<std::string> coarser_mesh(const Document& d, int halvings, std::stri
 
 TwinPlans discretization_twins(const std::string& path, const std::vector<std::string>& overrides, int levels) {
   const Document d = validate_file(scene_schema(path), path, overrides);
-  if (levels == 0) levels = static_cast<int>(d.integer("output.error_bar_levels"));
-  if (levels != 2 && levels != 3) throw std::invalid_argument("discretization_twins: two or three levels");
   TwinPlans plans;
   plans.on = d.boolean("output.error_bar");
-  plans.levels = levels;
   const std::string& model = d.string("scene.model");
   const bool shell = model == "shell";
   plans.dynamic = !shell || d.string("scene.analysis") == "dynamic";  // the hub-beam steps in time
+  if (levels == 0) {  // the scene's; auto: three where the twins are cheap (statics, eigen), two in time
+    const std::string& key = d.string("output.error_bar_levels");
+    levels = key == "two" ? 2 : key == "three" ? 3 : plans.dynamic ? 2 : 3;
+  }
+  if (levels != 2 && levels != 3) throw std::invalid_argument("discretization_twins: two or three levels");
+  plans.levels = levels;
   const double dt = plans.dynamic ? d.number("solver.dt") : 0.0;
   auto step = [&](int halvings) {  // solver.dt made 2^halvings times longer
     const double longer = std::ldexp(dt, halvings);

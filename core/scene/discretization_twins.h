@@ -34,7 +34,8 @@ struct TwinPlans {
 };
 
 /// The twins of the scene at `path` with the run's `overrides`, for `levels` = 2 or 3 levels per
-/// source (the run counts as one; 0: the scene's output.error_bar_levels). Throws SceneError when the scene does not validate (the run
+/// source (the run counts as one; 0: the scene's output.error_bar_levels, whose auto is 3 for static and eigen
+/// runs and 2 for runs in time). Throws SceneError when the scene does not validate (the run
 /// would have refused it first).
 TwinPlans discretization_twins(const std::string& path, const std::vector<std::string>& overrides, int levels = 2);
 

@@ -20,7 +20,7 @@ struct OutputSettings {
   bool plots = true;
   /// estimate the metrics' discretization errors from coarser twins (core/model/error_bars.md)
   bool error_bar = true;
-  int error_bar_levels = 2;  ///< levels per source: 2 (formal order) or 3 (observed order)
+  int error_bar_levels = 0;  ///< levels per source: 2 (formal order), 3 (observed order), 0 = auto
   std::string view = "auto";               ///< auto (renderer fits), iso, front (along +y), top (along -z)
   std::vector<double> view_center;         ///< empty = centre of the reference bounding box
   double view_radius = 0.0;                ///< half height of the view in world units; 0 = fit

@@ -54,11 +54,13 @@ void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool 
             "estimate every answer metric's discretization error from coarser twins of the run (a coarser mesh, "
             "twice the time step) and print it as a bar (docs/guide/how-accurate.md); --error-bar on|off overrides it",
             true);
-  s.integer("output.error_bar_levels",
-            "levels per source of error: 2 (the run and one twin, the element's formal order, safety factor 3) or 3 "
-            "(two twins: the observed order, safety factor 1.25, and a flag where the levels are not in the "
-            "asymptotic range); --error-bar three asks 3 for one run",
-            2, IntRange::closed(2, 3));
+  s.choice("output.error_bar_levels",
+           "levels per source of error: two (the run and one twin, the element's formal order, safety factor 3), "
+           "three (two twins: the observed order, safety factor 1.25, and a flag instead of a number where the "
+           "levels are not in the asymptotic range), or auto: three for static, modal and buckling runs, whose "
+           "twins are cheap, two in time, where a third twin at 4 dt would cost more than the run "
+           "(docs/guide/how-accurate.md); --error-bar two|three overrides it for one run",
+           {"auto", "two", "three"}, "auto");
   if (!camera_keys) return;
   s.choice("output.view", "camera: iso, front (looking along +y, z up), top (looking down z)", {"iso", "front", "top"},
            "iso")
@@ -115,7 +117,8 @@ OutputSettings read_output(const Document& d, bool camera_keys) {
   o.color_field = d.string("output.color_field");
   o.plots = d.boolean("output.plots");
   o.error_bar = d.boolean("output.error_bar");
-  o.error_bar_levels = static_cast<int>(d.integer("output.error_bar_levels"));
+  const std::string& levels = d.string("output.error_bar_levels");
+  o.error_bar_levels = levels == "two" ? 2 : levels == "three" ? 3 : 0;
   if (camera_keys) {
     o.view = d.string("output.view");
     o.view_center = d.numbers("output.view_center");

@@ -105,7 +105,7 @@ TEST(CliGuards, SignalDuringSetUpEndsTheRunInterrupted) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto waited = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   while (read_text(err_log).find("set-up: assembling the beam matrices") == std::string::npos && child.running() &&
-         waited() < 30)
+         waited() < 30 * slowdown())
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   ASSERT_NE(read_text(err_log).find("set-up: assembling the beam matrices"), std::string::npos)
       << "no set-up progress within 30 s\n" << child.wait(1).describe();

@@ -70,7 +70,7 @@ int rank_of(int pid) {
 // default its progress line, every 2 s when not on a terminal, saying the solver is stepping);
 // empty when the job ended first or the ranks are not 0 and 1
 std::vector<int> ranks_once_stepping(Child& c, const std::string& log_file, const std::string& text = "steps") {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(120 * slowdown());
   while (c.running() && std::chrono::steady_clock::now() < deadline && read_text(log_file).find(text) == std::string::npos)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   if (!c.running()) return {};
@@ -311,7 +311,7 @@ TEST(CliRanks, KilledRankLeavesReadableResults) {
     const std::string st = read_text(status_file);  // "" once reaped
     return st.empty() || (st.find("State:\tZ") != std::string::npos && st.find("Threads:\t1\n") != std::string::npos);
   };
-  const auto gone_by = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  const auto gone_by = std::chrono::steady_clock::now() + std::chrono::duration<double>(30 * slowdown());
   while (!ended() && std::chrono::steady_clock::now() < gone_by) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   EXPECT_TRUE(ended()) << "rank 0 outlived the launcher by 30 s:\n" << read_text(status_file);
 

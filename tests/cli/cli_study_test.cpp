@@ -356,7 +356,7 @@ TEST(CliStudy, ResumeAfterKilledStudyCompletesAndMatches) {
   {
     Child killed(with(short_pendulum_study(out), {"--jobs", "1"}), dir + "/killed");
     ASSERT_TRUE(killed.started());
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(60 * slowdown());
     while (killed.running() && !fs::exists(out + "/runs/002/summary.json") &&
            std::chrono::steady_clock::now() < deadline)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));

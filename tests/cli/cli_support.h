@@ -34,6 +34,16 @@ namespace ff::cli::test {
 
 namespace fs = std::filesystem;
 
+/// How much slower than a release build the executable under test runs: FF_TEST_SLOWDOWN, which
+/// scripts/sanitize sets (ThreadSanitizer 10, AddressSanitizer 4), else 1. Every deadline a test
+/// gives a child is scaled by it, so an instrumented run is judged by what it does, not by a clock
+/// sized for optimized code.
+inline double slowdown() {
+  const char* s = std::getenv("FF_TEST_SLOWDOWN");
+  const double f = s ? std::strtod(s, nullptr) : 1.0;
+  return f >= 1.0 && f <= 100.0 ? f : 1.0;
+}
+
 inline std::string flexframe_exe() { return std::string(FF_BINARY_DIR) + "/flexframe"; }
 inline std::string scene_dir() { return std::string(FF_SOURCE_DIR) + "/assets/scenes"; }
 inline std::string scene_path(const std::string& name) { return scene_dir() + "/" + name + ".toml"; }
@@ -150,7 +160,7 @@ class Child {
   /// Waits up to timeout_s (then SIGKILL) and returns the exit status and captured output.
   ProcResult wait(double timeout_s) {
     ProcResult r;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s * slowdown());
     while (running()) {
       if (std::chrono::steady_clock::now() > deadline) {
         r.timed_out = true;

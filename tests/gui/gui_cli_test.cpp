@@ -121,7 +121,7 @@ TEST(GuiCli, ScriptedSessionUnderXvfb) {
   const ProcResult r = run_gui_under_xvfb({"hub_beam_fem_tau1", "--actions", actions, "--width", "1280",
                                            "--height", "800", "--quit-after", "40"}, dir + "/gui");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
-  EXPECT_LT(r.wall_s, 20.0) << r.describe();
+  EXPECT_LT(r.wall_s, 20.0 * slowdown()) << r.describe();
   EXPECT_NE(r.out.find("session.txt:14: quit"), std::string::npos) << r.describe();
   expect_body_in_viewport(read_png(dir + "/shot.png"), 1280, 800);
 

@@ -25,10 +25,12 @@ std::size_t differing_pixels(const ff::render::test::Image& a, const ff::render:
 TEST(GuiModes, ModeAnimatesInTheView) {
   if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run is not installed";
   const std::string dir = fresh_test_dir();
+  // 0.3 s apart in a release build; an instrumented window draws far fewer frames per second
+  const std::string wait = "wait " + std::to_string(0.3 * slowdown()) + "\n";
   write_text(dir + "/modes.txt",
              "run\nwait-end\n"
-             "mode 2\nwait 0.3\nexport " + dir + "/mode2_a.png\n"
-             "wait 0.3\nexport " + dir + "/mode2_b.png\n"
+             "mode 2\n" + wait + "export " + dir + "/mode2_a.png\n" +
+             wait + "export " + dir + "/mode2_b.png\n"
              "mode off\nexport " + dir + "/frames.png\nquit\n");
   // mode 2's frequency from a headless run of the scene the window runs
   const ProcResult headless = run_flexframe({"run", "modal_cantilever_strip", "--no-frames", "--no-plots", "--quiet",
@@ -38,7 +40,7 @@ TEST(GuiModes, ModeAnimatesInTheView) {
   const auto summary = nlohmann::json::parse(read_text(dir + "/headless/summary.json"));
   const double mode2_hz = summary.at("modes").at("modes").at(1).at("value").get<double>();
   const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
-  const std::string command = "FF_GUI_MODES_DIR='" + dir + "' timeout 60 xvfb-run -a -s '-screen 0 1280x800x24' '" + self +
+  const std::string command = "FF_GUI_MODES_DIR='" + dir + "' timeout " + std::to_string(static_cast<int>(60 * slowdown())) + " xvfb-run -a -s '-screen 0 1280x800x24' '" + self +
                               "' --gtest_filter=GuiModesChild.Window > '" + dir + "/child.txt' 2>&1";
   const int status = std::system(command.c_str());
   const std::string log = read_text(dir + "/child.txt");
