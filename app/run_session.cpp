@@ -659,6 +659,8 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     if (!writer->write_modes(*modes, &err)) fail_write("results.h5: " + err);
   }
   record_write_failure();
+  // the bars beside the frames they are about, for scripts and replay (results_layout.md /attributes)
+  if (result.error_bars.on) writer->set_attribute("error_bars", error_bars_json(result.error_bars).dump());
   if (!render_backend.empty()) {
     writer->set_attribute("render_backend", render_backend);
     writer->set_attribute("gl_renderer", gl_renderer);

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/io/results.h"
 #include "cli_support.h"
 
 namespace ff::cli::test {
@@ -53,6 +54,15 @@ TEST(ErrorBars, ClampedPlateFrequenciesAgainstLeissa) {
     expect_brackets(bars["metrics"][name], 2.49903 * lambda[k], name);
   }
   EXPECT_EQ(bars["twins"][0]["elements"], 64) << "the mesh twin halves 16 x 16";
+  // results.h5 keeps the same bars beside the frames (results_layout.md /attributes error_bars)
+  std::string err;
+  const auto reader = io::ResultReader::open(dir + "/out/results.h5", &err);
+  ASSERT_TRUE(reader) << err;
+  std::string stored;
+  for (const auto& [key, value] : reader->attributes())
+    if (key == "error_bars") stored = value;
+  ASSERT_FALSE(stored.empty()) << "results.h5 has no error_bars attribute";
+  EXPECT_EQ(nlohmann::json::parse(stored)["metrics"], bars["metrics"]);
   EXPECT_NE(r.out.find("frequency_1"), std::string::npos);
   EXPECT_NE(r.out.find(" ± "), std::string::npos) << "the console prints the bar beside the value:\n" << r.out;
   EXPECT_NE(r.out.find("% of the run"), std::string::npos) << "and what it cost:\n" << r.out;
