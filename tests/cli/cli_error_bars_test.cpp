@@ -185,6 +185,35 @@ TEST(ErrorBars, AFixedMeshFileSaysWhyItHasNoMeshEstimate) {
   EXPECT_NE(r.out.find("no mesh estimate"), std::string::npos) << "said where the user looks:\n" << r.out;
 }
 
+TEST(ErrorBars, CtrlCWhileTheTwinsAreSolvedEndsTheRunInterrupted) {
+  // the solve completed, its twins did not: the run must not call itself completed (the brief's
+  // stopped-run rule), and both records say so, with every frame of the run kept
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  Child child({"run", scene_path("double_pendulum_shells"), "--out", out, "--no-frames", "--no-plots", "--set",
+               "solver.end=0.2"},
+              dir + "/run");
+  ASSERT_TRUE(child.started());
+  const std::string err_log = dir + "/run.stderr.txt";
+  const auto t0 = std::chrono::steady_clock::now();
+  while (read_text(err_log).find("error bars: solving the coarser twins") == std::string::npos && child.running() &&
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 120 * slowdown())
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_NE(read_text(err_log).find("error bars: solving the coarser twins"), std::string::npos)
+      << child.wait(1).describe();
+  ASSERT_TRUE(child.send(SIGINT));
+  const ProcResult r = child.wait(60);
+  EXPECT_EQ(r.exit_code, 130) << r.describe();
+  const nlohmann::json s = summary_of(out);
+  EXPECT_EQ(s["status"], "interrupted") << s.dump(1);
+  EXPECT_NE(s["reason"].get<std::string>().find("error-bar twins"), std::string::npos) << s["reason"];
+  std::string err;
+  const auto reader = io::ResultReader::open(out + "/results.h5", &err);
+  ASSERT_TRUE(reader) << err;
+  EXPECT_EQ(reader->outcome().status, RunStatus::interrupted) << "one outcome in both records";
+  EXPECT_GT(reader->frame_count(), 1);
+}
+
 TEST(ErrorBars, OffByFlagOrSceneKey) {
   const std::string dir = fresh_test_dir();
   const ProcResult flag = run_scene(dir, "clamped_plate_pressure", "flag", {"--error-bar", "off"});
