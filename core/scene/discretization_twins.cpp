@@ -100,10 +100,10 @@ TwinPlans discretization_twins(const std::string& path, const std::vector<std::s
   };
   if (plans.dynamic) {
     const auto [set2, text2] = step(1);
-    plans.twins.push_back({"time", {set2}, text2, 2.0});
+    plans.twins.push_back({"time", {set2}, text2});
     if (levels == 3) {
       const auto [set4, text4] = step(2);
-      plans.twins.push_back({"time_coarser", {set4}, text4, 4.0});
+      plans.twins.push_back({"time_coarser", {set4}, text4});
     }
   }
   if (!shell) {
@@ -123,9 +123,9 @@ TwinPlans discretization_twins(const std::string& path, const std::vector<std::s
     if (plans.dynamic) {  // (R8): the mesh estimate from twins at 2 dt
       const auto [set2, text2] = step(1);
       mesh.push_back(set2);
-      plans.twins.push_back({name + "_at_2dt", mesh, description + ", " + text2, 0.0});
+      plans.twins.push_back({name + "_at_2dt", mesh, description + ", " + text2});
     } else {
-      plans.twins.push_back({name, mesh, description, 0.0});
+      plans.twins.push_back({name, mesh, description});
     }
   }
   return plans;

@@ -18,9 +18,6 @@ struct TwinPlan {
   std::string name;
   std::vector<std::string> overrides;
   std::string description;  ///< what differs from the run, e.g. "part[0].n1 = 8 (15), part[0].n2 = 8 (15)"
-  /// the refinement ratio when the overrides fix it (time: 2); 0 when it is measured from the two
-  /// meshes' element counts (R5)
-  double ratio = 0.0;
 };
 
 struct TwinPlans {
