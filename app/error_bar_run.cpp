@@ -40,6 +40,7 @@ TwinRun run_twin(const scene::TwinPlan& plan, const std::string& path, const std
   try {
     std::vector<std::string> all = overrides;
     all.insert(all.end(), plan.overrides.begin(), plan.overrides.end());
+    all.push_back("output.error_bar=false");  // a twin's own error indicator field is never read
     scene::LoadedScene twin = scene::load_scene(path, all, io::scene_context(&stop));
     if (twin.mesh_quality) t.elements = twin.mesh_quality->quality.quad_count;
     RunLoop loop(*twin.simulation);
@@ -276,6 +277,32 @@ nlohmann::ordered_json error_bars_json(const ErrorBarReport& report) {
                     {"run_wall_time_s", report.run_wall_s},
                     {"share_of_run", report.cost_share()},
                     {"twins_ran", "after the run, one after the other"}}}};
+}
+
+nlohmann::ordered_json field_error_json(const FieldErrorEstimate& e) {
+  nlohmann::ordered_json j;
+  j["relative_energy_error"] = e.relative_energy_error;
+  j["method"] = "Zienkiewicz-Zhu: stress resultants recovered by superconvergent patch fits, error in the energy norm "
+                "(core/shell/error_indicator.md)";
+  j["elements"] = e.elements;
+  j["largest_at"] = e.worst_at;
+  j["largest_indicator"] = e.worst_indicator;
+  j["half_error_element_fraction"] = e.half_error_fraction;
+  j["field"] = "error_indicator";
+  return j;
+}
+
+std::string field_error_text(const FieldErrorEstimate& e, bool picture) {
+  char line[512];
+  const bool concentrated = e.half_error_fraction < 0.25;
+  std::snprintf(line, sizeof line,
+                "field error (recovered stresses): %.2g %% in the energy norm; half of it in %.0f %% of the elements, "
+                "the most (%.1fx the RMS element) at (%.4g, %.4g, %.4g): %s%s",
+                100 * e.relative_energy_error, 100 * e.half_error_fraction,
+                e.relative_energy_error > 0 ? e.worst_indicator / e.relative_energy_error : 0.0, e.worst_at[0],
+                e.worst_at[1], e.worst_at[2], concentrated ? "refine there" : "spread over the mesh, refine it all",
+                picture ? " (plots/error_indicator.png)" : "");
+  return line;
 }
 
 }  // namespace ff::app

@@ -68,4 +68,11 @@ std::string error_bar_text(const MetricError& m);
 /// (levels, ratio, order, safety factor), flags and what is missing; the twins and the cost.
 nlohmann::ordered_json error_bars_json(const ErrorBarReport& report);
 
+/// summary.json "field_error" (and results.h5's attribute of that name): the recovered-stress
+/// estimate of where the mesh is too coarse (core/shell/error_indicator.md).
+nlohmann::ordered_json field_error_json(const FieldErrorEstimate& e);
+/// The console's line of it, e.g. "field error (recovered stresses): 3.1 % in the energy norm; half of
+/// it in 4 % of the elements, the most at (0.98, 0.05, 0): refine there (plots/error_indicator.png)".
+std::string field_error_text(const FieldErrorEstimate& e, bool picture);
+
 }  // namespace ff::app

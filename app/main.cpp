@@ -73,6 +73,9 @@ void print_result(const ff::app::RunResult& r) {
     std::printf("  %-30s %.6g%s%s\n", k.c_str(), v, bar.empty() ? "" : " ", bar.c_str());
   }
   print_error_bar_cost(r.error_bars);
+  if (r.field_error)
+    std::printf("  %s\n", ff::app::field_error_text(*r.field_error,
+                                                     std::filesystem::exists(r.out_dir + "/plots/error_indicator.png")).c_str());
   std::printf("  outputs: %s/{results.h5, summary.json, frames/ (%d PNG), plots/", r.out_dir.c_str(),
               r.frames_rendered);
   if (!r.movie.empty()) std::printf(", movie.mp4");
@@ -361,8 +364,11 @@ int main(int argc, char** argv) {
       run_opt.scene_path = ff::app::resolve_scene(run_scene.empty() ? ff::app::default_scene() : run_scene);
       run_opt.frames = !no_frames;
       run_opt.plots = !no_plots;
-      if (!error_bar.empty())
+      if (!error_bar.empty()) {
         run_opt.error_bar_levels = error_bar == "off" ? 0 : error_bar == "two" ? 2 : error_bar == "three" ? 3 : -1;
+        // the scene's key too: the solver records the error indicator field only with bars on
+        run_opt.overrides.push_back(std::string("output.error_bar=") + (error_bar == "off" ? "false" : "true"));
+      }
       run_opt.progress = !quiet;
       run_opt.stop_signal = &g_stop_signal;
       if (follower) {

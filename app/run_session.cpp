@@ -29,11 +29,13 @@
 #include "app/mode_outputs.h"
 #include "app/output_folder.h"
 #include "app/plots.h"
+#include "app/refine_picture.h"
 #include "app/view_options.h"
 #include "core/assembly/element_threads.h"
 #include "core/frame/input_file.h"
 #include "core/solve/solver_ranks.h"
 #include "core/scene/scene.h"
+#include "core/shell/error_indicator.h"
 #include "render/frame_layout.h"
 #include "render/frame_renderer.h"
 #include "render/graphics_context.h"
@@ -338,6 +340,10 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   std::string frame_memory_note;  // what drawing did when the kept frames outgrew their budget
   const double frame_memory_mb = opt.frame_memory_mb > 0 ? opt.frame_memory_mb : default_frame_memory_mb();
   const int color_field = out.color_field == "none" ? -1 : field_index(info, out.color_field);
+  // the last frame's error indicator, drawn as plots/error_indicator.png: where to refine
+  const int indicator_field = field_index(info, shell::kErrorIndicatorField);
+  Frame last_indicator;
+  bool refine_picture_drawn = false;  // set by the render thread, read after it joined
   bool frames_announced = false;  // frames_done is set (by the render thread only)
   const auto render_all = [&] {
     std::unique_ptr<render::GraphicsContext> gc;
@@ -421,6 +427,12 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     while (std::optional<Frame> f = render_ch.pop()) {
       // keep draining so the solver never blocks; after a failed write nothing more is drawn
       if (!failed_write().empty()) continue;
+      if (indicator_field >= 0 && static_cast<std::size_t>(indicator_field) < f->fields.size()) {
+        last_indicator.time = f->time, last_indicator.load_factor = f->load_factor, last_indicator.step = f->step;
+        last_indicator.points = f->points, last_indicator.base_points = f->base_points;
+        last_indicator.fields.assign(indicator_field + 1, {});
+        last_indicator.fields[indicator_field] = f->fields[indicator_field];
+      }
       for (std::size_t k = 0; k < f->fields.size(); ++k)
         if (static_cast<int>(k) != color_field) std::vector<double>().swap(f->fields[k]);
       if (live) {
@@ -453,6 +465,18 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     frames_announced = true;
     // the plots, on this thread's GL context while the main thread closes results.h5: the store
     // thread closed render_ch after its last history.add, so the history is complete
+    if (opt.plots && out.plots && gc && !last_indicator.points.empty()) {
+      std::string why;
+      try {
+        if (!draw_refine_picture(*gc, info, out, scene.name, last_indicator,
+                                 folder.file("plots/error_indicator.png").string(), &why))
+          plot_error = "error_indicator.png: " + why;
+        else
+          refine_picture_drawn = true;
+      } catch (const WriteError& e) {  // the manifest could not record it
+        plot_error = e.what();
+      }
+    }
     if (opt.plots && out.plots) {
       std::lock_guard lock(history_mutex);
       plot_files = write_run_plots(info, history, plots_dir.string(), &plot_error, gc.get());
@@ -604,6 +628,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
 
   result.metrics = sim.metrics();
   result.totals = sim.totals();
+  result.field_error = sim.field_error_estimate();  // the last state's, also of a run that stopped early
   // every answer metric with its discretization error, from coarser twins solved while the render
   // thread draws the frames (core/model/error_bars.md); only a completed run has answers to bar
   const int bar_levels = opt.error_bar_levels.value_or(scene.output.error_bar ? -1 : 0);
@@ -661,6 +686,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   record_write_failure();
   // the bars beside the frames they are about, for scripts and replay (results_layout.md /attributes)
   if (result.error_bars.on) writer->set_attribute("error_bars", error_bars_json(result.error_bars).dump());
+  if (result.field_error) writer->set_attribute("field_error", field_error_json(*result.field_error).dump());
   if (!render_backend.empty()) {
     writer->set_attribute("render_backend", render_backend);
     writer->set_attribute("gl_renderer", gl_renderer);
@@ -843,6 +869,10 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       {"outputs", outputs},
       {"render", render_info}};
   if (result.error_bars.on) summary["error_bars"] = error_bars_json(result.error_bars);
+  if (result.field_error) {
+    summary["field_error"] = field_error_json(*result.field_error);
+    summary["field_error"]["picture"] = refine_picture_drawn ? Json("plots/error_indicator.png") : Json(nullptr);
+  }
   if (modes) summary["modes"] = modes_json(*modes);
   if (scene.mesh_quality) summary["mesh_quality"] = mesh_quality_json(*scene.mesh_quality);
   if (von_mises >= 0)  // null node and frame: no stored frame had a finite value

@@ -66,6 +66,9 @@ struct RunResult {
   int modes = -1;                ///< modes the eigen-analysis found; -1: the run computes none
   int modes_animated = 0;        ///< of them, animated (frames/mode_NN/)
   ErrorBarReport error_bars;     ///< the metrics' error bars (on = false: not asked for)
+  /// where the mesh is too coarse (core/shell/error_indicator.md), at the last state; empty for
+  /// models that record no error indicator
+  std::optional<FieldErrorEstimate> field_error;
 };
 
 /// Runs a scene. Throws ff::scene::SceneError for bad input (before anything is written) and

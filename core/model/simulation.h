@@ -3,6 +3,7 @@
 /// What the app's worker thread drives: a model plus its integrator, publishing Frames.
 /// Implementations own all solver state; consumers only ever see copies (Frames).
 
+#include <array>
 #include <atomic>
 #include <functional>
 #include <limits>
@@ -26,6 +27,19 @@ inline std::optional<double> find_metric(const Metrics& m, const std::string& na
 }
 
 /// What one effect (elastic, inertia, gravity, joints ...) cost: evaluations and seconds spent.
+/// Where the mesh is too coarse, at the end of a run (core/shell/error_indicator.md): the
+/// recovered-stress estimate of the energy-norm error, over the whole structure and where its
+/// largest share is.
+struct FieldErrorEstimate {
+  double relative_energy_error = 0.0;  ///< (Z8)
+  int elements = 0;
+  std::array<double, 3> worst_at{};    ///< reference centroid of the element with the largest share
+  double worst_indicator = 0.0;        ///< that element's i_e (Z9) (the RMS of i_e is relative_energy_error)
+  /// the fewest elements that carry half of the squared error, as a fraction of all: small when the
+  /// error is concentrated (refine there), about 1/2 when it is spread evenly (refine everywhere)
+  double half_error_fraction = 0.0;
+};
+
 /// An effect that runs fused inside another effect's kernel (hr, ans, drilling inside the elastic
 /// shell element; the terms of the hub-beam's dense equations of motion) has no time of its own:
 /// `included_in` names the effect whose seconds contain it and `seconds` is NaN (JSON null).
@@ -124,6 +138,9 @@ class Simulation {
   /// (core/model/error_bars.md). The others (Newton counts, wall time, drifts, constraint
   /// violations) describe the solver and get none.
   virtual std::vector<std::string> answer_metrics() const { return {}; }
+  /// The field error indicator at the run's last state, for models that record it (a shell
+  /// structure with output.error_bar on); empty otherwise.
+  virtual std::optional<FieldErrorEstimate> field_error_estimate() const { return std::nullopt; }
   /// The modes an eigen-analysis (scene.analysis = "modal" or "buckling") found, after the run;
   /// null for analyses that compute none.
   virtual const ModeSet* modes() const { return nullptr; }

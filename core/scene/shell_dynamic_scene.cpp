@@ -542,7 +542,8 @@ std::unique_ptr<Simulation> build_shell_dynamic(const Document& d, const std::st
   // how an imported mesh was read
   for (auto& setting : mesh_import_settings(structure)) info.settings.push_back(std::move(setting));
   info.effects = fx;
-  st.record_stresses = stresses_wanted(d, {"displacement", "strain"});
+  st.record_stresses = stresses_wanted(d, {"displacement", "strain", shell::kErrorIndicatorField});
+  st.record_error_indicator = d.boolean("output.error_bar") || d.string("output.color_field") == shell::kErrorIndicatorField;
   try {
     auto sim = std::make_unique<ShellDynamicSimulation>(std::move(spec), std::move(st), std::move(info));
     // the stress fields follow the structure's layup: known once its elements are built

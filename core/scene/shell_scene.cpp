@@ -416,7 +416,8 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   st.displacement_limit = d.number("solver.displacement_limit");
   if (!st.monitor_probe.empty() && !has_probe(st.monitor_probe))
     throw SceneError({d.issue("solver.monitor_probe", "no probe named '" + st.monitor_probe + "'")});
-  st.record_stresses = stresses_wanted(d, {"displacement", "strain"});
+  st.record_stresses = stresses_wanted(d, {"displacement", "strain", shell::kErrorIndicatorField});
+  st.record_error_indicator = d.boolean("output.error_bar") || d.string("output.color_field") == shell::kErrorIndicatorField;
   predict_linear_buckling(spec, st, conv.linear_backend);
   std::unique_ptr<ShellStaticSimulation> sim;
   const ShellModelSpec spec_copy = unperturbed ? spec : ShellModelSpec{};

@@ -996,19 +996,16 @@ double tsai_wu(const Vec5& s, const std::array<double, 5>& strength) {  // lamin
 // each station (or extrapolated from them to a corner), are linear in the layer's own coordinate (exactly so for the assumed stress), so
 // the bottom, middle and top of a layer follow from its two stations; the resultants integrate
 // the same stations (2-point Gauss, exact for a linear stress times z).
+// The stresses the energy uses at a layer's 8 points, element frame [s11 s22 s12 s13 s23]: the
+// assumed in-plane stress with hr (eq. 10, (L8)) or C_m eps, the (tied with ans) shear C_s gamma;
+// visit(layer index, layer, its tables, the 8 stresses) for every layer, bottom up.
 template <>
-void BasicCbShellElement<double>::stresses(const ElementPoses& cur, ElementStress& out, int corner) const {
-  // weights of the 2 x 2 points: the mean (centre), or the bilinear function through the four
-  // points (at -+1/sqrt 3) evaluated at the corner, 1/4 (1 + 3 xi_c xi_q)(1 + 3 eta_c eta_q)
-  const bool at_corner = corner >= 0 && corner < 4;
-  const double xi_c = at_corner ? kXiNode[corner] : 0.0, eta_c = at_corner ? kEtaNode[corner] : 0.0;
+template <class Visit>
+void BasicCbShellElement<double>::visit_layer_stresses(const ElementPoses& cur, Visit&& visit) const {
   const double hh = 0.5 * sec_.thickness;
   const Mat38 X = node_columns(cur, hh);
   const ZetaFreeBases<double> bases(X, section_tables(), opt_.ans);
-  out.N.setZero(), out.M.setZero(), out.Q.setZero();
-  out.plies = sec_.plies ? static_cast<int>(layers_.size()) : 0;
-  const int last = static_cast<int>(layers_.size()) - 1;
-  for (int li = 0; li <= last; ++li) {
+  for (int li = 0; li < static_cast<int>(layers_.size()); ++li) {
     const Layer& L = layers_[li];
     const Tables<>& tab = *L.tab;
     double tied[2][4] = {};
@@ -1025,13 +1022,31 @@ void BasicCbShellElement<double>::stresses(const ElementPoses& cur, ElementStres
       if (opt_.hr) gv += L.pts[k].weight * p_hat(p_coef_, pc).transpose() * em[k];  // eq. (10)
     }
     const Vec10 beta = opt_.hr ? Vec10(L.h_inv * gv) : Vec10::Zero();
+    std::array<Vec5, kPoints> sk;
+    for (int k = 0; k < kPoints; ++k) {
+      const SolidConst<>& pc = tab.pts[k];
+      sk[k].head<3>() = opt_.hr ? Vec3(p_hat(p_coef_, pc) * beta) : Vec3(L.Cm * em[k]);
+      sk[k].tail<2>() = L.Cs * es[k];
+    }
+    visit(li, L, tab, sk);
+  }
+}
+
+template <>
+void BasicCbShellElement<double>::stresses(const ElementPoses& cur, ElementStress& out, int corner) const {
+  // weights of the 2 x 2 points: the mean (centre), or the bilinear function through the four
+  // points (at -+1/sqrt 3) evaluated at the corner, 1/4 (1 + 3 xi_c xi_q)(1 + 3 eta_c eta_q)
+  const bool at_corner = corner >= 0 && corner < 4;
+  const double xi_c = at_corner ? kXiNode[corner] : 0.0, eta_c = at_corner ? kEtaNode[corner] : 0.0;
+  const double hh = 0.5 * sec_.thickness;
+  out.N.setZero(), out.M.setZero(), out.Q.setZero();
+  out.plies = sec_.plies ? static_cast<int>(layers_.size()) : 0;
+  const int last = static_cast<int>(layers_.size()) - 1;
+  visit_layer_stresses(cur, [&](int li, const Layer& L, const Tables<>& tab, const std::array<Vec5, kPoints>& sk) {
     Vec5 station[2] = {Vec5::Zero(), Vec5::Zero()};  // element frame, mean over the in-plane points
     for (int k = 0; k < kPoints; ++k) {
       const SolidConst<>& pc = tab.pts[k];
-      Vec5 sk;
-      sk.head<3>() = opt_.hr ? Vec3(p_hat(p_coef_, pc) * beta) : Vec3(L.Cm * em[k]);
-      sk.tail<2>() = L.Cs * es[k];
-      station[pc.layer] += (0.25 * (1 + 3 * xi_c * pc.xi) * (1 + 3 * eta_c * pc.eta)) * sk;
+      station[pc.layer] += (0.25 * (1 + 3 * xi_c * pc.xi) * (1 + 3 * eta_c * pc.eta)) * sk[k];
     }
     // resultants per unit length, in the section axes: dz = (h/2) zeta_half dzeta-hat
     const double w = hh * tab.zeta_half;
@@ -1048,7 +1063,7 @@ void BasicCbShellElement<double>::stresses(const ElementPoses& cur, ElementStres
     if (li == last) out.surface[2] = turn_stress(at(1.0), reference_angle_);
     if (L.zeta_lo <= 0.0 && (0.0 < L.zeta_hi || li == last))  // the reference surface (the upper ply at an interface)
       out.surface[1] = turn_stress(at(-tab.zeta_mid / tab.zeta_half), reference_angle_);
-    if (!sec_.plies) continue;
+    if (!sec_.plies) return;
     const Ply& ply = (*sec_.plies)[li];
     const bool failure = ply.strength[0] > 0;
     out.tsai_wu[li] = failure ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
@@ -1056,6 +1071,53 @@ void BasicCbShellElement<double>::stresses(const ElementPoses& cur, ElementStres
       out.ply[li][j] = turn_stress(at(j - 1.0), L.fibre_angle);
       if (failure) out.tsai_wu[li] = std::max(out.tsai_wu[li], tsai_wu(out.ply[li][j], ply.strength));
     }
-  }
+  });
+}
+
+// error_indicator.md (Z2)-(Z3): the resultants at the 2 x 2 in-plane points (the same stations as
+// stresses(), not averaged), the reference geometry there, and the section's compliance.
+template <>
+void BasicCbShellElement<double>::resultant_samples(const ElementPoses& reference, const ElementPoses& cur,
+                                                     ResultantSamples& out) const {
+  const double hh = 0.5 * sec_.thickness;
+  const Mat38 X0 = node_columns(reference, hh);
+  const Mat3 Gc = X0 * master_derivatives(0, 0, 0);
+  const Vec3 t1 = Gc.col(0).normalized(), t3 = Gc.col(0).cross(Gc.col(1)).normalized();
+  out.frame.col(0) = t1, out.frame.col(1) = t3.cross(t1), out.frame.col(2) = t3;
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero(), B = A, D = A;
+  Eigen::Matrix2d As = Eigen::Matrix2d::Zero();
+  for (int g = 0; g < 4; ++g) out.resultant[g].setZero();
+  bool points_set = false;
+  visit_layer_stresses(cur, [&](int, const Layer& L, const Tables<>& tab, const std::array<Vec5, kPoints>& sk) {
+    const double w = hh * tab.zeta_half;
+    for (int l = 0; l < 2; ++l) {  // (Z2): 2-point Gauss per layer, exact for z^2 C_m
+      const double z = hh * tab.zeta[l];
+      A += w * L.Cm, B += w * z * L.Cm, D += w * z * z * L.Cm, As += w * L.Cs;
+    }
+    for (int k = 0; k < kPoints; ++k) {  // (Z3)
+      const SolidConst<>& pc = tab.pts[k];
+      const double z = hh * tab.zeta[pc.layer];
+      Eigen::Matrix<double, 8, 1>& r = out.resultant[k % 4];
+      r.head<3>() += w * sk[k].head<3>();
+      r.segment<3>(3) += w * z * sk[k].head<3>();
+      r.tail<2>() += w * sk[k].tail<2>();
+      if (points_set || k >= 4) continue;
+      // in-plane point k: its mid-surface position and area element on the reference (zeta = 0)
+      const Mat3 J = X0 * master_derivatives(pc.xi, pc.eta, 0.0);
+      Eigen::Vector4d N, dxi, deta;
+      quad_shape(pc.xi, pc.eta, N, dxi, deta);
+      Vec3 x = Vec3::Zero();
+      for (int i = 0; i < 4; ++i) x += N[i] * reference[i].p;
+      out.position[k] = x;
+      out.area[k] = J.col(0).cross(J.col(1)).norm();  // Gauss weight 1 at the 2 x 2 points
+      out.xi[k] = pc.xi, out.eta[k] = pc.eta;
+    }
+    points_set = true;
+  });
+  Eigen::Matrix<double, 6, 6> S6;  // (Z1): [A B; B D]^-1, and As^-1
+  S6 << A, B, B, D;
+  out.compliance.setZero();
+  out.compliance.topLeftCorner<6, 6>() = S6.inverse();
+  out.compliance.bottomRightCorner<2, 2>() = As.inverse();
 }
 }  // namespace ff::shell

@@ -74,6 +74,22 @@ struct ElementStress {
   std::array<double, kMaxPlies> tsai_wu;  ///< (L12), the largest over the ply's stations; NaN without strengths
 };
 
+/// What the recovered-resultant error indicator needs of one element (error_indicator.md (Z1)-(Z3)):
+/// the resultants at its 2 x 2 in-plane points in the element frame (second Piola-Kirchhoff, per
+/// unit reference length), where those points are on the reference mid-surface, and the section's
+/// compliance in the same frame.
+struct ResultantSamples {
+  /// columns t1, t2, t3 of the element frame on the reference (t1 the centre's G_xi direction)
+  Eigen::Matrix3d frame;
+  /// [N11 N22 N12 M11 M22 M12 Q1 Q2] at each in-plane point, element frame
+  std::array<Eigen::Matrix<double, 8, 1>, 4> resultant;
+  std::array<Eigen::Vector3d, 4> position;  ///< on the reference mid-surface
+  std::array<double, 4> area;               ///< area element there (Gauss weight included)
+  std::array<double, 4> xi, eta;            ///< the points' parent coordinates
+  /// (Z1): blockdiag([A B; B D]^-1, A_s^-1), element frame
+  Eigen::Matrix<double, 8, 8> compliance;
+};
+
 /// Effects of the element (scene "effects"): each switches a term of cb_shell.md.
 struct ShellOptions {
   bool hr = true;                  ///< Hellinger-Reissner membrane, eqs. (9)-(11)
@@ -104,6 +120,10 @@ class BasicCbShellElement {
   /// field through the four points, extrapolated); the in-plane stress is the assumed field with
   /// `hr`, the transverse shear the tied one with `ans`: the stresses the element's energy uses.
   void stresses(const ElementPoses& current, ElementStress& out, int corner = -1) const;
+
+  /// The resultants at the 2 x 2 in-plane points at `current`, with the reference geometry and
+  /// the section compliance (error_indicator.md (Z1)-(Z3)), for the recovered-stress indicator.
+  void resultant_samples(const ElementPoses& reference, const ElementPoses& current, ResultantSamples& out) const;
 
   const ShellOptions& options() const { return opt_; }
   const ShellSection& section() const { return sec_; }
@@ -143,6 +163,9 @@ class BasicCbShellElement {
   };
   struct TangentData;                              // Ku, Kt, ANS rows, H^{-1} factor per layer (cb_shell.cpp)
 
+  // the stresses the energy uses at each layer's points (cb_shell.cpp; double only)
+  template <class Visit>
+  void visit_layer_stresses(const ElementPoses& cur, Visit&& visit) const;
   Scalar solid_terms(const ElementPoses& cur, Vector24& f, Matrix24* K) const;
   Scalar drilling_terms(const ElementPoses& cur, Vector24& f, Matrix24* K) const;
 

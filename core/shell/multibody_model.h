@@ -21,6 +21,7 @@
 #include "core/shell/cb_shell.h"
 #include "core/shell/cb_shell_inertia.h"
 #include "core/shell/shell_elements.h"
+#include "core/shell/error_indicator.h"
 #include "core/shell/shell_stress.h"
 #include "core/shell/loads.h"
 #include "core/solve/dynamic_problem.h"
@@ -229,6 +230,12 @@ class MultibodyModel final : public ff::DynamicProblem {
   std::vector<std::vector<double>> nodal_stress_fields() const {
     return shell::nodal_stress_fields(elements_, stress_layout(), state_.poses);
   }
+  /// The recovered-resultant error indicator at the current state (error_indicator.h).
+  RecoveredErrorIndicator error_indicator() const {
+    return recovered_error_indicator(elements_, reference_, state_.poses);
+  }
+  /// Where that indicator's error is, for the run's summary.
+  FieldErrorEstimate field_error_estimate() const { return summarize(error_indicator(), elements_, reference_); }
   /// Field number `field` of stress_fields(stress_layout()) at one node, equal to
   /// nodal_stress_fields()[field][node], from the elements around the node only (a probe).
   double nodal_stress(int node, std::size_t field) const {

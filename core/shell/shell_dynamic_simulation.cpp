@@ -66,6 +66,7 @@ ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicS
   info_.fields = {{"displacement", "m", "displacement magnitude"}, {"strain", "", "largest principal surface strain"}};
   if (settings_.record_stresses)
     for (const StressField& f : stresses) info_.fields.push_back({f.name, stress_unit(f.name), f.description});
+  if (settings_.record_error_indicator) info_.fields.push_back({kErrorIndicatorField, "", kErrorIndicatorDescription});
   values_.resize(settings_.probes.size() + 2 * settings_.arcs.size());
 }
 
@@ -95,6 +96,7 @@ Frame ShellDynamicSimulation::frame() const {
   f.fields.push_back(model_->nodal_surface_strain());
   if (settings_.record_stresses)
     for (std::vector<double>& values : model_->nodal_stress_fields()) f.fields.push_back(std::move(values));
+  if (settings_.record_error_indicator) f.fields.push_back(model_->error_indicator().nodal);
   for (int I = 0; I < nn; ++I) {
     const Vec3& x = model_->poses()[I].p;
     const Vec3& X = model_->reference_pose(I).p;
@@ -193,6 +195,11 @@ StepDone ShellDynamicSimulation::step(double h) {
 }
 
 std::vector<EffectStat> ShellDynamicSimulation::effect_stats() const { return model_->effect_stats(); }
+
+std::optional<FieldErrorEstimate> ShellDynamicSimulation::field_error_estimate() const {
+  if (!settings_.record_error_indicator) return std::nullopt;
+  return model_->field_error_estimate();
+}
 
 std::vector<std::string> ShellDynamicSimulation::answer_metrics() const {
   std::vector<std::string> out;  // the [[metric]]s read probes; the rest count the solver's work

@@ -57,6 +57,9 @@ struct ShellDynamicSettings {
   /// every stress field (shell_stress.h) of the shells in every published frame, after
   /// displacement and strain (a scene's output.stresses, or a stress field it colours or probes)
   bool record_stresses = false;
+  /// the recovered-stress error indicator field in every frame and its summary at the end
+  /// (error_indicator.h; the scene's output.error_bar)
+  bool record_error_indicator = false;
   /// [[timeline]] gravity: (time, g from then on), ascending in time. The step containing a time
   /// is split there, so the change happens exactly at it.
   std::vector<std::pair<double, Vec3>> gravity_changes;
@@ -83,6 +86,7 @@ class ShellDynamicSimulation final : public Simulation {
   void on_publish(const Frame& frame) override;
   Metrics metrics() const override;
   std::vector<std::string> answer_metrics() const override;
+  std::optional<FieldErrorEstimate> field_error_estimate() const override;
   std::vector<std::pair<std::string, std::string>> metrics_unreached() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override;

@@ -29,6 +29,7 @@ ShellStaticSimulation::ShellStaticSimulation(ShellModelSpec spec, ShellStaticSet
   const std::vector<StressField> stresses = stress_fields(model_->stress_layout());
   if (settings_.record_stresses)
     for (const StressField& f : stresses) info_.fields.push_back({f.name, "", f.description});
+  if (settings_.record_error_indicator) info_.fields.push_back({kErrorIndicatorField, "", kErrorIndicatorDescription});
   // a stress probe reads its field by number; the scene refuses a name the structure lacks
   for (const ShellProbe& p : settings_.probes) {
     std::size_t field = std::string::npos;
@@ -83,6 +84,7 @@ Frame ShellStaticSimulation::frame() const {
   f.fields.push_back(model_->nodal_surface_strain());
   if (settings_.record_stresses)
     for (std::vector<double>& values : model_->nodal_stress_fields()) f.fields.push_back(std::move(values));
+  if (settings_.record_error_indicator) f.fields.push_back(model_->error_indicator().nodal);
   for (std::size_t i = 0; i < poses.size(); ++i) {
     f.points.insert(f.points.end(), {poses[i].p.x(), poses[i].p.y(), poses[i].p.z()});
     f.base_points.insert(f.base_points.end(), {ref[i].x(), ref[i].y(), ref[i].z()});
@@ -195,6 +197,11 @@ double vertex(const std::vector<double>& load, int i, const std::vector<double>&
   return y[i] + by * t + ay * t * t;
 }
 }  // namespace
+
+std::optional<FieldErrorEstimate> ShellStaticSimulation::field_error_estimate() const {
+  if (!settings_.record_error_indicator) return std::nullopt;
+  return model_->field_error_estimate();
+}
 
 std::vector<std::string> ShellStaticSimulation::answer_metrics() const {
   std::vector<std::string> out;  // every [[metric]] reads the path of the discretized structure

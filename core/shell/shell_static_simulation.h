@@ -59,6 +59,9 @@ struct ShellStaticSettings {
   /// every stress field (shell_stress.h) of the structure in every frame, after displacement and
   /// strain (a scene's output.stresses, or a stress field it colours or probes)
   bool record_stresses = false;
+  /// the recovered-stress error indicator field in every frame and its summary at the end
+  /// (error_indicator.h; the scene's output.error_bar)
+  bool record_error_indicator = false;
   std::string monitor_probe;      ///< arc length: probe whose |value| ends the run at displacement_limit
   double displacement_limit = std::numeric_limits<double>::infinity();
 };
@@ -76,6 +79,7 @@ class ShellStaticSimulation final : public Simulation {
   Frame frame() const override;
   Metrics metrics() const override;
   std::vector<std::string> answer_metrics() const override;
+  std::optional<FieldErrorEstimate> field_error_estimate() const override;
   std::vector<std::pair<std::string, std::string>> metrics_unreached() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override { return model_->effect_stats(); }
