@@ -49,12 +49,30 @@ TwinRun run_twin(const scene::TwinPlan& plan, const std::string& path, const std
     t.reason = o.reason;
     t.events = event_counts(o.events);
     t.metrics = twin.simulation->metrics();
+    t.points = twin.simulation->metric_points();
   } catch (const std::exception& e) {  // a twin the scene's keys refuse (e.g. a cylinder of too few elements)
     t.status = RunStatus::failed;
     t.reason = std::string("the twin could not be built: ") + e.what();
   }
   t.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return t;
+}
+
+const std::array<double, 3>* point_of(const std::vector<std::pair<std::string, std::array<double, 3>>>& points,
+                                      const std::string& metric) {
+  for (const auto& [name, x] : points)
+    if (name == metric) return &x;
+  return nullptr;
+}
+
+// the diagonal of the reference mesh's bounding box (0 without a mesh)
+double model_diagonal(const FrameMesh& mesh) {
+  const std::vector<double>& p = mesh.reference_points;
+  if (p.size() < 3) return 0.0;
+  std::array<double, 3> lo{p[0], p[1], p[2]}, hi = lo;
+  for (std::size_t i = 0; i + 2 < p.size(); i += 3)
+    for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[i + c]), hi[c] = std::max(hi[c], p[i + c]);
+  return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
 }
 
 const TwinRun* twin_named(const std::vector<TwinRun>& twins, const std::string& name) {
@@ -141,6 +159,9 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
   }
 
   const Metrics values = run.metrics();
+  const auto run_points = run.metric_points();
+  // a probe point the twin's mesh has too, up to round-off of the coordinates
+  const double same_point = 1e-7 * model_diagonal(run.info().mesh);
   for (const std::string& name : run.answer_metrics()) {
     const std::optional<double> value = find_metric(values, name);
     if (!value || !std::isfinite(*value)) continue;
@@ -163,6 +184,20 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
           if (const std::string problem = twin_problem(*rung.twin, outcome); !problem.empty()) {
             flag = problem;
             break;
+          }
+          const std::array<double, 3>* at = point_of(run_points, name);
+          const std::array<double, 3>* twin_at = point_of(rung.twin->points, name);
+          if (at && twin_at) {
+            const double d = std::hypot((*at)[0] - (*twin_at)[0], (*at)[1] - (*twin_at)[1], (*at)[2] - (*twin_at)[2]);
+            if (d > same_point) {
+              char where[160];
+              std::snprintf(where, sizeof where, "(%.4g, %.4g, %.4g), %.3g away from the run's (%.4g, %.4g, %.4g)",
+                            (*twin_at)[0], (*twin_at)[1], (*twin_at)[2], d, (*at)[0], (*at)[1], (*at)[2]);
+              flag = "the " + rung.twin->name + " twin's mesh has no node at the probe's point: it reads " + where +
+                     ", another point, not a coarser answer (put a node there in both: a mesh count divisible by 2, "
+                     "or a named point of the geometry)";
+              break;
+            }
           }
           v = find_metric(rung.twin->metrics, name);
           if (!v || !std::isfinite(*v)) {

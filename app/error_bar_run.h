@@ -5,6 +5,7 @@
 /// estimate and a bar per metric (core/model/error_bars.{h,md}); the console line, summary.json
 /// "error_bars" and the cost as a share of the run come from here.
 
+#include <array>
 #include <atomic>
 #include <map>
 #include <string>
@@ -27,6 +28,7 @@ struct TwinRun {
   int elements = 0;         ///< quads of its mesh
   Metrics metrics;
   std::map<std::string, int> events;  ///< path events by kind (statics)
+  std::vector<std::pair<std::string, std::array<double, 3>>> points;  ///< Simulation::metric_points
 };
 
 struct ErrorBarReport {

@@ -141,6 +141,10 @@ class Simulation {
   /// The field error indicator at the run's last state, for models that record it (a shell
   /// structure with output.error_bar on); empty otherwise.
   virtual std::optional<FieldErrorEstimate> field_error_estimate() const { return std::nullopt; }
+  /// Where each answer metric read at one node reads (reference coordinates): a coarser twin whose
+  /// probe picked another node compares another point, which the error bars must say
+  /// (core/model/error_bars.md §6). Metrics read elsewhere (sums, modes, the load) are absent.
+  virtual std::vector<std::pair<std::string, std::array<double, 3>>> metric_points() const { return {}; }
   /// The modes an eigen-analysis (scene.analysis = "modal" or "buckling") found, after the run;
   /// null for analyses that compute none.
   virtual const ModeSet* modes() const { return nullptr; }

@@ -201,6 +201,17 @@ std::optional<FieldErrorEstimate> ShellDynamicSimulation::field_error_estimate()
   return model_->field_error_estimate();
 }
 
+std::vector<std::pair<std::string, std::array<double, 3>>> ShellDynamicSimulation::metric_points() const {
+  std::vector<std::pair<std::string, std::array<double, 3>>> out;
+  for (const DynamicMetric& mt : settings_.metrics)
+    for (const DynamicProbe& p : settings_.probes)
+      if (p.name == mt.probe && p.node >= 0) {
+        const Vec3& x = model_->reference_pose(p.node).p;
+        out.push_back({mt.name, {x.x(), x.y(), x.z()}});
+      }
+  return out;
+}
+
 std::vector<std::string> ShellDynamicSimulation::answer_metrics() const {
   std::vector<std::string> out;  // the [[metric]]s read probes; the rest count the solver's work
   for (const DynamicMetric& mt : settings_.metrics) out.push_back(mt.name);

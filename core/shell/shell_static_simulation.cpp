@@ -203,6 +203,17 @@ std::optional<FieldErrorEstimate> ShellStaticSimulation::field_error_estimate() 
   return model_->field_error_estimate();
 }
 
+std::vector<std::pair<std::string, std::array<double, 3>>> ShellStaticSimulation::metric_points() const {
+  std::vector<std::pair<std::string, std::array<double, 3>>> out;
+  for (const ShellMetric& mt : settings_.metrics)
+    for (const ShellProbe& p : settings_.probes)
+      if (p.name == mt.probe && p.quantity != ShellProbe::Quantity::reaction && p.node >= 0) {
+        const Vec3& x = model_->spec().mesh.points[p.node];
+        out.push_back({mt.name, {x.x(), x.y(), x.z()}});
+      }
+  return out;
+}
+
 std::vector<std::string> ShellStaticSimulation::answer_metrics() const {
   std::vector<std::string> out;  // every [[metric]] reads the path of the discretized structure
   for (const ShellMetric& mt : settings_.metrics) out.push_back(mt.name);

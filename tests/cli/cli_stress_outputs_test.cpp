@@ -17,17 +17,21 @@
 #include "app/frame_outputs.h"
 #include "app/io/results.h"
 #include "cli_support.h"
+#include "core/shell/error_indicator.h"
 #include "core/shell/shell_stress.h"
 
 namespace ff::cli::test {
 namespace {
 
 const std::vector<std::string> kFixedFields = {"displacement", "strain"};
+// with error bars on (the default) the error indicator comes last (core/shell/error_indicator.h)
+const std::vector<std::string> kDefaultFields = {"displacement", "strain", shell::kErrorIndicatorField};
 
 // the fields a run of an isotropic structure stores with output.stresses, in order
 std::vector<std::string> expected_field_names() {
   std::vector<std::string> names = kFixedFields;
   for (const shell::StressField& f : shell::stress_fields(shell::StressLayout{})) names.push_back(f.name);
+  names.push_back(shell::kErrorIndicatorField);
   return names;
 }
 
@@ -177,7 +181,7 @@ TEST(CliStress, StaticRunWritesEveryStressFieldOnlyWhenAsked) {
   ASSERT_EQ(r_off.exit_code, 0) << r_off.describe();
   const auto h5_off = open_results(off);
   ASSERT_TRUE(h5_off);
-  EXPECT_EQ(field_names(h5_off->info()), kFixedFields);
+  EXPECT_EQ(field_names(h5_off->info()), kDefaultFields);
   const auto summary_off = read_summary(off, &err);
   ASSERT_TRUE(summary_off) << err;
   EXPECT_EQ(summary_off->get("stresses"), nullptr);
@@ -414,6 +418,7 @@ TEST(CliStress, LaminatedRoofRecordsItsPliesAndTheirFailureIndex) {
   ASSERT_TRUE(h5);
   std::vector<std::string> expected = kFixedFields;
   for (const shell::StressField& f : shell::stress_fields(shell::StressLayout{3, true})) expected.push_back(f.name);
+  expected.push_back(shell::kErrorIndicatorField);
   EXPECT_EQ(field_names(h5->info()), expected);
   EXPECT_GE(pngs_in(run + "/frames").size(), 2u) << "every 6th step drawn (results.h5 keeps every step)";
   // the middle ply runs around the arc (90 degrees from the axis): under the load its fibres carry
