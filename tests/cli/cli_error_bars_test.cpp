@@ -269,5 +269,28 @@ TEST(ErrorBars, TheFieldIndicatorIsLargestAtTheHole) {
   EXPECT_FALSE(fs::exists(dir + "/off/plots/error_indicator.png"));
 }
 
+TEST(ErrorBars, ATwinThatReadsItsProbeAtAnotherNodeIsFlagged) {
+  // 9 x 9 elements and a probe at (0.45, 0.45): the run reads node (4/9, 4/9); its twin of 5 x 5
+  // has no node there and reads (0.4, 0.4), 0.063 away. The difference of the two readings is the
+  // deflection's change over that distance, not a discretization error: no number, a flag naming
+  // both points (error_bars.md §6). At 8 x 8 with the probe on a node of both, there is a bar.
+  const std::string dir = fresh_test_dir();
+  const ProcResult odd = run_scene(dir, "clamped_plate_pressure", "odd",
+                                   {"--error-bar", "two", "--set", "part[0].n1=9", "part[0].n2=9",
+                                    "probe[0].point=[0.45,0.45,0.0]"});
+  ASSERT_EQ(odd.exit_code, 0) << odd.describe();
+  const nlohmann::json m = summary_of(dir + "/odd")["error_bars"]["metrics"]["w_centre"];
+  ASSERT_EQ(m["flags"].size(), 1u) << m.dump(1);
+  const std::string flag = m["flags"][0];
+  EXPECT_NE(flag.find("has no node at the probe's point"), std::string::npos) << flag;
+  EXPECT_NE(flag.find("(0.4, 0.4, 0)"), std::string::npos) << flag;
+  EXPECT_NE(flag.find("(0.4444, 0.4444, 0)"), std::string::npos) << flag;
+  EXPECT_FALSE(m.contains("bar") && m["bar"].is_number()) << m.dump(1);
+  const ProcResult even = run_scene(dir, "clamped_plate_pressure", "even",
+                                    {"--error-bar", "two", "--set", "part[0].n1=8", "part[0].n2=8"});
+  ASSERT_EQ(even.exit_code, 0) << even.describe();
+  EXPECT_TRUE(summary_of(dir + "/even")["error_bars"]["metrics"]["w_centre"]["flags"].empty());
+}
+
 }  // namespace
 }  // namespace ff::cli::test
