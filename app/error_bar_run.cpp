@@ -43,8 +43,9 @@ TwinRun run_twin(const scene::TwinPlan& plan, const std::string& path, const std
     all.push_back("output.error_bar=false");  // a twin's own error indicator field is never read
     scene::LoadedScene twin = scene::load_scene(path, all, io::scene_context(&stop));
     if (twin.mesh_quality) t.elements = twin.mesh_quality->quality.quad_count;
+    t.info = twin.simulation->info();
     RunLoop loop(*twin.simulation);
-    const RunOutcome o = loop.run([](Frame&&) {}, stop);
+    const RunOutcome o = loop.run([&t](Frame&& f) { t.history.add(f); }, stop);
     t.status = o.status;
     t.reason = o.reason;
     t.events = event_counts(o.events);

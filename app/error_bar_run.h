@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/model/error_bars.h"
+#include "app/plots.h"
 #include "core/model/simulation.h"
 
 namespace ff::app {
@@ -29,6 +30,8 @@ struct TwinRun {
   Metrics metrics;
   std::map<std::string, int> events;  ///< path events by kind (statics)
   std::vector<std::pair<std::string, std::array<double, 3>>> points;  ///< Simulation::metric_points
+  RunInfo info;          ///< its probes (for plots beside the run's)
+  PlotHistory history;   ///< its probes at every frame it published (plots, results.h5)
 };
 
 struct ErrorBarReport {

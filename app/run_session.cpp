@@ -281,6 +281,9 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   bool no_graphics = false;  // set by the render thread before frames_done
   std::vector<std::string> plot_files;
   std::promise<void> frames_done;
+  // the twins' curves join the plots: the render thread waits for them after the frames
+  std::promise<void> twins_done;
+  std::shared_future<void> twins_ready = twins_done.get_future().share();
 
   // summary.json "stresses": the run's largest von Mises stress, at which node (mesh point) and
   // frame (row of results.h5), when the run records its stress fields
@@ -478,8 +481,17 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       }
     }
     if (opt.plots && out.plots) {
+      twins_ready.wait();
       std::lock_guard lock(history_mutex);
-      plot_files = write_run_plots(info, history, plots_dir.string(), &plot_error, gc.get());
+      std::vector<LabelledRun> runs = {{scene.name, info, history}};
+      for (const TwinRun& t : result.error_bars.twins) {
+        if (t.history.time.empty()) continue;
+        LabelledRun twin{t.name + " twin (" + t.description + ")", t.info, t.history};
+        twin.info.references.clear();  // drawn once, with the run
+        runs.push_back(std::move(twin));
+      }
+      plot_files = runs.size() > 1 ? write_overlay_plots(runs, plots_dir.string(), &plot_error, gc.get())
+                                   : write_run_plots(info, history, plots_dir.string(), &plot_error, gc.get());
       try {
         for (const std::string& p : plot_files) folder.record("plots/" + fs::path(p).filename().string());
       } catch (const WriteError& e) {
@@ -655,6 +667,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       }
     }
   }
+  twins_done.set_value();
   frames_done.get_future().wait();
   // the solve completed but its pictures did not: the run does not call itself completed
   if (!drawing_stopped.empty() && outcome.status == RunStatus::completed) {
@@ -682,6 +695,14 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
   if (modes && failed_write().empty()) {
     result.modes = static_cast<int>(modes->modes.size());
     if (!writer->write_modes(*modes, &err)) fail_write("results.h5: " + err);
+  }
+  // the twins' probe histories beside the run's frames (results_layout.md /error_bar_twins)
+  for (const TwinRun& t : result.error_bars.twins) {
+    if (t.history.time.empty() || !failed_write().empty()) continue;
+    std::vector<std::string> names;
+    for (const Quantity& q : t.info.probes) names.push_back(q.name);
+    if (!writer->write_twin_history(t.name, t.description, t.history.time, names, t.history.probes, &err))
+      fail_write("results.h5: " + err);
   }
   record_write_failure();
   // the bars beside the frames they are about, for scripts and replay (results_layout.md /attributes)

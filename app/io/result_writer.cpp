@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <bit>
 #include <cerrno>
 #include <chrono>
@@ -694,6 +695,42 @@ bool ResultWriter::write_modes(const ModeSet& modes, std::string* error) {
     return bad(e.what());
   }
   m.modes_written = true;
+  return true;
+}
+
+bool ResultWriter::write_twin_history(const std::string& twin, const std::string& description,
+                                      const std::vector<double>& time, const std::vector<std::string>& probe_names,
+                                      const std::vector<std::vector<double>>& probes, std::string* error) {
+  h5::Quiet quiet;
+  Impl& m = *impl_;
+  auto bad = [&](const std::string& why) {
+    if (error) *error = m.prefix() + why;
+    return false;
+  };
+  if (m.closed) return bad("a twin's history written after finish()");
+  const bool plain = !twin.empty() && std::all_of(twin.begin(), twin.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
+  if (!plain) return bad("twin name '" + twin + "' is not a plain name");
+  if (probe_names.size() != probes.size()) return bad("twin " + twin + ": probe names and series differ in count");
+  for (std::size_t k = 0; k < probes.size(); ++k)
+    if (probes[k].size() != time.size() || probe_names[k].empty() || probe_names[k].find('/') != std::string::npos)
+      return bad("twin " + twin + ": probe '" + probe_names[k] + "' has no valid name or not one value per frame");
+  try {
+    hid_t f = m.file.get();
+    h5::Handle all = h5::has_link(f, names::kErrorBarTwins) ? h5::open_group(f, names::kErrorBarTwins)
+                                                             : h5::create_group(f, names::kErrorBarTwins, false);
+    h5::Handle g = h5::create_group(all.get(), twin, false);
+    h5::write_attr_string(g.get(), "description", description);
+    const hsize_t rows = time.size();
+    h5::write_fixed_dataset(g.get(), "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {rows}, time.data());
+    h5::Handle p = h5::create_group(g.get(), "probes", false);
+    for (std::size_t k = 0; k < probes.size(); ++k)
+      h5::write_fixed_dataset(p.get(), probe_names[k], H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {rows}, probes[k].data());
+    h5::check(H5Fflush(f, H5F_SCOPE_LOCAL), "flush the twin's history");
+  } catch (const h5::Failure& e) {
+    return bad(e.what());
+  }
   return true;
 }
 

@@ -60,6 +60,15 @@ class ResultWriter {
   /// stored) when a displacement does not have 3 values per mesh point or it was called before.
   bool write_modes(const ModeSet& modes, std::string* error);
 
+  /// Stores one error-bar twin's probe histories under /error_bar_twins/<twin> (results_layout.md):
+  /// its description and the x of its curves (time, or the load of a static path) as attributes and
+  /// datasets, one value per published frame of the twin: `time` and one per probe, by the probe's
+  /// name. `twin` must be a plain name (letters, digits, '_'); each series as long as `time`.
+  /// Written and flushed at once, before finish().
+  bool write_twin_history(const std::string& twin, const std::string& description, const std::vector<double>& time,
+                          const std::vector<std::string>& probe_names, const std::vector<std::vector<double>>& probes,
+                          std::string* error);
+
   /// Writes the staged frames and attributes, updates `frames_written` and the provisional
   /// outcome, and calls H5Fflush. After it returns true, a killed process loses nothing.
   bool flush(std::string* error);

@@ -26,6 +26,7 @@ inline constexpr const char* kFramesWritten = "frames_written";
 inline constexpr const char* kSteps = "/steps";  ///< the per-step convergence log
 inline constexpr const char* kStepsWritten = "steps_written";
 inline constexpr const char* kModes = "/modes";  ///< an eigen-analysis' modes (issue 36)
+inline constexpr const char* kErrorBarTwins = "/error_bar_twins";  ///< the error-bar twins' probe histories (issue 49)
 
 /// Reason stored (and reported by the reader) while the writer has not finished.
 inline constexpr const char* kUnfinished = "the writer did not finish (process stopped?)";

@@ -3,6 +3,7 @@
 // against a published solution, the bars are on by default and can be turned off, and a source
 // that cannot be estimated is said, not dropped silently.
 
+#include <hdf5.h>
 #include <nlohmann/json.hpp>
 
 #include "app/io/results.h"
@@ -290,6 +291,46 @@ TEST(ErrorBars, ATwinThatReadsItsProbeAtAnotherNodeIsFlagged) {
                                     {"--error-bar", "two", "--set", "part[0].n1=8", "part[0].n2=8"});
   ASSERT_EQ(even.exit_code, 0) << even.describe();
   EXPECT_TRUE(summary_of(dir + "/even")["error_bars"]["metrics"]["w_centre"]["flags"].empty());
+}
+
+// a 1-D f64 dataset of results.h5, empty when it is not there
+std::vector<double> read_series(hid_t file, const std::string& name) {
+  const hid_t d = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (d < 0) return {};
+  const hid_t sp = H5Dget_space(d);
+  hsize_t n = 0;
+  if (H5Sget_simple_extent_ndims(sp) == 1) H5Sget_simple_extent_dims(sp, &n, nullptr);
+  std::vector<double> v(n);
+  if (n > 0 && H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0) v.clear();
+  H5Sclose(sp);
+  H5Dclose(d);
+  return v;
+}
+
+TEST(ErrorBars, TheTwinsCurvesAreStoredAndPlottedBesideTheRuns) {
+  // results.h5 keeps each twin's probe history (results_layout.md /error_bar_twins), whose last
+  // value is the twin's metric in summary.json, and the probe's plot draws the twins' curves
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/run";
+  const ProcResult r = run_flexframe({"run", scene_path("clamped_plate_pressure"), "--out", out, "--quiet",
+                                      "--no-frames", "--error-bar", "two"},
+                                     out, "", 300);
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json twins = summary_of(out)["error_bars"]["twins"];
+  ASSERT_EQ(twins.size(), 1u);
+  ASSERT_EQ(twins[0]["name"], "mesh");
+  const hid_t f = H5Fopen((out + "/results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const std::vector<double> t = read_series(f, "/error_bar_twins/mesh/time");
+  const std::vector<double> w = read_series(f, "/error_bar_twins/mesh/probes/w_centre");
+  H5Fclose(f);
+  ASSERT_GE(t.size(), 2u);  // the reference state and the loaded one
+  ASSERT_EQ(w.size(), t.size());
+  EXPECT_EQ(t.back(), 1.0);  // the load factor at the end of the path
+  EXPECT_EQ(w.back(), twins[0]["metrics"]["w_centre"].get<double>());
+  // the run's own curve lies above its 4 x 4 twin's (the coarser plate is stiffer)
+  EXPECT_GT(summary_of(out)["metrics"]["w_centre"].get<double>(), w.back());
+  EXPECT_TRUE(fs::is_regular_file(out + "/plots/w_centre.png"));
 }
 
 }  // namespace
