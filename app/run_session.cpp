@@ -486,7 +486,8 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       std::vector<LabelledRun> runs = {{scene.name, info, history}};
       for (const TwinRun& t : result.error_bars.twins) {
         if (t.history.time.empty()) continue;
-        LabelledRun twin{t.name + " twin (" + t.description + ")", t.info, t.history};
+        // the name alone keeps the legend inside the plot; what the twin changed is in summary.json
+        LabelledRun twin{t.name + " twin", t.info, t.history};
         twin.info.references.clear();  // drawn once, with the run
         runs.push_back(std::move(twin));
       }
