@@ -43,11 +43,11 @@ Eigen::Matrix<double, 8, 1> from_world(const Eigen::Matrix3d& frame, const World
   return r;
 }
 
-// What the recovery keeps of one element between its two passes.
+// What the recovery keeps of one element between its two passes: its samples (about 1 kB, so
+// that the element kernel runs once per element) and their world tensors.
 struct Sampled {
-  Eigen::Matrix3d frame;
+  ResultantSamples samples;
   std::array<WorldResultant, 4> world;
-  std::array<Eigen::Vector3d, 4> position;
   double size2 = 0.0;  // its reference area: the patch's length scale squared
 };
 
@@ -70,16 +70,15 @@ RecoveredErrorIndicator recovered_error_indicator(const ShellElements& elements,
   // pass 1: every element's resultants at its points, as world tensors on the reference (Z3)-(Z4)
   std::vector<Sampled> sampled(ne);
   std::vector<std::vector<int>> on_node(nn);
-  ResultantSamples rs;
   ElementPoses ref, cur;
   for (int k = 0; k < ne; ++k) {
     const ShellElement& e = elements[k];
     ShellElements::corner_poses(e, reference, ref);
     ShellElements::corner_poses(e, current, cur);
-    e.elastic->resultant_samples(ref, cur, rs);
     Sampled& s = sampled[k];
-    s.frame = rs.frame;
-    for (int g = 0; g < 4; ++g) s.world[g] = to_world(rs.frame, rs.resultant[g]), s.position[g] = rs.position[g];
+    const ResultantSamples& rs = s.samples;
+    e.elastic->resultant_samples(ref, cur, s.samples);
+    for (int g = 0; g < 4; ++g) s.world[g] = to_world(rs.frame, rs.resultant[g]);
     s.size2 = rs.area[0] + rs.area[1] + rs.area[2] + rs.area[3];
     for (int n : e.nodes) on_node[n].push_back(k);
   }
@@ -89,7 +88,8 @@ RecoveredErrorIndicator recovered_error_indicator(const ShellElements& elements,
   for (int k = 0; k < ne; ++k) {
     const ShellElement& e = elements[k];
     const Sampled& own = sampled[k];
-    const Eigen::Vector3d normal = own.frame.col(2), u = own.frame.col(0), v = own.frame.col(1);
+    const Eigen::Matrix3d& frame = own.samples.frame;
+    const Eigen::Vector3d normal = frame.col(2), u = frame.col(0), v = frame.col(1);
     std::array<WorldResultant, 4> at_corner;
     for (int c = 0; c < 4; ++c) {
       const int n = e.nodes[c];
@@ -102,13 +102,13 @@ RecoveredErrorIndicator recovered_error_indicator(const ShellElements& elements,
       int count = 0;
       double scale2 = 0.0;
       for (int m : on_node[n])
-        if (sampled[m].frame.col(2).dot(normal) >= cos_fold) scale2 += sampled[m].size2;
+        if (sampled[m].samples.frame.col(2).dot(normal) >= cos_fold) scale2 += sampled[m].size2;
       const double inv_scale = 1.0 / std::sqrt(scale2);
       for (int m : on_node[n]) {
         const Sampled& s = sampled[m];
-        if (s.frame.col(2).dot(normal) < cos_fold) continue;  // across a fold: (Z5)
+        if (s.samples.frame.col(2).dot(normal) < cos_fold) continue;  // across a fold: (Z5)
         for (int g = 0; g < 4; ++g) {
-          const Eigen::Vector3d d = (s.position[g] - xn) * inv_scale;
+          const Eigen::Vector3d d = (s.samples.position[g] - xn) * inv_scale;
           const Eigen::Vector3d p(1.0, d.dot(u), d.dot(v));
           PtP.noalias() += p * p.transpose();
           PtY.noalias() += p * s.world[g].transpose();
@@ -116,17 +116,15 @@ RecoveredErrorIndicator recovered_error_indicator(const ShellElements& elements,
         }
       }
       // a patch whose points do not span the plane (cannot happen with 2 x 2 points of a
-      // non-degenerate element, kept for safety) takes the mean instead
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(PtP, Eigen::EigenvaluesOnly);
-      if (eig.eigenvalues()[0] > 1e-10 * eig.eigenvalues()[2])
+      // non-degenerate element, kept for safety) takes the mean instead: a determinant tiny
+      // beside the cube of the trace (the eigenvalues' product beside their sum's cube)
+      const double trace = PtP.trace();
+      if (PtP.determinant() > 1e-12 * trace * trace * trace)
         at_corner[c] = (PtP.ldlt().solve(PtY)).row(0).transpose();
       else
         at_corner[c] = mean / count;
     }
-    ElementPoses refk, curk;
-    ShellElements::corner_poses(e, reference, refk);
-    ShellElements::corner_poses(e, current, curk);
-    e.elastic->resultant_samples(refk, curk, rs);
+    const ResultantSamples& rs = own.samples;
     double err2 = 0.0, en2 = 0.0;
     for (int g = 0; g < 4; ++g) {
       const std::array<double, 4> w = corner_weights(rs.xi[g], rs.eta[g]);
