@@ -483,7 +483,9 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
     if (opt.plots && out.plots) {
       twins_ready.wait();
       std::lock_guard lock(history_mutex);
-      std::vector<LabelledRun> runs = {{scene.name, info, history}};
+      // labelled as write_run_plots labels a run; the history has no other reader after the plots
+      std::vector<LabelledRun> runs;
+      runs.push_back({info.scene_name, info, std::move(history)});
       for (const TwinRun& t : result.error_bars.twins) {
         if (t.history.time.empty()) continue;
         // the name alone keeps the legend inside the plot; what the twin changed is in summary.json
@@ -491,8 +493,7 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
         twin.info.references.clear();  // drawn once, with the run
         runs.push_back(std::move(twin));
       }
-      plot_files = runs.size() > 1 ? write_overlay_plots(runs, plots_dir.string(), &plot_error, gc.get())
-                                   : write_run_plots(info, history, plots_dir.string(), &plot_error, gc.get());
+      plot_files = write_overlay_plots(runs, plots_dir.string(), &plot_error, gc.get());
       try {
         for (const std::string& p : plot_files) folder.record("plots/" + fs::path(p).filename().string());
       } catch (const WriteError& e) {
