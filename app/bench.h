@@ -17,6 +17,7 @@ struct BenchOptions {
   std::vector<std::string> overrides;  ///< --set: scene keys changed in every --scene run
   int modes = 0;                       ///< --modes N: only the eigen-solve table (run_modes_bench)
   std::vector<double> estimate_dofs;   ///< --estimate: only MUMPS's analysis estimates (run_estimate_bench)
+  bool error_bars = false;             ///< --error-bars: what the error bars cost (run_error_bar_bench)
 };
 /// `flexframe bench`: steps/s of every bundled hub-beam scene, EFG/FEM cost ratios and headless
 /// frames/s, as a markdown table. Ratios come from one run of this command.
@@ -47,6 +48,11 @@ int run_modes_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// node) at each size: estimated flops, factor entries and memory per rank over the ranks it runs
 /// on, for models too large to factorize here (app/bench_estimate.cpp).
 int run_estimate_bench(const BenchOptions& options, const std::atomic<bool>& stop);
+/// `flexframe bench --error-bars [--scene S ...]`: each scene's `flexframe run` with error bars on
+/// against off, --repeat alternated pairs of child processes: the whole command's wall-time ratio
+/// and the bars' share of the run as the run prints it, beside the targets (35 % static and eigen,
+/// 60 % dynamic) (app/bench_error_bars.cpp). Exit 1 when a run failed (its log is kept).
+int run_error_bar_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// Writes a bench's --json file and checks every step (open, write, close): on failure prints
 /// "error: cannot write PATH: <why>" and returns false, and the command exits 1; a benchmark whose
 /// numbers were not stored has failed.

@@ -216,7 +216,11 @@ int main(int argc, char** argv) {
                     "only MUMPS's analysis estimates (flops, factor entries, MB per rank) for plates of about these "
                     "many DoFs, e.g. --estimate 1e6 1e7; under mpirun -n K, for K ranks")
       ->check(CLI::Range(20.0, 5e7));
-  bench->add_option("--set", bench_opt.overrides, "--scene: override a scene key in every run, e.g. --set solver.tolerance=1e-6")
+  bench->add_flag("--error-bars", bench_opt.error_bars,
+                  "what the error bars cost: each scene's run with --error-bar on against off, --repeat alternated "
+                  "pairs (default scenes: the default job and four short static, eigen and dynamic scenes; --scene "
+                  "picks others)");
+  bench->add_option("--set", bench_opt.overrides, "--scene, --error-bars: override a scene key in every run, e.g. --set solver.tolerance=1e-6")
       ->take_all();
 
   // study
@@ -433,6 +437,7 @@ int main(int argc, char** argv) {
       if (follower) bench_opt.out_file.clear();  // rank 0 writes the JSON
       const int code = !bench_opt.estimate_dofs.empty() ? ff::app::run_estimate_bench(bench_opt, stop)
                        : bench_opt.modes > 0          ? ff::app::run_modes_bench(bench_opt, stop)
+                       : bench_opt.error_bars    ? ff::app::run_error_bar_bench(bench_opt, stop)
                        : !bench_opt.scenes.empty() ? ff::app::run_scene_bench(bench_opt, stop)
                        : bench_opt.solve         ? ff::app::run_solve_bench(bench_opt, stop)
                        : bench_opt.effects       ? ff::app::run_effects_bench(bench_opt, stop)

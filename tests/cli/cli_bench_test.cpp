@@ -2,6 +2,8 @@
 // with the keys docs/performance.md reads (not the timings' values: those are benchmarks, not
 // tests), and the counted flops are the element's, so they match count_element_flops.
 // `flexframe bench --scene`: whole runs timed, with the counts `run` reports.
+// `flexframe bench --error-bars`: runs with bars on and off in alternated pairs, the share the runs
+// print, the target per kind of scene, and a run that fails keeps its log and fails the command.
 
 #include <gtest/gtest.h>
 
@@ -136,6 +138,51 @@ TEST(CliBench, SceneRefusesAMissingSceneAndFailsOnAnUnfinishedRun) {
   EXPECT_EQ(row.at("status").get<std::string>(), "incomplete");
   EXPECT_EQ(row.at("steps").get<long long>(), 2);
   EXPECT_NE(row.at("reason").get<std::string>().find("step budget"), std::string::npos) << row;
+}
+
+TEST(CliBench, ErrorBarsTimesRunsWithAndWithoutBarsInPairs) {
+  const std::string dir = fresh_test_dir();
+  const std::string json = dir + "/bench.json";
+  const ProcResult b = run_flexframe({"bench", "--error-bars", "--scene", "clamped_plate_pressure", "--scene",
+                                      "cantilever_step_load", "--repeat", "2",
+                                      "--json", json},
+                                     dir + "/bench");
+  ASSERT_EQ(b.exit_code, 0) << b.describe();
+  const nlohmann::json j = nlohmann::json::parse(read_text(json));
+  EXPECT_EQ(j.at("rounds").get<int>(), 2);
+  ASSERT_EQ(j.at("scenes").size(), 2u);
+  for (const nlohmann::json& row : j.at("scenes")) {
+    EXPECT_EQ(row.at("status").get<std::string>(), "completed") << row;
+    ASSERT_EQ(row.at("off_s").size(), 2u) << row;
+    ASSERT_EQ(row.at("on_s").size(), 2u) << row;
+    EXPECT_GT(row.at("ratio_median").get<double>(), 0.0) << row;
+    // the share the runs print is a share of work done, never 0 with twins solved
+    EXPECT_GT(row.at("run_share_median").get<double>(), 0.0) << row;
+  }
+  EXPECT_FALSE(j.at("scenes").at(0).at("dynamic").get<bool>());
+  EXPECT_EQ(j.at("scenes").at(0).at("target_share").get<double>(), 0.35);
+  EXPECT_TRUE(j.at("scenes").at(1).at("dynamic").get<bool>());
+  EXPECT_EQ(j.at("scenes").at(1).at("target_share").get<double>(), 0.60);
+  EXPECT_NE(b.out.find("| clamped_plate_pressure | static/eigen | completed |"), std::string::npos) << b.out;
+  // the rounds alternate which run goes first
+  const std::size_t on1 = b.err.find("clamped_plate_pressure, round 1 of 2, bars on");
+  const std::size_t off1 = b.err.find("clamped_plate_pressure, round 1 of 2, bars off");
+  const std::size_t on2 = b.err.find("clamped_plate_pressure, round 2 of 2, bars on");
+  const std::size_t off2 = b.err.find("clamped_plate_pressure, round 2 of 2, bars off");
+  ASSERT_TRUE(on1 != std::string::npos && off1 != std::string::npos && on2 != std::string::npos &&
+              off2 != std::string::npos)
+      << b.describe();
+  EXPECT_LT(off1, on1);
+  EXPECT_LT(on2, off2);
+
+  // a run that does not complete is not timed as if it had: the command fails and keeps the logs
+  const ProcResult cut = run_flexframe({"bench", "--error-bars", "--scene", "hinged_roof_h127", "--set",
+                                        "solver.max_steps=2", "--repeat", "1"},
+                                       dir + "/cut");
+  EXPECT_EQ(cut.exit_code, 1) << cut.describe();
+  EXPECT_NE(cut.err.find("hinged_roof_h127 failed: it exited with code"), std::string::npos) << cut.describe();
+  EXPECT_NE(cut.err.find("the runs' logs are kept in"), std::string::npos) << cut.describe();
+  EXPECT_NE(cut.out.find("| hinged_roof_h127 | static/eigen | failed |"), std::string::npos) << cut.describe();
 }
 
 // a --json file that cannot be written fails the command (exit 1) and names the path and why:
