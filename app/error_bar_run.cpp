@@ -122,6 +122,7 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
   r.run_wall_s = outcome.wall_time_s + setup_wall_s;
   const scene::TwinPlans plans = scene::discretization_twins(scene_path, overrides, levels);
   r.levels = plans.levels;
+  r.local_time = plans.local_time;
   r.missing = plans.missing;
   for (const scene::TwinPlan& plan : plans.twins) {
     if (stop) break;
@@ -148,11 +149,12 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
     if (const TwinRun* t4 = twin_named(r.twins, "time_coarser")) time.rungs.push_back({t4, run_elements});
     ladders.push_back(time);
   }
-  const std::string suffix = plans.dynamic ? "_at_2dt" : "";
-  const TwinRun* mesh_top = plans.dynamic ? twin_named(r.twins, "time") : nullptr;
-  if (const TwinRun* m = twin_named(r.twins, "mesh" + suffix); m && (!plans.dynamic || mesh_top)) {
+  const bool at_2dt = plans.dynamic && !plans.local_time;  // (R8); with (R9) the mesh twin runs at the run's dt
+  const std::string suffix = at_2dt ? "_at_2dt" : "";
+  const TwinRun* mesh_top = at_2dt ? twin_named(r.twins, "time") : nullptr;
+  if (const TwinRun* m = twin_named(r.twins, "mesh" + suffix); m && (!at_2dt || mesh_top)) {
     Ladder mesh{"mesh", {}, false};
-    if (plans.dynamic) mesh.rungs.push_back({mesh_top, run_elements});
+    if (at_2dt) mesh.rungs.push_back({mesh_top, run_elements});
     else mesh.rungs.push_back({nullptr, run_elements});
     mesh.rungs.push_back({m, m->elements});
     if (const TwinRun* m4 = twin_named(r.twins, "mesh_coarser" + suffix)) mesh.rungs.push_back({m4, m4->elements});
@@ -161,6 +163,7 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
 
   const Metrics values = run.metrics();
   const auto run_points = run.metric_points();
+  const auto local_time = run.local_time_errors();
   // a probe point the twin's mesh has too, up to round-off of the coordinates
   const double same_point = 1e-7 * model_diagonal(run.info().mesh);
   for (const std::string& name : run.answer_metrics()) {
@@ -170,6 +173,13 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
     m.metric = name;
     m.value = *value;
     m.missing = r.missing;
+    for (const auto& [metric, e] : local_time)
+      if (metric == name) m.local_time_error = e;
+    if (plans.local_time && !r.interrupted) {  // the time source without a twin (error_bars.md (R9))
+      if (std::isfinite(m.local_time_error)) m.sources.push_back(local_time_source(m.value, m.local_time_error));
+      else m.missing.push_back("no time estimate: the integrator's local error (R9) follows displacement probes only "
+                               "(--error-bar three estimates it from time twins)");
+    }
     if (r.interrupted) {
       m.missing.push_back("not estimated: the twins were interrupted");
       r.metrics.push_back(std::move(m));
@@ -233,6 +243,8 @@ std::string error_bar_plan_text(const std::string& scene_path, const std::vector
   const scene::TwinPlans plans = scene::discretization_twins(scene_path, overrides, 0);
   if (!plans.on) return "error bars: off (output.error_bar = false; --error-bar on turns them on for one run)";
   std::string s = "error bars, " + std::to_string(plans.levels) + " levels per source (--error-bar off skips them):";
+  if (plans.local_time)
+    s += "\n  time: the integrator's own local error, accumulated at each probe (no twin, core/model/error_bars.md (R9))";
   if (plans.twins.empty()) s += " no twin";
   for (const scene::TwinPlan& t : plans.twins) {
     // what the twin costs beside the run, in work (measured shares: docs/validation/error-bars.md#cost)
@@ -261,6 +273,10 @@ std::string error_bar_text(const MetricError& m) {
   if (!parts.empty()) s += ": " + parts;
   s += ")";
   for (const std::string& missing : m.missing) s += "; " + missing.substr(0, missing.find(':'));
+  const bool local_source = std::any_of(m.sources.begin(), m.sources.end(),
+                                       [](const SourceError& e) { return e.method == "local"; });
+  if (std::isfinite(m.local_time_error) && m.value != 0 && !local_source)  // beside time twins: for comparison
+    s += "; the integrator's local time estimate " + pct(m.local_time_error / std::abs(m.value));
   return s;
 }
 
@@ -271,6 +287,8 @@ nlohmann::ordered_json error_bars_json(const ErrorBarReport& report) {
     Json sources = Json::array();
     for (const SourceError& s : m.sources)
       sources.push_back({{"source", s.source},
+                         {"method", s.method == "local" ? "the integrator's accumulated local error (R9)"
+                                                        : "Richardson extrapolation of twins"},
                          {"fine", s.fine},
                          {"coarse", s.coarse},
                          {"ratio", s.ratio},
@@ -285,10 +303,13 @@ nlohmann::ordered_json error_bars_json(const ErrorBarReport& report) {
                          {"extrapolated", bar ? Json(m.extrapolated()) : Json()},
                          {"bar", bar ? Json(m.bar()) : Json()},
                          {"bar_relative", bar ? Json(m.relative_bar()) : Json()},
-                         {"method", "Richardson extrapolation of twins, GCI bar (core/model/error_bars.md)"},
+                         {"method", report.local_time ? "mesh: Richardson extrapolation of a twin, GCI bar; time: the "
+                                                        "integrator's accumulated local error (core/model/error_bars.md)"
+                                                      : "Richardson extrapolation of twins, GCI bar (core/model/error_bars.md)"},
                          {"sources", sources},
                          {"flags", m.flags},
                          {"missing", m.missing}};
+    if (std::isfinite(m.local_time_error)) metrics[m.metric]["time_local_estimate"] = m.local_time_error;
   }
   Json twins = Json::array();
   for (const TwinRun& t : report.twins) {
@@ -305,6 +326,7 @@ nlohmann::ordered_json error_bars_json(const ErrorBarReport& report) {
   }
   return {{"on", report.on},
           {"levels", report.levels},
+          {"time_source", report.local_time ? "local error estimate" : "twins"},
           {"not_estimated", report.not_estimated},
           {"metrics", metrics},
           {"twins", twins},

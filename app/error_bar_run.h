@@ -37,6 +37,7 @@ struct TwinRun {
 struct ErrorBarReport {
   bool on = false;              ///< asked for (--error-bar, output.error_bar)
   int levels = 2;               ///< levels per source (the run and one or two twins)
+  bool local_time = false;      ///< the time source is the integrator's local error (R9), no time twin
   std::string not_estimated;    ///< why no twin ran although asked ("" when they ran)
   std::vector<TwinRun> twins;
   std::vector<std::string> missing;  ///< sources without a twin, and why

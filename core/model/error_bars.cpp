@@ -25,6 +25,21 @@ SourceError richardson(const std::string& source, double fine, double coarse, do
   return s;
 }
 
+SourceError local_time_source(double value, double magnitude) {
+  if (!(magnitude >= 0.0) || !std::isfinite(magnitude))
+    throw std::invalid_argument("local_time_source: the local error magnitude must be finite and >= 0");
+  SourceError s;
+  s.source = "time";
+  s.method = "local";
+  s.fine = value;
+  s.coarse = s.ratio = std::numeric_limits<double>::quiet_NaN();
+  s.order = 2.0;  // the scheme's, by which (G12) scales
+  s.estimate = 0.0;  // a magnitude: which way the error goes is not known (R9)
+  s.safety = 1.0;
+  s.bar = magnitude;
+  return s;
+}
+
 std::optional<double> observed_order(double f1, double f2, double f3, double r21, double r32) {
   const double e21 = f2 - f1, e32 = f3 - f2;
   if (e21 == 0.0 || e32 == 0.0 || !std::isfinite(e21) || !std::isfinite(e32)) return std::nullopt;

@@ -5,6 +5,7 @@
 /// error_bars.md beside this file.
 
 #include <optional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -21,12 +22,20 @@ struct SourceError {
   double estimate = 0.0;     ///< E (R3): signed estimate of the run's error from this source
   double safety = 3.0;       ///< F_s of (R4)
   double bar = 0.0;          ///< GCI (R4) = F_s |E|
+  /// "richardson" (twins, (R2)-(R6)) or "local" (the integrator's accumulated local error (R9):
+  /// a magnitude, no signed estimate; coarse and ratio are NaN, estimate 0, safety 1)
+  std::string method = "richardson";
 };
 
 /// Richardson's two-level estimate (R2)-(R4) from the metric on a fine and a coarse level of
 /// ratio r > 1 with order p > 0. Throws std::invalid_argument for r <= 1, p <= 0 or non-finite input.
 SourceError richardson(const std::string& source, double fine, double coarse, double ratio, double order,
                        double safety = 3.0);
+
+/// The time source of a dynamic run from its integrator's accumulated local error (R9): `magnitude`
+/// (>= 0, the metric's unit) is the bar as it stands; no signed estimate, so the extrapolated value
+/// is the run's. Throws std::invalid_argument for a negative or non-finite magnitude.
+SourceError local_time_source(double value, double magnitude);
 
 /// The observed order (R6) from three levels f1 (finest), f2, f3 with ratios r21 = h2/h1 and
 /// r32 = h3/h2; nothing when the convergence is oscillatory (the differences change sign), when a
@@ -56,6 +65,9 @@ struct MetricError {
   /// Sources that could not be estimated and why ("no mesh estimate: part[0].file is a fixed mesh");
   /// the bar then covers only `sources`.
   std::vector<std::string> missing;
+  /// The integrator's accumulated local error at the metric (Simulation::local_time_errors),
+  /// absolute; NaN where there is none (statics, stress probes)
+  double local_time_error = std::numeric_limits<double>::quiet_NaN();
   double estimate() const;  ///< sum of the sources' E (R7)
   double bar() const;       ///< sum of the sources' GCI (R7)
   double extrapolated() const { return value - estimate(); }  ///< (R2)

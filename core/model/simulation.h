@@ -145,6 +145,11 @@ class Simulation {
   /// probe picked another node compares another point, which the error bars must say
   /// (core/model/error_bars.md §6). Metrics read elsewhere (sums, modes, the load) are absent.
   virtual std::vector<std::pair<std::string, std::array<double, 3>>> metric_points() const { return {}; }
+  /// The time-step error of each answer metric of a time-stepping run as its integrator's local
+  /// error estimate says it (core/solve/generalized_alpha.md §9): the local errors of the steps
+  /// accumulated up to where the metric was read, in the metric's unit (absolute). Metrics the
+  /// estimate cannot follow (stress readings, arcs) are absent; empty for models without one.
+  virtual std::vector<std::pair<std::string, double>> local_time_errors() const { return {}; }
   /// The modes an eigen-analysis (scene.analysis = "modal" or "buckling") found, after the run;
   /// null for analyses that compute none.
   virtual const ModeSet* modes() const { return nullptr; }

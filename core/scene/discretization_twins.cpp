@@ -98,7 +98,9 @@ TwinPlans discretization_twins(const std::string& path, const std::vector<std::s
     const double longer = std::ldexp(dt, halvings);
     return std::pair{"solver.dt=" + number_text(longer), "solver.dt = " + number_text(longer) + " (" + number_text(dt) + ")"};
   };
-  if (plans.dynamic) {
+  // a shell structure's integrator estimates its own time-step error (R9): two levels need no time twin
+  plans.local_time = shell && plans.dynamic && levels == 2;
+  if (plans.dynamic && !plans.local_time) {
     const auto [set2, text2] = step(1);
     plans.twins.push_back({"time", {set2}, text2});
     if (levels == 3) {
@@ -120,7 +122,7 @@ TwinPlans discretization_twins(const std::string& path, const std::vector<std::s
       return plans;
     }
     const std::string name = halvings == 1 ? "mesh" : "mesh_coarser";
-    if (plans.dynamic) {  // (R8): the mesh estimate from twins at 2 dt
+    if (plans.dynamic && !plans.local_time) {  // (R8): the mesh estimate from twins at 2 dt
       const auto [set2, text2] = step(1);
       mesh.push_back(set2);
       plans.twins.push_back({name + "_at_2dt", mesh, description + ", " + text2});

@@ -11,7 +11,8 @@ namespace ff::scene {
 
 /// One twin: the run's scene with `overrides` added after the run's own.
 struct TwinPlan {
-  /// "mesh" (coarser mesh, the run's time step), "time" (the run's mesh at twice its time step),
+  /// "mesh" (coarser mesh, the run's time step: statics, eigen, and dynamics with the local time
+  /// estimate), "time" (the run's mesh at twice its time step),
   /// "mesh_at_2dt" (coarser mesh at twice the time step: the mesh estimate of a dynamic run, (R8));
   /// with three levels also "mesh_coarser" (halved twice), "time_coarser" (4 dt) and
   /// "mesh_coarser_at_2dt"
@@ -26,6 +27,9 @@ struct TwinPlans {
   /// ("no mesh estimate: part[1].file is a fixed mesh (...)")
   std::vector<std::string> missing;
   bool dynamic = false;  ///< a time-stepping run (time and mesh_at_2dt twins)
+  /// the time source is the run's own accumulated local error (error_bars.md (R9)), no time twin:
+  /// a shell structure in dynamics with two levels; its mesh twin then runs at the run's step
+  bool local_time = false;
   bool on = true;        ///< the scene's output.error_bar (--error-bar overrides it)
   int levels = 2;        ///< levels per source: the run and one twin, or two (the observed order)
 };

@@ -68,6 +68,8 @@ ShellDynamicSimulation::ShellDynamicSimulation(MultibodySpec spec, ShellDynamicS
     for (const StressField& f : stresses) info_.fields.push_back({f.name, stress_unit(f.name), f.description});
   if (settings_.record_error_indicator) info_.fields.push_back({kErrorIndicatorField, "", kErrorIndicatorDescription});
   values_.resize(settings_.probes.size() + 2 * settings_.arcs.size());
+  time_error_sum_.assign(settings_.probes.size(), 0.0);
+  time_error_values_.resize(settings_.probes.size());
 }
 
 std::vector<double> ShellDynamicSimulation::probe_values() const {
@@ -114,6 +116,7 @@ void ShellDynamicSimulation::record() {
   times_.push_back(integrator_->time());
   const std::vector<double> v = probe_values();
   for (std::size_t k = 0; k < v.size(); ++k) values_[k].push_back(v[k]);
+  for (std::size_t k = 0; k < time_error_sum_.size(); ++k) time_error_values_[k].push_back(time_error_sum_[k]);
   max_violation_ = std::max(max_violation_, model_->constraint_violation());
 }
 
@@ -188,6 +191,7 @@ StepDone ShellDynamicSimulation::step(double h) {
     return d;
   }
   ++totals_.steps;
+  accumulate_local_error();
   record();
   d.accepted = true;
   d.stats = rep.stats(h);
@@ -209,6 +213,49 @@ std::vector<std::pair<std::string, std::array<double, 3>>> ShellDynamicSimulatio
         const Vec3& x = model_->reference_pose(p.node).p;
         out.push_back({mt.name, {x.x(), x.y(), x.z()}});
       }
+  return out;
+}
+
+// A displacement probe reads d · (x_I − X_I); the step's local error e (generalized_alpha.md (G12))
+// moves node I by R_I e_trans to first order (X = X_n exp(h Δq) on SE(3), (G3)), so the probe by
+// d · R_I e_trans, whose magnitude adds up over the steps (G14). Stress probes are left out: their
+// reading is no linear function of the nodes' motion.
+void ShellDynamicSimulation::accumulate_local_error() {
+  integrator_->take_local_error(local_error_);
+  for (std::size_t k = 0; k < settings_.probes.size(); ++k) {
+    const DynamicProbe& p = settings_.probes[k];
+    if (!p.field.empty() || p.node < 0) continue;
+    Vec3 e = Vec3::Zero();
+    for (int c = 0; c < 3; ++c)
+      if (const int q = model_->equation(p.node, c); q >= 0) e[c] = local_error_[q];
+    time_error_sum_[k] += std::abs(p.direction.dot(model_->poses()[p.node].R * e));
+  }
+}
+
+std::vector<std::pair<std::string, double>> ShellDynamicSimulation::local_time_errors() const {
+  std::vector<std::pair<std::string, double>> out;
+  for (const DynamicMetric& mt : settings_.metrics) {
+    std::size_t k = 0;
+    while (k < settings_.probes.size() && settings_.probes[k].name != mt.probe) ++k;
+    if (k == settings_.probes.size() || !settings_.probes[k].field.empty() || settings_.probes[k].node < 0) continue;
+    const std::vector<double>& v = values_[k];
+    const std::vector<double>& e = time_error_values_[k];
+    if (v.empty() || e.size() != v.size()) continue;
+    // the sum up to the step the metric was read at (G15); a mean reads every step: their mean
+    std::size_t at = v.size() - 1;
+    if (mt.kind == DynamicMetric::Kind::min) at = std::min_element(v.begin(), v.end()) - v.begin();
+    if (mt.kind == DynamicMetric::Kind::max) at = std::max_element(v.begin(), v.end()) - v.begin();
+    if (mt.kind == DynamicMetric::Kind::max_abs)
+      at = std::max_element(v.begin(), v.end(), [](double a, double b) { return std::abs(a) < std::abs(b); }) -
+           v.begin();
+    double x = e[at];
+    if (mt.kind == DynamicMetric::Kind::mean) {
+      x = 0;
+      for (double y : e) x += y;
+      x /= static_cast<double>(e.size());
+    }
+    out.emplace_back(mt.name, x);
+  }
   return out;
 }
 

@@ -88,6 +88,7 @@ class ShellDynamicSimulation final : public Simulation {
   std::vector<std::string> answer_metrics() const override;
   std::optional<FieldErrorEstimate> field_error_estimate() const override;
   std::vector<std::pair<std::string, std::array<double, 3>>> metric_points() const override;
+  std::vector<std::pair<std::string, double>> local_time_errors() const override;
   std::vector<std::pair<std::string, std::string>> metrics_unreached() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override;
@@ -102,6 +103,7 @@ class ShellDynamicSimulation final : public Simulation {
 
  private:
   void record();                             // probes of the current state into the history
+  void accumulate_local_error();             // the step's local error into each displacement probe's sum (G14)
   std::vector<double> probe_values() const;  // probes in RunInfo order
   std::unique_ptr<MultibodyModel> model_;
   std::optional<Vec3> live_gravity_;  // a live change waiting for the next step
@@ -118,6 +120,11 @@ class ShellDynamicSimulation final : public Simulation {
   std::vector<double> arc_chord0_, arc_length0_;
   std::vector<double> times_;
   std::vector<std::vector<double>> values_;  // [probe][recorded step]
+  // a displacement probe's accumulated local time-step error |d · R e| (generalized_alpha.md (G14)):
+  // the running sum per probe, its value at every recorded step, and the step's error vector
+  std::vector<double> time_error_sum_;
+  std::vector<std::vector<double>> time_error_values_;  // [probe][recorded step]
+  Eigen::VectorXd local_error_;
   std::vector<std::size_t> probe_field_;     // [probe]: a stress probe's field in stress_fields(), npos: none
   long long window_noi_ = 0, window_nou_ = 0;
   std::chrono::steady_clock::time_point wall0_;

@@ -32,7 +32,9 @@ GeneralizedAlpha::GeneralizedAlpha(DynamicProblem& problem, GeneralizedAlphaSett
   af_ = r / (r + 1);
   gamma_ = 0.5 + af_ - am_;
   beta_ = 0.25 * (gamma_ + 0.5) * (gamma_ + 0.5);
+  local_error_coefficient_ = beta_ + 0.5 * (am_ - af_) - 1.0 / 6.0;  // (G13)
   const int n = problem_.size(), m = problem_.constraint_count();
+  local_error_.setZero(n);
   v_.setZero(n);
   vdot_.setZero(n);
   a_.setZero(n);
@@ -228,7 +230,7 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
   const IterationWeights w{bp, gp, 1.0};
   // predictor (§3)
   Eigen::VectorXd vd = Eigen::VectorXd::Zero(n);
-  const Eigen::VectorXd a1 = (af_ * vdot_ - am_ * a_) / (1 - am_);
+  Eigen::VectorXd a1 = (af_ * vdot_ - am_ * a_) / (1 - am_);
   Eigen::VectorXd v1 = v_ + h * (1 - gamma_) * a_ + h * gamma_ * a1;                   // (G4)
   Eigen::VectorXd x = h * (v_ + h * (0.5 - beta_) * a_ + h * beta_ * a1);               // (G3)
   if (settings_.predictor == AccelerationPredictor::previous) {  // (G3'): v̇_{n+1} = v̇_n, x and v along (G6)
@@ -298,7 +300,9 @@ GeneralizedAlpha::Attempt GeneralizedAlpha::attempt(double h, bool force_full) {
       problem_.configure(x);
       problem_.commit();
       t_ += h;
-      a_ = a1 + (1 - af_) / (1 - am_) * vd;  // (G5)
+      a1 += (1 - af_) / (1 - am_) * vd;  // a_{n+1} (G5)
+      local_error_ += (h * h * local_error_coefficient_) * (a1 - a_);  // (G12)
+      a_ = a1;
       v_ = v1;
       vdot_ = vd;
       lambda_ = lam;

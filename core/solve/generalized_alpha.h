@@ -65,6 +65,12 @@ class GeneralizedAlpha {
   long long total_iterations() const { return noi_; }
   long long total_updates() const { return nou_; }
   long long total_fallbacks() const { return fallbacks_; }  ///< stale-matrix steps redone with updates
+  /// The estimated local error of the position increments h Δq (G3) of the steps since the last
+  /// call, summed (generalized_alpha.md §9, (G12)): moved into `out`, and the sum starts again at 0.
+  void take_local_error(Eigen::VectorXd& out) {
+    out = local_error_;
+    local_error_.setZero();
+  }
   /// ‖Δx‖₂ of each correction of the last attempt, in order (convergence-rate checks).
   const std::vector<double>& last_corrections() const { return corrections_; }
   const GeneralizedAlphaSettings& settings() const { return settings_; }
@@ -86,6 +92,8 @@ class GeneralizedAlpha {
   DynamicProblem& problem_;
   GeneralizedAlphaSettings settings_;
   double am_, af_, gamma_, beta_;
+  double local_error_coefficient_;  // β + (α_m − α_f)/2 − 1/6 (G13)
+  Eigen::VectorXd local_error_;     // Σ (G12) since take_local_error
   double t_ = 0.0;
   Eigen::VectorXd v_, vdot_, a_, lambda_;
   double constraint_scale_ = 0.0;  // constraint row scale (G7)

@@ -88,9 +88,10 @@ TEST(ErrorBars, ClampedPlateDeflectionAgainstTheSeriesSolution) {
 }
 
 TEST(ErrorBars, TimeStepEstimateAgainstATenTimesFinerStep) {
-  // The double pendulum (the main job) shortened to 0.5 s at dt = 1e-3: its time twin at 2e-3 must
-  // estimate the difference to the same mesh at dt = 1e-4, a step ten times finer whose own error
-  // is 1 % of the run's (second order).
+  // The double pendulum (the main job) shortened to 0.5 s at dt = 1e-3: its time bar, the
+  // integrator's accumulated local error (core/model/error_bars.md (R9)), must cover the
+  // difference to the same mesh at dt = 1e-4, a step ten times finer whose own error is 1 % of the
+  // run's (second order), and be within 1/3-3 of it wherever that exceeds 0.5 %.
   const std::string dir = fresh_test_dir();
   const ProcResult run = run_scene(dir, "double_pendulum_shells", "run", {"--set", "solver.dt=1e-3", "solver.end=0.5"}, 600);
   ASSERT_EQ(run.exit_code, 0) << run.describe();
@@ -101,6 +102,11 @@ TEST(ErrorBars, TimeStepEstimateAgainstATenTimesFinerStep) {
   const nlohmann::json reference = summary_of(dir + "/fine");
   EXPECT_FALSE(reference.contains("error_bars")) << "--error-bar off runs no twin";
   EXPECT_EQ(bars["levels"], 2) << "auto: two levels in time";
+  EXPECT_EQ(bars["time_source"], "local error estimate");
+  // no time twin: the one twin is the coarser mesh at the run's own step
+  ASSERT_EQ(bars["twins"].size(), 1u) << bars.dump(1);
+  EXPECT_EQ(bars["twins"][0]["name"], "mesh");
+  EXPECT_EQ(bars["twins"][0]["description"].get<std::string>().find("solver.dt"), std::string::npos);
   int judged = 0;
   for (const auto& [name, m] : bars["metrics"].items()) {
     ASSERT_TRUE(m["flags"].empty()) << name << ": " << m.dump(1);
@@ -108,21 +114,23 @@ TEST(ErrorBars, TimeStepEstimateAgainstATenTimesFinerStep) {
     for (const auto& source : m["sources"])
       if (source["source"] == "time") time = &source;
     ASSERT_NE(time, nullptr) << name;
-    EXPECT_DOUBLE_EQ((*time)["ratio"].get<double>(), 2.0);
+    EXPECT_EQ((*time)["estimate"].get<double>(), 0.0) << "a magnitude moves no value";
+    EXPECT_EQ((*time)["bar"].get<double>(), m["time_local_estimate"].get<double>()) << name;
     const double true_error = m["value"].get<double>() - reference["metrics"][name].get<double>();
     // the bar covers the difference to the finer step wherever it is above the solver's
-    // tolerance (1e-6 of the metric), and the estimate is within 1/3-3 of it above 0.5 %
+    // tolerance (1e-6 of the metric), and is within 1/3-3 of it above 0.5 %
     if (std::abs(true_error) > 1e-6 * std::abs(m["value"].get<double>())) {
       EXPECT_GE((*time)["bar"].get<double>(), std::abs(true_error)) << name;
     }
     if (std::abs(true_error) <= 0.005 * std::abs(m["value"].get<double>())) continue;
     ++judged;
-    const double effectivity = (*time)["estimate"].get<double>() / true_error;
+    const double effectivity = (*time)["bar"].get<double>() / std::abs(true_error);
     EXPECT_GE(effectivity, 1.0 / 3.0) << name;
     EXPECT_LE(effectivity, 3.0) << name;
   }
   EXPECT_TRUE(bars["metrics"].contains("pointF_z_min")) << bars.dump(1);
   EXPECT_FALSE(bars["metrics"].contains("NOI")) << "the solver's counts get no bar";
+  EXPECT_NE(run.out.find("time from the integrator's local error"), std::string::npos) << run.out;
   (void)judged;
 }
 

@@ -34,6 +34,24 @@ TEST(ErrorBars, TheEstimateCarriesTheSignOfTheRunsError) {
   EXPECT_NEAR(m.relative_bar(), 0.03 / 0.99, 1e-15);
 }
 
+// (R9): the integrator's local error is a magnitude: it widens the bar as it stands (F_s = 1) and
+// leaves the extrapolated value alone; a negative or non-finite magnitude is refused
+TEST(ErrorBars, ALocalTimeErrorWidensTheBarButMovesNoValue) {
+  const ff::SourceError t = ff::local_time_source(2.0, 0.03);
+  EXPECT_EQ(t.source, "time");
+  EXPECT_EQ(t.method, "local");
+  EXPECT_EQ(t.bar, 0.03);
+  EXPECT_EQ(t.estimate, 0.0);
+  EXPECT_EQ(t.safety, 1.0);
+  ff::MetricError m;
+  m.value = 2.0;
+  m.sources = {t, ff::richardson("mesh", 2.0, 2.3, 2.0, 2.0)};  // E_mesh = 0.1, GCI 0.3
+  EXPECT_NEAR(m.bar(), 0.33, 1e-12);
+  EXPECT_NEAR(m.extrapolated(), 2.0 - 0.1, 1e-12);
+  EXPECT_THROW(ff::local_time_source(1.0, -1e-9), std::invalid_argument);
+  EXPECT_THROW(ff::local_time_source(1.0, std::nan("")), std::invalid_argument);
+}
+
 TEST(ErrorBars, SourcesAddUp) {
   // (R7): estimates and bars of the mesh and the time step are summed
   ff::MetricError m;

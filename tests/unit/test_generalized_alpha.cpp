@@ -102,6 +102,67 @@ TEST(GeneralizedAlpha, OscillatorIsSecondOrderAccurate) {
   }
 }
 
+// (G12)-(G13) against the one-step error of the trapezoidal rule (rho_inf = 1, where the initial
+// acceleration is the shifted one exactly): from the exact state of x = cos(w t + phi) the step's
+// position minus the exact one is the local error, and the estimate h^2/12 (a1 - a0) must match
+// it in sign and size as h -> 0. (phi = 0 would be a bad choice: the third derivative of x is 0
+// there, the h^3 term vanishes, and the h^4 term, which the estimate halves, is all that is left.)
+TEST(GeneralizedAlpha, LocalErrorEstimateMatchesOneStepOfTheTrapezoidalRule) {
+  const double w = 2 * std::numbers::pi, phi = std::numbers::pi / 3;
+  for (double h : {1e-2, 5e-3}) {
+    Oscillator p(w, std::cos(phi));
+    GeneralizedAlphaSettings s;
+    s.rho_inf = 1.0;
+    s.tolerance = 1e-14;
+    GeneralizedAlpha ga(p, s);
+    ASSERT_EQ(ga.initialize(0.0, Eigen::VectorXd::Constant(1, -w * std::sin(phi))), "");
+    Eigen::VectorXd e;
+    ga.take_local_error(e);
+    EXPECT_EQ(e[0], 0.0) << "initialize() takes no step";
+    ASSERT_TRUE(ga.step(h).converged);
+    ga.take_local_error(e);
+    const double actual = p.x() - std::cos(phi + w * h);
+    EXPECT_NEAR(e[0] / actual, 1.0, 0.02) << "h " << h;
+    ga.take_local_error(e);
+    EXPECT_EQ(e[0], 0.0) << "taken: the sum starts again";
+  }
+}
+
+// (G14): summed in magnitude over the steps, the local errors of an undamped oscillation give its
+// global (phase) error to within the mean of |sin| and the phase of the end point, for every
+// rho_inf, and fall by 4 per halving of h like the error itself
+double summed_local_error(double h, double rho) {
+  const double w = 2 * std::numbers::pi, T = 1.125;
+  Oscillator p(w, 1.0);
+  GeneralizedAlphaSettings s;
+  s.rho_inf = rho;
+  s.tolerance = 1e-13;
+  GeneralizedAlpha ga(p, s);
+  EXPECT_EQ(ga.initialize(0.0, Eigen::VectorXd::Zero(1)), "");
+  const int steps = static_cast<int>(std::lround(T / h));
+  double sum = 0.0;
+  Eigen::VectorXd e;
+  for (int i = 0; i < steps; ++i) {
+    EXPECT_TRUE(ga.step(h).converged);
+    ga.take_local_error(e);
+    sum += std::abs(e[0]);
+  }
+  return sum;
+}
+
+TEST(GeneralizedAlpha, SummedLocalErrorsFollowTheGlobalErrorOfAnOscillation) {
+  for (double rho : {1.0, 0.9, 0.6}) {
+    for (double h : {1.0 / 40, 1.0 / 80}) {
+      const double estimate = summed_local_error(h, rho), actual = oscillator_error(h, rho);
+      EXPECT_GT(estimate / actual, 1.0 / 3.0) << "rho_inf " << rho << ", h " << h;
+      EXPECT_LT(estimate / actual, 3.0) << "rho_inf " << rho << ", h " << h;
+    }
+    const double ratio = summed_local_error(1.0 / 80, rho) / summed_local_error(1.0 / 160, rho);
+    EXPECT_GT(ratio, 3.5) << "rho_inf " << rho;
+    EXPECT_LT(ratio, 4.5) << "rho_inf " << rho;
+  }
+}
+
 TEST(GeneralizedAlpha, EnergyConservedAtRhoOneAndNeverGrowsBelow) {
   const double w = 2 * std::numbers::pi, h = 0.05;  // coarse: 20 steps per period
   for (double rho : {1.0, 0.6, 0.0}) {
