@@ -181,7 +181,7 @@ int run_error_bar_bench(const BenchOptions& opt, const std::atomic<bool>& stop) 
       std::printf("| %s | %s | %s | | | | | %.0f %% |\n", row.scene.c_str(), row.dynamic ? "dynamic" : "static/eigen",
                   row.failure.empty() ? "not timed" : "failed", 100 * target);
     } else {
-      std::printf("| %s | %s | %s | %.2f | %.2f | %.2f (+%.0f %%) | %.0f %% | %.0f %% |\n", row.scene.c_str(),
+      std::printf("| %s | %s | %s | %.2f | %.2f | %.2f (%+.0f %%) | %.0f %% | %.0f %% |\n", row.scene.c_str(),
                   row.dynamic ? "dynamic" : "static/eigen", row.status.c_str(), median_of(row.off_s),
                   median_of(row.on_s), ratio, 100 * (ratio - 1), 100 * share, 100 * target);
     }
