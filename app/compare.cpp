@@ -3,10 +3,13 @@
 #include "app/output_folder.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
+
+#include <nlohmann/json.hpp>
 
 #include "app/io/results.h"
 #include "app/plots.h"
@@ -15,9 +18,87 @@
 namespace fs = std::filesystem;
 
 namespace ff::app {
+namespace {
+
+// One metric of one stored run with its error bar (results.h5 attribute `error_bars`, the JSON of
+// summary.json's): the bar, or why there is none
+struct BarredValue {
+  double value = std::nan("");
+  double bar = std::nan("");
+  std::string no_bar;  ///< the flag or the missing source; "" with a bar, or when no bars ran
+};
+
+std::map<std::string, BarredValue> barred_metrics(const io::ResultReader& reader) {
+  std::map<std::string, BarredValue> out;
+  for (const auto& [name, v] : reader.metrics()) out[name].value = v;
+  for (const auto& [key, text] : reader.attributes()) {
+    if (key != "error_bars") continue;
+    const nlohmann::json bars = nlohmann::json::parse(text, nullptr, false);
+    if (!bars.is_object() || !bars.contains("metrics") || !bars["metrics"].is_object()) continue;
+    for (const auto& [name, m] : bars["metrics"].items()) {
+      BarredValue& b = out[name];
+      if (m.contains("bar") && m["bar"].is_number()) b.bar = m["bar"].get<double>();
+      else if (m.contains("flags") && m["flags"].is_array() && !m["flags"].empty() && m["flags"][0].is_string())
+        b.no_bar = "flagged: " + m["flags"][0].get<std::string>();
+      else if (m.contains("missing") && m["missing"].is_array() && !m["missing"].empty() && m["missing"][0].is_string())
+        b.no_bar = m["missing"][0].get<std::string>();
+      else b.no_bar = "no estimate";
+    }
+  }
+  return out;
+}
+
+std::string with_bar(const BarredValue& b) {
+  char text[96];
+  if (std::isfinite(b.bar)) std::snprintf(text, sizeof text, "%.6g ± %.2g", b.value, b.bar);
+  else std::snprintf(text, sizeof text, "%.6g", b.value);
+  return text;
+}
+
+// The answer metrics of every run beside the first one's: the difference, and whether it is larger
+// than the two error bars together (then the runs differ by more than their discretizations can
+// explain). Metrics without a bar in either run are compared plainly, and said so.
+void print_metric_table(const std::vector<LabelledRun>& runs, const std::vector<std::map<std::string, BarredValue>>& m) {
+  std::vector<std::string> names;
+  for (const auto& [name, b] : m.front()) {
+    const bool in_all = std::all_of(m.begin(), m.end(), [&](const auto& run) { return run.count(name) > 0; });
+    const bool answer = std::any_of(m.begin(), m.end(), [&](const auto& run) {
+      const auto it = run.find(name);
+      return it != run.end() && (std::isfinite(it->second.bar) || !it->second.no_bar.empty());
+    });
+    if (in_all && answer) names.push_back(name);
+  }
+  if (names.empty()) {
+    std::printf("no metric with an error bar in these runs (they ran with --error-bar off, or estimate none)\n");
+    return;
+  }
+  std::printf("metrics with their error bars, each run against %s:\n", runs.front().label.c_str());
+  for (const std::string& name : names) {
+    const BarredValue& a = m.front().at(name);
+    std::printf("  %s\n    %s: %s\n", name.c_str(), runs.front().label.c_str(), with_bar(a).c_str());
+    for (std::size_t i = 1; i < runs.size(); ++i) {
+      const BarredValue& b = m[i].at(name);
+      const double d = b.value - a.value;
+      std::string verdict;
+      if (std::isfinite(a.bar) && std::isfinite(b.bar))
+        verdict = std::abs(d) > a.bar + b.bar ? "differs by more than the two bars together: beyond what the "
+                                                 "discretizations explain"
+                                               : "within the two bars together";
+      else
+        verdict = "no verdict: " + (!std::isfinite(a.bar) ? runs.front().label + " has no bar (" +
+                                                               (a.no_bar.empty() ? "no estimate" : a.no_bar) + ")"
+                                                         : runs[i].label + " has no bar (" +
+                                                               (b.no_bar.empty() ? "no estimate" : b.no_bar) + ")");
+      std::printf("    %s: %s, difference %.3g: %s\n", runs[i].label.c_str(), with_bar(b).c_str(), d, verdict.c_str());
+    }
+  }
+}
+
+}  // namespace
 
 int compare_runs(const std::vector<std::string>& inputs, const std::string& out_dir) {
   std::vector<LabelledRun> runs;
+  std::vector<std::map<std::string, BarredValue>> metrics;
   for (const std::string& in : inputs) {
     const std::string path = fs::is_directory(in) ? (fs::path(in) / "results.h5").string() : in;
     std::string err;
@@ -29,6 +110,7 @@ int compare_runs(const std::vector<std::string>& inputs, const std::string& out_
     r.history.time = reader->times();
     for (const Quantity& q : r.info.probes) r.history.probes.push_back(reader->probe_series(q.name));
     runs.push_back(std::move(r));
+    metrics.push_back(barred_metrics(*reader));
   }
   // runs of one scene (two settings, two builds) would share a legend entry: label them by path
   std::map<std::string, int> label_count;
@@ -67,6 +149,7 @@ int compare_runs(const std::vector<std::string>& inputs, const std::string& out_
     else
       std::printf("%s: max |Delta| not computed (no common range, or an x that goes back)\n", d.probe.c_str());
   }
+  print_metric_table(runs, metrics);
   std::printf("overlay of %zu runs: %zu plots in %s/plots\n", runs.size(), files.size(), out_dir.c_str());
   return 0;
 }

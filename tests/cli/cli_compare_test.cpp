@@ -99,6 +99,37 @@ TEST(CliCompare, IdenticalRunsOfOneSceneStayDistinguishable) {
   EXPECT_GT(second, 200);
 }
 
+// each run's metrics with their error bars (results.h5's `error_bars`), and a verdict per pair:
+// the clamped plate at 8 x 8 and 16 x 16 differ by less than their two bars together (both are
+// estimates of one converged answer); the 16 x 16 plate under twice the pressure differs by far
+// more; runs without bars say so instead of a verdict
+TEST(CliCompare, MetricsAreComparedAgainstTheirErrorBars) {
+  const std::string dir = fresh_test_dir();
+  const std::string coarse = dir + "/p8", fine = dir + "/p16", heavy = dir + "/p16_heavy", plain = dir + "/plain";
+  auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"run", "clamped_plate_pressure", "--no-frames", "--no-plots", "--quiet", "--out", out};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const ProcResult r = run_flexframe(args, out + "_run");
+    ASSERT_EQ(r.exit_code, 0) << r.describe();
+  };
+  run(coarse, {"--error-bar", "two"});
+  run(fine, {"--error-bar", "two", "--set", "part[0].n1=16", "part[0].n2=16"});
+  run(heavy, {"--error-bar", "two", "--set", "part[0].n1=16", "part[0].n2=16", "load[0].pressure=2000"});
+  run(plain, {"--error-bar", "off"});
+  const ProcResult r = run_flexframe({"compare", coarse, fine, heavy, "--out", dir + "/cmp"}, dir + "/compare");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const std::size_t at = r.out.find(fine + ": 6.58");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const std::string fine_line = r.out.substr(at, r.out.find('\n', at) - at);
+  EXPECT_NE(fine_line.find(" ± "), std::string::npos) << fine_line;
+  EXPECT_NE(fine_line.find("within the two bars together"), std::string::npos) << fine_line;
+  EXPECT_NE(r.out.find(heavy + ": 0.0001"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("differs by more than the two bars together"), std::string::npos) << r.out;
+  const ProcResult none = run_flexframe({"compare", coarse, plain, "--out", dir + "/cmp_plain"}, dir + "/compare_plain");
+  ASSERT_EQ(none.exit_code, 0) << none.describe();
+  EXPECT_NE(none.out.find("no verdict: " + plain + " has no bar"), std::string::npos) << none.out;
+}
+
 // the difference itself, on grids that do not line up: run b sampled at other times, over a
 // shorter range; y = x and y = 2x differ most (by the end of the common range) at x = 1.5
 TEST(CompareDelta, InterpolatesOverTheCommonRangeOnly) {
