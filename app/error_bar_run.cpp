@@ -131,6 +131,9 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
     if (r.twins.back().status == RunStatus::interrupted) r.interrupted = true;
   }
   if (stop) r.interrupted = true;
+  for (TwinRun& t : r.twins)
+    if (twin_problem(t, outcome).empty())
+      t.ratio = t.name == "time" ? 2.0 : t.name == "mesh" ? mesh_ratio(run_elements, t.elements) : 0.0;
 
   // one ladder of levels per source, finest first: the time step on the run's mesh; the mesh at the
   // run's step (statics, eigen) or at 2 dt from the time twin down (dynamics, (R8))

@@ -30,6 +30,10 @@ struct TwinRun {
   Metrics metrics;
   std::map<std::string, int> events;  ///< path events by kind (statics)
   std::vector<std::pair<std::string, std::array<double, 3>>> points;  ///< Simulation::metric_points
+  /// its refinement ratio to the run itself ((R5); 2 for a time twin), when it completed on the
+  /// run's path; 0 when it is not directly below the run (mesh_at_2dt, *_coarser) or cannot stand
+  /// beside it. The plots' error band (richardson_bands) is drawn from such a twin.
+  double ratio = 0.0;
   RunInfo info;          ///< its probes (for plots beside the run's)
   PlotHistory history;   ///< its probes at every frame it published (plots, results.h5)
 };

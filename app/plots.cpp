@@ -87,6 +87,38 @@ double max_abs_difference(const std::vector<double>& xa, const std::vector<doubl
   return worst;
 }
 
+std::vector<ProbeBand> richardson_bands(const LabelledRun& run, const LabelledRun& twin, double ratio,
+                                        const std::string& label) {
+  std::vector<ProbeBand> out;
+  if (!(ratio > 1.0)) return out;
+  const double denominator = ratio * ratio - 1.0;  // (R3) with p = 2
+  const auto monotone = [](const std::vector<double>& x) {
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (!std::isfinite(x[i]) || (i > 0 && x[i] < x[i - 1])) return false;
+    return !x.empty();
+  };
+  for (const auto& [name, q] : plotted_probes({run})) {
+    const auto [x, y] = run_series(run, name);
+    const auto [tx, ty] = run_series(twin, name);
+    if (!x || !tx || x->size() != y->size() || tx->size() != ty->size() || !monotone(*x) || !monotone(*tx)) continue;
+    ProbeBand b;
+    b.probe = name;
+    b.label = label;
+    for (std::size_t i = 0; i < x->size(); ++i) {
+      const double at = (*x)[i];
+      if (at < tx->front() || at > tx->back()) continue;
+      const double e = (interpolate(*tx, *ty, at) - (*y)[i]) / denominator;
+      const double half = 3.0 * std::abs(e);  // (R4), F_s = 3
+      if (!std::isfinite(half)) continue;
+      b.x.push_back(at);
+      b.lo.push_back((*y)[i] - half);
+      b.hi.push_back((*y)[i] + half);
+    }
+    if (b.x.size() >= 2) out.push_back(std::move(b));
+  }
+  return out;
+}
+
 std::vector<ProbeDelta> overlay_deltas(const std::vector<LabelledRun>& runs) {
   std::vector<ProbeDelta> out;
   for (const auto& [name, q] : plotted_probes(runs)) {
@@ -161,6 +193,8 @@ std::vector<std::string> write_overlay_plots(const std::vector<LabelledRun>& run
       // match probes by name: runs of different models may order them differently
       const auto [x, y] = run_series(r, name);
       if (!x) continue;
+      for (const ProbeBand& b : r.bands)
+        if (b.probe == name) spec.bands.push_back({b.label, b.x, b.lo, b.hi, spec.series.size()});
       render::PlotSeries series{r.label, *x, *y, false};
       if (runs.size() > 1) {
         series.dash = kDashes[n % std::size(kDashes)];

@@ -19,12 +19,27 @@ struct PlotHistory {
   void add(const Frame& f);
 };
 
+/// A shaded error bar along one probe's curve of a run: lo and hi at the run's own x samples.
+struct ProbeBand {
+  std::string probe, label;
+  std::vector<double> x, lo, hi;
+};
+
 /// One run in an overlay.
 struct LabelledRun {
   std::string label;
   RunInfo info;
   PlotHistory history;
+  std::vector<ProbeBand> bands{};  ///< drawn under its curves, in a light shade of its colour
 };
+
+/// The GCI band along every probe the run shares with a coarser `twin` of refinement ratio
+/// `ratio` > 1 (core/model/error_bars.md (R3)-(R4), formal order 2, F_s = 3): at each of the run's
+/// x samples inside the twin's x range, E = (twin − run) / (ratio² − 1) with the twin linearly
+/// interpolated there, and the band is run ± 3 |E|. No band for a probe whose x goes back (a path
+/// past a limit point) in either run.
+std::vector<ProbeBand> richardson_bands(const LabelledRun& run, const LabelledRun& twin, double ratio,
+                                        const std::string& label);
 
 /// plots/<probe>.png for every probe. Returns the file names written (relative to dir). Both
 /// draw on `gc` when given (a context of the calling thread, e.g. the one that rendered the

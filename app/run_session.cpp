@@ -491,6 +491,12 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
         // the name alone keeps the legend inside the plot; what the twin changed is in summary.json
         LabelledRun twin{t.name + " twin", t.info, t.history};
         twin.info.references.clear();  // drawn once, with the run
+        // the run's error bar along its curves, from the twin directly below it (a mesh twin
+        // first: in dynamics the time bar is the integrator's and has no curve)
+        if (t.ratio > 0 && (runs.front().bands.empty() || t.name == "mesh"))
+          runs.front().bands = richardson_bands(runs.front(), twin, t.ratio,
+                                                 t.name == "mesh" ? "mesh error bar (GCI from the mesh twin)"
+                                                                  : "time-step error bar (GCI from the time twin)");
         runs.push_back(std::move(twin));
       }
       plot_files = write_overlay_plots(runs, plots_dir.string(), &plot_error, gc.get());

@@ -8,7 +8,9 @@
 #include <vtkDoubleArray.h>
 #include <vtkNew.h>
 #include <vtkPen.h>
+#include <vtkBrush.h>
 #include <vtkPlot.h>
+#include <vtkPlotArea.h>
 #include <vtkPlotPoints.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
@@ -133,6 +135,41 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
   double y_lo = INFINITY, y_hi = -INFINITY;  // of what is drawn, for the legend's headroom
   std::size_t curves = 0;
 
+  std::size_t bands = 0;
+  for (const PlotBand& b : spec.bands) {  // under the curves: added first, painted first
+    if (b.lo.size() != b.x.size() || b.hi.size() != b.x.size())
+      return fail("plot band '" + b.label + "' has " + std::to_string(b.x.size()) + " x values but " +
+                  std::to_string(b.lo.size()) + " lower and " + std::to_string(b.hi.size()) + " upper values");
+    vtkNew<vtkTable> table;
+    vtkNew<vtkDoubleArray> xs, lo, hi;
+    xs->SetName("x");
+    lo->SetName("lo");
+    hi->SetName("hi");
+    for (std::size_t i = 0; i < b.x.size(); ++i) {
+      if (!keep_point(b.x[i], b.lo[i], spec) || !keep_point(b.x[i], b.hi[i], spec)) continue;
+      xs->InsertNextValue(b.x[i]);
+      lo->InsertNextValue(b.lo[i]);
+      hi->InsertNextValue(b.hi[i]);
+      y_lo = std::min(y_lo, b.lo[i]);
+      y_hi = std::max(y_hi, b.hi[i]);
+    }
+    if (xs->GetNumberOfTuples() < 2) continue;
+    table->AddColumn(xs);
+    table->AddColumn(lo);
+    table->AddColumn(hi);
+    auto* area = vtkPlotArea::SafeDownCast(chart->AddPlot(vtkChart::AREA));
+    if (!area) return fail("plot band '" + b.label + "': this VTK cannot draw an area");
+    area->SetInputData(table);
+    area->SetInputArray(0, "x");
+    area->SetInputArray(1, "lo");
+    area->SetInputArray(2, "hi");
+    area->SetLabel(b.label);
+    const double* c = kPalette[b.colour_of % kPaletteSize];
+    area->SetColor(static_cast<unsigned char>(255 * c[0]), static_cast<unsigned char>(255 * c[1]),
+                   static_cast<unsigned char>(255 * c[2]), 64);  // a light shade: the curves stay readable over it
+    ++bands;
+  }
+
   for (std::size_t k = 0; k < spec.series.size(); ++k) {
     const PlotSeries& s = spec.series[k];
     vtkNew<vtkTable> table;
@@ -205,15 +242,15 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
     }
     chart->GetAxis(vtkAxis::BOTTOM)->SetCustomTickPositions(positions, labels);
   }
-  chart->SetShowLegend(spec.series.size() > 1);
+  chart->SetShowLegend(spec.series.size() + bands > 1);
   bool legend_inside = false;
-  if (spec.series.size() > 1) {
+  if (spec.series.size() + bands > 1) {
     set_text_style(chart->GetLegend()->GetLabelProperties(), 0.9 * font_px, ink, false);
     chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
     chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
     // headroom above the data for the legend box (one row per series), so it covers no curve
     const double plot_px = spec.height - 7.0 * font_px;
-    const double legend_px = (1.5 * static_cast<double>(spec.series.size()) + 1.0) * font_px;
+    const double legend_px = (1.5 * static_cast<double>(spec.series.size() + bands) + 1.0) * font_px;
     vtkAxis* y = chart->GetAxis(vtkAxis::LEFT);
     const double f = legend_px / plot_px;
     if (std::isfinite(y_lo) && plot_px > 2.0 * legend_px) {
@@ -284,6 +321,7 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
     drawn->x_max = xa->GetUnscaledMaximum();
     drawn->legend_inside = legend_inside;
     drawn->curves = curves;
+    drawn->bands = bands;
     drawn->point_labels = labels;
   }
   std::string why;

@@ -33,6 +33,14 @@ struct PlotSeries {
   bool grey = false;
 };
 
+/// A shaded range drawn under the curves, between lo and hi at each x (e.g. a run's error bar along
+/// its curve). Points with a non-finite value are left out.
+struct PlotBand {
+  std::string label;  ///< legend entry
+  std::vector<double> x, lo, hi;
+  std::size_t colour_of = 0;  ///< drawn in a light shade of this series' palette colour
+};
+
 /// A chart. Axis labels should carry their unit, e.g. "hub angle [deg]"; see axis_title().
 struct PlotSpec {
   std::string title, x_label, y_label;
@@ -44,6 +52,7 @@ struct PlotSpec {
   double x_min = NAN, x_max = NAN;
   /// Tick positions on the x axis (e.g. whole mode numbers), labelled with %g; empty = automatic.
   std::vector<double> x_ticks{};
+  std::vector<PlotBand> bands{};  ///< drawn first, under every series
 };
 
 /// What write_plot_png drew, read back from the chart (for tests and callers that report it).
@@ -53,6 +62,7 @@ struct PlotDrawn {
   bool legend_inside = false;      ///< legend over the plot area (with headroom) rather than beside it
   std::size_t curves = 0;          ///< series drawn (a series without a drawable point is not)
   std::size_t point_labels = 0;    ///< point labels drawn
+  std::size_t bands = 0;           ///< bands drawn (a band without a drawable point is not)
 };
 
 /// Writes spec as a PNG: white background, distinct colours per series (a fixed palette, in

@@ -130,6 +130,37 @@ TEST(CliCompare, MetricsAreComparedAgainstTheirErrorBars) {
   EXPECT_NE(none.out.find("no verdict: " + plain + " has no bar"), std::string::npos) << none.out;
 }
 
+// the error band along a run's curve from a coarser twin (richardson_bands): run y = x, twin
+// y = x + 0.3 at ratio 2 give E = 0.1 and the band y +- 0.3, only where the twin has samples; a
+// path whose x goes back gets none
+TEST(CompareDelta, RichardsonBandsFromATwin) {
+  app::LabelledRun run, twin;
+  run.info.probes = {{"w", "m", "w"}};
+  twin.info.probes = run.info.probes;
+  for (int i = 0; i <= 10; ++i) {
+    run.history.time.push_back(0.1 * i);
+    run.history.probes.resize(1);
+    run.history.probes[0].push_back(0.1 * i);
+  }
+  for (int i = 0; i <= 4; ++i) {  // the twin to x = 0.8 only, on a grid of its own
+    twin.history.time.push_back(0.2 * i);
+    twin.history.probes.resize(1);
+    twin.history.probes[0].push_back(0.2 * i + 0.3);
+  }
+  const std::vector<app::ProbeBand> bands = app::richardson_bands(run, twin, 2.0, "band");
+  ASSERT_EQ(bands.size(), 1u);
+  const app::ProbeBand& b = bands[0];
+  EXPECT_EQ(b.probe, "w");
+  ASSERT_EQ(b.x.size(), 9u) << "x = 0 .. 0.8, where the twin has samples";
+  for (std::size_t i = 0; i < b.x.size(); ++i) {
+    EXPECT_NEAR(b.lo[i], b.x[i] - 0.3, 1e-12);
+    EXPECT_NEAR(b.hi[i], b.x[i] + 0.3, 1e-12);
+  }
+  EXPECT_TRUE(app::richardson_bands(run, twin, 1.0, "band").empty()) << "no coarser level, no band";
+  run.history.time[5] = 0.1;  // the x goes back
+  EXPECT_TRUE(app::richardson_bands(run, twin, 2.0, "band").empty());
+}
+
 // the difference itself, on grids that do not line up: run b sampled at other times, over a
 // shorter range; y = x and y = 2x differ most (by the end of the common range) at x = 1.5
 TEST(CompareDelta, InterpolatesOverTheCommonRangeOnly) {

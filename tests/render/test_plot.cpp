@@ -73,6 +73,35 @@ TEST_F(PlotTest, TwoSeriesChartIsWrittenAtSizeAndNotBlank) {
   EXPECT_GT(count_near(img, 0.890, 0.420, 0.055, 40), 100) << "second series missing";
 }
 
+// a band (a run's error bar along its curve) is shaded under the curves in a light shade of its
+// series' colour, counts in PlotDrawn, and one whose arrays disagree is refused
+TEST_F(PlotTest, ABandIsShadedUnderItsSeries) {
+  PlotSpec spec = two_series();
+  PlotBand band{"error bar", {}, {}, {}, 0};
+  for (std::size_t i = 0; i < spec.series[0].x.size(); ++i) {
+    band.x.push_back(spec.series[0].x[i]);
+    band.lo.push_back(spec.series[0].y[i] - 20.0);
+    band.hi.push_back(spec.series[0].y[i] + 20.0);
+  }
+  const std::string plain = test::out_dir() + "/plot_without_band.png", shaded = test::out_dir() + "/plot_band.png";
+  std::string err;
+  PlotDrawn drawn;
+  ASSERT_TRUE(write_plot_png(*gc_, spec, plain, &err, &drawn)) << err;
+  EXPECT_EQ(drawn.bands, 0u);
+  spec.bands = {band};
+  ASSERT_TRUE(write_plot_png(*gc_, spec, shaded, &err, &drawn)) << err;
+  EXPECT_EQ(drawn.bands, 1u);
+  // the first palette colour (0.122, 0.467, 0.706) at a quarter over white
+  const auto light = [](double c) { return 0.25 * c + 0.75; };
+  const int without = count_near(test::read_png(plain), light(0.122), light(0.467), light(0.706), 12);
+  const int with = count_near(test::read_png(shaded), light(0.122), light(0.467), light(0.706), 12);
+  EXPECT_GT(with, 5000) << "no light shade under the first series";
+  EXPECT_LT(without, with / 10);
+  spec.bands[0].hi.pop_back();
+  EXPECT_FALSE(write_plot_png(*gc_, spec, shaded, &err));
+  EXPECT_NE(err.find("plot band 'error bar'"), std::string::npos) << err;
+}
+
 TEST_F(PlotTest, LogAxesAndCustomSize) {
   PlotSpec spec;
   spec.title = "convergence";
