@@ -44,6 +44,7 @@
 #include "app/process_memory.h"
 #include "app/run_session.h"
 #include "app/timed_run.h"
+#include "core/model/error_bars.h"
 #include "core/scene/reference_csv.h"
 #include "core/scene/scene.h"
 #include "core/scene/schema.h"
@@ -72,6 +73,27 @@ struct Row {
   bool is_reference = false;
 };
 
+// A key whose value is a discretization's size: finer is smaller (a step, a mesh size) or larger
+// (an element or node count); other keys (a policy, a tolerance) have no order to observe
+enum class Refines { no, smaller, larger };
+Refines refinement_of(const std::string& key) {
+  std::string last = key.substr(key.rfind('.') == std::string::npos ? 0 : key.rfind('.') + 1);
+  if (last == "dt" || last == "mesh_size") return Refines::smaller;
+  if (last == "n1" || last == "n2" || key == "efg.nodes" || key == "fem.elements") return Refines::larger;
+  return Refines::no;
+}
+
+// The metric's convergence along one varied discretization key, the other keys at their finest
+// value: the observed order from its three finest levels (core/model/error_bars.md (R6)), or the
+// formal order 2 from two, and the estimated error of its finest level with its bar; or why not.
+struct AxisConvergence {
+  std::string axis;
+  std::vector<std::string> levels;  ///< value labels, finest first
+  std::vector<double> metric;       ///< the metric at them
+  LevelEstimate estimate;
+  std::string note;  ///< why no estimate ("" with one)
+};
+
 double median(std::vector<double> v) {
   if (v.empty()) return NAN;
   std::sort(v.begin(), v.end());
@@ -83,6 +105,60 @@ std::string fmt(const char* f, double v) {
   char b[64];
   std::snprintf(b, sizeof b, f, v);
   return b;
+}
+
+std::vector<AxisConvergence> axis_convergence(const StudySpec& spec, const std::vector<Row>& rows) {
+  std::vector<AxisConvergence> out;
+  for (std::size_t a = 0; a < spec.axes.size(); ++a) {
+    const StudyAxis& axis = spec.axes[a];
+    AxisConvergence c;
+    c.axis = axis.name();
+    // every key of the axis must refine the same way (n1 and n2 together; not dt with a count)
+    Refines way = axis.keys.empty() ? Refines::no : refinement_of(axis.keys.front());
+    for (const std::string& key : axis.keys)
+      if (refinement_of(key) != way) way = Refines::no;
+    std::vector<double> sizes;
+    for (const std::string& v : axis.values) {
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      sizes.push_back(end && *end == '\0' && std::isfinite(x) && x > 0 ? x : NAN);
+    }
+    if (way == Refines::no || std::any_of(sizes.begin(), sizes.end(), [](double x) { return std::isnan(x); })) {
+      continue;  // not a discretization: nothing to observe
+    }
+    // the finest level is the last value; the values must refine towards it
+    bool refining = true;
+    for (std::size_t i = 1; i < sizes.size(); ++i)
+      refining = refining && (way == Refines::larger ? sizes[i] > sizes[i - 1] : sizes[i] < sizes[i - 1]);
+    // the rows along this axis: every other axis at its last (finest) value, or not varied in the row
+    std::vector<double> at(axis.values.size(), NAN);
+    for (const Row& r : rows) {
+      if (r.variant.axis_labels.size() != spec.axes.size() || r.variant.axis_labels[a].empty()) continue;
+      bool others_finest = true;
+      for (std::size_t b = 0; b < spec.axes.size(); ++b)
+        if (b != a && !r.variant.axis_labels[b].empty())
+          others_finest = others_finest && r.variant.axis_labels[b] == spec.axes[b].label(spec.axes[b].values.size() - 1);
+      if (!others_finest) continue;
+      for (std::size_t i = 0; i < axis.values.size(); ++i)
+        if (r.variant.axis_labels[a] == axis.label(i)) at[i] = r.metric;
+    }
+    std::vector<double> values, ratios;
+    for (std::size_t i = axis.values.size(); i-- > 0 && values.size() < 3;) {
+      if (!std::isfinite(at[i])) break;  // a level that did not run or has no metric ends the ladder
+      c.levels.push_back(axis.label(i));
+      c.metric.push_back(at[i]);
+      values.push_back(at[i]);
+      if (values.size() > 1) ratios.push_back(std::max(sizes[i], sizes[i + 1]) / std::min(sizes[i], sizes[i + 1]));
+    }
+    if (!refining) c.note = "its values do not refine towards the last one";
+    else if (values.size() < 2) c.note = "fewer than two of its finest levels have the metric";
+    else {
+      c.estimate = estimate_from_levels(axis.name(), values, ratios, 2.0);
+      if (!c.estimate.error) c.note = c.estimate.flag;
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
 }
 
 /// Linear interpolation of y at x in a reference table (x scaled); throws outside the table.
@@ -1027,6 +1103,42 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
        << fmt("%.6g", r.metric) << " | " << (r.is_reference ? std::string("reference") : fmt("%.3g", r.error_percent))
        << " | " << (r.pareto ? "yes" : "") << " | " << r.status << (r.reason.empty() ? "" : ": " + r.reason)
        << " |\n";
+  }
+  // how the metric converges along each discretization key (error_bars.md (R6)): the observed
+  // order, and the finest variant's own error, which the finest-variant reference leaves out
+  const std::vector<AxisConvergence> convergence = axis_convergence(spec, rows);
+  if (!convergence.empty()) {
+    md << "\n## Convergence per varied key (core/model/error_bars.md)\n\n"
+       << "Along each key, the other keys at their finest value: the observed order from the three finest "
+          "levels (R6) (the formal order 2 from two), and the estimated error of the finest level with its "
+          "bar (GCI, safety factor 1.25 observed / 3 formal).\n\n"
+       << "| key | levels, finest first | " << spec.metric << " | order | estimated error of the finest | bar |\n"
+       << "|---|---|---|---|---|---|\n";
+    double total = 0.0, total_bar = 0.0;
+    bool all = true;
+    for (const AxisConvergence& c : convergence) {
+      std::string levels, values;
+      for (std::size_t i = 0; i < c.levels.size(); ++i) {
+        levels += (i ? ", " : "") + c.levels[i];
+        values += (i ? ", " : "") + fmt("%.6g", c.metric[i]);
+      }
+      md << "| " << c.axis << " | " << levels << " | " << values << " | ";
+      if (c.estimate.error) {
+        const SourceError& e = *c.estimate.error;
+        md << fmt("%.2f", e.order) << (e.order_observed ? " (observed)" : " (formal)") << " | " << fmt("%.3g", e.estimate)
+           << " (" << fmt("%.2g", 100.0 * std::abs(e.estimate) / std::max(std::abs(e.fine), 1e-300)) << " %) | "
+           << fmt("%.3g", e.bar) << " |\n";
+        total += e.estimate;
+        total_bar += e.bar;
+      } else {
+        md << "- | no estimate: " << c.note << " | |\n";
+        all = false;
+      }
+    }
+    if (spec.reference.kind == StudyReference::Kind::finest && total_bar > 0)
+      md << "\nThe errors above are measured from the finest variant, whose own error is estimated at "
+         << fmt("%.3g", total) << " ± " << fmt("%.3g", total_bar) << " (the keys' estimates and bars added, (R7))"
+         << (all ? "" : "; keys without an estimate are not in it") << ".\n";
   }
   write_text_file(folder->file("study.md"), md.str());
 

@@ -133,6 +133,31 @@ TEST(CliStudy, GridWithFinestReferenceWritesConsistentTableAndPlot) {
   EXPECT_GT(png.width, 100);
 }
 
+// the convergence per varied key (core/model/error_bars.md (R6)): the clamped plate at 4, 8 and 16
+// elements a side, at two pressures. Along the mesh key (at the finest pressure) the observed order
+// of the element (second order in w) is measured from the three levels and the finest variant's
+// own error estimated, which the finest-variant reference leaves out; the pressure is no
+// discretization and gets no row.
+TEST(CliStudy, ObservedOrderPerDiscretizationKey) {
+  const std::string dir = fresh_test_dir();
+  const std::string out = dir + "/out";
+  const ProcResult r = run_flexframe({"study", "clamped_plate_pressure", "--vary", "part[0].n1+part[0].n2=4,8,16",
+                                      "--vary", "load[0].pressure=1000,2000", "--metric", "w_centre", "--repeat", "1",
+                                      "--jobs", "1", "--out", out},
+                                     dir + "/study");
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const std::string md = read_text(out + "/study.md");
+  const std::size_t at = md.find("| part[0].n1+part[0].n2 | 16, 8, 4 |");
+  ASSERT_NE(at, std::string::npos) << md;
+  const std::string row = md.substr(at, md.find('\n', at) - at);
+  std::smatch order;
+  ASSERT_TRUE(std::regex_search(row, order, std::regex(R"(\| ([0-9.]+) \(observed\) \|)"))) << row;
+  EXPECT_GT(std::stod(order[1]), 1.5) << row;
+  EXPECT_LT(std::stod(order[1]), 3.0) << row;
+  EXPECT_EQ(md.find("| load[0].pressure |"), std::string::npos) << "a load is no discretization";
+  EXPECT_NE(md.find("whose own error is estimated at"), std::string::npos) << md;
+}
+
 // pareto.png (issue 34): its error axis spans the data (it once ran to 1e6 % for a 159 % maximum)
 // and every Pareto point is labelled; the study states both, checked against study.csv here.
 TEST(CliStudy, ParetoPlotAxisFitsTheErrorsAndLabelsTheFront) {
