@@ -668,6 +668,19 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       } catch (const std::exception& e) {  // the scene file changed under the run, or no file (a test's model)
         bars.not_estimated = std::string("the twins could not be planned: ") + e.what();
       }
+      // a mesh no twin can coarsen (a fixed mesh file) still has the field indicator: said as
+      // such, the energy-norm error of the whole solution, not a bar of the metric (how-accurate.md)
+      if (result.field_error)
+        for (MetricError& m : bars.metrics)
+          for (std::string& why : m.missing)
+            if (why.rfind("no mesh estimate", 0) == 0 && why.find("field indicator") == std::string::npos) {
+              char text[160];
+              std::snprintf(text, sizeof text,
+                            "; the field indicator alone puts the solution's energy-norm error at %.2g %% "
+                            "(summary.json \"field_error\"), not a bar of this metric",
+                            100 * result.field_error->relative_energy_error);
+              why += text;
+            }
       if (bars.interrupted && outcome.status == RunStatus::completed) {
         outcome.status = RunStatus::interrupted;
         outcome.reason = "interrupted by the user while the error-bar twins were solved; the solve had completed and "

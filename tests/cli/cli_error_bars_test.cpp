@@ -192,6 +192,11 @@ TEST(ErrorBars, AFixedMeshFileSaysWhyItHasNoMeshEstimate) {
   ASSERT_EQ(m["missing"].size(), 1u) << m.dump(1);
   EXPECT_NE(m["missing"][0].get<std::string>().find("is a fixed mesh"), std::string::npos) << m.dump(1);
   EXPECT_NE(r.out.find("no mesh estimate"), std::string::npos) << "said where the user looks:\n" << r.out;
+  // the one mesh measure a fixed mesh has, said as such: the field indicator's global error
+  EXPECT_NE(m["missing"][0].get<std::string>().find("the field indicator alone puts the solution's energy-norm error"),
+            std::string::npos)
+      << m.dump(1);
+  EXPECT_GT(summary_of(dir + "/out")["field_error"]["relative_energy_error"].get<double>(), 0.0);
 }
 
 TEST(ErrorBars, CtrlCWhileTheTwinsAreSolvedEndsTheRunInterrupted) {
