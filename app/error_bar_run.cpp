@@ -51,6 +51,7 @@ TwinRun run_twin(const scene::TwinPlan& plan, const std::string& path, const std
     t.events = event_counts(o.events);
     t.metrics = twin.simulation->metrics();
     t.points = twin.simulation->metric_points();
+    if (const ModeSet* modes = twin.simulation->modes()) t.modes = *modes;
   } catch (const std::exception& e) {  // a twin the scene's keys refuse (e.g. a cylinder of too few elements)
     t.status = RunStatus::failed;
     t.reason = std::string("the twin could not be built: ") + e.what();
@@ -74,6 +75,94 @@ double model_diagonal(const FrameMesh& mesh) {
   for (std::size_t i = 0; i + 2 < p.size(); i += 3)
     for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[i + c]), hi[c] = std::max(hi[c], p[i + c]);
   return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+}
+
+// For every point of `coarse` the index of the point of `fine` at the same place (within `tolerance`),
+// or -1: a twin's nodes at half the counts are every other node of the run's
+std::vector<int> common_points(const std::vector<double>& fine, const std::vector<double>& coarse, double tolerance) {
+  // the fine points sorted by x: each coarse point looks only at those within the tolerance in x
+  std::vector<int> by_x(fine.size() / 3);
+  for (std::size_t i = 0; i < by_x.size(); ++i) by_x[i] = static_cast<int>(i);
+  std::sort(by_x.begin(), by_x.end(), [&](int a, int b) { return fine[3 * a] < fine[3 * b]; });
+  std::vector<int> at(coarse.size() / 3, -1);
+  for (std::size_t j = 0; j < at.size(); ++j) {
+    const double* p = &coarse[3 * j];
+    auto it = std::lower_bound(by_x.begin(), by_x.end(), p[0] - tolerance,
+                               [&](int i, double x) { return fine[3 * i] < x; });
+    for (; it != by_x.end() && fine[3 * *it] <= p[0] + tolerance; ++it) {
+      const double* q = &fine[3 * *it];
+      if (std::abs(q[1] - p[1]) <= tolerance && std::abs(q[2] - p[2]) <= tolerance) {
+        at[j] = *it;
+        break;
+      }
+    }
+  }
+  return at;
+}
+
+// The modal assurance criterion of two mode shapes over the points they share (error_bars.md §5):
+// 1 for the same shape, 0 for orthogonal ones
+double mac(const Mode& run_mode, const Mode& twin_mode, const std::vector<int>& shared) {
+  double ab = 0, aa = 0, bb = 0;
+  for (std::size_t j = 0; j < shared.size(); ++j) {
+    if (shared[j] < 0) continue;
+    for (int c = 0; c < 3; ++c) {
+      const double a = run_mode.displacement[3 * static_cast<std::size_t>(shared[j]) + c];
+      const double b = twin_mode.displacement[3 * j + c];
+      ab += a * b, aa += a * a, bb += b * b;
+    }
+  }
+  return aa > 0 && bb > 0 ? ab * ab / (aa * bb) : 0.0;
+}
+
+// The twin's value for one of the run's modes: its mode of the largest MAC with the run's (so that
+// modes that change order between the meshes are compared with themselves), unless the run's mode
+// shares its value with a neighbour (a double eigenvalue, whose shapes are any mix of the pair:
+// then by number). *note says when the pairing differs from the numbers; nullopt with *flag set
+// when no twin mode is like the run's.
+std::optional<double> paired_mode_value(const ModeSet& run_modes, const TwinRun& twin, int number,
+                                        const std::vector<int>& shared, std::string* flag, std::string* note) {
+  const Mode* run_mode = nullptr;
+  for (const Mode& m : run_modes.modes)
+    if (m.number == number) run_mode = &m;
+  if (!run_mode || !twin.modes) return std::nullopt;
+  // the shape as the shared points see it: a mode whose nodal lines run through them (the (1,3)
+  // modes of a plate on a 4 x 4 twin's grid) is nearly zero there, and its MAC with anything says
+  // nothing; then by number
+  double shared_sq = 0, all_sq = 0;
+  std::size_t shared_count = 0;
+  for (double d : run_mode->displacement) all_sq += d * d;
+  for (int i : shared)
+    if (i >= 0) {
+      ++shared_count;
+      for (int c = 0; c < 3; ++c) shared_sq += std::pow(run_mode->displacement[3 * static_cast<std::size_t>(i) + c], 2);
+    }
+  const double points = static_cast<double>(run_mode->displacement.size() / 3);
+  if (shared_count == 0 || shared_sq / shared_count < 0.05 * all_sq / points) return std::nullopt;
+  for (const Mode& m : run_modes.modes)  // a double eigenvalue: its shapes are not unique
+    if (&m != run_mode && !m.rigid_body && std::abs(m.value - run_mode->value) <= 1e-3 * std::abs(run_mode->value))
+      return std::nullopt;
+  const Mode* best = nullptr;
+  double best_mac = -1;
+  for (const Mode& m : twin.modes->modes) {
+    if (m.rigid_body) continue;
+    const double v = mac(*run_mode, m, shared);
+    if (v > best_mac) best_mac = v, best = &m;
+  }
+  if (!best) return std::nullopt;
+  char text[200];
+  if (best_mac < 0.5) {
+    std::snprintf(text, sizeof text, "the %s twin has no mode like the run's mode %d (largest MAC %.2f)",
+                  twin.name.c_str(), number, best_mac);
+    *flag = text;
+    return std::nullopt;
+  }
+  if (best->number != number) {
+    std::snprintf(text, sizeof text, "paired with the %s twin's mode %d by its shape (MAC %.2f): the modes change order",
+                  twin.name.c_str(), best->number, best_mac);
+    *note = text;
+  }
+  return best->value;
 }
 
 const TwinRun* twin_named(const std::vector<TwinRun>& twins, const std::string& name) {
@@ -167,6 +256,8 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
   const Metrics values = run.metrics();
   const auto run_points = run.metric_points();
   const auto local_time = run.local_time_errors();
+  const ModeSet* run_modes = run.modes();
+  std::map<const TwinRun*, std::vector<int>> shared_points;  // per twin: its points' places in the run's mesh
   // a probe point the twin's mesh has too, up to round-off of the coordinates
   const double same_point = 1e-7 * model_diagonal(run.info().mesh);
   for (const std::string& name : run.answer_metrics()) {
@@ -214,6 +305,23 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
             }
           }
           v = find_metric(rung.twin->metrics, name);
+          // a mode: the twin's mode of the same shape, not of the same number (MAC)
+          if (run_modes && rung.twin->modes && name.rfind(run_modes->value_name + "_", 0) == 0) {
+            std::string mode_flag, note;
+            auto [cached, fresh] = shared_points.try_emplace(rung.twin);
+            if (fresh)
+              cached->second = common_points(run.info().mesh.reference_points, rung.twin->info.mesh.reference_points,
+                                             same_point);
+            const std::vector<int>& shared = cached->second;
+            const int number = std::atoi(name.c_str() + run_modes->value_name.size() + 1);
+            if (const std::optional<double> paired = paired_mode_value(*run_modes, *rung.twin, number, shared, &mode_flag, &note))
+              v = paired;
+            if (!mode_flag.empty()) {
+              flag = mode_flag;
+              break;
+            }
+            if (!note.empty()) m.notes.push_back(note);
+          }
           if (!v || !std::isfinite(*v)) {
             flag = "the " + rung.twin->name + " twin has no value for it";
             break;
@@ -276,6 +384,7 @@ std::string error_bar_text(const MetricError& m) {
   if (!parts.empty()) s += ": " + parts;
   s += ")";
   for (const std::string& missing : m.missing) s += "; " + missing.substr(0, missing.find(':'));
+  for (const std::string& note : m.notes) s += "; " + note;
   const bool local_source = std::any_of(m.sources.begin(), m.sources.end(),
                                        [](const SourceError& e) { return e.method == "local"; });
   if (std::isfinite(m.local_time_error) && m.value != 0 && !local_source)  // beside time twins: for comparison
@@ -311,7 +420,8 @@ nlohmann::ordered_json error_bars_json(const ErrorBarReport& report) {
                                                       : "Richardson extrapolation of twins, GCI bar (core/model/error_bars.md)"},
                          {"sources", sources},
                          {"flags", m.flags},
-                         {"missing", m.missing}};
+                         {"missing", m.missing},
+                         {"notes", m.notes}};
     if (std::isfinite(m.local_time_error)) metrics[m.metric]["time_local_estimate"] = m.local_time_error;
   }
   Json twins = Json::array();

@@ -8,6 +8,7 @@
 #include <array>
 #include <atomic>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ struct TwinRun {
   Metrics metrics;
   std::map<std::string, int> events;  ///< path events by kind (statics)
   std::vector<std::pair<std::string, std::array<double, 3>>> points;  ///< Simulation::metric_points
+  std::optional<ModeSet> modes;  ///< an eigen-analysis twin's modes (paired with the run's by MAC)
   /// its refinement ratio to the run itself ((R5); 2 for a time twin), when it completed on the
   /// run's path; 0 when it is not directly below the run (mesh_at_2dt, *_coarser) or cannot stand
   /// beside it. The plots' error band (richardson_bands) is drawn from such a twin.

@@ -65,6 +65,8 @@ struct MetricError {
   /// Sources that could not be estimated and why ("no mesh estimate: part[0].file is a fixed mesh");
   /// the bar then covers only `sources`.
   std::vector<std::string> missing;
+  /// How the levels were matched where that is not plain (a mode paired by its shape, not its number)
+  std::vector<std::string> notes;
   /// The integrator's accumulated local error at the metric (Simulation::local_time_errors),
   /// absolute; NaN where there is none (statics, stress probes)
   double local_time_error = std::numeric_limits<double>::quiet_NaN();
