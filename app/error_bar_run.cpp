@@ -220,6 +220,9 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
     if (r.twins.back().status == RunStatus::interrupted) r.interrupted = true;
   }
   if (stop) r.interrupted = true;
+  for (const TwinRun& t : r.twins)
+    if (t.status == RunStatus::completed && t.events != event_counts(outcome.events))
+      r.path_differences.push_back(twin_problem(t, outcome));
   for (TwinRun& t : r.twins)
     if (twin_problem(t, outcome).empty())
       t.ratio = t.name == "time" ? 2.0 : t.name == "mesh" ? mesh_ratio(run_elements, t.elements) : 0.0;

@@ -51,6 +51,9 @@ struct ErrorBarReport {
   double twins_wall_s = 0.0;
   double run_wall_s = 0.0;      ///< the run's set-up (reading, meshing) and solve
   bool interrupted = false;     ///< the stop flag ended a twin
+  /// a sentence per twin whose path differs in kind from the run's (another count of limit points,
+  /// bifurcations, turn-backs): the run warns and records it as an event (error_bars.md §6)
+  std::vector<std::string> path_differences;
   /// the twins' wall time over the run's (the cost of the bars, as a share of the run)
   double cost_share() const { return run_wall_s > 0 ? twins_wall_s / run_wall_s : 0.0; }
   const MetricError* find(const std::string& metric) const;

@@ -668,6 +668,14 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       } catch (const std::exception& e) {  // the scene file changed under the run, or no file (a test's model)
         bars.not_estimated = std::string("the twins could not be planned: ") + e.what();
       }
+      // a twin whose path differs in kind is no coarser answer: its metrics are flagged, and the run
+      // says so where the user looks and records it with its path's events (error_bars.md §6)
+      for (const std::string& why : bars.path_differences) {
+        std::fprintf(stderr, "warning: error bars: %s; the metrics it would bar are flagged (summary.json \"events\")\n",
+                     why.c_str());
+        outcome.events.push_back({"twin_path_differs", outcome.steps, outcome.stop_time,
+                                  why + ": a mesh-dependent path, whose metrics get no error bar"});
+      }
       // a mesh no twin can coarsen (a fixed mesh file) still has the field indicator: said as
       // such, the energy-norm error of the whole solution, not a bar of the metric (how-accurate.md)
       if (result.field_error)

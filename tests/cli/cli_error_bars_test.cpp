@@ -188,6 +188,31 @@ TEST(ErrorBars, ModesArePairedWithTheTwinsByShape) {
   EXPECT_NE(r.out.find("paired with the mesh_coarser twin's mode 8"), std::string::npos) << r.out;
 }
 
+// error_bars.md §6: the bundled pulled cylinder (Sze 3.5) passes two limit points; its mesh twin at
+// half the counts passes none. Its metrics get a flag, not a bar; the run warns on the console and
+// records the difference among its path's events in summary.json
+TEST(ErrorBars, ATwinWhosePathDiffersInKindIsAnEventAndAWarning) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_scene(dir, "pulled_cylinder", "out", {"--error-bar", "two"}, 600);
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json s = summary_of(dir + "/out");
+  int limit_points = 0, differs = 0;
+  for (const auto& e : s["events"]) {
+    limit_points += e["kind"] == "limit_point";
+    differs += e["kind"] == "twin_path_differs";
+  }
+  ASSERT_EQ(limit_points, 2) << s["events"].dump(1);
+  ASSERT_EQ(s["error_bars"]["twins"][0]["events"].size(), 0u) << s["error_bars"]["twins"].dump(1);
+  EXPECT_EQ(differs, 1) << s["events"].dump(1);
+  for (const auto& [name, m] : s["error_bars"]["metrics"].items()) {
+    ASSERT_FALSE(m["flags"].empty()) << name;
+    EXPECT_NE(m["flags"][0].get<std::string>().find("path differs in kind"), std::string::npos) << name;
+    EXPECT_TRUE(m["bar"].is_null()) << name;
+  }
+  EXPECT_NE(r.err.find("warning: error bars: the mesh twin's path differs in kind"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("twin_path_differs"), std::string::npos) << r.out;
+}
+
 TEST(ErrorBars, ACoarseRoofIsFlaggedNotGivenASmallBar) {
   // MacNeal & Harder (1985), problem 3: the Scordelis-Lo roof's midside deflection 0.3024. From the
   // STEP part at mesh_size = 3 the run is 2.7 % high, while its twin at 6 lands within 0.2 % of it:
