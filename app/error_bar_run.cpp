@@ -36,6 +36,7 @@ TwinRun run_twin(const scene::TwinPlan& plan, const std::string& path, const std
   TwinRun t;
   t.name = plan.name;
   t.description = plan.description;
+  t.planned_ratio = plan.mesh_ratio;
   const auto wall0 = std::chrono::steady_clock::now();
   try {
     std::vector<std::string> all = overrides;
@@ -225,13 +226,16 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
       r.path_differences.push_back(twin_problem(t, outcome));
   for (TwinRun& t : r.twins)
     if (twin_problem(t, outcome).empty())
-      t.ratio = t.name == "time" ? 2.0 : t.name == "mesh" ? mesh_ratio(run_elements, t.elements) : 0.0;
+      t.ratio = t.name == "time"   ? 2.0
+                : t.name == "mesh" ? (t.planned_ratio > 0 ? t.planned_ratio : mesh_ratio(run_elements, t.elements))
+                                   : 0.0;
 
   // one ladder of levels per source, finest first: the time step on the run's mesh; the mesh at the
   // run's step (statics, eigen) or at 2 dt from the time twin down (dynamics, (R8))
   struct Rung {
     const TwinRun* twin;  // null: the run itself
     int elements;
+    double h = 0.0;       // its mesh's h over the run's where the plan knows it (1 for the run's own mesh); 0: not known
   };
   struct Ladder {
     std::string source;
@@ -240,8 +244,8 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
   };
   std::vector<Ladder> ladders;
   if (const TwinRun* t = twin_named(r.twins, "time")) {
-    Ladder time{"time", {{nullptr, run_elements}, {t, run_elements}}, true};
-    if (const TwinRun* t4 = twin_named(r.twins, "time_coarser")) time.rungs.push_back({t4, run_elements});
+    Ladder time{"time", {{nullptr, run_elements, 1.0}, {t, run_elements, 1.0}}, true};
+    if (const TwinRun* t4 = twin_named(r.twins, "time_coarser")) time.rungs.push_back({t4, run_elements, 1.0});
     ladders.push_back(time);
   }
   const bool at_2dt = plans.dynamic && !plans.local_time;  // (R8); with (R9) the mesh twin runs at the run's dt
@@ -249,10 +253,11 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
   const TwinRun* mesh_top = at_2dt ? twin_named(r.twins, "time") : nullptr;
   if (const TwinRun* m = twin_named(r.twins, "mesh" + suffix); m && (!at_2dt || mesh_top)) {
     Ladder mesh{"mesh", {}, false};
-    if (at_2dt) mesh.rungs.push_back({mesh_top, run_elements});
-    else mesh.rungs.push_back({nullptr, run_elements});
-    mesh.rungs.push_back({m, m->elements});
-    if (const TwinRun* m4 = twin_named(r.twins, "mesh_coarser" + suffix)) mesh.rungs.push_back({m4, m4->elements});
+    if (at_2dt) mesh.rungs.push_back({mesh_top, run_elements, 1.0});
+    else mesh.rungs.push_back({nullptr, run_elements, 1.0});
+    mesh.rungs.push_back({m, m->elements, m->planned_ratio});
+    if (const TwinRun* m4 = twin_named(r.twins, "mesh_coarser" + suffix))
+      mesh.rungs.push_back({m4, m4->elements, m4->planned_ratio});
     ladders.push_back(mesh);
   }
 
@@ -332,7 +337,11 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
         }
         levels_values.push_back(*v);
         if (k == 0) continue;
-        const double ratio = ladder.known_ratio ? 2.0 : mesh_ratio(ladder.rungs[k - 1].elements, rung.elements);
+        // the plan's ratio of h where it knows it (generator counts, some kept), else (R5) from the counts
+        const Rung& above = ladder.rungs[k - 1];
+        const double ratio = ladder.known_ratio           ? 2.0
+                             : rung.h > 0 && above.h > 0 ? rung.h / above.h
+                                                         : mesh_ratio(above.elements, rung.elements);
         if (ratio <= 0) {
           flag = "the " + rung.twin->name + " twin is not coarser than the level above it (" +
                  std::to_string(rung.elements) + " elements for " + std::to_string(ladder.rungs[k - 1].elements) + ")";
@@ -388,10 +397,6 @@ std::string error_bar_text(const MetricError& m) {
   s += ")";
   for (const std::string& missing : m.missing) s += "; " + missing.substr(0, missing.find(':'));
   for (const std::string& note : m.notes) s += "; " + note;
-  const bool local_source = std::any_of(m.sources.begin(), m.sources.end(),
-                                       [](const SourceError& e) { return e.method == "local"; });
-  if (std::isfinite(m.local_time_error) && m.value != 0 && !local_source)  // beside time twins: for comparison
-    s += "; the integrator's local time estimate " + pct(m.local_time_error / std::abs(m.value));
   return s;
 }
 

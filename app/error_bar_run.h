@@ -36,6 +36,8 @@ struct TwinRun {
   /// run's path; 0 when it is not directly below the run (mesh_at_2dt, *_coarser) or cannot stand
   /// beside it. The plots' error band (richardson_bands) is drawn from such a twin.
   double ratio = 0.0;
+  /// the plan's h_twin / h_run for a generator-only mesh twin (TwinPlan::mesh_ratio); 0 otherwise
+  double planned_ratio = 0.0;
   RunInfo info;          ///< its probes (for plots beside the run's)
   PlotHistory history;   ///< its probes at every frame it published (plots, results.h5)
 };

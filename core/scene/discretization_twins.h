@@ -19,6 +19,9 @@ struct TwinPlan {
   std::string name;
   std::vector<std::string> overrides;
   std::string description;  ///< what differs from the run, e.g. "part[0].n1 = 8 (15), part[0].n2 = 8 (15)"
+  /// a mesh twin's h_twin / h_run where the counts give it exactly (generator parts only: the
+  /// geometric mean of n / n_twin over the counts halved); 0: measured from element counts (R5)
+  double mesh_ratio = 0.0;
 };
 
 struct TwinPlans {
