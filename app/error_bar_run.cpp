@@ -295,6 +295,14 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
         std::optional<double> v = value;
         if (rung.twin) {
           if (const std::string problem = twin_problem(*rung.twin, outcome); !problem.empty()) {
+            // a third level that failed leaves the two finer ones, which did not: two levels, said
+            // so (the cantilever roll-up's 5 x 2 twin diverges where its 10 x 2 twin rolls up)
+            if (k == 2) {
+              // the twin's reason is in its own record (summary.json error_bars.twins) and its warning
+              const std::string why = problem.substr(0, std::min(problem.find(" where "), problem.find(" (")));
+              m.notes.push_back(ladder.source + ": two levels, the formal order (" + why + ")");
+              break;
+            }
             flag = problem;
             break;
           }
@@ -331,6 +339,11 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
             if (!note.empty()) m.notes.push_back(note);
           }
           if (!v || !std::isfinite(*v)) {
+            if (k == 2) {
+              m.notes.push_back(ladder.source + ": two levels, the formal order (the " + rung.twin->name +
+                                " twin has no value for it)");
+              break;
+            }
             flag = "the " + rung.twin->name + " twin has no value for it";
             break;
           }

@@ -216,6 +216,32 @@ TEST(ErrorBars, ATwinWhosePathDiffersInKindIsAnEventAndAWarning) {
   EXPECT_NE(r.out.find("twin_path_differs"), std::string::npos) << r.out;
 }
 
+// the cantilever roll-up against its closed form (u/L = sin t / t - 1, w/L = (1 - cos t) / t at
+// t = M L / EI; the scene's header): its coarsest twin (5 x 2) diverges before the full roll-up,
+// and the estimate falls back to the two levels that completed (20 x 2 and 10 x 2, formal order,
+// F_s = 3) instead of flagging every metric; the estimates are within 1/3-3 of the true errors
+TEST(ErrorBars, AFailedThirdLevelLeavesTwoAgainstTheClosedForm) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_scene(dir, "cantilever_rollup", "out", {}, 600);
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json bars = summary_of(dir + "/out")["error_bars"];
+  ASSERT_EQ(bars["levels"], 3) << "statics: three levels by default";
+  const double L = 12.0, pi = std::acos(-1.0);
+  const std::map<std::string, double> exact = {
+      {"tip_u_half", -L}, {"tip_w_half", 2.0 * L / pi}, {"tip_u_full", -L}};
+  for (const auto& [name, reference] : exact) {
+    const nlohmann::json& m = bars["metrics"][name];
+    ASSERT_TRUE(m["flags"].empty()) << name << m.dump(1);
+    ASSERT_EQ(m["notes"].size(), 1u) << name << m.dump(1);
+    EXPECT_EQ(m["notes"][0].get<std::string>(), "mesh: two levels, the formal order (the mesh_coarser twin ended diverged)");
+    EXPECT_EQ(m["sources"][0]["safety_factor"], 3.0) << name;
+    const double true_error = m["value"].get<double>() - reference;
+    const double effectivity = m["estimate"].get<double>() / true_error;
+    EXPECT_GT(effectivity, 1.0 / 3.0) << name << ": true " << true_error << m.dump(1);
+    EXPECT_LT(effectivity, 3.0) << name << ": true " << true_error << m.dump(1);
+  }
+}
+
 TEST(ErrorBars, ACoarseRoofIsFlaggedNotGivenASmallBar) {
   // MacNeal & Harder (1985), problem 3: the Scordelis-Lo roof's midside deflection 0.3024. From the
   // STEP part at mesh_size = 3 the run is 2.7 % high, while its twin at 6 lands within 0.2 % of it:
