@@ -671,10 +671,13 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       // a twin whose path differs in kind is no coarser answer: its metrics are flagged, and the run
       // says so where the user looks and records it with its path's events (error_bars.md §6)
       for (const std::string& why : bars.path_differences) {
-        std::fprintf(stderr, "warning: error bars: %s; the metrics it would bar are flagged (summary.json \"events\")\n",
-                     why.c_str());
+        // a third level's twin (*_coarser) only drops that level: the two finer ones still estimate
+        const bool third = why.find("_coarser twin") != std::string::npos;
+        const char* consequence = third ? "the estimate falls back to the two finer levels"
+                                        : "the metrics it would bar are flagged";
+        std::fprintf(stderr, "warning: error bars: %s; %s (summary.json \"events\")\n", why.c_str(), consequence);
         outcome.events.push_back({"twin_path_differs", outcome.steps, outcome.stop_time,
-                                  why + ": a mesh-dependent path, whose metrics get no error bar"});
+                                  why + ": a mesh-dependent path; " + consequence});
       }
       // a mesh no twin can coarsen (a fixed mesh file) still has the field indicator: said as
       // such, the energy-norm error of the whole solution, not a bar of the metric (how-accurate.md)
