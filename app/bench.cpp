@@ -2,8 +2,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -50,10 +52,9 @@ RenderRate render_rate(const std::string& scene, const std::vector<std::string>&
   style.color_field = s.output.color_field == "none" ? "" : s.output.color_field;
   style.title = s.name;
   render::FrameRenderer renderer(*gc, s.simulation->info(), style);
-  // a fresh private folder (mkdtemp), so that the clean-up below cannot meet anyone else's files
-  std::string pattern = (fs::temp_directory_path() / "flexframe_bench_frames.XXXXXX").string();
-  if (!::mkdtemp(pattern.data())) return out;
-  const fs::path dir = pattern;
+  const std::string folder = make_bench_folder("frames");
+  if (folder.empty()) return out;
+  const fs::path dir = folder;
   std::vector<fs::path> written;
   written.push_back(dir / "warmup.png");
   renderer.render_png(captured.front(), written.back().string(), &err);
@@ -166,6 +167,18 @@ int run_scene_bench(const BenchOptions& opt, const std::atomic<bool>& stop) {
     if (!write_bench_json(opt.out_file, root.dump(2) + "\n")) return 1;
   }
   return stop ? 130 : code;
+}
+
+std::string make_bench_folder(const std::string& name) {
+  std::string pattern = (fs::temp_directory_path() / ("flexframe_bench_" + name + ".XXXXXX")).string();
+  return ::mkdtemp(pattern.data()) ? pattern : std::string();
+}
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 bool write_bench_json(const std::string& path, const std::string& text) {

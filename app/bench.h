@@ -53,6 +53,12 @@ int run_estimate_bench(const BenchOptions& options, const std::atomic<bool>& sto
 /// and the bars' share of the run as the run prints it, beside the targets (35 % static and eigen,
 /// 60 % dynamic) (app/bench_error_bars.cpp). Exit 1 when a run failed (its log is kept).
 int run_error_bar_bench(const BenchOptions& options, const std::atomic<bool>& stop);
+/// A fresh private folder for a bench's scratch files in the system's temporary directory
+/// (mkdtemp of "<temp>/flexframe_bench_<name>.XXXXXX"), so that its clean-up cannot meet anyone
+/// else's files; "" with errno set when it cannot be made.
+std::string make_bench_folder(const std::string& name);
+/// The median of a list (the mean of the middle two for an even count); NaN when it is empty.
+double median_of(std::vector<double> v);
 /// Writes a bench's --json file and checks every step (open, write, close): on failure prints
 /// "error: cannot write PATH: <why>" and returns false, and the command exits 1; a benchmark whose
 /// numbers were not stored has failed.

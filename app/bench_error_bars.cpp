@@ -44,13 +44,6 @@ std::vector<std::string> default_bar_scenes() {
   return {default_scene(), "clamped_plate_pressure", "modal_clamped_plate", "hemisphere_18deg_h004", "cantilever_step_load"};
 }
 
-double median_of(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-
 struct TimedChild {
   double wall_s = 0;
   std::string failure;  ///< "" when it exited 0 (completed); else what happened
@@ -112,13 +105,12 @@ int run_error_bar_bench(const BenchOptions& opt, const std::atomic<bool>& stop) 
                  ec.message().c_str());
     return 1;
   }
-  std::string pattern = (fs::temp_directory_path() / "flexframe_bench_error_bars.XXXXXX").string();
-  if (!::mkdtemp(pattern.data())) {
+  const fs::path dir = make_bench_folder("error_bars");
+  if (dir.empty()) {
     std::fprintf(stderr, "error: bench --error-bars: cannot create a folder in %s: %s\n",
                  fs::temp_directory_path().string().c_str(), std::strerror(errno));
     return 1;
   }
-  const fs::path dir = pattern;
   const int rounds = std::max(1, opt.repeat);
   bool any_failed = false;
   for (std::size_t i = 0; i < rows.size() && !stop; ++i) {

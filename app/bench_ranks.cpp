@@ -86,13 +86,6 @@ std::string read_file(const fs::path& p) {
   return text;
 }
 
-// the median of a non-empty list (the mean of the middle two for an even count)
-double median_of(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-
 struct PlateRow {
   int n = 0, dofs = 0, ranks = 0;
   double assembly_ms = 0, factorize_solve_ms = 0, newton_ms = 0, gflop = 0, mb_largest = 0, mb_total = 0;
@@ -141,13 +134,12 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
   std::sort(counts.begin(), counts.end());
   counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
 
-  std::string pattern = (fs::temp_directory_path() / "flexframe_bench_ranks.XXXXXX").string();
-  if (!::mkdtemp(pattern.data())) {
+  const fs::path dir = make_bench_folder("ranks");
+  if (dir.empty()) {
     std::fprintf(stderr, "error: bench --ranks: cannot create a folder in %s: %s\n",
                  fs::temp_directory_path().string().c_str(), std::strerror(errno));
     return 1;
   }
-  const fs::path dir = pattern;
   const std::vector<std::string> options = launcher_options();
   std::vector<std::string> launch_words = {launcher};
   launch_words.insert(launch_words.end(), options.begin(), options.end());

@@ -206,7 +206,8 @@ const MetricError* ErrorBarReport::find(const std::string& metric) const {
 
 ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vector<std::string>& overrides,
                                    const Simulation& run, const RunOutcome& outcome, double setup_wall_s,
-                                   int run_elements, int levels, const std::atomic<bool>& stop) {
+                                   int run_elements, int levels, const std::optional<FieldErrorEstimate>& field_error,
+                                   const std::atomic<bool>& stop) {
   ErrorBarReport r;
   r.on = true;
   r.run_wall_s = outcome.wall_time_s + setup_wall_s;
@@ -214,6 +215,18 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
   r.levels = plans.levels;
   r.local_time = plans.local_time;
   r.missing = plans.missing;
+  // a mesh no twin can coarsen (a fixed mesh file) still has the field indicator: said as such, the
+  // energy-norm error of the whole solution, not a bar of the metric (how-accurate.md)
+  if (field_error)
+    for (std::string& why : r.missing)
+      if (why.rfind("no mesh estimate", 0) == 0) {
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      "; the field indicator alone puts the solution's energy-norm error at %.2g %% "
+                      "(summary.json \"field_error\"), not a bar of this metric",
+                      100 * field_error->relative_energy_error);
+        why += text;
+      }
   for (const scene::TwinPlan& plan : plans.twins) {
     if (stop) break;
     r.twins.push_back(run_twin(plan, scene_path, overrides, stop));
@@ -221,14 +234,13 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
     if (r.twins.back().status == RunStatus::interrupted) r.interrupted = true;
   }
   if (stop) r.interrupted = true;
-  for (const TwinRun& t : r.twins)
-    if (t.status == RunStatus::completed && t.events != event_counts(outcome.events))
-      r.path_differences.push_back(twin_problem(t, outcome));
-  for (TwinRun& t : r.twins)
-    if (twin_problem(t, outcome).empty())
+  for (TwinRun& t : r.twins) {
+    t.problem = twin_problem(t, outcome);
+    if (t.problem.empty())
       t.ratio = t.name == "time"   ? 2.0
                 : t.name == "mesh" ? (t.planned_ratio > 0 ? t.planned_ratio : mesh_ratio(run_elements, t.elements))
                                    : 0.0;
+  }
 
   // one ladder of levels per source, finest first: the time step on the run's mesh; the mesh at the
   // run's step (statics, eigen) or at 2 dt from the time twin down (dynamics, (R8))
@@ -294,7 +306,7 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
         const Rung& rung = ladder.rungs[k];
         std::optional<double> v = value;
         if (rung.twin) {
-          if (const std::string problem = twin_problem(*rung.twin, outcome); !problem.empty()) {
+          if (const std::string& problem = rung.twin->problem; !problem.empty()) {
             // a third level that failed leaves the two finer ones, which did not: two levels, said
             // so (the cantilever roll-up's 5 x 2 twin diverges where its 10 x 2 twin rolls up)
             if (k == 2) {

@@ -36,6 +36,14 @@ struct TwinRun {
   /// run's path; 0 when it is not directly below the run (mesh_at_2dt, *_coarser) or cannot stand
   /// beside it. The plots' error band (richardson_bands) is drawn from such a twin.
   double ratio = 0.0;
+  /// why it cannot stand beside the run (it did not complete, or its path differs in kind from the
+  /// run's, error_bars.md §6); "" when it can. Set once the twins have run.
+  std::string problem;
+  /// a completed twin whose path differs in kind (another count of limit points, bifurcations,
+  /// turn-backs): the run warns and records it as an event
+  bool path_differs() const { return status == RunStatus::completed && !problem.empty(); }
+  /// a third level's twin (mesh_coarser, time_coarser, ...): its failure drops only its own level
+  bool third_level() const { return name.find("_coarser") != std::string::npos; }
   /// the plan's h_twin / h_run for a generator-only mesh twin (TwinPlan::mesh_ratio); 0 otherwise
   double planned_ratio = 0.0;
   RunInfo info;          ///< its probes (for plots beside the run's)
@@ -53,9 +61,6 @@ struct ErrorBarReport {
   double twins_wall_s = 0.0;
   double run_wall_s = 0.0;      ///< the run's set-up (reading, meshing) and solve
   bool interrupted = false;     ///< the stop flag ended a twin
-  /// a sentence per twin whose path differs in kind from the run's (another count of limit points,
-  /// bifurcations, turn-backs): the run warns and records it as an event (error_bars.md §6)
-  std::vector<std::string> path_differences;
   /// the twins' wall time over the run's (the cost of the bars, as a share of the run)
   double cost_share() const { return run_wall_s > 0 ? twins_wall_s / run_wall_s : 0.0; }
   const MetricError* find(const std::string& metric) const;
@@ -68,10 +73,12 @@ struct ErrorBarReport {
 /// so that the cost share compares like with like; `levels`: 2 (one twin per source, formal
 /// order), 3 (two twins per source, observed order) or 0 (the scene's output.error_bar_levels). A twin that cannot
 /// be built or does not complete flags the metrics instead of failing the run; the stop flag ends
-/// a twin (interrupted).
+/// a twin (interrupted). `field_error`: the run's field indicator, which a mesh no twin can
+/// coarsen (a fixed mesh file) reports beside its "no mesh estimate".
 ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vector<std::string>& overrides,
                                    const Simulation& run, const RunOutcome& outcome, double setup_wall_s,
-                                   int run_elements, int levels, const std::atomic<bool>& stop);
+                                   int run_elements, int levels, const std::optional<FieldErrorEstimate>& field_error,
+                                   const std::atomic<bool>& stop);
 
 /// What `check` says the bars will cost before the run: the twins a run of the scene would solve,
 /// what each changes and its expected share of the run, and the sources without a twin.

@@ -664,34 +664,21 @@ RunResult run_loaded_scene(const RunOptions& opt, scene::LoadedScene scene, cons
       const int elements = scene.mesh_quality ? scene.mesh_quality->quality.quad_count : 0;
       try {
         bars = estimate_error_bars(opt.scene_path, opt.overrides, sim, outcome, opt.setup_wall_s, elements,
-                                   bar_levels < 0 ? 0 : bar_levels, stop);
+                                   bar_levels < 0 ? 0 : bar_levels, result.field_error, stop);
       } catch (const std::exception& e) {  // the scene file changed under the run, or no file (a test's model)
         bars.not_estimated = std::string("the twins could not be planned: ") + e.what();
       }
       // a twin whose path differs in kind is no coarser answer: its metrics are flagged, and the run
       // says so where the user looks and records it with its path's events (error_bars.md §6)
-      for (const std::string& why : bars.path_differences) {
-        // a third level's twin (*_coarser) only drops that level: the two finer ones still estimate
-        const bool third = why.find("_coarser twin") != std::string::npos;
-        const char* consequence = third ? "the estimate falls back to the two finer levels"
-                                        : "the metrics it would bar are flagged";
-        std::fprintf(stderr, "warning: error bars: %s; %s (summary.json \"events\")\n", why.c_str(), consequence);
+      for (const TwinRun& t : bars.twins) {
+        if (!t.path_differs()) continue;
+        // a third level's twin only drops that level: the two finer ones still estimate
+        const char* consequence = t.third_level() ? "the estimate falls back to the two finer levels"
+                                                  : "the metrics it would bar are flagged";
+        std::fprintf(stderr, "warning: error bars: %s; %s (summary.json \"events\")\n", t.problem.c_str(), consequence);
         outcome.events.push_back({"twin_path_differs", outcome.steps, outcome.stop_time,
-                                  why + ": a mesh-dependent path; " + consequence});
+                                  t.problem + ": a mesh-dependent path; " + consequence});
       }
-      // a mesh no twin can coarsen (a fixed mesh file) still has the field indicator: said as
-      // such, the energy-norm error of the whole solution, not a bar of the metric (how-accurate.md)
-      if (result.field_error)
-        for (MetricError& m : bars.metrics)
-          for (std::string& why : m.missing)
-            if (why.rfind("no mesh estimate", 0) == 0 && why.find("field indicator") == std::string::npos) {
-              char text[160];
-              std::snprintf(text, sizeof text,
-                            "; the field indicator alone puts the solution's energy-norm error at %.2g %% "
-                            "(summary.json \"field_error\"), not a bar of this metric",
-                            100 * result.field_error->relative_energy_error);
-              why += text;
-            }
       if (bars.interrupted && outcome.status == RunStatus::completed) {
         outcome.status = RunStatus::interrupted;
         outcome.reason = "interrupted by the user while the error-bar twins were solved; the solve had completed and "

@@ -9,6 +9,19 @@
 namespace ff::shell {
 
 namespace {
+
+// The recorded step a metric reads its non-empty history at: the last one (final; a mean ends
+// there), or the first where the history is least, largest, or largest in magnitude
+std::size_t read_step(DynamicMetric::Kind kind, const std::vector<double>& v) {
+  switch (kind) {
+    case DynamicMetric::Kind::min: return std::min_element(v.begin(), v.end()) - v.begin();
+    case DynamicMetric::Kind::max: return std::max_element(v.begin(), v.end()) - v.begin();
+    case DynamicMetric::Kind::max_abs:
+      return std::max_element(v.begin(), v.end(), [](double a, double b) { return std::abs(a) < std::abs(b); }) -
+             v.begin();
+    default: return v.size() - 1;
+  }
+}
 double chord(const MultibodyModel& m, const DynamicArc& a) {
   return (m.poses()[a.nodes.back()].p - m.poses()[a.nodes.front()].p).norm();
 }
@@ -235,20 +248,15 @@ void ShellDynamicSimulation::accumulate_local_error() {
 std::vector<std::pair<std::string, double>> ShellDynamicSimulation::local_time_errors() const {
   std::vector<std::pair<std::string, double>> out;
   for (const DynamicMetric& mt : settings_.metrics) {
-    std::size_t k = 0;
-    while (k < settings_.probes.size() && settings_.probes[k].name != mt.probe) ++k;
-    if (k == settings_.probes.size() || !settings_.probes[k].field.empty() || settings_.probes[k].node < 0) continue;
+    const int k = history_index(mt.probe);  // a displacement probe: (G14) follows those only
+    if (k < 0 || k >= static_cast<int>(settings_.probes.size()) || !settings_.probes[k].field.empty() ||
+        settings_.probes[k].node < 0)
+      continue;
     const std::vector<double>& v = values_[k];
     const std::vector<double>& e = time_error_values_[k];
     if (v.empty() || e.size() != v.size()) continue;
     // the sum up to the step the metric was read at (G15); a mean reads every step: their mean
-    std::size_t at = v.size() - 1;
-    if (mt.kind == DynamicMetric::Kind::min) at = std::min_element(v.begin(), v.end()) - v.begin();
-    if (mt.kind == DynamicMetric::Kind::max) at = std::max_element(v.begin(), v.end()) - v.begin();
-    if (mt.kind == DynamicMetric::Kind::max_abs)
-      at = std::max_element(v.begin(), v.end(), [](double a, double b) { return std::abs(a) < std::abs(b); }) -
-           v.begin();
-    double x = e[at];
+    double x = e[read_step(mt.kind, v)];
     if (mt.kind == DynamicMetric::Kind::mean) {
       x = 0;
       for (double y : e) x += y;
@@ -265,28 +273,25 @@ std::vector<std::string> ShellDynamicSimulation::answer_metrics() const {
   return out;
 }
 
+// a probe's or arc's row in values_ by its name in RunInfo; -1 when there is none
+int ShellDynamicSimulation::history_index(const std::string& name) const {
+  for (std::size_t k = 0; k < settings_.probes.size(); ++k)
+    if (settings_.probes[k].name == name) return static_cast<int>(k);
+  for (std::size_t k = 0; k < settings_.arcs.size(); ++k) {
+    if ("arc_rate_" + settings_.arcs[k].name == name) return static_cast<int>(settings_.probes.size() + 2 * k);
+    if ("arc_strain_" + settings_.arcs[k].name == name) return static_cast<int>(settings_.probes.size() + 2 * k + 1);
+  }
+  return -1;
+}
+
 Metrics ShellDynamicSimulation::metrics() const {
   Metrics m;
-  auto index = [&](const std::string& name) {
-    for (std::size_t k = 0; k < settings_.probes.size(); ++k)
-      if (settings_.probes[k].name == name) return static_cast<int>(k);
-    for (std::size_t k = 0; k < settings_.arcs.size(); ++k) {
-      if ("arc_rate_" + settings_.arcs[k].name == name) return static_cast<int>(settings_.probes.size() + 2 * k);
-      if ("arc_strain_" + settings_.arcs[k].name == name) return static_cast<int>(settings_.probes.size() + 2 * k + 1);
-    }
-    return -1;
-  };
   for (const DynamicMetric& mt : settings_.metrics) {
-    const int k = index(mt.probe);
+    const int k = history_index(mt.probe);
     if (k < 0 || values_[k].empty()) continue;
     const std::vector<double>& v = values_[k];
-    double x = v.back();
-    if (mt.kind == DynamicMetric::Kind::min) x = *std::min_element(v.begin(), v.end());
-    if (mt.kind == DynamicMetric::Kind::max) x = *std::max_element(v.begin(), v.end());
-    if (mt.kind == DynamicMetric::Kind::max_abs) {
-      x = 0;
-      for (double y : v) x = std::max(x, std::abs(y));
-    }
+    double x = v[read_step(mt.kind, v)];
+    if (mt.kind == DynamicMetric::Kind::max_abs) x = std::abs(x);
     if (mt.kind == DynamicMetric::Kind::mean && v.size() == times_.size() && times_.size() > 1 &&
         times_.back() > times_.front()) {
       double area = 0;

@@ -105,6 +105,7 @@ class ShellDynamicSimulation final : public Simulation {
   void record();                             // probes of the current state into the history
   void accumulate_local_error();             // the step's local error into each displacement probe's sum (G14)
   std::vector<double> probe_values() const;  // probes in RunInfo order
+  int history_index(const std::string& name) const;  // a probe's or arc's row in values_, -1: none
   std::unique_ptr<MultibodyModel> model_;
   std::optional<Vec3> live_gravity_;  // a live change waiting for the next step
   std::size_t next_change_ = 0;       // first gravity change not yet applied
