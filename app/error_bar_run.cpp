@@ -438,7 +438,10 @@ nlohmann::ordered_json error_bars_json(const ErrorBarReport& report) {
                          {"coarse", s.coarse},
                          {"ratio", s.ratio},
                          {"order", s.order},
-                         {"order_kind", s.order_observed ? "observed" : "formal"},
+                         {"order_kind", s.order_observed          ? "observed"
+                                        : s.observed_order > 0.0 ? "formal (the observed order is above it)"
+                                                                 : "formal"},
+                         {"observed_order", s.observed_order > 0.0 ? Json(s.observed_order) : Json()},
                          {"safety_factor", s.safety},
                          {"estimate", s.estimate},
                          {"bar", s.bar}});

@@ -47,7 +47,7 @@ void print_error_bar_cost(const ff::app::ErrorBarReport& b) {
   for (const ff::app::TwinRun& t : b.twins) twins += (twins.empty() ? "" : "; ") + t.name + ": " + t.description;
   std::printf("  error bars: %sRichardson, %s; twins %s; they cost %.0f %% of the run (summary.json \"error_bars\")\n",
               b.local_time ? "time from the integrator's local error (no twin); mesh by " : "",
-              b.levels == 3 ? "three levels (the observed order, safety factor 1.25)"
+              b.levels == 3 ? "three levels (the observed order, at most the formal 2; safety factor 1.25)"
                             : "two levels (the formal order 2, safety factor 3)",
               twins.empty() ? "none" : twins.c_str(), 100 * b.cost_share());
   for (const std::string& m : b.missing) std::printf("  error bars: %s\n", m.c_str());

@@ -1125,7 +1125,9 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
       md << "| " << c.axis << " | " << levels << " | " << values << " | ";
       if (c.estimate.error) {
         const SourceError& e = *c.estimate.error;
-        md << fmt("%.2f", e.order) << (e.order_observed ? " (observed)" : " (formal)") << " | " << fmt("%.3g", e.estimate)
+        md << fmt("%.2f", e.order) << (e.order_observed            ? " (observed)"
+                                         : e.observed_order > 0.0 ? fmt(" (formal; observed %.2f)", e.observed_order)
+                                                                  : std::string(" (formal)")) << " | " << fmt("%.3g", e.estimate)
            << " (" << fmt("%.2g", 100.0 * std::abs(e.estimate) / std::max(std::abs(e.fine), 1e-300)) << " %) | "
            << fmt("%.3g", e.bar) << " |\n";
         total += e.estimate;

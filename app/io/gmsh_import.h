@@ -43,6 +43,9 @@ struct GmshMeshRequest {
   /// CAD: faces that touch without sharing an edge are joined first (OpenCASCADE's fragment of
   /// every face against the others; the physical groups found again on the new entities)
   bool join_touching_faces = true;
+  /// geometry with mesh_size: faces bounded by four curves meshed as mapped (structured) grids,
+  /// unless something is embedded in them or a local size touches them (part.mesh_pattern)
+  bool mapped_faces = true;
   /// a mesh file's triangles joined into quads by Gmsh's recombination (Blossom)
   bool recombine_triangles = false;
   double time_limit_seconds = 300.0;

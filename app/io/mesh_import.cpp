@@ -989,6 +989,7 @@ bool read_mesh_file(const ff::scene::MeshFileRequest& request, ShellMesh& out, f
         g.group_sizes.emplace_back(request.local_size_groups[k], request.local_sizes[k]);
       g.recombine_triangles = request.triangles == "recombine";
       g.join_touching_faces = !request.keep_faces_apart;
+      g.mapped_faces = request.mesh_pattern == "mapped";
       g.time_limit_seconds = request.time_limit_seconds;
       g.memory_limit_bytes = memory_limit_bytes;
       g.most_nodes = request.most_nodes;

@@ -19,6 +19,9 @@ struct SourceError {
   double ratio = 0.0;        ///< refinement ratio r > 1 between them ((R5); 2 for a doubled time step)
   double order = 0.0;        ///< order p used in (R2)-(R3)
   bool order_observed = false;  ///< p measured from three levels (R6), not the formal order
+  /// three levels: the order (R6) measured, also where it is not used (above the formal order,
+  /// which then stays: (R6a)); 0 with two levels
+  double observed_order = 0.0;
   double estimate = 0.0;     ///< E (R3): signed estimate of the run's error from this source
   double safety = 3.0;       ///< F_s of (R4)
   double bar = 0.0;          ///< GCI (R4) = F_s |E|

@@ -23,6 +23,8 @@ std::string number_text(double x) {  // the shortest text that reads back as x: 
   return b;
 }
 
+constexpr long long kFewestAcrossForAThirdLevel = 4;
+
 std::string part_key(std::size_t i, const std::string& key) { return "part[" + std::to_string(i) + "]." + key; }
 
 // A mesh twin's overrides, `halvings` times coarser: generator parts at their element counts halved
@@ -82,6 +84,15 @@ std::vector<std::string> coarser_mesh(const Document& d, int halvings, std::stri
       if (coarse >= previous) {
         *why_not = part_key(i, key) + " = " + std::to_string(n) + " cannot be halved " + std::to_string(halvings) +
                    " time(s) (" + std::to_string(1LL << halvings) + " elements there at least)";
+        return {};
+      }
+      // a third level of fewer than 4 elements across (a quarter hemisphere of 2 x 2) is no mesh of
+      // the run's problem: its observed order measures the coarse mesh's own behaviour (0.2-0.56 on
+      // the hemisphere at 8 x 8, whose 4 x 4 twin alone gives the true error to 4 %), error_bars.md §5
+      if (halvings >= 2 && coarse < kFewestAcrossForAThirdLevel) {
+        *why_not = part_key(i, key) + " = " + std::to_string(n) + " halved twice leaves " + std::to_string(coarse) +
+                   " elements, fewer than " + std::to_string(kFewestAcrossForAThirdLevel) +
+                   " across: too coarse to show the run's order";
         return {};
       }
       out.push_back(part_key(i, key) + "=" + std::to_string(coarse));
@@ -153,6 +164,7 @@ TwinPlans discretization_twins(const std::string& path, const std::vector<std::s
     if (mesh.empty()) {  // a third level that cannot be made leaves the two-level estimate
       plans.missing.push_back(std::string(halvings == 1 ? "no mesh estimate: " : "no third mesh level (two only): ") +
                               why_not);
+      if (halvings == 2 && plans.twins.size() == 1) plans.levels = 2;  // the mesh twin was the only one
       return plans;
     }
     const std::string name = halvings == 1 ? "mesh" : "mesh_coarser";

@@ -32,6 +32,9 @@ struct MeshFileRequest {
   /// part.keep_faces_apart: faces that touch stay apart (CAD faces are not joined, and a surface
   /// touching itself without being joined is accepted instead of refused)
   bool keep_faces_apart = false;
+  /// part.mesh_pattern: "mapped" (four-sided CAD faces as structured grids, the others free) or
+  /// "free" (every face Frontal-Delaunay with Blossom recombination)
+  std::string mesh_pattern = "mapped";
   bool operator==(const MeshFileRequest&) const = default;
 };
 

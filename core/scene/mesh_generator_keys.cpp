@@ -33,7 +33,7 @@ const std::map<std::string, std::vector<std::string>>& generator_keys() {
         "end_angle"}},
       {"file",
        {"file", "weld_tolerance", "triangles", "crease_angle", "group", "mesh_size", "local_size_groups",
-        "local_sizes", "mesh_time_limit", "keep_faces_apart"}},
+        "local_sizes", "mesh_time_limit", "keep_faces_apart", "mesh_pattern"}},
   };
   return keys;
 }
@@ -57,7 +57,7 @@ const std::vector<std::string> kDimensionKeys = {"n1",     "n2",          "n3", 
                                                  "polar_end", "fold_angle", "slit", "weld_tolerance", "end_slope",
                                                  "triangles", "crease_angle", "group", "mesh_size",
                                                  "local_size_groups", "local_sizes", "mesh_time_limit",
-                                                 "keep_faces_apart"};
+                                                 "keep_faces_apart", "mesh_pattern"};
 
 double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }  // exact for 90 -> pi/2
 
@@ -552,6 +552,13 @@ void declare_part_keys(Schema& s) {
                "sharing nodes there is accepted; false: touching CAD faces are joined (OpenCASCADE's fragment), and "
                "what still touches without being joined is refused",
                false)
+      .choice("part.mesh_pattern",
+              "generator = file, CAD or .geo with part.mesh_size: mapped: each face bounded by four curves is meshed "
+              "as a structured grid (Gmsh's transfinite meshing; meshes at neighbouring sizes then converge "
+              "monotonically, so coarser twins estimate the error), unless a point or curve is embedded in it or a "
+              "local size touches it, and the other faces free; free: every face by Frontal-Delaunay with Blossom "
+              "recombination",
+              {"mapped", "free"}, "mapped")
       .number("part.weld_tolerance",
               "generator = file: join vertices closer than this length (0: every vertex of the file is a node of its "
               "own, so a slit written with separate vertices stays open)",

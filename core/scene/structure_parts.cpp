@@ -161,6 +161,7 @@ MeshFileRequest file_request(const Document& d, std::size_t i, const std::string
   r.local_sizes = d.numbers("part.local_sizes", i);
   r.time_limit_seconds = d.number("part.mesh_time_limit", i);
   r.keep_faces_apart = d.boolean("part.keep_faces_apart", i);
+  r.mesh_pattern = d.string("part.mesh_pattern", i);
   if (r.local_size_groups.size() != r.local_sizes.size())
     throw SceneError({d.issue("part.local_sizes", i,
                               "part.local_sizes has " + std::to_string(r.local_sizes.size()) + " sizes for " +

@@ -159,28 +159,32 @@ TEST(ErrorBars, ThreeLevelsGiveTheObservedOrderOrAFlag) {
     }
     ++observed;
     ASSERT_EQ(m["sources"].size(), 1u);
-    EXPECT_EQ(m["sources"][0]["order_kind"], "observed") << name;
     EXPECT_EQ(m["sources"][0]["safety_factor"], 1.25) << name;
-    const double p = m["sources"][0]["order"];
-    EXPECT_GE(p, 1.0) << name;
-    EXPECT_LE(p, 4.0) << name;
+    const double observed_order = m["sources"][0]["observed_order"], p = m["sources"][0]["order"];
+    EXPECT_GE(observed_order, 1.0) << name;
+    EXPECT_LE(observed_order, 4.0) << name;
+    // (R6a): the observed order where it is at most the formal 2, else the formal order
+    EXPECT_EQ(m["sources"][0]["order_kind"], observed_order <= 2.0 ? "observed" : "formal (the observed order is above it)")
+        << name;
+    EXPECT_DOUBLE_EQ(p, std::min(observed_order, 2.0)) << name;
   }
   EXPECT_GT(observed, 0) << "the first frequency converges cleanly from 4 x 4: " << bars.dump(1);
   EXPECT_NE(r.out.find("three levels"), std::string::npos) << r.out;
 }
 
 // modes are paired with the twin's by their shape (MAC over the nodes both meshes share), not by
-// their number: the bundled cantilever strip at 60 x 6 elements has a torsion and a bending mode
-// (its 7th and 8th) that its coarsest twin (15 x 2) orders the other way round
+// their number: the bundled cantilever strip at 30 x 6 elements has a torsion and a bending mode
+// (its 7th and 8th) that its twin (15 x 3) orders the other way round (a third level, 8 x 2, would
+// have fewer than 4 elements across: two levels)
 TEST(ErrorBars, ModesArePairedWithTheTwinsByShape) {
   const std::string dir = fresh_test_dir();
-  const ProcResult r = run_scene(dir, "modal_cantilever_strip", "out", {"--set", "part[0].n2=6"});
+  const ProcResult r = run_scene(dir, "modal_cantilever_strip", "out", {"--set", "part[0].n1=30", "part[0].n2=6"});
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   const nlohmann::json bars = summary_of(dir + "/out")["error_bars"];
   for (const auto& [metric, other] : {std::pair{"frequency_7", 8}, std::pair{"frequency_8", 7}}) {
     const nlohmann::json& f = bars["metrics"][metric];
     ASSERT_EQ(f["notes"].size(), 1u) << f.dump(1);
-    EXPECT_NE(f["notes"][0].get<std::string>().find("paired with the mesh_coarser twin's mode " + std::to_string(other) +
+    EXPECT_NE(f["notes"][0].get<std::string>().find("paired with the mesh twin's mode " + std::to_string(other) +
                                                     " by its shape"),
               std::string::npos)
         << f.dump(1);
@@ -188,7 +192,7 @@ TEST(ErrorBars, ModesArePairedWithTheTwinsByShape) {
   }
   // the modes that keep their order are paired by number, without a note
   EXPECT_TRUE(bars["metrics"]["frequency_1"]["notes"].empty()) << bars["metrics"]["frequency_1"].dump(1);
-  EXPECT_NE(r.out.find("paired with the mesh_coarser twin's mode 8"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("paired with the mesh twin's mode 8"), std::string::npos) << r.out;
 }
 
 // error_bars.md §6: the bundled pulled cylinder (Sze 3.5) passes two limit points; its mesh twin at
@@ -244,12 +248,14 @@ TEST(ErrorBars, AFailedThirdLevelLeavesTwoAgainstTheClosedForm) {
 
 TEST(ErrorBars, ACoarseRoofIsFlaggedNotGivenASmallBar) {
   // MacNeal & Harder (1985), problem 3: the Scordelis-Lo roof's midside deflection 0.3024. From the
-  // STEP part at mesh_size = 3 the run is 2.7 % high, while its twin at 6 lands within 0.2 % of it:
-  // two levels would print a bar of 0.3 %, a ninth of the error. By default a static run has three
-  // levels, and 3, 6, 12 do not converge monotonically: the metric must be flagged, or carry a bar
-  // of at least a third of the true error (the rule)
+  // STEP part meshed free (part.mesh_pattern = "free") at mesh_size = 3 the run is 2.7 % high,
+  // while its twin at 6 lands within 0.2 % of it: two levels would print a bar of 0.3 %, a ninth of
+  // the error. By default a static run has three levels, and 3, 6, 12 do not converge
+  // monotonically: the metric must be flagged, or carry a bar of at least a third of the true error
+  // (the rule)
   const std::string dir = fresh_test_dir();
-  const ProcResult r = run_scene(dir, "scordelis_lo_roof_cad", "out", {"--set", "part[0].mesh_size=3"});
+  const ProcResult r = run_scene(dir, "scordelis_lo_roof_cad", "out",
+                                 {"--set", "part[0].mesh_size=3", "part[0].mesh_pattern=free"});
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   const nlohmann::json bars = summary_of(dir + "/out")["error_bars"];
   EXPECT_EQ(bars["levels"], 3) << "auto: three levels in statics";
@@ -259,6 +265,44 @@ TEST(ErrorBars, ACoarseRoofIsFlaggedNotGivenASmallBar) {
   if (m["flags"].empty()) EXPECT_GE(m["bar"].get<double>(), true_error / 3) << m.dump(1);
   else EXPECT_NE(r.out.find("w_midside"), std::string::npos) << r.out;
   EXPECT_FALSE(m["flags"].empty()) << "3, 6, 12 are not in the asymptotic range: " << m.dump(1);
+}
+
+// The same roof as mapped grids (the default part.mesh_pattern): sizes 12, 6, 3 converge
+// monotonically, and the estimate at size 3 lies within 1/3-3 of the true error against MacNeal &
+// Harder's 0.3024 (measured 3.9 % for 1.84 %, (R6a)); at size 1.5 the true error (0.04 %) is
+// below the 0.5 %, and the bar must still hold it
+TEST(ErrorBars, TheMappedRoofsEstimateBracketsMacNealAndHarder) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_scene(dir, "scordelis_lo_roof_cad", "out", {"--set", "part[0].mesh_size=3"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json s = summary_of(dir + "/out");
+  EXPECT_NE(s["mesh_import"].dump().find("meshed as mapped"), std::string::npos) << s["mesh_import"].dump();
+  EXPECT_EQ(s["error_bars"]["levels"], 3);
+  expect_brackets(s["error_bars"]["metrics"]["w_midside"], 0.3024, "w_midside at size 3");
+  const ProcResult fine = run_scene(dir, "scordelis_lo_roof_cad", "fine", {});
+  ASSERT_EQ(fine.exit_code, 0) << fine.describe();
+  const nlohmann::json m = summary_of(dir + "/fine")["error_bars"]["metrics"]["w_midside"];
+  ASSERT_TRUE(m["flags"].empty()) << m.dump(1);
+  EXPECT_GE(m["bar"].get<double>(), std::abs(m["value"].get<double>() - 0.3024)) << m.dump(1);
+}
+
+// Sze, Liu & Lo (2004), §3.4: the hemisphere with an 18 degree hole under alternating radial
+// forces, ABAQUS S4R reference at F = 200 and 400 (assets/reference/sze2004_34_hemisphere_18deg_hole.csv).
+// At 8 x 8 the run is 6-11 % short; halved twice it would leave a 2 x 2 third level, which is not
+// used (error_bars.md §5), and the 4 x 4 twin's two-level estimate brackets each error
+TEST(ErrorBars, TheCoarseHemisphereAgainstSze) {
+  const std::string dir = fresh_test_dir();
+  const ProcResult r = run_scene(dir, "hemisphere_18deg_h004", "out", {"--set", "part[0].n1=8", "part[0].n2=8"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const nlohmann::json bars = summary_of(dir + "/out")["error_bars"];
+  EXPECT_EQ(bars["levels"], 2) << bars.dump(1);
+  EXPECT_NE(bars["missing"].dump().find("fewer than 4 across"), std::string::npos) << bars["missing"].dump();
+  const std::map<std::string, double> sze = {{"disp_outward_point_F200", 3.406}, {"disp_inward_point_F200", 5.902},
+                                             {"disp_outward_point_F400", 4.067}, {"disp_inward_point_F400", 8.178}};
+  for (const auto& [name, reference] : sze) {
+    SCOPED_TRACE(name);
+    expect_brackets(bars["metrics"][name], reference, name);
+  }
 }
 
 TEST(ErrorBars, AFixedMeshFileSaysWhyItHasNoMeshEstimate) {

@@ -118,6 +118,21 @@ TEST(ErrorBarLevels, ThreeLevelsInTheAsymptoticRangeUseTheObservedOrder) {
   EXPECT_NEAR(e.error->estimate, f[0] - 1.5, 1e-10);
 }
 
+TEST(ErrorBarLevels, AnObservedOrderAboveTheFormalOneIsNotUsed) {
+  // (R6a): f = 1.5 + 0.8 h^3 observes 3 (within [1, 4] of the formal 2); the extrapolation keeps
+  // p = 2 with F_s = 1.25, so the estimate is (f2 - f1) / 3, larger than the true error (f1 - 1.5)
+  // by (2^3 - 1) / 3: the cautious side
+  const double h = 0.05;
+  const std::vector<double> f = {sequence(h, 3.0), sequence(2 * h, 3.0), sequence(4 * h, 3.0)};
+  const ff::LevelEstimate e = ff::estimate_from_levels("mesh", f, {2.0, 2.0}, 2.0);
+  ASSERT_TRUE(e.error.has_value()) << e.flag;
+  EXPECT_FALSE(e.error->order_observed);
+  EXPECT_NEAR(e.error->observed_order, 3.0, 1e-8);
+  EXPECT_EQ(e.error->order, 2.0);
+  EXPECT_EQ(e.error->safety, 1.25);
+  EXPECT_NEAR(e.error->estimate, (f[0] - 1.5) * 7.0 / 3.0, 1e-10);
+}
+
 TEST(ErrorBarLevels, ThreeLevelsOutsideTheAsymptoticRangeAreFlagged) {
   // differences that do not shrink (observed order ~0: the main job's final height at dt = 2e-3,
   // 1e-3, 5e-4, docs/validation/error-bars.md) and differences that change sign get no number
