@@ -122,7 +122,8 @@ int main(int argc, char** argv) {
   run->add_option("--error-bar", error_bar,
                   "on: every answer metric with its discretization error from coarser twins of the run (a coarser "
                   "mesh, a longer time step; docs/guide/how-accurate.md), as many as the scene's "
-                  "output.error_bar_levels asks (auto: three levels in statics and eigen-analyses, two in time); "
+                  "output.error_bar_levels asks (auto: three levels in statics and eigen-analyses of Gmsh-meshed "
+                  "parts, two otherwise); "
                   "two, three: that many levels per source; off: no twin (default: the scene's output.error_bar, on)")
       ->check(CLI::IsMember({"on", "off", "two", "three"}));
 

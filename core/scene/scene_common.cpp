@@ -57,9 +57,10 @@ void declare_output_keys(Schema& s, std::vector<std::string> color_fields, bool 
   s.choice("output.error_bar_levels",
            "levels per source of error: two (the run and one twin, the element's formal order, safety factor 3), "
            "three (two twins: the observed order, safety factor 1.25, and a flag instead of a number where the "
-           "levels are not in the asymptotic range), or auto: three for static, modal and buckling runs, whose "
-           "twins are cheap, two in time, where a third twin at 4 dt would cost more than the run "
-           "(docs/guide/how-accurate.md); --error-bar two|three overrides it for one run",
+           "levels are not in the asymptotic range), or auto: three for static, modal and buckling runs with a "
+           "part meshed by Gmsh (whose meshes at two sizes are not nested), two for generated meshes and in time, "
+           "where a third twin at 4 dt would cost more than the run (docs/guide/how-accurate.md); --error-bar "
+           "two|three overrides it for one run",
            {"auto", "two", "three"}, "auto");
   if (!camera_keys) return;
   s.choice("output.view", "camera: iso, front (looking along +y, z up), top (looking down z)", {"iso", "front", "top"},
