@@ -414,13 +414,17 @@ std::string error_bar_text(const MetricError& m) {
   std::snprintf(b, sizeof b, "± %.2g", m.bar());
   std::string s = b;
   s += " (" + pct(m.relative_bar());
+  // a source left out is said beside the metric; a third level not made changes no source (the
+  // two levels remain) and is said once under the table
+  std::string left_out;
+  for (const std::string& missing : m.missing)
+    if (missing.rfind("no third mesh level", 0) != 0) left_out += "; " + missing.substr(0, missing.find(':'));
   std::string parts;
-  if (m.sources.size() > 1 || !m.missing.empty())
+  if (m.sources.size() > 1 || !left_out.empty())
     for (const SourceError& e : m.sources)
       parts += (parts.empty() ? "" : ", ") + e.source + " " + pct(m.value != 0 ? e.bar / std::abs(m.value) : 0.0);
   if (!parts.empty()) s += ": " + parts;
-  s += ")";
-  for (const std::string& missing : m.missing) s += "; " + missing.substr(0, missing.find(':'));
+  s += ")" + left_out;
   for (const std::string& note : m.notes) s += "; " + note;
   return s;
 }
