@@ -350,7 +350,7 @@ bool check_obj_size(const std::string& path, const std::string& who, double memo
   if (!(memory_limit > 0)) return true;
   std::error_code ec;
   const double bytes = static_cast<double>(fs::file_size(path, ec));
-  if (ec || import_bytes(bytes / 8.0, 0) <= memory_limit && import_bytes(0, bytes / 10.0) <= memory_limit) return true;
+  if (ec || (import_bytes(bytes / 8.0, 0) <= memory_limit && import_bytes(0, bytes / 10.0) <= memory_limit)) return true;
   std::ifstream in(path, std::ios::binary);
   double vertices = 0, faces = 0;
   std::string line;

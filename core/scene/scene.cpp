@@ -25,15 +25,6 @@
 
 namespace ff::scene {
 
-namespace {
-
-bool has(const std::vector<std::string>& v, const char* name) {
-  return std::find(v.begin(), v.end(), name) != v.end();
-}
-
-
-}  // namespace
-
 const std::vector<ModelKind>& model_kinds() {
   // one line per model: its name in scene.model, its schema, the key that ends its run, how a
   // validated document becomes its Simulation, and its memory estimate
@@ -143,10 +134,19 @@ std::vector<CameraKey> camera_path_from_text(const std::string& text, const std:
 
 std::string scene_reference_markdown() {
   std::string out;
-  for (const ModelKind& k : model_kinds())
-    out += (out.empty() ? "" : "\n") + std::string("## model = \"") + k.name + "\"" +
-           (k.analysis.empty() ? std::string() : ", analysis = \"" + k.analysis + "\"") + "\n\n" +
-           k.schema().markdown_reference();
+  for (const ModelKind& k : model_kinds()) {  // appended piece by piece: GCC 12 warns (-Wrestrict) on the sum
+    if (!out.empty()) out += "\n";
+    out += "## model = \"";
+    out += k.name;
+    out += "\"";
+    if (!k.analysis.empty()) {
+      out += ", analysis = \"";
+      out += k.analysis;
+      out += "\"";
+    }
+    out += "\n\n";
+    out += k.schema().markdown_reference();
+  }
   return out;
 }
 

@@ -80,8 +80,6 @@ int main(int argc, char** argv) {
     std::vector<double> edge(m.node_count(), 1.5);  // mid grey of the colour map
     // each named edge of the patch as its own polyline of duplicated points, valued 0..3
     const int k_patch = m.find_patch(pic.patch);
-    const ff::mesh::PatchEdge order[4] = {ff::mesh::PatchEdge::u_min, ff::mesh::PatchEdge::u_max,
-                                          ff::mesh::PatchEdge::v_min, ff::mesh::PatchEdge::v_max};
     for (int e = 0; e < 4 && k_patch >= 0; ++e) {
       if (m.patches[k_patch].edge_names[e].empty()) continue;
       const ff::mesh::Patch& pa = m.patches[k_patch];
