@@ -384,6 +384,15 @@ ErrorBarReport estimate_error_bars(const std::string& scene_path, const std::vec
     if (!m.flags.empty()) m.sources.clear();  // a flagged metric gets no number (error_bars.md §3, §6)
     r.metrics.push_back(std::move(m));
   }
+  for (const auto& [name, why] : run.answers_without_bar()) {  // said, not printed like a solver count
+    const std::optional<double> value = find_metric(values, name);
+    if (!value) continue;
+    MetricError m;
+    m.metric = name;
+    m.value = *value;
+    m.flags.push_back("not estimated: " + why);
+    r.metrics.push_back(std::move(m));
+  }
   return r;
 }
 

@@ -138,6 +138,9 @@ class Simulation {
   /// (core/model/error_bars.md). The others (Newton counts, wall time, drifts, constraint
   /// violations) describe the solver and get none.
   virtual std::vector<std::string> answer_metrics() const { return {}; }
+  /// Answers of the physics that no error bar can follow yet, each with why: the console and
+  /// summary.json say it beside the value instead of printing it like a solver count.
+  virtual std::vector<std::pair<std::string, std::string>> answers_without_bar() const { return {}; }
   /// The field error indicator at the run's last state, for models that record it (a shell
   /// structure with output.error_bar on); empty otherwise.
   virtual std::optional<FieldErrorEstimate> field_error_estimate() const { return std::nullopt; }

@@ -89,6 +89,7 @@ class ShellDynamicSimulation final : public Simulation {
   std::optional<FieldErrorEstimate> field_error_estimate() const override;
   std::vector<std::pair<std::string, std::array<double, 3>>> metric_points() const override;
   std::vector<std::pair<std::string, double>> local_time_errors() const override;
+  std::vector<std::pair<std::string, std::string>> answers_without_bar() const override;
   std::vector<std::pair<std::string, std::string>> metrics_unreached() const override;
   SolverTotals totals() const override { return totals_; }
   std::vector<EffectStat> effect_stats() const override;
