@@ -427,7 +427,7 @@ std::string error_bar_text(const MetricError& m) {
   // two levels remain) and is said once under the table
   std::string left_out;
   for (const std::string& missing : m.missing)
-    if (missing.rfind("no third mesh level", 0) != 0) left_out += "; " + missing.substr(0, missing.find(':'));
+    if (missing.rfind(scene::kNoThirdMeshLevel, 0) != 0) left_out += "; " + missing.substr(0, missing.find(':'));
   std::string parts;
   if (m.sources.size() > 1 || !left_out.empty())
     for (const SourceError& e : m.sources)

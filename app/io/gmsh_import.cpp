@@ -435,6 +435,20 @@ int entity_count(const GmshApi& g, int dim) {
   return static_cast<int>(n / 2);
 }
 
+// The points of named group `p` as Gmsh dim/tag pairs: its own points, or the points bounding its
+// curves or surfaces (where a local size is set, and what a mapped grid must not cross)
+std::vector<int> group_points(const GmshApi& g, const Physical& p) {
+  std::vector<int> dim_tags;
+  for (int e : p.entities) dim_tags.push_back(p.dim), dim_tags.push_back(e);
+  if (p.dim == 0) return dim_tags;
+  int ierr = 0;
+  int* points = nullptr;
+  std::size_t points_n = 0;
+  g.get_boundary(dim_tags.data(), dim_tags.size(), &points, &points_n, 0, 0, 1, &ierr);
+  check(g, ierr, "finding the points of group '" + p.name + "'");
+  return std::vector<int>(points, points + points_n);
+}
+
 // A face bounded by four curves is meshed as a mapped (structured, transfinite) grid of quads, the
 // others free. Free meshes of one face at neighbouring sizes differ in topology, so their answers
 // scatter instead of converging (a STEP roof at mesh sizes 6, 4.5, 3 gave deflections 0.310, 0.300,
@@ -462,17 +476,8 @@ MappedFaces map_four_sided_faces(const GmshApi& g, const GmshMeshRequest& r, con
   for (const auto& [name, size] : r.group_sizes)
     for (const Physical& p : physicals) {
       if (p.name != name) continue;
-      if (p.dim == 0) {
-        locally_sized.insert(p.entities.begin(), p.entities.end());
-        continue;
-      }
-      std::vector<int> dim_tags;
-      for (int e : p.entities) dim_tags.push_back(p.dim), dim_tags.push_back(e);
-      int* points = nullptr;
-      std::size_t points_n = 0;
-      g.get_boundary(dim_tags.data(), dim_tags.size(), &points, &points_n, 0, 0, 1, &ierr);
-      check(g, ierr, "finding the points of group '" + name + "'");
-      for (std::size_t k = 0; k + 1 < points_n; k += 2) locally_sized.insert(points[k + 1]);
+      const std::vector<int> points = group_points(g, p);
+      for (std::size_t k = 0; k + 1 < points.size(); k += 2) locally_sized.insert(points[k + 1]);
     }
   // a curve sampled along its parametrization: its length, and the polyline from its start
   constexpr int kSamples = 64;
@@ -947,17 +952,8 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w, const 
       const auto it = std::find_if(physicals.begin(), physicals.end(), [&](const Physical& p) { return p.name == name; });
       if (it == physicals.end())
         throw GmshFailure("part.local_size_groups names group '" + name + "', which the file does not define");
-      std::vector<int> dim_tags;
-      for (int e : it->entities) dim_tags.push_back(it->dim), dim_tags.push_back(e);
-      int* points = nullptr;
-      std::size_t points_n = 0;
-      if (it->dim == 0) {
-        g.set_size(dim_tags.data(), dim_tags.size(), size / script_factor, &ierr);
-      } else {
-        g.get_boundary(dim_tags.data(), dim_tags.size(), &points, &points_n, 0, 0, 1, &ierr);
-        check(g, ierr, "finding the points of group '" + name + "'");
-        g.set_size(points, points_n, size / script_factor, &ierr);
-      }
+      std::vector<int> points = group_points(g, *it);
+      g.set_size(points.data(), points.size(), size / script_factor, &ierr);
       check(g, ierr, "setting the size of group '" + name + "'");
     }
     refuse_oversized_geometry(g, r);

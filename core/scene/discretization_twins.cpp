@@ -25,6 +25,12 @@ std::string number_text(double x) {  // the shortest text that reads back as x: 
 
 constexpr long long kFewestAcrossForAThirdLevel = 4;
 
+// part i's part.mesh_size when Gmsh meshes it from geometry (mesh_generator_keys: part.mesh_size),
+// else 0 (a generator, or a fixed mesh file)
+double gmsh_mesh_size(const Document& d, std::size_t i) {
+  return d.string("part.generator", i) == "file" ? d.number("part.mesh_size", i) : 0.0;
+}
+
 std::string part_key(std::size_t i, const std::string& key) { return "part[" + std::to_string(i) + "]." + key; }
 
 // A mesh twin's overrides, `halvings` times coarser: generator parts at their element counts halved
@@ -46,8 +52,8 @@ std::vector<std::string> coarser_mesh(const Document& d, int halvings, std::stri
   for (std::size_t i = 0; i < d.count("part"); ++i) {
     const std::string& generator = d.string("part.generator", i);
     if (generator == "file") {
-      const double size = d.number("part.mesh_size", i);
-      if (size > 0) {  // meshed by Gmsh from geometry (mesh_generator_keys: part.mesh_size)
+      const double size = gmsh_mesh_size(d, i);
+      if (size > 0) {  // meshed by Gmsh from geometry
         gmsh = true;
         out.push_back(part_key(i, "mesh_size") + "=" + number_text(factor * size));
         what += (what.empty() ? "" : ", ") + part_key(i, "mesh_size") + " = " + number_text(factor * size) + " (" +
@@ -128,7 +134,7 @@ TwinPlans discretization_twins(const std::string& path, const std::vector<std::s
     // twin at 4 dt would cost more than the run.
     bool gmsh_part = false;
     for (std::size_t i = 0; shell && i < d.count("part"); ++i)  // the hub-beam has no [[part]]
-      gmsh_part = gmsh_part || (d.string("part.generator", i) == "file" && d.number("part.mesh_size", i) > 0);
+      gmsh_part = gmsh_part || gmsh_mesh_size(d, i) > 0;
     const std::string& key = d.string("output.error_bar_levels");
     levels = key == "two" ? 2 : key == "three" ? 3 : !plans.dynamic && gmsh_part ? 3 : 2;
   }
@@ -171,7 +177,7 @@ TwinPlans discretization_twins(const std::string& path, const std::vector<std::s
                               "across), so only the other directions' error is measured");
     }
     if (mesh.empty()) {  // a third level that cannot be made leaves the two-level estimate
-      plans.missing.push_back(std::string(halvings == 1 ? "no mesh estimate: " : "no third mesh level (two only): ") +
+      plans.missing.push_back(std::string(halvings == 1 ? "no mesh estimate: " : kNoThirdMeshLevel) +
                               why_not);
       if (halvings == 2 && plans.twins.size() == 1) plans.levels = 2;  // the mesh twin was the only one
       return plans;

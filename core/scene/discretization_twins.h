@@ -37,6 +37,10 @@ struct TwinPlans {
   int levels = 2;        ///< levels per source: the run and one twin, or two (the observed order)
 };
 
+/// How TwinPlans::missing begins the sentence of a third mesh level that was not made: it removes
+/// no source (the two levels remain), so the console says it once, not beside every metric.
+inline constexpr const char* kNoThirdMeshLevel = "no third mesh level (two only): ";
+
 /// The twins of the scene at `path` with the run's `overrides`, for `levels` = 2 or 3 levels per
 /// source (the run counts as one; 0: the scene's output.error_bar_levels, whose auto is 3 for static and eigen
 /// runs and 2 for runs in time). Throws SceneError when the scene does not validate (the run
