@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "app/run_session.h"
+#include "app/input_error.h"
 #include "render/graphics_context.h"
 
 namespace ff::app {

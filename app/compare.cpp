@@ -13,7 +13,7 @@
 
 #include "app/io/results.h"
 #include "app/plots.h"
-#include "app/run_session.h"
+#include "app/input_error.h"
 
 namespace fs = std::filesystem;
 

@@ -9,7 +9,8 @@
 #include <stdexcept>
 
 #include "app/io/movie_writer.h"
-#include "app/run_session.h"
+#include "app/input_error.h"
+#include "core/frame/text.h"
 #include "render/graphics_context.h"
 #include "render/image_io.h"
 #include "render/mesh_export.h"
@@ -20,12 +21,6 @@ namespace fs = std::filesystem;
 namespace ff::app {
 
 namespace {
-
-std::string format_number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
-}
 
 std::string two_digits(int number) {
   char b[16];
@@ -83,8 +78,8 @@ double model_size(const std::vector<double>& points) {
 
 std::string mode_value_text(const ModeSet& set, const Mode& mode) {
   std::string s;
-  if (set.analysis == "buckling") s = "load multiplier " + format_number(mode.value);
-  else s = format_number(mode.value) + (set.value_unit.empty() ? "" : " " + set.value_unit);
+  if (set.analysis == "buckling") s = "load multiplier " + significant(mode.value, 4);
+  else s = significant(mode.value, 4) + (set.value_unit.empty() ? "" : " " + set.value_unit);
   if (mode.rigid_body) s += " (rigid body)";
   return s;
 }
@@ -122,7 +117,7 @@ ModeAnimation mode_animation(const RunInfo& info, const Frame& base, const ModeS
             std::to_string(mode.number) + " of " + std::to_string(count) + ", " + mode_value_text(set, mode);
   char line[200];
   std::snprintf(line, sizeof line, "displacement \u00d7%s, an arbitrary scale:\nlargest drawn = %g %% of the model's size",
-                format_number(a.amplitude).c_str(), 100.0 * amplitude_fraction);
+                significant(a.amplitude, 4).c_str(), 100.0 * amplitude_fraction);
   a.caption = line;
   if (!set.about.empty()) a.caption += "\nabout the " + set.about;
   const int k_count = std::max(frames_per_cycle, 1);
@@ -275,7 +270,7 @@ ModeOutputReport write_mode_outputs(OutputFolder& folder, const RunInfo& info, c
         render::PlotSeries& s = m.rigid_body ? rigid : elastic;
         s.x.push_back(m.number);
         s.y.push_back(m.value);
-        if (label_points) s.point_labels.push_back(format_number(m.value));
+        if (label_points) s.point_labels.push_back(significant(m.value, 4));
       }
       for (render::PlotSeries* s : {&elastic, &rigid})
         if (!s->x.empty()) spec.series.push_back(std::move(*s));

@@ -14,7 +14,7 @@
 #include "app/io/results.h"
 #include "app/mode_outputs.h"
 #include "app/plots.h"
-#include "app/run_session.h"
+#include "app/input_error.h"
 #include "app/view_options.h"
 #include "core/scene/scene.h"
 #include "render/frame_layout.h"

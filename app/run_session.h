@@ -11,15 +11,12 @@
 #include <vector>
 
 #include "app/error_bar_run.h"
+#include "app/input_error.h"
+#include "app/run_result.h"
 #include "core/model/simulation.h"
 #include "core/scene/scene.h"
 
 namespace ff::app {
-
-/// Bad input that is not a scene-file problem: an unknown scene name, a malformed --vary.
-struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 struct RunOptions {
   std::string scene_path;
@@ -53,24 +50,6 @@ struct RunOptions {
   const std::atomic<int>* stop_signal = nullptr;
 };
 
-struct RunResult {
-  RunOutcome outcome;
-  Metrics metrics;
-  SolverTotals totals;
-  std::string out_dir;
-  std::string scene_name;
-  int frames_rendered = 0;
-  std::string movie;             ///< path of the movie written, "" if none
-  int frames_exported = 0;
-  double render_seconds = 0.0;   ///< wall time spent rendering frames (render thread)
-  int modes = -1;                ///< modes the eigen-analysis found; -1: the run computes none
-  int modes_animated = 0;        ///< of them, animated (frames/mode_NN/)
-  ErrorBarReport error_bars;     ///< the metrics' error bars (on = false: not asked for)
-  /// where the mesh is too coarse (core/shell/error_indicator.md), at the last state; empty for
-  /// models that record no error indicator
-  std::optional<FieldErrorEstimate> field_error;
-};
-
 /// Runs a scene. Throws ff::scene::SceneError for bad input (before anything is written) and
 /// std::runtime_error for output problems (unwritable directory, HDF5 failure).
 RunResult run_scene(const RunOptions& options, const std::atomic<bool>& stop);
@@ -84,9 +63,6 @@ RunResult run_loaded_scene(const RunOptions& options, scene::LoadedScene scene, 
 /// Ctrl-C itself: `stop` is rank 0's stop, copied to every rank at each shared solver call
 /// (share_stop_over_ranks), so the ranks stop at the same step. Returns the exit code of its outcome.
 int follow_run(const RunOptions& options, const std::atomic<bool>& stop);
-
-/// Exit code for an outcome: 0 completed, 3 diverged, 130 interrupted, 1 failed.
-int exit_code(const RunOutcome& outcome);
 
 /// Resolves "hub_beam_efg_tau1" or a path to a scene file; throws InputError naming
 /// what was tried.

@@ -26,7 +26,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
-#include <toml++/toml.h>
 
 #ifdef FF_HAVE_MPI
 // the C API only: Open MPI's deprecated C++ bindings would need libmpi_cxx
@@ -249,25 +248,9 @@ std::string scene_fingerprint(const std::string& scene, const std::vector<std::s
     return true;
   };
   if (!add_file(scene)) return {};
-  std::vector<std::string> meshes;
-  try {
-    std::string text;
-    read_input_file(scene, &text, kMaxTextInputBytes, kTextInputBound, nullptr);
-    const toml::table doc = toml::parse(text, scene);
-    std::function<void(const toml::node&)> visit = [&](const toml::node& n) {
-      if (const toml::table* t = n.as_table()) {
-        if (const toml::array* parts = t->get_as<toml::array>("part"))
-          for (const toml::node& part : *parts)
-            if (const toml::table* p = part.as_table())
-              if (const auto* file = p->get_as<std::string>("file")) meshes.push_back(file->get());
-        for (const auto& [key, child] : *t) visit(child);
-      } else if (const toml::array* a = n.as_array()) {
-        for (const toml::node& child : *a) visit(child);
-      }
-    };
-    visit(doc);
-  } catch (const std::exception&) {  // not TOML: the scene's own text is all there is to compare
-  }
+  std::string text;
+  read_input_file(scene, &text, kMaxTextInputBytes, kTextInputBound, nullptr);
+  std::vector<std::string> meshes = scene::part_files_in_text(text, scene);
   for (const std::string& o : overrides) {  // part[0].file="other.obj"
     const std::size_t eq = o.find('=');
     const std::string key = eq == std::string::npos ? std::string() : o.substr(0, eq);
@@ -598,12 +581,6 @@ struct MpiSession {
   MpiSession& operator=(const MpiSession&) = delete;
 };
 
-std::string read_file_text(const fs::path& p) {
-  std::string text;
-  read_input_file(p.string(), &text, kMaxTextInputBytes, kTextInputBound, nullptr);
-  return text;
-}
-
 /// A rank other than 0: asks rank 0 for an entry, runs it as a child process (one thread, as with
 /// --jobs), sends back its summary.json text with the next request; the text travels so the run
 /// folders need not be on a file system rank 0 shares.
@@ -625,7 +602,7 @@ int mpi_worker(const std::vector<StudyVariant>& entries, const std::vector<fs::p
     message = std::to_string(e) + "\n";
     if (got) {  // a crash is reported like a result (collect_child), a stop sends none
       write_variant_run(t.folder / "summary.json", t.variant.label, t.variant.scene, t.variant.overrides, *got);
-      message += read_file_text(t.folder / "summary.json");
+      message += read_text_or_empty(t.folder / "summary.json");
     }
   }
 }
@@ -777,6 +754,233 @@ int run_study_variant(const StudyVariantOptions& o, const std::atomic<bool>& sto
   return 0;
 }
 
+// What a variant's run measured, into its row of the tables
+void take_run(Row& row, const VariantRun& r, const std::string& metric_name) {
+  row.status = r.status;
+  row.reason = r.reason;
+  row.walls = r.walls;
+  row.cpu_s = median(r.cpus);
+  row.shared = r.shared;
+  row.metric = metric(r.metrics, metric_name);
+  row.steps = r.steps;
+  row.iterations = r.iterations;
+  row.updates = r.updates;
+  row.peak_mb = r.peak_mb;
+  row.setup_s = r.setup_s;
+  row.run_s = r.run_s;
+}
+
+// Each row's error against the reference and its median wall time; marks the Pareto front (no
+// cheaper variant is as accurate). Returns the rows on the front's candidates, cheapest first,
+// and sets *first_wall to the first variant's time (relative times are to it).
+std::vector<std::size_t> rank_by_cost(std::vector<Row>& rows, double ref, double* first_wall_out) {
+  const double scale = std::isfinite(ref) && ref != 0.0 ? std::abs(ref) : NAN;
+  double first_wall = NAN;
+  for (Row& r : rows) {
+    r.wall_s = median(r.walls);
+    if (!std::isfinite(first_wall) && std::isfinite(r.wall_s)) first_wall = r.wall_s;
+    r.error = std::abs(r.metric - ref);
+    r.error_percent = 100.0 * r.error / scale;
+  }
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (std::isfinite(rows[i].wall_s) && std::isfinite(rows[i].error) && !rows[i].is_reference) order.push_back(i);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return rows[a].wall_s < rows[b].wall_s; });
+  double best = INFINITY;
+  // a variant must beat the cheaper ones by more than round-off to count
+  for (std::size_t i : order)
+    if (rows[i].error < best * (1.0 - 1e-6)) {
+      best = rows[i].error;
+      rows[i].pareto = true;
+    }
+
+  *first_wall_out = first_wall;
+  return order;
+}
+
+// study.csv: one row per variant; non-finite values (a variant that diverged has no metric) are
+// left empty, never "nan". WriteError (a full disk): exit 1.
+void write_study_csv(OutputFolder& folder, const StudySpec& spec, const std::vector<Row>& rows, double ref,
+                     double first_wall) {
+  std::ostringstream csv;
+  csv << "variant";
+  for (const StudyAxis& a : spec.axes) csv << ',' << a.name();
+  csv << ",status,wall_s,relative_time,setup_s,run_s,steps,newton_iterations,jacobian_updates,peak_memory_mb,"
+      << spec.metric << ",reference,error,error_percent,pareto,is_reference,cpu_s,shared\n";
+  const auto num = [](double v) {
+    if (!std::isfinite(v)) return std::string();
+    char b[32];
+    std::snprintf(b, sizeof b, "%.10g", v);
+    return std::string(b);
+  };
+  const auto quoted = [](const std::string& text) {
+    std::string q = "\"";
+    for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + '"';
+  };
+  for (const Row& r : rows) {
+    csv << quoted(r.variant.label);
+    for (const std::string& l : r.variant.axis_labels) csv << ',' << quoted(l);
+    csv << ',' << r.status << ',' << num(r.wall_s) << ',' << num(r.wall_s / first_wall) << ',' << num(r.setup_s)
+        << ',' << num(r.run_s) << ',' << r.steps << ',' << r.iterations << ',' << r.updates << ',' << num(r.peak_mb)
+        << ',' << num(r.metric) << ',' << num(ref) << ',' << num(r.error) << ',' << num(r.error_percent) << ','
+        << (r.pareto ? 1 : 0) << ',' << (r.is_reference ? 1 : 0) << ',' << num(r.cpu_s) << ','
+        << (r.shared ? 1 : 0) << '\n';
+  }
+  write_text_file(folder.file("study.csv"), csv.str());
+
+}
+
+// study.md: what was run and how it was timed, the table, and the convergence per varied key
+std::string study_markdown(const StudySpec& spec, const std::vector<Row>& rows, double ref, double first_wall,
+                           int repeat, bool any_shared, int side_by_side, bool distributed) {
+  std::ostringstream md;
+  md << "# Study " << spec.name << "\n\n";
+  if (!spec.description.empty()) md << spec.description << "\n\n";
+  md << "- base scene: " << fs::path(spec.scene).stem().string();
+  for (const std::string& s : spec.base_overrides) md << " `--set " << s << "`";
+  md << "\n- metric: `" << spec.metric << "`; reference " << reference_text(spec.reference, ref) << "\n";
+  md << "- wall time: median of " << repeat << " run(s) per variant (set-up + solve, no output)";
+  if (any_shared)
+    md << "; variants marked shared ran " << side_by_side << (distributed ? " at a time (MPI ranks)" : " at a time")
+       << ", one thread each, so their times include"
+       << " the contention (`--timing exclusive` re-times them one at a time)";
+  else
+    md << ", repetitions interleaved over the variants";
+  md << "; relative time is to the first variant, measured in the same study; CPU time is the process's\n";
+  md << "- peak memory: growth of the resident set during the variant's first run"
+     << (std::isfinite(rows.empty() ? NAN : rows.front().peak_mb) ? "" : " (not measurable here: shown as -)")
+     << "\n- Pareto: no faster variant has a smaller error\n\n";
+  md << "| variant | wall [s] | CPU [s] | shared | relative time | Newton it. | matrix updates | peak memory [MB] | "
+     << spec.metric << " | error [%] | Pareto | status |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const Row& r : rows) {
+    md << "| " << r.variant.label << " | " << fmt("%.3g", r.wall_s) << " | " << fmt("%.3g", r.cpu_s) << " | "
+       << (r.shared ? "yes" : "") << " | " << fmt("%.3f", r.wall_s / first_wall)
+       << " | " << r.iterations << " | " << r.updates << " | " << fmt("%.2f", r.peak_mb) << " | "
+       << fmt("%.6g", r.metric) << " | " << (r.is_reference ? std::string("reference") : fmt("%.3g", r.error_percent))
+       << " | " << (r.pareto ? "yes" : "") << " | " << r.status << (r.reason.empty() ? "" : ": " + r.reason)
+       << " |\n";
+  }
+  // how the metric converges along each discretization key (error_bars.md (R6)): the observed
+  // order, and the finest variant's own error, which the finest-variant reference leaves out
+  const std::vector<AxisConvergence> convergence = axis_convergence(spec, rows);
+  if (!convergence.empty()) {
+    md << "\n## Convergence per varied key (core/model/error_bars.md)\n\n"
+       << "Along each key, the other keys at their finest value: the observed order from the three finest "
+          "levels (R6) (the formal order 2 from two), and the estimated error of the finest level with its "
+          "bar (GCI, safety factor 1.25 observed / 3 formal).\n\n"
+       << "| key | levels, finest first | " << spec.metric << " | order | estimated error of the finest | bar |\n"
+       << "|---|---|---|---|---|---|\n";
+    double total = 0.0, total_bar = 0.0;
+    bool all = true;
+    for (const AxisConvergence& c : convergence) {
+      std::string levels, values;
+      for (std::size_t i = 0; i < c.levels.size(); ++i) {
+        levels += (i ? ", " : "") + c.levels[i];
+        values += (i ? ", " : "") + fmt("%.6g", c.metric[i]);
+      }
+      md << "| " << c.axis << " | " << levels << " | " << values << " | ";
+      if (c.estimate.error) {
+        const SourceError& e = *c.estimate.error;
+        md << fmt("%.2f", e.order) << (e.order_observed            ? " (observed)"
+                                         : e.observed_order > 0.0 ? fmt(" (formal; observed %.2f)", e.observed_order)
+                                                                  : std::string(" (formal)")) << " | " << fmt("%.3g", e.estimate)
+           << " (" << fmt("%.2g", 100.0 * std::abs(e.estimate) / std::max(std::abs(e.fine), 1e-300)) << " %) | "
+           << fmt("%.3g", e.bar) << " |\n";
+        total += e.estimate;
+        total_bar += e.bar;
+      } else {
+        md << "- | no estimate: " << c.note << " | |\n";
+        all = false;
+      }
+    }
+    if (spec.reference.kind == StudyReference::Kind::finest && total_bar > 0)
+      md << "\nThe errors above are measured from the finest variant, whose own error is estimated at "
+         << fmt("%.3g", total) << " ± " << fmt("%.3g", total_bar) << " (the keys' estimates and bars added, (R7))"
+         << (all ? "" : "; keys without an estimate are not in it") << ".\n";
+  }
+  return md.str();
+
+}
+
+// pareto.png: error against wall time, log-log; a line per value of the later axes. Returns the
+// line that says what it shows ("" when it could not be drawn: a warning said why).
+std::string draw_pareto_plot(OutputFolder& folder, const StudySpec& spec, const std::vector<Row>& rows,
+                             const std::vector<std::size_t>& order) {
+  std::string err, pareto_note;
+  auto gc = render::GraphicsContext::create(&err);
+  if (gc) {
+    render::PlotSpec plot;
+    plot.title = spec.name + ": error of " + spec.metric + " against wall time";
+    plot.x_label = "wall time [s]";
+    plot.y_label = "error in " + spec.metric + " [%]";
+    plot.log_x = plot.log_y = true;
+    // the front first, in grey, so that the variants' markers are drawn over it
+    render::PlotSeries front{"Pareto front", {}, {}, false};
+    front.grey = true;
+    front.dash = render::LineDash::dashed;
+    for (std::size_t i : order)
+      if (rows[i].pareto) {
+        front.x.push_back(rows[i].wall_s);
+        front.y.push_back(rows[i].error_percent);
+      }
+    const bool draw_front = front.x.size() > 1;
+    if (draw_front) plot.series.push_back(front);
+    // the second varied key's value picks a marker shape (colours tell the series apart as well)
+    constexpr render::MarkerShape kShapes[] = {render::MarkerShape::circle, render::MarkerShape::square,
+                                               render::MarkerShape::diamond, render::MarkerShape::cross,
+                                               render::MarkerShape::plus};
+    std::map<std::string, std::size_t> shape_of;
+    std::map<std::string, std::size_t> series_of;
+    for (const Row& r : rows) {
+      std::string group;
+      bool axis_row = false;
+      for (std::size_t a = 0; a < r.variant.axis_labels.size(); ++a) {
+        if (!r.variant.axis_labels[a].empty()) axis_row = true;
+        if (a == 0 && spec.grid) continue;  // points along the first axis share a line
+        if (!r.variant.axis_labels[a].empty())
+          group += (group.empty() ? "" : ", ") + spec.axes[a].name() + "=" + r.variant.axis_labels[a];
+      }
+      if (!axis_row) group = r.variant.label;
+      if (group.empty()) group = spec.axes.empty() ? "variants" : spec.axes.front().name();
+      auto [it, fresh] = series_of.emplace(group, plot.series.size());
+      if (fresh) {
+        render::PlotSeries s{group, {}, {}, true};  // markers: neighbours are not a continuum in time
+        if (r.variant.axis_labels.size() > 1 && !r.variant.axis_labels[1].empty()) {
+          const auto [shape, unused] = shape_of.emplace(r.variant.axis_labels[1], shape_of.size());
+          s.marker = kShapes[shape->second % std::size(kShapes)];
+        }
+        plot.series.push_back(s);
+      }
+      render::PlotSeries& s = plot.series[it->second];
+      s.x.push_back(r.wall_s);
+      s.y.push_back(r.error_percent);
+      // a point on the front says which value of the (first) varied key it is
+      std::string tag;
+      if (r.pareto) {
+        for (std::size_t a = 0; a < r.variant.axis_labels.size() && a < spec.axes.size(); ++a)
+          if (tag.empty() && !r.variant.axis_labels[a].empty())
+            tag = spec.axes[a].name() + "=" + r.variant.axis_labels[a];
+        if (tag.empty()) tag = r.variant.label;  // an extra variant (another scene) varies no key
+      }
+      s.point_labels.push_back(tag);
+    }
+    // a plot with nothing to draw (every variant stopped early) is a warning; a file that
+    // cannot be written is the study's failure
+    render::PlotDrawn drawn;
+    if (!render::write_plot_png(*gc, plot, folder.file("pareto.png").string(), &err, &drawn)) {
+      if (err.find("could not write PNG") != std::string::npos) throw WriteError("pareto plot: " + err);
+      std::fprintf(stderr, "warning: pareto plot: %s\n", err.c_str());
+    } else {
+      pareto_note = fmt("pareto.png: error axis %.3g", drawn.y_min) + fmt(" to %.3g %%", drawn.y_max) + ", " +
+                    std::to_string(drawn.point_labels) + " Pareto point(s) labelled\n";
+    }
+  } else {
+    std::fprintf(stderr, "warning: no graphics context for pareto.png: %s\n", err.c_str());
+  }
+  return pareto_note;
+}
+
 int run_study(const StudySpec& spec, const StudyOptions& options, const std::atomic<bool>& stop) {
   const fs::path dir = options.out_dir.empty() ? fs::path("out") / "study" / spec.name : fs::path(options.out_dir);
   const fs::path runs_dir = dir / "runs";
@@ -894,7 +1098,6 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
   // cheap ones fill the gaps, instead of the finest starting last and finishing alone
   std::reverse(tasks.begin(), tasks.end());
   bool stopped = false;
-  bool any_shared = false;
 #ifdef FF_HAVE_MPI
   const bool distributed = mpi.active;
 #else
@@ -997,24 +1200,9 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
         !is_ref(e) && !runs[e]->walls.empty())
       save(e);
 
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (!runs[i]) continue;
-    const VariantRun& r = *runs[i];
-    Row& row = rows[i];
-    row.status = r.status;
-    row.reason = r.reason;
-    row.walls = r.walls;
-    row.cpu_s = median(r.cpus);
-    row.shared = r.shared;
-    any_shared = any_shared || r.shared;
-    row.metric = metric(r.metrics, spec.metric);
-    row.steps = r.steps;
-    row.iterations = r.iterations;
-    row.updates = r.updates;
-    row.peak_mb = r.peak_mb;
-    row.setup_s = r.setup_s;
-    row.run_s = r.run_s;
-  }
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (runs[i]) take_run(rows[i], *runs[i], spec.metric);
+  const bool any_shared = std::any_of(rows.begin(), rows.end(), [](const Row& r) { return r.shared; });
   if (ref_entry) {
     if (runs.back()) ref = metric(runs.back()->metrics, spec.metric);
     if (!std::isfinite(ref) && !stop)
@@ -1026,197 +1214,13 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
     rows[ref_row].is_reference = true;
   }
 
-  // errors, relative time, Pareto front (no cheaper variant is as accurate)
-  const double scale = std::isfinite(ref) && ref != 0.0 ? std::abs(ref) : NAN;
   double first_wall = NAN;
-  for (Row& r : rows) {
-    r.wall_s = median(r.walls);
-    if (!std::isfinite(first_wall) && std::isfinite(r.wall_s)) first_wall = r.wall_s;
-    r.error = std::abs(r.metric - ref);
-    r.error_percent = 100.0 * r.error / scale;
-  }
-  std::vector<std::size_t> order;
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    if (std::isfinite(rows[i].wall_s) && std::isfinite(rows[i].error) && !rows[i].is_reference) order.push_back(i);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return rows[a].wall_s < rows[b].wall_s; });
-  double best = INFINITY;
-  // a variant must beat the cheaper ones by more than round-off to count
-  for (std::size_t i : order)
-    if (rows[i].error < best * (1.0 - 1e-6)) {
-      best = rows[i].error;
-      rows[i].pareto = true;
-    }
-
-  // study.csv
-  std::ostringstream csv;
-  csv << "variant";
-  for (const StudyAxis& a : spec.axes) csv << ',' << a.name();
-  csv << ",status,wall_s,relative_time,setup_s,run_s,steps,newton_iterations,jacobian_updates,peak_memory_mb,"
-      << spec.metric << ",reference,error,error_percent,pareto,is_reference,cpu_s,shared\n";
-  // non-finite values (a variant that diverged has no metric) are left empty, never "nan"
-  const auto num = [](double v) {
-    if (!std::isfinite(v)) return std::string();
-    char b[32];
-    std::snprintf(b, sizeof b, "%.10g", v);
-    return std::string(b);
-  };
-  const auto quoted = [](const std::string& text) {
-    std::string q = "\"";
-    for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + '"';
-  };
-  for (const Row& r : rows) {
-    csv << quoted(r.variant.label);
-    for (const std::string& l : r.variant.axis_labels) csv << ',' << quoted(l);
-    csv << ',' << r.status << ',' << num(r.wall_s) << ',' << num(r.wall_s / first_wall) << ',' << num(r.setup_s)
-        << ',' << num(r.run_s) << ',' << r.steps << ',' << r.iterations << ',' << r.updates << ',' << num(r.peak_mb)
-        << ',' << num(r.metric) << ',' << num(ref) << ',' << num(r.error) << ',' << num(r.error_percent) << ','
-        << (r.pareto ? 1 : 0) << ',' << (r.is_reference ? 1 : 0) << ',' << num(r.cpu_s) << ','
-        << (r.shared ? 1 : 0) << '\n';
-  }
-  write_text_file(folder->file("study.csv"), csv.str());  // WriteError (a full disk): exit 1
-
-  // study.md
-  std::ostringstream md;
-  md << "# Study " << spec.name << "\n\n";
-  if (!spec.description.empty()) md << spec.description << "\n\n";
-  md << "- base scene: " << fs::path(spec.scene).stem().string();
-  for (const std::string& s : spec.base_overrides) md << " `--set " << s << "`";
-  md << "\n- metric: `" << spec.metric << "`; reference " << reference_text(spec.reference, ref) << "\n";
-  md << "- wall time: median of " << repeat << " run(s) per variant (set-up + solve, no output)";
-  if (any_shared)
-    md << "; variants marked shared ran " << side_by_side << (distributed ? " at a time (MPI ranks)" : " at a time")
-       << ", one thread each, so their times include"
-       << " the contention (`--timing exclusive` re-times them one at a time)";
-  else
-    md << ", repetitions interleaved over the variants";
-  md << "; relative time is to the first variant, measured in the same study; CPU time is the process's\n";
-  md << "- peak memory: growth of the resident set during the variant's first run"
-     << (std::isfinite(rows.empty() ? NAN : rows.front().peak_mb) ? "" : " (not measurable here: shown as -)")
-     << "\n- Pareto: no faster variant has a smaller error\n\n";
-  md << "| variant | wall [s] | CPU [s] | shared | relative time | Newton it. | matrix updates | peak memory [MB] | "
-     << spec.metric << " | error [%] | Pareto | status |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const Row& r : rows) {
-    md << "| " << r.variant.label << " | " << fmt("%.3g", r.wall_s) << " | " << fmt("%.3g", r.cpu_s) << " | "
-       << (r.shared ? "yes" : "") << " | " << fmt("%.3f", r.wall_s / first_wall)
-       << " | " << r.iterations << " | " << r.updates << " | " << fmt("%.2f", r.peak_mb) << " | "
-       << fmt("%.6g", r.metric) << " | " << (r.is_reference ? std::string("reference") : fmt("%.3g", r.error_percent))
-       << " | " << (r.pareto ? "yes" : "") << " | " << r.status << (r.reason.empty() ? "" : ": " + r.reason)
-       << " |\n";
-  }
-  // how the metric converges along each discretization key (error_bars.md (R6)): the observed
-  // order, and the finest variant's own error, which the finest-variant reference leaves out
-  const std::vector<AxisConvergence> convergence = axis_convergence(spec, rows);
-  if (!convergence.empty()) {
-    md << "\n## Convergence per varied key (core/model/error_bars.md)\n\n"
-       << "Along each key, the other keys at their finest value: the observed order from the three finest "
-          "levels (R6) (the formal order 2 from two), and the estimated error of the finest level with its "
-          "bar (GCI, safety factor 1.25 observed / 3 formal).\n\n"
-       << "| key | levels, finest first | " << spec.metric << " | order | estimated error of the finest | bar |\n"
-       << "|---|---|---|---|---|---|\n";
-    double total = 0.0, total_bar = 0.0;
-    bool all = true;
-    for (const AxisConvergence& c : convergence) {
-      std::string levels, values;
-      for (std::size_t i = 0; i < c.levels.size(); ++i) {
-        levels += (i ? ", " : "") + c.levels[i];
-        values += (i ? ", " : "") + fmt("%.6g", c.metric[i]);
-      }
-      md << "| " << c.axis << " | " << levels << " | " << values << " | ";
-      if (c.estimate.error) {
-        const SourceError& e = *c.estimate.error;
-        md << fmt("%.2f", e.order) << (e.order_observed            ? " (observed)"
-                                         : e.observed_order > 0.0 ? fmt(" (formal; observed %.2f)", e.observed_order)
-                                                                  : std::string(" (formal)")) << " | " << fmt("%.3g", e.estimate)
-           << " (" << fmt("%.2g", 100.0 * std::abs(e.estimate) / std::max(std::abs(e.fine), 1e-300)) << " %) | "
-           << fmt("%.3g", e.bar) << " |\n";
-        total += e.estimate;
-        total_bar += e.bar;
-      } else {
-        md << "- | no estimate: " << c.note << " | |\n";
-        all = false;
-      }
-    }
-    if (spec.reference.kind == StudyReference::Kind::finest && total_bar > 0)
-      md << "\nThe errors above are measured from the finest variant, whose own error is estimated at "
-         << fmt("%.3g", total) << " ± " << fmt("%.3g", total_bar) << " (the keys' estimates and bars added, (R7))"
-         << (all ? "" : "; keys without an estimate are not in it") << ".\n";
-  }
-  write_text_file(folder->file("study.md"), md.str());
-
-  // pareto.png: error against wall time, log-log; a line per value of the later axes
-  std::string err, pareto_note;
-  auto gc = render::GraphicsContext::create(&err);
-  if (gc) {
-    render::PlotSpec plot;
-    plot.title = spec.name + ": error of " + spec.metric + " against wall time";
-    plot.x_label = "wall time [s]";
-    plot.y_label = "error in " + spec.metric + " [%]";
-    plot.log_x = plot.log_y = true;
-    // the front first, in grey, so that the variants' markers are drawn over it
-    render::PlotSeries front{"Pareto front", {}, {}, false};
-    front.grey = true;
-    front.dash = render::LineDash::dashed;
-    for (std::size_t i : order)
-      if (rows[i].pareto) {
-        front.x.push_back(rows[i].wall_s);
-        front.y.push_back(rows[i].error_percent);
-      }
-    const bool draw_front = front.x.size() > 1;
-    if (draw_front) plot.series.push_back(front);
-    // the second varied key's value picks a marker shape (colours tell the series apart as well)
-    constexpr render::MarkerShape kShapes[] = {render::MarkerShape::circle, render::MarkerShape::square,
-                                               render::MarkerShape::diamond, render::MarkerShape::cross,
-                                               render::MarkerShape::plus};
-    std::map<std::string, std::size_t> shape_of;
-    std::map<std::string, std::size_t> series_of;
-    for (const Row& r : rows) {
-      std::string group;
-      bool axis_row = false;
-      for (std::size_t a = 0; a < r.variant.axis_labels.size(); ++a) {
-        if (!r.variant.axis_labels[a].empty()) axis_row = true;
-        if (a == 0 && spec.grid) continue;  // points along the first axis share a line
-        if (!r.variant.axis_labels[a].empty())
-          group += (group.empty() ? "" : ", ") + spec.axes[a].name() + "=" + r.variant.axis_labels[a];
-      }
-      if (!axis_row) group = r.variant.label;
-      if (group.empty()) group = spec.axes.empty() ? "variants" : spec.axes.front().name();
-      auto [it, fresh] = series_of.emplace(group, plot.series.size());
-      if (fresh) {
-        render::PlotSeries s{group, {}, {}, true};  // markers: neighbours are not a continuum in time
-        if (r.variant.axis_labels.size() > 1 && !r.variant.axis_labels[1].empty()) {
-          const auto [shape, unused] = shape_of.emplace(r.variant.axis_labels[1], shape_of.size());
-          s.marker = kShapes[shape->second % std::size(kShapes)];
-        }
-        plot.series.push_back(s);
-      }
-      render::PlotSeries& s = plot.series[it->second];
-      s.x.push_back(r.wall_s);
-      s.y.push_back(r.error_percent);
-      // a point on the front says which value of the (first) varied key it is
-      std::string tag;
-      if (r.pareto) {
-        for (std::size_t a = 0; a < r.variant.axis_labels.size() && a < spec.axes.size(); ++a)
-          if (tag.empty() && !r.variant.axis_labels[a].empty())
-            tag = spec.axes[a].name() + "=" + r.variant.axis_labels[a];
-        if (tag.empty()) tag = r.variant.label;  // an extra variant (another scene) varies no key
-      }
-      s.point_labels.push_back(tag);
-    }
-    // a plot with nothing to draw (every variant stopped early) is a warning; a file that
-    // cannot be written is the study's failure
-    render::PlotDrawn drawn;
-    if (!render::write_plot_png(*gc, plot, folder->file("pareto.png").string(), &err, &drawn)) {
-      if (err.find("could not write PNG") != std::string::npos) throw WriteError("pareto plot: " + err);
-      std::fprintf(stderr, "warning: pareto plot: %s\n", err.c_str());
-    } else {
-      pareto_note = fmt("pareto.png: error axis %.3g", drawn.y_min) + fmt(" to %.3g %%", drawn.y_max) + ", " +
-                    std::to_string(drawn.point_labels) + " Pareto point(s) labelled\n";
-    }
-  } else {
-    std::fprintf(stderr, "warning: no graphics context for pareto.png: %s\n", err.c_str());
-  }
-  std::cout << md.str();
+  const std::vector<std::size_t> order = rank_by_cost(rows, ref, &first_wall);
+  write_study_csv(*folder, spec, rows, ref, first_wall);
+  const std::string md = study_markdown(spec, rows, ref, first_wall, repeat, any_shared, side_by_side, distributed);
+  write_text_file(folder->file("study.md"), md);
+  const std::string pareto_note = draw_pareto_plot(*folder, spec, rows, order);
+  std::cout << md;
   std::printf("\n%s", pareto_note.c_str());
   std::printf("wrote %s/{study.csv, study.md, pareto.png}\n", dir.string().c_str());
   return stop ? 130 : 0;

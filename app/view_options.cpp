@@ -6,7 +6,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "app/run_session.h"
+#include "app/input_error.h"
 #include "core/scene/schema_text.h"
 
 namespace ff::app {

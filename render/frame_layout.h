@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/frame/frame.h"
-#include "render/frame_renderer.h"
+#include "render/camera.h"
 
 namespace ff::render {
 

@@ -240,7 +240,7 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
     range_fixed = true;
   }
 
-  surface = std::make_unique<RenderSurface>(gc, style.width, style.height);
+  surface = std::make_unique<RenderSurface>(gc.state(), style.width, style.height);
   if (!surface->ok()) {
     error = surface->error();
     return false;

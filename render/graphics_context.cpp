@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "render/backend_state.h"
 #include "render/render_surface.h"
 #include "render/vtk_messages.h"
 
@@ -66,7 +67,7 @@ std::string capability_line(const std::string& report, const std::string& key) {
   return {};
 }
 
-bool probe_egl(GraphicsContext::Impl* impl, std::string* error) {
+bool probe_egl(BackendState* impl, std::string* error) {
   if (!egl::acquire_display(&impl->egl, error)) return false;
   void* ctx = egl::create_context(impl->egl, error);
   if (ctx == nullptr) return false;  // ~Impl releases the display
@@ -87,7 +88,7 @@ bool probe_egl(GraphicsContext::Impl* impl, std::string* error) {
 
 // the X11 window reports its renderer only once it has a context: render one tiny frame
 bool probe_x11(GraphicsContext& gc, std::string* error) {
-  RenderSurface surface(gc, 32, 32);
+  RenderSurface surface(gc.state(), 32, 32);
   if (!surface.ok()) {
     *error = surface.error();
     return false;
@@ -98,7 +99,7 @@ bool probe_x11(GraphicsContext& gc, std::string* error) {
   surface.window()->Render();
   const std::string report = surface.window()->ReportCapabilities();
   surface.window()->RemoveRenderer(renderer);
-  auto& impl = gc.impl();
+  BackendState& impl = gc.state();
   impl.gl_renderer = capability_line(report, "OpenGL renderer string");
   impl.gl_version = capability_line(report, "OpenGL version string");
   if (impl.gl_renderer.empty()) {
@@ -125,11 +126,15 @@ std::recursive_mutex& vtk_mutex() {
   return m;
 }
 
-GraphicsContext::GraphicsContext(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+BackendState::~BackendState() {
+  if (backend == Backend::egl_surfaceless && egl.display != nullptr) egl::release_display();
+}
+
+GraphicsContext::GraphicsContext(std::unique_ptr<BackendState> state) : state_(std::move(state)) {}
 
 GraphicsContext::~GraphicsContext() {
   std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
-  impl_.reset();
+  state_.reset();
 }
 
 std::unique_ptr<GraphicsContext> GraphicsContext::create(std::string* error, Backend preferred) {
@@ -146,7 +151,7 @@ std::unique_ptr<GraphicsContext> GraphicsContext::create(std::string* error, Bac
     return nullptr;
   }
 
-  auto impl = std::make_unique<Impl>();
+  auto impl = std::make_unique<BackendState>();
   impl->backend = chosen;
   std::string err;
   if (chosen == Backend::egl_surfaceless) {
@@ -173,9 +178,9 @@ std::unique_ptr<GraphicsContext> GraphicsContext::create(std::string* error, Bac
   return nullptr;
 }
 
-std::string GraphicsContext::backend() const { return to_string(impl_->backend); }
-Backend GraphicsContext::backend_kind() const { return impl_->backend; }
-std::string GraphicsContext::gl_renderer() const { return impl_->gl_renderer; }
-std::string GraphicsContext::gl_version() const { return impl_->gl_version; }
+std::string GraphicsContext::backend() const { return to_string(state_->backend); }
+Backend GraphicsContext::backend_kind() const { return state_->backend; }
+std::string GraphicsContext::gl_renderer() const { return state_->gl_renderer; }
+std::string GraphicsContext::gl_version() const { return state_->gl_version; }
 
 }  // namespace ff::render

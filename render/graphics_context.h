@@ -8,17 +8,11 @@
 #include <mutex>
 #include <string>
 
+#include "render/graphics_backend.h"
+
 namespace ff::render {
 
-/// Which window-system path a GraphicsContext uses.
-enum class Backend {
-  automatic,        ///< EGL surfaceless when $DISPLAY is unset/empty or does not answer, else X11
-  egl_surfaceless,  ///< Mesa EGL without any window system (works with or without a display)
-  x11,              ///< VTK's X11 OpenGL render window, off screen (needs a working display)
-};
-
-/// "egl-surfaceless" or "x11" ("automatic" for Backend::automatic).
-const char* to_string(Backend b);
+struct BackendState;
 
 /// A process-wide OpenGL backend choice plus what it reported.
 ///
@@ -51,13 +45,12 @@ class GraphicsContext {
   /// GL_VERSION of that context, e.g. "4.5 (Core Profile) Mesa 22.3.6".
   std::string gl_version() const;
 
-  /// Internal state shared with the render targets of render/ (defined in render_surface.h).
-  struct Impl;
-  Impl& impl() { return *impl_; }
+  /// Internal state shared with the render targets of render/ (render/backend_state.h).
+  BackendState& state() { return *state_; }
 
  private:
-  explicit GraphicsContext(std::unique_ptr<Impl> impl);
-  std::unique_ptr<Impl> impl_;
+  explicit GraphicsContext(std::unique_ptr<BackendState> state);
+  std::unique_ptr<BackendState> state_;
 };
 
 /// Lock held by render/ around every use of VTK. Code elsewhere that drives VTK in the same

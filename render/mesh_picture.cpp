@@ -191,7 +191,7 @@ struct Picture {
   std::vector<PixelBox> occupied;     // title and axes: no label there
 
   Picture(GraphicsContext& gc, const MeshPicture& p) : in(p) {
-    surface = std::make_unique<RenderSurface>(gc, p.width, p.height);
+    surface = std::make_unique<RenderSurface>(gc.state(), p.width, p.height);
     if (!surface->ok()) error = surface->error();
   }
   ~Picture() { surface.reset(); }

@@ -122,7 +122,7 @@ bool write_plot_png(GraphicsContext& gc, const PlotSpec& spec, const std::string
   if (drawable == 0) return fail("plot '" + spec.title + "' has no finite point to draw");
 
   std::lock_guard<std::recursive_mutex> lock(vtk_mutex());
-  RenderSurface surface(gc, spec.width, spec.height);
+  RenderSurface surface(gc.state(), spec.width, spec.height);
   if (!surface.ok()) return fail(surface.error());
 
   const double font_px = std::max(11.0, std::round(std::min(spec.width, spec.height) / 38.0));

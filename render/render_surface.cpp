@@ -13,10 +13,6 @@
 
 namespace ff::render {
 
-GraphicsContext::Impl::~Impl() {
-  if (backend == Backend::egl_surfaceless && egl.display != nullptr) egl::release_display();
-}
-
 namespace {
 
 void on_make_current(vtkObject*, unsigned long, void* client, void*) {
@@ -33,7 +29,7 @@ void on_answer_yes(vtkObject*, unsigned long, void*, void* call) { *static_cast<
 
 }  // namespace
 
-RenderSurface::RenderSurface(GraphicsContext& gc, int width, int height) : gc_(gc.impl()) {
+RenderSurface::RenderSurface(BackendState& backend, int width, int height) : gc_(backend) {
   if (width < 16 || height < 16 || width > 16384 || height > 16384) {
     error_ = "image size " + std::to_string(width) + "x" + std::to_string(height) +
              " is outside 16..16384";

@@ -1,7 +1,7 @@
 #pragma once
 /// \file render_surface.h
-/// Internal to render/ (exposes VTK): the state behind GraphicsContext and an off-screen VTK
-/// render window bound to it, with PNG read-back. Used by frame_renderer.cpp and plot.cpp.
+/// Internal to render/ (exposes VTK): an off-screen VTK render window bound to a
+/// GraphicsContext's backend (backend_state.h), with PNG read-back. Used by frame_renderer.cpp and plot.cpp.
 
 #include <vtkNew.h>
 #include <vtkRenderWindow.h>
@@ -10,18 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "render/egl_headless.h"
-#include "render/graphics_context.h"
+#include "render/backend_state.h"
 
 namespace ff::render {
-
-struct GraphicsContext::Impl {
-  Backend backend = Backend::egl_surfaceless;
-  egl::Display egl;  ///< valid for Backend::egl_surfaceless (one reference held)
-  std::string gl_renderer;
-  std::string gl_version;
-  ~Impl();
-};
 
 /// An off-screen VTK render window of a fixed size on the context's backend.
 ///  - egl-surfaceless: a vtkGenericOpenGLRenderWindow on its own EGL context; VTK's
@@ -37,7 +28,7 @@ class RenderSurface {
     void* context = nullptr;
   };
 
-  RenderSurface(GraphicsContext& gc, int width, int height);
+  RenderSurface(BackendState& backend, int width, int height);
   ~RenderSurface();
   RenderSurface(const RenderSurface&) = delete;
   RenderSurface& operator=(const RenderSurface&) = delete;
@@ -60,7 +51,7 @@ class RenderSurface {
  private:
   // renders and reads the colour buffer; VTK errors and warnings raised meanwhile go to *vtk_messages
   bool render_and_read(std::vector<unsigned char>* rgb, std::string* vtk_messages, std::string* error);
-  GraphicsContext::Impl& gc_;
+  BackendState& gc_;
   EglTarget egl_;
   vtkSmartPointer<vtkRenderWindow> window_;
   std::vector<unsigned char> pixels_;  // read-back buffer, kept between frames

@@ -1,5 +1,6 @@
 #include "app/gui/actions.h"
 
+#include "core/frame/text.h"
 #include "core/frame/input_file.h"
 
 #include <cerrno>
@@ -10,13 +11,6 @@
 
 namespace ff::app::gui {
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  const auto b = s.find_last_not_of(" \t\r");
-  return s.substr(a, b - a + 1);
-}
 
 bool parse_int(const std::string& s, long long* out) {
   if (s.empty()) return false;

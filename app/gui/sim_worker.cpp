@@ -1,5 +1,6 @@
 #include "app/gui/sim_worker.h"
 #include "app/io/mesh_import.h"
+#include "core/frame/text.h"
 #include "core/model/run_loop.h"
 
 #include <algorithm>
@@ -10,11 +11,6 @@
 
 namespace ff::app::gui {
 namespace {
-std::string short_number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", v);
-  return text;
-}
 }  // namespace
 
 const char* to_string(WorkerState s) {
@@ -398,7 +394,7 @@ void SimWorker::handle(const Command& c, std::unique_lock<std::mutex>& lock) {
           break;
         }
         status_.scene_text = e->text;
-        set_message(what + " live from t = " + short_number(now) + ": the run goes on with it (" + e->note + ")",
+        set_message(what + " live from t = " + significant(now) + ": the run goes on with it (" + e->note + ")",
                     false);
         break;
       }

@@ -1,10 +1,11 @@
 #pragma once
 /// \file element_thread_pool.h
 /// The element loop's std::thread back-end (element_threads.h): a pool of plain std::threads that
-/// sleep on a condition variable between loops. Built into every FlexFrame; for_each_chunk uses it
-/// when configured with -DFLEXFRAME_ELEMENT_THREADS=std (ThreadSanitizer sees every
-/// synchronization of it, which it cannot in the uninstrumented oneTBB: scripts/sanitize --tsan).
-/// oneTBB stays the default: its workers are the faster to start.
+/// sleep on a condition variable between loops. Part of the product only when configured with
+/// -DFLEXFRAME_ELEMENT_THREADS=std, where for_each_chunk uses it (ThreadSanitizer sees every
+/// synchronization of it, which it cannot in the uninstrumented oneTBB: scripts/sanitize --tsan);
+/// its unit test compiles it in every build. oneTBB stays the default: its workers are the faster
+/// to start.
 
 #include <functional>
 

@@ -1,7 +1,5 @@
 #include "core/assembly/element_threads.h"
 
-#include "core/assembly/element_thread_pool.h"
-
 #if FF_ELEMENT_THREADS_TBB
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -13,6 +11,8 @@
 #include <mutex>
 #else
 #include <sched.h>
+
+#include "core/assembly/element_thread_pool.h"
 
 #include <thread>
 #endif

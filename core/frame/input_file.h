@@ -146,4 +146,12 @@ inline bool read_input_file(const std::string& path, std::string* text, std::uin
   return true;
 }
 
+/// The whole text file at `path` (a scene, a study, a summary), or "" when it cannot be read:
+/// for callers that say why elsewhere (a validator that opens it again, a missing result).
+inline std::string read_text_or_empty(const std::string& path) {
+  std::string text;
+  read_input_file(path, &text, kMaxTextInputBytes, kTextInputBound, nullptr);
+  return text;
+}
+
 }  // namespace ff

@@ -137,7 +137,6 @@ class HubBeamSystem final : public SecondOrderSystem {
   const HubBeamEffects& effects() const { return fx_; }
   const BeamBasis& basis() const { return *basis_; }
   int axial_dofs() const { return n1_; }
-  int transverse_dofs() const { return n2_; }
 
  private:
   HubBeamParams params_;

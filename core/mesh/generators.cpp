@@ -1,5 +1,7 @@
 #include "core/mesh/generators.h"
 
+#include "core/frame/text.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -49,13 +51,6 @@ Vec3 orthogonal_unit(const std::string& who, const Vec3& axis, const Vec3& radia
   if (r.norm() < 1e-9 * std::max(1.0, radial.norm()))
     fail(who + ": the phi = 0 direction is parallel to the axis; choose a radial0 orthogonal to it");
   return r.normalized();
-}
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
 }
 
 double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
@@ -139,7 +134,7 @@ ShellMesh rectangular_plate(const RectangularPlate& s, int n_a, int n_b, const s
   const Vec3 n = ea.cross(eb);
   const Vec3 o = s.origin;
   const double a = s.a, b = s.b;
-  return parametric_patch(name, "plate " + fmt(a) + " x " + fmt(b), n_a, n_b, [=](double u, double v) {
+  return parametric_patch(name, "plate " + significant(a) + " x " + significant(b), n_a, n_b, [=](double u, double v) {
     return SurfacePoint{o + (u * a) * ea + (v * b) * eb, n};
   });
 }
@@ -173,8 +168,8 @@ ShellMesh cylindrical_patch(const CylinderPatch& s, int n_phi, int n_axial, cons
   const double R = s.radius, p0 = s.phi0, dp = s.phi1 - s.phi0, z0 = s.s0, dz = s.s1 - s.s0;
   const double sign = s.outward ? 1.0 : -1.0;
   const Vec3 o = s.origin;
-  const std::string d = "cylinder R=" + fmt(R) + ", phi in [" + fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad, axial in [" +
-                        fmt(s.s0) + ", " + fmt(s.s1) + "]";
+  const std::string d = "cylinder R=" + significant(R) + ", phi in [" + significant(s.phi0) + ", " + significant(s.phi1) + "] rad, axial in [" +
+                        significant(s.s0) + ", " + significant(s.s1) + "]";
   ShellMesh m = parametric_patch(
       name, d, n_phi, n_axial,
       [=](double u, double v) {
@@ -194,7 +189,7 @@ ShellMesh spherical_patch(const SpherePatch& s, int n_theta, int n_phi, const st
   require_angle_span(who, "phi", s.phi0, s.phi1);
   const double tmin = std::min(s.theta0, s.theta1), tmax = std::max(s.theta0, s.theta1);
   if (tmin <= 1e-9 || tmax >= std::numbers::pi - 1e-9)
-    fail(who + ": theta range [" + fmt(s.theta0) + ", " + fmt(s.theta1) +
+    fail(who + ": theta range [" + significant(s.theta0) + ", " + significant(s.theta1) +
          "] touches a pole, where quads collapse to triangles; leave a polar hole (0 < theta < pi)");
   const Vec3 pole = unit(who, "pole", s.pole);
   const Vec3 r0 = orthogonal_unit(who, pole, s.radial0);
@@ -202,8 +197,8 @@ ShellMesh spherical_patch(const SpherePatch& s, int n_theta, int n_phi, const st
   const double R = s.radius, t0 = s.theta0, dt = s.theta1 - s.theta0, p0 = s.phi0, dp = s.phi1 - s.phi0;
   const double sign = s.outward ? 1.0 : -1.0;
   const Vec3 c = s.center;
-  const std::string d = "sphere R=" + fmt(R) + ", theta in [" + fmt(s.theta0) + ", " + fmt(s.theta1) +
-                        "] rad, phi in [" + fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad";
+  const std::string d = "sphere R=" + significant(R) + ", theta in [" + significant(s.theta0) + ", " + significant(s.theta1) +
+                        "] rad, phi in [" + significant(s.phi0) + ", " + significant(s.phi1) + "] rad";
   ShellMesh m = parametric_patch(name, d, n_theta, n_phi, [=](double u, double v) {
     const double th = t0 + u * dt, ph = p0 + v * dp;
     const Vec3 radial = std::sin(th) * (std::cos(ph) * r0 + std::sin(ph) * et) + std::cos(th) * pole;
@@ -224,8 +219,8 @@ ShellMesh annular_sector(const AnnularSector& s, int n_r, int n_phi, const std::
   const Vec3 et = ax.cross(r0);
   const double ra = s.r_inner, dr = s.r_outer - s.r_inner, p0 = s.phi0, dp = s.phi1 - s.phi0;
   const Vec3 c = s.center;
-  const std::string d = "annular sector r in [" + fmt(s.r_inner) + ", " + fmt(s.r_outer) + "], phi in [" +
-                        fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad";
+  const std::string d = "annular sector r in [" + significant(s.r_inner) + ", " + significant(s.r_outer) + "], phi in [" +
+                        significant(s.phi0) + ", " + significant(s.phi1) + "] rad";
   ShellMesh m = parametric_patch(
       name, d, n_r, n_phi,
       [=](double u, double v) {
@@ -249,10 +244,10 @@ ShellMesh polar_o_grid(const std::string& name, const std::string& description, 
     if (std::abs(span - q * std::numbers::pi / 2) <= 1e-9 * kTwoPi) quadrants = q;
   if (quadrants == 0)
     fail(who + ": a region that contains its pole (no hole) must span 90, 180 or 360 degrees of azimuth (got " +
-         fmt(span * 180 / std::numbers::pi) + " deg); leave a hole or split the region");
+         significant(span * 180 / std::numbers::pi) + " deg); leave a hole or split the region");
   if (n_rim % (2 * quadrants) != 0)
     fail(who + ": the elements along the rim (" + std::to_string(n_rim) + ") must be a multiple of " +
-         std::to_string(2 * quadrants) + " for a " + fmt(90.0 * quadrants) +
+         std::to_string(2 * quadrants) + " for a " + significant(90.0 * quadrants) +
          " degree region without a hole (the core square takes n/" + std::to_string(2 * quadrants) +
          " elements per half-side)");
   const int m = n_rim / (2 * quadrants);  // core elements per half-side
@@ -307,7 +302,7 @@ ShellMesh annulus(const AnnularSector& s, int n_r, int n_phi, const std::string&
   const Vec3 et = ax.cross(r0);
   const double R = s.r_outer;
   const Vec3 c = s.center;
-  const std::string d = "disk r <= " + fmt(R) + ", phi in [" + fmt(s.phi0) + ", " + fmt(s.phi1) + "] rad";
+  const std::string d = "disk r <= " + significant(R) + ", phi in [" + significant(s.phi0) + ", " + significant(s.phi1) + "] rad";
   return polar_o_grid(name, d, "outer", s.phi0, s.phi1, n_r, n_phi, [=](double rho, double ph) {
     return SurfacePoint{c + (rho * R) * (std::cos(ph) * r0 + std::sin(ph) * et), ax};
   });
@@ -318,15 +313,15 @@ ShellMesh spherical_cap(const SpherePatch& s, int n_theta, int n_phi, const std:
   const std::string who = "spherical cap '" + name + "'";
   require_positive(who, "radius", s.radius);
   if (!(s.theta1 > 0.0) || !(s.theta1 < std::numbers::pi - 1e-9))
-    fail(who + ": the polar angle of the rim must lie in (0, pi) (got " + fmt(s.theta1) +
+    fail(who + ": the polar angle of the rim must lie in (0, pi) (got " + significant(s.theta1) +
          " rad); a cap reaching the opposite pole would collapse quads there");
   const Vec3 pole = unit(who, "pole", s.pole);
   const Vec3 r0 = orthogonal_unit(who, pole, s.radial0);
   const Vec3 et = pole.cross(r0);
   const double R = s.radius, t1 = s.theta1, sign = s.outward ? 1.0 : -1.0;
   const Vec3 c = s.center;
-  const std::string d = "spherical cap R=" + fmt(R) + ", theta <= " + fmt(t1) + " rad, phi in [" + fmt(s.phi0) + ", " +
-                        fmt(s.phi1) + "] rad";
+  const std::string d = "spherical cap R=" + significant(R) + ", theta <= " + significant(t1) + " rad, phi in [" + significant(s.phi0) + ", " +
+                        significant(s.phi1) + "] rad";
   return polar_o_grid(name, d, "rim", s.phi0, s.phi1, n_theta, n_phi, [=](double rho, double ph) {
     const double th = rho * t1;
     const Vec3 radial = std::sin(th) * (std::cos(ph) * r0 + std::sin(ph) * et) + std::cos(th) * pole;
@@ -474,8 +469,8 @@ ShellMesh l_plate(const LPlate& s, int n_arm, int n_width) {
   // centre lines measured to the centre of the corner square: each arm is leg - w/2 long
   const double arm1_length = s.leg1 - w / 2, arm2_length = s.leg2 - w / 2;
   if (!(arm1_length > 0) || !(arm2_length > 0) || !std::isfinite(s.leg1) || !std::isfinite(s.leg2))
-    fail(who + ": each leg (centre line to the corner centre: " + fmt(s.leg1) + ", " + fmt(s.leg2) +
-         ") must be longer than half the width (" + fmt(w / 2) + ")");
+    fail(who + ": each leg (centre line to the corner centre: " + significant(s.leg1) + ", " + significant(s.leg2) +
+         ") must be longer than half the width (" + significant(w / 2) + ")");
   const Vec3 o = s.origin;
   RectangularPlate arm1;
   arm1.a = arm1_length;
@@ -510,7 +505,7 @@ ShellMesh l_plate_simo_fox_rifai(int n_arm, int n_width) {
 ShellMesh folded_plate(const FoldedPlate& s, int n_a, int n_b, int n_width) {
   const std::string who = "folded plate";
   if (!std::isfinite(s.fold_angle) || !(std::abs(s.fold_angle) < std::numbers::pi))
-    fail(who + ": the fold angle must lie in (-180, 180) degrees (got " + fmt(s.fold_angle * 180 / std::numbers::pi) +
+    fail(who + ": the fold angle must lie in (-180, 180) degrees (got " + significant(s.fold_angle * 180 / std::numbers::pi) +
          " deg); at 180 the legs would lie on each other");
   if (!s.origin.allFinite()) fail(who + ": the origin must be finite");
   // cos(pi/2) is 6e-17, not 0: snap round-off so a right-angle fold is exactly upright

@@ -9,19 +9,11 @@
 #include <filesystem>
 
 #include "core/scene/mesh_generator_keys.h"
+#include "core/scene/schema_text.h"
 #include "core/scene/scene.h"
 
 namespace ff::scene {
 namespace {
-
-std::string number_text(double x) {  // the shortest text that reads back as x: exact, and legible
-  char b[40];
-  for (int digits = 15; digits <= 17; ++digits) {
-    std::snprintf(b, sizeof b, "%.*g", digits, x);
-    if (std::strtod(b, nullptr) == x) break;
-  }
-  return b;
-}
 
 constexpr long long kFewestAcrossForAThirdLevel = 4;
 
@@ -55,15 +47,15 @@ std::vector<std::string> coarser_mesh(const Document& d, int halvings, std::stri
       const double size = gmsh_mesh_size(d, i);
       if (size > 0) {  // meshed by Gmsh from geometry
         gmsh = true;
-        out.push_back(part_key(i, "mesh_size") + "=" + number_text(factor * size));
-        what += (what.empty() ? "" : ", ") + part_key(i, "mesh_size") + " = " + number_text(factor * size) + " (" +
-                number_text(size) + ")";
+        out.push_back(part_key(i, "mesh_size") + "=" + text::number(factor * size));
+        what += (what.empty() ? "" : ", ") + part_key(i, "mesh_size") + " = " + text::number(factor * size) + " (" +
+                text::number(size) + ")";
         std::vector<double> local = d.numbers("part.local_sizes", i);
         if (!local.empty()) {
           std::string list;
-          for (double s : local) list += (list.empty() ? "" : ", ") + number_text(factor * s);
+          for (double s : local) list += (list.empty() ? "" : ", ") + text::number(factor * s);
           out.push_back(part_key(i, "local_sizes") + "=[" + list + "]");
-          what += ", its local sizes x " + number_text(factor);
+          what += ", its local sizes x " + text::number(factor);
         }
         continue;
       }
@@ -143,7 +135,7 @@ TwinPlans discretization_twins(const std::string& path, const std::vector<std::s
   const double dt = plans.dynamic ? d.number("solver.dt") : 0.0;
   auto step = [&](int halvings) {  // solver.dt made 2^halvings times longer
     const double longer = std::ldexp(dt, halvings);
-    return std::pair{"solver.dt=" + number_text(longer), "solver.dt = " + number_text(longer) + " (" + number_text(dt) + ")"};
+    return std::pair{"solver.dt=" + text::number(longer), "solver.dt = " + text::number(longer) + " (" + text::number(dt) + ")"};
   };
   // a shell structure's integrator estimates its own time-step error (R9): two levels need no time
   // twin, where the integrator damps what it cannot resolve (rho_inf < 1). Without numerical damping

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/frame/text.h"
 #include "core/mesh/node_sets.h"
 
 namespace ff::scene {
@@ -13,7 +14,6 @@ namespace {
 const std::vector<std::string> kSelect = {"nearest", "plane", "box", "sphere", "patch_edge", "group", "nodes", "all"};
 
 Eigen::Vector3d vec(const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
-std::string number_text(double v);
 
 mesh::NodeSelector base_selector(const Document& d, const mesh::ShellMesh& m, const std::string& t, std::size_t i) {
   const std::string kind = d.string(t + ".select", i);
@@ -68,7 +68,7 @@ mesh::NodeSelector base_selector(const Document& d, const mesh::ShellMesh& m, co
     std::vector<int> ids;
     for (double v : given) {
       if (v != std::floor(v) || v < 0 || v >= m.node_count())
-        throw SceneError({d.issue(t + ".nodes", i, "node " + number_text(v) + " is not a node number of this structure (0 to " +
+        throw SceneError({d.issue(t + ".nodes", i, "node " + significant(v) + " is not a node number of this structure (0 to " +
                                                        std::to_string(m.node_count() - 1) + ")")});
       ids.push_back(static_cast<int>(v));
     }
@@ -85,13 +85,6 @@ mesh::NodeSelector selector(const Document& d, const mesh::ShellMesh& m, const s
     throw SceneError({d.issue(t + ".side", i, "the side direction must be a finite vector")});
   return mesh::NodeSelector::facing(std::move(base), side);
 }
-std::string number_text(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-
 std::string point_text(const Eigen::Vector3d& x) {
   std::ostringstream s;
   s.precision(6);
@@ -129,7 +122,7 @@ void refuse_ambiguous_nearest(const Document& d, const mesh::ShellMesh& m, const
     throw SceneError({d.issue(t + ".point", i,
                               "the point " + point_text(point) + " is equally near node " + std::to_string(chosen) +
                                   " at " + point_text(m.points[chosen]) + " and node " + std::to_string(k) + " at " +
-                                  point_text(m.points[k]) + " (distance " + number_text(nearest) +
+                                  point_text(m.points[k]) + " (distance " + significant(nearest) +
                                   "), so select = \"nearest\" is ambiguous; move the point towards the node you "
                                   "mean" + (side.isZero(0.0) ? std::string(", or pick one lip of a slit with " + t + ".side") : std::string()))});
   };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -83,12 +84,6 @@ const ModelKind* model_kind(const Peeked& p) {
     if (k.name == p.model) return &k;
   return nullptr;
 }
-// "" when unreadable: validate_file then reads it again and says why
-std::string read_text(const std::string& path) {
-  std::string text;
-  read_input_file(path, &text, kMaxTextInputBytes, kTextInputBound, nullptr);
-  return text;
-}
 const ModelKind& kind_or_first(const Peeked& p) {
   const ModelKind* k = model_kind(p);
   return k ? *k : model_kinds().front();
@@ -125,11 +120,32 @@ void refuse_unknown_model(const Peeked& p, const std::string& path, const std::s
 
 const Schema& schema_for_text(const std::string& text) { return kind_or_first(peek_model_text(text, "scene_text")).schema(); }
 
-const Schema& scene_schema(const std::string& path) { return kind_or_first(peek_model_text(read_text(path), path)).schema(); }
+const Schema& scene_schema(const std::string& path) { return kind_or_first(peek_model_text(read_text_or_empty(path), path)).schema(); }
 
 std::vector<CameraKey> camera_path_from_text(const std::string& text, const std::string& file_name) {
   const Document d = validate(schema_for_text(text), text, file_name);
   return read_timeline(d, 1e300).camera;
+}
+
+std::vector<std::string> part_files_in_text(const std::string& text, const std::string& file_name) {
+  std::vector<std::string> files;
+  try {
+    const toml::table doc = toml::parse(text, file_name);
+    std::function<void(const toml::node&)> visit = [&](const toml::node& n) {
+      if (const toml::table* t = n.as_table()) {
+        if (const toml::array* parts = t->get_as<toml::array>("part"))
+          for (const toml::node& part : *parts)
+            if (const toml::table* p = part.as_table())
+              if (const auto* file = p->get_as<std::string>("file")) files.push_back(file->get());
+        for (const auto& [key, child] : *t) visit(child);
+      } else if (const toml::array* a = n.as_array()) {
+        for (const toml::node& child : *a) visit(child);
+      }
+    };
+    visit(doc);
+  } catch (const toml::parse_error&) {  // not TOML: no files
+  }
+  return files;
 }
 
 std::string scene_reference_markdown() {
@@ -262,7 +278,7 @@ std::string change_live(LoadedScene& scene, const std::string& key, const std::s
 
 double estimated_run_bytes(const std::string& path, const std::vector<std::string>& overrides, const SceneContext& ctx) {
   try {
-    const std::string text = read_text(path);
+    const std::string text = read_text_or_empty(path);
     const Peeked peeked = peek_model_text(text, path);
     refuse_unknown_model(peeked, path, text);
     const ModelKind& kind = kind_or_first(peeked);

@@ -62,6 +62,10 @@ const Schema& schema_for_text(const std::string& text);
 /// The camera path of a scene text (e.g. /run/scene_text of a results file), validated against
 /// its model's schema; empty when the text has no timeline. Throws SceneError when invalid.
 std::vector<CameraKey> camera_path_from_text(const std::string& text, const std::string& file_name);
+/// Every `file` a [[part]] of the scene text names, as written (relative to the scene's folder
+/// unless absolute); none when the text is not TOML. What a study's resume fingerprints besides
+/// the scene itself.
+std::vector<std::string> part_files_in_text(const std::string& text, const std::string& file_name);
 
 /// Markdown reference of every scene key of every model (docs/reference/scene-keys.md).
 std::string scene_reference_markdown();

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <toml++/toml.h>
 
+#include "core/frame/text.h"
 #include "core/scene/schema.h"
 #include "core/frame/input_file.h"
 #include "core/scene/schema_text.h"
@@ -37,13 +38,6 @@ bool is_bare_key(std::string_view s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
   });
-}
-
-std::string trim(std::string_view s) {
-  const auto first = s.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) return "";
-  const auto last = s.find_last_not_of(" \t\r\n");
-  return std::string(s.substr(first, last - first + 1));
 }
 
 /// "a string ("abc")", "an integer (3)", "a list ([1, 2])", ... : what the input holds.

@@ -55,6 +55,17 @@ struct ShellSection {
   /// generator's u direction). Also the x1 axis of the stresses the element reports.
   Eigen::Vector3d reference_direction = Eigen::Vector3d::Zero();
 };
+/// One isotropic layer of thickness h (the tests' and benchmarks' usual section).
+inline ShellSection isotropic_section(double youngs_modulus, double poisson_ratio, double thickness,
+                                      double shear_factor = 5.0 / 6.0) {
+  ShellSection s;
+  s.youngs_modulus = youngs_modulus;
+  s.poisson_ratio = poisson_ratio;
+  s.thickness = thickness;
+  s.shear_factor = shear_factor;
+  return s;
+}
+
 /// The largest ply count a section may have (a fixed bound keeps the element's workspace fixed).
 inline constexpr int kMaxPlies = 64;
 

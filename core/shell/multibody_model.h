@@ -204,7 +204,6 @@ class MultibodyModel final : public ff::DynamicProblem {
   /// Local 6-vector of node `node` from a solver vector (zero in the absent drilling slot).
   Vec6 node_vector(const Eigen::VectorXd& x, int node) const;
   Vec3 node_displacement(int node) const { return state_.poses[node].p - reference_[node].p; }
-  Vec3 node_velocity(const Eigen::VectorXd& v, int node) const { return state_.poses[node].R * node_vector(v, node).head<3>(); }
   /// Energies and momenta with velocities v; the load potential at time t (D21).
   MotionSummary summary(const Eigen::VectorXd& v, double t = 0.0) const;
   /// The times of MultibodySpec::loads' and ::pressures' histories where the load jumps or bends,

@@ -1,5 +1,6 @@
 #include "core/shell/shell_dynamic_simulation.h"
 
+#include "core/frame/text.h"
 #include "core/solve/static_common.h"  // fmt
 
 #include <algorithm>
@@ -351,7 +352,7 @@ double ShellDynamicSimulation::load_changed_at() const {
 std::vector<std::pair<std::string, std::string>> ShellDynamicSimulation::metrics_unreached() const {
   std::vector<std::pair<std::string, std::string>> out;
   if (const double t = load_changed_at(); t >= 0)
-    out.emplace_back("energy_growth_max_rel", "a load changed during the run (first at t = " + fmt(t) +
+    out.emplace_back("energy_growth_max_rel", "a load changed during the run (first at t = " + significant(t) +
                                                   " s): it did work on the structure, so the total energy is "
                                                   "not conserved and its growth measures nothing");
   return out;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "core/frame/text.h"
 #include "core/lie/so3.h"
 #include "core/solve/sparse_solver.h"
 
@@ -16,11 +17,6 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 // the difference step of (E6): its largest translation is this fraction of the structure's size
 constexpr double kBucklingStep = 1e-6;
-std::string number(double x) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", x);
-  return b;
-}
 SparseMatrixD symmetric_part(const SparseMatrixD& k) {
   SparseMatrixD t = k.transpose();
   SparseMatrixD s = 0.5 * (k + t);
@@ -90,7 +86,7 @@ ShellEigenSimulation::ShellEigenSimulation(ShellModelSpec spec, ShellEigenSettin
   modes_.value_name = modal ? "frequency" : "load_multiplier";
   modes_.value_unit = modal ? "Hz" : "";
   modes_.value_label = modal ? "natural frequency" : "load multiplier";
-  modes_.about = settings_.preload ? "preloaded to λ = " + number(settings_.load_control.lambda_end) : "reference state";
+  modes_.about = settings_.preload ? "preloaded to λ = " + significant(settings_.load_control.lambda_end) : "reference state";
   info_.settings.emplace_back("eigen_analysis", modes_.analysis + ", " + std::to_string(settings_.modes) +
                                                     " modes about the " + modes_.about);
 }
@@ -166,7 +162,7 @@ std::string ShellEigenSimulation::compute() {
     totals_.cutbacks = r.cutbacks;
     lambda_ = r.lambda;
     if (r.status != StaticStatus::completed)
-      return "the preload did not reach λ = " + number(settings_.load_control.lambda_end) + ": " + r.reason;
+      return "the preload did not reach λ = " + significant(settings_.load_control.lambda_end) + ": " + r.reason;
   }
   const std::string why = settings_.analysis == ShellEigenSettings::Analysis::modal ? modal() : buckling();
   totals_.newton_iterations += 1;
@@ -248,7 +244,7 @@ std::string ShellEigenSimulation::modal() {
     const double f = rigid ? 0.0 : std::copysign(std::sqrt(std::abs(w2)), w2) / two_pi;
     add_mode(k + 1, f, w2, rigid, result_.vectors.col(k));
   }
-  info_.settings.emplace_back("eigen_shift", number(shift_) + " rad^2/s^2");
+  info_.settings.emplace_back("eigen_shift", significant(shift_) + " rad^2/s^2");
   return "";
 }
 

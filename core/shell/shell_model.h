@@ -157,7 +157,6 @@ class ShellModel final : public ff::StaticProblem {
   Vec3 node_reaction(int node) const { return work_.reaction[node]; }
   /// Moves the prescribed translations to lambda * value (eq. R4); evaluate() does it itself.
   void apply_prescribed(double lambda);
-  bool has_prescribed() const { return !prescribed_.empty(); }
   /// Coordinate magnitude behind DoF i (static_problem.h): |x_I|_inf for a translation, 1 for a
   /// rotation.
   double state_magnitude(int i) const override;

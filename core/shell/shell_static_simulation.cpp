@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "core/frame/text.h"
 #include "core/solve/sparse_solver.h"
 #include "core/solve/static_common.h"
 
@@ -48,13 +49,13 @@ double ShellStaticSimulation::end_time() const {
 std::string ShellStaticSimulation::end_description() const {
   const double end = end_time();
   if (settings_.linear)
-    return "linear analysis at load factor λ = " + fmt(end) + " (solver.end; " + settings_.load_label + " = λ × " +
-           fmt(settings_.load_scale) + (settings_.load_unit.empty() ? "" : " " + settings_.load_unit) + ")";
-  std::string s = "load factor λ from 0 to " + fmt(end) + " (solver.end; " + settings_.load_label + " = λ × " +
-                  fmt(settings_.load_scale) + (settings_.load_unit.empty() ? "" : " " + settings_.load_unit) + ")";
+    return "linear analysis at load factor λ = " + significant(end) + " (solver.end; " + settings_.load_label + " = λ × " +
+           significant(settings_.load_scale) + (settings_.load_unit.empty() ? "" : " " + settings_.load_unit) + ")";
+  std::string s = "load factor λ from 0 to " + significant(end) + " (solver.end; " + settings_.load_label + " = λ × " +
+                  significant(settings_.load_scale) + (settings_.load_unit.empty() ? "" : " " + settings_.load_unit) + ")";
   if (settings_.arc_length) {
     if (std::isfinite(settings_.arc.lambda_min))
-      s += ", path kept within λ ≥ " + fmt(settings_.arc.lambda_min) + " (solver.min_load_factor)";
+      s += ", path kept within λ ≥ " + significant(settings_.arc.lambda_min) + " (solver.min_load_factor)";
     if (settings_.arc.stop_at_first_limit_point) s += ", or until its first limit point";
   }
   return s;

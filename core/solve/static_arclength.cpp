@@ -1,5 +1,7 @@
 #include "core/solve/static_arclength.h"
 
+#include "core/frame/text.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -136,12 +138,12 @@ bool PathFollower::evaluate_iterate(int k, double lambda, AttemptOutcome& a) {
 bool PathFollower::start_iteration(int k, double lambda, double rn, double previous, DivergenceMonitor& monitor,
                                    AttemptOutcome& a) {
   if (k >= settings_.convergence.max_iterations) {
-    a.failure = "no convergence in " + std::to_string(k) + " iterations near λ = " + fmt(lambda) + " (residual " +
-                fmt(rn) + " vs limit " + fmt(kernel_.residual_limit()) + ", increment " + fmt(a.increment_norm) + ")";
+    a.failure = "no convergence in " + std::to_string(k) + " iterations near λ = " + significant(lambda) + " (residual " +
+                significant(rn) + " vs limit " + significant(kernel_.residual_limit()) + ", increment " + significant(a.increment_norm) + ")";
     return false;
   }
   if (std::string why = monitor.check(k, rn, kernel_.residual_limit()); !why.empty()) {
-    a.failure = "diverging near λ = " + fmt(lambda) + ": " + why;
+    a.failure = "diverging near λ = " + significant(lambda) + ": " + why;
     return false;
   }
   if (kernel_.wants_new_tangent(k, rn, previous)) {
@@ -256,7 +258,7 @@ AttemptOutcome PathFollower::crisfield_step(double dl) {
     const double qc = kernel_.dot_u(base, base) + ff * dlambda_ * dlambda_ - dl * dl;
     const double disc = qb * qb - 4.0 * qa * qc;
     if (!(disc >= 0.0)) {
-      a.failure = "the arc-length constraint has complex roots near λ = " + fmt(lambda) + " (Δl = " + fmt(dl) +
+      a.failure = "the arc-length constraint has complex roots near λ = " + significant(lambda) + " (Δl = " + significant(dl) +
                   " too long for the local curvature of the path)";
       break;
     }
@@ -416,7 +418,7 @@ std::vector<StaticEvent> PathFollower::path_events(int steps) const {
     if (det_sign_[k] != 0 && det_sign_[k - 1] != 0 && det_sign_[k] != det_sign_[k - 1] && !near_reversal(k) &&
         !near_reversal(k - 1))
       ev.push_back({StaticEvent::Kind::bifurcation, k, state_lambda_[k],
-                    "det K changed sign between λ = " + fmt(state_lambda_[k - 1]) + " and " + fmt(state_lambda_[k]) +
+                    "det K changed sign between λ = " + significant(state_lambda_[k - 1]) + " and " + significant(state_lambda_[k]) +
                         " with no limit point: a branch crosses the path here; the path followed stays on its own "
                         "branch (no branch switching)"});
   // returns to the unloaded state and back (§4.4): λ crossing zero, the loaded side being the
@@ -428,15 +430,15 @@ std::vector<StaticEvent> PathFollower::path_events(int steps) const {
     if (before > 0.0 && now <= 0.0) {
       unloaded_at = k;
       ev.push_back({StaticEvent::Kind::unloaded, k, state_lambda_[k],
-                    "the path returned to the unloaded state: λ went from " + fmt(state_lambda_[k - 1]) + " to " +
-                        fmt(state_lambda_[k]) + " (reversed load)"});
+                    "the path returned to the unloaded state: λ went from " + significant(state_lambda_[k - 1]) + " to " +
+                        significant(state_lambda_[k]) + " (reversed load)"});
     } else if (before < 0.0 && now >= 0.0 && unloaded_at >= 0) {
       double extreme = 0.0;
       int at = unloaded_at;
       for (int j = unloaded_at; j < k; ++j)
         if (loaded * state_lambda_[j] < loaded * extreme) extreme = state_lambda_[at = j];
       ev.push_back({StaticEvent::Kind::loop, k, state_lambda_[k],
-                    "the path came back from reversed load (out to λ = " + fmt(extreme) + " at step " +
+                    "the path came back from reversed load (out to λ = " + significant(extreme) + " at step " +
                         std::to_string(at) + ") to the loaded side: it passes loads it has passed before"});
       unloaded_at = -1;
     }
@@ -459,13 +461,13 @@ std::string PathFollower::path_notes(const std::vector<StaticEvent>& events) con
   for (const StaticEvent& e : events) {
     if (e.kind == StaticEvent::Kind::unloaded) {
       notes += std::string(notes.empty() ? "on the way" : ", then") + " the path returned to the unloaded state at step " +
-               std::to_string(e.step) + " (λ = " + fmt(e.lambda) + ")";
+               std::to_string(e.step) + " (λ = " + significant(e.lambda) + ")";
       unloaded_at = e.step;
     } else if (e.kind == StaticEvent::Kind::loop) {
       double extreme = 0.0;
       for (int j = unloaded_at; j < e.step; ++j)
         if (std::abs(state_lambda_[j]) > std::abs(extreme)) extreme = state_lambda_[j];
-      notes += ", went out to λ = " + fmt(extreme) + " and came back to the loaded side at step " +
+      notes += ", went out to λ = " + significant(extreme) + " and came back to the loaded side at step " +
                std::to_string(e.step) + " (a loop)";
     }
   }
@@ -538,7 +540,7 @@ bool PathFollower::advance() {
   rejected_.clear();
   while (true) {
     if (stop_requested(settings_.stop)) {
-      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + significant(lambda_));
       return false;
     }
     AttemptOutcome a = settings_.method == ArcLengthMethod::crisfield ? crisfield_step(dl_) : lam_morley_step(dl_);
@@ -546,7 +548,7 @@ bool PathFollower::advance() {
     if (a.interrupted) {
       reject(a, "stop requested");
       kernel_.restore();
-      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + significant(lambda_));
       return false;
     }
     // eq. (22): a converged increment far from its predictor may sit on another branch, and one
@@ -584,7 +586,7 @@ bool PathFollower::advance() {
                             std::to_string(settings_.desired_iterations) + " (its predictor was far from the path)"
             : reversed ? "the converged increment points back along the previous step (the path would turn back "
                          "on itself)"
-                       : "the converged increment turned " + fmt(std::max(turn, end_turn) * 180.0 / std::acos(-1.0)) +
+                       : "the converged increment turned " + significant(std::max(turn, end_turn) * 180.0 / std::acos(-1.0)) +
                              "° from the tangent at its " + (turn >= end_turn ? "start" : "end") +
                              " (more than max_turn: it may have left the path)";
       }
@@ -595,8 +597,8 @@ bool PathFollower::advance() {
       reject(a, "turns back on itself");
       kernel_.restore();
       finish(StaticStatus::diverged, StaticStop::step_too_small,
-             "the path turns back on itself at λ = " + fmt(lambda_) + " (step " + std::to_string(res_.steps) +
-                 "): even at the smallest arc length " + fmt(dl_) +
+             "the path turns back on itself at λ = " + significant(lambda_) + " (step " + std::to_string(res_.steps) +
+                 "): even at the smallest arc length " + significant(dl_) +
                  " the converged increment points back along the previous step (a cusp, or a path the solver lost)");
       return false;
     }
@@ -609,8 +611,8 @@ bool PathFollower::advance() {
       dl_ *= 0.5;
       if (dl_ < dl_min_) {
         finish(StaticStatus::diverged, StaticStop::step_too_small,
-               "arc-length stopped at λ = " + fmt(lambda_) + " (step " + std::to_string(res_.steps) +
-                   "): Δl cut below its minimum " + fmt(dl_min_) + "; last attempt: " + a.failure);
+               "arc-length stopped at λ = " + significant(lambda_) + " (step " + std::to_string(res_.steps) +
+                   "): Δl cut below its minimum " + significant(dl_min_) + "; last attempt: " + a.failure);
         return false;
       }
       continue;
@@ -679,26 +681,26 @@ bool PathFollower::advance() {
       first_step_fraction_ = dl_ / dl_first_;
     }
     if (settings_.on_step) settings_.on_step(last_);
-    const std::string end = settings_.lambda_max_name + " = " + fmt(settings_.lambda_max);
+    const std::string end = settings_.lambda_max_name + " = " + significant(settings_.lambda_max);
     if (final_step) {
       finish(StaticStatus::completed, StaticStop::lambda_reached, "reached " + end);
       return true;
     }
     if ((settings_.monitor || settings_.monitor_dof >= 0) && std::abs(monitored()) >= settings_.displacement_limit) {
       finish(StaticStatus::completed, StaticStop::displacement_limit,
-             "the monitored displacement reached " + fmt(monitored()) + " (limit " + fmt(settings_.displacement_limit) +
-                 ") at λ = " + fmt(lambda_));
+             "the monitored displacement reached " + significant(monitored()) + " (limit " + significant(settings_.displacement_limit) +
+                 ") at λ = " + significant(lambda_));
       return true;
     }
     if (lambda_ >= settings_.lambda_max) {
       finish(StaticStatus::completed, StaticStop::lambda_reached,
-             "reached " + end + " (overshot to λ = " + fmt(lambda_) + ": landing failed)");
+             "reached " + end + " (overshot to λ = " + significant(lambda_) + ": landing failed)");
       return true;
     }
     if (lambda_ < settings_.lambda_min) {
       finish(StaticStatus::incomplete, StaticStop::load_factor_bound,
-             "the path left the load-factor range [" + settings_.lambda_min_name + " = " + fmt(settings_.lambda_min) +
-                 ", " + end + "]: λ = " + fmt(lambda_) + " at step " + std::to_string(res_.steps) +
+             "the path left the load-factor range [" + settings_.lambda_min_name + " = " + significant(settings_.lambda_min) +
+                 ", " + end + "]: λ = " + significant(lambda_) + " at step " + std::to_string(res_.steps) +
                  " (a reversed load beyond the bound; the state is that step's)");
       return true;
     }
@@ -709,13 +711,13 @@ bool PathFollower::advance() {
       });
       finish(StaticStatus::completed, StaticStop::limit_point,
              "stopped after the first limit point, as asked: a " + first.detail.substr(0, first.detail.find(';')) +
-                 " at step " + std::to_string(first.step) + " (λ = " + fmt(first.lambda) + "); the run ends at step " +
-                 std::to_string(res_.steps) + ", λ = " + fmt(lambda_));
+                 " at step " + std::to_string(first.step) + " (λ = " + significant(first.lambda) + "); the run ends at step " +
+                 std::to_string(res_.steps) + ", λ = " + significant(lambda_));
       return true;
     }
     if (res_.steps >= settings_.max_steps) {
       finish(StaticStatus::incomplete, StaticStop::max_steps,
-             "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
+             "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + significant(lambda_) + " (step " +
                  std::to_string(res_.steps) + "), before " + end);
       return true;
     }

@@ -1,5 +1,6 @@
 #include "core/solve/static_common.h"
 
+#include "core/frame/text.h"
 #include "core/solve/solver_ranks.h"
 
 #include <cstdio>
@@ -43,12 +44,6 @@ std::string_view to_string(StaticEvent::Kind kind) {
   return "unknown";
 }
 
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 StaticAttempt rejected_attempt(const AttemptOutcome& outcome, int step, double lambda, double dlambda, std::string why) {
   StaticAttempt a;
   a.step = step;
@@ -66,7 +61,7 @@ StaticEvent first_step_cut_back(int attempts, double lambda, double fraction) {
   const int cuts = attempts - 1;
   return {StaticEvent::Kind::first_step_cut_back, 1, lambda,
           "the first step converged only after " + std::to_string(cuts) + " cut-back" + (cuts > 1 ? "s" : "") +
-              ", at " + fmt(fraction) + " of the initial step's length (λ = " + fmt(lambda) +
+              ", at " + significant(fraction) + " of the initial step's length (λ = " + significant(lambda) +
               "): the initial step is longer than the path allows at its start"};
 }
 
@@ -141,11 +136,11 @@ bool StaticKernel::evaluate(double lambda, bool with_tangent) {
     return false;
   }
   if (!r_.allFinite()) {
-    failure_ = "non-finite residual at λ = " + fmt(lambda);
+    failure_ = "non-finite residual at λ = " + significant(lambda);
     return false;
   }
   if (!f_.allFinite()) {
-    failure_ = "non-finite load vector at λ = " + fmt(lambda);
+    failure_ = "non-finite load vector at λ = " + significant(lambda);
     return false;
   }
   return true;
@@ -263,11 +258,11 @@ std::string DivergenceMonitor::check(int k, double rn, double converged_level) {
     return why;
   }
   if (k > 0 && rn > convergence_.divergence_ratio * smallest_)
-    why = "residual grew to " + fmt(rn) + ", more than " + fmt(convergence_.divergence_ratio) +
-          "× its smallest value " + fmt(smallest_) + " in this attempt";
+    why = "residual grew to " + significant(rn) + ", more than " + significant(convergence_.divergence_ratio) +
+          "× its smallest value " + significant(smallest_) + " in this attempt";
   increases_ = rn > previous_ ? increases_ + 1 : 0;
   if (why.empty() && increases_ >= convergence_.max_residual_increases)
-    why = "residual increased in " + std::to_string(increases_) + " consecutive iterations (now " + fmt(rn) + ")";
+    why = "residual increased in " + std::to_string(increases_) + " consecutive iterations (now " + significant(rn) + ")";
   smallest_ = std::min(smallest_, rn);
   previous_ = rn;
   return why;
@@ -307,18 +302,18 @@ AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::
       break;
     }
     if (k >= c.max_iterations) {
-      out.failure = "no convergence in " + std::to_string(c.max_iterations) + " iterations at λ = " + fmt(lambda) +
-                    " (residual " + fmt(out.residual_norm) + " vs limit " + fmt(kernel.residual_limit()) +
-                    ", increment " + fmt(out.increment_norm) + ")";
+      out.failure = "no convergence in " + std::to_string(c.max_iterations) + " iterations at λ = " + significant(lambda) +
+                    " (residual " + significant(out.residual_norm) + " vs limit " + significant(kernel.residual_limit()) +
+                    ", increment " + significant(out.increment_norm) + ")";
       break;
     }
     if (std::string why = monitor.check(k, out.residual_norm, kernel.residual_limit()); !why.empty()) {
-      out.failure = "diverging at λ = " + fmt(lambda) + ": " + why;
+      out.failure = "diverging at λ = " + significant(lambda) + ": " + why;
       break;
     }
     if (!last_correction && kernel.wants_new_tangent(k, out.residual_norm, previous)) {
       if (!kernel.refresh_tangent(lambda)) {
-        out.failure = kernel.failure() + " (iteration " + std::to_string(k) + ", λ = " + fmt(lambda) + ")";
+        out.failure = kernel.failure() + " (iteration " + std::to_string(k) + ", λ = " + significant(lambda) + ")";
         break;
       }
       // eq. (7): a stable path keeps the sign of det K; iterates across a limit point change it
@@ -326,7 +321,7 @@ AttemptOutcome newton_at_fixed_load(StaticKernel& kernel, double lambda, Eigen::
       if (start_sign == 0) start_sign = sign;
       if (hold_determinant_sign && sign != start_sign) {
         out.crossed_limit = true;
-        out.failure = "det K changed sign at iteration " + std::to_string(k) + " for λ = " + fmt(lambda) +
+        out.failure = "det K changed sign at iteration " + std::to_string(k) + " for λ = " + significant(lambda) +
                       " (the iterates crossed a limit or bifurcation point)";
         break;
       }

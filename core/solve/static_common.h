@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/frame/text.h"
 #include "core/solve/sparse_solver.h"
 #include "core/solve/static_problem.h"
 
@@ -194,15 +195,9 @@ class StaticKernel {
   /// likely be the converged state, whose K is not factorized (eq. 4''')
   bool increment_converged(double increment_norm, double previous_increment_norm, double step_norm) const;
   double residual_limit() const;  ///< right-hand side of the residual criterion at the held f_ref
-  /// ρ of eq. (3'): the residual change that one-ulp errors in every state coordinate make,
-  /// estimated from the last evaluated tangent (0 before one, or when the problem gives no
-  /// state magnitudes)
-  double round_off_level() const { return round_off_; }
-
   const Eigen::VectorXd& residual() const { return r_; }
   const Eigen::VectorXd& load() const { return f_; }
   const std::string& failure() const { return failure_; }
-  void set_failure(std::string why) { failure_ = std::move(why); }
   int factorizations() const { return factorizations_; }  ///< since construction
   /// sign of det K of the held factorization (0 when none or singular)
   int determinant_sign() const { return factorized_ ? linear_.determinant_sign() : 0; }
@@ -224,6 +219,8 @@ class StaticKernel {
   double evaluated_lambda_ = 0.0;
   bool factorized_ = false;
   bool factorization_current_ = false;  // the held factorization is of K at the current state, at λ = tangent_lambda_
+  /// ρ of eq. (3'): the residual change that one-ulp errors in every state coordinate make,
+  /// estimated from the last evaluated tangent (0 before one, or without state magnitudes)
   double round_off_ = 0.0;
   int factorizations_ = 0;
   int iterations_on_factorization_ = 0;
@@ -277,7 +274,5 @@ StaticAttempt rejected_attempt(const AttemptOutcome& outcome, int step, double l
 StaticEvent first_step_cut_back(int attempts, double lambda, double fraction);
 
 bool stop_requested(const std::atomic<bool>* stop);
-/// "1.234e-05" style number for reasons and logs
-std::string fmt(double v);
 
 }  // namespace ff

@@ -1,5 +1,7 @@
 #include "core/solve/static_newton.h"
 
+#include "core/frame/text.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -55,12 +57,12 @@ void LoadControlPath::check_end() {
   const double remaining = std::abs(settings_.lambda_end - lambda_);
   if (remaining <= 1e-14 * std::max(1.0, std::abs(settings_.lambda_end)))
     finish(StaticStatus::completed, StaticStop::lambda_reached,
-           "reached " + settings_.lambda_end_name + " = " + fmt(settings_.lambda_end));
+           "reached " + settings_.lambda_end_name + " = " + significant(settings_.lambda_end));
   else if (res_.steps >= settings_.max_steps)
     finish(StaticStatus::incomplete, StaticStop::max_steps,
-           "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + fmt(lambda_) + " (step " +
+           "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + significant(lambda_) + " (step " +
                std::to_string(res_.steps) + "), before " + settings_.lambda_end_name + " = " +
-               fmt(settings_.lambda_end));
+               significant(settings_.lambda_end));
 }
 
 bool LoadControlPath::advance() {
@@ -71,7 +73,7 @@ bool LoadControlPath::advance() {
   const double direction = settings_.lambda_end >= settings_.lambda_start ? 1.0 : -1.0;
   while (true) {
     if (stop_requested(settings_.stop)) {
-      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + significant(lambda_));
       return false;
     }
     // the step lands exactly on the next station or λ_end when it would reach it (and absorbs a
@@ -93,8 +95,8 @@ bool LoadControlPath::advance() {
         step_norm > settings_.max_increment_ratio * out.first_increment_norm) {
       out.converged = false;
       out.crossed_limit = true;
-      out.failure = "converged to a distant state at λ = " + fmt(target) + ": the step is " +
-                    fmt(step_norm / out.first_increment_norm) +
+      out.failure = "converged to a distant state at λ = " + significant(target) + ": the step is " +
+                    significant(step_norm / out.first_increment_norm) +
                     "× its linearized first correction (snap-through past a limit point)";
     }
     if (!out.converged)  // into the record before the state goes back
@@ -102,7 +104,7 @@ bool LoadControlPath::advance() {
                                            out.interrupted ? "stop requested" : out.failure));
     if (out.interrupted) {
       kernel.restore();
-      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + fmt(lambda_));
+      finish(StaticStatus::interrupted, StaticStop::stop_requested, "stop requested at λ = " + significant(lambda_));
       return false;
     }
     if (!out.converged) {
@@ -114,10 +116,10 @@ bool LoadControlPath::advance() {
       h_ = 0.5 * std::abs(dlambda);
       if (h_ < settings_.min_step) {
         finish(StaticStatus::diverged, StaticStop::step_too_small,
-               (out.crossed_limit ? "limit point of the load path at λ = " + fmt(lambda_) +
+               (out.crossed_limit ? "limit point of the load path at λ = " + significant(lambda_) +
                                         ": load control cannot pass it (arc-length can); "
-                                  : "load control stopped at λ = " + fmt(lambda_) + ": ") +
-                   "no load step ≥ min_step = " + fmt(settings_.min_step) + " converges; last attempt: " + out.failure);
+                                  : "load control stopped at λ = " + significant(lambda_) + ": ") +
+                   "no load step ≥ min_step = " + significant(settings_.min_step) + " converges; last attempt: " + out.failure);
         return false;
       }
       continue;

@@ -52,7 +52,7 @@ std::string effects_label(const ShellOptions& o) {
 void bm_element(benchmark::State& state, bool with_tangent) {
   const ElementPoses ref = curved_reference();
   const ShellOptions o = element_options(state);
-  const CbShellElement el(ref, {2.0e5, 0.3, 0.05, 5.0 / 6.0}, o);
+  const CbShellElement el(ref, isotropic_section(2.0e5, 0.3, 0.05), o);
   const ElementPoses cur = deformed(ref);
   Vec24 F;
   Mat24 K;
@@ -112,7 +112,7 @@ ElementArray element_array(int n, const ShellOptions& o) {
   for (int k = 0; k < n; ++k) {
     const int i = k % n1, j = k / n1;
     const ElementPoses ref = {node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)};
-    a.elements.push_back(std::make_unique<CbShellElement>(ref, ShellSection{1.0e9, 0.3, 0.01, 5.0 / 6.0}, o));
+    a.elements.push_back(std::make_unique<CbShellElement>(ref, isotropic_section(1.0e9, 0.3, 0.01), o));
     const Mat3 Q = rot(Vec3(u(g), u(g), u(g)));
     ElementPoses cur = ref;
     for (auto& p : cur) {
@@ -159,7 +159,7 @@ PlateProblem& plate(int n) {
   if (it != cache.end()) return it->second;
   ShellModelSpec spec;
   spec.mesh = ff::mesh::rectangular_plate(1.0, 1.0, n, n);
-  spec.section = {1.0e7, 0.3, 0.01, 5.0 / 6.0};
+  spec.section = isotropic_section(1.0e7, 0.3, 0.01);
   for (int I = 0; I < spec.mesh.node_count(); ++I) {
     const Vec3& p = spec.mesh.points[I];
     if (p.x() < 1e-12) spec.restraints.emplace_back(I, kClamped);

@@ -1,4 +1,4 @@
-// Linear-solver backends on shell-stiffness sparsity (core/solve/sparse_grid.h): analyze,
+// Linear-solver backends on shell-stiffness sparsity (tests/support/sparse_grid.h): analyze,
 // factorize and solve timed separately for n×n quad grids, 6 DoF per node. The symmetric
 // backends (cholmod_llt, simplicial_ldlt) get the symmetric part of the same pattern.
 #include <benchmark/benchmark.h>
@@ -7,7 +7,7 @@
 #include <map>
 #include <string>
 
-#include "core/solve/sparse_grid.h"
+#include "tests/support/sparse_grid.h"
 #include "core/solve/sparse_solver.h"
 
 namespace {

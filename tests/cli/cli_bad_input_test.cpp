@@ -127,7 +127,7 @@ TEST_P(CliBadInput, RejectedWithLocationKeyAndExpectation) {
     EXPECT_EQ(r.exit_code, c.exit_code) << r.describe();
     if (c.exit_code == 0) {
       if (std::string(verb) == "check") {
-        for (const std::string& f : c.fragments) EXPECT_NE(r.out.find(f), std::string::npos) << r.describe();
+        for (const std::string& f : c.fragments) { EXPECT_NE(r.out.find(f), std::string::npos) << r.describe(); }
       }
       continue;
     }
@@ -377,7 +377,7 @@ TEST(CliLaminate, BadLayupInputIsLocatedAndRadiansWarn) {
     EXPECT_NE(text.find(where), std::string::npos) << r.describe();
     EXPECT_NE(text.find("key '" + c.key + "'"), std::string::npos) << r.describe();
     EXPECT_NE(text.find(c.fragment), std::string::npos) << r.describe();
-    if (c.exit_code == 0) EXPECT_NE(r.out.find("\nwarning: "), std::string::npos) << r.describe();
+    if (c.exit_code == 0) { EXPECT_NE(r.out.find("\nwarning: "), std::string::npos) << r.describe(); }
   }
 }
 

@@ -13,7 +13,7 @@
 
 #include "cli_support.h"
 #include "core/shell/cb_shell.h"
-#include "core/shell/sample_elements.h"
+#include "app/bench/sample_elements.h"
 
 namespace ff::cli::test {
 namespace {
@@ -26,13 +26,13 @@ TEST(CliBench, SolveWritesTheElementBlockAndThePlateRows) {
   const nlohmann::json j = nlohmann::json::parse(read_text(json));
 
   const nlohmann::json& e = j.at("element");
-  for (const char* key : {"force_us", "force_tangent_us", "same_flop_product_us"}) EXPECT_GT(e.at(key).get<double>(), 0.0) << key;
+  for (const char* key : {"force_us", "force_tangent_us", "same_flop_product_us"}) { EXPECT_GT(e.at(key).get<double>(), 0.0) << key; }
   // the bench's element: the curved, deformed sample with 5 DoF, hr and ans
   shell::ShellOptions o;
   o.hr = o.ans = true;
   const shell::ElementPoses ref = shell::samples::curved();
   const shell::ElementFlops flops =
-      shell::count_element_flops(shell::CbShellElement(ref, {2.0e5, 0.3, 0.05, 5.0 / 6.0}, o), shell::samples::deformed(ref, 5));
+      shell::count_element_flops(shell::CbShellElement(ref, shell::isotropic_section(2.0e5, 0.3, 0.05), o), shell::samples::deformed(ref, 5));
   EXPECT_EQ(e.at("force_flops").get<long long>(), flops.force);
   EXPECT_EQ(e.at("force_tangent_flops").get<long long>(), flops.force_tangent);
 

@@ -270,7 +270,7 @@ TEST(ErrorBars, ACoarseRoofIsFlaggedNotGivenASmallBar) {
   const nlohmann::json m = bars["metrics"]["w_midside"];
   const double true_error = std::abs(m["value"].get<double>() - 0.3024);
   ASSERT_GT(true_error, 0.02 * 0.3024) << "the case must keep its error above 2 %";
-  if (m["flags"].empty()) EXPECT_GE(m["bar"].get<double>(), true_error / 3) << m.dump(1);
+  if (m["flags"].empty()) { EXPECT_GE(m["bar"].get<double>(), true_error / 3) << m.dump(1); }
   else EXPECT_NE(r.out.find("w_midside"), std::string::npos) << r.out;
   EXPECT_FALSE(m["flags"].empty()) << "3, 6, 12 are not in the asymptotic range: " << m.dump(1);
 }

@@ -42,7 +42,7 @@ void expect_body_in_view(const std::string& path, bool top) {
   EXPECT_EQ(drawn_pixels(img, 0, view_right, kHeight - 2, kHeight), 0) << name << ": the body leaves the view below";
   EXPECT_EQ(drawn_pixels(img, view_right - 2, view_right, kHeight / 6, kHeight), 0)
       << name << ": the body leaves the view on the right";
-  if (top) EXPECT_EQ(drawn_pixels(img, kWidth / 3, view_right, 0, 2), 0) << name << ": the body leaves the view above";
+  if (top) { EXPECT_EQ(drawn_pixels(img, kWidth / 3, view_right, 0, 2), 0) << name << ": the body leaves the view above"; }
 }
 
 TEST(CliFrames, FramesShowTheBeamAndPlotsAreWritten) {

@@ -59,7 +59,7 @@ TEST(CliInterrupt, SigintKeepsResultsAndSummary) {
   EXPECT_NEAR(o.stop_time, stop, 1e-9);
   const std::vector<double> t = h5->times();
   ASSERT_EQ(t.size(), h5->frame_count());
-  for (std::size_t i = 1; i < t.size(); ++i) ASSERT_GT(t[i], t[i - 1]) << "frame " << i;
+  for (std::size_t i = 1; i < t.size(); ++i) { ASSERT_GT(t[i], t[i - 1]) << "frame " << i; }
   EXPECT_NEAR(t.back(), stop, 1e-9) << "frames after the last flush were lost";
   EXPECT_NEAR(h5->frame(t.size() - 1).time, stop, 1e-9);
   EXPECT_EQ(static_cast<double>(t.size() - 1), summary_number(*s, "steps"));

@@ -195,7 +195,7 @@ TEST(CliPathRecord, ADivergedRunKeepsTheAttemptsItEndedOn) {
   EXPECT_GT(summary_number(*s, "cutbacks"), 0.0);
   EXPECT_EQ(h5->outcome().cutbacks, static_cast<std::int64_t>(summary_number(*s, "cutbacks")));
   // each halving is a row at half the load increment of the one before
-  for (std::size_t k = 1; k < log.size(); ++k) EXPECT_DOUBLE_EQ(log[k].stats.dt, 0.5 * log[k - 1].stats.dt);
+  for (std::size_t k = 1; k < log.size(); ++k) { EXPECT_DOUBLE_EQ(log[k].stats.dt, 0.5 * log[k - 1].stats.dt); }
 }
 
 }  // namespace

@@ -41,7 +41,7 @@ TEST(CheckPicture, DrawsTheSelectionsOfAPlateWhereAsked) {
   ASSERT_EQ(img.width, 1280);
   ASSERT_EQ(img.height, 960);
   // the scene's four clamped edges, its pressure (filled, tinted) and its probe: colours in order
-  for (int k = 0; k < 4; ++k) EXPECT_GT(pixels_of(img, render::picture_color(k)), 100) << "bc[" << k << "]";
+  for (int k = 0; k < 4; ++k) { EXPECT_GT(pixels_of(img, render::picture_color(k)), 100) << "bc[" << k << "]"; }
   EXPECT_GT(pixels_of(img, render::picture_color(4, 0.3)), 20000) << "load[0] pressure over the whole plate";
   EXPECT_GT(pixels_of(img, render::picture_color(5)), 10) << "probe[0]";
   // nothing else was written: not in the working folder, not beside the picture
@@ -66,7 +66,7 @@ TEST(CheckPicture, ShowsThePartsOfAJoinedStructureAndAMeshFileScene) {
   r = run_flexframe({"check", "l_plate_force", "--picture", dir + "/l_plate.png"}, dir + "/l_plate");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   img = render::test::read_png(dir + "/l_plate.png");
-  for (int k = 0; k < 3; ++k) EXPECT_GT(pixels_of(img, render::picture_color(k, 0.55)), 500) << "patch " << k;
+  for (int k = 0; k < 3; ++k) { EXPECT_GT(pixels_of(img, render::picture_color(k, 0.55)), 500) << "patch " << k; }
   // a dynamic scene: joints and arcs are selections too
   r = run_flexframe({"check", "double_pendulum_shells", "--picture", dir + "/pendulum.png"}, dir + "/pendulum");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
@@ -113,7 +113,7 @@ TEST(CheckPicture, NamedGroupsAreColouredLabelledAndListed) {
   EXPECT_EQ(pic.items[1].anchor, 2 * 9 + 8);  // its middle node
   EXPECT_EQ(pic.items[2].legend, "group 'pin' (point, 1 node)");
   EXPECT_EQ(pic.items[3].legend, "bc[0] clamped (5 nodes)");
-  for (const auto& item : pic.items) EXPECT_GE(item.anchor, 0) << item.legend;
+  for (const auto& item : pic.items) { EXPECT_GE(item.anchor, 0) << item.legend; }
   EXPECT_EQ(pic.items[3].label, "bc[0] clamped (5 nodes)");  // few labels: each says it all
 
   // many: on the picture only the entry's table and index; the legend keeps the whole line
@@ -135,7 +135,7 @@ TEST(CheckPicture, NamedGroupsAreColouredLabelledAndListed) {
   ASSERT_TRUE(render::write_mesh_picture(*gc, pic, dir + "/groups.png", &error)) << error;
   const render::test::Image img = render::test::read_png(dir + "/groups.png");
   ASSERT_EQ(img.width, pic.width);
-  for (const auto& item : pic.items) EXPECT_GT(pixels_of(img, item.color), 10) << item.legend;
+  for (const auto& item : pic.items) { EXPECT_GT(pixels_of(img, item.color), 10) << item.legend; }
   EXPECT_GT(pixels_of(img, pic.items[0].color), 20000) << "the surface group fills a quarter of the picture";
 }
 

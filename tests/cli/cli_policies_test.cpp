@@ -21,7 +21,7 @@ TEST(CliPolicies, WritesTheTableAndCountersFollowThePolicies) {
                                       "--set", "part[1].n1=4", "--set", "part[1].n2=4", "--out", out},
                                      dir + "/run");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
-  for (const char* f : {"/policies.csv", "/policies.md", "/policies.png"}) EXPECT_TRUE(fs::is_regular_file(out + f)) << f;
+  for (const char* f : {"/policies.csv", "/policies.md", "/policies.png"}) { EXPECT_TRUE(fs::is_regular_file(out + f)) << f; }
   std::ifstream csv(out + "/policies.csv");
   std::string line;
   std::getline(csv, line);

@@ -87,7 +87,7 @@ TEST(ReplayOptions, CameraSizeFormatsAndSelection) {
   // directions as unit vectors (the command line and the scene timeline share one parser)
   const auto expect_along = [](const std::array<double, 3>& got, std::array<double, 3> want) {
     const double n = std::sqrt(want[0] * want[0] + want[1] * want[1] + want[2] * want[2]);
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], want[k] / n, 1e-12) << k;
+    for (int k = 0; k < 3; ++k) { EXPECT_NEAR(got[k], want[k] / n, 1e-12) << k; }
   };
   expect_along(app::parse_camera("iso").view_direction, {1, -1, 1});
   const render::Camera top = app::parse_camera("top,2.5");

@@ -38,7 +38,7 @@ TEST_P(CliSceneKey, CheckRefusesAtTheKeyOrWarns) {
   const std::string& text = c.exit_code == 0 ? r.out : r.err;
   EXPECT_NE(text.find("key '" + c.key + "'"), std::string::npos) << "lacks key '" << c.key << "'\n" << r.describe();
   EXPECT_NE(text.find(c.fragment), std::string::npos) << "lacks '" << c.fragment << "'\n" << r.describe();
-  if (c.exit_code == 0) EXPECT_NE(r.out.find("\nwarning: "), std::string::npos) << r.describe();
+  if (c.exit_code == 0) { EXPECT_NE(r.out.find("\nwarning: "), std::string::npos) << r.describe(); }
 }
 
 const std::string kSmallPlate[] = {"part[0].n1=10", "part[0].n2=10"};

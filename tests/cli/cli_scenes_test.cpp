@@ -75,7 +75,7 @@ TEST(CliScenes, BundledScenesAreListed) {
   const std::string dir = fresh_test_dir();
   const ProcResult r = run_flexframe({"scenes"}, dir + "/scenes");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
-  for (const std::string& n : names) EXPECT_NE(r.out.find("  " + n + "\n"), std::string::npos) << n << "\n" << r.describe();
+  for (const std::string& n : names) { EXPECT_NE(r.out.find("  " + n + "\n"), std::string::npos) << n << "\n" << r.describe(); }
 }
 
 class CliBundledScene : public ::testing::TestWithParam<std::string> {};
@@ -120,7 +120,7 @@ TEST_P(CliBundledScene, RunsShortened) {
   // effect_stats: every listed effect ran; anything else that ran is a load or a rigid body
   const Json* stats = s->get("effect_stats");
   ASSERT_TRUE(stats && stats->kind == Json::Kind::object);
-  for (const std::string& e : fx) EXPECT_TRUE(stats->get(e)) << "effect '" << e << "' is listed but did not run";
+  for (const std::string& e : fx) { EXPECT_TRUE(stats->get(e)) << "effect '" << e << "' is listed but did not run"; }
   for (const auto& [e, stat] : stats->object) {
     const bool listed = std::find(fx.begin(), fx.end(), e) != fx.end();
     // a modal analysis's mass is the element inertia, whether or not the scene lists it
@@ -183,7 +183,7 @@ TEST(CliScenes, DivergedRunResultsAreReadable) {
   ASSERT_EQ(t.size(), h5->frame_count());
   ASSERT_GT(t.size(), 10u);
   EXPECT_EQ(t.front(), 0.0);
-  for (std::size_t i = 1; i < t.size(); ++i) ASSERT_GT(t[i], t[i - 1]) << "frame " << i;
+  for (std::size_t i = 1; i < t.size(); ++i) { ASSERT_GT(t[i], t[i - 1]) << "frame " << i; }
   EXPECT_NEAR(t.back(), stop, 1e-9) << "the last stored frame is not the last converged step";
   // every step is stored: dt = 0.01 s up to the stop time
   EXPECT_EQ(static_cast<double>(t.size() - 1), summary_number(*s, "steps"));
@@ -192,10 +192,10 @@ TEST(CliScenes, DivergedRunResultsAreReadable) {
   for (const Quantity& q : h5->info().probes) {
     const std::vector<double> v = h5->probe_series(q.name);
     ASSERT_EQ(v.size(), t.size()) << q.name;
-    for (std::size_t i = 0; i < v.size(); ++i) ASSERT_TRUE(std::isfinite(v[i])) << q.name << " at frame " << i;
+    for (std::size_t i = 0; i < v.size(); ++i) { ASSERT_TRUE(std::isfinite(v[i])) << q.name << " at frame " << i; }
   }
   const Frame last = h5->frame(t.size() - 1);
-  for (double x : last.points) ASSERT_TRUE(std::isfinite(x));
+  for (double x : last.points) { ASSERT_TRUE(std::isfinite(x)); }
   EXPECT_EQ(last.points.size(), 3 * h5->info().mesh.point_count());
 }
 

@@ -317,7 +317,7 @@ probe = "vm_root"
   EXPECT_EQ(unit_of("Q2"), "N/m");
   EXPECT_EQ(unit_of("M12"), "N");
   for (const Quantity& p : info.probes)
-    if (p.name == "vm_root") EXPECT_EQ(p.unit, "Pa");
+    if (p.name == "vm_root") { EXPECT_EQ(p.unit, "Pa"); }
   ASSERT_EQ(h5->frame_count(), 21u);
   const int vm = app::field_index(info, "von_mises");
   const std::size_t root = nearest_point(info, 0.0, 0.05, 0.0);
@@ -428,8 +428,8 @@ TEST(CliStress, LaminatedRoofRecordsItsPliesAndTheirFailureIndex) {
   const std::size_t crown = nearest_point(info, 0.0, 0.0, 0.0);
   for (std::size_t k = 0; k < info.fields.size(); ++k) {
     const std::string& name = info.fields[k].name;
-    if (name == "ply2_sigma1") EXPECT_NE(last.fields[k][crown], 0.0);
-    if (name.find("tsai_wu") != std::string::npos) EXPECT_TRUE(std::isfinite(last.fields[k][crown])) << name;
+    if (name == "ply2_sigma1") { EXPECT_NE(last.fields[k][crown], 0.0); }
+    if (name.find("tsai_wu") != std::string::npos) { EXPECT_TRUE(std::isfinite(last.fields[k][crown])) << name; }
   }
   const std::string out = dir + "/replay";
   const ProcResult p =

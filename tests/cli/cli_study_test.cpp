@@ -82,7 +82,7 @@ TEST(CliStudy, BundledStudiesAreListed) {
   const std::string dir = fresh_test_dir();
   const ProcResult r = run_flexframe({"study", "--list"}, dir + "/list");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
-  for (const std::string& name : bundled_study_names()) EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  for (const std::string& name : bundled_study_names()) { EXPECT_NE(r.out.find(name), std::string::npos) << name; }
   EXPECT_GE(bundled_study_names().size(), 4u);  // the four studies issue 6 asks for
 }
 
@@ -96,7 +96,7 @@ TEST(CliStudy, GridWithFinestReferenceWritesConsistentTableAndPlot) {
                                       "solver.end=2.5", "--repeat", "2", "--out", out},
                                      dir + "/study");
   ASSERT_EQ(r.exit_code, 0) << r.describe();
-  for (const char* f : {"/study.csv", "/study.md", "/pareto.png"}) ASSERT_TRUE(fs::is_regular_file(out + f)) << f;
+  for (const char* f : {"/study.csv", "/study.md", "/pareto.png"}) { ASSERT_TRUE(fs::is_regular_file(out + f)) << f; }
   const auto rows = read_study_csv(out + "/study.csv");
   ASSERT_EQ(rows.size(), 4u);
   // the odometer order: last axis fastest
@@ -238,7 +238,7 @@ TEST(CliStudy, DivergedVariantIsReportedAndSceneReferenceIsUsed) {
   EXPECT_EQ(rows[0].at("tip_transverse_at_2s_m"), "");
   EXPECT_EQ(rows[1].at("status"), "completed");
   EXPECT_EQ(rows[1].at("pareto"), "1");
-  for (const auto& row : rows) EXPECT_EQ(row.at("is_reference"), "0");
+  for (const auto& row : rows) { EXPECT_EQ(row.at("is_reference"), "0"); }
   EXPECT_NE(read_text(out + "/study.md").find("from a run of hub_beam_fem_tau1"), std::string::npos);
 }
 
@@ -335,7 +335,7 @@ TEST(CliStudy, JobsTwoMatchesSequentialVariantByVariant) {
     std::snprintf(folder, sizeof folder, "/%03zu", i);
     EXPECT_TRUE(fs::is_regular_file(dir + "/par/runs" + folder + "/summary.json")) << folder;
   }
-  for (const char* f : {"/study.md", "/pareto.png"}) EXPECT_TRUE(fs::is_regular_file(dir + "/par" + f)) << f;
+  for (const char* f : {"/study.md", "/pareto.png"}) { EXPECT_TRUE(fs::is_regular_file(dir + "/par" + f)) << f; }
 
   // a variant that diverges (2 Gauss points under-integrate the scale-3 supports) and a reference
   // run outside the variants: both ways alike
@@ -564,7 +564,7 @@ TEST(CliStudy, MpiTwoRanksMatchSequential) {
   const auto a = read_study_csv(dir + "/seq/study.csv"), b = read_study_csv(dir + "/mpi/study.csv");
   ASSERT_EQ(a.size(), 9u);
   expect_same_results(a, b, "pointF_z_final");
-  for (const auto& row : b) EXPECT_EQ(row.at("shared"), "1");
+  for (const auto& row : b) { EXPECT_EQ(row.at("shared"), "1"); }
 }
 
 }  // namespace

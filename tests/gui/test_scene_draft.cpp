@@ -182,7 +182,7 @@ TEST(SceneDraft, AnEdgeFromTheListBecomesTheSelection) {
   ASSERT_TRUE(sel.has_value());
   ASSERT_FALSE(sel->entries.empty());
   EXPECT_EQ(sel->entries[0].nodes.size(), 9u);  // the 9 nodes of the 8 x 8 plate's edge x = 1
-  for (int n : sel->entries[0].nodes) EXPECT_DOUBLE_EQ(sel->mesh.points[n].x(), 1.0);
+  for (int n : sel->entries[0].nodes) { EXPECT_DOUBLE_EQ(sel->mesh.points[n].x(), 1.0); }
 }
 
 // What "show" marks: every entry's nodes but those of an entry acting on every node (a pressure

@@ -57,7 +57,7 @@ TEST(ResultStoreCApi, LayoutAsDocumented) {
   {
     auto w = ResultWriter::create(path, info, &error);
     ASSERT_TRUE(w) << error;
-    for (int i = 0; i < 120; ++i) ASSERT_TRUE(w->append(make_frame(info, i), &error));
+    for (int i = 0; i < 120; ++i) { ASSERT_TRUE(w->append(make_frame(info, i), &error)); }
     w->set_attribute("git_hash", "abc123");
     RunOutcome o;
     o.status = RunStatus::diverged;

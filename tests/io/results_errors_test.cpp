@@ -31,7 +31,7 @@ std::string finished_file(const std::string& name, int frames) {
   auto w = ResultWriter::create(path, info, &error);
   EXPECT_TRUE(w) << error;
   if (!w) return path;
-  for (int i = 0; i < frames; ++i) EXPECT_TRUE(w->append(make_frame(info, i), &error)) << error;
+  for (int i = 0; i < frames; ++i) { EXPECT_TRUE(w->append(make_frame(info, i), &error)) << error; }
   EXPECT_TRUE(w->finish({}, {}, &error)) << error;
   return path;
 }
@@ -101,7 +101,7 @@ TEST(ResultStoreErrors, OpenTruncatedFile) {
   {
     auto w = ResultWriter::create(good, info, &error);
     ASSERT_TRUE(w) << error;
-    for (int i = 0; i < 200; ++i) ASSERT_TRUE(w->append(make_frame(info, i), &error));
+    for (int i = 0; i < 200; ++i) { ASSERT_TRUE(w->append(make_frame(info, i), &error)); }
     ASSERT_TRUE(w->finish({}, {}, &error)) << error;
   }
   const std::string bad = out_path("truncated.h5");

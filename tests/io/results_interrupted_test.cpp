@@ -104,7 +104,7 @@ TEST(ResultStoreInterrupted, ExitWithoutFinishKeepsFlushedFrames) {
   auto r = ResultReader::open(path, &error);
   ASSERT_TRUE(r) << error;
   ASSERT_EQ(r->frame_count(), 130u);
-  for (int i = 0; i < 130; ++i) ASSERT_TRUE(test::same_frame(make_frame(info, i), r->frame(i)));
+  for (int i = 0; i < 130; ++i) { ASSERT_TRUE(test::same_frame(make_frame(info, i), r->frame(i))); }
   RunOutcome o = r->outcome();
   EXPECT_EQ(o.status, RunStatus::interrupted);
   EXPECT_EQ(o.reason, unfinished(130));
@@ -197,7 +197,7 @@ TEST(ResultStoreInterrupted, SigkillAtRandomMomentsLeavesReadableFile) {
     }
     std::vector<double> t = r->times();
     ASSERT_EQ(t.size(), n);
-    for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(test::bitwise_equal(t[i], make_frame(info, i).time));
+    for (std::size_t i = 0; i < n; ++i) { ASSERT_TRUE(test::bitwise_equal(t[i], make_frame(info, i).time)); }
     r.reset();
     expect_consistent_extents(path, n, true);
   }
@@ -212,7 +212,7 @@ TEST(ResultStoreInterrupted, DamagedRowsOfAnUnfinishedFileAreDropped) {
   {
     auto w = ResultWriter::create(path, info, &error);
     ASSERT_TRUE(w) << error;
-    for (int i = 0; i < 150; ++i) ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error;
+    for (int i = 0; i < 150; ++i) { ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error; }
   }  // destroyed without finish(): finished = 0
   hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   ASSERT_GE(f, 0);
@@ -245,7 +245,7 @@ TEST(ResultStoreInterrupted, DestructorWithoutFinishFlushesEverything) {
   {
     auto w = ResultWriter::create(path, info, &error);
     ASSERT_TRUE(w) << error;
-    for (int i = 0; i < 77; ++i) ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error;
+    for (int i = 0; i < 77; ++i) { ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error; }
   }
   auto r = ResultReader::open(path, &error);
   ASSERT_TRUE(r) << error;

@@ -53,7 +53,7 @@ TEST(ResultStore, RoundTripRunInfoAndFramesBitwise) {
     ASSERT_TRUE(w) << error;
     w->set_attribute("render_backend", "egl");
     w->set_attribute("git_hash", "0123abc");
-    for (std::int64_t i = 0; i < kFrames; ++i) ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error;
+    for (std::int64_t i = 0; i < kFrames; ++i) { ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error; }
     w->set_attribute("render_backend", "osmesa");  // repeated key: last value wins, first place
     EXPECT_EQ(w->frames_appended(), static_cast<std::size_t>(kFrames));
     RunOutcome done;
@@ -108,14 +108,14 @@ TEST(ResultStore, EmptyMeshNoProbesNoEffects) {
   {
     auto w = ResultWriter::create(path, info, &error);
     ASSERT_TRUE(w) << error;
-    for (int i = 0; i < 7; ++i) ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error;
+    for (int i = 0; i < 7; ++i) { ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error; }
     ASSERT_TRUE(w->finish({}, {}, &error)) << error;
   }
   auto r = ResultReader::open(path, &error);
   ASSERT_TRUE(r) << error;
   expect_same_info(info, r->info());
   ASSERT_EQ(r->frame_count(), 7u);
-  for (int i = 0; i < 7; ++i) EXPECT_TRUE(test::same_frame(make_frame(info, i), r->frame(i)));
+  for (int i = 0; i < 7; ++i) { EXPECT_TRUE(test::same_frame(make_frame(info, i), r->frame(i))); }
   EXPECT_TRUE(r->metrics().empty());
   EXPECT_TRUE(r->attributes().empty());
   EXPECT_EQ(r->outcome().status, RunStatus::completed);
@@ -136,7 +136,7 @@ TEST(ResultStore, FinishDivergedWithReasonAndMetrics) {
   {
     auto w = ResultWriter::create(path, info, &error);
     ASSERT_TRUE(w) << error;
-    for (int i = 0; i <= 41; ++i) ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error;
+    for (int i = 0; i <= 41; ++i) { ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error; }
     ASSERT_TRUE(w->finish(diverged, metrics, &error)) << error;
     // the writer is closed now
     EXPECT_FALSE(w->append(make_frame(info, 42), &error));
@@ -167,7 +167,7 @@ TEST(ResultStore, AppendFlushesEvery50FramesOrOneSecond) {
   auto w = ResultWriter::create(path, info, &error);
   ASSERT_TRUE(w) << error;
   std::int64_t i = 0;
-  for (; i < 49; ++i) ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error;
+  for (; i < 49; ++i) { ASSERT_TRUE(w->append(make_frame(info, i), &error)) << error; }
   // 49 appends take microseconds: nothing written yet unless this machine stalled for 1 s
   const auto started = std::chrono::steady_clock::now();
   ASSERT_TRUE(w->append(make_frame(info, i++), &error)) << error;

@@ -67,7 +67,7 @@ TEST(AbaqusInp, SampleDeckIsTheGeneratorPlate) {
   EXPECT_EQ(s.format, "Abaqus INP");
   EXPECT_EQ(s.file, path);
   ASSERT_EQ(s.points.size(), plate.points.size());
-  for (std::size_t i = 0; i < s.points.size(); ++i) EXPECT_LT((s.points[i] - plate.points[i]).norm(), 1e-15) << i;
+  for (std::size_t i = 0; i < s.points.size(); ++i) { EXPECT_LT((s.points[i] - plate.points[i]).norm(), 1e-15) << i; }
   ASSERT_EQ(s.elements.size(), plate.quads.size());
   for (std::size_t q = 0; q < s.elements.size(); ++q) {
     EXPECT_EQ(s.elements[q].nodes, plate.quads[q]) << q;
@@ -81,8 +81,8 @@ TEST(AbaqusInp, SampleDeckIsTheGeneratorPlate) {
   ASSERT_TRUE(clamped && loaded && all);
   ASSERT_EQ(clamped->nodes.size(), 9u);
   ASSERT_EQ(loaded->nodes.size(), 9u);
-  for (int p : clamped->nodes) EXPECT_EQ(s.points[p].x(), 0.0);
-  for (int p : loaded->nodes) EXPECT_EQ(s.points[p].x(), 1.0);
+  for (int p : clamped->nodes) { EXPECT_EQ(s.points[p].x(), 0.0); }
+  for (int p : loaded->nodes) { EXPECT_EQ(s.points[p].x(), 1.0); }
   EXPECT_TRUE(clamped->elements.empty() && clamped->segments.empty());
   EXPECT_EQ(all->elements.size(), 64u);
   EXPECT_TRUE(all->nodes.empty());
@@ -365,8 +365,8 @@ TEST(AbaqusInp, FuzzedDecksNeverCrash) {
           ASSERT_TRUE(e.nodes[k] >= 0 && e.nodes[k] < static_cast<int>(s.points.size())) << what;
       for (const ImportedGroup& g : s.groups) {
         ASSERT_FALSE(g.nodes.empty() && g.elements.empty()) << what;
-        for (int p : g.nodes) ASSERT_TRUE(p >= 0 && p < static_cast<int>(s.points.size())) << what;
-        for (int e : g.elements) ASSERT_TRUE(e >= 0 && e < static_cast<int>(s.elements.size())) << what;
+        for (int p : g.nodes) { ASSERT_TRUE(p >= 0 && p < static_cast<int>(s.points.size())) << what; }
+        for (int e : g.elements) { ASSERT_TRUE(e >= 0 && e < static_cast<int>(s.elements.size())) << what; }
       }
     } else {
       ++refused;

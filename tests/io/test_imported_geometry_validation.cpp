@@ -225,7 +225,7 @@ TEST(ImportedGeometryAccuracy, PlateWithAHoleFromAGeoScriptAgainstAFineMeshAndKi
     std::printf("plate with a hole, %d quads: stress concentration %.4f (Howland %.4f: %+.2f %%), sigma_yy at theta = 0 %.4f\n",
                 r->quads, scf, howland, 100 * (scf / howland - 1), syy);
     EXPECT_LT(std::abs(scf / howland - 1), 0.05) << r->quads << " quads";
-    if (r != &coarse) EXPECT_LT(std::abs(syy + 1.0), 0.05) << r->quads << " quads";
+    if (r != &coarse) { EXPECT_LT(std::abs(syy + 1.0), 0.05) << r->quads << " quads"; }
   }
 }
 
@@ -268,7 +268,7 @@ TEST(ImportedGeometryAccuracy, AveragedDirectorsDoNotDependOnWhatTheHeapHeld) {
   ff::mesh::ShellMesh m;
   ff::scene::MeshFileError error;
   ASSERT_TRUE(ff::io::read_mesh_file(q, m, error)) << error.message;
-  for (int i = 0; i < m.node_count(); ++i) EXPECT_NEAR(m.normals[static_cast<std::size_t>(i)].z(), 1.0, 1e-12) << "node " << i;
+  for (int i = 0; i < m.node_count(); ++i) { EXPECT_NEAR(m.normals[static_cast<std::size_t>(i)].z(), 1.0, 1e-12) << "node " << i; }
 }
 
 // The CAD hemisphere (assets/geometry/hemisphere_18deg_quarter.geo): an OpenCASCADE sphere's face

@@ -65,7 +65,7 @@ void expect_same_mesh(const ShellMesh& got, const ShellMesh& want, double tol) {
     EXPECT_LT(best, tol) << "imported node " << i << " matches no generated node";
     ++hits[to_want[i]];
   }
-  for (int j = 0; j < want.node_count(); ++j) EXPECT_EQ(hits[j], 1) << "generated node " << j;
+  for (int j = 0; j < want.node_count(); ++j) { EXPECT_EQ(hits[j], 1) << "generated node " << j; }
   std::map<std::array<int, 4>, int> quads;
   for (const auto& q : want.quads) ++quads[canonical(q)];
   for (const auto& q : got.quads) {
@@ -160,7 +160,7 @@ TEST(MeshImport, GeneratedMeshesRoundTripThroughObjAndPly) {
   ShellMesh got;
   std::string error;
   ASSERT_TRUE(ff::io::import_shell_mesh(scratch("hemisphere.obj"), got, &error)) << error;
-  for (int i = 0; i < got.node_count(); ++i) EXPECT_GT(got.normals[i].dot(got.points[i].normalized()), 0.98);
+  for (int i = 0; i < got.node_count(); ++i) { EXPECT_GT(got.normals[i].dot(got.points[i].normalized()), 0.98); }
 }
 
 TEST(MeshImport, TriangleMeshesAreRefusedWithCounts) {
@@ -218,7 +218,7 @@ TEST(MeshImport, InconsistentWindingIsRefusedOrRepaired) {
   ShellMesh m;
   std::string error;
   ASSERT_TRUE(ff::io::import_shell_mesh(path, m, &error, o)) << error;
-  for (int q = 0; q < m.quad_count(); ++q) EXPECT_LT((quad_normal(m, q) - Vector3d::UnitZ()).norm(), 1e-12);
+  for (int q = 0; q < m.quad_count(); ++q) { EXPECT_LT((quad_normal(m, q) - Vector3d::UnitZ()).norm(), 1e-12); }
   EXPECT_TRUE(validate(m).ok());
 }
 

@@ -84,10 +84,10 @@ TEST(GmshImport, ReadsAMsh4FileOfQuadsWithItsPhysicalGroups) {
   const auto& left = group(m, "left");
   EXPECT_EQ(left.dimension, 1);
   EXPECT_EQ(left.nodes.size(), 5u);
-  for (int i : left.nodes) EXPECT_NEAR(m.points[i].x(), 0.0, 1e-12);
+  for (int i : left.nodes) { EXPECT_NEAR(m.points[i].x(), 0.0, 1e-12); }
   const auto& right = group(m, "right");
   EXPECT_EQ(right.nodes.size(), 5u);
-  for (int i : right.nodes) EXPECT_NEAR(m.points[i].x(), 1.0, 1e-12);
+  for (int i : right.nodes) { EXPECT_NEAR(m.points[i].x(), 1.0, 1e-12); }
   const auto& corner = group(m, "corner");
   EXPECT_EQ(corner.dimension, 0);
   ASSERT_EQ(corner.nodes.size(), 1u);
@@ -98,8 +98,8 @@ TEST(GmshImport, ReadsAMsh4FileOfQuadsWithItsPhysicalGroups) {
   EXPECT_EQ(plate.nodes.size(), 25u);
   EXPECT_NE(plate.origin.find("physical surface"), std::string::npos) << plate.origin;
   // one side for every director (a flat plate: all along the same normal)
-  for (const auto& n : m.normals) EXPECT_NEAR(std::abs(n.z()), 1.0, 1e-12);
-  for (const auto& n : m.normals) EXPECT_GT(n.dot(m.normals[0]), 0.0);
+  for (const auto& n : m.normals) { EXPECT_NEAR(std::abs(n.z()), 1.0, 1e-12); }
+  for (const auto& n : m.normals) { EXPECT_GT(n.dot(m.normals[0]), 0.0); }
   EXPECT_EQ(m.fold_count(), 0);
   EXPECT_NE(m.patches[0].description.find("16 quads as read"), std::string::npos) << m.patches[0].description;
 }
@@ -119,7 +119,7 @@ TEST(GmshImport, AMsh22FileGivesTheSameMeshAndGroups) {
     std::sort(xa.begin(), xa.end());
     std::sort(xb.begin(), xb.end());
     for (std::size_t k = 0; k < xa.size(); ++k)
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(xa[k][c], xb[k][c], 1e-12) << name;
+      for (int c = 0; c < 3; ++c) { EXPECT_NEAR(xa[k][c], xb[k][c], 1e-12) << name; }
   }
 }
 
@@ -144,7 +144,7 @@ TEST(GmshImport, TrianglesAreSplitIntoThreeQuadsEachAndGroupsTakeTheirMidpoints)
   const auto& left = group(r.mesh, "left");
   // the curve x = 0 has 4 segments at size 0.25: 5 nodes, and 4 midpoints after the split
   EXPECT_EQ(left.nodes.size(), 9u);
-  for (int i : left.nodes) EXPECT_NEAR(r.mesh.points[i].x(), 0.0, 1e-12);
+  for (int i : left.nodes) { EXPECT_NEAR(r.mesh.points[i].x(), 0.0, 1e-12); }
   EXPECT_NE(r.mesh.patches[0].description.find("triangles split into"), std::string::npos) << r.mesh.patches[0].description;
 
   q.triangles = "refuse";
@@ -288,11 +288,11 @@ TEST(GmshImport, FacesMeetingAtACreaseShareFoldNodes) {
   const auto& line = group(r.mesh, "fold_line");
   ASSERT_GE(line.nodes.size(), 5u);
   EXPECT_EQ(r.mesh.fold_count(), static_cast<int>(line.nodes.size()));
-  for (int i : line.nodes) EXPECT_TRUE(r.mesh.fold[i]);
+  for (int i : line.nodes) { EXPECT_TRUE(r.mesh.fold[i]); }
   // every quad's corner director is its own face's normal: z on the floor, x on the wall
   for (int q2 = 0; q2 < r.mesh.quad_count(); ++q2) {
     const Eigen::Vector3d n = ff::mesh::quad_normal(r.mesh, q2);
-    for (int k = 0; k < 4; ++k) EXPECT_NEAR(r.mesh.corner_normals[q2][k].dot(n), 1.0, 1e-9);
+    for (int k = 0; k < 4; ++k) { EXPECT_NEAR(r.mesh.corner_normals[q2][k].dot(n), 1.0, 1e-9); }
   }
 }
 
@@ -508,10 +508,10 @@ TEST(GmshImport, CadFacesThatTouchAreJoinedAndKeepTheirGroups) {
   EXPECT_EQ(on_common_edge, 5) << "one row of nodes on x = 1 (size 0.25)";
   const auto& common = group(joined.mesh, "common");
   EXPECT_EQ(common.nodes.size(), 5u);
-  for (int i : common.nodes) EXPECT_NEAR(joined.mesh.points[i].x(), 1.0, 1e-12);
+  for (int i : common.nodes) { EXPECT_NEAR(joined.mesh.points[i].x(), 1.0, 1e-12); }
   const auto& bottom = group(joined.mesh, "bottom");
   EXPECT_EQ(bottom.nodes.size(), 9u);
-  for (int i : bottom.nodes) EXPECT_NEAR(joined.mesh.points[i].y(), 0.0, 1e-12);
+  for (int i : bottom.nodes) { EXPECT_NEAR(joined.mesh.points[i].y(), 0.0, 1e-12); }
   const auto& origin = group(joined.mesh, "origin");
   ASSERT_EQ(origin.nodes.size(), 1u);
   EXPECT_NEAR(joined.mesh.points[origin.nodes[0]].norm(), 0.0, 1e-12);
@@ -519,7 +519,7 @@ TEST(GmshImport, CadFacesThatTouchAreJoinedAndKeepTheirGroups) {
   double left_area = 0;
   for (int q2 : left.quads) {
     left_area += ff::mesh::quad_area(joined.mesh, q2);
-    for (int i : joined.mesh.quads[q2]) EXPECT_LE(joined.mesh.points[i].x(), 1.0 + 1e-12);
+    for (int i : joined.mesh.quads[q2]) { EXPECT_LE(joined.mesh.points[i].x(), 1.0 + 1e-12); }
   }
   EXPECT_NEAR(left_area, 1.0, 1e-9) << "the surface group is its face's quads, all of them";
   // kept apart when the scene says so: a row of nodes each, and the description says why
@@ -696,7 +696,7 @@ TEST(GmshImport, AnEdgeOfThreeCadFacesIsAFold) {
   EXPECT_EQ(foot, 21) << "the foot, 1000 long at size 50";
   for (int q2 = 0; q2 < r.mesh.quad_count(); ++q2) {
     const Eigen::Vector3d n = ff::mesh::quad_normal(r.mesh, q2);
-    for (int k = 0; k < 4; ++k) EXPECT_NEAR(r.mesh.corner_normals[q2][k].dot(n), 1.0, 1e-9);
+    for (int k = 0; k < 4; ++k) { EXPECT_NEAR(r.mesh.corner_normals[q2][k].dot(n), 1.0, 1e-9); }
   }
 }
 

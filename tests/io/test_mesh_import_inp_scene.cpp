@@ -19,8 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string scratch(const std::string& name) { return ff::testing::scratch_path("mesh_import_inp", name); }
-
 std::string write_text(const std::string& name, const std::string& text) {
   return ff::testing::write_scratch("mesh_import_inp", name, text);
 }
@@ -57,7 +55,7 @@ TEST(InpScene, TheSampleDecksSetsAreNamedGroups) {
   ASSERT_GE(m.find_group("LOADED"), 0);
   ASSERT_GE(m.find_group("PLATE"), 0);
   EXPECT_EQ(m.groups[m.find_group("CLAMPED")].nodes.size(), 9u);
-  for (int i : m.groups[m.find_group("CLAMPED")].nodes) EXPECT_EQ(m.points[i].x(), 0.0);
+  for (int i : m.groups[m.find_group("CLAMPED")].nodes) { EXPECT_EQ(m.points[i].x(), 0.0); }
   EXPECT_EQ(m.groups[m.find_group("PLATE")].quads.size(), 64u);
   EXPECT_NE(m.patches[0].description.find("Abaqus"), std::string::npos) << m.patches[0].description;
 }

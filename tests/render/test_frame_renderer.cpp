@@ -400,7 +400,7 @@ TEST_F(FrameRendererTest, ShellGhostLiesBeneathTheBodyAsAFaintGrey) {
   EXPECT_EQ(at(1.425, 0.375), at(2.425, 0.375));
   const auto ghost = at(0.4, 0.375);  // ghost alone
   const double expected[3] = {255 * (0.8 + 0.2 * 0.74), 255 * (0.8 + 0.2 * 0.74), 255 * (0.8 + 0.2 * 0.76)};
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(ghost[c], expected[c], 6.0) << "channel " << c;
+  for (int c = 0; c < 3; ++c) { EXPECT_NEAR(ghost[c], expected[c], 6.0) << "channel " << c; }
   EXPECT_TRUE(is_background(at(1.4, 1.3)));  // above both
 }
 

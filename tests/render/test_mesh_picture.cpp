@@ -189,7 +189,7 @@ TEST(PlaceLabels, BoxesAroundOneCrowdedPointDoNotOverlapAndStayInTheArea) {
     EXPECT_TRUE(b.x0 >= area.x0 && b.y0 >= area.y0 && b.x1 <= area.x1 && b.y1 <= area.y1)
         << "box " << i << ": " << b.x0 << " " << b.y0 << " " << b.x1 << " " << b.y1;
     EXPECT_FALSE(b.overlaps(occupied[0])) << "box " << i;
-    for (std::size_t j = 0; j < i; ++j) EXPECT_FALSE(b.overlaps(boxes[j])) << "boxes " << j << " and " << i;
+    for (std::size_t j = 0; j < i; ++j) { EXPECT_FALSE(b.overlaps(boxes[j])) << "boxes " << j << " and " << i; }
     for (const auto& a : anchors)  // no box hides a labelled point
       EXPECT_FALSE(a[0] > b.x0 && a[0] < b.x1 && a[1] > b.y0 && a[1] < b.y1) << "box " << i;
   }

@@ -63,7 +63,7 @@ void expect_all_finite(const Recorded& r, const std::string& what) {
       for (double v : field) ok = ok && std::isfinite(v);
     ASSERT_TRUE(ok) << what << ": non-finite value in the frame of step " << f.step;
   }
-  for (const auto& [k, v] : r.metrics) EXPECT_TRUE(std::isfinite(v)) << what << ": metric " << k;
+  for (const auto& [k, v] : r.metrics) { EXPECT_TRUE(std::isfinite(v)) << what << ": metric " << k; }
 }
 
 TEST(StabilityStatics, ThinHemisphereRh1000ReachesTheFullLoadSmoothly) {

@@ -86,7 +86,7 @@ TEST(Stability, FastSpinningShellKeepsEnergyBoundedOverManyTurns) {
   ShellBodySpec b;
   b.name = "disk";
   b.mesh = mesh::rectangular_plate(0.6, 0.6, 4, 4, "disk");
-  b.section = {5.0e6, 0.3, 0.01, 5.0 / 6.0};
+  b.section = isotropic_section(5.0e6, 0.3, 0.01);
   b.density = 1000;
   spec.shells = {b};
   MultibodyModel m(spec);
@@ -128,12 +128,12 @@ TEST(Stability, NearlyDegenerateElementStaysConsistent) {
   // a non-convex (inverted) quad is refused with a reason, never evaluated into NaNs
   ElementPoses bad = ref;
   bad[2].p = Vec3(0.5, 0.02, 0);
-  EXPECT_THROW(CbShellElement(bad, {2.0e5, 0.3, 0.01, 5.0 / 6.0}, ShellOptions{}), std::exception);
+  EXPECT_THROW(CbShellElement(bad, isotropic_section(2.0e5, 0.3, 0.01), ShellOptions{}), std::exception);
   for (bool drilling : {false, true}) {
     ShellOptions o;
     o.drilling = drilling;
     o.drilling_factor = 0.1;
-    CbShellElement el(ref, {2.0e5, 0.3, 0.01, 5.0 / 6.0}, o);
+    CbShellElement el(ref, isotropic_section(2.0e5, 0.3, 0.01), o);
     const ElementPoses cur = deformed(ref, 7, 0.02);
     Vec24 f;
     Mat24 K;

@@ -4,7 +4,7 @@
 #include <random>
 
 #include "core/shell/cb_shell.h"
-#include "core/shell/sample_elements.h"
+#include "app/bench/sample_elements.h"
 
 namespace ff::shell::testing {
 
@@ -47,13 +47,6 @@ void central_differences(const Element& el, const ElementPoses& cur, double h, V
     el.evaluate(perturb(cur, k, -h), Fm, nullptr);
     Kfd.col(k) = (Fp - Fm) / (2 * h);
   }
-}
-
-// An isotropic section of E, nu and thickness h (the other members at their defaults)
-inline ShellSection isotropic_section(double E, double nu, double h) {
-  ShellSection s;
-  s.youngs_modulus = E, s.poisson_ratio = nu, s.thickness = h;
-  return s;
 }
 
 }  // namespace ff::shell::testing

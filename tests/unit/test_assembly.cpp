@@ -27,7 +27,7 @@ TEST(Assembly, UnknownsAreNumberedNodeByNodeSlotsAscending) {
   EXPECT_EQ(d.equation(1, 5), -1);
   EXPECT_EQ(d.equation(2, 2), -1);
   EXPECT_EQ(d.equation(2, 3), 11);
-  for (int k = 0; k < d.size(); ++k) EXPECT_EQ(d.equation(d.unknown(k).node, d.unknown(k).slot), k);
+  for (int k = 0; k < d.size(); ++k) { EXPECT_EQ(d.equation(d.unknown(k).node, d.unknown(k).slot), k); }
 }
 
 TEST(Assembly, ScatterAddEqualsDenseAssembly) {
@@ -126,7 +126,7 @@ TEST(Assembly, ElementLoopCoversEveryItemOnceInFixedChunks) {
           std::lock_guard<std::mutex> lock(m);
           ranges->emplace_back(begin, end);
         });
-      for (int k = 0; k < count; ++k) EXPECT_EQ(seen[k], 1) << "item " << k << ", " << threads << " threads";
+      for (int k = 0; k < count; ++k) { EXPECT_EQ(seen[k], 1) << "item " << k << ", " << threads << " threads"; }
       std::sort(first.begin(), first.end());
       std::sort(second.begin(), second.end());
       EXPECT_EQ(first, second);
@@ -161,7 +161,7 @@ TEST(Assembly, StdThreadPoolRunsEveryChunkOnceAndPassesExceptions) {
         ++runs[c];
         by[c] = std::this_thread::get_id();
       });
-      for (int c = 0; c < chunks; ++c) ASSERT_EQ(runs[c], 1) << "chunk " << c << " of " << chunks;
+      for (int c = 0; c < chunks; ++c) { ASSERT_EQ(runs[c], 1) << "chunk " << c << " of " << chunks; }
       std::sort(by.begin(), by.end());
       EXPECT_LE(std::unique(by.begin(), by.end()) - by.begin(), chunks);
     }
@@ -173,8 +173,8 @@ TEST(Assembly, StdThreadPoolRunsEveryChunkOnceAndPassesExceptions) {
                                            if (c % 2 == 1) throw std::runtime_error("element failed");
                                          }),
                std::runtime_error);
-  for (int c = 0; c < 5; ++c) EXPECT_EQ(ran[c], 1) << "chunk " << c;
+  for (int c = 0; c < 5; ++c) { EXPECT_EQ(ran[c], 1) << "chunk " << c; }
   std::vector<std::vector<int>> inner(4, std::vector<int>(3, 0));
   run_chunks_on_std_threads(4, [&](int c) { run_chunks_on_std_threads(3, [&](int d) { ++inner[c][d]; }); });
-  for (const auto& row : inner) EXPECT_EQ(row, std::vector<int>(3, 1));
+  for (const auto& row : inner) { EXPECT_EQ(row, std::vector<int>(3, 1)); }
 }

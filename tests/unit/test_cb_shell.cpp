@@ -12,7 +12,7 @@ using namespace ff::shell::testing;
 
 namespace {
 
-ShellSection section(double h = 0.05) { return {2.0e5, 0.3, h, 5.0 / 6.0}; }
+ShellSection section(double h = 0.05) { return isotropic_section(2.0e5, 0.3, h); }
 
 struct Case {
   bool hr, ans, drilling;

@@ -72,7 +72,7 @@ TEST_P(InertiaOn, MassIntegratesToDensityTimesVolume) {
   const ElementPoses r = ref();
   CbShellInertia in(r, kH, kRho);
   EXPECT_NEAR(in.mass(), kRho * solid_volume(r), 1e-12 * in.mass());
-  if (!GetParam()) EXPECT_NEAR(in.mass(), kRho * kH * area(r), 1e-12 * in.mass());  // flat: V = h A
+  if (!GetParam()) { EXPECT_NEAR(in.mass(), kRho * kH * area(r), 1e-12 * in.mass()); }  // flat: V = h A
   EXPECT_LT((in.slave_mass() - in.slave_mass().transpose()).norm(), 1e-12 * in.slave_mass().norm());
 }
 

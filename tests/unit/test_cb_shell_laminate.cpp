@@ -148,7 +148,7 @@ TEST_P(CbShellLaminate, OneIsotropicPlyIsTheIsotropicElement) {
       lam.evaluate(cur, Fl, &Kl);
       // laminate.md section 3: with angle 0 (and the element's own xi direction) the very same
       // operations, bit for bit; turned, round-off of the turned stiffness
-      if (angle == 0.0) EXPECT_TRUE(Fl == Fi && Kl == Ki) << name(c) << ": not bitwise the isotropic element";
+      if (angle == 0.0) { EXPECT_TRUE(Fl == Fi && Kl == Ki) << name(c) << ": not bitwise the isotropic element"; }
       EXPECT_LE(max_abs(Vec24(Fl - Fi)), 1e-12 * max_abs(Fi)) << name(c) << " angle " << angle;
       EXPECT_LE(max_abs(Mat24(Kl - Ki)), 1e-12 * max_abs(Ki)) << name(c) << " angle " << angle;
       EXPECT_NEAR(lam.energy(cur), iso.energy(cur), 1e-12 * iso.energy(cur)) << name(c);
@@ -349,10 +349,10 @@ TEST(CbShellLaminate, UniformMembraneStrainGivesEachPlyItsQbarE) {
       const double F11 = 1 / (Xt * Xc), F22 = 1 / (Yt * Yc);
       const double index = (1 / Xt - 1 / Xc) * S1[0] + (1 / Yt - 1 / Yc) * S1[1] + F11 * S1[0] * S1[0] + F22 * S1[1] * S1[1] +
                            S1[2] * S1[2] / (S12 * S12) - std::sqrt(F11 * F22) * S1[0] * S1[1];
-      if (k == 1) EXPECT_TRUE(std::isnan(s.tsai_wu[k])) << "a ply without strengths has no index";
+      if (k == 1) { EXPECT_TRUE(std::isnan(s.tsai_wu[k])) << "a ply without strengths has no index"; }
       else EXPECT_NEAR(s.tsai_wu[k], index, 1e-9 * std::abs(index)) << "ply " << k << (hr ? " hr" : "");
-      if (k == 0) EXPECT_LT((s.surface[0].head<3>() - S).cwiseAbs().maxCoeff(), 1e-9 * S.norm()) << "bottom";
-      if (k == 2) EXPECT_LT((s.surface[2].head<3>() - S).cwiseAbs().maxCoeff(), 1e-9 * S.norm()) << "top";
+      if (k == 0) { EXPECT_LT((s.surface[0].head<3>() - S).cwiseAbs().maxCoeff(), 1e-9 * S.norm()) << "bottom"; }
+      if (k == 2) { EXPECT_LT((s.surface[2].head<3>() - S).cwiseAbs().maxCoeff(), 1e-9 * S.norm()) << "top"; }
       N += S * p.thickness;
       M += S * (z + 0.5 * p.thickness) * p.thickness;
       z += p.thickness;

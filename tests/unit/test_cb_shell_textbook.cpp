@@ -13,7 +13,7 @@
 #include <string>
 
 #include "core/shell/cb_shell.h"
-#include "core/shell/cb_shell_textbook.h"
+#include "tests/support/cb_shell_textbook.h"
 #include "tests/support/shell_fixtures.h"
 
 using namespace ff::shell;
@@ -23,7 +23,7 @@ using ff::shell::testing::rot;
 
 namespace {
 
-ShellSection section(double h) { return {1.0e7, 0.3, h, 5.0 / 6.0}; }
+ShellSection section(double h) { return isotropic_section(1.0e7, 0.3, h); }
 
 /// A patch of a cylinder of radius 1 (axis y), side about 0.3, corners moved off the rectangle;
 /// directors are the exact surface normals, so they differ from node to node.

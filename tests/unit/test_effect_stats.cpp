@@ -51,7 +51,7 @@ TEST(EffectsOnlyAsAsked, ElementNeverReadsDisabledTerms) {
   const ElementPoses ref = ff::shell::testing::curved();
   for (int bits = 0; bits < 8; ++bits) {
     const ShellOptions o = shell_options(bits);
-    const CbShellElement el(ref, {2.0e5, 0.3, 0.05, 5.0 / 6.0}, o);
+    const CbShellElement el(ref, isotropic_section(2.0e5, 0.3, 0.05), o);
     for (unsigned seed : {1u, 2u}) {
       const ElementPoses cur = ff::shell::testing::deformed(ref, seed);
       Vec24 F, F_only;
@@ -71,7 +71,7 @@ namespace {
 ShellModelSpec plate_spec(const ShellOptions& o, bool dead_pressure, bool follower_pressure, bool point_load) {
   ShellModelSpec s;
   s.mesh = mesh::rectangular_plate(1.0, 1.0, 4, 4, "plate");
-  s.section = {1.0e6, 0.3, 0.02, 5.0 / 6.0};
+  s.section = isotropic_section(1.0e6, 0.3, 0.02);
   s.options = o;
   for (int i = 0; i <= 4; ++i) s.restraints.push_back({i, kClamped});  // edge y = 0
   if (dead_pressure) s.pressures.push_back({5, 2.0, false});
@@ -123,7 +123,7 @@ TEST(EffectsOnlyAsAsked, StaticShellListsOnlyWhatRan) {
       if (follower) { EXPECT_EQ(s.at("pressure_follower").evaluations, 3 * 2); }
       if (point) { EXPECT_EQ(s.at("point_loads").evaluations, 3); }
       // a static model has no mass: nothing inertial, no gravity, no joints
-      for (const char* never : {"inertia", "gravity", "joints", "rigid_body"}) EXPECT_EQ(s.count(never), 0u) << never;
+      for (const char* never : {"inertia", "gravity", "joints", "rigid_body"}) { EXPECT_EQ(s.count(never), 0u) << never; }
       EXPECT_EQ(s.size(), 1u + o.hr + o.ans + o.drilling + dead + follower + point) << what;
     }
   }
@@ -135,7 +135,7 @@ MultibodySpec pendulum_spec(const ShellOptions& o, bool gravity, bool joint, boo
   ShellBodySpec plate;
   plate.name = "plate";
   plate.mesh = mesh::rectangular_plate(1.0, 0.6, 3, 2, "plate");
-  plate.section = {2.0e7, 0.3, 0.02, 5.0 / 6.0};
+  plate.section = isotropic_section(2.0e7, 0.3, 0.02);
   plate.density = 1000;
   plate.options = o;
   s.shells = {plate};

@@ -31,7 +31,7 @@ TEST(EigenSolve, RepeatedZeroEigenvalueIsFoundWithItsMultiplicity) {
   const EigenSolveResult r = lowest_vibration_modes(K, M, -1e-3, s);
   ASSERT_TRUE(r.ok()) << r.error;
   ASSERT_EQ(r.values.size(), 8u);
-  for (int i = 0; i < 6; ++i) EXPECT_NEAR(r.values[i], 0.0, 1e-9) << i;
+  for (int i = 0; i < 6; ++i) { EXPECT_NEAR(r.values[i], 0.0, 1e-9) << i; }
   EXPECT_NEAR(r.values[6], 1.0, 1e-9);
   EXPECT_NEAR(r.values[7], 2.0, 1e-9);
   // the six zero modes span the zero eigenspace: M-orthonormal, within the first six unknowns
@@ -77,7 +77,7 @@ TEST(EigenSolve, DistinctSpectrumNeedsNoRecovery) {
   s.count = 5;
   const EigenSolveResult r = lowest_vibration_modes(K, M, 0.0, s);
   ASSERT_TRUE(r.ok()) << r.error;
-  for (int i = 0; i < 5; ++i) EXPECT_NEAR(r.values[i], (1.0 + i) / 2.0, 1e-9) << i;
+  for (int i = 0; i < 5; ++i) { EXPECT_NEAR(r.values[i], (1.0 + i) / 2.0, 1e-9) << i; }
   EXPECT_EQ(r.recovered, 0);
 }
 

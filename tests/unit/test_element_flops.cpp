@@ -5,7 +5,7 @@
 
 #include "core/shell/cb_shell.h"
 #include "core/shell/counted_scalar.h"
-#include "core/shell/sample_elements.h"
+#include "app/bench/sample_elements.h"
 
 namespace {
 
@@ -54,7 +54,7 @@ TEST(ElementFlops, CountedRunIsTheSolverKernelForEveryEffectSet) {
     o.ans = mask & 2;
     o.drilling = mask & 4;
     o.drilling_factor = 0.1;
-    const CbShellElement el(ref, {2.0e5, 0.3, 0.05, 5.0 / 6.0}, o);
+    const CbShellElement el(ref, isotropic_section(2.0e5, 0.3, 0.05), o);
     Vec24 f;
     Mat24 K;
     el.evaluate(cur, f, &K);
@@ -74,8 +74,8 @@ TEST(ElementFlops, DrillingAddsWork) {
   const ElementPoses cur = samples::deformed(ref, 5);
   ShellOptions five, six;
   six.drilling = true;
-  const ElementFlops n5 = count_element_flops(CbShellElement(ref, {2.0e5, 0.3, 0.05, 5.0 / 6.0}, five), cur);
-  const ElementFlops n6 = count_element_flops(CbShellElement(ref, {2.0e5, 0.3, 0.05, 5.0 / 6.0}, six), cur);
+  const ElementFlops n5 = count_element_flops(CbShellElement(ref, isotropic_section(2.0e5, 0.3, 0.05), five), cur);
+  const ElementFlops n6 = count_element_flops(CbShellElement(ref, isotropic_section(2.0e5, 0.3, 0.05), six), cur);
   EXPECT_GT(n6.force, n5.force);
   EXPECT_GT(n6.force_tangent, n5.force_tangent);
 }

@@ -33,7 +33,7 @@ ShellModelSpec plate(int n, bool distort, double a = 1.0, double b = 1.0) {
         p.x() += u(rng) * hx, p.y() += u(rng) * hy;
       }
   }
-  s.section = {kE, kNu, kH, 5.0 / 6.0};
+  s.section = isotropic_section(kE, kNu, kH);
   return s;
 }
 
@@ -58,7 +58,7 @@ TEST(ErrorIndicator, UniformStretchOnADistortedMeshIsRecoveredExactly) {
   const RecoveredErrorIndicator ind = m.error_indicator();
   ASSERT_GT(ind.energy2, 0.0);
   EXPECT_LT(ind.relative, 1e-7);  // round-off of the fit only
-  for (double v : ind.nodal) EXPECT_LT(v, 1e-6);
+  for (double v : ind.nodal) { EXPECT_LT(v, 1e-6); }
 }
 
 TEST(ErrorIndicator, UniformBendingIsRecoveredExactly) {
@@ -147,6 +147,6 @@ TEST(ErrorIndicator, TheSectionComplianceIsTheLaminateStiffnessInverted) {
   EXPECT_NEAR(S(6, 6), 1 / As, 1e-9 / As);
   EXPECT_NEAR(S(7, 7), 1 / As, 1e-9 / As);
   // the reference state has no resultants, and the four points cover the element's area
-  for (int g = 0; g < 4; ++g) EXPECT_LT(rs.resultant[g].norm(), 1e-6);
+  for (int g = 0; g < 4; ++g) { EXPECT_LT(rs.resultant[g].norm(), 1e-6); }
   EXPECT_NEAR(rs.area[0] + rs.area[1] + rs.area[2] + rs.area[3], 1.0, 1e-12);
 }

@@ -173,7 +173,7 @@ TEST(GeneralizedAlpha, EnergyConservedAtRhoOneAndNeverGrowsBelow) {
     double period_max = 0.0, last_period_max = 1e300;
     for (int i = 1; i <= 400; ++i) {  // 20 periods of 20 steps
       ASSERT_TRUE(ga.step(h).converged);
-      if (rho == 1.0) EXPECT_NEAR(energy(), e0, 1e-9 * e0);  // trapezoidal rule: exact for a linear system
+      if (rho == 1.0) { EXPECT_NEAR(energy(), e0, 1e-9 * e0); }  // trapezoidal rule: exact for a linear system
       period_max = std::max(period_max, energy());
       if (i % 20 == 0) {
         EXPECT_LE(period_max, last_period_max * (1 + 1e-12)) << "rho_inf " << rho << " period " << i / 20;
@@ -181,7 +181,7 @@ TEST(GeneralizedAlpha, EnergyConservedAtRhoOneAndNeverGrowsBelow) {
         period_max = 0.0;
       }
     }
-    if (rho < 1.0) EXPECT_LT(energy(), 0.999 * e0);
+    if (rho < 1.0) { EXPECT_LT(energy(), 0.999 * e0); }
   }
 }
 
@@ -225,7 +225,7 @@ TEST(GeneralizedAlpha, PoliciesCountIterationsAndUpdates) {
     s.tolerance = 1e-10;
     GeneralizedAlpha ga(p, s);
     EXPECT_EQ(ga.initialize(0.0, Eigen::VectorXd::Zero(2)), "");
-    for (int i = 0; i < 500; ++i) EXPECT_TRUE(ga.step(h).converged);
+    for (int i = 0; i < 500; ++i) { EXPECT_TRUE(ga.step(h).converged); }
     return Run{ga.total_iterations(), ga.total_updates(), ga.total_fallbacks(), p.q()[0]};
   };
   const Run full = run(MatrixPolicy::full, 0), nni = run(MatrixPolicy::nni, 3), frozen = run(MatrixPolicy::frozen, 0),
@@ -326,7 +326,7 @@ TEST(GeneralizedAlpha, PreviousAccelerationPredictorStartsCloserAndConvergesToTh
     s.predictor = predictor;
     GeneralizedAlpha ga(p, s);
     EXPECT_EQ(ga.initialize(0.0, Eigen::VectorXd::Zero(2)), "");
-    for (int i = 0; i < 500; ++i) EXPECT_TRUE(ga.step(2e-3).converged);
+    for (int i = 0; i < 500; ++i) { EXPECT_TRUE(ga.step(2e-3).converged); }
     return Run{p.q()[0], 0.0, ga.total_iterations()};
   };
   const Run pz = pendulum(AccelerationPredictor::zero), pp = pendulum(AccelerationPredictor::previous);

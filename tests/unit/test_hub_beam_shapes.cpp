@@ -60,7 +60,7 @@ TEST(Igmls, KroneckerPropertyOnValuesAndSlopes) {
         EXPECT_NEAR(s.n2[i], i == j ? 1.0 : 0.0, 1e-9) << "scale " << scale << " node " << j;
         EXPECT_NEAR(s.dn2[i], i == n + j ? 1.0 : 0.0, 1e-8) << "scale " << scale << " node " << j;
       }
-      for (int i = 0; i < n; ++i) EXPECT_NEAR(s.n1[i], i == j ? 1.0 : 0.0, 1e-9);
+      for (int i = 0; i < n; ++i) { EXPECT_NEAR(s.n1[i], i == j ? 1.0 : 0.0, 1e-9); }
     }
   }
 }

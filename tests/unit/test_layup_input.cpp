@@ -373,7 +373,7 @@ TEST(LayupInput, LayupDensityInDynamics) {
   const shell::ShellBodySpec& body = model.spec().shells[0];
   EXPECT_NEAR(body.density, (1000.0 * 0.001 + 2000.0 * 0.003) / 0.004, 1e-9);
   EXPECT_EQ(body.quad_reference_direction.size(), 8u);  // a plate's u: x
-  for (const Eigen::Vector3d& r : body.quad_reference_direction) EXPECT_NEAR((r - Eigen::Vector3d::UnitX()).norm(), 0.0, 1e-15);
+  for (const Eigen::Vector3d& r : body.quad_reference_direction) { EXPECT_NEAR((r - Eigen::Vector3d::UnitX()).norm(), 0.0, 1e-15); }
   ASSERT_NE(body.section.plies, nullptr);
   const std::vector<shell::Ply>& plies = *body.section.plies;
   ASSERT_EQ(plies.size(), 2u);
@@ -384,7 +384,7 @@ TEST(LayupInput, LayupDensityInDynamics) {
   EXPECT_EQ(plies[0].density, 1000.0);
   EXPECT_EQ(plies[1].g23, 4e9);
   EXPECT_EQ(plies[1].density, 2000.0);
-  for (const shell::ShellElement& e : model.elements().all()) ASSERT_EQ(e.elastic->section().plies, body.section.plies);
+  for (const shell::ShellElement& e : model.elements().all()) { ASSERT_EQ(e.elastic->section().plies, body.section.plies); }
   // ply b without a density
   const std::string text = plate(a + b_ortho);
   const scene::Issue issue = first_issue("swing_no_density", text);

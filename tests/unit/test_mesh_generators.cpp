@@ -83,7 +83,7 @@ TEST(MeshGenerators, PlateOrientationFollowsRequestedNormal) {
   s.e_a = Vector3d::UnitY();
   s.e_b = Vector3d::UnitX();
   const ShellMesh m = rectangular_plate(s, 3, 2);
-  for (int q = 0; q < m.quad_count(); ++q) EXPECT_LT((quad_normal(m, q) + Vector3d::UnitZ()).norm(), 1e-14);
+  for (int q = 0; q < m.quad_count(); ++q) { EXPECT_LT((quad_normal(m, q) + Vector3d::UnitZ()).norm(), 1e-14); }
   expect_valid(m);
 }
 
@@ -342,7 +342,7 @@ TEST(MeshBenchmarks, FlatLPlateOfSimoFoxRifai) {
     EXPECT_LE(p.x(), 255 + 1e-12);
     EXPECT_LE(p.y(), 255 + 1e-12);
   }
-  for (int i = 0; i < m.node_count(); ++i) EXPECT_EQ(m.normals[i], Vector3d::UnitZ());
+  for (int i = 0; i < m.node_count(); ++i) { EXPECT_EQ(m.normals[i], Vector3d::UnitZ()); }
   expect_valid(m);
 }
 
@@ -377,7 +377,7 @@ TEST(MeshGenerators, ClosedCapHasNoCollapsedQuadsAndItsAreaConverges) {
     // the rim edge: n2 + 1 nodes at theta1 (n2 for the closed cap)
     const NodeSet rim = patch_edge_nodes(m, "cap", resolve_patch_edge(m, "cap", "rim"));
     EXPECT_EQ(static_cast<int>(rim.size()), q == 4 ? 4 * q : 4 * q + 1);
-    for (int i : rim) EXPECT_NEAR(m.points[i].z(), 2.0 * std::cos(s.theta1), 1e-12);
+    for (int i : rim) { EXPECT_NEAR(m.points[i].z(), 2.0 * std::cos(s.theta1), 1e-12); }
   }
   SpherePatch s;
   s.radius = 1.0;
@@ -399,7 +399,7 @@ TEST(MeshGenerators, DiskWithoutHoleIsAnOGridOfTheRightArea) {
   // core 4 x 4 quads + ring 4 x 16; nodes 25 + 4 x 16 (the ring's seam and inner row are merged)
   EXPECT_EQ(m.quad_count(), 16 + 64);
   EXPECT_EQ(m.node_count(), 25 + 4 * 16);
-  for (int i = 0; i < m.node_count(); ++i) EXPECT_LE(m.points[i].norm(), 1.5 + 1e-12);
+  for (int i = 0; i < m.node_count(); ++i) { EXPECT_LE(m.points[i].norm(), 1.5 + 1e-12); }
   // a flat polygon: the area error is the chord error at the rim only, O(h^2)
   expect_area_converges_quadratically([&](int n) { return annulus(a, n, 4 * n); }, kPi * 1.5 * 1.5, 4, "disk");
   // a quarter disk running clockwise (end_angle < start_angle) covers the same quadrant
@@ -486,8 +486,8 @@ TEST(MeshGenerators, EdgeNamesSelectTheSameNodesAsParameterEdges) {
   }
   EXPECT_THROW(resolve_patch_edge(m, "nope", "top"), std::invalid_argument);
   const ShellMesh p = axis_aligned_plate(2, 1, Vector3d(1, 2, 3), 4, 2);
-  for (int i : patch_edge_nodes(p, "plate", resolve_patch_edge(p, "plate", "x_max"))) EXPECT_DOUBLE_EQ(p.points[i].x(), 3.0);
-  for (int i : patch_edge_nodes(p, "plate", resolve_patch_edge(p, "plate", "y_min"))) EXPECT_DOUBLE_EQ(p.points[i].y(), 2.0);
+  for (int i : patch_edge_nodes(p, "plate", resolve_patch_edge(p, "plate", "x_max"))) { EXPECT_DOUBLE_EQ(p.points[i].x(), 3.0); }
+  for (int i : patch_edge_nodes(p, "plate", resolve_patch_edge(p, "plate", "y_min"))) { EXPECT_DOUBLE_EQ(p.points[i].y(), 2.0); }
 }
 
 TEST(MeshGenerators, FoldedPlateAtAnyAngleAndLPlateWithUnequalLegs) {
@@ -498,7 +498,7 @@ TEST(MeshGenerators, FoldedPlateAtAnyAngleAndLPlateWithUnequalLegs) {
   const ShellMesh right = folded_plate(f, 4, 2, 1);
   const ShellMesh old = right_angle_folded_plate(2.0, 1.0, 0.5, 4, 2, 1);
   ASSERT_EQ(right.node_count(), old.node_count());
-  for (int i = 0; i < old.node_count(); ++i) EXPECT_EQ(right.points[i], old.points[i]);
+  for (int i = 0; i < old.node_count(); ++i) { EXPECT_EQ(right.points[i], old.points[i]); }
   f.fold_angle = 135.0 * kPi / 180;
   f.origin = Vector3d(1, 1, 1);
   const ShellMesh m = folded_plate(f, 4, 2, 1);
@@ -522,8 +522,8 @@ TEST(MeshGenerators, FoldedPlateAtAnyAngleAndLPlateWithUnequalLegs) {
   const ShellMesh L = l_plate(l, 6, 2);
   expect_valid(L);
   EXPECT_NEAR(total_area(L), 10 * (95 + 10 + 55), 1e-9);
-  for (int i : patch_edge_nodes(L, "arm2", resolve_patch_edge(L, "arm2", "end"))) EXPECT_NEAR(L.points[i].y(), 65.0, 1e-12);
-  for (int i : patch_edge_nodes(L, "arm1", resolve_patch_edge(L, "arm1", "end"))) EXPECT_NEAR(L.points[i].x(), 0.0, 1e-12);
+  for (int i : patch_edge_nodes(L, "arm2", resolve_patch_edge(L, "arm2", "end"))) { EXPECT_NEAR(L.points[i].y(), 65.0, 1e-12); }
+  for (int i : patch_edge_nodes(L, "arm1", resolve_patch_edge(L, "arm1", "end"))) { EXPECT_NEAR(L.points[i].x(), 0.0, 1e-12); }
   l.leg2 = 4;  // shorter than half the width
   EXPECT_THROW(l_plate(l, 2, 2), std::invalid_argument);
 }

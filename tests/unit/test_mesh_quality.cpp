@@ -116,7 +116,7 @@ TEST(MeshQuality, TriangleSplitInThreeHasJacobianRatioOneThird) {
   const ShellMesh m = flat({a, b, c, g, ab, bc, ca}, {{0, 4, 3, 6}, {1, 5, 3, 4}, {2, 6, 3, 5}});
   const MeshQuality r = measure_quality(m);
   ASSERT_TRUE(r.ok());
-  for (int q = 0; q < 3; ++q) EXPECT_NEAR(r.quads[q].jacobian_ratio, 1.0 / 3.0, 1e-12) << "quad " << q;
+  for (int q = 0; q < 3; ++q) { EXPECT_NEAR(r.quads[q].jacobian_ratio, 1.0 / 3.0, 1e-12) << "quad " << q; }
   EXPECT_TRUE(r.summary(QualityMetric::jacobian_ratio).beyond.empty());  // the default 0.3 lets them pass
 }
 

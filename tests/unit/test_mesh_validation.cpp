@@ -194,7 +194,7 @@ TEST(MeshFrames, OrthonormalWithE3AlongTheNormalAndE1FromTheReference) {
     EXPECT_NEAR(R.determinant(), 1.0, 1e-14);
     EXPECT_LT((R.col(2) - n).norm(), 1e-15);
     const Vector3d proj = ref - ref.dot(n) * n;
-    if (proj.norm() > 1e-3) EXPECT_LT((R.col(0) - proj.normalized()).norm(), 1e-14);
+    if (proj.norm() > 1e-3) { EXPECT_LT((R.col(0) - proj.normalized()).norm(), 1e-14); }
     else {
       // fallback: the global axis least aligned with n, projected
       int axis = 0;

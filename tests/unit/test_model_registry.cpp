@@ -49,6 +49,6 @@ TEST(ModelRegistry, AnUnknownModelIsRefusedAtItsLine) {
     ASSERT_EQ(e.issues.size(), 1u) << e.what();  // one clear issue, not another model's missing tables
     EXPECT_EQ(e.issues[0].key, "scene.model");
     EXPECT_EQ(e.issues[0].line, 3);
-    for (const ModelKind& k : model_kinds()) EXPECT_NE(e.issues[0].message.find(k.name), std::string::npos);
+    for (const ModelKind& k : model_kinds()) { EXPECT_NE(e.issues[0].message.find(k.name), std::string::npos); }
   }
 }

@@ -22,7 +22,7 @@ bool same_poses(const std::vector<NodePose>& a, const std::vector<NodePose>& b) 
 TEST(ModelState, ShellAttemptIsUndoneByRestoringTheSavedState) {
   ShellModelSpec spec;
   spec.mesh = mesh::rectangular_plate(1.0, 0.2, 4, 1);
-  spec.section = {1e6, 0.3, 0.01, 5.0 / 6.0};
+  spec.section = isotropic_section(1e6, 0.3, 0.01);
   for (int i = 0; i < spec.mesh.node_count(); ++i)
     if (spec.mesh.points[i].x() < 1e-12) spec.restraints.push_back({i, kClamped});
   ShellModel model(spec);
@@ -50,7 +50,7 @@ TEST(ModelState, MultibodyRejectedAttemptRollsBackToTheCommittedState) {
   ShellBodySpec body;
   body.name = "plate";
   body.mesh = mesh::rectangular_plate(1.0, 0.2, 4, 1);
-  body.section = {1e6, 0.3, 0.01, 5.0 / 6.0};
+  body.section = isotropic_section(1e6, 0.3, 0.01);
   body.density = 1000.0;
   spec.shells.push_back(body);
   MultibodyModel model(spec);

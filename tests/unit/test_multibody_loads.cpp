@@ -28,7 +28,7 @@ MultibodySpec bodies(bool drilling_plate = false) {
   ShellBodySpec plate;
   plate.name = "plate";
   plate.mesh = mesh::rectangular_plate(1.0, 0.6, 3, 2, "plate");
-  plate.section = {2.0e7, 0.3, 0.02, 5.0 / 6.0};
+  plate.section = isotropic_section(2.0e7, 0.3, 0.02);
   plate.density = 1000;
   plate.options.drilling = drilling_plate;
   plate.options.drilling_factor = 0.1;
@@ -147,7 +147,7 @@ TEST(MultibodyLoads, DeadForceResidualIsTheScaledWorldForceInTheNodeFrame) {
   MultibodyModel m(s);
   const LoadPart p = load_part(m, Eigen::VectorXd::Zero(m.size()), false);
   const Vec3 expected = -0.5 * (m.reference_pose(kPlateNodes + 4).R.transpose() * F);
-  for (int j = 0; j < 3; ++j) EXPECT_NEAR(p.r[m.equation(kPlateNodes + 4, j)], expected[j], 1e-12);
+  for (int j = 0; j < 3; ++j) { EXPECT_NEAR(p.r[m.equation(kPlateNodes + 4, j)], expected[j], 1e-12); }
   EXPECT_NEAR(p.r.norm(), expected.norm(), 1e-12);  // nothing else
 }
 

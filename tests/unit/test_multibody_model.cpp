@@ -20,7 +20,7 @@ MultibodySpec system_spec(bool gravity, bool ground) {
   ShellBodySpec plate;
   plate.name = "plate";
   plate.mesh = mesh::rectangular_plate(1.0, 0.6, 3, 2, "plate");
-  plate.section = {2.0e7, 0.3, 0.02, 5.0 / 6.0};
+  plate.section = isotropic_section(2.0e7, 0.3, 0.02);
   plate.density = 1000;
   ShellBodySpec panel = plate;
   panel.name = "panel";
@@ -109,7 +109,7 @@ TEST(MultibodyModel, IterationMatrixAndConstraintJacobianMatchCentralDifferences
     }
     EXPECT_LT((Sd - fd).norm(), 1e-6 * fd.norm()) << part.name;
     EXPECT_GT(fd.norm(), 0.0) << part.name;
-    if (part.w.stiffness > 0) EXPECT_LT((Eigen::MatrixXd(B) - bfd).norm(), 1e-7 * bfd.norm());
+    if (part.w.stiffness > 0) { EXPECT_LT((Eigen::MatrixXd(B) - bfd).norm(), 1e-7 * bfd.norm()); }
   }
 }
 
@@ -197,13 +197,13 @@ TEST(MultibodyModel, ResidualAndMatrixInvariantUnderRigidMotionOfTheSystem) {
   const IterationWeights w{3.0, 2.0, 1.0};
   // position rows are in node a's frame (D11'), (D12'): values, multipliers and the constraint
   // Jacobian are all invariant, which is what lets a frozen iteration matrix stay fresh
-  for (const PositionConstraint& c : spec.positions) ASSERT_GE(c.b, 0) << "a ground point does not move with Q";
+  for (const PositionConstraint& c : spec.positions) { ASSERT_GE(c.b, 0) << "a ground point does not move with Q"; }
   a.evaluate(0, v, vd, lam, ra, pa, &w, &Sa, &Ba);
   b.evaluate(0, v, vd, lam, rb, pb, &w, &Sb, &Bb);
   EXPECT_LT((ra - rb).norm(), 1e-9 * ra.norm());
   EXPECT_LT((Eigen::MatrixXd(Sa) - Eigen::MatrixXd(Sb)).norm(), 1e-9 * Eigen::MatrixXd(Sa).norm());
   EXPECT_LT((Eigen::MatrixXd(Ba) - Eigen::MatrixXd(Bb)).norm(), 1e-9 * Eigen::MatrixXd(Ba).norm());
-  for (int k = 0; k < a.constraint_count(); ++k) EXPECT_NEAR(pa[k], pb[k], 1e-9);
+  for (int k = 0; k < a.constraint_count(); ++k) { EXPECT_NEAR(pa[k], pb[k], 1e-9); }
 }
 
 TEST(MultibodyModel, RotationalJointOnFiveDofNodeIsRefusedWithAReason) {
@@ -231,7 +231,7 @@ TEST(MultibodyModel, PinOnTheSpotLeavesTheUnknowns) {
   EXPECT_EQ(pinned.spec().positions.size(), rows.positions.size());
   pinned.configure(random_vector(pinned.size(), 9, 0.3));
   pinned.commit();
-  for (int I : {0, 1}) EXPECT_EQ((pinned.poses()[I].p - pinned.reference_pose(I).p).norm(), 0.0);
+  for (int I : {0, 1}) { EXPECT_EQ((pinned.poses()[I].p - pinned.reference_pose(I).p).norm(), 0.0); }
   EXPECT_GT((pinned.poses()[0].R - pinned.reference_pose(0).R).norm(), 1e-3);  // free to turn
   Eigen::VectorXd r, phi;
   pinned.evaluate(0, Eigen::VectorXd::Zero(pinned.size()), Eigen::VectorXd::Zero(pinned.size()),

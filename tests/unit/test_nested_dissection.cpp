@@ -9,7 +9,7 @@
 #include <set>
 
 #include "core/solve/nested_dissection.h"
-#include "core/solve/sparse_grid.h"
+#include "tests/support/sparse_grid.h"
 
 namespace ff {
 namespace {
@@ -42,13 +42,13 @@ TEST(NestedDissection, IsAPermutationKeepingEachNodesUnknownsTogether) {
   const SparseMatrixD k = shell_grid_matrix(6);  // 7 × 7 nodes, 6 unknowns each
   std::vector<int> group;
   EXPECT_EQ(supervariables(k, group), 49);  // one per node
-  for (int i = 0; i < k.cols(); ++i) EXPECT_EQ(group[i], group[i - i % 6]) << i;
+  for (int i = 0; i < k.cols(); ++i) { EXPECT_EQ(group[i], group[i - i % 6]) << i; }
 
   const std::vector<int> position = nested_dissection_positions(k);
   ASSERT_EQ(position.size(), static_cast<std::size_t>(k.cols()));
   std::vector<int> sorted = position;
   std::sort(sorted.begin(), sorted.end());
-  for (int i = 0; i < k.cols(); ++i) ASSERT_EQ(sorted[i], i);
+  for (int i = 0; i < k.cols(); ++i) { ASSERT_EQ(sorted[i], i); }
   for (int node = 0; node < 49; ++node) {
     const auto [lo, hi] = std::minmax_element(position.begin() + 6 * node, position.begin() + 6 * node + 6);
     EXPECT_EQ(*hi - *lo, 5) << "node " << node << "'s unknowns are not consecutive";

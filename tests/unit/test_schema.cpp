@@ -629,7 +629,7 @@ TEST(SchemaArrays, ValidArraysWithDefaultsPerElement) {
   EXPECT_EQ(d.issue("bc.value", 1, "x").line, 11);
 
   // key_paths() stays the plain keys, so logging every setting with value_text() still works
-  for (const auto& k : d.key_paths()) EXPECT_NO_THROW(d.value_text(k)) << k;
+  for (const auto& k : d.key_paths()) { EXPECT_NO_THROW(d.value_text(k)) << k; }
   EXPECT_EQ(d.key_paths(), (std::vector<std::string>{"solver.dt", "model.name"}));
   EXPECT_EQ(d.array_paths(), (std::vector<std::string>{"bc", "load", "model.layers"}));
   EXPECT_EQ(d.element_key_paths("load"), (std::vector<std::string>{"load.magnitude"}));

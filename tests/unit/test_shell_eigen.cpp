@@ -86,7 +86,7 @@ TEST(ShellEigenUnit, FrequenciesAreInvariantUnderARigidMotion) {
     EXPECT_EQ(flat[k], 0.0);
     EXPECT_EQ(moved[k], 0.0);
   }
-  for (std::size_t k = 6; k < flat.size(); ++k) EXPECT_NEAR(moved[k], flat[k], 1e-8 * flat[k]) << k;
+  for (std::size_t k = 6; k < flat.size(); ++k) { EXPECT_NEAR(moved[k], flat[k], 1e-8 * flat[k]) << k; }
 }
 
 // A mode that is a rigid translation along z moves every node by the amplitude along z and turns no

@@ -43,7 +43,7 @@ ff::mesh::ShellMesh patch(int nx, int ny, double R) {
 ShellModelSpec spec(bool drilling, double R) {
   ShellModelSpec s;
   s.mesh = patch(3, 2, R);
-  s.section = {1.0e4, 0.3, 0.02, 5.0 / 6.0};
+  s.section = isotropic_section(1.0e4, 0.3, 0.02);
   s.options.drilling = drilling;
   s.options.drilling_factor = 0.1;
   // clamp the edge y = 0 except a node on the symmetry plane x = 0... here: clamp nodes 0 and 3

@@ -23,7 +23,7 @@ namespace {
 
 // a [0/90] section of the same thickness as the isotropic one
 ShellSection laminate(double thickness) {
-  ShellSection s{2.0e7, 0.3, thickness, 5.0 / 6.0};
+  ShellSection s = isotropic_section(2.0e7, 0.3, thickness);
   Ply p;
   p.e1 = 1.4e8, p.e2 = 1.0e7, p.g12 = p.g13 = 5.0e6, p.g23 = 3.0e6, p.nu12 = 0.25;
   p.thickness = thickness / 2;
@@ -44,7 +44,7 @@ ShellModelSpec mixed_panel() {
   cyl.s1 = 0.6;
   ShellModelSpec s;
   s.mesh = mesh::cylindrical_patch(cyl, 4, 3, "panel");
-  s.section = {2.0e7, 0.3, 0.02, 5.0 / 6.0};
+  s.section = isotropic_section(2.0e7, 0.3, 0.02);
   s.sections = {s.section, laminate(0.02)};
   s.drilling_factors = {1e-3, 1e-3};
   s.quad_section.assign(s.mesh.quad_count(), 0);
@@ -90,7 +90,7 @@ TEST(StressOutputs, LayoutAndFieldsFollowTheSections) {
   const std::vector<StressField> plain = stress_fields(iso.stress_layout());
   ASSERT_EQ(plain.size(), 24u);  // von Mises 3, principal 4, section stresses 9, N 3, M 3, Q 2
   EXPECT_EQ(plain.front().name, "von_mises");
-  for (const StressField& f : plain) EXPECT_FALSE(f.description.empty()) << f.name;
+  for (const StressField& f : plain) { EXPECT_FALSE(f.description.empty()) << f.name; }
 
   const ShellModel mixed(mixed_panel());
   EXPECT_EQ(mixed.stress_layout().max_plies, 2);
@@ -140,9 +140,9 @@ TEST(StressOutputs, PlyFieldIsTheMeanOverTheElementsWithThePly) {
   ASSERT_NE(s0.N[0] + s1.N[0], 0.0);
   const int node = 1;
   for (std::size_t f = 0; f < names.size(); ++f) {
-    if (names[f].name == "N11") EXPECT_EQ(fields[f][node], 0.5 * (s0.N[0] + s1.N[0]));
-    if (names[f].name == "sigma22_top") EXPECT_EQ(fields[f][node], 0.5 * (s0.surface[2][1] + s1.surface[2][1]));
-    if (names[f].name == "ply2_sigma1") EXPECT_EQ(fields[f][node], s0.plies >= 2 ? s0.ply[1][1][0] : 0.0);
+    if (names[f].name == "N11") { EXPECT_EQ(fields[f][node], 0.5 * (s0.N[0] + s1.N[0])); }
+    if (names[f].name == "sigma22_top") { EXPECT_EQ(fields[f][node], 0.5 * (s0.surface[2][1] + s1.surface[2][1])); }
+    if (names[f].name == "ply2_sigma1") { EXPECT_EQ(fields[f][node], s0.plies >= 2 ? s0.ply[1][1][0] : 0.0); }
   }
 }
 
@@ -174,7 +174,7 @@ TEST(StressOutputs, DynamicNodeValueIsTheNodalFieldBitForBit) {
   const auto fields = model.nodal_stress_fields();
   expect_node_values_match_fields(fields, nf, model.node_count(),
                                   [&](int n, std::size_t f) { return model.nodal_stress(n, f); });
-  for (std::size_t f = 0; f < nf; ++f) EXPECT_EQ(fields[f][model.rigid_node(0)], 0.0);
+  for (std::size_t f = 0; f < nf; ++f) { EXPECT_EQ(fields[f][model.rigid_node(0)], 0.0); }
 }
 
 }  // namespace

@@ -37,7 +37,7 @@ ff::mesh::ShellMesh cylinder_patch(int nx, int ny, double R) {
 ShellModelSpec oblique_spec(bool drilling) {
   ShellModelSpec s;
   s.mesh = cylinder_patch(3, 2, 1.5);  // nodes 0..3 at y = 0, 4..7 at y = 0.4, 8..11 at y = 0.8
-  s.section = {1.0e4, 0.3, 0.02, 5.0 / 6.0};
+  s.section = isotropic_section(1.0e4, 0.3, 0.02);
   s.options.drilling = drilling;
   s.options.drilling_factor = 0.1;
   const Vec3 d1 = Vec3(1, 1, 0).normalized(), d2 = Vec3(0.2, -0.3, 1).normalized();
@@ -146,7 +146,7 @@ INSTANTIATE_TEST_SUITE_P(FiveAndSixDofs, ShellSupports, ::testing::Bool());
 TEST(ShellSupports, ReactionsBalanceTheLoads) {
   ShellModelSpec s;
   s.mesh = cylinder_patch(4, 3, 2.0);
-  s.section = {1.0e4, 0.3, 0.02, 5.0 / 6.0};
+  s.section = isotropic_section(1.0e4, 0.3, 0.02);
   for (int i = 0; i <= 4; ++i) s.restraints.push_back({i, kClamped});
   const Vec3 P(0.02, -0.01, -0.05);
   s.loads = {{18, P, Vec3::Zero(), false}};
@@ -198,7 +198,7 @@ TEST(ShellSupports, TurnedSymmetryPlanesGiveTheSameSolution) {
         }
       for (const Vec3& nn : s.mesh.normals) s.mesh.frames.push_back(ff::mesh::frame_from_normal(nn, T * Vec3::UnitX()));
       s.mesh.fold.assign(s.mesh.points.size(), 0);
-      s.section = {1.0e4, 0.3, 0.01, 5.0 / 6.0};
+      s.section = isotropic_section(1.0e4, 0.3, 0.01);
       s.options.drilling = drilling;
       for (int k = 0; k <= n; ++k) {
         s.symmetry_planes.push_back({k * (n + 1), T * Vec3::UnitX(), 0});  // x = 0
@@ -270,7 +270,7 @@ TEST(ShellSupports, NearlyContainedDirectorIsSnappedIntoThePlane) {
 TEST(ShellSupports, ElementFailuresTellThicknessFromMidSurface) {
   ShellModelSpec s;
   s.mesh = cylinder_patch(3, 2, 0.3);  // radius 0.3
-  s.section = {1.0e4, 0.3, 2.0, 5.0 / 6.0};  // 2.0 thick: the inner face passes the axis
+  s.section = isotropic_section(1.0e4, 0.3, 2.0);  // 2.0 thick: the inner face passes the axis
   try {
     ShellModel m(s);
     ADD_FAILURE() << "accepted a shell far thicker than its radius";

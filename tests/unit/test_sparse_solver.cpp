@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "core/solve/equilibrate.h"
-#include "core/solve/sparse_grid.h"
+#include "tests/support/sparse_grid.h"
 #include "core/solve/sparse_solver.h"
 
 namespace ff {
@@ -44,13 +44,13 @@ TEST(SparseGrid, ShellPatternHasSixDofsPerNodeAndNineNodeStencil) {
   // structurally symmetric, numerically slightly non-symmetric, row-diagonally dominant
   EXPECT_GT((d - d.transpose()).norm(), 1e-3 * d.norm());
   EXPECT_LT((d - d.transpose()).norm(), 0.2 * d.norm());
-  for (int i = 0; i < d.rows(); ++i) EXPECT_GT(2.0 * std::abs(d(i, i)), d.row(i).cwiseAbs().sum()) << i;
+  for (int i = 0; i < d.rows(); ++i) { EXPECT_GT(2.0 * std::abs(d(i, i)), d.row(i).cwiseAbs().sum()) << i; }
   const Eigen::MatrixXd s = Eigen::MatrixXd(shell_grid_matrix(n, 0.0));
   EXPECT_EQ((s - s.transpose()).norm(), 0.0);
 }
 
 TEST(SparseSolver, NamesRoundTrip) {
-  for (LinearBackend b : all_linear_backends()) EXPECT_EQ(parse_linear_backend(to_string(b)), b);
+  for (LinearBackend b : all_linear_backends()) { EXPECT_EQ(parse_linear_backend(to_string(b)), b); }
   EXPECT_FALSE(parse_linear_backend("superlu").has_value());
   EXPECT_TRUE(linear_backend_available(default_linear_backend()));
 }

@@ -276,7 +276,7 @@ TEST(LoadControl, TooLargeStepIsCutBackAndRecovers) {
   ASSERT_FALSE(path.empty());
   EXPECT_GT(path.front().info.attempts, 1);
   EXPECT_LT(path.front().info.dlambda, 3.0);
-  for (const Point& pt : path) EXPECT_NEAR(pt.q[0], 1.0 - std::exp(-pt.info.lambda), 1e-12);
+  for (const Point& pt : path) { EXPECT_NEAR(pt.q[0], 1.0 - std::exp(-pt.info.lambda), 1e-12); }
   EXPECT_DOUBLE_EQ(r.lambda, 3.0);
 }
 
@@ -366,7 +366,7 @@ TEST(LoadControl, FullNewtonStartsEachStepOnTheFactorizationThatConvergedTheLast
   EXPECT_EQ(r.cutbacks, 0);
   EXPECT_EQ(r.factorizations, r.iterations - (r.steps - 1));
   EXPECT_EQ(p.tangent_evaluations, r.factorizations);  // eq. (4''')
-  for (const Point& pt : path) EXPECT_NEAR(Cubic::lambda_of(pt.q[0]), pt.info.lambda, 1e-12);
+  for (const Point& pt : path) { EXPECT_NEAR(Cubic::lambda_of(pt.q[0]), pt.info.lambda, 1e-12); }
 }
 
 TEST(LoadControl, ModifiedNewtonReusesTheFactorization) {
@@ -535,7 +535,7 @@ TEST_P(ArcLengthMethods, TooLongFirstArcIsCutBackAndLandsOnLambdaMax) {
   EXPECT_GE(r.cutbacks, 1);
   ASSERT_FALSE(path.empty());
   EXPECT_GT(path.front().info.attempts, 1);
-  for (const Point& pt : path) EXPECT_NEAR(pt.q[0], 1.0 - std::exp(-pt.info.lambda), 1e-12);
+  for (const Point& pt : path) { EXPECT_NEAR(pt.q[0], 1.0 - std::exp(-pt.info.lambda), 1e-12); }
   EXPECT_DOUBLE_EQ(r.lambda, 3.0);
   EXPECT_NEAR(p.q[0], 1.0 - std::exp(-3.0), 1e-12);
 }
@@ -720,7 +720,7 @@ TEST_P(ArcLengthMethods, LeavingTheLoadFactorRangeEndsIncompleteNamingTheBoundAn
   ASSERT_FALSE(path.empty());
   EXPECT_LT(r.lambda, -0.5);
   EXPECT_EQ(r.lambda, path.back().info.lambda);
-  for (std::size_t k = 0; k + 1 < path.size(); ++k) EXPECT_GE(path[k].info.lambda, -0.5);  // stops at the first
+  for (std::size_t k = 0; k + 1 < path.size(); ++k) { EXPECT_GE(path[k].info.lambda, -0.5); }  // stops at the first
   EXPECT_NE(r.reason.find("solver.min_load_factor = -0.5"), std::string::npos) << r.reason;
   EXPECT_NE(r.reason.find("at step " + std::to_string(r.steps)), std::string::npos) << r.reason;
   EXPECT_NE(r.reason.find("returned to the unloaded state"), std::string::npos) << r.reason;
@@ -813,7 +813,7 @@ TEST(LoadControl, EveryCorrectionIsInTheRecordAndAFirstStepCutBackIsAnEvent) {
   EXPECT_EQ(first->step, 1);
   // halved once per cut-back: 1/2^(attempts − 1) of the initial step, at the λ it reached
   const int cuts = r.cutbacks;  // all of them on the first step: the later steps grow from it
-  EXPECT_NE(first->detail.find(std::to_string(cuts) + " cut-backs, at " + fmt(std::ldexp(1.0, -cuts)) + " of the initial step"),
+  EXPECT_NE(first->detail.find(std::to_string(cuts) + " cut-backs, at " + significant(std::ldexp(1.0, -cuts)) + " of the initial step"),
             std::string::npos)
       << first->detail;
   EXPECT_DOUBLE_EQ(first->lambda, 3.0 * std::ldexp(1.0, -cuts));

@@ -100,10 +100,10 @@ TEST(TangentParts, EachRankHoldsTheWholeValueOfItsPositionsAndTheRanksHoldEachPo
     for (int p = 0; p < nnz; ++p) adders[p] += added[p];
   }
   const std::vector<int>& shared = layouts[0].shared();
-  for (int r = 1; r < ranks; ++r) EXPECT_EQ(layouts[r].shared(), shared);  // one list for the Allreduce
+  for (int r = 1; r < ranks; ++r) { EXPECT_EQ(layouts[r].shared(), shared); }  // one list for the Allreduce
   std::vector<char> is_shared(nnz, 0);
   for (int p : shared) is_shared[p] = 1;
-  for (int p = 0; p < nnz; ++p) EXPECT_EQ(is_shared[p] != 0, adders[p] > 1) << "position " << p;
+  for (int p = 0; p < nnz; ++p) { EXPECT_EQ(is_shared[p] != 0, adders[p] > 1) << "position " << p; }
   EXPECT_GT(shared.size(), 0u);
   EXPECT_LT(shared.size(), static_cast<std::size_t>(nnz) / 2);  // the interface, not the matrix
   for (int p : shared) {
@@ -124,7 +124,7 @@ TEST(TangentParts, EachRankHoldsTheWholeValueOfItsPositionsAndTheRanksHoldEachPo
       EXPECT_NEAR(part[r][p], whole[p], 1e-13) << "rank " << r << ", position " << p;
     }
   }
-  for (int p = 0; p < nnz; ++p) EXPECT_GE(holder[p], 0) << "position " << p << " held by no rank";
+  for (int p = 0; p < nnz; ++p) { EXPECT_GE(holder[p], 0) << "position " << p << " held by no rank"; }
   for (int j = 0; j < pattern.outerSize(); ++j)
     for (Eigen::SparseMatrix<double>::InnerIterator it(pattern, j); it; ++it) {
       const int p = static_cast<int>(&it.value() - pattern.valuePtr());
@@ -135,7 +135,7 @@ TEST(TangentParts, EachRankHoldsTheWholeValueOfItsPositionsAndTheRanksHoldEachPo
   // the node of no element is rank 0's
   const int lonely = grid.nodes - 1;
   EXPECT_TRUE(layouts[0].adds_node(lonely));
-  for (int r = 1; r < ranks; ++r) EXPECT_FALSE(layouts[r].adds_node(lonely));
+  for (int r = 1; r < ranks; ++r) { EXPECT_FALSE(layouts[r].adds_node(lonely)); }
 }
 
 TEST(TangentParts, OneRankHoldsEverythingAndSharesNothing) {
@@ -187,8 +187,8 @@ TEST(TangentParts, ElementSharesAreBalancedAndCompactWhateverTheElementOrder) {
         ++size[r];
       }
     }
-    for (int k = 0; k < count; ++k) EXPECT_TRUE(seen[k]) << "element " << k << " in no share";
-    for (int r = 0; r < ranks; ++r) EXPECT_NEAR(size[r], static_cast<double>(count) / ranks, 0.15 * count / ranks + 1) << ranks;
+    for (int k = 0; k < count; ++k) { EXPECT_TRUE(seen[k]) << "element " << k << " in no share"; }
+    for (int r = 0; r < ranks; ++r) { EXPECT_NEAR(size[r], static_cast<double>(count) / ranks, 0.15 * count / ranks + 1) << ranks; }
   }
   // METIS's parts of a shuffled grid are as compact as of the ordered one: contiguous index ranges
   // of the shuffled order would put most entries on the interface

@@ -26,7 +26,7 @@ struct NewtonHistory {
 shell::ShellModelSpec cantilever(bool drilling) {
   shell::ShellModelSpec s;
   s.mesh = mesh::rectangular_plate(1.0, 1.0, 8, 8, "plate");
-  s.section = {1.0e7, 0.3, 0.01, 5.0 / 6.0};
+  s.section = ff::shell::isotropic_section(1.0e7, 0.3, 0.01);
   s.options.hr = s.options.ans = true;
   s.options.drilling = drilling;
   for (int i = 0; i < s.mesh.node_count(); ++i)

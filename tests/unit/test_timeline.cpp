@@ -158,7 +158,7 @@ TEST(Timeline, GravityChangeShowsFromItsTime) {
   const std::vector<Frame> off = frames_of("off", "\n[[timeline]]\nat = 0.0\ngravity = [0.0, 0.0, 0.0]\n");
   ASSERT_EQ(off.size(), plain.size());
   for (const Frame& f : off)
-    for (std::size_t i = 0; i < f.points.size(); ++i) ASSERT_NEAR(f.points[i], f.base_points[i], 1e-12);
+    for (std::size_t i = 0; i < f.points.size(); ++i) { ASSERT_NEAR(f.points[i], f.base_points[i], 1e-12); }
   EXPECT_NE(plain.back().points, plain.front().points);  // with gravity it falls
 
   // reversed gravity from t = 0.00175 s (inside the 4th step of 5e-4 s)
@@ -166,7 +166,7 @@ TEST(Timeline, GravityChangeShowsFromItsTime) {
   ASSERT_EQ(up.size(), plain.size() + 1);  // the split step
   // frames 0..3 (t <= 0.0015) as without the change; frame 4 is the change itself (t = 0.00175);
   // from frame 5 on, up[k] and plain[k - 1] are at the same time but under different gravity
-  for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(up[k].points, plain[k].points) << "t = " << up[k].time;
+  for (std::size_t k = 0; k < 4; ++k) { EXPECT_EQ(up[k].points, plain[k].points) << "t = " << up[k].time; }
   for (std::size_t k = 5; k < up.size(); ++k) {
     EXPECT_NEAR(up[k].time, plain[k - 1].time, 1e-15);
     // reversed gravity decelerates the fall: the mean height of the nodes stays higher
@@ -265,12 +265,12 @@ TEST(LiveChange, GravityChangedLiveEqualsTheSameTimelineChange) {
   std::atomic<bool> stop{false};
   sim.run(
       [&](Frame&& f) {
-        if (std::abs(f.time - 0.002) < 1e-12) EXPECT_EQ(change_live(live, "gravity.g", "[0.0, 0.0, 9.81]"), "");
+        if (std::abs(f.time - 0.002) < 1e-12) { EXPECT_EQ(change_live(live, "gravity.g", "[0.0, 0.0, 9.81]"), ""); }
         got.push_back(std::move(f));
       },
       stop);
   ASSERT_EQ(got.size(), want.size());
-  for (std::size_t i = 0; i < want.size(); ++i) EXPECT_EQ(got[i].points, want[i].points) << "t = " << want[i].time;
+  for (std::size_t i = 0; i < want.size(); ++i) { EXPECT_EQ(got[i].points, want[i].points) << "t = " << want[i].time; }
   EXPECT_NE(change_live(live, "gravity.g", "[1, 2]"), "");
 }
 

@@ -121,7 +121,7 @@ TEST(HubBeamStability, ZeroOrderTau10DivergesAtItsCriticalSpeed) {
   EXPECT_NE(r.outcome.reason.find("critical speed"), std::string::npos) << r.outcome.reason;
   EXPECT_GT(r.outcome.stop_time, 1.6);
   EXPECT_LT(r.outcome.stop_time, 1.9);
-  for (const auto& [k, v] : r.metrics) EXPECT_TRUE(std::isfinite(v)) << k;
+  for (const auto& [k, v] : r.metrics) { EXPECT_TRUE(std::isfinite(v)) << k; }
 }
 
 TEST(HubBeamStability, FirstOrderTau10StaysBounded) {

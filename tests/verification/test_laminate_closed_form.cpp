@@ -38,7 +38,6 @@
 
 using namespace ff;
 using namespace ff::shell;
-using ff::shell::testing::isotropic_section;
 
 namespace {
 

@@ -39,7 +39,7 @@ MultibodySpec free_panel(bool drilling) {
   c.axis = Vec3::UnitY();
   c.radial0 = Vec3::UnitZ();
   b.mesh = mesh::cylindrical_patch(c, 4, 4, "panel");
-  b.section = {2.0e6, 0.3, 0.02, 5.0 / 6.0};  // soft: the spin deforms it visibly
+  b.section = isotropic_section(2.0e6, 0.3, 0.02);  // soft: the spin deforms it visibly
   b.density = 1000;
   b.options.drilling = drilling;
   b.options.drilling_factor = 0.1;

@@ -200,7 +200,7 @@ TEST(ShellEigen, HingedPlatesHaveSevenZeroFrequencies) {
   EXPECT_EQ(metric(hinged.metrics, "rigid_body_modes"), 7.0);
   EXPECT_EQ(metric(whole.metrics, "rigid_body_modes"), 6.0);
   ASSERT_TRUE(hinged.modes);
-  for (int k = 0; k < 7; ++k) EXPECT_TRUE(hinged.modes->modes[k].rigid_body) << k;
+  for (int k = 0; k < 7; ++k) { EXPECT_TRUE(hinged.modes->modes[k].rigid_body) << k; }
   const double first_elastic = metric(hinged.metrics, "frequency_8");
   const double symmetric = metric(whole.metrics, "frequency_8");
   std::printf("hinged plates: first elastic %.5f Hz, continuous plate's symmetric mode %.5f Hz\n", first_elastic,

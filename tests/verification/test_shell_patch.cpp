@@ -38,7 +38,7 @@ ff::mesh::ShellMesh macneal_harder_patch() {
 ShellModelSpec spec(bool drilling) {
   ShellModelSpec s;
   s.mesh = macneal_harder_patch();
-  s.section = {1.0e6, 0.25, 0.001, 5.0 / 6.0};
+  s.section = isotropic_section(1.0e6, 0.25, 0.001);
   s.options.hr = s.options.ans = true;
   s.options.drilling = drilling;
   return s;

@@ -78,7 +78,7 @@ double ring_expansion(const Ring& g, double p, bool follower, int n_phi, double*
   c.s1 = 0.2;
   ShellModelSpec s;
   s.mesh = ff::mesh::cylindrical_patch(c, n_phi, 1);
-  s.section = {g.E, g.nu, g.h, 5.0 / 6.0};
+  s.section = isotropic_section(g.E, g.nu, g.h);
   s.options.hr = s.options.ans = true;
   for (int j = 0; j < 2; ++j) {
     s.symmetry.push_back({j * (n_phi + 1), 1});          // phi = 0: plane y = 0

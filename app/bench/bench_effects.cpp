@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "app/bench.h"
+#include "app/bench/bench.h"
 #include <nlohmann/json.hpp>
 #include "core/hubbeam/hub_beam_system.h"
 #include "core/mesh/generators.h"
@@ -64,7 +64,7 @@ struct StaticCase {
   StaticCase(int n, const ShellOptions& o) {
     shell::ShellModelSpec s;
     s.mesh = plate_mesh(n);
-    s.section = {1.0e9, 0.3, 0.01, 5.0 / 6.0};
+    s.section = shell::isotropic_section(1.0e9, 0.3, 0.01);
     s.options = o;
     for (int i = 0; i < s.mesh.node_count(); ++i)
       if (s.mesh.points[i].x() < 1e-12) s.restraints.push_back({i, shell::kClamped});
@@ -93,7 +93,7 @@ struct DynamicCase {
     shell::ShellBodySpec body;
     body.name = "plate";
     body.mesh = plate_mesh(n);
-    body.section = {1.0e9, 0.3, 0.01, 5.0 / 6.0};
+    body.section = shell::isotropic_section(1.0e9, 0.3, 0.01);
     body.options = o;
     body.density = 7810;
     s.shells = {body};

@@ -1,6 +1,6 @@
 #pragma once
 /// \file sample_elements.h
-/// Element states for the CB shell's tests and for `flexframe bench --solve`: a curved, skewed
+/// Element states for `flexframe bench --solve` and the CB shell's tests: a curved, skewed
 /// patch of a cylinder and a large-rotation deformed state of it, so that every term of the
 /// element (curvature, distortion, finite rotation) is exercised.
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "core/solve/sparse_grid.h"
+#include "tests/support/sparse_grid.h"
 
 #include <Eigen/Dense>
 #include <array>

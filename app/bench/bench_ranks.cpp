@@ -23,7 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench.h"
+#include "app/bench/bench.h"
 #include "app/child_process.h"
 #include "core/frame/input_file.h"
 #include "core/solve/solver_ranks.h"
@@ -78,12 +78,6 @@ int run_and_wait(const std::vector<std::string>& argv, const std::string& log, i
   while (waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return -1;
   return status;
-}
-
-std::string read_file(const fs::path& p) {
-  std::string text;
-  read_input_file(p.string(), &text, kMaxTextInputBytes, kTextInputBound, nullptr);
-  return text;
 }
 
 struct PlateRow {
@@ -179,7 +173,7 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
       nlohmann::json root;
       if (why.empty()) {
         try {
-          root = nlohmann::json::parse(read_file(json));
+          root = nlohmann::json::parse(read_text_or_empty(json));
           mumps_version = root.at("mumps_version");
           mumps_library = root.at("mumps_library");
           for (const nlohmann::json& p : root.at("plate")) {
@@ -204,7 +198,7 @@ int run_solve_bench_over_ranks(const BenchOptions& opt, const std::atomic<bool>&
       }
       if (!why.empty()) {
         std::fprintf(stderr, "error: bench --ranks: the %d-rank launch of round %d %s; its output (%s):\n%s\n", k,
-                     round + 1, why.c_str(), log.string().c_str(), read_file(log).c_str());
+                     round + 1, why.c_str(), log.string().c_str(), read_text_or_empty(log).c_str());
         code = 1;
         break;
       }

@@ -22,7 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench.h"
+#include "app/bench/bench.h"
 #include "app/child_process.h"
 #include "app/io/mesh_import.h"
 #include "app/run_session.h"

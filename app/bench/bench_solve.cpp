@@ -18,10 +18,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench.h"
+#include "app/bench/bench.h"
 #include "core/mesh/generators.h"
 #include "core/shell/cb_shell.h"
-#include "core/shell/sample_elements.h"
+#include "app/bench/sample_elements.h"
 #include "core/shell/shell_model.h"
 #include "core/solve/solver_ranks.h"
 #include "core/solve/static_common.h"
@@ -53,7 +53,7 @@ struct PlateIteration {
   explicit PlateIteration(int n) {
     shell::ShellModelSpec s;
     s.mesh = mesh::rectangular_plate(1.0, 1.0, n, n, "plate");
-    s.section = {1.0e9, 0.3, 0.01, 5.0 / 6.0};
+    s.section = shell::isotropic_section(1.0e9, 0.3, 0.01);
     s.options.hr = s.options.ans = true;
     for (int i = 0; i < s.mesh.node_count(); ++i)
       if (s.mesh.points[i].x() < 1e-12) s.restraints.push_back({i, shell::kClamped});
@@ -88,7 +88,7 @@ nlohmann::ordered_json element_figures(int rounds) {
   ShellOptions o;
   o.hr = o.ans = true;
   o.drilling = false;
-  const CbShellElement el(ref, {2.0e5, 0.3, 0.05, 5.0 / 6.0}, o);
+  const CbShellElement el(ref, isotropic_section(2.0e5, 0.3, 0.05), o);
   Vec24 f;
   Mat24 K;
   // the compiler must not drop evaluations whose results are unused

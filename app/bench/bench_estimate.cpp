@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench.h"
+#include "app/bench/bench.h"
 #include "core/solve/solver_ranks.h"
 #include "core/solve/sparse_solver.h"
 

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench.h"
+#include "app/bench/bench.h"
 #include "core/mesh/generators.h"
 #include "core/shell/shell_eigen_simulation.h"
 

@@ -1,4 +1,4 @@
-#include "app/bench.h"
+#include "app/bench/bench.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,7 +1,7 @@
 // Textbook CB shell (cb_shell.md, "Textbook oracle"): the energy of (S1)-(S13) evaluated point by
 // point, templated on the scalar; force and tangent from hyper-dual numbers. Nothing here calls or
 // mirrors cb_shell.cpp: no slave sums and moments, no B rows, no kernels, no stress vectors.
-#include "core/shell/cb_shell_textbook.h"
+#include "tests/support/cb_shell_textbook.h"
 
 #include <cmath>
 #include <stdexcept>

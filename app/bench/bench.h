@@ -25,15 +25,15 @@ int run_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// `flexframe bench --effects`: time saved by effects left out, as ratios from one run: a static
 /// assembly (no mass matrix) against the dynamic one on the same plate, 5 against 6 DoF per node
 /// (assembly and sparse factorization), hr / ans off against on, the hub-beam's zero- against
-/// first-order coupling and without axial DoFs (app/bench_effects.cpp).
+/// first-order coupling and without axial DoFs (app/bench/bench_effects.cpp).
 int run_effects_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// `flexframe bench --solve`: a static Newton iteration on n x n plates (n = 16 .. 256), assembly
-/// against factorization + solve for every compiled unsymmetric backend (app/bench_solve.cpp).
+/// against factorization + solve for every compiled unsymmetric backend (app/bench/bench_solve.cpp).
 int run_solve_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// `flexframe bench --solve --ranks K[,K2,...]`: the --solve plates with MUMPS alone over 1 and each
 /// K ranks, one launch of `mpiexec -n K` of this executable per count (the launcher:
 /// FLEXFRAME_MPIEXEC, else the mpiexec CMake found; options for it in FLEXFRAME_MPIEXEC_ARGS), in
-/// one table with the speed-up against one rank (app/bench_ranks.cpp). Exit 2 with a message when
+/// one table with the speed-up against one rank (app/bench/bench_ranks.cpp). Exit 2 with a message when
 /// this build links the sequential MUMPS, no launcher is known or it runs under mpirun itself.
 int run_solve_bench_over_ranks(const BenchOptions& options, const std::atomic<bool>& stop);
 /// `flexframe bench --scene S [--scene S2 ...]`: wall time of each scene's whole run, solver only
@@ -42,16 +42,16 @@ int run_solve_bench_over_ranks(const BenchOptions& options, const std::atomic<bo
 /// Exit 0 when every run completed, otherwise the exit code of the first that did not.
 int run_scene_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// `flexframe bench --modes N`: N natural modes of clamped n x n plates (n = 16 .. --max-n): one
-/// factorization of K - sigma M and the Lanczos solves with it, in seconds (app/bench_modes.cpp).
+/// factorization of K - sigma M and the Lanczos solves with it, in seconds (app/bench/bench_modes.cpp).
 int run_modes_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// `flexframe bench --estimate DOFS ...`: MUMPS's analysis alone of the plates' pattern (5 DoFs per
 /// node) at each size: estimated flops, factor entries and memory per rank over the ranks it runs
-/// on, for models too large to factorize here (app/bench_estimate.cpp).
+/// on, for models too large to factorize here (app/bench/bench_estimate.cpp).
 int run_estimate_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// `flexframe bench --error-bars [--scene S ...]`: each scene's `flexframe run` with error bars on
 /// against off, --repeat alternated pairs of child processes: the whole command's wall-time ratio
 /// and the bars' share of the run as the run prints it, beside the targets (35 % static and eigen,
-/// 60 % dynamic) (app/bench_error_bars.cpp). Exit 1 when a run failed (its log is kept).
+/// 60 % dynamic) (app/bench/bench_error_bars.cpp). Exit 1 when a run failed (its log is kept).
 int run_error_bar_bench(const BenchOptions& options, const std::atomic<bool>& stop);
 /// A fresh private folder for a bench's scratch files in the system's temporary directory
 /// (mkdtemp of "<temp>/flexframe_bench_<name>.XXXXXX"), so that its clean-up cannot meet anyone
