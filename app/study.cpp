@@ -754,6 +754,94 @@ int run_study_variant(const StudyVariantOptions& o, const std::atomic<bool>& sto
   return 0;
 }
 
+// The runs of a study's entries (its variants, then the reference run when it is none of them),
+// with what each phase needs of them
+struct StudyRuns {
+  const StudySpec& spec;
+  const std::vector<StudyVariant>& entries;
+  const std::vector<fs::path>& folders;
+  std::vector<std::optional<VariantRun>> runs;
+  std::size_t variants = 0;  ///< entries before the reference run
+  bool ref_entry = false;    ///< the last entry is the reference run
+
+  bool is_ref(std::size_t e) const { return ref_entry && e == variants; }
+  std::string label_of(std::size_t e) const { return is_ref(e) ? "reference " + entries[e].label : entries[e].label; }
+  void save(std::size_t e) const {
+    write_variant_run(folders[e] / "summary.json", entries[e].label, entries[e].scene, entries[e].overrides, *runs[e]);
+  }
+  // a completed run without the metric: the metric name is wrong, not the variant
+  void check_metric(std::size_t e) const {
+    const VariantRun& r = *runs[e];
+    if (r.status == "invalid")
+      throw InputError("variant " + entries[e].label + " (study '" + spec.name + "'): " + locate_in_study_file(spec, r.reason));
+    if (r.status == "completed" && !std::isfinite(metric(r.metrics, spec.metric))) {
+      for (const auto& [name, why] : r.metrics_unreached)  // the scene has it; this run gave it no value
+        if (name == spec.metric)
+          throw InputError("variant " + label_of(e) + " (study '" + spec.name + "'): metric '" + spec.metric +
+                           "' has no value: " + why);
+      std::string names;
+      for (const auto& [name, value] : r.metrics) names += " " + name;
+      throw InputError("scene " + fs::path(entries[e].scene).stem().string() + " has no metric '" + spec.metric +
+                       "'; its metrics are:" + names);
+    }
+  }
+};
+
+// The study's second phase, in this process, one at a time: runs still without a result, and with
+// --timing exclusive the timed repetitions of runs made side by side; repetitions interleaved
+// over the variants so drift of the machine spreads over all of them
+void run_in_sequence(StudyRuns& book, bool exclusive, int repeat, const std::atomic<bool>& stop) {
+  std::vector<std::size_t> todo;
+  for (std::size_t e = 0; e < book.entries.size(); ++e) {
+    if (!book.runs[e]) {
+      todo.push_back(e);
+    } else if (exclusive && !book.is_ref(e) && !complete_timing(*book.runs[e], repeat, true)) {
+      if (book.runs[e]->shared) {  // its side-by-side times are replaced by exclusive ones
+        book.runs[e]->walls.clear();
+        book.runs[e]->cpus.clear();
+        book.runs[e]->shared = false;
+      }
+      todo.push_back(e);
+    }
+  }
+  const std::size_t total = todo.size() * repeat;
+  std::size_t done = 0;
+  for (int k = 0; k < repeat && !stop; ++k) {
+    for (std::size_t e : todo) {
+      if (stop) break;
+      ++done;
+      if (book.runs[e] && (book.runs[e]->status != "completed" || static_cast<int>(book.runs[e]->walls.size()) > k)) continue;
+      if (k > 0 && book.is_ref(e)) continue;
+      std::fprintf(stderr, "[%zu/%zu] %s ...", done, total, book.label_of(e).c_str());
+      std::fflush(stderr);
+      VariantRun r = book.runs[e] ? *book.runs[e] : VariantRun{};
+      try {
+        if (!run_repetition(book.entries[e].scene, book.entries[e].overrides, r, stop)) break;
+      } catch (const scene::SceneError&) {
+        std::fprintf(stderr, "\n");
+        throw;
+      }
+      book.runs[e] = r;
+      if (r.status == "failed") {
+        std::fprintf(stderr, " failed: %s\n", r.reason.c_str());
+      } else {
+        std::fprintf(stderr, " %s, %s = %.6g, %.3f s\n", r.status.c_str(), book.spec.metric.c_str(),
+                     metric(r.metrics, book.spec.metric), r.walls.back());
+      }
+      if (k == 0) {
+        if (r.status == "completed" && !std::isfinite(metric(r.metrics, book.spec.metric))) std::fprintf(stderr, "\n");
+        book.check_metric(e);
+      }
+      if (r.status != "completed" || static_cast<int>(r.walls.size()) >= repeat || book.is_ref(e)) book.save(e);
+    }
+  }
+  // a shared run re-timed only in part keeps the new times in its folder, marked not complete
+  for (std::size_t e : todo)
+    if (book.runs[e] && book.runs[e]->status == "completed" && static_cast<int>(book.runs[e]->walls.size()) < repeat &&
+        !book.is_ref(e) && !book.runs[e]->walls.empty())
+      book.save(e);
+}
+
 // What a variant's run measured, into its row of the tables
 void take_run(Row& row, const VariantRun& r, const std::string& metric_name) {
   row.status = r.status;
@@ -1054,37 +1142,18 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
 #ifdef FF_HAVE_MPI
   if (worker) return mpi_worker(entries, folders, stop);
 #endif
-  std::vector<std::optional<VariantRun>> runs(entries.size());
-  const auto is_ref = [&](std::size_t e) { return ref_entry && e == rows.size(); };
-  const auto label_of = [&](std::size_t e) { return is_ref(e) ? "reference " + entries[e].label : entries[e].label; };
-  const auto save = [&](std::size_t e) { write_variant_run(folders[e] / "summary.json", entries[e].label, entries[e].scene,
-                                                           entries[e].overrides, *runs[e]); };
-  // a completed run without the metric: the metric name is wrong, not the variant
-  const auto check_metric = [&](std::size_t e) {
-    const VariantRun& r = *runs[e];
-    if (r.status == "invalid")
-      throw InputError("variant " + entries[e].label + " (study '" + spec.name + "'): " + locate_in_study_file(spec, r.reason));
-    if (r.status == "completed" && !std::isfinite(metric(r.metrics, spec.metric))) {
-      for (const auto& [name, why] : r.metrics_unreached)  // the scene has it; this run gave it no value
-        if (name == spec.metric)
-          throw InputError("variant " + label_of(e) + " (study '" + spec.name + "'): metric '" + spec.metric +
-                           "' has no value: " + why);
-      std::string names;
-      for (const auto& [name, value] : r.metrics) names += " " + name;
-      throw InputError("scene " + fs::path(entries[e].scene).stem().string() + " has no metric '" + spec.metric +
-                       "'; its metrics are:" + names);
-    }
-  };
+  StudyRuns book{spec, entries, folders, std::vector<std::optional<VariantRun>>(entries.size()), rows.size(), ref_entry};
+  std::vector<std::optional<VariantRun>>& runs = book.runs;
   if (options.resume) {
     std::size_t n = 0;
     for (std::size_t e = 0; e < entries.size(); ++e) {
       std::string edited;
       runs[e] = read_variant_run(folders[e] / "summary.json", entries[e], &edited);
       if (!edited.empty())
-        std::fprintf(stderr, "resume: %s runs again: %s\n", label_of(e).c_str(), edited.c_str());
+        std::fprintf(stderr, "resume: %s runs again: %s\n", book.label_of(e).c_str(), edited.c_str());
       // bad input is checked again (and refused again) rather than taken over
       if (runs[e] && runs[e]->status == "invalid") runs[e].reset();
-      if (runs[e] && !is_ref(e) && !exclusive && !complete_timing(*runs[e], repeat, false)) runs[e].reset();
+      if (runs[e] && !book.is_ref(e) && !exclusive && !complete_timing(*runs[e], repeat, false)) runs[e].reset();
       if (runs[e]) ++n;
     }
     std::fprintf(stderr, "resume: %zu of %zu runs recovered from %s\n", n, entries.size(), runs_dir.string().c_str());
@@ -1093,7 +1162,7 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
   // 1. side by side: every run without a result, each in its own single-threaded process
   std::vector<Task> tasks;
   for (std::size_t e = 0; e < entries.size(); ++e)
-    if (!runs[e]) tasks.push_back({e, entries[e], folders[e], exclusive || is_ref(e) ? 1 : repeat});
+    if (!runs[e]) tasks.push_back({e, entries[e], folders[e], exclusive || book.is_ref(e) ? 1 : repeat});
   // from the end of the table: axes go coarse to fine, so the costly runs start first and the
   // cheap ones fill the gaps, instead of the finest starting last and finishing alone
   std::reverse(tasks.begin(), tasks.end());
@@ -1119,7 +1188,7 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
       runs[t.entry] = std::move(r);
       const VariantRun& v = *runs[t.entry];
       std::fprintf(stderr, "[%zu/%zu] %s: %s, %s = %.6g, %.3f s wall, %.3f s CPU%s%s\n", ++done, tasks.size(),
-                   label_of(t.entry).c_str(), v.status.c_str(), spec.metric.c_str(), metric(v.metrics, spec.metric),
+                   book.label_of(t.entry).c_str(), v.status.c_str(), spec.metric.c_str(), metric(v.metrics, spec.metric),
                    v.walls.empty() ? NAN : v.walls.front(), v.cpus.empty() ? NAN : v.cpus.front(),
                    v.reason.empty() ? "" : ": ", v.reason.c_str());
       // bad input in one variant ends the study as in sequence: start no more
@@ -1144,61 +1213,11 @@ int run_study(const StudySpec& spec, const StudyOptions& options, const std::ato
                      memory.most_side_by_side, memory.most_side_by_side == 1 ? "" : "s", memory.limit / 1e9);
     }
     for (const Task& t : tasks)
-      if (runs[t.entry]) check_metric(t.entry);
+      if (runs[t.entry]) book.check_metric(t.entry);
   }
 
-  // 2. in this process, one at a time, repetitions interleaved over the variants so drift of the
-  // machine spreads over all of them: runs still without a result, and with --timing exclusive
-  // the timed repetitions of runs made side by side
-  std::vector<std::size_t> todo;
-  for (std::size_t e = 0; e < entries.size() && !stopped; ++e) {
-    if (!runs[e]) {
-      todo.push_back(e);
-    } else if (exclusive && !is_ref(e) && !complete_timing(*runs[e], repeat, true)) {
-      if (runs[e]->shared) {  // its side-by-side times are replaced by exclusive ones
-        runs[e]->walls.clear();
-        runs[e]->cpus.clear();
-        runs[e]->shared = false;
-      }
-      todo.push_back(e);
-    }
-  }
-  const std::size_t total = todo.size() * repeat;
-  std::size_t done = 0;
-  for (int k = 0; k < repeat && !stop && !stopped; ++k) {
-    for (std::size_t e : todo) {
-      if (stop) break;
-      ++done;
-      if (runs[e] && (runs[e]->status != "completed" || static_cast<int>(runs[e]->walls.size()) > k)) continue;
-      if (k > 0 && is_ref(e)) continue;
-      std::fprintf(stderr, "[%zu/%zu] %s ...", done, total, label_of(e).c_str());
-      std::fflush(stderr);
-      VariantRun r = runs[e] ? *runs[e] : VariantRun{};
-      try {
-        if (!run_repetition(entries[e].scene, entries[e].overrides, r, stop)) break;
-      } catch (const scene::SceneError&) {
-        std::fprintf(stderr, "\n");
-        throw;
-      }
-      runs[e] = r;
-      if (r.status == "failed") {
-        std::fprintf(stderr, " failed: %s\n", r.reason.c_str());
-      } else {
-        std::fprintf(stderr, " %s, %s = %.6g, %.3f s\n", r.status.c_str(), spec.metric.c_str(),
-                     metric(r.metrics, spec.metric), r.walls.back());
-      }
-      if (k == 0) {
-        if (r.status == "completed" && !std::isfinite(metric(r.metrics, spec.metric))) std::fprintf(stderr, "\n");
-        check_metric(e);
-      }
-      if (r.status != "completed" || static_cast<int>(r.walls.size()) >= repeat || is_ref(e)) save(e);
-    }
-  }
-  // a shared run re-timed only in part keeps the new times in its folder, marked not complete
-  for (std::size_t e : todo)
-    if (runs[e] && runs[e]->status == "completed" && static_cast<int>(runs[e]->walls.size()) < repeat &&
-        !is_ref(e) && !runs[e]->walls.empty())
-      save(e);
+  // 2. in this process, one at a time: what is still to run or to time
+  if (!stopped) run_in_sequence(book, exclusive, repeat, stop);
 
   for (std::size_t i = 0; i < rows.size(); ++i)
     if (runs[i]) take_run(rows[i], *runs[i], spec.metric);

@@ -173,6 +173,9 @@ struct FrameRenderer::Impl {
 
   Impl(GraphicsContext& g, FrameStyle s) : gc(g), style(std::move(s)) {}
   bool build(const RunInfo& info);
+  bool check_mesh(const RunInfo& info);  // sizes, indices and the colour field; sets n, field
+  void build_surface_actor(const FrameMesh& mesh);
+  void build_ghost();
   void build_overlay(const RunInfo& info);
   void build_triad();
   void turn_triad();     // the triad's camera looks along the body's camera
@@ -200,41 +203,7 @@ struct FrameRenderer::Impl {
 
 bool FrameRenderer::Impl::build(const RunInfo& info) {
   const FrameMesh& mesh = info.mesh;
-  n = mesh.point_count();
-  status_info.time_unit = info.time_unit;
-  if (mesh.reference_points.size() != 3 * n) {
-    error = "mesh reference_points size is not a multiple of 3";
-    return false;
-  }
-  if (style.width < 16 || style.height < 16) {
-    error = "image size must be at least 16x16 pixels";
-    return false;
-  }
-  auto check_cells = [&](const std::vector<std::int32_t>& c, std::size_t per, const char* what) {
-    if (c.size() % per != 0) {
-      error = std::string("mesh ") + what + " size is not a multiple of " + std::to_string(per);
-      return false;
-    }
-    for (std::int32_t v : c) {
-      if (v < 0 || static_cast<std::size_t>(v) >= n) {
-        error = std::string("mesh ") + what + " refer to point " + std::to_string(v) + " of " +
-                std::to_string(n);
-        return false;
-      }
-    }
-    return true;
-  };
-  if (!check_cells(mesh.lines, 2, "lines") || !check_cells(mesh.triangles, 3, "triangles") ||
-      !check_cells(mesh.quads, 4, "quads"))
-    return false;
-  if (!style.color_field.empty()) {
-    for (std::size_t i = 0; i < info.fields.size(); ++i)
-      if (info.fields[i].name == style.color_field) field = static_cast<int>(i);
-    if (field < 0) {
-      error = "color_field '" + style.color_field + "' is not one of the run's fields";
-      return false;
-    }
-  }
+  if (!check_mesh(info)) return false;
   if (style.color_max > style.color_min) {
     range = {style.color_min, style.color_max};
     range_fixed = true;
@@ -323,76 +292,8 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
     style_body(line_actor->GetProperty());
     renderer->AddActor(line_actor);
   }
-  if (have_surfaces) {
-    normals->SetInputData(surfaces);
-    normals->ComputePointNormalsOn();
-    // a crease sharper than 45° (a fold, a crushed wall, a coarse mesh's edge) keeps a normal
-    // per side: averaged across it, the two nearly opposite normals of a fold cancel and the
-    // elements beside it were shaded as if seen edge-on, a dark band
-    normals->SplittingOn();
-    normals->SetFeatureAngle(45.0);
-    normals->ConsistencyOn();
-    surface_mapper->SetInputConnection(normals->GetOutputPort());
-    surface_actor->SetMapper(surface_mapper);
-    style_body(surface_actor->GetProperty());
-    // no highlights on surfaces: they wash out the field colours, and with more than a headlight
-    // VTK takes the view vector from the vertex even in a parallel view, so a flat plate would
-    // not be one colour
-    surface_actor->GetProperty()->SetSpecular(0.0);
-    // element edges only when elements are large enough on screen to read them
-    double edge_sum = 0;
-    std::size_t edge_count = 0;
-    auto add_edges = [&](const std::vector<std::int32_t>& c, std::size_t per) {
-      for (std::size_t e = 0; e + per - 1 < c.size(); e += per) {
-        for (std::size_t k = 0; k < per; ++k) {
-          const double* a = &mesh.reference_points[3 * c[e + k]];
-          const double* b = &mesh.reference_points[3 * c[e + (k + 1) % per]];
-          edge_sum += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                                (a[2] - b[2]) * (a[2] - b[2]));
-          ++edge_count;
-        }
-      }
-    };
-    add_edges(mesh.triangles, 3);
-    add_edges(mesh.quads, 4);
-    const double pixel = 2.0 * camera.parallel_scale / style.height;
-    if (edge_count > 0 && edge_sum / edge_count > kMinEdgePixels * pixel) {
-      surface_actor->GetProperty()->EdgeVisibilityOn();
-      surface_actor->GetProperty()->SetEdgeColor(kEdgeColor[0], kEdgeColor[1], kEdgeColor[2]);
-    }
-    renderer->AddActor(surface_actor);
-  }
-  if (style.show_base) {
-    if (have_lines) {
-      ghost_tubes->SetInputData(ghost_lines);
-      ghost_tubes->SetRadius(kGhostTubeFraction * tube_radius);
-      ghost_tubes->SetNumberOfSides(kTubeSides / 2);
-      ghost_tubes->CappingOn();
-      ghost_line_mapper->SetInputConnection(ghost_tubes->GetOutputPort());
-      ghost_line_mapper->ScalarVisibilityOff();
-      ghost_line_actor->SetMapper(ghost_line_mapper);
-      ghost_line_actor->GetProperty()->SetColor(kGhostColor[0], kGhostColor[1], kGhostColor[2]);
-      ghost_line_actor->GetProperty()->SetAmbient(0.4);
-      ghost_line_actor->GetProperty()->SetDiffuse(0.6);
-      renderer->AddActor(ghost_line_actor);
-    }
-    if (have_surfaces) {
-      ghost_surface_mapper->SetInputData(ghost_surfaces);
-      ghost_surface_mapper->ScalarVisibilityOff();
-      ghost_surface_actor->SetMapper(ghost_surface_mapper);
-      // opaque, beneath the body, lit as a = kGhostSurfaceOpacity of the ghost over the background
-      // would be: (1 − a) background + a ghost cos θ, by the ambient and diffuse colours
-      vtkProperty* ghost = ghost_surface_actor->GetProperty();
-      const double a = kGhostSurfaceOpacity;
-      ghost->SetAmbientColor((1 - a) * style.background[0], (1 - a) * style.background[1], (1 - a) * style.background[2]);
-      ghost->SetDiffuseColor(a * kGhostColor[0], a * kGhostColor[1], a * kGhostColor[2]);
-      ghost->SetAmbient(1.0);
-      ghost->SetDiffuse(1.0);
-      ghost->SetSpecular(0.0);
-      underlay->AddActor(ghost_surface_actor);
-    }
-  }
-
+  if (have_surfaces) build_surface_actor(mesh);
+  if (style.show_base) build_ghost();
   light_body(renderer);
   apply_camera(camera);
 
@@ -414,6 +315,119 @@ bool FrameRenderer::Impl::build(const RunInfo& info) {
   }
   reset_clipping_range();
   return true;
+}
+
+bool FrameRenderer::Impl::check_mesh(const RunInfo& info) {
+  const FrameMesh& mesh = info.mesh;
+  n = mesh.point_count();
+  status_info.time_unit = info.time_unit;
+  if (mesh.reference_points.size() != 3 * n) {
+    error = "mesh reference_points size is not a multiple of 3";
+    return false;
+  }
+  if (style.width < 16 || style.height < 16) {
+    error = "image size must be at least 16x16 pixels";
+    return false;
+  }
+  auto check_cells = [&](const std::vector<std::int32_t>& c, std::size_t per, const char* what) {
+    if (c.size() % per != 0) {
+      error = std::string("mesh ") + what + " size is not a multiple of " + std::to_string(per);
+      return false;
+    }
+    for (std::int32_t v : c) {
+      if (v < 0 || static_cast<std::size_t>(v) >= n) {
+        error = std::string("mesh ") + what + " refer to point " + std::to_string(v) + " of " +
+                std::to_string(n);
+        return false;
+      }
+    }
+    return true;
+  };
+  if (!check_cells(mesh.lines, 2, "lines") || !check_cells(mesh.triangles, 3, "triangles") ||
+      !check_cells(mesh.quads, 4, "quads"))
+    return false;
+  if (!style.color_field.empty()) {
+    for (std::size_t i = 0; i < info.fields.size(); ++i)
+      if (info.fields[i].name == style.color_field) field = static_cast<int>(i);
+    if (field < 0) {
+      error = "color_field '" + style.color_field + "' is not one of the run's fields";
+      return false;
+    }
+  }
+  return true;
+}
+
+// the body's surfaces: lit, no highlights, element edges when elements are large on screen
+void FrameRenderer::Impl::build_surface_actor(const FrameMesh& mesh) {
+  normals->SetInputData(surfaces);
+  normals->ComputePointNormalsOn();
+  // a crease sharper than 45° (a fold, a crushed wall, a coarse mesh's edge) keeps a normal
+  // per side: averaged across it, the two nearly opposite normals of a fold cancel and the
+  // elements beside it were shaded as if seen edge-on, a dark band
+  normals->SplittingOn();
+  normals->SetFeatureAngle(45.0);
+  normals->ConsistencyOn();
+  surface_mapper->SetInputConnection(normals->GetOutputPort());
+  surface_actor->SetMapper(surface_mapper);
+  style_body(surface_actor->GetProperty());
+  // no highlights on surfaces: they wash out the field colours, and with more than a headlight
+  // VTK takes the view vector from the vertex even in a parallel view, so a flat plate would
+  // not be one colour
+  surface_actor->GetProperty()->SetSpecular(0.0);
+  // element edges only when elements are large enough on screen to read them
+  double edge_sum = 0;
+  std::size_t edge_count = 0;
+  auto add_edges = [&](const std::vector<std::int32_t>& c, std::size_t per) {
+    for (std::size_t e = 0; e + per - 1 < c.size(); e += per) {
+      for (std::size_t k = 0; k < per; ++k) {
+        const double* a = &mesh.reference_points[3 * c[e + k]];
+        const double* b = &mesh.reference_points[3 * c[e + (k + 1) % per]];
+        edge_sum += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                              (a[2] - b[2]) * (a[2] - b[2]));
+        ++edge_count;
+      }
+    }
+  };
+  add_edges(mesh.triangles, 3);
+  add_edges(mesh.quads, 4);
+  const double pixel = 2.0 * camera.parallel_scale / style.height;
+  if (edge_count > 0 && edge_sum / edge_count > kMinEdgePixels * pixel) {
+    surface_actor->GetProperty()->EdgeVisibilityOn();
+    surface_actor->GetProperty()->SetEdgeColor(kEdgeColor[0], kEdgeColor[1], kEdgeColor[2]);
+  }
+  renderer->AddActor(surface_actor);
+}
+
+// the faint grey ghost of the base points: thin tubes, and surfaces beneath the body
+void FrameRenderer::Impl::build_ghost() {
+  if (have_lines) {
+    ghost_tubes->SetInputData(ghost_lines);
+    ghost_tubes->SetRadius(kGhostTubeFraction * tube_radius);
+    ghost_tubes->SetNumberOfSides(kTubeSides / 2);
+    ghost_tubes->CappingOn();
+    ghost_line_mapper->SetInputConnection(ghost_tubes->GetOutputPort());
+    ghost_line_mapper->ScalarVisibilityOff();
+    ghost_line_actor->SetMapper(ghost_line_mapper);
+    ghost_line_actor->GetProperty()->SetColor(kGhostColor[0], kGhostColor[1], kGhostColor[2]);
+    ghost_line_actor->GetProperty()->SetAmbient(0.4);
+    ghost_line_actor->GetProperty()->SetDiffuse(0.6);
+    renderer->AddActor(ghost_line_actor);
+  }
+  if (have_surfaces) {
+    ghost_surface_mapper->SetInputData(ghost_surfaces);
+    ghost_surface_mapper->ScalarVisibilityOff();
+    ghost_surface_actor->SetMapper(ghost_surface_mapper);
+    // opaque, beneath the body, lit as a = kGhostSurfaceOpacity of the ghost over the background
+    // would be: (1 − a) background + a ghost cos θ, by the ambient and diffuse colours
+    vtkProperty* ghost = ghost_surface_actor->GetProperty();
+    const double a = kGhostSurfaceOpacity;
+    ghost->SetAmbientColor((1 - a) * style.background[0], (1 - a) * style.background[1], (1 - a) * style.background[2]);
+    ghost->SetDiffuseColor(a * kGhostColor[0], a * kGhostColor[1], a * kGhostColor[2]);
+    ghost->SetAmbient(1.0);
+    ghost->SetDiffuse(1.0);
+    ghost->SetSpecular(0.0);
+    underlay->AddActor(ghost_surface_actor);
+  }
 }
 
 void FrameRenderer::Impl::reset_clipping_range() {
