@@ -2,6 +2,7 @@
 
 #include "app/io/machine_memory.h"
 #include "core/frame/input_file.h"
+#include "core/frame/text.h"
 
 // Gmsh's C API, for its function types only: the library is opened with dlopen in the child
 // process, so `flexframe` neither links it nor loads it (with OpenCASCADE, 91 libraries, 84 ms and
@@ -847,6 +848,108 @@ void refuse_oversized_geometry(const GmshApi& g, const GmshMeshRequest& r) {
   throw GmshFailure(std::string(text) + (scene_size ? "raise part.mesh_size" : "give a part.mesh_size, or larger sizes in the script"));
 }
 
+// Meshes the file's geometry at the scene's sizes (which win over the script's global size
+// settings), mapped grids on four-sided faces where asked, quads only; what it did goes to `notes`.
+void mesh_the_geometry(const GmshApi& g, const GmshMeshRequest& r, const std::vector<Physical>& physicals,
+                       std::vector<std::string>& notes) {
+  int ierr = 0;
+  bool subdivided = false;
+  // The scene's sizes win over the script's global size settings, which would otherwise undo
+  // them silently (a Mesh.MeshSizeMin of 2 made local sizes 2, 1 and 0.5 one mesh). Gmsh takes at
+  // each point the smallest size from points, curvature and fields, clamps it to [MeshSizeMin,
+  // MeshSizeMax] and multiplies it by MeshSizeFactor: the scene's sizes are set as point sizes
+  // divided by the script's factor, a minimum above the smallest of them is lowered to it, and
+  // point sizes are switched on. A local size above the script's cap is refused (the cap is
+  // the script's wish for every element; part.mesh_size replaces it).
+  const auto option = [&](const char* name) {
+    double v = 0.0;
+    g.get_number(name, &v, &ierr);
+    check(g, ierr, std::string("reading ") + name);
+    return v;
+  };
+  const double script_factor = option("Mesh.MeshSizeFactor"), script_min = option("Mesh.MeshSizeMin"),
+               script_max = option("Mesh.MeshSizeMax");
+  const bool scene_sizes = r.mesh_size > 0 || !r.group_sizes.empty();
+  const auto text = [](double v) { return significant(v); };
+  if (scene_sizes) {
+    if (!(script_factor > 0)) throw GmshFailure("its Mesh.MeshSizeFactor is " + text(script_factor) + ", not > 0");
+    double smallest = r.mesh_size > 0 ? r.mesh_size : std::numeric_limits<double>::infinity();
+    for (const auto& [name, size] : r.group_sizes) {
+      smallest = std::min(smallest, size);
+      if (!(r.mesh_size > 0) && size > script_max * script_factor)
+        throw GmshFailure("part.local_sizes asks " + text(size) + " at group '" + name + "', above the script's "
+                          "largest element (Mesh.MeshSizeMax " + text(script_max) +
+                          (script_factor != 1 ? " x Mesh.MeshSizeFactor " + text(script_factor) : std::string()) +
+                          "): a local size is finer than the rest; give a smaller one, or part.mesh_size (which "
+                          "replaces the script's largest element)");
+    }
+    if (script_min * script_factor > smallest) {
+      g.set_number("Mesh.MeshSizeMin", smallest / script_factor, &ierr);
+      notes.push_back("the script's Mesh.MeshSizeMin " + text(script_min) + " lowered to " +
+                      text(smallest / script_factor) + " so that the scene's sizes are reached");
+    }
+    if (option("Mesh.MeshSizeFromPoints") == 0) {
+      g.set_number("Mesh.MeshSizeFromPoints", 1, &ierr);
+      notes.push_back("the script's Mesh.MeshSizeFromPoints = 0 set to 1 (the scene's sizes are point sizes)");
+    }
+    if (script_factor != 1)
+      notes.push_back("the script's Mesh.MeshSizeFactor " + text(script_factor) + " kept for its own sizes, the "
+                      "scene's set so that they come out as given");
+  }
+  if (r.mesh_size > 0) {  // at every point (a CAD file's points carry no sizes, and Gmsh would give
+                          // them a tenth of the part's diagonal, which a cap alone only lowers) and as the cap
+    g.set_number("Mesh.MeshSizeMax", r.mesh_size / script_factor, &ierr);
+    int* points = nullptr;
+    std::size_t points_n = 0;
+    g.get_entities(&points, &points_n, 0, &ierr);
+    check(g, ierr, "reading its points");
+    if (points_n > 0) g.set_size(points, points_n, r.mesh_size / script_factor, &ierr);
+    check(g, ierr, "setting its size");
+  }
+  for (const auto& [name, size] : r.group_sizes) {  // each named group's points at its own size
+    const auto it = std::find_if(physicals.begin(), physicals.end(), [&](const Physical& p) { return p.name == name; });
+    if (it == physicals.end())
+      throw GmshFailure("part.local_size_groups names group '" + name + "', which the file does not define");
+    std::vector<int> points = group_points(g, *it);
+    g.set_size(points.data(), points.size(), size / script_factor, &ierr);
+    check(g, ierr, "setting the size of group '" + name + "'");
+  }
+  refuse_oversized_geometry(g, r);
+  // Frontal-Delaunay (6) with Blossom recombination: robust in Gmsh 4.8, where the quad-dedicated
+  // Frontal-Delaunay for quads (8) segfaulted on a cylindrical roof
+  g.set_number("Mesh.Algorithm", 6, &ierr);
+  g.set_number("Mesh.RecombineAll", 1, &ierr);
+  g.set_number("Mesh.RecombinationAlgorithm", 1, &ierr);
+  g.set_number("Mesh.ElementOrder", 1, &ierr);
+  MappedFaces mapped;
+  if (r.mapped_faces && r.mesh_size > 0) mapped = map_four_sided_faces(g, r, physicals);
+  g.generate(2, &ierr);
+  check(g, ierr, "Gmsh could not mesh it");
+  // Blossom can leave a few triangles (a hemisphere at size 0.35 left 2 of 1467 elements), and
+  // one triangle would make FlexFrame split every element of the part. Then the part is meshed
+  // at twice the size and Gmsh subdivides every element into quads (Mesh.SubdivisionAlgorithm =
+  // 1), its new nodes on the CAD surface. (The full-quad recombinations 2 and 3 refuse periodic
+  // surfaces such as a sphere in Gmsh 4.8.)
+  if (count_triangles(g) > 0) {
+    g.clear(nullptr, 0, &ierr);
+    check(g, ierr, "clearing a mesh with triangles");
+    g.set_number("Mesh.MeshSizeFactor", 2.0 * script_factor, &ierr);  // every size, the script's and the scene's
+    g.set_number("Mesh.SubdivisionAlgorithm", 1, &ierr);
+    g.generate(2, &ierr);
+    check(g, ierr, "Gmsh could not mesh it into quads only");
+    subdivided = true;
+  }
+  if (!mapped.note.empty()) notes.push_back(mapped.note);
+  notes.push_back(std::string(mapped.all                 ? "meshed by Gmsh as structured quads"
+                              : mapped.applied       ? "the other faces meshed by Gmsh 2D Frontal-Delaunay with "
+                                                       "Blossom recombination"
+                                                     : "meshed by Gmsh 2D Frontal-Delaunay with Blossom recombination") +
+                  (subdivided ? " at twice the size, then every element subdivided into quads (plain Blossom left "
+                                "triangles), "
+                              : ", ") +
+                  (r.mesh_size > 0 ? "elements at most " + text(r.mesh_size) + " across" : std::string("the file's sizes")));
+}
+
 // Everything the child does with Gmsh; throws GmshFailure with a sentence. `unconfined` says
 // what the sandbox could not confine ("" when it confined all), for the notes.
 void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w, const std::string& unconfined) {
@@ -888,108 +991,10 @@ void mesh_in_child(const GmshApi& g, const GmshMeshRequest& r, Writer& w, const 
 
   std::vector<std::string> notes;
   if (!unconfined.empty()) notes.push_back(unconfined);
-  bool subdivided = false;
   if (r.mesh_geometry && r.join_touching_faces)
     if (std::string joined = join_touching_faces(g, physicals); !joined.empty()) notes.push_back(std::move(joined));
   if (r.mesh_geometry) {
-    // The scene's sizes win over the script's global size settings, which would otherwise undo
-    // them silently (a Mesh.MeshSizeMin of 2 made local sizes 2, 1 and 0.5 one mesh). Gmsh takes at
-    // each point the smallest size from points, curvature and fields, clamps it to [MeshSizeMin,
-    // MeshSizeMax] and multiplies it by MeshSizeFactor: the scene's sizes are set as point sizes
-    // divided by the script's factor, a minimum above the smallest of them is lowered to it, and
-    // point sizes are switched on. A local size above the script's cap is refused (the cap is
-    // the script's wish for every element; part.mesh_size replaces it).
-    const auto option = [&](const char* name) {
-      double v = 0.0;
-      g.get_number(name, &v, &ierr);
-      check(g, ierr, std::string("reading ") + name);
-      return v;
-    };
-    const double script_factor = option("Mesh.MeshSizeFactor"), script_min = option("Mesh.MeshSizeMin"),
-                 script_max = option("Mesh.MeshSizeMax");
-    const bool scene_sizes = r.mesh_size > 0 || !r.group_sizes.empty();
-    const auto text = [](double v) {
-      char b[64];
-      std::snprintf(b, sizeof b, "%.6g", v);
-      return std::string(b);
-    };
-    if (scene_sizes) {
-      if (!(script_factor > 0)) throw GmshFailure("its Mesh.MeshSizeFactor is " + text(script_factor) + ", not > 0");
-      double smallest = r.mesh_size > 0 ? r.mesh_size : std::numeric_limits<double>::infinity();
-      for (const auto& [name, size] : r.group_sizes) {
-        smallest = std::min(smallest, size);
-        if (!(r.mesh_size > 0) && size > script_max * script_factor)
-          throw GmshFailure("part.local_sizes asks " + text(size) + " at group '" + name + "', above the script's "
-                            "largest element (Mesh.MeshSizeMax " + text(script_max) +
-                            (script_factor != 1 ? " x Mesh.MeshSizeFactor " + text(script_factor) : std::string()) +
-                            "): a local size is finer than the rest; give a smaller one, or part.mesh_size (which "
-                            "replaces the script's largest element)");
-      }
-      if (script_min * script_factor > smallest) {
-        g.set_number("Mesh.MeshSizeMin", smallest / script_factor, &ierr);
-        notes.push_back("the script's Mesh.MeshSizeMin " + text(script_min) + " lowered to " +
-                        text(smallest / script_factor) + " so that the scene's sizes are reached");
-      }
-      if (option("Mesh.MeshSizeFromPoints") == 0) {
-        g.set_number("Mesh.MeshSizeFromPoints", 1, &ierr);
-        notes.push_back("the script's Mesh.MeshSizeFromPoints = 0 set to 1 (the scene's sizes are point sizes)");
-      }
-      if (script_factor != 1)
-        notes.push_back("the script's Mesh.MeshSizeFactor " + text(script_factor) + " kept for its own sizes, the "
-                        "scene's set so that they come out as given");
-    }
-    if (r.mesh_size > 0) {  // at every point (a CAD file's points carry no sizes, and Gmsh would give
-                            // them a tenth of the part's diagonal, which a cap alone only lowers) and as the cap
-      g.set_number("Mesh.MeshSizeMax", r.mesh_size / script_factor, &ierr);
-      int* points = nullptr;
-      std::size_t points_n = 0;
-      g.get_entities(&points, &points_n, 0, &ierr);
-      check(g, ierr, "reading its points");
-      if (points_n > 0) g.set_size(points, points_n, r.mesh_size / script_factor, &ierr);
-      check(g, ierr, "setting its size");
-    }
-    for (const auto& [name, size] : r.group_sizes) {  // each named group's points at its own size
-      const auto it = std::find_if(physicals.begin(), physicals.end(), [&](const Physical& p) { return p.name == name; });
-      if (it == physicals.end())
-        throw GmshFailure("part.local_size_groups names group '" + name + "', which the file does not define");
-      std::vector<int> points = group_points(g, *it);
-      g.set_size(points.data(), points.size(), size / script_factor, &ierr);
-      check(g, ierr, "setting the size of group '" + name + "'");
-    }
-    refuse_oversized_geometry(g, r);
-    // Frontal-Delaunay (6) with Blossom recombination: robust in Gmsh 4.8, where the quad-dedicated
-    // Frontal-Delaunay for quads (8) segfaulted on a cylindrical roof
-    g.set_number("Mesh.Algorithm", 6, &ierr);
-    g.set_number("Mesh.RecombineAll", 1, &ierr);
-    g.set_number("Mesh.RecombinationAlgorithm", 1, &ierr);
-    g.set_number("Mesh.ElementOrder", 1, &ierr);
-    MappedFaces mapped;
-    if (r.mapped_faces && r.mesh_size > 0) mapped = map_four_sided_faces(g, r, physicals);
-    g.generate(2, &ierr);
-    check(g, ierr, "Gmsh could not mesh it");
-    // Blossom can leave a few triangles (a hemisphere at size 0.35 left 2 of 1467 elements), and
-    // one triangle would make FlexFrame split every element of the part. Then the part is meshed
-    // at twice the size and Gmsh subdivides every element into quads (Mesh.SubdivisionAlgorithm =
-    // 1), its new nodes on the CAD surface. (The full-quad recombinations 2 and 3 refuse periodic
-    // surfaces such as a sphere in Gmsh 4.8.)
-    if (count_triangles(g) > 0) {
-      g.clear(nullptr, 0, &ierr);
-      check(g, ierr, "clearing a mesh with triangles");
-      g.set_number("Mesh.MeshSizeFactor", 2.0 * script_factor, &ierr);  // every size, the script's and the scene's
-      g.set_number("Mesh.SubdivisionAlgorithm", 1, &ierr);
-      g.generate(2, &ierr);
-      check(g, ierr, "Gmsh could not mesh it into quads only");
-      subdivided = true;
-    }
-    if (!mapped.note.empty()) notes.push_back(mapped.note);
-    notes.push_back(std::string(mapped.all                 ? "meshed by Gmsh as structured quads"
-                                : mapped.applied       ? "the other faces meshed by Gmsh 2D Frontal-Delaunay with "
-                                                         "Blossom recombination"
-                                                       : "meshed by Gmsh 2D Frontal-Delaunay with Blossom recombination") +
-                    (subdivided ? " at twice the size, then every element subdivided into quads (plain Blossom left "
-                                  "triangles), "
-                                : ", ") +
-                    (r.mesh_size > 0 ? "elements at most " + text(r.mesh_size) + " across" : std::string("the file's sizes")));
+    mesh_the_geometry(g, r, physicals, notes);
   } else if (r.recombine_triangles) {
     const double before = surface_area(g);
     g.recombine(&ierr);

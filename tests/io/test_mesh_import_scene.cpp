@@ -63,7 +63,7 @@ std::vector<ff::scene::Issue> load_issues(const std::string& path, const std::ve
 // Runs a static scene given as text (written to the scratch folder, importer available) and
 // returns its probes' final values by name, and its node count through `nodes`.
 std::map<std::string, double> run_text(const std::string& name, const std::string& text) {
-  const std::string path = scratch(name + ".toml");
+  const std::string path = scratch(name + ".toml");  // a name of its own per test: ctest runs them side by side
   std::ofstream(path) << text;
   ff::scene::LoadedScene s = ff::scene::load_scene(path, {}, ff::io::scene_context());
   std::atomic<bool> stop{false};
@@ -249,7 +249,7 @@ struct TrianglePlate {
 };
 
 TrianglePlate run_triangle_plate(const std::string& name, const std::string& obj) {
-  const std::string path = scratch(name + ".toml");
+  const std::string path = scratch(name + ".toml");  // a name of its own per test: ctest runs them side by side
   std::ofstream(path) << static_scene(file_mesh(obj), "youngs_modulus = 2.1e11\npoisson_ratio = 0.3\nthickness = 0.01",
                                       "[[bc]]\ntype = \"clamped\"\nselect = \"plane\"\npoint = [0.0, 0.0, 0.0]\n"
                                       "normal = [1.0, 0.0, 0.0]\n[[load]]\ntype = \"pressure\"\npressure = 1000.0\n"
@@ -278,7 +278,7 @@ std::string obj_data(const std::string& name) { return std::string(FF_SOURCE_DIR
 // it the other way (w = -0.0067 instead of +0.0067, completed). The majority's side (by area)
 // stays: both files give one answer, and the first file's three quads are the ones turned.
 TEST(MeshImportScene, OneReversedTriangleDoesNotTurnThePlate) {
-  const TrianglePlate consistent = run_triangle_plate("plate_tri", obj_data("plate_tri.obj"));
+  const TrianglePlate consistent = run_triangle_plate("plate_tri_beside_first_flipped", obj_data("plate_tri.obj"));
   const TrianglePlate first_flipped = run_triangle_plate("first_flipped", obj_data("first_flipped.obj"));
   std::printf("w: consistent %.9g, first triangle reversed %.9g\n", consistent.w, first_flipped.w);
   EXPECT_GT(consistent.w, 1e-3) << "the pressure pushes along +z (the directors of the triangles' winding)";
@@ -308,7 +308,7 @@ TEST(MeshImportScene, ManyReversedTrianglesAreTurnedLoudly) {
   }
   const std::string obj = scratch("twelve_reversed.obj");
   std::ofstream(obj) << text;
-  const TrianglePlate consistent = run_triangle_plate("plate_tri", obj_data("plate_tri.obj"));
+  const TrianglePlate consistent = run_triangle_plate("plate_tri_beside_twelve_reversed", obj_data("plate_tri.obj"));
   const TrianglePlate many = run_triangle_plate("twelve_reversed", obj);
   EXPECT_NEAR(many.w / consistent.w, 1.0, 1e-9) << "the 20 triangles wound counter-clockwise about +z decide";
   EXPECT_NE(many.import.find("36 quads turned to agree with their neighbours (WARNING: 38 % of the area"), std::string::npos)
