@@ -308,7 +308,7 @@ TEST(CliReplay, ShellExportKeepsEveryNodeInOrder) {
   ASSERT_GE(selection.size(), 2u);
   const std::size_t n = h5->info().mesh.point_count();
   for (std::size_t k = 0; k < selection.size(); ++k) {
-    char stem[32];
+    char stem[48];
     std::snprintf(stem, sizeof stem, "/export/frame_%05zu", k);
     const Frame f = h5->frame(selection[k]);
     expect_glb_matches(out + stem + ".glb", h5->info().mesh, f);

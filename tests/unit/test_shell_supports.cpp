@@ -53,11 +53,6 @@ ShellModelSpec oblique_spec(bool drilling) {
   return s;
 }
 
-Eigen::VectorXd unit(int n, int k, double h) {
-  Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
-  v[k] = h;
-  return v;
-}
 }  // namespace
 
 class ShellSupports : public ::testing::TestWithParam<bool> {};

@@ -242,7 +242,7 @@ TEST(ShellStepLoad, PressurePulseOfHalfAPeriodLeavesTheStripSwingingWithTwiceThe
   settings.integrator.tolerance = 1e-13;
   settings.dt = dt;
   settings.end_time = pulse.end + 0.75 * T_beam;
-  settings.probes.push_back({"tip_w", "tip w", c.tip_middle, Vec3::UnitZ()});
+  settings.probes.push_back({"tip_w", "tip w", c.tip_middle, Vec3::UnitZ(), ""});
   settings.metrics.push_back({"tip_w_max", DynamicMetric::Kind::max, "tip_w"});
   settings.metrics.push_back({"tip_w_min", DynamicMetric::Kind::min, "tip_w"});
   ShellDynamicSimulation sim(spec, settings, RunInfo{});
