@@ -71,6 +71,11 @@ class PathFollower {
   std::vector<int> reversals_;     // states where Δλ changed sign (limit points)
   std::vector<int> turn_backs_;    // states after which the increment reversed
   void finish(StaticStatus status, StaticStop stop, std::string reason);
+  // after an accepted step: true when the path ends there (λ_max, the displacement limit, the
+  // load-factor range, the first limit point when asked, the step budget), finished
+  bool path_ends_after_step(bool final_step);
+  // eqs. (13), (13'), (19): the next step's Δl from this step's corrections and turn
+  void size_next_step(int iterations, double bend);
   StaticResult res_;
   StaticStepInfo last_;            // of the last accepted step
   std::vector<StaticAttempt> rejected_;  // attempts of the current advance() not accepted
@@ -535,6 +540,70 @@ void PathFollower::finish(StaticStatus status, StaticStop stop, std::string reas
   finished_ = true;
 }
 
+bool PathFollower::path_ends_after_step(bool final_step) {
+  const std::string end = settings_.lambda_max_name + " = " + significant(settings_.lambda_max);
+  if (final_step) {
+    finish(StaticStatus::completed, StaticStop::lambda_reached, "reached " + end);
+    return true;
+  }
+  if ((settings_.monitor || settings_.monitor_dof >= 0) && std::abs(monitored()) >= settings_.displacement_limit) {
+    finish(StaticStatus::completed, StaticStop::displacement_limit,
+           "the monitored displacement reached " + significant(monitored()) + " (limit " + significant(settings_.displacement_limit) +
+               ") at λ = " + significant(lambda_));
+    return true;
+  }
+  if (lambda_ >= settings_.lambda_max) {
+    finish(StaticStatus::completed, StaticStop::lambda_reached,
+           "reached " + end + " (overshot to λ = " + significant(lambda_) + ": landing failed)");
+    return true;
+  }
+  if (lambda_ < settings_.lambda_min) {
+    finish(StaticStatus::incomplete, StaticStop::load_factor_bound,
+           "the path left the load-factor range [" + settings_.lambda_min_name + " = " + significant(settings_.lambda_min) +
+               ", " + end + "]: λ = " + significant(lambda_) + " at step " + std::to_string(res_.steps) +
+               " (a reversed load beyond the bound; the state is that step's)");
+    return true;
+  }
+  if (settings_.stop_at_first_limit_point && res_.limit_points > 0) {
+    const std::vector<StaticEvent> ev = path_events(res_.steps);
+    const StaticEvent first = *std::find_if(ev.begin(), ev.end(), [](const StaticEvent& e) {
+      return e.kind == StaticEvent::Kind::limit_point;
+    });
+    finish(StaticStatus::completed, StaticStop::limit_point,
+           "stopped after the first limit point, as asked: a " + first.detail.substr(0, first.detail.find(';')) +
+               " at step " + std::to_string(first.step) + " (λ = " + significant(first.lambda) + "); the run ends at step " +
+               std::to_string(res_.steps) + ", λ = " + significant(lambda_));
+    return true;
+  }
+  if (res_.steps >= settings_.max_steps) {
+    finish(StaticStatus::incomplete, StaticStop::max_steps,
+           "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + significant(lambda_) + " (step " +
+               std::to_string(res_.steps) + "), before " + end);
+    return true;
+  }
+  return false;
+}
+
+void PathFollower::size_next_step(int iterations, double bend) {
+  double factor = settings_.max_growth;
+  if (iterations > settings_.desired_iterations)
+    factor = std::sqrt(static_cast<double>(settings_.desired_iterations) / iterations);
+  if (settings_.target_turn > 0.0 && bend > 0.0) factor = std::min(factor, settings_.target_turn / bend);
+  factor = std::max(factor, 0.25);
+  if (attempts_ > 1) factor = std::min(factor, 1.0);
+  dl_ = std::clamp(dl_ * factor, dl_min_, dl_max_);
+  dq_prev_ = dq_;
+  dlambda_prev_ = dlambda_;
+  has_previous_ = true;
+  attempts_ = 1;
+  landing_failed_ = false;
+  // eq. (19): A0 = ||q||²/λ² at the converged point, capped where λ passes close to zero
+  if (settings_.method == ArcLengthMethod::lam_morley) {
+    const double cap = settings_.lam_morley_a0_cap * a0_origin_;
+    a0_ = lambda_ != 0.0 ? std::min(cap, kernel_.dot_u(u_total_, u_total_) / (lambda_ * lambda_)) : cap;
+  }
+}
+
 bool PathFollower::advance() {
   if (finished_) return false;
   rejected_.clear();
@@ -681,66 +750,8 @@ bool PathFollower::advance() {
       first_step_fraction_ = dl_ / dl_first_;
     }
     if (settings_.on_step) settings_.on_step(last_);
-    const std::string end = settings_.lambda_max_name + " = " + significant(settings_.lambda_max);
-    if (final_step) {
-      finish(StaticStatus::completed, StaticStop::lambda_reached, "reached " + end);
-      return true;
-    }
-    if ((settings_.monitor || settings_.monitor_dof >= 0) && std::abs(monitored()) >= settings_.displacement_limit) {
-      finish(StaticStatus::completed, StaticStop::displacement_limit,
-             "the monitored displacement reached " + significant(monitored()) + " (limit " + significant(settings_.displacement_limit) +
-                 ") at λ = " + significant(lambda_));
-      return true;
-    }
-    if (lambda_ >= settings_.lambda_max) {
-      finish(StaticStatus::completed, StaticStop::lambda_reached,
-             "reached " + end + " (overshot to λ = " + significant(lambda_) + ": landing failed)");
-      return true;
-    }
-    if (lambda_ < settings_.lambda_min) {
-      finish(StaticStatus::incomplete, StaticStop::load_factor_bound,
-             "the path left the load-factor range [" + settings_.lambda_min_name + " = " + significant(settings_.lambda_min) +
-                 ", " + end + "]: λ = " + significant(lambda_) + " at step " + std::to_string(res_.steps) +
-                 " (a reversed load beyond the bound; the state is that step's)");
-      return true;
-    }
-    if (settings_.stop_at_first_limit_point && res_.limit_points > 0) {
-      const std::vector<StaticEvent> ev = path_events(res_.steps);
-      const StaticEvent first = *std::find_if(ev.begin(), ev.end(), [](const StaticEvent& e) {
-        return e.kind == StaticEvent::Kind::limit_point;
-      });
-      finish(StaticStatus::completed, StaticStop::limit_point,
-             "stopped after the first limit point, as asked: a " + first.detail.substr(0, first.detail.find(';')) +
-                 " at step " + std::to_string(first.step) + " (λ = " + significant(first.lambda) + "); the run ends at step " +
-                 std::to_string(res_.steps) + ", λ = " + significant(lambda_));
-      return true;
-    }
-    if (res_.steps >= settings_.max_steps) {
-      finish(StaticStatus::incomplete, StaticStop::max_steps,
-             "step budget of " + std::to_string(settings_.max_steps) + " used up at λ = " + significant(lambda_) + " (step " +
-                 std::to_string(res_.steps) + "), before " + end);
-      return true;
-    }
-
-    // eqs. (13), (13'): Δl for the next step from this step's corrections and turn
-    double factor = settings_.max_growth;
-    if (a.iterations > settings_.desired_iterations)
-      factor = std::sqrt(static_cast<double>(settings_.desired_iterations) / a.iterations);
-    const double bend = std::max(turn, end_turn);  // the step's turn seen from both of its ends
-    if (settings_.target_turn > 0.0 && bend > 0.0) factor = std::min(factor, settings_.target_turn / bend);
-    factor = std::max(factor, 0.25);
-    if (attempts_ > 1) factor = std::min(factor, 1.0);
-    dl_ = std::clamp(dl_ * factor, dl_min_, dl_max_);
-    dq_prev_ = dq_;
-    dlambda_prev_ = dlambda_;
-    has_previous_ = true;
-    attempts_ = 1;
-    landing_failed_ = false;
-    // eq. (19): A0 = ||q||²/λ² at the converged point, capped where λ passes close to zero
-    if (settings_.method == ArcLengthMethod::lam_morley) {
-      const double cap = settings_.lam_morley_a0_cap * a0_origin_;
-      a0_ = lambda_ != 0.0 ? std::min(cap, kernel_.dot_u(u_total_, u_total_) / (lambda_ * lambda_)) : cap;
-    }
+    if (path_ends_after_step(final_step)) return true;
+    size_next_step(a.iterations, std::max(turn, end_turn));  // the step's turn seen from both of its ends
     return true;
   }
 }
