@@ -622,11 +622,9 @@ void check_thickness_against_part(const Document& d, const Structure& s, const S
           "; the thickness must lie in [" + g(longest / kLargestSlenderness) + ", " + g(size) +
           "] for this part (a thickness in the scene's length unit?)")});
 }
-}  // namespace
-
-Structure read_structure(const Document& d, const std::string& scene_path, const SceneContext& ctx) {
-  Structure s;
-  // materials: names unique; a nameless one only when it is the only one
+// [[material]]: names unique, a nameless one only when it is the only one; returns each
+// material as a ply (no thickness, angle 0) for the layups
+std::vector<shell::Ply> read_materials(const Document& d, Structure& s) {
   const std::size_t nm = d.count("material");
   s.materials_in_file = nm;
   std::vector<shell::Ply> material_ply(nm);  // each material as a ply (no thickness, angle 0)
@@ -669,11 +667,15 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
                                 "kg/m^3")});
     s.materials.push_back(m);
   }
-  read_layups(d, s, material_ply, ctx);
-  const std::size_t nl = d.count("layup");
-  std::vector<char> material_used(nm + nl, 0);
-  const std::size_t np = d.count("part");
+  return material_ply;
+}
+
+// [[part]]: each part's section (a material or a layup, marked used), its mesh (generated or
+// read), its name and directors; true when a part chose the reference of its fibre angles
+bool read_parts(const Document& d, const std::string& scene_path, const SceneContext& ctx, Structure& s,
+                std::vector<char>& material_used) {
   bool any_reference_key = false;
+  const std::size_t nm = d.count("material"), nl = d.count("layup"), np = d.count("part");
   for (std::size_t i = 0; i < np; ++i) {
     StructurePart p;
     const std::string& material = d.string("part.material", i);
@@ -742,6 +744,20 @@ Structure read_structure(const Document& d, const std::string& scene_path, const
     any_reference_key = any_reference_key || d.present("part.fibre_reference", i) || d.present("part.fibre_vector", i);
     s.parts.push_back(std::move(p));
   }
+  return any_reference_key;
+}
+
+}  // namespace
+
+Structure read_structure(const Document& d, const std::string& scene_path, const SceneContext& ctx) {
+  Structure s;
+  const std::size_t nm = d.count("material");
+  const std::vector<shell::Ply> material_ply = read_materials(d, s);
+  read_layups(d, s, material_ply, ctx);
+  const std::size_t nl = d.count("layup");
+  std::vector<char> material_used(nm + nl, 0);
+  const std::size_t np = d.count("part");
+  const bool any_reference_key = read_parts(d, scene_path, ctx, s, material_used);
   // a material used only as a ply is used; a [[layup]] no part is made of is refused like a material
   for (std::size_t l = 0; l < nl; ++l)
     for (const std::string& ply : d.strings("layup.plies", l))
