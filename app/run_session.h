@@ -1,8 +1,9 @@
 #pragma once
 /// \file run_session.h
-/// One headless run: the solver on a worker thread publishes Frames into a bounded channel;
-/// a store thread writes every frame to results.h5 and forwards every n-th frame to a render
-/// thread writing PNGs; the calling thread shows progress. Plots and summary.json at the end.
+/// One headless run: the solver on a worker thread publishes Frames to the output pipeline
+/// (output_pipeline.h: a store thread writes every frame to results.h5 and forwards every n-th to
+/// a render thread, which keeps them and draws them after the solve); the calling thread shows
+/// progress; the error bars' twins, plots and summary.json (run_summary.h) at the end.
 
 #include <atomic>
 #include <optional>

@@ -14,6 +14,7 @@
 #include "app/io/mesh_import.h"
 #include "app/run_session.h"
 #include "app/timed_run.h"
+#include "core/frame/output_file.h"
 #include "core/scene/scene.h"
 #include "render/frame_renderer.h"
 #include "render/graphics_context.h"
@@ -61,7 +62,10 @@ RenderRate render_rate(const std::string& scene, const std::vector<std::string>&
   const auto t0 = std::chrono::steady_clock::now();
   int n = 0;
   for (int i = 0; i < renders; ++i) {
-    written.push_back(dir / ("f" + std::to_string(i) + ".png"));
+    std::string name = "f";  // appended, not summed: GCC 12 warns (-Wrestrict) on "f" + ... + ".png"
+    name += std::to_string(i);
+    name += ".png";
+    written.push_back(dir / name);
     if (renderer.render_png(captured[i % captured.size()], written.back().string(), &err)) ++n;
   }
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -181,15 +185,18 @@ double median_of(std::vector<double> v) {
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
+// the file the user named, opened as every output is (no link, hard link, FIFO or device at it)
 bool write_bench_json(const std::string& path, const std::string& text) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  int error = f ? 0 : errno;
+  std::string why;
+  std::FILE* f = open_output_stream(path, &why);
+  int error = 0;
   if (f) {
     if (std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fflush(f) != 0) error = errno;
     if (std::fclose(f) != 0 && error == 0) error = errno;  // a full disk may only show here
+    if (error != 0) why = std::strerror(error);
   }
-  if (error == 0) return true;
-  std::fprintf(stderr, "error: cannot write %s: %s\n", path.c_str(), std::strerror(error));
+  if (f && error == 0) return true;
+  std::fprintf(stderr, "error: cannot write %s: %s\n", path.c_str(), why.c_str());
   return false;
 }
 

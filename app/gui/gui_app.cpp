@@ -13,9 +13,11 @@
 #include <algorithm>
 #include <cfloat>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <fstream>
@@ -33,6 +35,7 @@
 #include "app/mode_outputs.h"
 #include "app/run_session.h"
 #include "app/view_options.h"
+#include "core/frame/output_file.h"
 #include "core/scene/scene.h"
 #include "core/scene/scene_edit.h"
 #include "render/frame_renderer.h"
@@ -227,8 +230,20 @@ bool write_window_png(const std::string& path, int w, int h, std::string* error)
     const fs::path parent = fs::path(path).parent_path();
     if (!parent.empty()) fs::create_directories(parent, ec);
   }
-  if (stbi_write_png(path.c_str(), w, h, 3, flipped.data(), static_cast<int>(row)) == 0) {
-    *error = "could not write " + path;
+  // opened as every output is: no link, hard link, FIFO or device at the named path
+  std::string why;
+  std::FILE* file = open_output_stream(path, &why);
+  if (!file) {
+    *error = "could not write " + path + ": " + why;
+    return false;
+  }
+  const auto put = [](void* context, void* data, int size) {
+    std::fwrite(data, 1, static_cast<std::size_t>(size), static_cast<std::FILE*>(context));
+  };
+  const bool encoded = stbi_write_png_to_func(put, file, w, h, 3, flipped.data(), static_cast<int>(row)) != 0;
+  const bool written = std::ferror(file) == 0 && std::fflush(file) == 0;
+  if (std::fclose(file) != 0 || !encoded || !written) {
+    *error = "could not write " + path + (encoded ? ": " + std::string(std::strerror(errno)) : std::string());
     return false;
   }
   return true;
@@ -1071,8 +1086,11 @@ class GuiApp {
     try {
       const std::string text =
           text_to_save(status_.scene_text, status_.scene_path, path, status_.opened_text, status_.opened_from);
-      std::ofstream out(path, std::ios::binary);
-      if (!(out << text) || !(out.flush())) throw std::runtime_error("cannot write " + path);
+      std::string why;  // opened as every output is: no link, hard link, FIFO or device at the path
+      std::FILE* out = open_output_stream(path, &why);
+      if (!out) throw std::runtime_error("cannot write " + path + ": " + why);
+      const bool written = std::fwrite(text.data(), 1, text.size(), out) == text.size() && std::fflush(out) == 0;
+      if (std::fclose(out) != 0 || !written) throw std::runtime_error("cannot write " + path + ": " + std::strerror(errno));
       notice("saved " + path);
       std::printf("saved %s\n", path.c_str());
     } catch (const std::exception& e) {

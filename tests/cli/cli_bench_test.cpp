@@ -196,15 +196,39 @@ TEST(CliBench, AJsonFileThatCannotBeWrittenFailsTheCommand) {
   EXPECT_EQ(open.exit_code, 1) << open.describe();
   EXPECT_NE(open.err.find("cannot write " + missing + ": No such file or directory"), std::string::npos)
       << open.describe();
-  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
-  const ProcResult full = run_flexframe({"bench", "--scene", "cantilever_rollup", "--repeat", "1", "--json", "/dev/full"},
+  // a device is no file of the bench's to write (every output is opened so: core/frame/output_file.h)
+  if (std::filesystem::exists("/dev/full")) {
+    const ProcResult device = run_flexframe(
+        {"bench", "--scene", "cantilever_rollup", "--repeat", "1", "--json", "/dev/full"}, dir + "/device");
+    EXPECT_EQ(device.exit_code, 1) << device.describe();
+    EXPECT_NE(device.err.find("cannot write /dev/full: it is not a regular file"), std::string::npos)
+        << device.describe();
+  }
+  // a full disk: a small tmpfs filled to the last byte before the bench writes its JSON there
+  SmallDisk disk(dir + "/tiny", 64);
+  if (!disk.mounted()) GTEST_SKIP() << disk.why();
+  {
+    std::ofstream filler(dir + "/tiny/filler", std::ios::binary);
+    const std::string block(4096, 'x');
+    while (filler.write(block.data(), static_cast<std::streamsize>(block.size())) && filler.flush()) {
+    }
+  }
+  {
+    std::ofstream last(dir + "/tiny/last", std::ios::binary);
+    for (char c = 'x'; last.put(c) && last.flush();) {
+    }
+  }
+  const std::string full_json = dir + "/tiny/bench.json";
+  const ProcResult full = run_flexframe({"bench", "--scene", "cantilever_rollup", "--repeat", "1", "--json", full_json},
                                         dir + "/full");
   EXPECT_EQ(full.exit_code, 1) << full.describe();
-  EXPECT_NE(full.err.find("cannot write /dev/full: No space left on device"), std::string::npos) << full.describe();
+  EXPECT_NE(full.err.find("cannot write " + full_json + ": No space left on device"), std::string::npos)
+      << full.describe();
   const ProcResult solve =
-      run_flexframe({"bench", "--solve", "--max-n", "16", "--repeat", "1", "--json", "/dev/full"}, dir + "/solve");
+      run_flexframe({"bench", "--solve", "--max-n", "16", "--repeat", "1", "--json", full_json}, dir + "/solve");
   EXPECT_EQ(solve.exit_code, 1) << solve.describe();
-  EXPECT_NE(solve.err.find("cannot write /dev/full: No space left on device"), std::string::npos) << solve.describe();
+  EXPECT_NE(solve.err.find("cannot write " + full_json + ": No space left on device"), std::string::npos)
+      << solve.describe();
 }
 
 }  // namespace

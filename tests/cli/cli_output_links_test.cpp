@@ -129,5 +129,20 @@ TEST(CliOutputLinks, HardLinkAtResultsIsNotTruncated) {
   EXPECT_NE(r.err.find("hard link"), std::string::npos) << r.describe();
 }
 
+// The single files a user names outside any output folder (`bench --json`; the window's screenshot
+// and saved scene use the same opener) are opened like every output: a link planted at the name
+// is refused, its target keeps its bytes, and the bench says it could not write.
+TEST(CliOutputLinks, BenchJsonIsNotWrittenThroughAPlantedLink) {
+  const std::string dir = fresh_test_dir();
+  const std::string victim = dir + "/victim.json", json = dir + "/bench.json";
+  write_text(victim, kPrecious);
+  fs::create_symlink(victim, json);
+  const ProcResult r = run_flexframe({"bench", "--estimate", "2000", "--json", json}, dir + "/run");
+  EXPECT_EQ(read_text(victim), kPrecious) << r.describe();
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(json))) << "the planted link was removed or replaced";
+  EXPECT_NE(r.exit_code, 0) << r.describe();
+  EXPECT_NE(r.err.find("symbolic link"), std::string::npos) << r.describe();
+}
+
 }  // namespace
 }  // namespace ff::cli::test

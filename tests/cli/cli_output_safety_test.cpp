@@ -202,28 +202,6 @@ TEST(CliOutputSafety, SecondStudyOnTheSameFolderIsRefused) {
 
 // ---- a full disk -----------------------------------------------------------------------------
 
-/// A tmpfs of `kib` KiB mounted at `dir` for the scope; `why` says why not where it cannot be.
-class SmallDisk {
- public:
-  SmallDisk(const std::string& dir, int kib) : dir_(dir) {
-    fs::create_directories(dir);
-    const std::string opts = "size=" + std::to_string(kib) + "k";
-    if (::mount("flexframe-test", dir.c_str(), "tmpfs", 0, opts.c_str()) == 0)
-      mounted_ = true;
-    else
-      why_ = std::string("cannot mount a small tmpfs here (") + std::strerror(errno) + "; needs root)";
-  }
-  ~SmallDisk() {
-    if (mounted_) ::umount2(dir_.c_str(), MNT_DETACH);
-  }
-  bool mounted() const { return mounted_; }
-  const std::string& why() const { return why_; }
-
- private:
-  std::string dir_, why_;
-  bool mounted_ = false;
-};
-
 void expect_disk_full_failure(const ProcResult& r) {
   EXPECT_EQ(r.exit_code, 1) << r.describe();
   EXPECT_EQ(r.signal, 0) << "killed by a signal on its way out\n" << r.describe();

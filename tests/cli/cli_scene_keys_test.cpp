@@ -202,7 +202,7 @@ TEST(CliSceneKeyRun, LaminateWithoutAFibreReferenceIsRefused) {
     if (l == "[[part]]") part_line = line;
     // the reference curve's file is relative to the bundled scene
     if (const std::size_t at = l.find("\"../reference/"); at != std::string::npos)
-      l.replace(at, 4, "\"" + std::string(FF_SOURCE_DIR) + "/assets/");
+      l.replace(at, 4, std::string("\"").append(FF_SOURCE_DIR).append("/assets/"));  // appended: GCC 12's -Wrestrict
     without += l + "\n";
   }
   ASSERT_GT(part_line, 0);

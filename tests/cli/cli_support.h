@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -467,5 +468,27 @@ inline double summary_number(const Json& s, const std::string& key) {
 
 using ff::render::test::Image;
 using ff::render::test::read_png;
+
+/// A tmpfs of `kib` KiB mounted at `dir` for the scope; `why` says why not where it cannot be.
+class SmallDisk {
+ public:
+  SmallDisk(const std::string& dir, int kib) : dir_(dir) {
+    fs::create_directories(dir);
+    const std::string opts = "size=" + std::to_string(kib) + "k";
+    if (::mount("flexframe-test", dir.c_str(), "tmpfs", 0, opts.c_str()) == 0)
+      mounted_ = true;
+    else
+      why_ = std::string("cannot mount a small tmpfs here (") + std::strerror(errno) + "; needs root)";
+  }
+  ~SmallDisk() {
+    if (mounted_) ::umount2(dir_.c_str(), MNT_DETACH);
+  }
+  bool mounted() const { return mounted_; }
+  const std::string& why() const { return why_; }
+
+ private:
+  std::string dir_, why_;
+  bool mounted_ = false;
+};
 
 }  // namespace ff::cli::test

@@ -35,7 +35,8 @@ const std::map<std::string, std::set<std::string>> kAllowed = {
     {"app/io", {"core/frame", "core/mesh"}},
     // the window: the scene layer and models it edits and runs, the renderer, the run's outputs
     {"app/gui", {"core/frame", "core/mesh", "core/model", "core/scene", "render", "app/io", "app"}},
-    // the verbs and pipelines that wire the rest together; the window is started from main only
+    // the verbs and pipelines that wire the rest together; the window is started from the command
+    // line only (command_line.cpp, through gui_app.h)
     {"app", {"core/frame", "core/lie", "core/mesh", "core/assembly", "core/solve", "core/model", "core/shell",
              "core/hubbeam", "core/scene", "render", "app/io", "app/bench"}},
     // `flexframe bench`: measures what the rest offers, and is used by the command line alone
