@@ -250,41 +250,6 @@ void apply_imperfections(const Document& d, const std::string& path, const Scene
   }
 }
 
-// [[metric]] kind = "linear_buckling_load": one linear buckling analysis of this structure under
-// this scene's loads about the reference state (the first multiplier, shell_eigen.md), computed
-// once here; its value is the critical load in the scene's load units, beside the path's limit
-// load. The structure is the one the path starts from (imperfections included).
-void predict_linear_buckling(const shell::ShellModelSpec& spec, shell::ShellStaticSettings& st, LinearBackend backend) {
-  using namespace ff::shell;
-  const bool wanted = std::any_of(st.metrics.begin(), st.metrics.end(),
-                                  [](const ShellMetric& m) { return m.kind == ShellMetric::Kind::linear_buckling_load; });
-  if (!wanted) return;
-  ShellEigenSettings es;
-  es.analysis = ShellEigenSettings::Analysis::buckling;
-  es.modes = 1;
-  es.solver.backend = backend;
-  es.load_scale = st.load_scale;
-  double value = std::numeric_limits<double>::quiet_NaN();
-  std::string why;
-  try {
-    ShellEigenSimulation buckling(spec, es, RunInfo{});
-    why = buckling.compute();
-    if (why.empty()) {
-      if (const std::optional<double> v = find_metric(buckling.metrics(), "critical_load"))
-        value = *v;
-      else
-        for (const auto& [name, reason] : buckling.metrics_unreached()) why = reason;
-    }
-  } catch (const ShellSpecError& e) {
-    why = e.what();
-  }
-  if (why.empty() && !std::isfinite(value)) why = "the linear buckling analysis found no positive multiplier";
-  for (ShellMetric& m : st.metrics)
-    if (m.kind == ShellMetric::Kind::linear_buckling_load) {
-      m.computed = value;
-      m.computed_why = why.empty() ? "" : "linear buckling about the reference state: " + why;
-    }
-}
 }  // namespace
 
 std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path, const SceneContext& ctx) {
@@ -418,7 +383,10 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
     throw SceneError({d.issue("solver.monitor_probe", "no probe named '" + st.monitor_probe + "'")});
   st.record_stresses = stresses_wanted(d, {"displacement", "strain", shell::kErrorIndicatorField});
   st.record_error_indicator = d.boolean("output.error_bar") || d.string("output.color_field") == shell::kErrorIndicatorField;
-  predict_linear_buckling(spec, st, conv.linear_backend);
+  // the linear_buckling_load metric's analysis runs when the run starts, on the structure as built here
+  if (std::any_of(st.metrics.begin(), st.metrics.end(),
+                  [](const ShellMetric& m) { return m.kind == ShellMetric::Kind::linear_buckling_load; }))
+    st.linear_buckling_spec = std::make_shared<const ShellModelSpec>(spec);
   std::unique_ptr<ShellStaticSimulation> sim;
   const ShellModelSpec spec_copy = unperturbed ? spec : ShellModelSpec{};
   try {

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/frame/text.h"
+#include "core/shell/shell_eigen_simulation.h"
 #include "core/solve/sparse_solver.h"
 #include "core/solve/static_common.h"
 
@@ -101,7 +102,43 @@ void ShellStaticSimulation::record() {
   for (std::size_t k = 0; k < settings_.probes.size(); ++k) values_[k].push_back(probe_value(k));
 }
 
+// [[metric]] kind = "linear_buckling_load": one linear buckling analysis of this structure under
+// this scene's loads about the reference state (the first multiplier, shell_eigen.md), computed
+// once, when the run first starts (a scene being read or checked solves nothing); its value is the
+// critical load in the scene's load units, beside the path's limit load. The structure is the one
+// the path starts from (imperfections included).
+void ShellStaticSimulation::predict_linear_buckling() {
+  if (buckling_predicted_ || !settings_.linear_buckling_spec) return;
+  buckling_predicted_ = true;
+  ShellEigenSettings es;
+  es.analysis = ShellEigenSettings::Analysis::buckling;
+  es.modes = 1;
+  es.solver.backend = settings_.load_control.convergence.linear_backend;
+  es.load_scale = settings_.load_scale;
+  double value = std::numeric_limits<double>::quiet_NaN();
+  std::string why;
+  try {
+    ShellEigenSimulation buckling(*settings_.linear_buckling_spec, es, RunInfo{});
+    why = buckling.compute();
+    if (why.empty()) {
+      if (const std::optional<double> v = find_metric(buckling.metrics(), "critical_load"))
+        value = *v;
+      else
+        for (const auto& [name, reason] : buckling.metrics_unreached()) why = reason;
+    }
+  } catch (const ShellSpecError& e) {
+    why = e.what();
+  }
+  if (why.empty() && !std::isfinite(value)) why = "the linear buckling analysis found no positive multiplier";
+  for (ShellMetric& m : settings_.metrics)
+    if (m.kind == ShellMetric::Kind::linear_buckling_load) {
+      m.computed = value;
+      m.computed_why = why.empty() ? "" : "linear buckling about the reference state: " + why;
+    }
+}
+
 std::string ShellStaticSimulation::start() {
+  predict_linear_buckling();
   lambda_ = 0.0;
   record();
   if (settings_.linear) return "";

@@ -33,16 +33,18 @@ struct ShellProbe {
 /// A metric of the load path (summary.json "metrics").
 struct ShellMetric {
   /// linear_buckling_load: the first critical load of a linear buckling analysis of the same
-  /// structure and loads about the reference state (shell_eigen.md), computed at set-up, to put
-  /// beside the first limit load the path finds
+  /// structure and loads about the reference state (shell_eigen.md), computed when the run starts
+  /// (not while the scene is read: `check` solves nothing), to put beside the first limit load the
+  /// path finds
   enum class Kind { at_load, final_value, first_limit_load, at_first_limit, min_load_after_limit, max_abs,
                     linear_buckling_load };
   std::string name;
   Kind kind = Kind::final_value;
   std::string probe;       ///< probe name (unused for the load-only kinds)
   double load = 0.0;       ///< at_load: the load where the probe is read (interpolated along the path)
-  double computed = 0.0;   ///< linear_buckling_load: its value (NaN when the analysis found none)
-  std::string computed_why;  ///< linear_buckling_load: why there is none
+  /// linear_buckling_load: its value (NaN when the analysis found none, or before the run started)
+  double computed = std::numeric_limits<double>::quiet_NaN();
+  std::string computed_why = "the linear buckling analysis runs when the run starts";  ///< why there is none
 };
 
 struct ShellStaticSettings {
@@ -56,6 +58,9 @@ struct ShellStaticSettings {
   std::string load_label = "load", load_unit;
   std::vector<ShellProbe> probes;
   std::vector<ShellMetric> metrics;
+  /// With a linear_buckling_load metric: the structure as the scene built it, for the buckling
+  /// analysis the run starts with (a copy, since the model snaps its normals as it is built)
+  std::shared_ptr<const ShellModelSpec> linear_buckling_spec;
   /// every stress field (shell_stress.h) of the structure in every frame, after displacement and
   /// strain (a scene's output.stresses, or a stress field it colours or probes)
   bool record_stresses = false;
@@ -96,6 +101,8 @@ class ShellStaticSimulation final : public Simulation {
   std::string unreached_reason(const ShellMetric& metric, int limit_sample) const;
   void record();  // load and probes of the current state into the path history
   StepDone linear_step();  // the whole linear analysis, as the run's only step
+  void predict_linear_buckling();  // the linear_buckling_load metrics' one buckling analysis
+  bool buckling_predicted_ = false;
   std::unique_ptr<ShellModel> model_;
   ShellStaticSettings settings_;
   RunInfo info_;
