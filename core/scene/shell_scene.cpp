@@ -1,6 +1,7 @@
 #include "core/scene/shell_scene.h"
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -250,6 +251,34 @@ void apply_imperfections(const Document& d, const std::string& path, const Scene
   }
 }
 
+// [[metric]] kind = "linear_buckling_load": one linear buckling analysis of the structure as
+// built (a copy: the model snaps its normals as it is built) under the scene's loads about the
+// reference state, the first multiplier only (shell_eigen.md), run when the static run starts
+std::function<void(double&, std::string&)> linear_buckling_analysis(const shell::ShellModelSpec& spec, double load_scale,
+                                                                   LinearBackend backend) {
+  auto structure = std::make_shared<const shell::ShellModelSpec>(spec);
+  return [structure, load_scale, backend](double& value, std::string& why) {
+    using namespace ff::shell;
+    ShellEigenSettings es;
+    es.analysis = ShellEigenSettings::Analysis::buckling;
+    es.modes = 1;
+    es.solver.backend = backend;
+    es.load_scale = load_scale;
+    try {
+      ShellEigenSimulation buckling(*structure, es, RunInfo{});
+      why = buckling.compute();
+      if (why.empty()) {
+        if (const std::optional<double> v = find_metric(buckling.metrics(), "critical_load"))
+          value = *v;
+        else
+          for (const auto& [name, reason] : buckling.metrics_unreached()) why = reason;
+      }
+    } catch (const ShellSpecError& e) {
+      why = e.what();
+    }
+  };
+}
+
 }  // namespace
 
 std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::string& path, const SceneContext& ctx) {
@@ -386,7 +415,7 @@ std::unique_ptr<Simulation> build_shell_static(const Document& d, const std::str
   // the linear_buckling_load metric's analysis runs when the run starts, on the structure as built here
   if (std::any_of(st.metrics.begin(), st.metrics.end(),
                   [](const ShellMetric& m) { return m.kind == ShellMetric::Kind::linear_buckling_load; }))
-    st.linear_buckling_spec = std::make_shared<const ShellModelSpec>(spec);
+    st.linear_buckling = linear_buckling_analysis(spec, st.load_scale, conv.linear_backend);
   std::unique_ptr<ShellStaticSimulation> sim;
   const ShellModelSpec spec_copy = unperturbed ? spec : ShellModelSpec{};
   try {

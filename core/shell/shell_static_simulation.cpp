@@ -7,7 +7,6 @@
 #include <limits>
 
 #include "core/frame/text.h"
-#include "core/shell/shell_eigen_simulation.h"
 #include "core/solve/sparse_solver.h"
 #include "core/solve/static_common.h"
 
@@ -108,27 +107,11 @@ void ShellStaticSimulation::record() {
 // critical load in the scene's load units, beside the path's limit load. The structure is the one
 // the path starts from (imperfections included).
 void ShellStaticSimulation::predict_linear_buckling() {
-  if (buckling_predicted_ || !settings_.linear_buckling_spec) return;
+  if (buckling_predicted_ || !settings_.linear_buckling) return;
   buckling_predicted_ = true;
-  ShellEigenSettings es;
-  es.analysis = ShellEigenSettings::Analysis::buckling;
-  es.modes = 1;
-  es.solver.backend = settings_.load_control.convergence.linear_backend;
-  es.load_scale = settings_.load_scale;
   double value = std::numeric_limits<double>::quiet_NaN();
   std::string why;
-  try {
-    ShellEigenSimulation buckling(*settings_.linear_buckling_spec, es, RunInfo{});
-    why = buckling.compute();
-    if (why.empty()) {
-      if (const std::optional<double> v = find_metric(buckling.metrics(), "critical_load"))
-        value = *v;
-      else
-        for (const auto& [name, reason] : buckling.metrics_unreached()) why = reason;
-    }
-  } catch (const ShellSpecError& e) {
-    why = e.what();
-  }
+  settings_.linear_buckling(value, why);
   if (why.empty() && !std::isfinite(value)) why = "the linear buckling analysis found no positive multiplier";
   for (ShellMetric& m : settings_.metrics)
     if (m.kind == ShellMetric::Kind::linear_buckling_load) {

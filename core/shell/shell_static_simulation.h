@@ -4,6 +4,7 @@
 /// following, one Frame per converged step (Frame::time and load_factor = lambda), probes of
 /// node displacements against the load, and the metrics a scene asks for.
 
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -58,9 +59,11 @@ struct ShellStaticSettings {
   std::string load_label = "load", load_unit;
   std::vector<ShellProbe> probes;
   std::vector<ShellMetric> metrics;
-  /// With a linear_buckling_load metric: the structure as the scene built it, for the buckling
-  /// analysis the run starts with (a copy, since the model snaps its normals as it is built)
-  std::shared_ptr<const ShellModelSpec> linear_buckling_spec;
+  /// With a linear_buckling_load metric: the buckling analysis the run starts with, which sets
+  /// the critical load (in the scene's load units) or why there is none. The scene layer makes it
+  /// (a ShellEigenSimulation of the structure as the scene built it), so that the two analyses
+  /// need not know each other.
+  std::function<void(double& critical_load, std::string& why)> linear_buckling;
   /// every stress field (shell_stress.h) of the structure in every frame, after displacement and
   /// strain (a scene's output.stresses, or a stress field it colours or probes)
   bool record_stresses = false;
