@@ -320,7 +320,7 @@ struct CommandLine::Verbs {
 
   int run(std::atomic<bool>& interrupt, const std::atomic<int>& interrupt_signal);
   int run_verb(const std::atomic<bool>& stop, std::atomic<bool>& interrupt, const std::atomic<int>& interrupt_signal,
-               bool follower, const std::function<int(int)>& leave);
+               bool follower, bool one_model_over_ranks, const std::function<int(int)>& leave);
 };
 
 int CommandLine::Verbs::run(std::atomic<bool>& interrupt, const std::atomic<int>& interrupt_signal) {
@@ -376,7 +376,7 @@ int CommandLine::Verbs::run(std::atomic<bool>& interrupt, const std::atomic<int>
   };
 
   try {
-    return run_verb(stop, interrupt, interrupt_signal, follower, leave);
+    return run_verb(stop, interrupt, interrupt_signal, follower, one_model_over_ranks, leave);
   } catch (const ff::scene::SceneError& e) {
     // over ranks every rank reads the same scene and meets the same error: rank 0 says it
     if (!follower) std::fprintf(stderr, "error: invalid scene or study file\n%s\n", e.what());
@@ -396,8 +396,7 @@ int CommandLine::Verbs::run(std::atomic<bool>& interrupt, const std::atomic<int>
 
 int CommandLine::Verbs::run_verb(const std::atomic<bool>& stop, std::atomic<bool>& interrupt,
                                  const std::atomic<int>& interrupt_signal, bool follower,
-                                 const std::function<int(int)>& leave) {
-  const bool one_model_over_ranks = launched_ranks() > 1 && (*cmd_run || *cmd_bench);
+                                 bool one_model_over_ranks, const std::function<int(int)>& leave) {
   if (*cmd_run) {
     run_opt.scene_path = resolve_scene(run_scene_arg.empty() ? default_scene() : run_scene_arg);
     run_opt.frames = !no_frames;

@@ -870,30 +870,29 @@ void mesh_the_geometry(const GmshApi& g, const GmshMeshRequest& r, const std::ve
   const double script_factor = option("Mesh.MeshSizeFactor"), script_min = option("Mesh.MeshSizeMin"),
                script_max = option("Mesh.MeshSizeMax");
   const bool scene_sizes = r.mesh_size > 0 || !r.group_sizes.empty();
-  const auto text = [](double v) { return significant(v); };
   if (scene_sizes) {
-    if (!(script_factor > 0)) throw GmshFailure("its Mesh.MeshSizeFactor is " + text(script_factor) + ", not > 0");
+    if (!(script_factor > 0)) throw GmshFailure("its Mesh.MeshSizeFactor is " + significant(script_factor) + ", not > 0");
     double smallest = r.mesh_size > 0 ? r.mesh_size : std::numeric_limits<double>::infinity();
     for (const auto& [name, size] : r.group_sizes) {
       smallest = std::min(smallest, size);
       if (!(r.mesh_size > 0) && size > script_max * script_factor)
-        throw GmshFailure("part.local_sizes asks " + text(size) + " at group '" + name + "', above the script's "
-                          "largest element (Mesh.MeshSizeMax " + text(script_max) +
-                          (script_factor != 1 ? " x Mesh.MeshSizeFactor " + text(script_factor) : std::string()) +
+        throw GmshFailure("part.local_sizes asks " + significant(size) + " at group '" + name + "', above the script's "
+                          "largest element (Mesh.MeshSizeMax " + significant(script_max) +
+                          (script_factor != 1 ? " x Mesh.MeshSizeFactor " + significant(script_factor) : std::string()) +
                           "): a local size is finer than the rest; give a smaller one, or part.mesh_size (which "
                           "replaces the script's largest element)");
     }
     if (script_min * script_factor > smallest) {
       g.set_number("Mesh.MeshSizeMin", smallest / script_factor, &ierr);
-      notes.push_back("the script's Mesh.MeshSizeMin " + text(script_min) + " lowered to " +
-                      text(smallest / script_factor) + " so that the scene's sizes are reached");
+      notes.push_back("the script's Mesh.MeshSizeMin " + significant(script_min) + " lowered to " +
+                      significant(smallest / script_factor) + " so that the scene's sizes are reached");
     }
     if (option("Mesh.MeshSizeFromPoints") == 0) {
       g.set_number("Mesh.MeshSizeFromPoints", 1, &ierr);
       notes.push_back("the script's Mesh.MeshSizeFromPoints = 0 set to 1 (the scene's sizes are point sizes)");
     }
     if (script_factor != 1)
-      notes.push_back("the script's Mesh.MeshSizeFactor " + text(script_factor) + " kept for its own sizes, the "
+      notes.push_back("the script's Mesh.MeshSizeFactor " + significant(script_factor) + " kept for its own sizes, the "
                       "scene's set so that they come out as given");
   }
   if (r.mesh_size > 0) {  // at every point (a CAD file's points carry no sizes, and Gmsh would give
@@ -947,7 +946,7 @@ void mesh_the_geometry(const GmshApi& g, const GmshMeshRequest& r, const std::ve
                   (subdivided ? " at twice the size, then every element subdivided into quads (plain Blossom left "
                                 "triangles), "
                               : ", ") +
-                  (r.mesh_size > 0 ? "elements at most " + text(r.mesh_size) + " across" : std::string("the file's sizes")));
+                  (r.mesh_size > 0 ? "elements at most " + significant(r.mesh_size) + " across" : std::string("the file's sizes")));
 }
 
 // Everything the child does with Gmsh; throws GmshFailure with a sentence. `unconfined` says
